@@ -1,0 +1,15 @@
+/// \file commands.h
+/// Each subcommand registers itself on the CLI11 app and returns a runner that is called only
+/// if it was selected. Runners return an ExitCode.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace crex::app {
+
+using Runner = std::function<int()>;
+
+Runner add_check_command(CLI::App& app);
+
+}  // namespace crex::app

@@ -1,0 +1,91 @@
+#include "compiler/base/render_text.h"
+
+#include <fmt/format.h>
+
+namespace crex {
+namespace {
+
+// The source line as shown under a diagnostic: one display character per code point, so the
+// caret line can be built by counting code points. Tabs and control characters become one
+// visible character; malformed UTF-8 bytes become '?'.
+std::string displayable_line(std::string_view line) {
+    std::string out;
+    for (size_t i = 0; i < line.size();) {
+        unsigned char c = static_cast<unsigned char>(line[i]);
+        if (c == '\t') {
+            out += ' ';
+            ++i;
+        } else if (c < 0x20 || c == 0x7F) {
+            out += '?';
+            ++i;
+        } else if (c < 0x80) {
+            out += static_cast<char>(c);
+            ++i;
+        } else {
+            size_t len = (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
+            bool ok = len > 0 && i + len <= line.size();
+            for (size_t k = 1; ok && k < len; ++k)
+                ok = (static_cast<unsigned char>(line[i + k]) & 0xC0) == 0x80;
+            if (ok) {
+                out.append(line.substr(i, len));
+                i += len;
+            } else {
+                out += '?';
+                ++i;
+                while (i < line.size() && (static_cast<unsigned char>(line[i]) & 0xC0) == 0x80) {
+                    out += '?';
+                    ++i;
+                }
+            }
+        }
+    }
+    return out;
+}
+
+void render_snippet(std::string& out, const SourceSpan& span) {
+    if (!span.valid()) return;
+    const SourceFile& f = *span.file;
+    LineCol begin = f.position(span.begin);
+    LineCol end = f.position(span.end);
+    std::string line = displayable_line(f.line_text(begin.line));
+    uint32_t width = begin.line == end.line && end.col > begin.col ? end.col - begin.col : 1;
+    if (begin.line != end.line) {  // multi-line span: underline to the end of the first line
+        uint32_t line_len = count_code_points(line);
+        width = line_len >= begin.col ? line_len - begin.col + 1 : 1;
+    }
+    std::string gutter = fmt::format("{:>5}", begin.line);
+    std::string blank(gutter.size(), ' ');
+    out += fmt::format("{} | {}\n", gutter, line);
+    out += fmt::format("{} | {}^{}\n", blank, std::string(begin.col - 1, ' '),
+                       std::string(width - 1, '~'));
+}
+
+}  // namespace
+
+std::string format_location(const SourceSpan& span) {
+    if (!span.valid()) return "<unknown>";
+    LineCol p = span.file->position(span.begin);
+    return fmt::format("{}:{}:{}", span.file->name(), p.line, p.col);
+}
+
+std::string render_text(const Diagnostic& d) {
+    std::string out;
+    std::string head = d.code.empty() ? std::string(severity_name(d.severity))
+                                      : fmt::format("{}[{}]", severity_name(d.severity), d.code);
+    out += fmt::format("{}: {}: {}\n", format_location(d.span), head, d.message);
+    render_snippet(out, d.span);
+    for (const auto& note : d.notes) {
+        out += fmt::format("{}: note: {}\n", format_location(note.span), note.message);
+        render_snippet(out, note.span);
+    }
+    if (!d.help.empty()) out += fmt::format("      = help: {}\n", d.help);
+    return out;
+}
+
+std::string render_text(const std::vector<Diagnostic>& ds) {
+    std::string out;
+    for (const auto& d : ds) out += render_text(d);
+    return out;
+}
+
+}  // namespace crex

@@ -1,0 +1,25 @@
+/// \file render_text.h
+/// Diagnostics as a C compiler prints them:
+///
+///     file:line:col: error[E004]: message
+///        14 |     crex "{TTD*}2"
+///           |               ^
+///     file:line:col: note: the importance-modulated group opens here
+///     ...
+///           = help: suggested fix
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "compiler/base/diagnostic.h"
+
+namespace crex {
+
+std::string render_text(const Diagnostic& d);
+std::string render_text(const std::vector<Diagnostic>& ds);
+
+/// "file:line:col" of the span's start ("<unknown>" without a file).
+std::string format_location(const SourceSpan& span);
+
+}  // namespace crex

@@ -1,0 +1,56 @@
+#include "compiler/base/source.h"
+
+#include <algorithm>
+
+namespace crex {
+
+SourceFile::SourceFile(std::string name, std::string text)
+    : name_(std::move(name)), text_(std::move(text)) {
+    line_starts_.push_back(0);
+    for (uint32_t i = 0; i < text_.size(); ++i)
+        if (text_[i] == '\n') line_starts_.push_back(i + 1);
+}
+
+LineCol SourceFile::position(uint32_t offset) const {
+    offset = std::min<uint32_t>(offset, static_cast<uint32_t>(text_.size()));
+    auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), offset);
+    uint32_t line = static_cast<uint32_t>(it - line_starts_.begin());  // 1-based
+    uint32_t start = line_starts_[line - 1];
+    std::string_view before(text_.data() + start, offset - start);
+    return {line, count_code_points(before) + 1};
+}
+
+uint32_t SourceFile::line_start(uint32_t line) const {
+    if (line == 0) return 0;
+    if (line > line_starts_.size()) return static_cast<uint32_t>(text_.size());
+    return line_starts_[line - 1];
+}
+
+std::string_view SourceFile::line_text(uint32_t line) const {
+    if (line == 0 || line > line_starts_.size()) return {};
+    uint32_t start = line_starts_[line - 1];
+    uint32_t end = line < line_starts_.size() ? line_starts_[line] - 1
+                                              : static_cast<uint32_t>(text_.size());
+    if (end > start && text_[end - 1] == '\r') --end;
+    return std::string_view(text_).substr(start, end - start);
+}
+
+SourceSpan SourceSpan::merge(const SourceSpan& other) const {
+    if (!valid()) return other;
+    if (!other.valid()) return *this;
+    return {file, std::min(begin, other.begin), std::max(end, other.end)};
+}
+
+std::string_view SourceSpan::text() const {
+    if (!valid()) return {};
+    return std::string_view(file->text()).substr(begin, end - begin);
+}
+
+uint32_t count_code_points(std::string_view utf8) {
+    uint32_t n = 0;
+    for (unsigned char c : utf8)
+        if ((c & 0xC0) != 0x80) ++n;
+    return n;
+}
+
+}  // namespace crex
