@@ -6,18 +6,21 @@
 // expression is reported in one pass, and ANTLR's generic recovery messages are never shown.
 // Which letters are components is decided by the component table (compiler/crex/components.h),
 // not here, so a new component is one row of that table.
+//
+// It is shaped for linear-time parsing: a repeat can only be stray at the start of a sequence
+// (anywhere else it binds to the atom before it), and the one remaining ambiguity, the closer
+// that may be missing at the end of input, is resolved greedily by SLL prediction (parse.cpp).
 grammar Crex;
 
-crex        : (item | strayClose)* EOF ;
-sequence    : item* ;
-item        : atom repeat*                      # repeatedAtom
-            | repeat                            # strayRepeat
-            ;
+crex        : sequence (strayClose sequence)* EOF ;
+sequence    : strayRepeat* item* ;
+item        : atom repeat* ;
 atom        : LETTER                            # letter
             | OPEN sequence CLOSE?              # group
             | BAD_CHAR                          # badChar
             ;
 repeat      : STAR | INTEGER ;
+strayRepeat : repeat ;
 strayClose  : CLOSE ;
 
 OPEN        : [(<{[] ;

@@ -25,8 +25,8 @@ public:
         ast::Crex crex;
         crex.span = {&file_, begin, end_};
         for (auto* child : ctx->children) {
-            if (auto* item = dynamic_cast<CrexParser::ItemContext*>(child)) {
-                if (auto built = build_item(item)) crex.body.push_back(std::move(*built));
+            if (auto* seq = dynamic_cast<CrexParser::SequenceContext*>(child)) {
+                build_sequence(seq, crex.body);
             } else if (auto* stray = dynamic_cast<CrexParser::StrayCloseContext*>(child)) {
                 report_unmatched_closer(stray->CLOSE()->getSymbol());
             }
@@ -49,18 +49,17 @@ private:
     }
     char32_t code_point(antlr4::Token* t) const { return text_.code_points.at(t->getStartIndex()); }
 
-    std::optional<ast::Item> build_item(CrexParser::ItemContext* ctx) {
-        if (auto* stray = dynamic_cast<CrexParser::StrayRepeatContext*>(ctx)) {
+    void build_sequence(CrexParser::SequenceContext* ctx, ast::Sequence& out) {
+        for (auto* stray : ctx->strayRepeat()) {
             auto* r = stray->repeat();
-            Diagnostic& d = sink_.report("E008", span_of(r),
-                                         fmt::format("repeat '{}' with nothing before it", r->getText()));
-            d.help = "a repeat applies to the component or group right before it, as in 'D*' or '(DG)2'";
-            return std::nullopt;
+            sink_.report("E008", span_of(r), fmt::format("repeat '{}' with nothing before it", r->getText()))
+                .help = "a repeat applies to the component or group right before it, as in 'D*' or '(DG)2'";
         }
-        auto* rep = dynamic_cast<CrexParser::RepeatedAtomContext*>(ctx);
-        ast::Item item = build_atom(rep->atom());
-        for (auto* r : rep->repeat()) item.repeats.push_back(build_repeat(r));
-        return item;
+        for (auto* item : ctx->item()) {
+            ast::Item built = build_atom(item->atom());
+            for (auto* r : item->repeat()) built.repeats.push_back(build_repeat(r));
+            out.push_back(std::move(built));
+        }
     }
 
     ast::Repeat build_repeat(CrexParser::RepeatContext* ctx) {
@@ -111,8 +110,7 @@ private:
         case '{': item.group = ast::GroupKind::kModulate; break;
         default: item.group = ast::GroupKind::kBudget; break;
         }
-        for (auto* child : group->sequence()->item())
-            if (auto built = build_item(child)) item.body.push_back(std::move(*built));
+        build_sequence(group->sequence(), item.body);
         check_closer(item, group);
         return item;
     }

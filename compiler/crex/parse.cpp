@@ -123,6 +123,10 @@ std::optional<ast::Crex> parse_crex(const SourceFile& file, uint32_t begin, uint
         grammar::CrexLexer lexer(&input);
         antlr4::CommonTokenStream tokens(&lexer);
         grammar::CrexParser parser(&tokens);
+        // SLL prediction resolves the optional closer greedily after one token; full LL would
+        // look ahead to the end of the input at every group (quadratic or worse on nesting).
+        parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
+            antlr4::atn::PredictionMode::SLL);
         detail::ErrorListener lexer_errors(file, decoded, sink, "E001");
         detail::ErrorListener parser_errors(file, decoded, sink, "E002");
         lexer.removeErrorListeners();

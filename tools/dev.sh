@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# One entry point for building crex on a fresh Debian machine (as root, or with sudo).
+#
+#   tools/dev.sh demo     install what is missing, build (Release), run the main job
+#   tools/dev.sh test     install what is missing, build (Release), run every test, then
+#                         rebuild with ASan+UBSan at -O1 and rerun the fast labels
+#   tools/dev.sh build    install what is missing and build (Release) only
+#   tools/dev.sh fuzz [S] build the libFuzzer target with clang and run it for S seconds (120)
+#
+# Build trees: build/release, build/asan, build/fuzz. Safe to rerun: installs only what is
+# missing and rebuilds incrementally.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$PWD
+JOBS=$(nproc)
+
+log() { printf '\n== %s\n' "$*" >&2; }
+
+install_packages() {
+  local wanted=() missing=()
+  mapfile -t wanted < <(grep -v '^\s*#' "$ROOT/tools/debian-packages.txt" | sed '/^\s*$/d')
+  wanted+=("$@")
+  for p in "${wanted[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    log "installing: ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo=sudo
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+}
+
+build_release() {
+  log "configure + build (Release)"
+  cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build build/release -j "$JOBS"
+}
+
+run_tests() {
+  log "tests (Release, all labels)"
+  (cd build/release && ctest --output-on-failure -j "$JOBS")
+  log "configure + build (ASan+UBSan, -O1)"
+  cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 \
+        -DCREX_SANITIZE=ON -DCREX_BENCH=OFF >/dev/null
+  cmake --build build/asan -j "$JOBS"
+  log "tests (ASan+UBSan, fast labels)"
+  (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      ctest --output-on-failure -j "$JOBS" -L '^(unit|diag|cli|numerics)$')
+}
+
+run_demo() {
+  log "main job: check and explain the thesis's crex expressions"
+  build/release/apps/crex/crex check --explain stdlib/crex/thesis.crex
+}
+
+run_fuzz() {
+  local seconds=${1:-120}
+  install_packages clang-14 libclang-rt-14-dev
+  log "configure + build (libFuzzer, clang-14)"
+  cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+        -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
+  cmake --build build/fuzz -j "$JOBS" --target crex_check_fuzzer
+  mkdir -p build/fuzz/corpus
+  grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/seed_
+  log "fuzzing the crex checker for ${seconds}s"
+  build/fuzz/tests/fuzz/crex_check_fuzzer -max_total_time="$seconds" -max_len=512 \
+      -print_final_stats=1 build/fuzz/corpus
+}
+
+case "${1:-}" in
+  demo) install_packages; build_release; run_demo ;;
+  test) install_packages; build_release; run_tests ;;
+  build) install_packages; build_release ;;
+  fuzz) shift; run_fuzz "$@" ;;
+  *) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
+esac
