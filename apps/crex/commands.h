@@ -11,5 +11,6 @@ namespace crex::app {
 using Runner = std::function<int()>;
 
 Runner add_check_command(CLI::App& app);
+Runner add_scene_info_command(CLI::App& app);
 
 }  // namespace crex::app

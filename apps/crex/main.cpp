@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
 
     std::map<std::string, Runner> runners;
     runners["check"] = add_check_command(app);
+    runners["scene-info"] = add_scene_info_command(app);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,157 @@
+// `crex scene-info SCENE`: what a scene holds and which component bins can ever have work.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include "apps/crex/commands.h"
+#include "apps/crex/exit_codes.h"
+#include "compiler/base/render_json.h"
+#include "compiler/base/render_text.h"
+#include "runtime/base/atomic_file.h"
+#include "runtime/scene/census.h"
+#include "runtime/scene/load_scene.h"
+#include "runtime/scene/shapes.h"
+
+namespace crex::app {
+namespace {
+
+struct SceneInfoOptions {
+    std::string scene = "builtin:cornell";
+    std::string format = "text";
+    std::string export_json;
+};
+
+struct Stats {
+    std::map<std::string, size_t> shapes_by_type;
+    size_t triangles = 0;
+    size_t spheres = 0;
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+};
+
+Stats scene_stats(const Scene& s) {
+    Stats st;
+    for (const auto& shape : s.shapes) {
+        ++st.shapes_by_type[std::string(shape_type_name(shape.type))];
+        if (shape.type == ShapeType::kSphere) ++st.spheres;
+        st.triangles += triangle_count(shape);
+        expand_bounds(shape, st.lo, st.hi);
+    }
+    return st;
+}
+
+std::string vec_text(const Vec3& v) { return fmt::format("({:g}, {:g}, {:g})", v.x, v.y, v.z); }
+
+void print_text(const Scene& scene, const Census& c, const Stats& st) {
+    std::string types;
+    for (const auto& [t, n] : st.shapes_by_type) types += fmt::format("{}{} {}", types.empty() ? "" : ", ", n, t);
+    std::cout << fmt::format("scene {}\n", scene.source);
+    std::cout << fmt::format("  shapes     {} ({}) -> {} triangles + {} analytic spheres\n", scene.shapes.size(), types,
+                             st.triangles, st.spheres);
+    std::cout << fmt::format("  bounds     {} .. {}\n", vec_text(st.lo), vec_text(st.hi));
+    const Camera& cam = scene.camera;
+    std::cout << fmt::format("  camera     at {} looking {} up {}, vfov {:g} deg{}\n", vec_text(cam.position),
+                             vec_text(cam.direction), vec_text(cam.up), cam.vfov_deg,
+                             cam.hfov_deg > 0 ? fmt::format(", hfov {:g} deg", cam.hfov_deg) : "");
+    std::cout << fmt::format("  emitters   {} sampled (light), {} unsampled (glow or emission)\n", c.sampled_emitters,
+                             c.unsampled_emitters);
+    if (c.has_medium) std::cout << "  medium     homogeneous single-scatter\n";
+    if (!c.tags.empty()) {
+        std::string tags;
+        for (const auto& t : c.tags) tags += (tags.empty() ? "" : ", ") + t;
+        std::cout << fmt::format("  tagged     {}\n", tags);
+    }
+    std::cout << "\nmaterials in use (component split):\n";
+    for (const auto& m : c.materials) {
+        std::string spawns = component_set_letters(m.spawns);
+        std::cout << fmt::format("  {:<20} {:<10} spawns {:<8} ({} shape{})\n", m.name, material_type_name(m.type),
+                                 spawns.empty() ? "nothing" : spawns, m.shapes, m.shapes == 1 ? "" : "s");
+    }
+    std::cout << "\ncensus: which bins can ever receive rays\n";
+    std::string cannot;
+    for (const auto& row : kComponentTable) {
+        bool yes = c.can_occur(row.component);
+        std::string from;
+        for (const auto& m : c.materials)
+            if (m.spawns.test(static_cast<size_t>(row.component))) from += (from.empty() ? "" : ", ") + m.name;
+        std::cout << fmt::format("  {} {:<32} {}\n", row.letter, row.name, yes ? "yes, from " + from : "no");
+        if (!yes) cannot += (cannot.empty() ? "" : ", ") + std::string(1, row.letter);
+    }
+    if (!cannot.empty()) std::cout << fmt::format("  cannot occur: {} (crex steps on these are pruned)\n", cannot);
+    std::string sources = "camera";
+    for (const auto& row : kComponentTable)
+        if (c.can_occur(row.component)) sources += fmt::format(", {}", row.letter);
+    std::cout << fmt::format("\nspawn graph: {{{}}} -> {{{}}}\n", sources, component_set_letters(c.spawnable));
+    std::cout << fmt::format("census hash: {}\n", census_hash_hex(c.hash));
+}
+
+int run_scene_info(const SceneInfoOptions& opt) {
+    SceneSources sources;
+    DiagnosticSink sink;
+    SceneLoadFailure failure;
+    auto scene = load_scene(opt.scene, sources, sink, failure);
+    std::vector<Diagnostic> diagnostics = sink.sorted();
+    if (opt.format == "text") std::cerr << render_text(diagnostics);
+    if (!failure.message.empty()) {
+        std::cerr << "crex scene-info: error: " << failure.message << "\n";
+        return kExitFailure;
+    }
+    if (!scene) {
+        if (opt.format == "json") {
+            nlohmann::json out = {{"diagnostics", to_json(diagnostics)}, {"scene", nullptr}};
+            std::cout << out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+        } else {
+            std::cerr << fmt::format("{} error{}: the scene was not loaded\n", sink.error_count(),
+                                     sink.error_count() == 1 ? "" : "s");
+        }
+        return kExitInputErrors;
+    }
+    if (!opt.export_json.empty()) {
+        std::string error = write_file_atomically(opt.export_json, scene_json_text(*scene));
+        if (!error.empty()) {
+            std::cerr << fmt::format("crex scene-info: error: cannot write '{}': {}\n", opt.export_json, error);
+            return kExitFailure;
+        }
+    }
+    Census census = take_census(*scene);
+    Stats st = scene_stats(*scene);
+    if (opt.format == "json") {
+        nlohmann::json out;
+        out["diagnostics"] = to_json(diagnostics);
+        out["scene"] = {{"source", scene->source}, {"shapes", scene->shapes.size()}, {"triangles", st.triangles},
+                        {"spheres", st.spheres}, {"shapes_by_type", st.shapes_by_type}};
+        out["census"] = to_json(census);
+        std::cout << out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+    } else {
+        print_text(*scene, census, st);
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+Runner add_scene_info_command(CLI::App& app) {
+    auto opt = std::make_shared<SceneInfoOptions>();
+    CLI::App* cmd = app.add_subcommand("scene-info", "Show a scene's contents and its material census");
+    cmd->add_option("scene", opt->scene, "A scene: file.json, file.rad, file.obj or builtin:NAME")
+        ->capture_default_str();
+    cmd->add_option("--format", opt->format, "text or json (on stdout)")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_option("--export-json", opt->export_json, "Also write the scene in crex's native JSON format to FILE");
+    cmd->footer(R"(
+The census lists, for each component bin (D G S T R M), whether any material in use can spawn
+rays into it. Crex steps on bins that can never have work are pruned by the planner.
+
+Examples:
+  crex scene-info                                   the built-in Cornell box
+  crex scene-info builtin:cornell_diffuse           only D can occur
+  crex scene-info examples/scenes/cornell/scene.rad a RADIANCE scene (+ scene.vf for the view)
+  crex scene-info --format json my_scene.json
+  crex scene-info model.obj --export-json model.json   convert to the native format
+
+Exit status: 0 ok or warnings only, 1 errors in the scene, 2 usage, 3 cannot read it.)");
+    return [opt] { return run_scene_info(*opt); };
+}
+
+}  // namespace crex::app

@@ -1,0 +1,45 @@
+/// \file vec3.h
+/// A small double-precision 3-vector for the scene model (loading, validation, tessellation).
+/// The renderer converts to float only where Embree needs it.
+#pragma once
+
+#include <cmath>
+
+namespace crex {
+
+struct Vec3 {
+    double x = 0, y = 0, z = 0;
+
+    constexpr Vec3() = default;
+    constexpr Vec3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+
+    double operator[](int i) const { return i == 0 ? x : i == 1 ? y : z; }
+    Vec3 operator+(const Vec3& o) const { return {x + o.x, y + o.y, z + o.z}; }
+    Vec3 operator-(const Vec3& o) const { return {x - o.x, y - o.y, z - o.z}; }
+    Vec3 operator-() const { return {-x, -y, -z}; }
+    Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
+    Vec3 operator/(double s) const { return {x / s, y / s, z / s}; }
+    Vec3 operator*(const Vec3& o) const { return {x * o.x, y * o.y, z * o.z}; }
+    Vec3& operator+=(const Vec3& o) { return *this = *this + o; }
+    bool operator==(const Vec3& o) const { return x == o.x && y == o.y && z == o.z; }
+    bool operator!=(const Vec3& o) const { return !(*this == o); }
+};
+
+inline Vec3 operator*(double s, const Vec3& v) { return v * s; }
+inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
+inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline double max_component(const Vec3& v) { return std::fmax(v.x, std::fmax(v.y, v.z)); }
+inline double min_component(const Vec3& v) { return std::fmin(v.x, std::fmin(v.y, v.z)); }
+inline Vec3 vmin(const Vec3& a, const Vec3& b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
+inline Vec3 vmax(const Vec3& a, const Vec3& b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+/// Unit vector, or the zero vector when `v` has no usable length.
+inline Vec3 normalize_or_zero(const Vec3& v) {
+    double l = length(v);
+    return l > 0 && std::isfinite(l) ? v / l : Vec3{};
+}
+
+}  // namespace crex

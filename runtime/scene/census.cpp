@@ -1,0 +1,90 @@
+#include "runtime/scene/census.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+
+namespace crex {
+namespace {
+
+// FNV-1a, 64 bit: stable across platforms and runs (std::hash is not).
+uint64_t fnv1a(std::string_view bytes) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+}  // namespace
+
+Census take_census(const Scene& scene) {
+    Census c;
+    std::map<std::string, MaterialUse> used;
+    for (const auto& shape : scene.shapes) {
+        const Material* m = scene.find_material(shape.material);
+        if (!m) continue;  // loaders reject unknown materials; be safe anyway
+        MaterialUse& u = used[m->name];
+        u.name = m->name;
+        u.type = m->type;
+        u.spawns = spawned_components(*m);
+        ++u.shapes;
+        if (is_sampled_emitter(*m) && is_emissive(*m)) ++c.sampled_emitters;
+        else if (is_emissive(*m)) ++c.unsampled_emitters;
+        if (shape.tag) c.tags.push_back(shape.tag->name);
+    }
+    for (auto& [name, use] : used) {
+        c.spawnable |= use.spawns;
+        c.materials.push_back(use);
+    }
+    std::sort(c.tags.begin(), c.tags.end());
+    c.tags.erase(std::unique(c.tags.begin(), c.tags.end()), c.tags.end());
+    c.has_medium = scene.medium && max_component(scene.medium->extinction) > 0;
+    // The hash covers what a plan depends on: reachable bins, emitter kinds, media and tags.
+    std::string key = fmt::format("spawnable={};light={};glow={};medium={};tags=", c.spawnable.to_string(),
+                                  c.sampled_emitters > 0, c.unsampled_emitters > 0, c.has_medium);
+    for (const auto& t : c.tags) key += t + ",";
+    c.hash = fnv1a(key);
+    return c;
+}
+
+std::string census_hash_hex(uint64_t hash) { return fmt::format("{:016x}", hash); }
+
+nlohmann::json to_json(const Census& c) {
+    nlohmann::json j;
+    j["hash"] = census_hash_hex(c.hash);
+    nlohmann::json comps = nlohmann::json::object();
+    for (const auto& row : kComponentTable) {
+        nlohmann::json e;
+        e["can_occur"] = c.can_occur(row.component);
+        e["name"] = std::string(row.name);
+        nlohmann::json from = nlohmann::json::array();
+        for (const auto& m : c.materials)
+            if (m.spawns.test(static_cast<size_t>(row.component))) from.push_back(m.name);
+        e["spawned_by"] = from;
+        comps[std::string(1, row.letter)] = e;
+    }
+    j["components"] = comps;
+    nlohmann::json mats = nlohmann::json::array();
+    for (const auto& m : c.materials)
+        mats.push_back({{"name", m.name},
+                        {"type", std::string(material_type_name(m.type))},
+                        {"spawns", component_set_letters(m.spawns)},
+                        {"shapes", m.shapes}});
+    j["materials"] = mats;
+    nlohmann::json graph = nlohmann::json::object();
+    std::vector<std::string> sources = {"camera"};
+    for (const auto& row : kComponentTable)
+        if (c.can_occur(row.component)) sources.push_back(std::string(1, row.letter));
+    for (const auto& s : sources) graph[s] = component_set_letters(c.spawnable);
+    j["spawn_graph"] = graph;
+    j["sampled_emitters"] = c.sampled_emitters;
+    j["unsampled_emitters"] = c.unsampled_emitters;
+    j["medium"] = c.has_medium;
+    j["tags"] = c.tags;
+    return j;
+}
+
+}  // namespace crex

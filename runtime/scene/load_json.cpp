@@ -1,0 +1,524 @@
+// The native scene format (docs/scene-format.md): JSON read with positions, every field
+// checked with its path and line, unknown fields warned about with the nearest known name.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "runtime/scene/json_positions.h"
+#include "runtime/scene/load_scene.h"
+#include "runtime/scene/material.h"
+#include "runtime/scene/shapes.h"
+
+namespace crex {
+namespace {
+
+using nlohmann::json;
+
+size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j)
+            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        std::swap(prev, cur);
+    }
+    return prev[b.size()];
+}
+
+std::string type_name(const json& v) {
+    if (v.is_number()) return "a number";
+    if (v.is_string()) return "a string";
+    if (v.is_boolean()) return "a boolean";
+    if (v.is_array()) return "an array";
+    if (v.is_object()) return "an object";
+    return "null";
+}
+
+std::string show(const json& v) {
+    std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
+    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+struct Range {
+    double lo = -INFINITY, hi = INFINITY;
+    bool lo_open = false, hi_open = false;
+    bool contains(double x) const {
+        return (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
+    }
+    std::string text() const {
+        if (std::isinf(lo) && std::isinf(hi)) return "";
+        if (std::isinf(hi)) return fmt::format(" {} {:g}", lo_open ? ">" : ">=", lo);
+        return fmt::format(" in {}{:g}, {:g}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");
+    }
+};
+
+const Range kAny{};
+const Range kUnit{0, 1};
+const Range kNonNegative{0, INFINITY};
+const Range kPositive{0, INFINITY, true};
+
+// Typed access to one JSON object, reporting at the field's own position.
+class ObjectReader {
+public:
+    ObjectReader(const PositionedJson& doc, DiagnosticSink& sink, const json& obj, std::string pointer)
+        : doc_(doc), sink_(sink), obj_(obj), pointer_(std::move(pointer)) {}
+
+    std::string path(const std::string& key) const { return readable_json_path(pointer_ + "/" + key); }
+    SourceSpan span(const std::string& key) const { return doc_.span(pointer_ + "/" + key); }
+    bool has(const std::string& key) const { return obj_.contains(key); }
+    const json& at(const std::string& key) const { return obj_.at(key); }
+    const std::string& pointer() const { return pointer_; }
+
+    void missing(const std::string& key, const std::string& what) {
+        sink_.report("E304", doc_.span(pointer_), fmt::format("{}: missing required field '{}' ({})",
+                                                               readable_json_path(pointer_), key, what));
+    }
+    void wrong(const std::string& key, const std::string& expected) {
+        sink_.report("E302", span(key), fmt::format("{}: expected {}, got {}", path(key), expected, type_name(at(key))));
+    }
+
+    bool number(const std::string& key, double& out, const Range& r = kAny, bool required = false) {
+        if (!has(key)) {
+            if (required) missing(key, "a number");
+            return false;
+        }
+        const json& v = at(key);
+        if (!v.is_number()) {
+            wrong(key, "a number" + r.text());
+            return false;
+        }
+        double x = v.get<double>();
+        if (!std::isfinite(x) || !r.contains(x)) {
+            sink_.report("E303", span(key), fmt::format("{}: expected a number{}, got {}", path(key), r.text(), show(v)));
+            return false;
+        }
+        out = x;
+        return true;
+    }
+
+    bool integer(const std::string& key, int& out, int lo, int hi) {
+        if (!has(key)) return false;
+        const json& v = at(key);
+        if (!v.is_number_integer()) {
+            wrong(key, fmt::format("an integer in {} .. {}", lo, hi));
+            return false;
+        }
+        auto x = v.get<int64_t>();
+        if (x < lo || x > hi) {
+            sink_.report("E303", span(key), fmt::format("{}: expected an integer in {} .. {}, got {}", path(key), lo, hi, x));
+            return false;
+        }
+        out = static_cast<int>(x);
+        return true;
+    }
+
+    bool boolean(const std::string& key, bool& out) {
+        if (!has(key)) return false;
+        if (!at(key).is_boolean()) {
+            wrong(key, "true or false");
+            return false;
+        }
+        out = at(key).get<bool>();
+        return true;
+    }
+
+    bool string(const std::string& key, std::string& out, bool required = false) {
+        if (!has(key)) {
+            if (required) missing(key, "a string");
+            return false;
+        }
+        if (!at(key).is_string()) {
+            wrong(key, "a string");
+            return false;
+        }
+        out = at(key).get<std::string>();
+        return true;
+    }
+
+    static bool vec3_of(const json& v, Vec3& out) {
+        if (!v.is_array() || v.size() != 3) return false;
+        for (const auto& e : v)
+            if (!e.is_number()) return false;
+        out = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+        return true;
+    }
+
+    bool vec3(const std::string& key, Vec3& out, const Range& r = kAny, bool required = false) {
+        if (!has(key)) {
+            if (required) missing(key, "an array of 3 numbers");
+            return false;
+        }
+        Vec3 v;
+        if (!vec3_of(at(key), v)) {
+            sink_.report("E302", span(key), fmt::format("{}: expected an array of 3 numbers, got {}", path(key), show(at(key))));
+            return false;
+        }
+        for (int i = 0; i < 3; ++i) {
+            if (!std::isfinite(v[i]) || !r.contains(v[i])) {
+                sink_.report("E303", doc_.span(pointer_ + "/" + key + "/" + std::to_string(i)),
+                             fmt::format("{}[{}]: expected a number{}, got {}", path(key), i, r.text(), show(at(key)[static_cast<size_t>(i)])));
+                return false;
+            }
+        }
+        out = v;
+        return true;
+    }
+
+    bool vec3_list(const std::string& key, std::vector<Vec3>& out, bool required) {
+        if (!has(key)) {
+            if (required) missing(key, "an array of points");
+            return false;
+        }
+        if (!at(key).is_array()) {
+            wrong(key, "an array of points [x, y, z]");
+            return false;
+        }
+        out.clear();
+        for (size_t i = 0; i < at(key).size(); ++i) {
+            Vec3 v;
+            const json& e = at(key)[i];
+            std::string ptr = pointer_ + "/" + key + "/" + std::to_string(i);
+            if (!vec3_of(e, v)) {
+                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected [x, y, z], got {}", readable_json_path(ptr), show(e)));
+                return false;
+            }
+            if (!is_finite(v)) {
+                sink_.report("E303", doc_.span(ptr), fmt::format("{}: non-finite coordinate", readable_json_path(ptr)));
+                return false;
+            }
+            out.push_back(v);
+        }
+        return true;
+    }
+
+    /// W301 for every key not in `known`, with the nearest known name as help.
+    void warn_unknown(std::initializer_list<std::string_view> known) {
+        for (const auto& [key, value] : obj_.items()) {
+            bool found = false;
+            for (auto k : known) found = found || k == key;
+            if (found) continue;
+            std::string_view best;
+            size_t best_d = 3;
+            for (auto k : known) {
+                size_t d = edit_distance(key, k);
+                if (d < best_d) best_d = d, best = k;
+            }
+            Diagnostic& d = sink_.report("W301", doc_.key_span(pointer_ + "/" + escape_pointer_token(key)),
+                                         fmt::format("{}: unknown field '{}' is ignored", readable_json_path(pointer_), key));
+            if (!best.empty()) d.help = fmt::format("did you mean '{}'?", best);
+        }
+    }
+
+private:
+    const PositionedJson& doc_;
+    DiagnosticSink& sink_;
+    const json& obj_;
+    std::string pointer_;
+};
+
+class SceneJsonLoader {
+public:
+    SceneJsonLoader(const PositionedJson& doc, const SourceFile& file, std::string base_dir, SceneSources& sources,
+                    DiagnosticSink& sink)
+        : doc_(doc), file_(file), base_dir_(std::move(base_dir)), sources_(sources), sink_(sink) {}
+
+    std::optional<Scene> load() {
+        size_t errors_before = sink_.error_count();
+        if (!doc_.value.is_object()) {
+            sink_.report("E302", doc_.span(""), fmt::format("a scene file must hold a JSON object, got {}", type_name(doc_.value)));
+            return std::nullopt;
+        }
+        Scene scene;
+        scene.source = file_.name();
+        ObjectReader top(doc_, sink_, doc_.value, "");
+        top.warn_unknown({"format", "version", "camera", "background", "medium", "materials", "shapes"});
+        std::string format;
+        if (top.string("format", format) && format != "crex-scene")
+            sink_.report("E303", top.span("format"), fmt::format("format: expected \"crex-scene\", got \"{}\"", format));
+        int version = 1;
+        if (top.integer("version", version, 1, 1000) && version != 1)
+            sink_.report("E303", top.span("version"), fmt::format("version: this crex reads version 1, the file is version {}", version));
+        if (top.has("camera")) read_camera(top, scene.camera);
+        top.vec3("background", scene.background, kNonNegative);
+        if (top.has("medium")) read_medium(top, scene);
+        read_array(top, "materials", [&](ObjectReader& r) { read_material(r, scene); });
+        read_array(top, "shapes", [&](ObjectReader& r) { read_shape(r, scene); });
+        if (!top.has("shapes")) top.missing("shapes", "an array of shapes");
+        if (sink_.error_count() != errors_before) return std::nullopt;
+        validate_scene(scene, sink_, [&](size_t i) {
+            if (i >= shape_index_.size()) return doc_.span(doc_.value.contains("camera") ? "/camera" : "");
+            return doc_.span("/shapes/" + std::to_string(shape_index_[i]));
+        });
+        if (sink_.error_count() != errors_before) return std::nullopt;
+        return scene;
+    }
+
+private:
+    template <class F>
+    void read_array(ObjectReader& parent, const std::string& key, F&& each) {
+        if (!parent.has(key)) return;
+        if (!parent.at(key).is_array()) {
+            parent.wrong(key, "an array of objects");
+            return;
+        }
+        for (size_t i = 0; i < parent.at(key).size(); ++i) {
+            const json& e = parent.at(key)[i];
+            std::string ptr = parent.pointer() + "/" + key + "/" + std::to_string(i);
+            current_index_ = i;
+            if (!e.is_object()) {
+                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected an object, got {}", readable_json_path(ptr), type_name(e)));
+                continue;
+            }
+            ObjectReader r(doc_, sink_, e, ptr);
+            each(r);
+        }
+    }
+
+    void read_camera(ObjectReader& top, Camera& cam) {
+        if (!top.at("camera").is_object()) {
+            top.wrong("camera", "an object");
+            return;
+        }
+        ObjectReader r(doc_, sink_, top.at("camera"), "/camera");
+        r.warn_unknown({"position", "direction", "look_at", "up", "vfov", "hfov", "view_distance"});
+        r.vec3("position", cam.position);
+        Vec3 look_at;
+        if (r.has("direction") && r.has("look_at"))
+            sink_.report("E303", r.span("look_at"), "camera: give either 'direction' or 'look_at', not both");
+        else if (r.vec3("look_at", look_at))
+            cam.direction = look_at - cam.position;
+        else
+            r.vec3("direction", cam.direction);
+        r.vec3("up", cam.up);
+        r.number("vfov", cam.vfov_deg, Range{0, 180, true, true});
+        r.number("hfov", cam.hfov_deg, Range{0, 180, false, true});
+        r.number("view_distance", cam.view_distance, kPositive);
+        if (!(length(cam.direction) > 0))
+            sink_.report("E306", r.span(r.has("look_at") ? "look_at" : "direction"), "camera: the view direction has zero length");
+        else if (!(length(cross(cam.direction, cam.up)) > 1e-9 * length(cam.direction) * length(cam.up)))
+            sink_.report("E306", r.span("up"), "camera: 'up' is parallel to the view direction (or zero)");
+    }
+
+    void read_medium(ObjectReader& top, Scene& scene) {
+        if (!top.at("medium").is_object()) {
+            top.wrong("medium", "an object");
+            return;
+        }
+        ObjectReader r(doc_, sink_, top.at("medium"), "/medium");
+        r.warn_unknown({"extinction", "albedo", "eccentricity"});
+        Medium m;
+        r.vec3("extinction", m.extinction, kNonNegative, true);
+        r.vec3("albedo", m.albedo, kUnit);
+        r.number("eccentricity", m.eccentricity, Range{-1, 1, true, true});
+        scene.medium = m;
+    }
+
+    void read_material(ObjectReader& r, Scene& scene) {
+        Material m;
+        std::string type;
+        r.string("name", m.name, true);
+        if (r.string("type", type, true)) {
+            auto t = material_type_from_name(type);
+            if (!t) {
+                sink_.report("E303", r.span("type"),
+                             fmt::format("{}: unknown material type '{}'; expected one of void, plastic, metal, "
+                                         "trans, glass, dielectric, mirror, light, glow", r.path("type"), type));
+                return;
+            }
+            m.type = *t;
+        }
+        r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
+                        "ior", "glow_radius", "emission"});
+        bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow;
+        // Reflectances above 1 create energy; radiances may be anything non-negative.
+        r.vec3("color", m.color, emitter ? kNonNegative : kUnit);
+        r.number("specularity", m.specularity, kUnit);
+        r.number("roughness", m.roughness, kUnit);
+        r.number("transmissivity", m.transmissivity, kUnit);
+        r.number("transmitted_specular", m.transmitted_specular, kUnit);
+        r.number("ior", m.ior, kPositive);
+        r.number("glow_radius", m.glow_radius, kNonNegative);
+        Vec3 e;
+        if (r.vec3("emission", e, kNonNegative)) m.emission = e;
+        if (m.name.empty()) return;
+        if (!material_names_.insert(m.name).second) {
+            sink_.report("E305", r.span("name"), fmt::format("{}: a material named '{}' is already defined", r.path("name"), m.name));
+            return;
+        }
+        scene.materials.push_back(m);
+    }
+
+    void read_shape(ObjectReader& r, Scene& scene) {
+        Shape s;
+        std::string type;
+        if (!r.string("type", type, true)) return;
+        auto t = shape_type_from_name(type);
+        if (!t) {
+            sink_.report("E303", r.span("type"), fmt::format("{}: unknown shape type '{}'; expected one of sphere, polygon, "
+                                                              "mesh, box, ring, cone, cylinder", r.path("type"), type));
+            return;
+        }
+        s.type = *t;
+        r.string("name", s.name);
+        if (r.string("material", s.material, s.type != ShapeType::kMesh || !r.has("file")) &&
+            !material_names_.count(s.material))
+            report_unknown_material(r, s.material);
+        if (r.has("tag")) read_tag(r, s);
+        switch (s.type) {
+        case ShapeType::kSphere:
+            r.warn_unknown({"type", "name", "material", "tag", "center", "radius"});
+            r.vec3("center", s.center, kAny, true);
+            r.number("radius", s.radius, kPositive, true);
+            break;
+        case ShapeType::kPolygon:
+            r.warn_unknown({"type", "name", "material", "tag", "vertices"});
+            r.vec3_list("vertices", s.vertices, true);
+            break;
+        case ShapeType::kBox:
+            r.warn_unknown({"type", "name", "material", "tag", "min", "max"});
+            r.vec3("min", s.min, kAny, true);
+            r.vec3("max", s.max, kAny, true);
+            break;
+        case ShapeType::kRing:
+            r.warn_unknown({"type", "name", "material", "tag", "center", "normal", "inner_radius", "outer_radius"});
+            r.vec3("center", s.center, kAny, true);
+            r.vec3("normal", s.normal, kAny, true);
+            r.number("inner_radius", s.r0, kNonNegative);
+            r.number("outer_radius", s.r1, kPositive, true);
+            break;
+        case ShapeType::kCone:
+            r.warn_unknown({"type", "name", "material", "tag", "p0", "p1", "r0", "r1"});
+            r.vec3("p0", s.p0, kAny, true);
+            r.vec3("p1", s.p1, kAny, true);
+            r.number("r0", s.r0, kNonNegative, true);
+            r.number("r1", s.r1, kNonNegative, true);
+            break;
+        case ShapeType::kCylinder:
+            r.warn_unknown({"type", "name", "material", "tag", "p0", "p1", "radius"});
+            r.vec3("p0", s.p0, kAny, true);
+            r.vec3("p1", s.p1, kAny, true);
+            r.number("radius", s.radius, kPositive, true);
+            break;
+        case ShapeType::kMesh:
+            r.warn_unknown({"type", "name", "material", "tag", "vertices", "triangles", "file"});
+            if (r.has("file")) {
+                read_obj_mesh(r, s, scene);
+                return;
+            }
+            r.vec3_list("vertices", s.vertices, true);
+            read_triangles(r, s);
+            break;
+        }
+        shape_index_.push_back(current_index_);
+        scene.shapes.push_back(std::move(s));
+    }
+
+    void report_unknown_material(ObjectReader& r, const std::string& name) {
+        Diagnostic& d = sink_.report("E305", r.span("material"),
+                                     fmt::format("{}: no material named '{}' is defined", r.path("material"), name));
+        size_t best_d = 3;
+        for (const auto& known : material_names_) {
+            size_t dist = edit_distance(name, known);
+            if (dist < best_d) best_d = dist, d.help = fmt::format("did you mean '{}'?", known);
+        }
+    }
+
+    void read_tag(ObjectReader& r, Shape& s) {
+        if (!r.at("tag").is_object()) {
+            r.wrong("tag", "an object {\"name\": ..., \"task\": 0..3, \"distractor\": false}");
+            return;
+        }
+        ObjectReader t(doc_, sink_, r.at("tag"), r.pointer() + "/tag");
+        t.warn_unknown({"name", "task", "distractor"});
+        Tag tag;
+        t.string("name", tag.name, true);
+        t.integer("task", tag.task, 0, 3);
+        t.boolean("distractor", tag.distractor);
+        s.tag = tag;
+    }
+
+    void read_triangles(ObjectReader& r, Shape& s) {
+        if (!r.has("triangles")) {
+            r.missing("triangles", "an array of [i, j, k] vertex indices");
+            return;
+        }
+        const json& tris = r.at("triangles");
+        if (!tris.is_array()) {
+            r.wrong("triangles", "an array of [i, j, k] vertex indices");
+            return;
+        }
+        for (size_t i = 0; i < tris.size(); ++i) {
+            const json& t = tris[i];
+            std::string ptr = r.pointer() + "/triangles/" + std::to_string(i);
+            bool ok = t.is_array() && t.size() == 3;
+            for (size_t k = 0; ok && k < 3; ++k) ok = t[k].is_number_unsigned();
+            if (!ok) {
+                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected [i, j, k] with vertex indices >= 0, got {}",
+                                                                  readable_json_path(ptr), show(t)));
+                return;
+            }
+            std::array<uint32_t, 3> tri{};
+            for (size_t k = 0; k < 3; ++k) {
+                uint64_t idx = t[k].get<uint64_t>();
+                if (idx >= s.vertices.size()) {
+                    sink_.report("E303", doc_.span(ptr + "/" + std::to_string(k)),
+                                 fmt::format("{}[{}]: vertex index {} out of range (the mesh has {} vertices)",
+                                             readable_json_path(ptr), k, idx, s.vertices.size()));
+                    return;
+                }
+                tri[k] = static_cast<uint32_t>(idx);
+            }
+            s.triangles.push_back(tri);
+        }
+    }
+
+    void read_obj_mesh(ObjectReader& r, Shape& s, Scene& scene) {
+        std::string rel;
+        if (!r.string("file", rel)) return;
+        std::filesystem::path p = std::filesystem::path(base_dir_) / rel;
+        DiagnosticSink obj_sink;
+        auto obj = import_obj(p.string(), obj_sink, sources_);
+        for (const auto& d : obj_sink.diagnostics()) sink_.add(d);
+        if (!obj) {
+            Diagnostic& d = sink_.report("E308", r.span("file"), fmt::format("{}: cannot load the mesh '{}'", r.path("file"), rel));
+            if (obj_sink.diagnostics().empty()) d.help = "check that the file exists and is a Wavefront OBJ";
+            return;
+        }
+        // One shape per OBJ material; an explicit "material" overrides the MTL ones.
+        for (auto& m : obj->materials) {
+            if (!s.material.empty()) break;
+            if (material_names_.insert(m.name).second) scene.materials.push_back(m);
+        }
+        for (auto& part : obj->shapes) {
+            part.file = rel;
+            part.tag = s.tag;
+            if (!s.name.empty()) part.name = s.name;
+            if (!s.material.empty()) part.material = s.material;
+            shape_index_.push_back(current_index_);
+            scene.shapes.push_back(std::move(part));
+        }
+    }
+
+    const PositionedJson& doc_;
+    const SourceFile& file_;
+    std::string base_dir_;
+    SceneSources& sources_;
+    DiagnosticSink& sink_;
+    std::set<std::string> material_names_;
+    std::vector<size_t> shape_index_;  // scene shape -> index in the file's "shapes"
+    size_t current_index_ = 0;
+};
+
+}  // namespace
+
+std::optional<Scene> load_scene_json(const SourceFile& file, const std::string& base_dir, SceneSources& sources,
+                                     DiagnosticSink& sink) {
+    PositionedJson doc;
+    if (!parse_json_with_positions(file, doc, sink, "E301")) return std::nullopt;
+    return SceneJsonLoader(doc, file, base_dir, sources, sink).load();
+}
+
+}  // namespace crex

@@ -1,0 +1,91 @@
+#include "runtime/scene/load_scene.h"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace crex {
+namespace {
+
+std::optional<std::string> read_file(const std::string& path, std::string& error) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        error = fmt::format("cannot read scene '{}': it is a directory", path);
+        return std::nullopt;
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        error = fmt::format("cannot read scene '{}': {}", path, std::strerror(errno));
+        return std::nullopt;
+    }
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+}  // namespace
+
+const SourceFile& SceneSources::add(std::string name, std::string text) {
+    files.push_back(std::make_unique<SourceFile>(std::move(name), std::move(text)));
+    return *files.back();
+}
+
+std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, DiagnosticSink& sink,
+                                SceneLoadFailure& failure) {
+    if (spec.rfind("builtin:", 0) == 0) {
+        std::string name = spec.substr(8);
+        if (auto s = builtin_scene(name)) return s;
+        std::string known;
+        for (const auto& n : builtin_scene_names()) known += (known.empty() ? "builtin:" : ", builtin:") + n;
+        failure.message = fmt::format("unknown built-in scene '{}'; the built-in scenes are {}", spec, known);
+        return std::nullopt;
+    }
+    std::string ext = lower_extension(spec);
+    if (ext == ".obj") {
+        if (!std::filesystem::exists(spec)) {
+            failure.message = fmt::format("cannot read scene '{}': {}", spec, std::strerror(ENOENT));
+            return std::nullopt;
+        }
+        return import_obj(spec, sink, sources);
+    }
+    if (ext != ".json" && ext != ".rad") {
+        failure.message = fmt::format("cannot tell the format of scene '{}': use .json (crex scene), .rad (RADIANCE), "
+                                      ".obj (Wavefront) or builtin:cornell", spec);
+        return std::nullopt;
+    }
+    std::string error;
+    auto text = read_file(spec, error);
+    if (!text) {
+        failure.message = error;
+        return std::nullopt;
+    }
+    const SourceFile& file = sources.add(spec, std::move(*text));
+    std::string dir = std::filesystem::path(spec).parent_path().string();
+    if (ext == ".json") return load_scene_json(file, dir, sources, sink);
+    // A RADIANCE scene takes its camera from a view file beside it with the same stem.
+    std::filesystem::path vf = std::filesystem::path(spec).replace_extension(".vf");
+    const SourceFile* view = nullptr;
+    if (std::filesystem::exists(vf)) {
+        auto vtext = read_file(vf.string(), error);
+        if (!vtext) {
+            failure.message = error;
+            return std::nullopt;
+        }
+        view = &sources.add(vf.string(), std::move(*vtext));
+    }
+    auto scene = import_radiance(file, view, sink);
+    if (scene) scene->source = spec;
+    return scene;
+}
+
+}  // namespace crex

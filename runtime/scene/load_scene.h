@@ -1,0 +1,60 @@
+/// \file load_scene.h
+/// Loading scenes: `builtin:NAME`, native JSON (`.json`), RADIANCE (`.rad`) and Wavefront OBJ
+/// (`.obj` with its `.mtl`). Errors are diagnostics with file, line, column and field (codes
+/// E3xx/W3xx); a scene is returned only when there were no errors.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compiler/base/diagnostic.h"
+#include "compiler/base/source.h"
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+/// Keeps the source texts that diagnostics point into alive as long as the caller needs them.
+struct SceneSources {
+    std::vector<std::unique_ptr<SourceFile>> files;
+    const SourceFile& add(std::string name, std::string text);
+};
+
+/// Why a scene could not be read at all (missing file, unknown extension): an I/O problem,
+/// reported apart from diagnostics about the content.
+struct SceneLoadFailure {
+    std::string message;
+};
+
+/// Loads `spec` (a path or builtin:NAME). Returns nullopt on failure: either `failure` is set
+/// (I/O) or `sink` has errors (content).
+std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, DiagnosticSink& sink,
+                                SceneLoadFailure& failure);
+
+/// The loaders, on text already read. `base_dir` resolves relative paths (OBJ files).
+std::optional<Scene> load_scene_json(const SourceFile& file, const std::string& base_dir, SceneSources& sources,
+                                     DiagnosticSink& sink);
+std::optional<Scene> import_radiance(const SourceFile& file, DiagnosticSink& sink);
+/// `view_file` (optional): a RADIANCE view file (-vp -vd -vu -vh -vv) for the camera.
+std::optional<Scene> import_radiance(const SourceFile& file, const SourceFile* view_file, DiagnosticSink& sink);
+std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, SceneSources& sources);
+
+/// Built-in scenes: "cornell" (the default), "cornell_diffuse".
+std::optional<Scene> builtin_scene(const std::string& name);
+std::vector<std::string> builtin_scene_names();
+
+/// The native JSON form of a scene (what load_scene_json reads back to an equal scene).
+nlohmann::json scene_to_json(const Scene& scene);
+/// The same, as text for people: objects indented, arrays of numbers on one line.
+std::string scene_json_text(const Scene& scene);
+
+/// Checks that apply to every loader's result: finite camera, materials referenced by shapes
+/// exist, geometry not degenerate (relative to the scene's size), at least one light (W302).
+/// `locate(i)` gives the span of shape i for messages.
+void validate_scene(const Scene& scene, DiagnosticSink& sink,
+                    const std::function<SourceSpan(size_t shape)>& locate);
+
+}  // namespace crex

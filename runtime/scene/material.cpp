@@ -1,0 +1,84 @@
+#include "runtime/scene/material.h"
+
+#include <array>
+#include <utility>
+
+namespace crex {
+namespace {
+
+constexpr std::array<std::pair<MaterialType, std::string_view>, 9> kNames = {{
+    {MaterialType::kVoid, "void"},
+    {MaterialType::kPlastic, "plastic"},
+    {MaterialType::kMetal, "metal"},
+    {MaterialType::kTrans, "trans"},
+    {MaterialType::kGlass, "glass"},
+    {MaterialType::kDielectric, "dielectric"},
+    {MaterialType::kMirror, "mirror"},
+    {MaterialType::kLight, "light"},
+    {MaterialType::kGlow, "glow"},
+}};
+
+void set(ComponentSet& s, Component c) { s.set(static_cast<size_t>(c)); }
+
+}  // namespace
+
+std::string_view material_type_name(MaterialType t) {
+    for (const auto& [type, name] : kNames)
+        if (type == t) return name;
+    return "void";
+}
+
+std::optional<MaterialType> material_type_from_name(std::string_view name) {
+    for (const auto& [type, n] : kNames)
+        if (n == name) return type;
+    return std::nullopt;
+}
+
+ComponentSet spawned_components(const Material& m) {
+    ComponentSet s;
+    bool coloured = max_component(m.color) > 0;
+    switch (m.type) {
+    case MaterialType::kPlastic:
+    case MaterialType::kMetal:
+    case MaterialType::kTrans: {
+        double spec = m.specularity;
+        if (coloured && spec < 1) set(s, Component::kD);  // diffuse reflection
+        if (spec > 0) set(s, m.roughness > 0 ? Component::kG : Component::kS);
+        if (m.type == MaterialType::kTrans && coloured && m.transmissivity > 0) {
+            if (m.transmitted_specular < 1) set(s, Component::kD);  // diffuse transmission
+            if (m.transmitted_specular > 0) set(s, Component::kT);  // specular transmission
+        }
+        break;
+    }
+    case MaterialType::kGlass:
+    case MaterialType::kDielectric:
+        // Fresnel reflection happens whatever the colour; transmission needs a non-black colour.
+        set(s, Component::kR);
+        if (coloured) set(s, Component::kT);
+        break;
+    case MaterialType::kMirror:
+        if (coloured) set(s, Component::kM);
+        break;
+    case MaterialType::kVoid:
+    case MaterialType::kLight:
+    case MaterialType::kGlow: break;
+    }
+    return s;
+}
+
+bool is_emissive(const Material& m) {
+    if (m.type == MaterialType::kLight || m.type == MaterialType::kGlow) return max_component(m.color) > 0;
+    return m.emission && max_component(*m.emission) > 0;
+}
+
+std::string component_set_letters(const ComponentSet& set) {
+    std::string out;
+    for (const auto& row : kComponentTable) {
+        if (!set.test(static_cast<size_t>(row.component))) continue;
+        if (!out.empty()) out += ' ';
+        out += row.letter;
+    }
+    return out;
+}
+
+}  // namespace crex

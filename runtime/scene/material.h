@@ -1,0 +1,32 @@
+/// \file material.h
+/// Material types by name, and the component split of spec/crex.md §1: which bins a hit on a
+/// material can spawn rays into. This is the single source of truth for the census (and so for
+/// what the planner prunes) and for the renderer's lobe splitting.
+#pragma once
+
+#include <bitset>
+#include <optional>
+#include <string_view>
+
+#include "compiler/crex/components.h"
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+using ComponentSet = std::bitset<kComponentCount>;
+
+std::string_view material_type_name(MaterialType t);
+std::optional<MaterialType> material_type_from_name(std::string_view name);
+
+/// Components a hit on `m` spawns into (empty for emitters, void and black surfaces).
+ComponentSet spawned_components(const Material& m);
+
+/// True for emitters sampled by direct lighting (`light`).
+inline bool is_sampled_emitter(const Material& m) { return m.type == MaterialType::kLight; }
+/// True when a hit adds emission (sampled or not).
+bool is_emissive(const Material& m);
+
+/// "D T R" for a set.
+std::string component_set_letters(const ComponentSet& set);
+
+}  // namespace crex

@@ -1,0 +1,242 @@
+#include "runtime/scene/shapes.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <utility>
+
+namespace crex {
+namespace {
+
+constexpr std::array<std::pair<ShapeType, std::string_view>, 7> kNames = {{
+    {ShapeType::kSphere, "sphere"},
+    {ShapeType::kPolygon, "polygon"},
+    {ShapeType::kMesh, "mesh"},
+    {ShapeType::kBox, "box"},
+    {ShapeType::kRing, "ring"},
+    {ShapeType::kCone, "cone"},
+    {ShapeType::kCylinder, "cylinder"},
+}};
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Newell's method: a robust normal (times twice the area) for any planar polygon.
+Vec3 newell_normal(const std::vector<Vec3>& v) {
+    Vec3 n;
+    for (size_t i = 0; i < v.size(); ++i) {
+        const Vec3& a = v[i];
+        const Vec3& b = v[(i + 1) % v.size()];
+        n.x += (a.y - b.y) * (a.z + b.z);
+        n.y += (a.z - b.z) * (a.x + b.x);
+        n.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return n;
+}
+
+// Two unit vectors spanning the plane perpendicular to unit `n`.
+void basis(const Vec3& n, Vec3& u, Vec3& v) {
+    Vec3 a = std::fabs(n.x) > 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    u = normalize_or_zero(cross(n, a));
+    v = cross(n, u);
+}
+
+bool finite_all(std::initializer_list<double> xs) {
+    for (double x : xs)
+        if (!std::isfinite(x)) return false;
+    return true;
+}
+
+uint32_t push(TriangleMesh& m, const Vec3& p) {
+    m.positions.push_back(p);
+    return static_cast<uint32_t>(m.positions.size() - 1);
+}
+
+// A band between two circles (a ring when both centres coincide, a cone or cylinder otherwise).
+void tessellate_band(TriangleMesh& out, const Vec3& c0, const Vec3& c1, const Vec3& axis, double r0, double r1) {
+    Vec3 u, v;
+    basis(normalize_or_zero(axis), u, v);
+    uint32_t base = static_cast<uint32_t>(out.positions.size());
+    for (int i = 0; i < kRoundSegments; ++i) {
+        double t = 2 * kPi * i / kRoundSegments;
+        Vec3 dir = u * std::cos(t) + v * std::sin(t);
+        push(out, c0 + dir * r0);
+        push(out, c1 + dir * r1);
+    }
+    for (uint32_t i = 0; i < kRoundSegments; ++i) {
+        uint32_t j = (i + 1) % kRoundSegments;
+        uint32_t a0 = base + 2 * i, a1 = base + 2 * i + 1, b0 = base + 2 * j, b1 = base + 2 * j + 1;
+        if (r0 > 0) out.indices.push_back({a0, b0, a1});
+        if (r1 > 0) out.indices.push_back({b0, b1, a1});
+    }
+}
+
+}  // namespace
+
+std::string_view shape_type_name(ShapeType t) {
+    for (const auto& [type, name] : kNames)
+        if (type == t) return name;
+    return "sphere";
+}
+
+std::optional<ShapeType> shape_type_from_name(std::string_view name) {
+    for (const auto& [type, n] : kNames)
+        if (n == name) return type;
+    return std::nullopt;
+}
+
+std::vector<std::array<uint32_t, 3>> triangulate_polygon(const std::vector<Vec3>& vertices) {
+    std::vector<std::array<uint32_t, 3>> tris;
+    size_t n = vertices.size();
+    if (n < 3) return tris;
+    Vec3 normal = normalize_or_zero(newell_normal(vertices));
+    if (normal == Vec3{}) return tris;
+    Vec3 u, v;
+    basis(normal, u, v);
+    std::vector<std::array<double, 2>> p(n);
+    for (size_t i = 0; i < n; ++i) p[i] = {dot(vertices[i], u), dot(vertices[i], v)};
+    auto area2 = [&](size_t a, size_t b, size_t c) {
+        return (p[b][0] - p[a][0]) * (p[c][1] - p[a][1]) - (p[c][0] - p[a][0]) * (p[b][1] - p[a][1]);
+    };
+    std::vector<uint32_t> ring(n);
+    for (uint32_t i = 0; i < n; ++i) ring[i] = i;
+    // In (u, v) the polygon winds counter-clockwise, since u x v = normal from Newell.
+    size_t guard = 0;
+    while (ring.size() > 3 && guard++ < n * n) {
+        bool clipped = false;
+        for (size_t i = 0; i < ring.size(); ++i) {
+            uint32_t a = ring[(i + ring.size() - 1) % ring.size()], b = ring[i], c = ring[(i + 1) % ring.size()];
+            if (area2(a, b, c) <= 0) continue;  // reflex or collinear corner
+            bool inside = false;
+            for (uint32_t q : ring) {
+                if (q == a || q == b || q == c) continue;
+                if (area2(a, b, q) >= 0 && area2(b, c, q) >= 0 && area2(c, a, q) >= 0) {
+                    inside = true;
+                    break;
+                }
+            }
+            if (inside) continue;
+            tris.push_back({a, b, c});
+            ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+            clipped = true;
+            break;
+        }
+        if (!clipped) break;  // not simple: fall back to a fan for what is left
+    }
+    for (size_t i = 1; i + 1 < ring.size(); ++i) tris.push_back({ring[0], ring[i], ring[i + 1]});
+    return tris;
+}
+
+std::optional<std::string> shape_problem(const Shape& s, double scale) {
+    double eps = 1e-12 * std::fmax(scale, 1e-300);
+    switch (s.type) {
+    case ShapeType::kSphere:
+        if (!is_finite(s.center) || !std::isfinite(s.radius)) return "non-finite centre or radius";
+        if (!(s.radius > 0)) return fmt::format("radius must be > 0, got {}", s.radius);
+        return std::nullopt;
+    case ShapeType::kPolygon: {
+        if (s.vertices.size() < 3) return fmt::format("a polygon needs at least 3 vertices, got {}", s.vertices.size());
+        for (const auto& v : s.vertices)
+            if (!is_finite(v)) return "non-finite vertex coordinate";
+        double area = 0.5 * length(newell_normal(s.vertices));
+        if (!(area > eps * scale)) return fmt::format("zero-area polygon (area {:g}): its normal is undefined", area);
+        return std::nullopt;
+    }
+    case ShapeType::kMesh:
+        for (const auto& v : s.vertices)
+            if (!is_finite(v)) return "non-finite vertex coordinate";
+        for (const auto& t : s.triangles)
+            for (uint32_t i : t)
+                if (i >= s.vertices.size())
+                    return fmt::format("triangle index {} out of range ({} vertices)", i, s.vertices.size());
+        if (s.triangles.empty()) return "mesh has no triangles";
+        return std::nullopt;
+    case ShapeType::kBox:
+        if (!is_finite(s.min) || !is_finite(s.max)) return "non-finite box corner";
+        if (!(s.min.x < s.max.x && s.min.y < s.max.y && s.min.z < s.max.z))
+            return "box 'min' must be below 'max' on every axis";
+        return std::nullopt;
+    case ShapeType::kRing:
+        if (!is_finite(s.center) || !is_finite(s.normal) || !finite_all({s.r0, s.r1})) return "non-finite ring";
+        if (!(length(s.normal) > 0)) return "degenerate normal (zero length)";
+        if (!(s.r0 >= 0 && s.r1 > s.r0)) return fmt::format("ring radii must satisfy 0 <= inner < outer, got {} and {}", s.r0, s.r1);
+        return std::nullopt;
+    case ShapeType::kCone:
+    case ShapeType::kCylinder: {
+        double r0 = s.type == ShapeType::kCylinder ? s.radius : s.r0;
+        double r1 = s.type == ShapeType::kCylinder ? s.radius : s.r1;
+        if (!is_finite(s.p0) || !is_finite(s.p1) || !finite_all({r0, r1})) return "non-finite end point or radius";
+        if (!(length(s.p1 - s.p0) > eps)) return "end points coincide: the axis is degenerate";
+        if (!(r0 >= 0 && r1 >= 0 && r0 + r1 > 0)) return fmt::format("radii must be >= 0 and not both 0, got {} and {}", r0, r1);
+        return std::nullopt;
+    }
+    }
+    return std::nullopt;
+}
+
+void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
+    switch (s.type) {
+    case ShapeType::kSphere: return;
+    case ShapeType::kPolygon: {
+        uint32_t base = static_cast<uint32_t>(out.positions.size());
+        for (const auto& v : s.vertices) out.positions.push_back(v);
+        for (auto t : triangulate_polygon(s.vertices)) out.indices.push_back({base + t[0], base + t[1], base + t[2]});
+        return;
+    }
+    case ShapeType::kMesh: {
+        uint32_t base = static_cast<uint32_t>(out.positions.size());
+        for (const auto& v : s.vertices) out.positions.push_back(v);
+        for (const auto& t : s.triangles) {
+            Vec3 n = cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]);
+            if (!(length(n) > 0)) {  // zero-area triangles have no normal: never hand them to the tracer
+                if (dropped) ++*dropped;
+                continue;
+            }
+            out.indices.push_back({base + t[0], base + t[1], base + t[2]});
+        }
+        return;
+    }
+    case ShapeType::kBox: {
+        const Vec3& a = s.min;
+        const Vec3& b = s.max;
+        uint32_t base = static_cast<uint32_t>(out.positions.size());
+        for (int i = 0; i < 8; ++i) push(out, {i & 1 ? b.x : a.x, i & 2 ? b.y : a.y, i & 4 ? b.z : a.z});
+        // Outward-facing faces, two triangles each.
+        static const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                             {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+        for (const auto& f : faces) {
+            out.indices.push_back({base + f[0], base + f[1], base + f[2]});
+            out.indices.push_back({base + f[0], base + f[2], base + f[3]});
+        }
+        return;
+    }
+    case ShapeType::kRing: tessellate_band(out, s.center, s.center, s.normal, s.r0, s.r1); return;
+    case ShapeType::kCone: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.r0, s.r1); return;
+    case ShapeType::kCylinder: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.radius, s.radius); return;
+    }
+}
+
+size_t triangle_count(const Shape& s) {
+    TriangleMesh m;
+    tessellate(s, m);
+    return m.indices.size();
+}
+
+void expand_bounds(const Shape& s, Vec3& lo, Vec3& hi) {
+    auto add = [&](const Vec3& p, double r) {
+        lo = vmin(lo, p - Vec3{r, r, r});
+        hi = vmax(hi, p + Vec3{r, r, r});
+    };
+    switch (s.type) {
+    case ShapeType::kSphere: add(s.center, s.radius); return;
+    case ShapeType::kRing: add(s.center, s.r1); return;
+    case ShapeType::kCone: add(s.p0, s.r0); add(s.p1, s.r1); return;
+    case ShapeType::kCylinder: add(s.p0, s.radius); add(s.p1, s.radius); return;
+    case ShapeType::kBox: add(s.min, 0); add(s.max, 0); return;
+    case ShapeType::kPolygon:
+    case ShapeType::kMesh:
+        for (const auto& v : s.vertices) add(v, 0);
+        return;
+    }
+}
+
+}  // namespace crex

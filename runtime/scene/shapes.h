@@ -1,0 +1,46 @@
+/// \file shapes.h
+/// Shape names, validation and tessellation. Spheres stay analytic; every other shape becomes
+/// triangles (rings, cones and cylinders with kRoundSegments segments, as RADIANCE's own
+/// converters do for rasterisers).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+inline constexpr int kRoundSegments = 48;
+
+std::string_view shape_type_name(ShapeType t);
+std::optional<ShapeType> shape_type_from_name(std::string_view name);
+
+struct TriangleMesh {
+    std::vector<Vec3> positions;
+    std::vector<std::array<uint32_t, 3>> indices;
+};
+
+/// Why `shape` cannot be rendered (non-finite numbers, zero radius or area, degenerate normal,
+/// index out of range, ...), or nullopt when it is fine. `scale` is the scene's size, so that
+/// "zero area" means small relative to the scene.
+std::optional<std::string> shape_problem(const Shape& shape, double scale);
+
+/// Appends the triangles of `shape` (nothing for spheres). Degenerate mesh triangles are
+/// dropped and counted in `dropped` when given.
+void tessellate(const Shape& shape, TriangleMesh& out, size_t* dropped = nullptr);
+
+/// Number of triangles `shape` tessellates to.
+size_t triangle_count(const Shape& shape);
+
+/// Axis-aligned bounds of a shape (spheres and round shapes included).
+void expand_bounds(const Shape& shape, Vec3& lo, Vec3& hi);
+
+/// Triangulates a planar simple polygon by ear clipping (convex or not); returns index
+/// triples into `vertices`, empty if it cannot (degenerate).
+std::vector<std::array<uint32_t, 3>> triangulate_polygon(const std::vector<Vec3>& vertices);
+
+}  // namespace crex

@@ -1,0 +1,51 @@
+// Checks every loader's result gets, whatever the format.
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "runtime/scene/load_scene.h"
+#include "runtime/scene/material.h"
+#include "runtime/scene/shapes.h"
+
+namespace crex {
+
+const Material* Scene::find_material(const std::string& name) const {
+    for (const auto& m : materials)
+        if (m.name == name) return &m;
+    return nullptr;
+}
+
+void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::function<SourceSpan(size_t)>& locate) {
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (const auto& s : scene.shapes) expand_bounds(s, lo, hi);
+    double scale = is_finite(hi - lo) ? std::fmax(length(hi - lo), 1e-300) : 1.0;
+    size_t lights = 0;
+    for (size_t i = 0; i < scene.shapes.size(); ++i) {
+        const Shape& s = scene.shapes[i];
+        const Material* m = scene.find_material(s.material);
+        if (!m) {
+            sink.report("E305", locate(i), fmt::format("shape uses material '{}', which is not defined", s.material));
+            continue;
+        }
+        if (auto problem = shape_problem(s, scale))
+            sink.report("E306", locate(i), fmt::format("{}{}: {}", shape_type_name(s.type),
+                                                       s.name.empty() ? "" : " '" + s.name + "'", *problem));
+        if (s.type == ShapeType::kMesh) {
+            size_t dropped = 0;
+            TriangleMesh tm;
+            if (!shape_problem(s, scale)) tessellate(s, tm, &dropped);
+            if (dropped > 0)
+                sink.report("W303", locate(i), fmt::format("mesh{}: {} of {} triangles have zero area and are dropped",
+                                                           s.name.empty() ? "" : " '" + s.name + "'", dropped, s.triangles.size()));
+        }
+        if (is_sampled_emitter(*m) && is_emissive(*m)) ++lights;
+    }
+    const Camera& c = scene.camera;
+    if (!is_finite(c.position) || !is_finite(c.direction) || !is_finite(c.up))
+        sink.report("E303", locate(SIZE_MAX), "camera: non-finite position, direction or up vector");
+    if (lights == 0 && !scene.shapes.empty())
+        sink.report("W302", locate(SIZE_MAX), "no shape has a 'light' material: direct lighting will be black")
+            .help = "give an emitter the material type 'light' so it is sampled";
+}
+
+}  // namespace crex
