@@ -5,7 +5,7 @@
 #   tools/dev.sh test     install what is missing, build (Release), run every test, then
 #                         rebuild with ASan+UBSan at -O1 and rerun the fast labels
 #   tools/dev.sh build    install what is missing and build (Release) only
-#   tools/dev.sh fuzz [S] build the libFuzzer target with clang and run it for S seconds (120)
+#   tools/dev.sh fuzz [S] build the libFuzzer targets with clang; run each for S seconds (120)
 #
 # Build trees: build/release, build/asan, build/fuzz. Safe to rerun: installs only what is
 # missing and rebuilds incrementally.
@@ -54,6 +54,8 @@ run_tests() {
 run_demo() {
   log "main job: check and explain the thesis's crex expressions"
   build/release/apps/crex/crex check --explain stdlib/crex/thesis.crex
+  log "main job: the census of the built-in Cornell box"
+  build/release/apps/crex/crex scene-info builtin:cornell
 }
 
 run_fuzz() {
@@ -62,12 +64,16 @@ run_fuzz() {
   log "configure + build (libFuzzer, clang-14)"
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
-  cmake --build build/fuzz -j "$JOBS" --target crex_check_fuzzer
-  mkdir -p build/fuzz/corpus
-  grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/seed_
+  cmake --build build/fuzz -j "$JOBS" --target crex_check_fuzzer scene_load_fuzzer
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/crex build/fuzz/corpus/scene
+  grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
+  cp examples/scenes/*/scene.json examples/scenes/*/scene.rad build/fuzz/corpus/scene/ 2>/dev/null || true
   log "fuzzing the crex checker for ${seconds}s"
   build/fuzz/tests/fuzz/crex_check_fuzzer -max_total_time="$seconds" -max_len=512 \
-      -print_final_stats=1 build/fuzz/corpus
+      -print_final_stats=1 build/fuzz/corpus/crex
+  log "fuzzing the scene loaders for ${seconds}s"
+  build/fuzz/tests/fuzz/scene_load_fuzzer -max_total_time="$seconds" -max_len=8192 \
+      -print_final_stats=1 build/fuzz/corpus/scene
 }
 
 case "${1:-}" in

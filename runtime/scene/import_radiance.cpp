@@ -32,10 +32,13 @@ constexpr const char* kUnsupportedTypes[] = {
 
 class RadianceReader {
 public:
-    RadianceReader(const SourceFile& file, DiagnosticSink& sink) : file_(file), sink_(sink) { tokenize(); }
+    RadianceReader(const SourceFile& file, DiagnosticSink& sink)
+        : file_(file), sink_(sink), errors_before_(sink.error_count()) {
+        tokenize();
+    }
 
     std::optional<Scene> read(const SourceFile* view_file) {
-        size_t errors_before = sink_.error_count();
+        size_t errors_before = errors_before_;  // tokenising already reports '!' commands
         while (pos_ < tokens_.size()) {
             run_directives_before(pos_);
             read_primitive();
@@ -432,6 +435,7 @@ private:
     const SourceFile& file_;
     const SourceFile* view_source_ = nullptr;
     DiagnosticSink& sink_;
+    size_t errors_before_;
     struct Directive {
         size_t before_token;
         std::string text;

@@ -201,8 +201,9 @@ void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
         uint32_t base = static_cast<uint32_t>(out.positions.size());
         for (int i = 0; i < 8; ++i) push(out, {i & 1 ? b.x : a.x, i & 2 ? b.y : a.y, i & 4 ? b.z : a.z});
         // Outward-facing faces, two triangles each.
-        static const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
-                                             {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+        // Corner i has x from bit 0, y from bit 1, z from bit 2; faces -x +x -y +y -z +z.
+        static const uint32_t faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                             {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
         for (const auto& f : faces) {
             out.indices.push_back({base + f[0], base + f[1], base + f[2]});
             out.indices.push_back({base + f[0], base + f[2], base + f[3]});

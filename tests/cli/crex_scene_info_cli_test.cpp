@@ -1,0 +1,69 @@
+// `crex scene-info` as a user runs it.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tests/support/run_command.h"
+
+namespace crex {
+namespace {
+
+testing::CommandResult crex_cli(std::vector<std::string> args) {
+    args.insert(args.begin(), CREX_BINARY);
+    return testing::run_command(args);
+}
+
+TEST(CrexSceneInfoCli, DefaultsToTheBuiltinCornellBox) {
+    auto r = crex_cli({"scene-info"});
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("scene builtin:cornell"), std::string::npos);
+    EXPECT_NE(r.out.find("T transmitted                      yes, from glass"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("cannot occur: G, S"), std::string::npos);
+}
+
+TEST(CrexSceneInfoCli, DiffuseOnlySceneSaysWhatCannotOccur) {
+    auto r = crex_cli({"scene-info", CREX_SOURCE_DIR "/examples/scenes/cornell_diffuse/scene.json"});
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("cannot occur: G, S, T, R, M"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("spawn graph: {camera, D} -> {D}"), std::string::npos) << r.out;
+}
+
+TEST(CrexSceneInfoCli, JsonCensus) {
+    auto r = crex_cli({"scene-info", "--format", "json", "builtin:cornell_diffuse"});
+    EXPECT_EQ(r.exit_code, 0);
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["census"]["components"]["D"]["can_occur"].get<bool>());
+    for (const char* c : {"G", "S", "T", "R", "M"}) EXPECT_FALSE(j["census"]["components"][c]["can_occur"].get<bool>()) << c;
+}
+
+TEST(CrexSceneInfoCli, ExitCodes) {
+    EXPECT_EQ(crex_cli({"scene-info", "/nonexistent.json"}).exit_code, 3);
+    EXPECT_EQ(crex_cli({"scene-info", "builtin:nope"}).exit_code, 3);
+    auto path = std::filesystem::temp_directory_path() / "crex_cli_bad_scene.json";
+    std::ofstream(path) << "{\"shapes\": [{\"type\": \"sphere\"}]}";
+    auto r = crex_cli({"scene-info", path.string()});
+    std::filesystem::remove(path);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("error[E304]"), std::string::npos) << r.err;
+}
+
+TEST(CrexSceneInfoCli, ExportWritesALoadableSceneAtomically) {
+    auto dir = std::filesystem::temp_directory_path() / "crex_cli_export";
+    std::filesystem::create_directories(dir);
+    auto out = dir / "cornell.json";
+    auto r = crex_cli({"scene-info", CREX_SOURCE_DIR "/examples/scenes/cornell/scene.rad", "--export-json", out.string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    auto again = crex_cli({"scene-info", out.string()});
+    EXPECT_EQ(again.exit_code, 0) << again.err;
+    size_t files = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+    EXPECT_EQ(files, 1u);  // no temporary left behind
+    auto bad = crex_cli({"scene-info", "--export-json", "/nonexistent/dir/x.json"});
+    EXPECT_EQ(bad.exit_code, 3);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace crex

@@ -1,0 +1,61 @@
+/// \file scene_helpers.h
+/// Test helpers: load a scene from text and look at the diagnostics.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/scene/load_scene.h"
+
+namespace crex::testing {
+
+struct SceneResult {
+    std::unique_ptr<SceneSources> sources = std::make_unique<SceneSources>();
+    std::optional<Scene> scene;
+    std::vector<Diagnostic> diagnostics;
+    size_t errors = 0;
+
+    const Diagnostic* find(const std::string& code) const {
+        for (const auto& d : diagnostics)
+            if (d.code == code) return &d;
+        return nullptr;
+    }
+    LineCol where(const std::string& code) const {
+        const Diagnostic* d = find(code);
+        return d && d->span.valid() ? d->span.file->position(d->span.begin) : LineCol{0, 0};
+    }
+};
+
+inline SceneResult load_json_text(const std::string& text, const std::string& name = "scene.json") {
+    SceneResult r;
+    DiagnosticSink sink;
+    const SourceFile& f = r.sources->add(name, text);
+    r.scene = load_scene_json(f, ".", *r.sources, sink);
+    r.diagnostics = sink.sorted();
+    r.errors = sink.error_count();
+    return r;
+}
+
+inline SceneResult load_rad_text(const std::string& text, const std::string& view = "") {
+    SceneResult r;
+    DiagnosticSink sink;
+    const SourceFile& f = r.sources->add("scene.rad", text);
+    const SourceFile* vf = view.empty() ? nullptr : &r.sources->add("scene.vf", view);
+    r.scene = import_radiance(f, vf, sink);
+    r.diagnostics = sink.sorted();
+    r.errors = sink.error_count();
+    return r;
+}
+
+inline SceneResult load_path(const std::string& path) {
+    SceneResult r;
+    DiagnosticSink sink;
+    SceneLoadFailure failure;
+    r.scene = load_scene(path, *r.sources, sink, failure);
+    r.diagnostics = sink.sorted();
+    r.errors = sink.error_count() + (failure.message.empty() ? 0 : 1);
+    return r;
+}
+
+}  // namespace crex::testing

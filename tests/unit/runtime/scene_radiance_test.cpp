@@ -1,0 +1,192 @@
+// The RADIANCE importer: each supported primitive and material, the view, the twin of the
+// Cornell box, and every kind of bad input as a located error.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "runtime/scene/census.h"
+#include "runtime/scene/shapes.h"
+#include "tests/support/scene_helpers.h"
+
+namespace crex {
+namespace {
+
+const char* kAllMaterials = R"(
+void plastic p 0 0 5 .5 .4 .3 .05 .1
+void metal m 0 0 5 .9 .8 .7 .9 0
+void trans t 0 0 7 .6 .6 .6 .03 .05 .5 .4
+void glass g3 0 0 3 .96 .96 .96
+void glass g4 0 0 4 .96 .96 .96 1.45
+void dielectric d 0 0 5 .9 .9 1 1.33 0
+void mirror mi 0 0 3 .95 .95 .95
+void light l 0 0 3 10 10 10
+void glow gl 0 0 4 1 2 3 4
+)";
+
+TEST(SceneRadiance, EveryMaterialReadsItsArguments) {
+    auto r = testing::load_rad_text(std::string(kAllMaterials) + "l sphere s 0 0 4 0 0 0 1\n");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Scene& s = *r.scene;
+    ASSERT_EQ(s.materials.size(), 9u);
+    EXPECT_EQ(s.materials[0].type, MaterialType::kPlastic);
+    EXPECT_DOUBLE_EQ(s.materials[0].specularity, 0.05);
+    EXPECT_DOUBLE_EQ(s.materials[0].roughness, 0.1);
+    EXPECT_EQ(s.materials[1].type, MaterialType::kMetal);
+    EXPECT_DOUBLE_EQ(s.materials[2].transmissivity, 0.5);
+    EXPECT_DOUBLE_EQ(s.materials[2].transmitted_specular, 0.4);
+    EXPECT_DOUBLE_EQ(s.materials[3].ior, 1.52);  // RADIANCE's default
+    EXPECT_DOUBLE_EQ(s.materials[4].ior, 1.45);
+    EXPECT_DOUBLE_EQ(s.materials[5].ior, 1.33);
+    EXPECT_EQ(s.materials[6].type, MaterialType::kMirror);
+    EXPECT_EQ(s.materials[7].color, (Vec3{10, 10, 10}));
+    EXPECT_DOUBLE_EQ(s.materials[8].glow_radius, 4);
+}
+
+TEST(SceneRadiance, EveryPrimitiveReadsItsArguments) {
+    auto r = testing::load_rad_text(R"(
+void plastic w 0 0 5 .5 .5 .5 0 0
+void light l 0 0 3 1 1 1
+w polygon quad 0 0 12  0 0 0  1 0 0  1 1 0  0 1 0
+w sphere ball 0 0 4  1 2 3 0.5
+w ring disc 0 0 8  0 0 0  0 0 1  0.25 1
+l cone c 0 0 8  0 0 0  0 0 2  1 0.5
+w cylinder cyl 0 0 7  0 0 0  0 3 0  0.2
+)");
+    ASSERT_TRUE(r.scene);
+    const auto& sh = r.scene->shapes;
+    ASSERT_EQ(sh.size(), 5u);
+    EXPECT_EQ(sh[0].type, ShapeType::kPolygon);
+    EXPECT_EQ(sh[0].vertices.size(), 4u);
+    EXPECT_EQ(sh[1].center, (Vec3{1, 2, 3}));
+    EXPECT_DOUBLE_EQ(sh[1].radius, 0.5);
+    EXPECT_EQ(sh[2].normal, (Vec3{0, 0, 1}));
+    EXPECT_DOUBLE_EQ(sh[2].r0, 0.25);
+    EXPECT_DOUBLE_EQ(sh[3].r1, 0.5);
+    EXPECT_EQ(sh[3].material, "l");
+    EXPECT_EQ(sh[4].p1, (Vec3{0, 3, 0}));
+    EXPECT_EQ(sh[4].name, "cyl");
+    // Tessellation: a quad is 2 triangles, a ring 2 per segment, a cone 2 per segment
+    // (1 when an end radius is 0), a cylinder 2 per segment.
+    EXPECT_EQ(triangle_count(sh[0]), 2u);
+    EXPECT_EQ(triangle_count(sh[1]), 0u);
+    EXPECT_EQ(triangle_count(sh[2]), 2u * kRoundSegments);
+    EXPECT_EQ(triangle_count(sh[3]), 2u * kRoundSegments);
+    EXPECT_EQ(triangle_count(sh[4]), 2u * kRoundSegments);
+}
+
+TEST(SceneRadiance, TagsAttachToTheNextSurface) {
+    auto r = testing::load_rad_text(R"(
+void light l 0 0 3 1 1 1
+l sphere first 0 0 4 0 0 0 1
+#@crex tag name=exit_sign task=3 distractor=true
+l sphere second 0 0 4 3 0 0 1
+l sphere third 0 0 4 6 0 0 1
+)");
+    ASSERT_TRUE(r.scene);
+    EXPECT_FALSE(r.scene->shapes[0].tag);
+    ASSERT_TRUE(r.scene->shapes[1].tag);
+    EXPECT_EQ(r.scene->shapes[1].tag->name, "exit_sign");
+    EXPECT_EQ(r.scene->shapes[1].tag->task, 3);
+    EXPECT_TRUE(r.scene->shapes[1].tag->distractor);
+    EXPECT_FALSE(r.scene->shapes[2].tag);
+}
+
+TEST(SceneRadiance, ViewOptionsSetTheCamera) {
+    auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 1\n",
+                                    "rview -vtv -vp 1 2 3 -vd 0 0 -1 -vu 0 1 0 -vh 50 -vv 30\n");
+    ASSERT_TRUE(r.scene);
+    const Camera& c = r.scene->camera;
+    EXPECT_EQ(c.position, (Vec3{1, 2, 3}));
+    EXPECT_EQ(c.direction, (Vec3{0, 0, -1}));
+    EXPECT_DOUBLE_EQ(c.hfov_deg, 50);
+    EXPECT_DOUBLE_EQ(c.vfov_deg, 30);
+    auto inline_view = testing::load_rad_text("#@crex view -vp 1 2 3 -vd 0 1 0\nvoid light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 1\n");
+    ASSERT_TRUE(inline_view.scene);
+    EXPECT_EQ(inline_view.scene->camera.up, (Vec3{0, 0, 1}));  // RADIANCE's default up
+    EXPECT_DOUBLE_EQ(inline_view.scene->camera.vfov_deg, 45);
+}
+
+TEST(SceneRadiance, CornellTwinIsRenderEquivalentToTheJson) {
+    auto rad = testing::load_path(CREX_SOURCE_DIR "/examples/scenes/cornell/scene.rad");
+    auto json = testing::load_path(CREX_SOURCE_DIR "/examples/scenes/cornell/scene.json");
+    ASSERT_TRUE(rad.scene);
+    ASSERT_TRUE(json.scene);
+    EXPECT_EQ(take_census(*rad.scene).hash, take_census(*json.scene).hash);
+    EXPECT_EQ(to_json(take_census(*rad.scene)), to_json(take_census(*json.scene)));
+    auto counts = [](const Scene& s) {
+        std::map<ShapeType, size_t> by_type;
+        size_t triangles = 0;
+        for (const auto& sh : s.shapes) ++by_type[sh.type], triangles += triangle_count(sh);
+        return std::make_pair(by_type, triangles);
+    };
+    EXPECT_EQ(counts(*rad.scene), counts(*json.scene));
+    const Camera &a = rad.scene->camera, &b = json.scene->camera;
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR(a.position[i], b.position[i], 1e-6);
+        EXPECT_NEAR(a.direction[i], b.direction[i], 1e-6);
+        EXPECT_NEAR(a.up[i], b.up[i], 1e-6);
+    }
+    EXPECT_NEAR(a.vfov_deg, b.vfov_deg, 1e-6);
+    EXPECT_NEAR(a.hfov_deg, b.hfov_deg, 1e-6);
+}
+
+struct BadRad {
+    const char* name;
+    const char* text;
+    const char* code;
+    uint32_t line;
+    uint32_t col;
+    const char* message_part;
+};
+
+class SceneRadianceBadInput : public ::testing::TestWithParam<BadRad> {};
+
+TEST_P(SceneRadianceBadInput, IsALocatedErrorNamingTheConstruct) {
+    const BadRad& c = GetParam();
+    auto r = testing::load_rad_text(c.text);
+    EXPECT_FALSE(r.scene) << c.name;
+    const Diagnostic* d = r.find(c.code);
+    ASSERT_NE(d, nullptr) << c.name << ": got " << (r.diagnostics.empty() ? "nothing" : r.diagnostics[0].code + " " + r.diagnostics[0].message);
+    EXPECT_EQ(r.where(c.code).line, c.line) << c.name << ": " << d->message;
+    if (c.col) {
+        EXPECT_EQ(r.where(c.code).col, c.col) << c.name << ": " << d->message;
+    }
+    EXPECT_NE(d->message.find(c.message_part), std::string::npos) << c.name << ": " << d->message;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, SceneRadianceBadInput,
+    ::testing::Values(
+        BadRad{"inline_command", "void light l 0 0 3 1 1 1\n!xform -t 1 0 0 box.rad\n", "E307", 2, 1, "inline commands"},
+        BadRad{"unsupported_primitive", "void light l 0 0 3 1 1 1\nl source sun 0 0 4 0 0 1 0.5\n", "E307", 2, 3,
+               "'source' ('sun') is not supported"},
+        BadRad{"unknown_type", "void light l 0 0 3 1 1 1\nl teapot t 0 0 0\n", "E307", 2, 3, "unknown RADIANCE type 'teapot'"},
+        BadRad{"pattern_modifier", "void brightfunc b 2 x y 0 0\nb plastic p 0 0 5 1 1 1 0 0\n", "E307", 1, 6, "'brightfunc'"},
+        BadRad{"truncated", "void light l 0 0 3 1 1\n", "E301", 2, 1, "needs 3 real arguments, found 2"},
+        BadRad{"truncated_header", "void light\n", "E301", 2, 1, "unexpected end of file"},
+        BadRad{"bad_count", "void light l 0 0 x 1 1 1\n", "E302", 1, 18, "expected the number of real arguments"},
+        BadRad{"not_a_number", "void light l 0 0 3 1 one 1\n", "E302", 1, 22, "expected a real number, got 'one'"},
+        BadRad{"nan", "void light l 0 0 3 1 nan 1\n", "E303", 1, 22, "finite"},
+        BadRad{"inf", "void light l 0 0 3 1 1 inf\n", "E303", 1, 24, "finite"},
+        BadRad{"wrong_arity", "void plastic p 0 0 3 1 1 1\n", "E303", 1, 22, "takes 5 real arguments, got 3"},
+        BadRad{"reflectance_range", "void plastic p 0 0 5 1 2 1 0 0\n", "E303", 1, 24, "reflectance must be in [0, 1]"},
+        BadRad{"undefined_modifier", "void light l 0 0 3 1 1 1\nwhite sphere s 0 0 4 0 0 0 1\n", "E305", 2, 1,
+               "modifier 'white', which is not defined"},
+        BadRad{"zero_area_polygon", "void light l 0 0 3 1 1 1\nl polygon p 0 0 9 0 0 0 1 1 1 2 2 2\n", "E306", 2, 3, "zero-area"},
+        BadRad{"degenerate_ring_normal", "void light l 0 0 3 1 1 1\nl ring r 0 0 8 0 0 0 0 0 0 0 1\n", "E306", 2, 3,
+               "degenerate normal"},
+        BadRad{"zero_radius_sphere", "void light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 0\n", "E306", 2, 3, "radius must be > 0"},
+        BadRad{"polygon_arity", "void light l 0 0 3 1 1 1\nl polygon p 0 0 7 0 0 0 1 1 1 2\n", "E303", 2, 3, "3 numbers per vertex"}),
+    [](const ::testing::TestParamInfo<BadRad>& p) { return std::string(p.param.name); });
+
+TEST(SceneRadiance, KeepsGoingAfterAnUnsupportedPrimitive) {
+    auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl source a 0 0 4 0 0 1 1\nl bubble b 0 0 4 0 0 0 1\nl sphere s 0 0 4 0 0 0 0\n");
+    size_t e307 = 0, e306 = 0;
+    for (const auto& d : r.diagnostics) e307 += d.code == "E307", e306 += d.code == "E306";
+    EXPECT_EQ(e307, 2u);
+    EXPECT_EQ(e306, 0u);  // geometry is validated only once the file reads cleanly
+    EXPECT_FALSE(r.scene);
+}
+
+}  // namespace
+}  // namespace crex
