@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     std::map<std::string, Runner> runners;
     runners["check"] = add_check_command(app);
     runners["scene-info"] = add_scene_info_command(app);
+    runners["run"] = add_run_command(app);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,220 @@
+// `crex run`: render a scene with a crex on the component-bin renderer.
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "apps/crex/commands.h"
+#include "apps/crex/exit_codes.h"
+#include "apps/crex/progress.h"
+#include "compiler/base/render_text.h"
+#include "compiler/crex/compile.h"
+#include "compiler/sched/print.h"
+#include "runtime/io/image_io.h"
+#include "runtime/render/render.h"
+#include "runtime/scene/load_scene.h"
+
+namespace crex::app {
+namespace {
+
+constexpr const char* kDefaultCrex = "(TTMRSGD)*";
+
+struct RunOptions {
+    std::string scene = "builtin:cornell";
+    std::string crex = kDefaultCrex;
+    std::string size = "256x256";
+    uint32_t spp = 16;
+    std::vector<std::string> outputs;
+    bool components = false;
+    int threads = 0;
+    uint64_t seed = 0;
+    uint32_t shadow_rays = 1;
+    double lw = 1e-3;
+    uint32_t max_depth = 256;
+    bool no_roulette = false;
+    double ambient = 0;
+    double importance = 1;
+    uint32_t star_cap = sched::kDefaultStarCap;
+    std::string format = "text";
+    bool quiet = false;
+};
+
+bool parse_size(const std::string& s, int& w, int& h) {
+    char x = 0;
+    std::istringstream in(s);
+    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || !in.eof()) return false;
+    return w > 0 && h > 0 && w <= 16384 && h <= 16384;
+}
+
+int run(const RunOptions& opt) {
+    int width = 0, height = 0;
+    if (!parse_size(opt.size, width, height)) {
+        std::cerr << fmt::format("crex run: error: --size '{}': expected WIDTHxHEIGHT, e.g. 512x512\n", opt.size);
+        return kExitUsage;
+    }
+    std::vector<std::string> outputs = opt.outputs;
+    if (outputs.empty()) outputs = {"out/render.exr", "out/render.png"};
+
+    // The crex.
+    SourceFile crex_file("<crex>", opt.crex);
+    DiagnosticSink sink;
+    LowerOptions lower;
+    lower.star_cap = opt.star_cap;
+    CompiledCrex compiled = compile_crex(crex_file, sink, lower);
+    // The scene.
+    SceneSources sources;
+    SceneLoadFailure failure;
+    auto t_load = std::chrono::steady_clock::now();
+    auto scene = load_scene(opt.scene, sources, sink, failure);
+    double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+    std::cerr << render_text(sink.sorted());
+    if (!failure.message.empty()) {
+        std::cerr << "crex run: error: " << failure.message << "\n";
+        return kExitFailure;
+    }
+    if (sink.has_errors() || !compiled.program || !scene) {
+        std::cerr << fmt::format("crex run: {} error{}; nothing rendered\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
+        return kExitInputErrors;
+    }
+
+    std::unique_ptr<tbb::global_control> threads;
+    if (opt.threads > 0)
+        threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(opt.threads));
+
+    RenderOptions ro;
+    ro.width = width;
+    ro.height = height;
+    ro.spp = opt.spp;
+    ro.seed = opt.seed;
+    ro.ambient = {opt.ambient, opt.ambient, opt.ambient};
+    ro.executor.shade.shadow_rays = opt.shadow_rays;
+    ro.executor.shade.weight_limit = opt.lw;
+    ro.executor.shade.max_depth = opt.max_depth;
+    ro.executor.shade.roulette = !opt.no_roulette;
+    ro.executor.constant_importance = opt.importance;
+    Progress progress(!opt.quiet);
+    ro.executor.progress = [&](const std::string& what, uint64_t rays) { progress.update(what, rays); };
+
+    std::optional<RenderResult> rendered;
+    try {
+        rendered.emplace(render(*scene, *compiled.program, ro));
+    } catch (const std::exception& e) {
+        progress.finish();
+        std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
+        return kExitFailure;
+    }
+    progress.finish();
+    const RenderResult& result = *rendered;
+    for (const auto& w : result.warnings) std::cerr << w << "\n";
+
+    std::vector<ImageLayer> layers = {{"", result.image()}};
+    if (opt.components)
+        for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.film.aov_image(a)});
+    for (const auto& path : outputs) {
+        std::error_code ec;
+        auto parent = std::filesystem::path(path).parent_path();
+        if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+        std::string error = write_image(path, width, height, layers);
+        if (!error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitFailure;
+        }
+    }
+
+    const ExecutorStats& st = result.stats;
+    uint64_t total_rays = st.camera.rays;
+    for (const auto& c : st.components) total_rays += c.rays;
+    if (opt.format == "json") {
+        nlohmann::json j;
+        j["scene"] = scene->source;
+        j["crex"] = sched::to_crex(*compiled.program);
+        j["size"] = {width, height};
+        j["spp"] = opt.spp;
+        j["load_seconds"] = load_seconds;
+        j["setup_seconds"] = result.setup_seconds;
+        j["render_seconds"] = result.render_seconds;
+        j["rays"] = total_rays;
+        j["outputs"] = outputs;
+        nlohmann::json comps;
+        comps["camera"] = {{"rays", st.camera.rays}, {"shadow_rays", st.camera.shadow_rays}, {"seconds", st.camera.seconds}};
+        for (size_t c = 0; c < kComponentCount; ++c) {
+            const auto& s = st.components[c];
+            comps[std::string(1, kComponentTable[c].letter)] = {{"executions", s.executions}, {"rays", s.rays},
+                                                                {"shadow_rays", s.shadow_rays}, {"seconds", s.seconds},
+                                                                {"rays_left", result.rays_left[c]}};
+        }
+        j["components"] = comps;
+        j["warnings"] = result.warnings;
+        std::cout << j.dump(2) << "\n";
+        return kExitOk;
+    }
+    if (opt.quiet) return kExitOk;
+    std::cout << fmt::format("rendered {} with {} at {}x{}, {} spp\n", scene->source, sched::to_crex(*compiled.program), width,
+                             height, opt.spp);
+    std::cout << fmt::format("  scene load {:.3f} s, BVH build {:.3f} s, render {:.3f} s ({:.2f} M rays/s)\n", load_seconds,
+                             result.setup_seconds, result.render_seconds,
+                             result.render_seconds > 0 ? total_rays / 1e6 / result.render_seconds : 0.0);
+    std::cout << "  bin       steps        rays  shadow rays   seconds   M rays/s   left at end\n";
+    auto row = [&](const std::string& name, const ComponentStats& s, const std::string& steps, size_t left) {
+        std::cout << fmt::format("  {:<8} {:>6} {:>11} {:>12} {:>9.3f} {:>10.2f} {:>13}\n", name, steps, s.rays, s.shadow_rays,
+                                 s.seconds, s.seconds > 0 ? s.rays / 1e6 / s.seconds : 0.0, left);
+    };
+    row("camera", st.camera, "-", 0);
+    for (size_t c = 0; c < kComponentCount; ++c)
+        if (st.components[c].rays > 0 || result.rays_left[c] > 0)
+            row(std::string(1, kComponentTable[c].letter), st.components[c], std::to_string(st.components[c].executions),
+                result.rays_left[c]);
+    for (const auto& p : outputs) std::cout << "  wrote " << p << "\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+Runner add_run_command(CLI::App& app) {
+    auto opt = std::make_shared<RunOptions>();
+    CLI::App* cmd = app.add_subcommand("run", "Render a scene with a crex on the component-bin renderer");
+    cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.obj or builtin:NAME")->capture_default_str();
+    cmd->add_option("-e,--crex", opt->crex, "The crex saying in which order bins execute")
+        ->capture_default_str()
+        ->allow_extra_args(false);
+    cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();
+    cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(CLI::Range(1u, 1u << 20));
+    cmd->add_option("-o,--output", opt->outputs, "Output image(s): .exr (float), .hdr, .png (tone-mapped); repeatable "
+                                                 "(default out/render.exr and out/render.png)")
+        ->allow_extra_args(false);
+    cmd->add_flag("--components", opt->components, "EXR: add one layer per component AOV (camera, D, G, S, T, R, M)");
+    cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+    cmd->add_option("--seed", opt->seed, "Seed of every random number")->capture_default_str();
+    cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit")->capture_default_str()->check(CLI::Range(1u, 1024u));
+    cmd->add_option("--lw", opt->lw, "Weight limit: rays below it face Russian roulette")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--max-depth", opt->max_depth, "No ray is spawned beyond this depth")->capture_default_str()->check(CLI::Range(0u, 65535u));
+    cmd->add_flag("--no-roulette", opt->no_roulette, "Drop rays below --lw instead of Russian roulette (biased)");
+    cmd->add_option("--ambient", opt->ambient, "Ambient value av standing in for unexecuted D work")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e30));
+    cmd->add_option("--importance", opt->importance, "Constant importance I for '{ }' until guidance maps exist")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--star-cap", opt->star_cap, "Iteration cap of '*' per entry (W401 when hit)")->capture_default_str();
+    cmd->add_option("--format", opt->format, "Summary as text or json (stdout)")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
+    cmd->footer(R"(
+Camera rays are traced first; then the crex runs over the component bins (D G S T R M) and
+rays still waiting when it ends are dropped (--ambient stands in for waiting D rays).
+
+Examples:
+  crex run                                          built-in Cornell box, (TTMRSGD)*, 256x256
+  crex run -e 'TT' --spp 4 -o tt.png                direct light plus two glass interfaces
+  crex run --scene examples/scenes/corridor/scene.json -e '(DGSTR)*' --size 320x240
+  crex run -e '(TTMRSGD)*' --components -o out/cornell.exr   one EXR layer per component
+
+Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
+    return [opt] { return run(*opt); };
+}
+
+}  // namespace crex::app

@@ -1,0 +1,96 @@
+/// \file sampling.h
+/// Deterministic sampling. Random numbers are a hash of *what* is sampled (a ray's path id,
+/// its depth and a purpose), never of *when*: renders are identical whatever the thread count
+/// and execution order. Camera samples follow the Halton (2, 3) sequence per pixel with a
+/// per-pixel rotation, so sample k of a pixel is the same whether it is drawn in a 1-spp
+/// preview or a 16-spp render (progressive, hierarchical).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "runtime/base/vec3.h"
+
+namespace crex {
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+/// SplitMix64 finaliser: a good 64-bit mixer.
+inline uint64_t mix64(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix64(a ^ mix64(b)); }
+
+/// A uniform double in [0, 1) from a hash.
+inline double to_unit(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
+
+/// Purposes of random numbers at a hit (one stream each).
+enum class RandomUse : uint64_t { kRoulette = 1, kLobeD, kLobeG, kLobeDT, kLight, kLightPick, kCamera };
+
+/// Random number `index` for `use` at the hit of path `path_id` at `depth`.
+inline double random_at(uint64_t path_id, uint32_t depth, RandomUse use, uint32_t index = 0) {
+    return to_unit(hash_combine(hash_combine(path_id, depth), (static_cast<uint64_t>(use) << 32) | index));
+}
+
+/// Van der Corput radical inverse in base 2 (bit reversal) and base 3.
+inline double radical_inverse_2(uint32_t k) {
+    k = (k << 16) | (k >> 16);
+    k = ((k & 0x00ff00ffu) << 8) | ((k & 0xff00ff00u) >> 8);
+    k = ((k & 0x0f0f0f0fu) << 4) | ((k & 0xf0f0f0f0u) >> 4);
+    k = ((k & 0x33333333u) << 2) | ((k & 0xccccccccu) >> 2);
+    k = ((k & 0x55555555u) << 1) | ((k & 0xaaaaaaaau) >> 1);
+    return static_cast<double>(k) * 0x1.0p-32;
+}
+inline double radical_inverse_3(uint32_t k) {
+    double inv = 1.0 / 3.0, f = inv, r = 0;
+    while (k > 0) {
+        r += f * (k % 3);
+        k /= 3;
+        f *= inv;
+    }
+    return r;
+}
+
+/// Point k of a 2-D Halton set rotated (Cranley-Patterson) by (u0, u1).
+inline void rotated_halton(uint32_t k, double u0, double u1, double& x, double& y) {
+    x = radical_inverse_2(k) + u0;
+    y = radical_inverse_3(k) + u1;
+    x -= std::floor(x);
+    y -= std::floor(y);
+}
+
+/// An orthonormal frame around unit `n` (Duff et al. 2017).
+inline void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {
+    double sign = std::copysign(1.0, n.z);
+    double a = -1.0 / (sign + n.z);
+    double c = n.x * n.y * a;
+    t = {1 + sign * n.x * n.x * a, sign * c, -sign * n.x};
+    b = {c, sign + n.y * n.y * a, -n.y};
+}
+
+/// Cosine-weighted direction around unit `n`; pdf = cos / pi.
+inline Vec3 sample_cosine(const Vec3& n, double u1, double u2) {
+    double r = std::sqrt(u1), phi = 2 * kPi * u2;
+    Vec3 t, b;
+    orthonormal_basis(n, t, b);
+    double z = std::sqrt(std::fmax(0.0, 1 - u1));
+    return t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * z;
+}
+
+/// Direction around unit `axis` with pdf (e+1)/(2 pi) cos^e (normalised Phong lobe).
+inline Vec3 sample_phong(const Vec3& axis, double exponent, double u1, double u2) {
+    double cos_t = std::pow(u1, 1.0 / (exponent + 1));
+    double sin_t = std::sqrt(std::fmax(0.0, 1 - cos_t * cos_t));
+    double phi = 2 * kPi * u2;
+    Vec3 t, b;
+    orthonormal_basis(axis, t, b);
+    return t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi)) + axis * cos_t;
+}
+
+inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - n * (2 * dot(d, n)); }
+
+}  // namespace crex

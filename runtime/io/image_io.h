@@ -1,0 +1,31 @@
+/// \file image_io.h
+/// Writing images through OpenImageIO, atomically (temporary file + rename):
+///  - .exr: 32-bit float (half floats overflow at 65504), optionally with one layer per AOV
+///    ("D.R", "D.G", "D.B", ...) besides the composite's R, G, B;
+///  - .hdr: Radiance RGBE;
+///  - .png (and other 8-bit formats): tone-mapped for eyes (spec/pipeline.md §7: exposure key
+///    0.18 over the log-average luminance, then the sRGB curve).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace crex {
+
+struct ImageLayer {
+    std::string name;          ///< "" for the composite (channels R, G, B)
+    std::vector<float> rgb;    ///< linear RGB, row-major, top row first
+};
+
+/// Returns "" on success, else why it failed (nothing is left behind on failure).
+std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers);
+
+/// Tone map of spec/pipeline.md §7 to 8-bit sRGB (exposed for tests and reports).
+std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
+
+/// Reads an image's first three channels as linear float RGB (8-bit sRGB inputs are
+/// linearised). Returns "" on success.
+std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb);
+
+}  // namespace crex

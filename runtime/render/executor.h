@@ -1,0 +1,88 @@
+/// \file executor.h
+/// Runs a lowered crex (sched::Program) over the component bins (spec/crex.md §3):
+///  - Exec X takes the rays in bin X when the step starts (after `{ }` filtering), executes
+///    them chunk by chunk and routes their children;
+///  - inside the outermost owning Defer/Budgeted, children are held back and merged into the
+///    bins when that execution ends;
+///  - inside a Modulate with n occurrences, occurrence i executes a ray of pixel p only if
+///    i < ceil(I(p) n) (computed in double); skipped rays stay in their bin;
+///  - RepeatUntilEmpty runs at least once, again while the last execution took at least one
+///    ray, at most `cap` times per entry (warning W401 names the crex position).
+/// Without a time budget, `[ ]` behaves as `< >`.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "compiler/sched/program.h"
+#include "runtime/render/film.h"
+#include "runtime/render/shade.h"
+
+namespace crex {
+
+struct ComponentStats {
+    uint64_t executions = 0;  ///< steps that took at least one ray
+    uint64_t rays = 0;
+    uint64_t shadow_rays = 0;
+    double seconds = 0;
+};
+
+/// One executed step, in execution order (for reports and semantics tests).
+struct StepRecord {
+    Component component;
+    uint64_t rays = 0;
+};
+
+struct ExecutorStats {
+    std::array<ComponentStats, kComponentCount> components{};
+    ComponentStats camera;
+    std::vector<StepRecord> steps;
+};
+
+struct ExecutorOptions {
+    ShadeParams shade;
+    size_t chunk_rays = size_t{1} << 16;
+    double constant_importance = 1.0;      ///< I(p) when no map is given
+    const std::vector<float>* importance = nullptr;  ///< per pixel, row-major (clamped; NaN = 0)
+    std::function<void(const std::string& what, uint64_t rays_done)> progress;
+};
+
+class Executor {
+public:
+    Executor(const RenderScene& scene, Film& film, const ExecutorOptions& options);
+
+    /// Traces camera rays (not a crex step): their hits shade into the camera AOV and their
+    /// children fill the bins.
+    void run_camera_rays(const RayBatch& camera_rays);
+    /// Runs one stage's program over the current bins; returns true if any step had work.
+    bool run(const sched::Node& node);
+
+    const std::array<RayBatch, kComponentCount>& bins() const { return bins_; }
+    std::array<RayBatch, kComponentCount>& bins() { return bins_; }
+    const ExecutorStats& stats() const { return stats_; }
+    const std::vector<std::string>& warnings() const { return warnings_; }
+
+private:
+    bool exec(const sched::Node& node);
+    void execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label);
+    double importance(uint32_t pixel) const;
+
+    const RenderScene& scene_;
+    Film& film_;
+    ExecutorOptions options_;
+    std::array<RayBatch, kComponentCount> bins_;
+    std::array<RayBatch, kComponentCount> pending_;
+    bool deferring_ = false;
+    // Inside a Modulate: its n, and the (stride, iteration) of the repeats between it and the step.
+    double modulate_n_ = 0;
+    bool in_modulate_ = false;
+    std::vector<std::pair<double, uint64_t>> strides_;
+    ExecutorStats stats_;
+    std::vector<std::string> warnings_;
+    uint64_t rays_done_ = 0;
+};
+
+}  // namespace crex

@@ -1,0 +1,61 @@
+#include "runtime/render/film.h"
+
+#include <cmath>
+
+namespace crex {
+
+std::string aov_name(size_t aov) {
+    if (aov == kCameraAov) return "camera";
+    return std::string(1, kComponentTable[aov - 1].letter);
+}
+
+Film::Film(int width, int height) : width_(width), height_(height) {
+    for (auto& s : sums_) s.assign(3 * pixel_count(), 0.0);
+    samples_.assign(pixel_count(), 0);
+}
+
+Vec3 Film::pixel_value(size_t aov, uint32_t pixel) const {
+    double n = samples_[pixel];
+    if (n <= 0) return {};
+    const double* p = &sums_[aov][3 * static_cast<size_t>(pixel)];
+    return {p[0] / n, p[1] / n, p[2] / n};
+}
+
+namespace {
+
+// The image never carries NaN or Inf: a non-finite value (which shading guards against) would
+// otherwise poison every metric and tone map downstream.
+float finite_or_zero(double v) {
+    float f = static_cast<float>(v);
+    return std::isfinite(f) ? f : 0.0f;
+}
+
+}  // namespace
+
+std::vector<float> Film::aov_image(size_t aov) const {
+    std::vector<float> out(3 * pixel_count());
+    for (uint32_t p = 0; p < pixel_count(); ++p) {
+        Vec3 v = pixel_value(aov, p);
+        out[3 * p] = finite_or_zero(v.x);
+        out[3 * p + 1] = finite_or_zero(v.y);
+        out[3 * p + 2] = finite_or_zero(v.z);
+    }
+    return out;
+}
+
+std::vector<float> Film::composite(const std::vector<double>* ambient) const {
+    std::vector<float> out(3 * pixel_count());
+    for (uint32_t p = 0; p < pixel_count(); ++p) {
+        double n = samples_[p];
+        if (n <= 0) continue;
+        for (int c = 0; c < 3; ++c) {
+            double sum = 0;
+            for (const auto& s : sums_) sum += s[3 * p + static_cast<size_t>(c)];
+            if (ambient) sum += (*ambient)[3 * p + static_cast<size_t>(c)];
+            out[3 * p + static_cast<size_t>(c)] = finite_or_zero(sum / n);
+        }
+    }
+    return out;
+}
+
+}  // namespace crex

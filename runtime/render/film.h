@@ -1,0 +1,51 @@
+/// \file film.h
+/// Per-component image buffers (AOVs) and their composite. A contribution found by a ray of
+/// bin X goes to AOV X; those found by camera rays (primary hits: direct light and emission
+/// seen directly) go to the camera AOV. Sums are in double, added in a fixed order.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "compiler/crex/components.h"
+#include "runtime/base/vec3.h"
+
+namespace crex {
+
+/// AOV index: 0 = camera rays, 1 + component for D G S T R M.
+inline constexpr size_t kAovCount = 1 + kComponentCount;
+inline size_t aov_of(Component c) { return 1 + static_cast<size_t>(c); }
+inline constexpr size_t kCameraAov = 0;
+std::string aov_name(size_t aov);  ///< "camera", "D", ...
+
+class Film {
+public:
+    Film(int width, int height);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    size_t pixel_count() const { return static_cast<size_t>(width_) * static_cast<size_t>(height_); }
+
+    void add(size_t aov, uint32_t pixel, const Vec3& value) {
+        double* p = &sums_[aov][3 * static_cast<size_t>(pixel)];
+        p[0] += value.x;
+        p[1] += value.y;
+        p[2] += value.z;
+    }
+    void add_samples(uint32_t pixel, uint32_t n) { samples_[pixel] += n; }
+    uint32_t samples(uint32_t pixel) const { return samples_[pixel]; }
+
+    /// Linear RGB of one AOV (divided by the pixel's sample count), row-major, top row first.
+    std::vector<float> aov_image(size_t aov) const;
+    /// The composite: the sum of every AOV plus `ambient` (already per pixel, same scale).
+    std::vector<float> composite(const std::vector<double>* ambient = nullptr) const;
+    Vec3 pixel_value(size_t aov, uint32_t pixel) const;
+
+private:
+    int width_, height_;
+    std::array<std::vector<double>, kAovCount> sums_;
+    std::vector<uint32_t> samples_;
+};
+
+}  // namespace crex

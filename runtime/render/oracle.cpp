@@ -1,0 +1,93 @@
+#include "runtime/render/oracle.h"
+
+#include <tbb/parallel_for.h>
+
+#include "runtime/render/render_scene.h"
+#include "runtime/render/shade.h"
+#include "runtime/trace/trace_batch.h"
+
+namespace crex {
+namespace {
+
+struct Oracle {
+    const RenderScene& scene;
+    const ShadeParams& params;
+
+    Vec3 trace(const RayRecord& ray, bool camera) const {
+        RTCRayHit h{};
+        h.ray.org_x = static_cast<float>(ray.origin.x), h.ray.org_y = static_cast<float>(ray.origin.y);
+        h.ray.org_z = static_cast<float>(ray.origin.z);
+        h.ray.dir_x = static_cast<float>(ray.direction.x), h.ray.dir_y = static_cast<float>(ray.direction.y);
+        h.ray.dir_z = static_cast<float>(ray.direction.z);
+        h.ray.tnear = 0;
+        h.ray.tfar = INFINITY;
+        h.ray.mask = 0xFFFFFFFFu;
+        h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        intersect_batch(*scene.embree, &h, 1, false);
+        // Rays are stored as float in bins: use the same rounded values here.
+        RayRecord r = ray;
+        r.origin = {h.ray.org_x, h.ray.org_y, h.ray.org_z};
+        r.direction = {h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
+        r.beta = {static_cast<float>(ray.beta.x), static_cast<float>(ray.beta.y), static_cast<float>(ray.beta.z)};
+        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return r.beta * scene.scene.background;
+        Vec3 dir = normalize_or_zero(r.direction);
+        double t = h.ray.tfar;
+        HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, r.origin + r.direction * t, dir, t);
+        const Material& m = scene.material_of(h.hit.geomID);
+        Vec3 total = r.beta * emitted(m, f, camera || (r.flags & kRayFromDeltaLobe), camera);
+        if (!is_finite(total)) total = {};
+        if (!scene.lights->empty() && has_direct_response(m)) {
+            for (uint32_t j = 0; j < params.shadow_rays; ++j) {
+                Vec3 value, so, sd;
+                double tfar;
+                if (!direct_light_sample(scene, m, f, r, j, params.shadow_rays, value, so, sd, tfar)) continue;
+                RTCRay s{};
+                s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
+                s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
+                s.tnear = 0;
+                s.tfar = static_cast<float>(tfar);
+                s.mask = 0xFFFFFFFFu;
+                occluded_batch(*scene.embree, &s, 1);
+                if (s.tfar != -INFINITY) total += value;
+            }
+        }
+        std::array<RayRecord, kMaxLobes> children;
+        std::array<Component, kMaxLobes> components;
+        int n = spawn_children(m, f, r, scene.embree->ray_epsilon(), params, children, components);
+        for (int l = 0; l < n; ++l) total += trace(children[static_cast<size_t>(l)], false);
+        return total;
+    }
+};
+
+}  // namespace
+
+std::vector<float> render_oracle(const Scene& scene, const RenderOptions& options) {
+    RenderScene rs(scene);
+    CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
+    size_t pixels = static_cast<size_t>(options.width) * static_cast<size_t>(options.height);
+    std::vector<float> image(3 * pixels, 0.0f);
+    Oracle oracle{rs, options.executor.shade};
+    tbb::parallel_for(size_t{0}, pixels, [&](size_t p) {
+        uint32_t x = static_cast<uint32_t>(p % static_cast<size_t>(options.width));
+        uint32_t y = static_cast<uint32_t>(p / static_cast<size_t>(options.width));
+        Vec3 sum;
+        for (uint32_t k = options.first_sample; k < options.first_sample + options.spp; ++k) {
+            double u, v;
+            camera_sample_offset(options.seed, static_cast<uint32_t>(p), k, u, v);
+            RayRecord r;
+            camera.generate(x + u, y + v, r.origin, r.direction);
+            r.beta = {1, 1, 1};
+            r.pixel = static_cast<uint32_t>(p);
+            r.path = camera_path_id(options.seed, static_cast<uint32_t>(p), k);
+            sum += oracle.trace(r, true);
+        }
+        sum = sum / options.spp;
+        image[3 * p] = static_cast<float>(sum.x);
+        image[3 * p + 1] = static_cast<float>(sum.y);
+        image[3 * p + 2] = static_cast<float>(sum.z);
+    });
+    return image;
+}
+
+}  // namespace crex

@@ -1,0 +1,65 @@
+/// \file ray_batch.h
+/// A bin's rays, structure of arrays: plain data that can be serialised and shipped (MPI,
+/// later). A ray carries its origin and direction (local scene coordinates), its throughput
+/// beta (RGB), its pixel, its depth (camera rays 0), its path id (the key of every random
+/// number drawn along it) and flags.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "runtime/base/vec3.h"
+
+namespace crex {
+
+enum RayFlags : uint8_t {
+    kRayFromDeltaLobe = 1,  ///< spawned by S, T, R or M: sees sampled emitters (spec §1)
+};
+
+struct RayRecord {
+    Vec3 origin, direction, beta;
+    uint32_t pixel = 0;
+    uint16_t depth = 0;
+    uint8_t flags = 0;
+    uint64_t path = 0;
+};
+
+struct RayBatch {
+    std::vector<float> ox, oy, oz, dx, dy, dz, br, bg, bb;
+    std::vector<uint32_t> pixel;
+    std::vector<uint16_t> depth;
+    std::vector<uint8_t> flags;
+    std::vector<uint64_t> path;
+
+    size_t size() const { return pixel.size(); }
+    bool empty() const { return pixel.empty(); }
+
+    void push(const RayRecord& r) {
+        ox.push_back(static_cast<float>(r.origin.x));
+        oy.push_back(static_cast<float>(r.origin.y));
+        oz.push_back(static_cast<float>(r.origin.z));
+        dx.push_back(static_cast<float>(r.direction.x));
+        dy.push_back(static_cast<float>(r.direction.y));
+        dz.push_back(static_cast<float>(r.direction.z));
+        br.push_back(static_cast<float>(r.beta.x));
+        bg.push_back(static_cast<float>(r.beta.y));
+        bb.push_back(static_cast<float>(r.beta.z));
+        pixel.push_back(r.pixel);
+        depth.push_back(r.depth);
+        flags.push_back(r.flags);
+        path.push_back(r.path);
+    }
+
+    RayRecord get(size_t i) const {
+        return {{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, {br[i], bg[i], bb[i]}, pixel[i], depth[i], flags[i], path[i]};
+    }
+
+    void append(const RayBatch& o, size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) push(o.get(i));
+    }
+    void append(const RayBatch& o) { append(o, 0, o.size()); }
+
+    void clear() { *this = RayBatch{}; }
+};
+
+}  // namespace crex

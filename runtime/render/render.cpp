@@ -1,0 +1,66 @@
+#include "runtime/render/render.h"
+
+#include <chrono>
+
+#include "runtime/base/sampling.h"
+#include "runtime/render/render_scene.h"
+
+namespace crex {
+
+uint64_t camera_path_id(uint64_t seed, uint32_t pixel, uint32_t sample) {
+    return hash_combine(hash_combine(seed, pixel), 0x100000000ull + sample);
+}
+
+void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double& u, double& v) {
+    uint64_t h = hash_combine(seed ^ 0x5bd1e995ull, pixel);
+    rotated_halton(sample, to_unit(h), to_unit(mix64(h)), u, v);
+}
+
+RenderResult render(const Scene& scene, const sched::Program& program, const RenderOptions& options) {
+    using clock = std::chrono::steady_clock;
+    auto t0 = clock::now();
+    RenderScene rs(scene);
+    auto t1 = clock::now();
+    RenderResult result{Film(options.width, options.height), {}, {}, {}, 0, 0, {}};
+    result.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
+
+    Executor executor(rs, result.film, options.executor);
+    CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
+    RayBatch rays;
+    for (uint32_t p = 0; p < result.film.pixel_count(); ++p) {
+        uint32_t x = p % static_cast<uint32_t>(options.width), y = p / static_cast<uint32_t>(options.width);
+        for (uint32_t k = options.first_sample; k < options.first_sample + options.spp; ++k) {
+            double u, v;
+            camera_sample_offset(options.seed, p, k, u, v);
+            RayRecord r;
+            camera.generate(x + u, y + v, r.origin, r.direction);
+            r.beta = {1, 1, 1};
+            r.pixel = p;
+            r.path = camera_path_id(options.seed, p, k);
+            rays.push(r);
+        }
+        result.film.add_samples(p, options.spp);
+    }
+    executor.run_camera_rays(rays);
+    rays.clear();
+    executor.run(program.preselective);
+    executor.run(program.selective);
+
+    // The ambient buffer: av times the throughput of every ray still waiting in D (spec §3).
+    result.ambient.assign(3 * result.film.pixel_count(), 0.0);
+    const RayBatch& d = executor.bins()[static_cast<size_t>(Component::kD)];
+    if (max_component(options.ambient) > 0)
+        for (size_t i = 0; i < d.size(); ++i) {
+            double* a = &result.ambient[3 * static_cast<size_t>(d.pixel[i])];
+            a[0] += options.ambient.x * d.br[i];
+            a[1] += options.ambient.y * d.bg[i];
+            a[2] += options.ambient.z * d.bb[i];
+        }
+    for (size_t c = 0; c < kComponentCount; ++c) result.rays_left[c] = executor.bins()[c].size();
+    result.stats = executor.stats();
+    result.warnings = executor.warnings();
+    result.render_seconds = std::chrono::duration<double>(clock::now() - t1).count();
+    return result;
+}
+
+}  // namespace crex

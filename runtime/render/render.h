@@ -1,0 +1,47 @@
+/// \file render.h
+/// render(): a scene and a lowered crex to an image. Camera rays first (all samples, Halton
+/// per pixel), then the pre-selective program, then the selective one, with bins carried over;
+/// rays left in bins at the end are dropped, and the ambient value stands in for those in D.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "compiler/sched/program.h"
+#include "runtime/render/executor.h"
+#include "runtime/render/film.h"
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+struct RenderOptions {
+    int width = 128;
+    int height = 128;
+    uint32_t spp = 1;
+    uint32_t first_sample = 0;  ///< render samples [first_sample, first_sample + spp)
+    uint64_t seed = 0;
+    Vec3 ambient{0, 0, 0};      ///< `av`: radiance standing in for unexecuted D work
+    ExecutorOptions executor;
+};
+
+struct RenderResult {
+    Film film;
+    std::vector<double> ambient;   ///< the ambient buffer at the end (per pixel RGB, sample-summed)
+    ExecutorStats stats;
+    std::vector<std::string> warnings;
+    double setup_seconds = 0;      ///< scene load into Embree and BVH build
+    double render_seconds = 0;     ///< from the first camera ray
+    std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end, per bin
+
+    std::vector<float> image() const { return film.composite(&ambient); }
+};
+
+RenderResult render(const Scene& scene, const sched::Program& program, const RenderOptions& options);
+
+/// Path id of camera sample k of pixel p (shared with the oracle).
+uint64_t camera_path_id(uint64_t seed, uint32_t pixel, uint32_t sample);
+/// Position within pixel of camera sample k: Halton (2, 3) rotated per pixel.
+void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double& u, double& v);
+
+}  // namespace crex

@@ -1,0 +1,93 @@
+#include "runtime/render/render_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/base/sampling.h"
+
+namespace crex {
+namespace {
+
+double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+}  // namespace
+
+LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
+    for (const auto& g : embree.geometries()) {
+        const Material& m = scene.materials[g.material];
+        if (m.type != MaterialType::kLight || max_component(m.color) <= 0) continue;
+        if (g.sphere) {
+            Entry e;
+            e.sphere = true;
+            e.a = g.center;
+            e.b = {g.radius, 0, 0};
+            e.radiance = m.color;
+            e.area = 4 * kPi * g.radius * g.radius;
+            entries_.push_back(e);
+            continue;
+        }
+        for (const auto& t : g.indices) {
+            Entry e;
+            e.a = g.positions[t[0]];
+            e.b = g.positions[t[1]];
+            e.c = g.positions[t[2]];
+            e.radiance = m.color;
+            e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
+            if (e.area > 0) entries_.push_back(e);
+        }
+    }
+    double total = 0;
+    for (const auto& e : entries_) total += e.area * std::fmax(luminance(e.radiance), 1e-12);
+    double acc = 0;
+    for (const auto& e : entries_) {
+        double p = e.area * std::fmax(luminance(e.radiance), 1e-12) / total;
+        pick_.push_back(p);
+        acc += p;
+        cdf_.push_back(acc);
+    }
+    if (!cdf_.empty()) cdf_.back() = 1.0;
+}
+
+LightSample LightSampler::sample(double u_pick, double u, double v) const {
+    size_t i = static_cast<size_t>(std::lower_bound(cdf_.begin(), cdf_.end(), u_pick) - cdf_.begin());
+    i = std::min(i, entries_.size() - 1);
+    const Entry& e = entries_[i];
+    LightSample s;
+    s.radiance = e.radiance;
+    s.pdf_area = pick_[i] / e.area;
+    if (e.sphere) {
+        double z = 1 - 2 * u, r = std::sqrt(std::fmax(0.0, 1 - z * z)), phi = 2 * kPi * v;
+        s.normal = {r * std::cos(phi), r * std::sin(phi), z};
+        s.position = e.a + s.normal * e.b.x;
+    } else {
+        double su = std::sqrt(u);
+        double b0 = 1 - su, b1 = v * su;
+        s.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1);
+        s.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
+    }
+    return s;
+}
+
+CameraRays::CameraRays(const Camera& c, int width, int height, const Vec3& origin_offset)
+    : width_(width), height_(height) {
+    origin_ = c.position - origin_offset;
+    forward_ = normalize_or_zero(c.direction);
+    right_ = normalize_or_zero(cross(forward_, c.up));
+    up_ = cross(right_, forward_);
+    tan_y_ = std::tan(c.vfov_deg * kPi / 360.0);
+    tan_x_ = c.hfov_deg > 0 ? std::tan(c.hfov_deg * kPi / 360.0) : tan_y_ * width / std::max(height, 1);
+}
+
+void CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) const {
+    double sx = (2 * px / width_ - 1) * tan_x_;
+    double sy = (1 - 2 * py / height_) * tan_y_;
+    origin = origin_;
+    direction = normalize_or_zero(forward_ + right_ * sx + up_ * sy);
+}
+
+RenderScene::RenderScene(const Scene& s) : scene(s) {
+    embree = std::make_unique<EmbreeScene>(s);
+    lights = std::make_unique<LightSampler>(s, *embree);
+}
+
+}  // namespace crex

@@ -1,0 +1,64 @@
+/// \file render_scene.h
+/// What the renderer needs of a scene beyond the BVH: materials by geometry, the sampled
+/// emitters (`light` surfaces) with a power-proportional choice between them, and the camera.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "runtime/scene/scene.h"
+#include "runtime/trace/embree_scene.h"
+
+namespace crex {
+
+struct LightSample {
+    Vec3 position;  ///< local coordinates
+    Vec3 normal;    ///< unit, the emitting side
+    Vec3 radiance;
+    double pdf_area = 0;  ///< pdf of this point, per unit area, including the choice of emitter
+};
+
+/// Emitters of type `light`, each triangle or sphere chosen with probability proportional to
+/// area times luminance, then a point uniformly on it.
+class LightSampler {
+public:
+    LightSampler(const Scene& scene, const EmbreeScene& embree);
+    bool empty() const { return entries_.empty(); }
+    LightSample sample(double u_pick, double u, double v) const;
+
+private:
+    struct Entry {
+        Vec3 a, b, c;         // triangle corners, or sphere: a = centre, b.x = radius
+        bool sphere = false;
+        Vec3 radiance;
+        double area = 0;
+    };
+    std::vector<Entry> entries_;
+    std::vector<double> cdf_;  // cumulative, normalised
+    std::vector<double> pick_;  // probability of each entry
+};
+
+/// Pinhole camera. Pixel (0, 0) is the top-left; (x + u, y + v) for u, v in [0, 1) within it.
+class CameraRays {
+public:
+    CameraRays(const Camera& camera, int width, int height, const Vec3& origin_offset);
+    void generate(double px, double py, Vec3& origin, Vec3& direction) const;
+
+private:
+    Vec3 origin_, forward_, right_, up_;
+    double tan_x_ = 1, tan_y_ = 1;
+    int width_, height_;
+};
+
+struct RenderScene {
+    const Scene& scene;
+    std::unique_ptr<EmbreeScene> embree;
+    std::unique_ptr<LightSampler> lights;
+
+    explicit RenderScene(const Scene& s);
+    const Material& material_of(uint32_t geometry) const {
+        return scene.materials[embree->geometries()[geometry].material];
+    }
+};
+
+}  // namespace crex

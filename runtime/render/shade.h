@@ -1,0 +1,56 @@
+/// \file shade.h
+/// Executing a chunk of one bin: trace it (one stream call), shade every hit in parallel
+/// (emission by the rule of spec §1, direct light through shadow rays traced as one batch,
+/// children by lobe splitting with weight limit and depth limit), then merge in ray order so
+/// the result does not depend on the thread count.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "runtime/render/bsdf.h"
+#include "runtime/render/ray_batch.h"
+#include "runtime/render/render_scene.h"
+
+namespace crex {
+
+struct ShadeParams {
+    uint32_t shadow_rays = 1;       ///< shadow rays per hit (a selective variable later)
+    double weight_limit = 1e-3;     ///< `lw`
+    bool roulette = true;           ///< below lw: Russian roulette (unbiased) instead of dropping
+    uint32_t max_depth = 256;       ///< no ray is spawned beyond this depth
+};
+
+struct ShadeOutput {
+    std::vector<Vec3> contribution;                        ///< per input ray, times its beta
+    std::array<RayBatch, kComponentCount> children;        ///< spawned rays, in ray order
+    uint64_t shadow_rays = 0;
+    uint64_t hits = 0;
+};
+
+/// Shades rays [begin, end) of `rays`. `camera`: these are camera rays.
+void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begin, size_t end, bool camera,
+                     const ShadeParams& params, ShadeOutput& out);
+
+/// The path id of the child spawned through lobe `index` (shared with the oracle).
+inline uint64_t child_path(uint64_t parent, int lobe_index, Component c) {
+    return (parent ^ (0x9e3779b97f4a7c15ull * (static_cast<uint64_t>(lobe_index) + 1))) * 0xff51afd7ed558ccdull +
+           static_cast<uint64_t>(c);
+}
+
+/// The hit geometry of geometry `geom`, primitive `prim` at barycentrics (u, v) (triangles)
+/// or near `approx` (spheres), for a ray along unit `dir` that travelled `t`.
+HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, double u, double v, const Vec3& approx,
+                   const Vec3& dir, double t);
+
+/// Spawns the children of one hit into `slots` (at most kMaxLobes); returns how many, with
+/// their components in `components`. Applies weight limit, roulette and depth limit.
+int spawn_children(const Material& m, const HitFrame& f, const RayRecord& ray, double epsilon, const ShadeParams& params,
+                   std::array<RayRecord, kMaxLobes>& slots, std::array<Component, kMaxLobes>& components);
+
+/// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
+/// and the shadow ray to test; false if it contributes nothing.
+bool direct_light_sample(const RenderScene& scene, const Material& m, const HitFrame& f, const RayRecord& ray, uint32_t j,
+                         uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar);
+
+}  // namespace crex

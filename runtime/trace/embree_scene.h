@@ -1,0 +1,55 @@
+/// \file embree_scene.h
+/// The scene in Embree 3: one geometry per shape (triangles, or a sphere point for spheres),
+/// with what shading needs per geometry. The scene is translated so that its bounds are
+/// centred at the origin before it is converted to float: a scene placed 1e6 units away keeps
+/// the precision of one at the origin. All positions handed to and returned by the tracer are
+/// in these *local* coordinates (world = local + origin_offset).
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+struct GeometryInfo {
+    uint32_t shape = 0;     ///< index into Scene::shapes
+    uint32_t material = 0;  ///< index into Scene::materials
+    bool sphere = false;
+    Vec3 center;            ///< sphere centre, local coordinates
+    double radius = 0;
+    std::vector<Vec3> positions;                   ///< triangles: local vertex positions
+    std::vector<std::array<uint32_t, 3>> indices;  ///< triangles
+};
+
+class EmbreeScene {
+public:
+    /// Builds and commits the BVH. Throws std::runtime_error with Embree's message on failure.
+    explicit EmbreeScene(const Scene& scene);
+    ~EmbreeScene();
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    RTCScene handle() const { return scene_; }
+    const std::vector<GeometryInfo>& geometries() const { return geometries_; }
+    Vec3 origin_offset() const { return offset_; }
+    /// Diagonal of the scene's bounds (ray offsets scale with it).
+    double extent() const { return extent_; }
+    /// Distance a spawned ray's origin is pushed off its surface.
+    double ray_epsilon() const { return epsilon_; }
+    Vec3 bounds_min() const { return lo_; }
+    Vec3 bounds_max() const { return hi_; }
+
+private:
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    std::vector<GeometryInfo> geometries_;
+    Vec3 offset_, lo_, hi_;
+    double extent_ = 1, epsilon_ = 1e-5;
+};
+
+}  // namespace crex
