@@ -24,7 +24,7 @@ struct Oracle {
         h.ray.mask = 0xFFFFFFFFu;
         h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        intersect_batch(*scene.embree, &h, 1, false);
+        intersect_batch(*scene.embree, &h, 1, camera);  // the same traversal flags as the bins
         // Rays are stored as float in bins: use the same rounded values here.
         RayRecord r = ray;
         r.origin = {h.ray.org_x, h.ray.org_y, h.ray.org_z};

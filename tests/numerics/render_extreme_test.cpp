@@ -1,0 +1,118 @@
+// Stiff and extreme scenes: every image finite (no NaN or Inf anywhere) and every render
+// terminating.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "runtime/scene/load_scene.h"
+#include "tests/support/test_scenes.h"
+
+namespace crex {
+namespace {
+
+using testing::make_material;
+using testing::quad;
+
+TEST(ExtremeScenes, AlbedoNearOneEnclosureTerminates) {
+    RenderResult r = testing::render_crex(testing::furnace_box(0.999, 1.0), "D*", 8, 1);
+    std::vector<float> img = r.image();
+    ASSERT_TRUE(testing::all_finite(img));
+    // Roulette keeps it unbiased until max_depth (256) truncates: at least the first 256 terms.
+    double partial = (1 - std::pow(0.999, 256)) / 0.001;
+    EXPECT_GT(testing::mean_luminance(img), 0.95 * partial);
+    EXPECT_LE(r.stats.components[static_cast<size_t>(Component::kD)].executions, 256u);
+}
+
+TEST(ExtremeScenes, TinyAndHugeEmittersStayFinite) {
+    for (double radiance : {1e-8, 1e8}) {
+        Scene s = *builtin_scene("cornell");
+        for (auto& m : s.materials)
+            if (m.type == MaterialType::kLight) m.color = {radiance, radiance, radiance};
+        std::vector<float> img = testing::render_crex(s, "(TTMRSGD)*", 16, 2).image();
+        ASSERT_TRUE(testing::all_finite(img)) << radiance;
+        EXPECT_GT(testing::mean_luminance(img), 0) << radiance;
+    }
+}
+
+TEST(ExtremeScenes, SceneFarFromTheOriginRendersLikeTheSameSceneAtTheOrigin) {
+    // Coordinates around 1e6 would lose 6 decimal digits in float; the renderer recentres the
+    // scene first, so the image must match the one at the origin closely.
+    Scene near = *builtin_scene("cornell_diffuse");
+    Scene far = near;
+    const Vec3 shift{1e6, -1e6, 1e6};
+    for (auto& sh : far.shapes) {
+        sh.center = sh.center + shift;
+        for (auto& v : sh.vertices) v = v + shift;
+    }
+    far.camera.position = far.camera.position + shift;
+    std::vector<float> a = testing::render_crex(near, "D*", 16, 2).image();
+    std::vector<float> b = testing::render_crex(far, "D*", 16, 2).image();
+    ASSERT_TRUE(testing::all_finite(b));
+    EXPECT_NEAR(testing::mean_luminance(b) / testing::mean_luminance(a), 1.0, 0.02);
+}
+
+TEST(ExtremeScenes, DegenerateAndSliverTrianglesAreHarmless) {
+    Scene s = testing::furnace_box(0.5, 0.2);
+    Shape mesh;
+    mesh.type = ShapeType::kMesh;
+    mesh.material = "wall";
+    mesh.vertices = {{-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {0, 0.5, -0.5}, {0.5, -0.5 + 1e-9, -0.5}};
+    mesh.triangles = {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}};  // zero area, fine, sliver
+    s.shapes.push_back(mesh);
+    std::vector<float> img = testing::render_crex(s, "D*", 16, 2).image();
+    EXPECT_TRUE(testing::all_finite(img));
+}
+
+TEST(ExtremeScenes, GrazingAngleGlassStaysFinite) {
+    Scene s;
+    Material glass = make_material("glass", MaterialType::kDielectric, {1, 1, 1});
+    glass.ior = 1.5;
+    s.materials.push_back(glass);
+    s.materials.push_back(make_material("lamp", MaterialType::kLight, {4, 4, 4}));
+    s.materials.push_back(make_material("floor", MaterialType::kPlastic, {0.5, 0.5, 0.5}));
+    s.shapes.push_back(quad("glass", {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, {-10, 0, -10}));
+    s.shapes.push_back(quad("floor", {-10, -1, 10}, {10, -1, 10}, {10, -1, -10}, {-10, -1, -10}));
+    s.shapes.push_back(quad("lamp", {-1, 3, -1}, {1, 3, -1}, {1, 3, 1}, {-1, 3, 1}));
+    s.camera.position = {0, 1e-4, 5};
+    s.camera.direction = {0, -1e-5, -1};  // skimming the glass at about 89.999 degrees
+    s.camera.vfov_deg = 2;
+    RenderResult r = testing::render_crex(s, "(TRD)*", 16, 2);
+    EXPECT_TRUE(testing::all_finite(r.image()));
+    for (size_t a = 0; a < kAovCount; ++a) EXPECT_TRUE(testing::all_finite(r.film.aov_image(a)));
+}
+
+TEST(Determinism, ImagesDoNotDependOnTheThreadCount) {
+    Scene s = *builtin_scene("cornell");
+    std::vector<float> one, two;
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+        one = testing::render_crex(s, "(TTMRSGD)*", 24, 2, 3).image();
+    }
+    {
+        tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+        two = testing::render_crex(s, "(TTMRSGD)*", 24, 2, 3).image();
+    }
+    EXPECT_EQ(one, two);
+}
+
+TEST(ProgressiveSampling, OneThenFifteenMoreIsExactlySixteen) {
+    // Sample k of a pixel is the same whether drawn in a preview or later: the film sums of
+    // samples [0, 1) and [1, 16) add up to those of a direct 16-sample render.
+    Scene s = *builtin_scene("cornell_diffuse");
+    sched::Program p = testing::lower_or_die("D*");
+    RenderOptions o;
+    o.width = o.height = 12;
+    o.spp = 16;
+    RenderResult all = render(s, p, o);
+    o.spp = 1;
+    RenderResult first = render(s, p, o);
+    o.first_sample = 1;
+    o.spp = 15;
+    RenderResult rest = render(s, p, o);
+    std::vector<float> a = all.image(), f = first.image(), r = rest.image();
+    for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], (f[i] + 15 * r[i]) / 16, 1e-5 * std::fabs(a[i]) + 1e-7) << i;
+}
+
+}  // namespace
+}  // namespace crex

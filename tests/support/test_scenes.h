@@ -1,0 +1,108 @@
+/// \file test_scenes.h
+/// Small scenes with known answers, built in code for the renderer's tests.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "compiler/crex/compile.h"
+#include "runtime/render/render.h"
+#include "runtime/scene/scene.h"
+
+namespace crex::testing {
+
+inline Shape quad(const std::string& material, Vec3 a, Vec3 b, Vec3 c, Vec3 d, const std::string& name = "") {
+    Shape s;
+    s.type = ShapeType::kPolygon;
+    s.material = material;
+    s.name = name;
+    s.vertices = {a, b, c, d};
+    return s;
+}
+
+inline Material make_material(const std::string& name, MaterialType type, Vec3 color) {
+    Material m;
+    m.name = name;
+    m.type = type;
+    m.color = color;
+    return m;
+}
+
+/// White furnace: a closed box [-1, 1]^3 of inward-facing diffuse walls of albedo `a` that all
+/// emit `le` (an unsampled `emission`); the camera inside. Radiance everywhere: le / (1 - a).
+inline Scene furnace_box(double a, double le) {
+    Scene s;
+    Material wall = make_material("wall", MaterialType::kPlastic, {a, a, a});
+    wall.emission = Vec3{le, le, le};
+    s.materials.push_back(wall);
+    const double k = 1;
+    s.shapes.push_back(quad("wall", {-k, -k, k}, {k, -k, k}, {k, -k, -k}, {-k, -k, -k}));   // floor, +y
+    s.shapes.push_back(quad("wall", {-k, k, -k}, {k, k, -k}, {k, k, k}, {-k, k, k}));       // ceiling, -y
+    s.shapes.push_back(quad("wall", {-k, -k, -k}, {k, -k, -k}, {k, k, -k}, {-k, k, -k}));   // back, +z
+    s.shapes.push_back(quad("wall", {-k, -k, k}, {-k, k, k}, {k, k, k}, {k, -k, k}));       // front, -z
+    s.shapes.push_back(quad("wall", {-k, -k, k}, {-k, -k, -k}, {-k, k, -k}, {-k, k, k}));   // left, +x
+    s.shapes.push_back(quad("wall", {k, -k, -k}, {k, -k, k}, {k, k, k}, {k, k, -k}));       // right, -x
+    s.camera.position = {0, 0, 0};
+    s.camera.direction = {0, 0, -1};
+    s.camera.vfov_deg = 90;
+    return s;
+}
+
+/// A diffuse floor (albedo rho, y = 0, facing up) under a square `light` of radiance L, half
+/// side `half`, at height h, facing down. The camera looks straight down at the point under
+/// the light's centre through a narrow field of view.
+inline Scene square_light_over_plane(double rho, double L, double half, double h) {
+    Scene s;
+    s.materials.push_back(make_material("floor", MaterialType::kPlastic, {rho, rho, rho}));
+    s.materials.push_back(make_material("lamp", MaterialType::kLight, {L, L, L}));
+    const double w = 50;
+    s.shapes.push_back(quad("floor", {-w, 0, w}, {w, 0, w}, {w, 0, -w}, {-w, 0, -w}));
+    s.shapes.push_back(quad("lamp", {-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half}));
+    s.camera.position = {0, h / 2, 0};
+    s.camera.direction = {0, -1, 0};
+    s.camera.up = {0, 0, -1};
+    s.camera.vfov_deg = 1;
+    return s;
+}
+
+/// Irradiance at the point under the centre of a square emitter (half side `half`, height h,
+/// radiance L), from the form factor of a rectangle to a parallel differential area:
+/// E = 4 L (A / sqrt(1 + A^2)) atan(A / sqrt(1 + A^2)), A = half / h.
+inline double irradiance_under_square(double L, double half, double h) {
+    double a = half / h;
+    double q = a / std::sqrt(1 + a * a);
+    return 4 * L * q * std::atan(q);
+}
+
+inline sched::Program lower_or_die(const std::string& crex) {
+    SourceFile f("<test>", crex);
+    DiagnosticSink sink;
+    CompiledCrex c = compile_crex(f, sink);
+    if (!c.program) throw std::runtime_error("test crex does not compile: " + crex);
+    return *c.program;
+}
+
+inline RenderResult render_crex(const Scene& s, const std::string& crex, int size, uint32_t spp, uint64_t seed = 0,
+                                uint32_t shadow_rays = 1) {
+    RenderOptions o;
+    o.width = o.height = size;
+    o.spp = spp;
+    o.seed = seed;
+    o.executor.shade.shadow_rays = shadow_rays;
+    return render(s, lower_or_die(crex), o);
+}
+
+inline double mean_luminance(const std::vector<float>& rgb) {
+    double sum = 0;
+    size_t n = rgb.size() / 3;
+    for (size_t i = 0; i < n; ++i) sum += 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+    return sum / static_cast<double>(n);
+}
+
+inline bool all_finite(const std::vector<float>& rgb) {
+    for (float v : rgb)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
+}  // namespace crex::testing

@@ -1,0 +1,206 @@
+// Each crex construct on a tiny scene where what the bins hold can be predicted
+// (spec/crex.md §3).
+#include <gtest/gtest.h>
+
+#include "runtime/scene/census.h"
+#include "tests/support/test_scenes.h"
+
+namespace crex {
+namespace {
+
+using testing::make_material;
+using testing::quad;
+
+// A lit diffuse wall at z = -2 behind a glass slab (a box 0.2 thick) that fills the view.
+Scene glass_slab() {
+    Scene s;
+    s.materials.push_back(make_material("wall", MaterialType::kPlastic, {0.8, 0.8, 0.8}));
+    s.materials.push_back(make_material("lamp", MaterialType::kLight, {5, 5, 5}));
+    Material glass = make_material("glass", MaterialType::kGlass, {1, 1, 1});
+    glass.ior = 1.5;
+    s.materials.push_back(glass);
+    s.shapes.push_back(quad("wall", {-5, -5, -2}, {5, -5, -2}, {5, 5, -2}, {-5, 5, -2}));
+    s.shapes.push_back(quad("lamp", {-1, 3, -1.5}, {1, 3, -1.5}, {1, 3, -0.5}, {-1, 3, -0.5}));  // faces -y after winding
+    Shape slab;
+    slab.type = ShapeType::kBox;
+    slab.material = "glass";
+    slab.min = {-3, -3, -0.1};
+    slab.max = {3, 3, 0.1};
+    s.shapes.push_back(slab);
+    s.camera.position = {0, 0, 2};
+    s.camera.direction = {0, 0, -1};
+    s.camera.vfov_deg = 30;
+    return s;
+}
+
+TEST(ExecutorSemantics, TTFollowsLightThroughBothGlassInterfaces) {
+    Scene s = glass_slab();
+    RenderResult t = testing::render_crex(s, "T", 8, 1);
+    RenderResult tt = testing::render_crex(s, "TT", 8, 1);
+    // Every camera ray enters the slab: T takes 64 rays; their children wait in T inside the
+    // glass. TT executes those too, reaching the wall, which is then lit in the image.
+    ASSERT_EQ(t.stats.steps.size(), 1u);
+    EXPECT_EQ(t.stats.steps[0].rays, 64u);
+    EXPECT_EQ(t.rays_left[static_cast<size_t>(Component::kT)], 64u);
+    ASSERT_EQ(tt.stats.steps.size(), 2u);
+    EXPECT_EQ(tt.stats.steps[1].component, Component::kT);
+    EXPECT_EQ(tt.stats.steps[1].rays, 64u);
+    EXPECT_GT(testing::mean_luminance(tt.film.aov_image(aov_of(Component::kT))), 0.0);
+    EXPECT_EQ(testing::mean_luminance(t.film.aov_image(aov_of(Component::kT))), 0.0);
+}
+
+// A glossy-and-diffuse floor (spawns D and G) under a light.
+Scene glossy_room() {
+    Scene s;
+    Material floor = make_material("floor", MaterialType::kPlastic, {0.6, 0.6, 0.6});
+    floor.specularity = 0.2;
+    floor.roughness = 0.3;
+    s.materials.push_back(floor);
+    s.materials.push_back(make_material("lamp", MaterialType::kLight, {5, 5, 5}));
+    s.shapes = testing::furnace_box(0.5, 0).shapes;
+    for (auto& sh : s.shapes) sh.material = "floor";
+    s.shapes.push_back(quad("lamp", {-0.3, 0.99, -0.3}, {0.3, 0.99, -0.3}, {0.3, 0.99, 0.3}, {-0.3, 0.99, 0.3}));
+    s.camera.position = {0, 0, 0.5};
+    s.camera.direction = {0, 0, -1};
+    s.camera.vfov_deg = 60;
+    return s;
+}
+
+TEST(ExecutorSemantics, DeferredGroupHoldsSpawnedRaysBack) {
+    Scene s = glossy_room();
+    // G rays waiting after the camera rays alone, and after camera rays then D:
+    size_t g_from_camera = testing::render_crex(s, "", 8, 2).rays_left[static_cast<size_t>(Component::kG)];
+    size_t g_after_d = testing::render_crex(s, "D", 8, 2).rays_left[static_cast<size_t>(Component::kG)];
+    ASSERT_GT(g_after_d, g_from_camera);
+
+    RenderResult inherit = testing::render_crex(s, "(DGS)G", 8, 2);
+    RenderResult deferred = testing::render_crex(s, "<DGS>G", 8, 2);
+    auto first_g = [](const RenderResult& r) {
+        for (const auto& st : r.stats.steps)
+            if (st.component == Component::kG) return st.rays;
+        return uint64_t{0};
+    };
+    // In (DGS)G the first G executes the glossy rays D just spawned; in <DGS>G they wait.
+    EXPECT_EQ(first_g(inherit), g_after_d);
+    EXPECT_EQ(first_g(deferred), g_from_camera);
+    // ...and reach the final G once the group has ended.
+    EXPECT_EQ(deferred.stats.steps.back().component, Component::kG);
+    EXPECT_EQ(deferred.stats.steps.back().rays, g_after_d - g_from_camera + /* children of the first G */
+                                                    (testing::render_crex(s, "G", 8, 2).rays_left[static_cast<size_t>(Component::kG)]));
+}
+
+TEST(ExecutorSemantics, ModulationFollowsTheCeilRuleOnAStepMap) {
+    // Importance 0.3 on the left half, 0.9 on the right; {DDD} has n = 3: the first D runs
+    // where I > 0 (everywhere), the second where I > 1/3 and the third where I > 2/3 (right
+    // half only). So rays left in D are one bounce deep on the left, three on the right.
+    Scene s = testing::furnace_box(0.5, 0.1);
+    const int n = 8;
+    std::vector<float> importance(n * n);
+    for (int p = 0; p < n * n; ++p) importance[static_cast<size_t>(p)] = (p % n) < n / 2 ? 0.3f : 0.9f;
+    RenderOptions o;
+    o.width = o.height = n;
+    o.spp = 2;
+    o.executor.importance = &importance;
+    // Render, then look at the depth of what is left in D per pixel half.
+    sched::Program program = testing::lower_or_die("{DDD}");
+    RenderScene scene(s);
+    Film film(n, n);
+    Executor ex(scene, film, o.executor);
+    RayBatch camera_rays;
+    CameraRays cam(s.camera, n, n, scene.embree->origin_offset());
+    for (uint32_t p = 0; p < static_cast<uint32_t>(n * n); ++p)
+        for (uint32_t k = 0; k < 2; ++k) {
+            RayRecord r;
+            cam.generate(p % n + 0.5, p / n + 0.5, r.origin, r.direction);
+            r.beta = {1, 1, 1};
+            r.pixel = p;
+            r.path = camera_path_id(0, p, k);
+            camera_rays.push(r);
+        }
+    ex.run_camera_rays(camera_rays);
+    ex.run(program.selective);
+    const RayBatch& d = ex.bins()[static_cast<size_t>(Component::kD)];
+    ASSERT_EQ(d.size(), static_cast<size_t>(n * n * 2));  // diffuse walls: one D child per ray
+    for (size_t i = 0; i < d.size(); ++i) {
+        bool left = (d.pixel[i] % n) < static_cast<uint32_t>(n / 2);
+        EXPECT_EQ(d.depth[i], left ? 2 : 4) << "pixel " << d.pixel[i];
+    }
+    ASSERT_EQ(ex.stats().steps.size(), 3u);
+    EXPECT_EQ(ex.stats().steps[0].rays, static_cast<uint64_t>(n * n * 2));
+    EXPECT_EQ(ex.stats().steps[1].rays, static_cast<uint64_t>(n * n));  // right half only
+    EXPECT_EQ(ex.stats().steps[2].rays, static_cast<uint64_t>(n * n));
+}
+
+TEST(ExecutorSemantics, ImportanceZeroRunsNoneAndOneRunsAll) {
+    Scene s = testing::furnace_box(0.5, 0.1);
+    for (double I : {0.0, 1.0}) {
+        RenderOptions o;
+        o.width = o.height = 4;
+        o.executor.constant_importance = I;
+        RenderResult r = render(s, testing::lower_or_die("{DD}"), o);
+        EXPECT_EQ(r.stats.steps.size(), I == 0 ? 0u : 2u) << "I = " << I;
+    }
+}
+
+// Two facing mirrors with the camera between them, looking straight at one.
+Scene facing_mirrors(double reflectance) {
+    Scene s;
+    s.materials.push_back(make_material("mirror", MaterialType::kMirror, {reflectance, reflectance, reflectance}));
+    s.materials.push_back(make_material("lamp", MaterialType::kLight, {1, 1, 1}));
+    s.shapes.push_back(quad("mirror", {-50, -50, -1}, {50, -50, -1}, {50, 50, -1}, {-50, 50, -1}));
+    s.shapes.push_back(quad("mirror", {-50, -50, 1}, {-50, 50, 1}, {50, 50, 1}, {50, -50, 1}));
+    s.shapes.push_back(quad("lamp", {-0.1, 5, -0.1}, {0.1, 5, -0.1}, {0.1, 5, 0.1}, {-0.1, 5, 0.1}));
+    s.camera.position = {0, 0, 0};
+    s.camera.direction = {0, 0, -1};
+    s.camera.vfov_deg = 1;
+    return s;
+}
+
+TEST(ExecutorSemantics, StarTerminatesBetweenPerfectMirrorsAtTheDepthLimit) {
+    // Perfect mirrors never lose weight: only max_depth (256) ends the bouncing, and '*'
+    // stops at the first iteration without work, well before its cap.
+    RenderResult r = testing::render_crex(facing_mirrors(1.0), "M*", 4, 1);
+    EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kM)].executions, 256u);
+    EXPECT_TRUE(r.warnings.empty());
+    EXPECT_TRUE(testing::all_finite(r.image()));
+}
+
+TEST(ExecutorSemantics, StarTerminatesBetweenLossyMirrorsByWeight) {
+    RenderOptions o;
+    o.width = o.height = 4;
+    o.executor.shade.roulette = false;
+    RenderResult r = render(facing_mirrors(0.9), testing::lower_or_die("(M)*"), o);
+    // 0.9^k >= 1e-3 for k <= 65: 65 mirror bounces, then the weight limit drops the rays.
+    EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kM)].executions, 65u);
+}
+
+TEST(ExecutorSemantics, StarCapStopsWithW401) {
+    SourceFile f("<t>", "M*");
+    DiagnosticSink sink;
+    LowerOptions lo;
+    lo.star_cap = 10;
+    CompiledCrex c = compile_crex(f, sink, lo);
+    RenderOptions o;
+    o.width = o.height = 2;
+    RenderResult r = render(facing_mirrors(1.0), *c.program, o);
+    EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kM)].executions, 10u);
+    ASSERT_EQ(r.warnings.size(), 1u);
+    EXPECT_NE(r.warnings[0].find("W401"), std::string::npos);
+    EXPECT_NE(r.warnings[0].find("<t>:1:1"), std::string::npos) << r.warnings[0];
+}
+
+TEST(ExecutorSemantics, AmbientStandsInForWaitingDiffuseRaysOnly) {
+    Scene s = testing::furnace_box(0.5, 0);
+    RenderOptions o;
+    o.width = o.height = 4;
+    o.ambient = {0.2, 0.2, 0.2};
+    // Camera rays only: every pixel has one D ray of weight 0.5 waiting: ambient = 0.5 * 0.2.
+    RenderResult r = render(s, testing::lower_or_die(""), o);
+    EXPECT_NEAR(testing::mean_luminance(r.image()), 0.1, 1e-6);
+    // After D* nothing waits in D, so the ambient term has faded to zero.
+    RenderResult all = render(s, testing::lower_or_die("D*"), o);
+    EXPECT_NEAR(testing::mean_luminance(all.image()), 0.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace crex
