@@ -2,7 +2,9 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -13,7 +15,9 @@
 #include "compiler/base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "compiler/sched/print.h"
+#include "runtime/base/atomic_file.h"
 #include "runtime/io/image_io.h"
+#include "runtime/render/profile.h"
 #include "runtime/render/render.h"
 #include "runtime/scene/load_scene.h"
 
@@ -40,7 +44,27 @@ struct RunOptions {
     uint32_t star_cap = sched::kDefaultStarCap;
     std::string format = "text";
     bool quiet = false;
+    std::string budget;
+    std::string profile_in;
+    std::string profile_out;
 };
+
+// "10s", "500ms", "2.5" (seconds) or "25%" (of the full render time in the profile).
+bool parse_budget(const std::string& text, double& value, bool& percent) {
+    std::string t = text;
+    percent = false;
+    double scale = 1;
+    if (t.size() > 2 && t.substr(t.size() - 2) == "ms") t.resize(t.size() - 2), scale = 1e-3;
+    else if (!t.empty() && t.back() == 's') t.pop_back();
+    else if (!t.empty() && t.back() == '%') t.pop_back(), percent = true;
+    try {
+        size_t used = 0;
+        value = std::stod(t, &used) * scale;
+        return used == t.size() && value > 0 && std::isfinite(value) && (!percent || value <= 1000);
+    } catch (...) {
+        return false;
+    }
+}
 
 bool parse_size(const std::string& s, int& w, int& h) {
     char x = 0;
@@ -80,6 +104,42 @@ int run(const RunOptions& opt) {
         return kExitInputErrors;
     }
 
+    // The budget and the profile it is predicted from.
+    Profile profile;
+    double full_render_seconds = 0;
+    if (!opt.profile_in.empty()) {
+        std::ifstream in(opt.profile_in);
+        std::stringstream text;
+        text << in.rdbuf();
+        if (!in) {
+            std::cerr << fmt::format("crex run: error: cannot read profile '{}'\n", opt.profile_in);
+            return kExitFailure;
+        }
+        std::string error = Profile::from_json_text(text.str(), profile);
+        if (!error.empty()) {
+            std::cerr << fmt::format("crex run: error: profile '{}': {}\n", opt.profile_in, error);
+            return kExitInputErrors;
+        }
+        auto j = nlohmann::json::parse(text.str(), nullptr, false);
+        full_render_seconds = j.value("full_render_seconds", 0.0);
+    }
+    double budget = 0;
+    if (!opt.budget.empty()) {
+        bool percent = false;
+        if (!parse_budget(opt.budget, budget, percent)) {
+            std::cerr << fmt::format("crex run: error: --budget '{}': expected e.g. 10s, 500ms or 25%\n", opt.budget);
+            return kExitUsage;
+        }
+        if (percent) {
+            if (!(full_render_seconds > 0)) {
+                std::cerr << "crex run: error: --budget in % needs the time of a full render: render once without a "
+                             "budget with --save-profile FILE, then pass --profile FILE\n";
+                return kExitUsage;
+            }
+            budget = budget / 100 * full_render_seconds;
+        }
+    }
+
     std::unique_ptr<tbb::global_control> threads;
     if (opt.threads > 0)
         threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(opt.threads));
@@ -95,6 +155,8 @@ int run(const RunOptions& opt) {
     ro.executor.shade.max_depth = opt.max_depth;
     ro.executor.shade.roulette = !opt.no_roulette;
     ro.executor.constant_importance = opt.importance;
+    ro.executor.budget_seconds = budget;
+    ro.executor.profile = &profile;
     Progress progress(!opt.quiet);
     ro.executor.progress = [&](const std::string& what, uint64_t rays) { progress.update(what, rays); };
 
@@ -109,6 +171,15 @@ int run(const RunOptions& opt) {
     progress.finish();
     const RenderResult& result = *rendered;
     for (const auto& w : result.warnings) std::cerr << w << "\n";
+    if (!opt.profile_out.empty()) {
+        auto j = nlohmann::json::parse(profile.to_json_text());
+        j["full_render_seconds"] = budget > 0 ? full_render_seconds : result.render_seconds;
+        std::string error = write_file_atomically(opt.profile_out, j.dump(2) + "\n");
+        if (!error.empty()) {
+            std::cerr << fmt::format("crex run: error: cannot write profile '{}': {}\n", opt.profile_out, error);
+            return kExitFailure;
+        }
+    }
 
     std::vector<ImageLayer> layers = {{"", result.image()}};
     if (opt.components)
@@ -148,6 +219,14 @@ int run(const RunOptions& opt) {
         }
         j["components"] = comps;
         j["warnings"] = result.warnings;
+        if (budget > 0) {
+            j["budget_seconds"] = budget;
+            j["overshoot_percent"] = (result.render_seconds - budget) / budget * 100;
+            nlohmann::json skipped = nlohmann::json::array();
+            for (const auto& sk : st.skipped)
+                skipped.push_back({{"task", sk.what}, {"predicted_seconds", sk.predicted}, {"remaining_seconds", sk.remaining}});
+            j["skipped_tasks"] = skipped;
+        }
         std::cout << j.dump(2) << "\n";
         return kExitOk;
     }
@@ -167,6 +246,13 @@ int run(const RunOptions& opt) {
         if (st.components[c].rays > 0 || result.rays_left[c] > 0)
             row(std::string(1, kComponentTable[c].letter), st.components[c], std::to_string(st.components[c].executions),
                 result.rays_left[c]);
+    if (budget > 0) {
+        std::cout << fmt::format("  budget {:.3f} s, actual {:.3f} s, overshoot {:+.1f} %, {} task{} skipped\n", budget,
+                                 result.render_seconds, (result.render_seconds - budget) / budget * 100, st.skipped.size(),
+                                 st.skipped.size() == 1 ? "" : "s");
+        for (const auto& sk : st.skipped)
+            std::cout << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
+    }
     for (const auto& p : outputs) std::cout << "  wrote " << p << "\n";
     return kExitOk;
 }
@@ -201,6 +287,10 @@ Runner add_run_command(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--star-cap", opt->star_cap, "Iteration cap of '*' per entry (W401 when hit)")->capture_default_str();
+    cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
+        ->allow_extra_args(false);
+    cmd->add_option("--profile", opt->profile_in, "Profile (cost per ray per component) to predict from");
+    cmd->add_option("--save-profile", opt->profile_out, "Write the measured profile (and this render's time) to FILE");
     cmd->add_option("--format", opt->format, "Summary as text or json (stdout)")->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
     cmd->footer(R"(
@@ -212,6 +302,8 @@ Examples:
   crex run -e 'TT' --spp 4 -o tt.png                direct light plus two glass interfaces
   crex run --scene examples/scenes/corridor/scene.json -e '(DGSTR)*' --size 320x240
   crex run -e '(TTMRSGD)*' --components -o out/cornell.exr   one EXR layer per component
+  crex run -e '(TT[RS]G)*D' --save-profile p.json            measure, then render in 25 % of the time:
+  crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
     return [opt] { return run(*opt); };

@@ -46,6 +46,23 @@ std::string_view SourceSpan::text() const {
     return std::string_view(file->text()).substr(begin, end - begin);
 }
 
+SourceLocation SourceLocation::of(const SourceSpan& span) {
+    SourceLocation loc;
+    if (!span.valid()) return loc;
+    LineCol b = span.file->position(span.begin), e = span.file->position(span.end);
+    loc.file = span.file->name();
+    loc.line = b.line;
+    loc.col = b.col;
+    loc.end_line = e.line;
+    loc.end_col = e.col;
+    return loc;
+}
+
+std::string SourceLocation::to_string() const {
+    if (!known()) return "<unknown>";
+    return file + ":" + std::to_string(line) + ":" + std::to_string(col);
+}
+
 uint32_t count_code_points(std::string_view utf8) {
     uint32_t n = 0;
     for (unsigned char c : utf8)

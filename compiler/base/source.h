@@ -51,6 +51,18 @@ struct SourceSpan {
     std::string_view text() const;
 };
 
+/// A resolved position, plain data: what plans and lowered programs keep (a SourceSpan points
+/// into a SourceFile and must not outlive it).
+struct SourceLocation {
+    std::string file;
+    uint32_t line = 0, col = 0;        ///< 1-based; 0 = unknown
+    uint32_t end_line = 0, end_col = 0;  ///< end_col is one past the span
+
+    static SourceLocation of(const SourceSpan& span);
+    bool known() const { return line > 0; }
+    std::string to_string() const;  ///< "file:line:col", or "<unknown>"
+};
+
 /// Number of Unicode code points in UTF-8 text (a continuation byte counts as nothing;
 /// malformed bytes count as one each, matching how the parsers decode them).
 uint32_t count_code_points(std::string_view utf8);

@@ -28,7 +28,7 @@ public:
         seq.op = Op::kSeq;
         Scope scope;
         for (size_t i = begin; i < end; ++i) append(seq, lower_item(items[i], scope));
-        if (begin < end) seq.span = items[begin].span.merge(items[end - 1].span);
+        if (begin < end) seq.where = SourceLocation::of(items[begin].span.merge(items[end - 1].span));
         return seq;
     }
 
@@ -61,7 +61,7 @@ private:
         if (item.kind == ItemKind::kComponent) {
             node.op = Op::kExec;
             node.component = item.component;
-            node.span = item.span;
+            node.where = SourceLocation::of(item.span);
             if (scope.in_modulate) node.first_index = first;
         } else {
             node = lower_group(item, scope);
@@ -75,7 +75,7 @@ private:
             wrap.count = r.star ? 0 : r.count;
             wrap.cap = r.star ? options_.star_cap : 0;
             wrap.stride = scope.in_modulate && !r.star ? stride : 0;
-            wrap.span = item.span.merge(r.span);
+            wrap.where = SourceLocation::of(item.span.merge(r.span));
             wrap.children.push_back(unwrap_single(std::move(node)));
             node = std::move(wrap);
             if (!r.star) stride *= static_cast<double>(r.count);
@@ -87,7 +87,7 @@ private:
     Node lower_group(const Item& item, Scope scope) {
         Node node;
         node.op = Op::kSeq;
-        node.span = item.span;
+        node.where = SourceLocation::of(item.span);
         double inner_offset = scope.modulate_offset ? *scope.modulate_offset : 0;
         switch (item.group) {
         case GroupKind::kInherit: break;

@@ -46,7 +46,7 @@ struct Node {
     double stride = 0;                    ///< kRepeat inside a Modulate: occurrences per iteration
     bool owns_deferral = false;           ///< kDefer: true; kBudgeted: not nested in a deferral
     std::string map;                      ///< kModulate: the importance map's name
-    SourceSpan span;                      ///< source of the step (the crex text it came from)
+    SourceLocation where;                 ///< the crex text it came from (plain data: no pointers)
     std::vector<Node> children;
 };
 
@@ -57,7 +57,7 @@ struct Program {
     Node selective;     ///< kSeq
 };
 
-/// Structural equality, ignoring spans.
+/// Structural equality, ignoring source locations.
 bool same_structure(const Node& a, const Node& b);
 bool same_structure(const Program& a, const Program& b);
 

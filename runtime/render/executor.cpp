@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "compiler/base/render_text.h"
+#include "compiler/sched/print.h"
 
 namespace crex {
 
@@ -17,8 +18,14 @@ double Executor::importance(uint32_t pixel) const {
     return std::fmin(std::fmax(v, 0.0), 1.0);
 }
 
-void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label) {
-    auto start = std::chrono::steady_clock::now();
+double Executor::now() const {
+    if (options_.clock) return options_.clock();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label,
+                            std::optional<Component> profiled) {
+    double start = now();
     auto& sink = deferring_ ? pending_ : bins_;
     for (size_t begin = 0; begin < rays.size(); begin += options_.chunk_rays) {
         size_t end = std::min(rays.size(), begin + options_.chunk_rays);
@@ -31,11 +38,16 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         rays_done_ += end - begin;
         if (options_.progress) options_.progress(label, rays_done_);
     }
-    stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double seconds = now() - start;
+    stats.seconds += seconds;
+    if (options_.profile) {
+        if (profiled) options_.profile->record(*profiled, rays.size(), seconds);
+        else if (camera) options_.profile->record_camera(rays.size(), seconds);
+    }
 }
 
 void Executor::run_camera_rays(const RayBatch& camera_rays) {
-    execute_rays(camera_rays, true, kCameraAov, stats_.camera, "camera rays");
+    execute_rays(camera_rays, true, kCameraAov, stats_.camera, "camera rays", std::nullopt);
 }
 
 bool Executor::exec(const sched::Node& node) {
@@ -56,10 +68,98 @@ bool Executor::exec(const sched::Node& node) {
     }
     if (take.empty()) return false;
     ComponentStats& stats = stats_.components[c];
+    std::string letter(1, component_letter(node.component));
+    auto put_back = [&](const RayBatch& rays, size_t from) {  // skipped rays stay in their bin
+        RayBatch rest;
+        rest.append(rays, from, rays.size());
+        rest.append(bin);
+        bin = std::move(rest);
+    };
+    size_t first = 0;
+    if (budget_active()) {
+        double remaining = options_.budget_seconds - now();
+        std::optional<double> cost = options_.profile ? options_.profile->cost(node.component) : std::nullopt;
+        if (!cost) {
+            // Pilot: the first 1 % of the rays, at least one chunk; its results are kept.
+            size_t pilot = std::min(take.size(), std::max((take.size() + 99) / 100, options_.chunk_rays));
+            RayBatch head;
+            head.append(take, 0, pilot);
+            ++stats.executions;
+            stats_.steps.push_back({node.component, pilot});
+            execute_rays(head, false, aov_of(node.component), stats, letter, node.component);
+            first = pilot;
+            if (first == take.size()) return true;
+            remaining = options_.budget_seconds - now();
+            cost = options_.profile ? options_.profile->cost(node.component) : std::nullopt;
+        }
+        double predicted = static_cast<double>(take.size() - first) * cost.value_or(0);
+        if (predicted > remaining) {
+            stats_.skipped.push_back({letter + " at " + node.where.to_string(), predicted, remaining});
+            put_back(take, first);
+            return first > 0;
+        }
+        if (first > 0) {  // the rest of a piloted step
+            RayBatch rest;
+            rest.append(take, first, take.size());
+            stats_.steps.back().rays += rest.size();
+            execute_rays(rest, false, aov_of(node.component), stats, letter, node.component);
+            return true;
+        }
+    }
     ++stats.executions;
     stats_.steps.push_back({node.component, take.size()});
-    execute_rays(take, false, aov_of(node.component), stats, std::string(1, component_letter(node.component)));
+    execute_rays(take, false, aov_of(node.component), stats, letter, node.component);
     return true;
+}
+
+namespace {
+
+// Components the Exec nodes of a subtree read (each bin is read once per deferred execution).
+void components_read(const sched::Node& n, std::array<bool, kComponentCount>& out) {
+    if (n.op == sched::Op::kExec) out[static_cast<size_t>(n.component)] = true;
+    for (const auto& c : n.children) components_read(c, out);
+}
+
+}  // namespace
+
+bool Executor::run_deferred(const sched::Node& node, bool owns) {
+    if (!owns || deferring_) {
+        bool work = false;
+        for (const auto& child : node.children) work |= run(child);
+        return work;
+    }
+    deferring_ = true;
+    bool work = false;
+    for (const auto& child : node.children) work |= run(child);
+    deferring_ = false;
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        bins_[c].append(pending_[c]);
+        pending_[c].clear();
+    }
+    return work;
+}
+
+bool Executor::budgeted_group(const sched::Node& node, bool owns) {
+    if (!budget_active()) return run_deferred(node, owns);
+    std::array<bool, kComponentCount> reads{};
+    components_read(node, reads);
+    double predicted = 0;
+    bool known = true;
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        if (!reads[c]) continue;
+        auto cost = options_.profile ? options_.profile->cost(static_cast<Component>(c)) : std::nullopt;
+        if (!cost) known = false;
+        else predicted += static_cast<double>(bins_[c].size()) * *cost;
+    }
+    double remaining = options_.budget_seconds - now();
+    if (known && predicted > remaining) {
+        stats_.skipped.push_back({sched::to_crex(node) + " at " + node.where.to_string(), predicted, remaining});
+        return false;
+    }
+    in_admitted_group_ = true;
+    bool work = run_deferred(node, owns);
+    in_admitted_group_ = false;
+    return work;
 }
 
 bool Executor::run(const sched::Node& node) {
@@ -71,24 +171,8 @@ bool Executor::run(const sched::Node& node) {
         for (const auto& child : node.children) work |= run(child);
         return work;
     }
-    case Op::kDefer:
-    case Op::kBudgeted: {
-        bool owns = node.op == Op::kDefer || node.owns_deferral;
-        if (!owns || deferring_) {
-            bool work = false;
-            for (const auto& child : node.children) work |= run(child);
-            return work;
-        }
-        deferring_ = true;
-        bool work = false;
-        for (const auto& child : node.children) work |= run(child);
-        deferring_ = false;
-        for (size_t c = 0; c < kComponentCount; ++c) {
-            bins_[c].append(pending_[c]);
-            pending_[c].clear();
-        }
-        return work;
-    }
+    case Op::kDefer: return run_deferred(node, true);
+    case Op::kBudgeted: return budgeted_group(node, node.owns_deferral);
     case Op::kModulate: {
         bool saved_in = in_modulate_;
         double saved_n = modulate_n_;
@@ -119,7 +203,7 @@ bool Executor::run(const sched::Node& node) {
         for (uint32_t k = 0;; ++k) {
             if (k >= node.cap) {
                 warnings_.push_back(fmt::format("{}: warning[W401]: '*' stopped after {} iterations (the cap) with work left",
-                                                format_location(node.span), node.cap));
+                                                node.where.to_string(), node.cap));
                 break;
             }
             bool work = run(node.children.front());

@@ -8,17 +8,25 @@
 ///    i < ceil(I(p) n) (computed in double); skipped rays stay in their bin;
 ///  - RepeatUntilEmpty runs at least once, again while the last execution took at least one
 ///    ray, at most `cap` times per entry (warning W401 names the crex position).
-/// Without a time budget, `[ ]` behaves as `< >`.
+/// Without a time budget, `[ ]` behaves as `< >`. Under a budget (spec §3, thesis 5.4) every
+/// component occurrence outside a `[ ]` and every outermost `[ ]` is a task, admitted afresh
+/// at each execution only if the profile predicts it finishes in the remaining time (a `[ ]`
+/// from the current sizes of the bins its members read); a task predicted to overrun is
+/// skipped, its rays stay in their bins, and the next task is considered. A component with no
+/// profile yet runs a pilot of its first 1 % of rays (at least one chunk), whose results are
+/// kept, then the rest if predicted to fit. A `[ ]` whose members have no profile is admitted.
 #pragma once
 
 #include <array>
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "compiler/sched/program.h"
 #include "runtime/render/film.h"
+#include "runtime/render/profile.h"
 #include "runtime/render/shade.h"
 
 namespace crex {
@@ -36,10 +44,18 @@ struct StepRecord {
     uint64_t rays = 0;
 };
 
+/// A task the budget left out.
+struct SkippedTask {
+    std::string what;       ///< "T at <crex>:1:2" or "[RS] at ..."
+    double predicted = 0;   ///< seconds
+    double remaining = 0;   ///< seconds left when it was considered
+};
+
 struct ExecutorStats {
     std::array<ComponentStats, kComponentCount> components{};
     ComponentStats camera;
     std::vector<StepRecord> steps;
+    std::vector<SkippedTask> skipped;
 };
 
 struct ExecutorOptions {
@@ -48,6 +64,10 @@ struct ExecutorOptions {
     double constant_importance = 1.0;      ///< I(p) when no map is given
     const std::vector<float>* importance = nullptr;  ///< per pixel, row-major (clamped; NaN = 0)
     std::function<void(const std::string& what, uint64_t rays_done)> progress;
+    double budget_seconds = 0;       ///< 0: no time budget
+    Profile* profile = nullptr;      ///< costs per ray; measured into as the render goes
+    /// Seconds since the first camera ray (default: a steady clock). Tests inject a clock.
+    std::function<double()> clock;
 };
 
 class Executor {
@@ -67,7 +87,12 @@ public:
 
 private:
     bool exec(const sched::Node& node);
-    void execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label);
+    bool budgeted_group(const sched::Node& node, bool owns);
+    bool run_deferred(const sched::Node& node, bool owns);
+    double now() const;
+    bool budget_active() const { return options_.budget_seconds > 0 && !in_admitted_group_; }
+    void execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label,
+                      std::optional<Component> profiled);
     double importance(uint32_t pixel) const;
 
     const RenderScene& scene_;
@@ -83,6 +108,8 @@ private:
     ExecutorStats stats_;
     std::vector<std::string> warnings_;
     uint64_t rays_done_ = 0;
+    bool in_admitted_group_ = false;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace crex

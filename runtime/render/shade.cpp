@@ -110,6 +110,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
         h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     }
+    if (params.capture) params.capture->rays.insert(params.capture->rays.end(), hits.begin(), hits.end());
     intersect_batch(*scene.embree, hits.data(), n, camera);
 
     out.contribution.assign(n, Vec3{});
@@ -165,6 +166,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
         }
     });
 
+    if (params.capture) params.capture->shadow_rays.insert(params.capture->shadow_rays.end(), shadows.begin(), shadows.end());
     occluded_batch(*scene.embree, shadows.data(), shadows.size());
 
     // Ordered merge: ray order, then lobe or shadow-ray order.

@@ -14,11 +14,18 @@
 
 namespace crex {
 
+/// Everything a render traced, for benchmarks that replay the same rays through raw Embree.
+struct RayCapture {
+    std::vector<RTCRayHit> rays;
+    std::vector<RTCRay> shadow_rays;
+};
+
 struct ShadeParams {
     uint32_t shadow_rays = 1;       ///< shadow rays per hit (a selective variable later)
     double weight_limit = 1e-3;     ///< `lw`
     bool roulette = true;           ///< below lw: Russian roulette (unbiased) instead of dropping
     uint32_t max_depth = 256;       ///< no ray is spawned beyond this depth
+    RayCapture* capture = nullptr;  ///< benchmarks only: keep a copy of every ray traced
 };
 
 struct ShadeOutput {

@@ -60,7 +60,9 @@ TEST(CrexSceneInfoCli, ExportWritesALoadableSceneAtomically) {
     size_t files = 0;
     for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
     EXPECT_EQ(files, 1u);  // no temporary left behind
-    auto bad = crex_cli({"scene-info", "--export-json", "/nonexistent/dir/x.json"});
+    std::filesystem::remove(out);
+    std::ofstream(dir / "a_file") << "not a directory";
+    auto bad = crex_cli({"scene-info", "--export-json", (dir / "a_file" / "x.json").string()});
     EXPECT_EQ(bad.exit_code, 3);
     std::filesystem::remove_all(dir);
 }

@@ -106,3 +106,4 @@ inline bool all_finite(const std::vector<float>& rgb) {
 }
 
 }  // namespace crex::testing
+

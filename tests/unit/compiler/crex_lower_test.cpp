@@ -101,12 +101,14 @@ TEST(CrexLower, InheritGroupsDisappearAndRepeatsNest) {
     EXPECT_EQ(sched::to_crex(lower("D1")), "D");
 }
 
-TEST(CrexLower, ExecNodesKeepTheirSourceSpans) {
+TEST(CrexLower, ExecNodesKeepTheirSourceLocations) {
     auto r = testing::check("TT{RS}");
     const Node& s = r.compiled.program->selective.children[0].children[1];
     EXPECT_EQ(s.op, Op::kExec);
-    EXPECT_EQ(s.span.text(), "S");
-    EXPECT_EQ(r.file->position(s.span.begin).col, 5u);
+    EXPECT_EQ(s.where.file, "<expr>");
+    EXPECT_EQ(s.where.line, 1u);
+    EXPECT_EQ(s.where.col, 5u);
+    EXPECT_EQ(s.where.end_col, 6u);
 }
 
 TEST(CrexLower, ExplainStatesTheImportanceThresholds) {

@@ -204,3 +204,121 @@ TEST(ExecutorSemantics, AmbientStandsInForWaitingDiffuseRaysOnly) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+// Under a budget with a fake clock (1 microsecond per ray executed, camera rays included)
+// and a profile that knows that cost, admission is exact, so thesis fig. 5.13 can be checked
+// without wall-clock timing: (TT[RS]G)*D executes as (TT[RS]G)* when the budget covers all
+// but D, as TT[RS] with less, and as TT when [RS] would overrun.
+struct BudgetRun {
+    std::vector<StepRecord> steps;
+    std::vector<SkippedTask> skipped;
+};
+
+constexpr int kBudgetSize = 32;
+
+BudgetRun run_with_budget(const Scene& s, const std::string& crex, double budget_rays) {
+    RenderOptions o;
+    o.width = o.height = kBudgetSize;
+    o.spp = 1;
+    Profile profile;
+    for (const auto& row : kComponentTable) profile.record(row.component, 1000000, 1.0);
+    double fake_now = 0;
+    o.executor.profile = &profile;
+    o.executor.budget_seconds = budget_rays * 1e-6;
+    o.executor.clock = [&] { return fake_now; };
+    o.executor.progress = [&](const std::string&, uint64_t rays) { fake_now = static_cast<double>(rays) * 1e-6; };
+    RenderResult r = render(s, testing::lower_or_die(crex), o);
+    return {r.stats.steps, r.stats.skipped};
+}
+
+std::string letters(const std::vector<StepRecord>& steps) {
+    std::string out;
+    for (const auto& st : steps) out += component_letter(st.component);
+    return out;
+}
+
+// A glossy room (D, G) with a glass sphere (T, R) and an ideal metal sphere (S) in view.
+Scene budget_scene() {
+    Scene s = glossy_room();
+    Material glass = make_material("glass", MaterialType::kGlass, {0.95, 0.95, 0.95});
+    glass.ior = 1.5;
+    Material steel = make_material("steel", MaterialType::kMetal, {0.9, 0.9, 0.9});
+    steel.specularity = 0.9;
+    s.materials.push_back(glass);
+    s.materials.push_back(steel);
+    Shape ball;
+    ball.type = ShapeType::kSphere;
+    ball.material = "glass";
+    ball.center = {-0.4, -0.3, -0.5};
+    ball.radius = 0.35;
+    s.shapes.push_back(ball);
+    ball.material = "steel";
+    ball.center = {0.4, -0.3, -0.5};
+    s.shapes.push_back(ball);
+    return s;
+}
+
+TEST(BudgetScheduling, ThesisFigure513) {
+    Scene scene = budget_scene();
+    const std::string crex = "(TT[RS]G)*D";
+    BudgetRun full = run_with_budget(scene, crex, 1e12);
+    ASSERT_GE(full.steps.size(), 6u) << letters(full.steps);
+    ASSERT_EQ(full.steps.back().component, Component::kD);
+    ASSERT_TRUE(full.skipped.empty());
+    uint64_t camera = kBudgetSize * kBudgetSize;
+    uint64_t all = camera;
+    for (const auto& st : full.steps) all += st.rays;
+    const auto& f = full.steps;
+    ASSERT_EQ(letters({f.begin(), f.begin() + 5}), "TTRSG");
+
+    // All but D.
+    BudgetRun a = run_with_budget(scene, crex, static_cast<double>(all - f.back().rays) + 0.5);
+    EXPECT_EQ(letters(a.steps), letters({f.begin(), f.end() - 1}));
+    ASSERT_FALSE(a.skipped.empty());
+    EXPECT_EQ(a.skipped.back().what.substr(0, 1), "D");
+
+    // Only the first TT[RS].
+    BudgetRun b = run_with_budget(scene, crex, static_cast<double>(camera + f[0].rays + f[1].rays + f[2].rays + f[3].rays) + 0.5);
+    EXPECT_EQ(letters(b.steps), "TTRS");
+
+    // [RS] would overrun: TT only, and the group is reported as skipped.
+    BudgetRun c = run_with_budget(scene, crex, static_cast<double>(camera + f[0].rays + f[1].rays) + 0.5);
+    EXPECT_EQ(letters(c.steps), "TT");
+    bool rs_skipped = false;
+    for (const auto& sk : c.skipped) rs_skipped |= sk.what.rfind("[RS]", 0) == 0;
+    EXPECT_TRUE(rs_skipped);
+}
+
+TEST(BudgetScheduling, WithoutAProfileAPilotRunsAndIsKept) {
+    Scene s = testing::furnace_box(0.5, 0.1);
+    RenderOptions o;
+    o.width = o.height = 20;  // 400 camera rays -> 400 D rays
+    o.executor.chunk_rays = 10;
+    Profile profile;
+    o.executor.profile = &profile;
+    o.executor.budget_seconds = 1e-9;  // nothing beyond the pilot fits
+    RenderResult r = render(s, testing::lower_or_die("D"), o);
+    ASSERT_EQ(r.stats.steps.size(), 1u);
+    EXPECT_EQ(r.stats.steps[0].rays, 10u);  // max(1 % of 400, one chunk of 10)
+    EXPECT_TRUE(profile.cost(Component::kD).has_value());
+    EXPECT_EQ(r.rays_left[static_cast<size_t>(Component::kD)], 390u + 10u);  // the rest waits; the pilot spawned 10
+}
+
+TEST(BudgetScheduling, ProfileRoundTripsThroughJson) {
+    Profile p;
+    p.record(Component::kT, 1000, 0.002);
+    p.record_camera(10, 0.001);
+    Profile q;
+    ASSERT_EQ(Profile::from_json_text(p.to_json_text(), q), "");
+    EXPECT_DOUBLE_EQ(*q.cost(Component::kT), 2e-6);
+    EXPECT_DOUBLE_EQ(*q.camera_cost(), 1e-4);
+    EXPECT_FALSE(q.cost(Component::kD).has_value());
+    Profile bad;
+    EXPECT_NE(Profile::from_json_text("{\"format\": \"crex-profile\", \"version\": 1, \"seconds_per_ray\": {\"X\": 1}}", bad), "");
+}
+
+}  // namespace
+}  // namespace crex

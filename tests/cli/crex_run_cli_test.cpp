@@ -1,0 +1,103 @@
+// `crex run` as a user runs it: outputs written atomically, EXR layers, exit codes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "runtime/io/image_io.h"
+#include "tests/support/run_command.h"
+
+namespace crex {
+namespace {
+
+namespace fs = std::filesystem;
+
+testing::CommandResult crex_cli(std::vector<std::string> args) {
+    args.insert(args.begin(), CREX_BINARY);
+    return testing::run_command(args);
+}
+
+class CrexRunCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("crex_run_cli_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    size_t file_count() const {
+        size_t n = 0;
+        for ([[maybe_unused]] const auto& e : fs::recursive_directory_iterator(dir_)) ++n;
+        return n;
+    }
+    fs::path dir_;
+};
+
+TEST_F(CrexRunCli, RendersTheDefaultSceneToEveryRequestedFormat) {
+    auto r = crex_cli({"run", "--size", "32x24", "--spp", "2", "-o", path("a.exr"), "-o", path("a.png"), "-o", path("a.hdr")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("rendered builtin:cornell with (TTMRSGD)* at 32x24, 2 spp"), std::string::npos) << r.out;
+    for (const char* f : {"a.exr", "a.png", "a.hdr"}) {
+        int w = 0, h = 0;
+        std::vector<float> rgb;
+        ASSERT_EQ(read_image(path(f), w, h, rgb), "") << f;
+        EXPECT_EQ(w, 32);
+        EXPECT_EQ(h, 24);
+        double sum = 0;
+        for (float v : rgb) {
+            ASSERT_TRUE(std::isfinite(v));
+            sum += v;
+        }
+        EXPECT_GT(sum, 0) << f;
+    }
+    EXPECT_EQ(file_count(), 3u);  // no temporaries left behind
+}
+
+TEST_F(CrexRunCli, ComponentLayersSumToTheComposite) {
+    auto r = crex_cli({"run", "--size", "16x16", "--spp", "2", "--components", "-o", path("c.exr")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto out = crex_cli({"run", "--size", "16x16", "--spp", "2", "-o", path("plain.exr")});
+    ASSERT_EQ(out.exit_code, 0);
+    int w, h;
+    std::vector<float> composite, plain;
+    ASSERT_EQ(read_image(path("c.exr"), w, h, composite), "");
+    ASSERT_EQ(read_image(path("plain.exr"), w, h, plain), "");
+    EXPECT_EQ(composite, plain);  // same seed: the same picture with or without layers
+}
+
+TEST_F(CrexRunCli, JsonSummaryCountsRaysPerComponent) {
+    auto r = crex_cli({"run", "--size", "8x8", "--spp", "1", "-e", "TT", "--format", "json", "-o", path("t.exr")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["components"]["camera"]["rays"], 64);
+    EXPECT_EQ(j["components"]["D"]["rays"], 0);
+    EXPECT_LE(j["components"]["T"]["executions"].get<int>(), 2);
+    EXPECT_EQ(j["crex"], "TT");
+}
+
+TEST_F(CrexRunCli, BadInputExitsOneAndWritesNothing) {
+    auto bad_crex = crex_cli({"run", "-e", "{D*}", "-o", path("x.exr")});
+    EXPECT_EQ(bad_crex.exit_code, 1);
+    EXPECT_NE(bad_crex.err.find("<crex>:1:3: error[E004]"), std::string::npos) << bad_crex.err;
+    std::ofstream(path("bad.json")) << "{\"shapes\": 3}";
+    auto bad_scene = crex_cli({"run", "--scene", path("bad.json"), "-o", path("x.exr")});
+    EXPECT_EQ(bad_scene.exit_code, 1);
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
+TEST_F(CrexRunCli, UsageAndIoFailures) {
+    EXPECT_EQ(crex_cli({"run", "--size", "0x10"}).exit_code, 2);
+    EXPECT_EQ(crex_cli({"run", "--size", "big"}).exit_code, 2);
+    EXPECT_EQ(crex_cli({"run", "--spp", "0"}).exit_code, 2);
+    EXPECT_EQ(crex_cli({"run", "--scene", "/nonexistent.json"}).exit_code, 3);
+    std::ofstream(path("a_file")) << "not a directory";
+    auto r = crex_cli({"run", "--size", "4x4", "-o", path("a_file/x.exr")});  // even root cannot write there
+    EXPECT_EQ(r.exit_code, 3);
+    auto unknown = crex_cli({"run", "--size", "4x4", "-o", path("x.unknownext")});
+    EXPECT_EQ(unknown.exit_code, 3);
+    EXPECT_NE(unknown.err.find("x.unknownext"), std::string::npos) << unknown.err;
+}
+
+}  // namespace
+}  // namespace crex
