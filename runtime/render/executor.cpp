@@ -29,7 +29,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
     auto& sink = deferring_ ? pending_ : bins_;
     for (size_t begin = 0; begin < rays.size(); begin += options_.chunk_rays) {
         size_t end = std::min(rays.size(), begin + options_.chunk_rays);
-        ShadeOutput out;
+        ShadeOutput& out = shade_;
         trace_and_shade(scene_, rays, begin, end, camera, options_.shade, out);
         for (size_t i = 0; i < out.contribution.size(); ++i) film_.add(aov, rays.pixel[begin + i], out.contribution[i]);
         for (size_t c = 0; c < kComponentCount; ++c) sink[c].append(out.children[c]);

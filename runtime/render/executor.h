@@ -108,6 +108,7 @@ private:
     ExecutorStats stats_;
     std::vector<std::string> warnings_;
     uint64_t rays_done_ = 0;
+    ShadeOutput shade_;  // reused for every chunk
     bool in_admitted_group_ = false;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };

@@ -95,7 +95,10 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     const size_t n = end - begin;
     const uint32_t ns = params.shadow_rays;
     const double eps = scene.embree->ray_epsilon();
-    std::vector<RTCRayHit> hits(n);
+    out.reset();
+    ShadeScratch& scratch = out.scratch;
+    scratch.hits.resize(n);
+    std::vector<RTCRayHit>& hits = scratch.hits;
     for (size_t i = 0; i < n; ++i) {
         RTCRayHit& h = hits[i];
         size_t r = begin + i;
@@ -114,11 +117,16 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     intersect_batch(*scene.embree, hits.data(), n, camera);
 
     out.contribution.assign(n, Vec3{});
-    std::vector<RTCRay> shadows(n * ns);
-    std::vector<Vec3> shadow_value(n * ns);
-    std::vector<RayRecord> child_slots(n * kMaxLobes);
-    std::vector<std::array<Component, kMaxLobes>> child_components(n);
-    std::vector<uint8_t> child_count(n, 0);
+    scratch.shadows.resize(n * ns);
+    scratch.shadow_value.resize(n * ns);
+    scratch.child_slots.resize(n * kMaxLobes);
+    scratch.child_components.resize(n);
+    scratch.child_count.assign(n, 0);
+    std::vector<RTCRay>& shadows = scratch.shadows;
+    std::vector<Vec3>& shadow_value = scratch.shadow_value;
+    std::vector<RayRecord>& child_slots = scratch.child_slots;
+    std::vector<std::array<Component, kMaxLobes>>& child_components = scratch.child_components;
+    std::vector<uint8_t>& child_count = scratch.child_count;
     const Vec3 background = scene.scene.background;
 
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& range) {
@@ -170,6 +178,14 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     occluded_batch(*scene.embree, shadows.data(), shadows.size());
 
     // Ordered merge: ray order, then lobe or shadow-ray order.
+    std::array<size_t, kComponentCount> spawned{};
+    for (size_t i = 0; i < n; ++i)
+        for (int l = 0; l < child_count[i]; ++l) ++spawned[static_cast<size_t>(child_components[i][static_cast<size_t>(l)])];
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        RayBatch& b = out.children[c];
+        for (auto* v : {&b.ox, &b.oy, &b.oz, &b.dx, &b.dy, &b.dz, &b.br, &b.bg, &b.bb}) v->reserve(spawned[c]);
+        b.pixel.reserve(spawned[c]), b.depth.reserve(spawned[c]), b.flags.reserve(spawned[c]), b.path.reserve(spawned[c]);
+    }
     for (size_t i = 0; i < n; ++i) {
         if (hits[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) ++out.hits;
         for (uint32_t j = 0; j < ns; ++j) {

@@ -28,11 +28,30 @@ struct ShadeParams {
     RayCapture* capture = nullptr;  ///< benchmarks only: keep a copy of every ray traced
 };
 
+/// Per-chunk buffers, reused from chunk to chunk: allocating and zero-filling them for every
+/// chunk cost more than a third of the executor's time (page faults and memset).
+struct ShadeScratch {
+    std::vector<RTCRayHit> hits;
+    std::vector<RTCRay> shadows;
+    std::vector<Vec3> shadow_value;
+    std::vector<RayRecord> child_slots;
+    std::vector<std::array<Component, kMaxLobes>> child_components;
+    std::vector<uint8_t> child_count;
+};
+
 struct ShadeOutput {
     std::vector<Vec3> contribution;                        ///< per input ray, times its beta
     std::array<RayBatch, kComponentCount> children;        ///< spawned rays, in ray order
     uint64_t shadow_rays = 0;
     uint64_t hits = 0;
+    ShadeScratch scratch;
+
+    /// Ready for the next chunk, keeping every buffer's memory.
+    void reset() {
+        contribution.clear();
+        for (auto& c : children) c.reset();
+        shadow_rays = hits = 0;
+    }
 };
 
 /// Shades rays [begin, end) of `rays`. `camera`: these are camera rays.
