@@ -52,10 +52,10 @@ run_tests() {
 }
 
 run_demo() {
-  log "main job: check and explain the thesis's crex expressions"
-  build/release/apps/crex/crex check --explain stdlib/crex/thesis.crex
-  log "main job: the census of the built-in Cornell box"
-  build/release/apps/crex/crex scene-info builtin:cornell
+  log "check the thesis's crex expressions"
+  build/release/apps/crex/crex check stdlib/crex/thesis.crex
+  log "main job: render the built-in Cornell box"
+  build/release/apps/crex/crex run --scene builtin:cornell -o out/render.exr -o out/render.png
 }
 
 run_fuzz() {

@@ -3,6 +3,8 @@
 #include <array>
 #include <utility>
 
+#include "runtime/base/name_table.h"
+
 namespace crex {
 namespace {
 
@@ -22,17 +24,9 @@ void set(ComponentSet& s, Component c) { s.set(static_cast<size_t>(c)); }
 
 }  // namespace
 
-std::string_view material_type_name(MaterialType t) {
-    for (const auto& [type, name] : kNames)
-        if (type == t) return name;
-    return "void";
-}
+std::string_view material_type_name(MaterialType t) { return name_in(kNames, t); }
 
-std::optional<MaterialType> material_type_from_name(std::string_view name) {
-    for (const auto& [type, n] : kNames)
-        if (n == name) return type;
-    return std::nullopt;
-}
+std::optional<MaterialType> material_type_from_name(std::string_view name) { return value_in(kNames, name); }
 
 ComponentSet spawned_components(const Material& m) {
     ComponentSet s;

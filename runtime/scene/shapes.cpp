@@ -5,6 +5,8 @@
 #include <cmath>
 #include <utility>
 
+#include "runtime/base/name_table.h"
+
 namespace crex {
 namespace {
 
@@ -72,17 +74,9 @@ void tessellate_band(TriangleMesh& out, const Vec3& c0, const Vec3& c1, const Ve
 
 }  // namespace
 
-std::string_view shape_type_name(ShapeType t) {
-    for (const auto& [type, name] : kNames)
-        if (type == t) return name;
-    return "sphere";
-}
+std::string_view shape_type_name(ShapeType t) { return name_in(kNames, t); }
 
-std::optional<ShapeType> shape_type_from_name(std::string_view name) {
-    for (const auto& [type, n] : kNames)
-        if (n == name) return type;
-    return std::nullopt;
-}
+std::optional<ShapeType> shape_type_from_name(std::string_view name) { return value_in(kNames, name); }
 
 std::vector<std::array<uint32_t, 3>> triangulate_polygon(const std::vector<Vec3>& vertices) {
     std::vector<std::array<uint32_t, 3>> tris;

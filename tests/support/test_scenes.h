@@ -8,24 +8,14 @@
 #include "compiler/crex/compile.h"
 #include "runtime/render/render.h"
 #include "runtime/scene/scene.h"
+#include "runtime/scene/scene_builders.h"
 
 namespace crex::testing {
 
-inline Shape quad(const std::string& material, Vec3 a, Vec3 b, Vec3 c, Vec3 d, const std::string& name = "") {
-    Shape s;
-    s.type = ShapeType::kPolygon;
-    s.material = material;
-    s.name = name;
-    s.vertices = {a, b, c, d};
-    return s;
-}
+using build::quad;
 
 inline Material make_material(const std::string& name, MaterialType type, Vec3 color) {
-    Material m;
-    m.name = name;
-    m.type = type;
-    m.color = color;
-    return m;
+    return build::material(name, type, color);
 }
 
 /// White furnace: a closed box [-1, 1]^3 of inward-facing diffuse walls of albedo `a` that all

@@ -1,0 +1,101 @@
+// The OpenImageIO side of image_io.h, built as a plugin module (libcrex_oiio.so) that
+// image_io.cpp loads on first use: linking OIIO into the tool made every `crex` start take
+// 0.4 s relocating 265 shared libraries, most of them codecs an image write never touches.
+#include "runtime/io/image_io.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "runtime/base/atomic_file.h"
+
+namespace crex {
+namespace {
+
+std::string lower_ext(const std::string& path) {
+    std::string e = std::filesystem::path(path).extension().string();
+    for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return e;
+}
+
+}  // namespace
+
+}  // namespace crex
+
+namespace crex::oiio {
+
+std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers) {
+    using crex::write_atomically_via;
+    std::string ext = lower_ext(path);
+    bool exr = ext == ".exr", hdr = ext == ".hdr";
+    auto writer = [&](const std::string& tmp) -> std::string {
+        auto out = OIIO::ImageOutput::create(path);  // format from the real name, not the temp
+        if (!out) return "no image writer for '" + path + "': " + OIIO::geterror();
+        std::vector<std::string> names;
+        std::vector<float> pixels;
+        size_t np = static_cast<size_t>(width) * static_cast<size_t>(height);
+        size_t nlayers = exr ? layers.size() : 1;
+        for (size_t l = 0; l < nlayers; ++l)
+            for (const char* c : {"R", "G", "B"}) names.push_back(layers[l].name.empty() ? c : layers[l].name + "." + c);
+        size_t nc = names.size();
+        OIIO::ImageSpec spec(width, height, static_cast<int>(nc), exr || hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+        spec.channelnames = names;
+        if (exr) spec.attribute("compression", "zip");
+        if (!out->open(tmp, spec)) return "cannot open '" + tmp + "': " + out->geterror();
+        bool ok;
+        if (exr || hdr) {
+            pixels.resize(np * nc);
+            for (size_t l = 0; l < nlayers; ++l)
+                for (size_t p = 0; p < np; ++p)
+                    for (size_t c = 0; c < 3; ++c) {
+                        float v = layers[l].rgb[3 * p + c];
+                        pixels[p * nc + 3 * l + c] = std::isfinite(v) ? v : 0.0f;
+                    }
+            ok = out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+        } else {
+            std::vector<unsigned char> bytes = crex::tone_map_srgb8(layers.front().rgb);
+            ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+        }
+        if (!ok) return "cannot write '" + path + "': " + out->geterror();
+        if (!out->close()) return "cannot close '" + path + "': " + out->geterror();
+        return "";
+    };
+    if (layers.empty()) return "nothing to write";
+    return write_atomically_via(path, writer);
+}
+
+std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+    OIIO::ImageBuf buf(path);
+    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return "cannot read '" + path + "': " + buf.geterror();
+    const OIIO::ImageSpec& spec = buf.spec();
+    width = spec.width;
+    height = spec.height;
+    int nc = spec.nchannels;
+    std::vector<float> all(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(nc));
+    buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, all.data());
+    bool linearise = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
+    rgb.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * 3, 0.0f);
+    for (size_t p = 0; p < static_cast<size_t>(width) * static_cast<size_t>(height); ++p)
+        for (int c = 0; c < 3; ++c) {
+            float v = all[p * static_cast<size_t>(nc) + static_cast<size_t>(std::min(c, nc - 1))];
+            if (linearise) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+            rgb[3 * p + static_cast<size_t>(c)] = v;
+        }
+    return "";
+}
+
+}  // namespace crex::oiio
+
+// The entry points image_io.cpp resolves with dlsym.
+extern "C" {
+std::string crex_oiio_write_image(const std::string& path, int width, int height,
+                                  const std::vector<crex::ImageLayer>& layers) {
+    return crex::oiio::write_image(path, width, height, layers);
+}
+std::string crex_oiio_read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+    return crex::oiio::read_image(path, width, height, rgb);
+}
+}

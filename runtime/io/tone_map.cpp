@@ -1,0 +1,38 @@
+// The tone map for eyes (spec/pipeline.md §7), shared by the loader and the OIIO plugin.
+#include <cmath>
+
+#include "runtime/io/image_io.h"
+
+namespace crex {
+namespace {
+
+double srgb_encode(double x) {
+    x = std::fmin(std::fmax(x, 0.0), 1.0);
+    return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;
+}
+
+}  // namespace
+
+std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb) {
+    size_t n = rgb.size() / 3;
+    double log_sum = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        double y = 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+        if (std::isfinite(y) && y > 0) {
+            log_sum += std::log(1e-6 + y);
+            ++count;
+        }
+    }
+    double log_avg = count ? std::exp(log_sum / static_cast<double>(count)) : 1.0;
+    double scale = 0.18 / std::fmax(log_avg, 1e-12);
+    std::vector<unsigned char> out(rgb.size());
+    for (size_t i = 0; i < rgb.size(); ++i) {
+        double v = std::isfinite(rgb[i]) ? rgb[i] * scale : 0.0;
+        v = v / (1 + v);  // Reinhard: keeps highlights from clipping hard
+        out[i] = static_cast<unsigned char>(std::lround(255 * srgb_encode(v)));
+    }
+    return out;
+}
+
+}  // namespace crex
