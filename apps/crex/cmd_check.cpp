@@ -9,7 +9,10 @@
 #include "apps/crex/input_files.h"
 #include "compiler/base/render_json.h"
 #include "compiler/base/render_text.h"
+#include "apps/crex/scene_input.h"
 #include "compiler/crex/compile.h"
+#include "compiler/plan/bin_occupancy.h"
+#include "runtime/scene/census.h"
 #include "compiler/sched/print.h"
 
 namespace crex::app {
@@ -22,6 +25,7 @@ struct CheckOptions {
     bool explain = false;
     bool print_ir = false;
     bool quiet = false;
+    std::string scene;
 };
 
 nlohmann::json program_json(const CompiledCrex& c) {
@@ -64,6 +68,25 @@ int run_check(const CheckOptions& opt) {
             compiled.push_back(compile_crex(*sources[i], sink));
         } else {
             for (auto& c : compile_crex_file(*sources[i], sink)) compiled.push_back(std::move(c));
+        }
+    }
+    // With a scene: W103 for every step that can never have work (spec §5).
+    std::unique_ptr<SceneInput> scene;
+    if (!opt.scene.empty()) {
+        scene = load_scene_input(opt.scene, sink);
+        if (!scene->failure.empty()) {
+            std::cerr << "crex check: error: " << scene->failure << "\n";
+            return kExitFailure;
+        }
+        if (scene->scene) {
+            BinSet spawnable = take_census(*scene->scene).spawnable;
+            for (const auto& c : compiled) {
+                if (!c.program) continue;
+                for (const auto& d : find_dead_steps(*c.program, spawnable))
+                    sink.report("W103", d.where.in(*c.span.file),
+                                fmt::format("step {} can never have work in {}", component_letter(d.component), opt.scene))
+                        .notes.push_back({{}, d.reason});
+            }
         }
     }
     std::vector<Diagnostic> diagnostics = sink.sorted();
@@ -112,6 +135,7 @@ Runner add_check_command(CLI::App& app) {
     cmd->add_option("--format", opt->format, "Diagnostics as text (stderr) or json (stdout)")
         ->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("--explain", opt->explain, "Print the steps each valid crex executes, in words");
+    cmd->add_option("--scene", opt->scene, "Also report steps that can never have work in this scene (W103)");
     cmd->add_flag("--print-ir", opt->print_ir, "Print the lowered schedule IR as a tree");
     cmd->add_flag("-q,--quiet", opt->quiet, "Print only diagnostics");
     cmd->footer(R"(
@@ -127,6 +151,7 @@ Examples:
   crex check --explain -e '(TT[RS]G)*D'     what it executes, step by step
   crex check stdlib/crex/thesis.crex        a file, one crex per line
   crex check --format json -e '{D*}'        diagnostics for tools
+  crex check --scene builtin:cornell_diffuse -e '(TTMRSGD)*'   W103: T, M, R, S, G never have work
 
 Exit status: 0 ok or warnings only, 1 errors in the input, 2 usage, 3 I/O failure.)");
     return [opt] { return run_check(*opt); };

@@ -13,5 +13,6 @@ using Runner = std::function<int()>;
 Runner add_check_command(CLI::App& app);
 Runner add_scene_info_command(CLI::App& app);
 Runner add_run_command(CLI::App& app);
+Runner add_plan_command(CLI::App& app);
 
 }  // namespace crex::app

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     runners["check"] = add_check_command(app);
     runners["scene-info"] = add_scene_info_command(app);
     runners["run"] = add_run_command(app);
+    runners["plan"] = add_plan_command(app);
 
     try {
         app.parse(argc, argv);

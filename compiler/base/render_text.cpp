@@ -75,6 +75,10 @@ std::string render_text(const Diagnostic& d) {
     out += fmt::format("{}: {}: {}\n", format_location(d.span), head, d.message);
     render_snippet(out, d.span);
     for (const auto& note : d.notes) {
+        if (!note.span.valid()) {  // a note about the whole diagnostic, not a place
+            out += fmt::format("      = note: {}\n", note.message);
+            continue;
+        }
         out += fmt::format("{}: note: {}\n", format_location(note.span), note.message);
         render_snippet(out, note.span);
     }

@@ -26,6 +26,18 @@ uint32_t SourceFile::line_start(uint32_t line) const {
     return line_starts_[line - 1];
 }
 
+uint32_t SourceFile::offset_of(uint32_t line, uint32_t col) const {
+    uint32_t start = line_start(line);
+    std::string_view text = line_text(line);
+    uint32_t i = 0, seen = 1;
+    while (i < text.size() && seen < col) {
+        ++i;
+        while (i < text.size() && (static_cast<unsigned char>(text[i]) & 0xC0) == 0x80) ++i;
+        ++seen;
+    }
+    return start + i;
+}
+
 std::string_view SourceFile::line_text(uint32_t line) const {
     if (line == 0 || line > line_starts_.size()) return {};
     uint32_t start = line_starts_[line - 1];
@@ -56,6 +68,11 @@ SourceLocation SourceLocation::of(const SourceSpan& span) {
     loc.end_line = e.line;
     loc.end_col = e.col;
     return loc;
+}
+
+SourceSpan SourceLocation::in(const SourceFile& f) const {
+    if (!known()) return {&f, 0, 0};
+    return {&f, f.offset_of(line, col), f.offset_of(end_line, end_col)};
 }
 
 std::string SourceLocation::to_string() const {

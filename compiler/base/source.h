@@ -26,6 +26,8 @@ public:
 
     /// Line and column of a byte offset (offsets past the end map to the end).
     LineCol position(uint32_t offset) const;
+    /// Byte offset of a 1-based line and code-point column (clamped to the line).
+    uint32_t offset_of(uint32_t line, uint32_t col) const;
     /// The text of the 1-based line `line`, without its line terminator.
     std::string_view line_text(uint32_t line) const;
     /// Byte offset at which 1-based line `line` starts.
@@ -59,6 +61,8 @@ struct SourceLocation {
     uint32_t end_line = 0, end_col = 0;  ///< end_col is one past the span
 
     static SourceLocation of(const SourceSpan& span);
+    /// Back to a span in `file` (which must be the file it names).
+    SourceSpan in(const SourceFile& file) const;
     bool known() const { return line > 0; }
     std::string to_string() const;  ///< "file:line:col", or "<unknown>"
 };

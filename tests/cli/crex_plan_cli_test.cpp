@@ -1,0 +1,66 @@
+// `crex plan` and `crex check --scene` as a user runs them; every DOT goes through Graphviz.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tests/support/run_command.h"
+
+namespace crex {
+namespace {
+
+testing::CommandResult crex_cli(std::vector<std::string> args) {
+    args.insert(args.begin(), CREX_BINARY);
+    return testing::run_command(args);
+}
+
+TEST(CrexPlanCli, PrunesWhatTheDiffuseSceneCannotNeed) {
+    auto r = crex_cli({"plan", "-e", "(TTMRSGD)*", "--scene", "builtin:cornell_diffuse"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("executes:      D*"), std::string::npos) << r.out;
+    for (const char* c : {"pruned T at <expr>:1:2", "pruned M at <expr>:1:4", "pruned R at", "pruned S at", "pruned G at"})
+        EXPECT_NE(r.out.find(c), std::string::npos) << c;
+}
+
+TEST(CrexPlanCli, JsonIsIdenticalAcrossRuns) {
+    auto a = crex_cli({"plan", "-e", "TT{TTMRSGD}2", "--scene", "builtin:cornell", "--format", "json"});
+    auto b = crex_cli({"plan", "-e", "TT{TTMRSGD}2", "--scene", "builtin:cornell", "--format", "json"});
+    ASSERT_EQ(a.exit_code, 0);
+    EXPECT_EQ(a.out, b.out);
+    auto j = nlohmann::json::parse(a.out);
+    EXPECT_EQ(j["scene"]["census_hash"], "d5579704575b1302");
+}
+
+TEST(CrexPlanCli, EveryDotRendersWithGraphviz) {
+    auto dir = std::filesystem::temp_directory_path() / ("crex_plan_dot_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    int n = 0;
+    for (const char* crex : {"", "D", "(TTMRSGD)*", "TT{TTMRSGD}2", "(TT[RS]G)*D", "<DGS>G", "[T{RS}]2", "{(TR)2}"})
+        for (const char* scene : {"builtin:cornell", "builtin:cornell_diffuse"}) {
+            auto dot = dir / ("p" + std::to_string(n++) + ".dot");
+            auto r = crex_cli({"plan", "-e", crex, "--scene", scene, "--format", "dot", "-o", dot.string()});
+            ASSERT_EQ(r.exit_code, 0) << crex << ": " << r.err;
+            auto svg = testing::run_command({"/usr/bin/dot", "-Tsvg", dot.string(), "-o", (dir / "out.svg").string()});
+            EXPECT_EQ(svg.exit_code, 0) << crex << " on " << scene << ": " << svg.err;
+            EXPECT_GT(std::filesystem::file_size(dir / "out.svg"), 200u);
+        }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(CrexPlanCli, CheckWithASceneWarnsW103AtTheStep) {
+    auto r = crex_cli({"check", "--scene", "builtin:cornell_diffuse", "-e", "D{TD}"});
+    EXPECT_EQ(r.exit_code, 0);  // warnings only
+    EXPECT_NE(r.err.find("<expr>:1:3: warning[W103]: step T can never have work"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("<expr>:1:4: warning[W103]"), std::string::npos) << r.err;
+}
+
+TEST(CrexPlanCli, ErrorsAndExitCodes) {
+    EXPECT_EQ(crex_cli({"plan", "-e", "{D*}"}).exit_code, 1);
+    EXPECT_EQ(crex_cli({"plan", "-e", "D", "--scene", "/nonexistent.rad"}).exit_code, 3);
+    EXPECT_EQ(crex_cli({"plan"}).exit_code, 2);
+    EXPECT_EQ(crex_cli({"plan", "-e", "D", "--format", "svg"}).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace crex
