@@ -13,7 +13,10 @@
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
 #include "compiler/base/render_text.h"
+#include "apps/crex/input_files.h"
 #include "compiler/crex/compile.h"
+#include "compiler/plan/read_plan.h"
+#include "runtime/scene/census.h"
 #include "compiler/sched/print.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/io/image_io.h"
@@ -27,8 +30,9 @@ namespace {
 constexpr const char* kDefaultCrex = "(TTMRSGD)*";
 
 struct RunOptions {
-    std::string scene = "builtin:cornell";
-    std::string crex = kDefaultCrex;
+    std::string plan;
+    std::string scene;
+    std::string crex;
     std::string size = "256x256";
     uint32_t spp = 16;
     std::vector<std::string> outputs;
@@ -82,28 +86,60 @@ int run(const RunOptions& opt) {
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs = {"out/render.exr", "out/render.png"};
 
-    // The crex.
-    SourceFile crex_file("<crex>", opt.crex);
+    // What to execute: a crex, or a plan made earlier by `crex plan`.
+    if (!opt.plan.empty() && !opt.crex.empty()) {
+        std::cerr << "crex run: error: give either a plan file or -e/--crex, not both\n";
+        return kExitUsage;
+    }
     DiagnosticSink sink;
-    LowerOptions lower;
-    lower.star_cap = opt.star_cap;
-    CompiledCrex compiled = compile_crex(crex_file, sink, lower);
+    std::optional<sched::Program> program;
+    std::string scene_spec = opt.scene;
+    std::string expected_census;
+    std::unique_ptr<SourceFile> source;
+    if (!opt.plan.empty()) {
+        std::string error;
+        auto text = read_input(opt.plan, error);
+        if (!text) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitFailure;
+        }
+        source = std::make_unique<SourceFile>(opt.plan, std::move(*text));
+        if (auto plan = read_plan(*source, sink)) {
+            program = plan->program;
+            if (scene_spec.empty()) scene_spec = plan->scene;
+            expected_census = plan->census_hash;
+        }
+    } else {
+        source = std::make_unique<SourceFile>("<crex>", opt.crex.empty() ? kDefaultCrex : opt.crex);
+        LowerOptions lower;
+        lower.star_cap = opt.star_cap;
+        program = compile_crex(*source, sink, lower).program;
+    }
+    if (scene_spec.empty()) scene_spec = "builtin:cornell";
     // The scene.
     SceneSources sources;
     SceneLoadFailure failure;
     auto t_load = std::chrono::steady_clock::now();
-    auto scene = load_scene(opt.scene, sources, sink, failure);
+    auto scene = load_scene(scene_spec, sources, sink, failure);
     double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+    // A plan is only valid for a scene with the census it was made for (spec 5).
+    if (scene && !expected_census.empty()) {
+        std::string actual = census_hash_hex(take_census(*scene).hash);
+        if (actual != expected_census)
+            sink.report("E402", {source.get(), 0, 0},
+                        fmt::format("the plan was made for a scene with census {}, but {} has census {}", expected_census,
+                                    scene_spec, actual))
+                .help = "plan again for this scene: crex plan -e '...' --scene " + scene_spec;
+    }
     std::cerr << render_text(sink.sorted());
     if (!failure.message.empty()) {
         std::cerr << "crex run: error: " << failure.message << "\n";
         return kExitFailure;
     }
-    if (sink.has_errors() || !compiled.program || !scene) {
+    if (sink.has_errors() || !program || !scene) {
         std::cerr << fmt::format("crex run: {} error{}; nothing rendered\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
         return kExitInputErrors;
     }
-
     // The budget and the profile it is predicted from.
     Profile profile;
     double full_render_seconds = 0;
@@ -162,7 +198,7 @@ int run(const RunOptions& opt) {
 
     std::optional<RenderResult> rendered;
     try {
-        rendered.emplace(render(*scene, *compiled.program, ro));
+        rendered.emplace(render(*scene, *program, ro));
     } catch (const std::exception& e) {
         progress.finish();
         std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
@@ -201,7 +237,7 @@ int run(const RunOptions& opt) {
     if (opt.format == "json") {
         nlohmann::json j;
         j["scene"] = scene->source;
-        j["crex"] = sched::to_crex(*compiled.program);
+        j["crex"] = sched::to_crex(*program);
         j["size"] = {width, height};
         j["spp"] = opt.spp;
         j["load_seconds"] = load_seconds;
@@ -231,7 +267,7 @@ int run(const RunOptions& opt) {
         return kExitOk;
     }
     if (opt.quiet) return kExitOk;
-    std::cout << fmt::format("rendered {} with {} at {}x{}, {} spp\n", scene->source, sched::to_crex(*compiled.program), width,
+    std::cout << fmt::format("rendered {} with {} at {}x{}, {} spp\n", scene->source, sched::to_crex(*program), width,
                              height, opt.spp);
     std::cout << fmt::format("  scene load {:.3f} s, BVH build {:.3f} s, render {:.3f} s ({:.2f} M rays/s)\n", load_seconds,
                              result.setup_seconds, result.render_seconds,
@@ -262,9 +298,11 @@ int run(const RunOptions& opt) {
 Runner add_run_command(CLI::App& app) {
     auto opt = std::make_shared<RunOptions>();
     CLI::App* cmd = app.add_subcommand("run", "Render a scene with a crex on the component-bin renderer");
-    cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.obj or builtin:NAME")->capture_default_str();
-    cmd->add_option("-e,--crex", opt->crex, "The crex saying in which order bins execute")
-        ->capture_default_str()
+    cmd->add_option("plan", opt->plan, "A plan made by 'crex plan --format json' (instead of -e)");
+    cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.obj or builtin:NAME (default: the plan's, "
+                                           "else builtin:cornell)");
+    cmd->add_option("-e,--crex", opt->crex, std::string("The crex saying in which order bins execute (default ") +
+                                                kDefaultCrex + ")")
         ->allow_extra_args(false);
     cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(CLI::Range(1u, 1u << 20));
@@ -302,6 +340,7 @@ Examples:
   crex run -e 'TT' --spp 4 -o tt.png                direct light plus two glass interfaces
   crex run --scene examples/scenes/corridor/scene.json -e '(DGSTR)*' --size 320x240
   crex run -e '(TTMRSGD)*' --components -o out/cornell.exr   one EXR layer per component
+  crex plan -e '(TTMRSGD)*' --scene S --format json -o p.json && crex run p.json   a kept plan
   crex run -e '(TT[RS]G)*D' --save-profile p.json            measure, then render in 25 % of the time:
   crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <set>
 
-#include "runtime/scene/json_positions.h"
+#include "compiler/base/json_positions.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/shapes.h"

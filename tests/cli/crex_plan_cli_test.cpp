@@ -1,10 +1,12 @@
 // `crex plan` and `crex check --scene` as a user runs them; every DOT goes through Graphviz.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "runtime/io/image_io.h"
 #include "tests/support/run_command.h"
 
 namespace crex {
@@ -33,12 +35,12 @@ TEST(CrexPlanCli, JsonIsIdenticalAcrossRuns) {
 }
 
 TEST(CrexPlanCli, EveryDotRendersWithGraphviz) {
-    auto dir = std::filesystem::temp_directory_path() / ("crex_plan_dot_" + std::to_string(::getpid()));
+    auto dir = std::filesystem::temp_directory_path() / fmt::format("crex_plan_dot_{}", ::getpid());
     std::filesystem::create_directories(dir);
     int n = 0;
     for (const char* crex : {"", "D", "(TTMRSGD)*", "TT{TTMRSGD}2", "(TT[RS]G)*D", "<DGS>G", "[T{RS}]2", "{(TR)2}"})
         for (const char* scene : {"builtin:cornell", "builtin:cornell_diffuse"}) {
-            auto dot = dir / ("p" + std::to_string(n++) + ".dot");
+            auto dot = dir / fmt::format("p{}.dot", n++);
             auto r = crex_cli({"plan", "-e", crex, "--scene", scene, "--format", "dot", "-o", dot.string()});
             ASSERT_EQ(r.exit_code, 0) << crex << ": " << r.err;
             auto svg = testing::run_command({"/usr/bin/dot", "-Tsvg", dot.string(), "-o", (dir / "out.svg").string()});
@@ -60,6 +62,42 @@ TEST(CrexPlanCli, ErrorsAndExitCodes) {
     EXPECT_EQ(crex_cli({"plan", "-e", "D", "--scene", "/nonexistent.rad"}).exit_code, 3);
     EXPECT_EQ(crex_cli({"plan"}).exit_code, 2);
     EXPECT_EQ(crex_cli({"plan", "-e", "D", "--format", "svg"}).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(CrexPlanCli, RunAcceptsAPlanAndRendersTheSameImage) {
+    auto dir = std::filesystem::temp_directory_path() / fmt::format("crex_plan_run_{}", ::getpid());
+    std::filesystem::create_directories(dir);
+    std::string plan = (dir / "p.json").string();
+    ASSERT_EQ(crex_cli({"plan", "-e", "(TTMRSGD)*", "--scene", "builtin:cornell", "--format", "json", "-o", plan}).exit_code, 0);
+    auto a = crex_cli({"run", plan, "--size", "16x16", "--spp", "2", "-q", "-o", (dir / "a.exr").string()});
+    auto b = crex_cli({"run", "-e", "(TTMRSGD)*", "--size", "16x16", "--spp", "2", "-q", "-o", (dir / "b.exr").string()});
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    int w, h;
+    std::vector<float> pa, pb;  // pixels, not bytes: EXR headers carry a timestamp
+    ASSERT_EQ(read_image((dir / "a.exr").string(), w, h, pa), "");
+    ASSERT_EQ(read_image((dir / "b.exr").string(), w, h, pb), "");
+    EXPECT_EQ(pa, pb);
+
+    // The plan names its scene's census: another scene is refused, never silently rendered.
+    auto wrong = crex_cli({"run", plan, "--scene", "builtin:cornell_diffuse", "--size", "4x4", "-o", (dir / "c.exr").string()});
+    EXPECT_EQ(wrong.exit_code, 1);
+    EXPECT_NE(wrong.err.find("error[E402]"), std::string::npos) << wrong.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "c.exr"));
+
+    // A damaged plan is a located error.
+    std::ofstream(dir / "bad.json") << "{\"format\": \"crex-plan\", \"version\": 1,\n \"stages\": {\"preselective\": {\"op\": \"jump\"}}}";
+    auto bad = crex_cli({"run", (dir / "bad.json").string(), "-o", (dir / "d.exr").string()});
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_NE(bad.err.find("bad.json:2:36: error[E401]"), std::string::npos) << bad.err;
+    EXPECT_EQ(crex_cli({"run", plan, "-e", "D"}).exit_code, 2);
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "runtime/scene/json_positions.h"
+#include "compiler/base/json_positions.h"
 
 #include <fmt/format.h>
 
