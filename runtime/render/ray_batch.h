@@ -50,6 +50,19 @@ struct RayBatch {
         path.push_back(r.path);
     }
 
+    void resize(size_t n) {
+        for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &br, &bg, &bb}) v->resize(n);
+        pixel.resize(n), depth.resize(n), flags.resize(n), path.resize(n);
+    }
+
+    /// Overwrites ray i (the batch must already hold it).
+    void set(size_t i, const RayRecord& r) {
+        ox[i] = static_cast<float>(r.origin.x), oy[i] = static_cast<float>(r.origin.y), oz[i] = static_cast<float>(r.origin.z);
+        dx[i] = static_cast<float>(r.direction.x), dy[i] = static_cast<float>(r.direction.y), dz[i] = static_cast<float>(r.direction.z);
+        br[i] = static_cast<float>(r.beta.x), bg[i] = static_cast<float>(r.beta.y), bb[i] = static_cast<float>(r.beta.z);
+        pixel[i] = r.pixel, depth[i] = r.depth, flags[i] = r.flags, path[i] = r.path;
+    }
+
     RayRecord get(size_t i) const {
         return {{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, {br[i], bg[i], bb[i]}, pixel[i], depth[i], flags[i], path[i]};
     }

@@ -177,26 +177,35 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     if (params.capture) params.capture->shadow_rays.insert(params.capture->shadow_rays.end(), shadows.begin(), shadows.end());
     occluded_batch(*scene.embree, shadows.data(), shadows.size());
 
-    // Ordered merge: ray order, then lobe or shadow-ray order.
-    std::array<size_t, kComponentCount> spawned{};
-    for (size_t i = 0; i < n; ++i)
-        for (int l = 0; l < child_count[i]; ++l) ++spawned[static_cast<size_t>(child_components[i][static_cast<size_t>(l)])];
-    for (size_t c = 0; c < kComponentCount; ++c) {
-        RayBatch& b = out.children[c];
-        for (auto* v : {&b.ox, &b.oy, &b.oz, &b.dx, &b.dy, &b.dz, &b.br, &b.bg, &b.bb}) v->reserve(spawned[c]);
-        b.pixel.reserve(spawned[c]), b.depth.reserve(spawned[c]), b.flags.reserve(spawned[c]), b.path.reserve(spawned[c]);
+    // Ordered merge, in parallel but into fixed places: each ray's children land after those
+    // of every earlier ray (per component), so the bins' order does not depend on threads.
+    std::vector<std::array<uint32_t, kComponentCount>> offset(n + 1);
+    offset[0] = {};
+    for (size_t i = 0; i < n; ++i) {
+        offset[i + 1] = offset[i];
+        for (int l = 0; l < child_count[i]; ++l) ++offset[i + 1][static_cast<size_t>(child_components[i][static_cast<size_t>(l)])];
     }
+    for (size_t c = 0; c < kComponentCount; ++c) out.children[c].resize(offset[n][c]);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i < range.end(); ++i) {
+            for (uint32_t j = 0; j < ns; ++j) {
+                const RTCRay& s = shadows[i * ns + j];
+                if (s.tnear > s.tfar && s.tfar == 0.0f) continue;  // hole: no sample
+                if (s.tfar != -INFINITY) out.contribution[i] += shadow_value[i * ns + j];
+            }
+            std::array<uint32_t, kComponentCount> at = offset[i];
+            for (int l = 0; l < child_count[i]; ++l) {
+                size_t c = static_cast<size_t>(child_components[i][static_cast<size_t>(l)]);
+                out.children[c].set(at[c]++, child_slots[i * kMaxLobes + static_cast<size_t>(l)]);
+            }
+        }
+    });
     for (size_t i = 0; i < n; ++i) {
         if (hits[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) ++out.hits;
         for (uint32_t j = 0; j < ns; ++j) {
             const RTCRay& s = shadows[i * ns + j];
-            if (s.tnear > s.tfar && s.tfar == 0.0f) continue;  // hole: no sample
-            ++out.shadow_rays;
-            if (s.tfar != -INFINITY) out.contribution[i] += shadow_value[i * ns + j];
+            out.shadow_rays += !(s.tnear > s.tfar && s.tfar == 0.0f);
         }
-        for (int l = 0; l < child_count[i]; ++l)
-            out.children[static_cast<size_t>(child_components[i][static_cast<size_t>(l)])].push(
-                child_slots[i * kMaxLobes + static_cast<size_t>(l)]);
     }
 }
 
