@@ -6,17 +6,12 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "tests/support/run_command.h"
+#include "tests/support/crex_cli.h"
 
 namespace crex {
 namespace {
 
-using testing::run_command;
-
-testing::CommandResult crex_cli(std::vector<std::string> args, const std::string& input = "") {
-    args.insert(args.begin(), CREX_BINARY);
-    return run_command(args, input);
-}
+using testing::crex_cli;
 
 TEST(CrexCheckCli, ValidExpressionExitsZeroAndSaysOk) {
     auto r = crex_cli({"check", "-e", "TT{TTMRSGD}2"});

@@ -7,15 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "runtime/io/image_io.h"
-#include "tests/support/run_command.h"
+#include "tests/support/crex_cli.h"
 
 namespace crex {
 namespace {
 
-testing::CommandResult crex_cli(std::vector<std::string> args) {
-    args.insert(args.begin(), CREX_BINARY);
-    return testing::run_command(args);
-}
+using testing::crex_cli;
 
 TEST(CrexPlanCli, PrunesWhatTheDiffuseSceneCannotNeed) {
     auto r = crex_cli({"plan", "-e", "(TTMRSGD)*", "--scene", "builtin:cornell_diffuse"});

@@ -6,17 +6,14 @@
 #include <nlohmann/json.hpp>
 
 #include "runtime/io/image_io.h"
-#include "tests/support/run_command.h"
+#include "tests/support/crex_cli.h"
 
 namespace crex {
 namespace {
 
 namespace fs = std::filesystem;
 
-testing::CommandResult crex_cli(std::vector<std::string> args) {
-    args.insert(args.begin(), CREX_BINARY);
-    return testing::run_command(args);
-}
+using testing::crex_cli;
 
 class CrexRunCli : public ::testing::Test {
 protected:

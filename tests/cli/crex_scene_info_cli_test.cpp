@@ -5,15 +5,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "tests/support/run_command.h"
+#include "tests/support/crex_cli.h"
 
 namespace crex {
 namespace {
 
-testing::CommandResult crex_cli(std::vector<std::string> args) {
-    args.insert(args.begin(), CREX_BINARY);
-    return testing::run_command(args);
-}
+using testing::crex_cli;
 
 TEST(CrexSceneInfoCli, DefaultsToTheBuiltinCornellBox) {
     auto r = crex_cli({"scene-info"});
