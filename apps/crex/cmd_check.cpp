@@ -11,6 +11,8 @@
 #include "compiler/base/render_text.h"
 #include "apps/crex/scene_input.h"
 #include "compiler/crex/compile.h"
+#include "compiler/pipeline/check.h"
+#include "compiler/pipeline/parse.h"
 #include "compiler/plan/bin_occupancy.h"
 #include "runtime/scene/census.h"
 #include "compiler/sched/print.h"
@@ -66,6 +68,14 @@ int run_check(const CheckOptions& opt) {
     for (size_t i = 0; i < sources.size(); ++i) {
         if (i < opt.expressions.size()) {
             compiled.push_back(compile_crex(*sources[i], sink));
+        } else if (sources[i]->name().size() > 5 && sources[i]->name().substr(sources[i]->name().size() - 5) == ".pipe") {
+            // A pipeline file: its crex literals are compiled by the pipeline checker.
+            size_t errors = sink.error_count();
+            auto file = pipeline::parse_pipeline_file(*sources[i], sink);
+            if (file) pipeline::check_pipeline_file(*file, sink);
+            if (file && sink.error_count() == errors && !opt.quiet && opt.format == "text")
+                for (const auto& p : file->pipelines)
+                    std::cout << fmt::format("{}: ok: pipeline {}\n", format_location(p.name_span), p.name);
         } else {
             for (auto& c : compile_crex_file(*sources[i], sink)) compiled.push_back(std::move(c));
         }
@@ -131,7 +141,7 @@ Runner add_check_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("check", "Check crex expressions and crex files for errors");
     cmd->add_option("-e,--crex", opt->expressions, "A crex to check (repeatable), e.g. -e 'TT{TTMRSGD}2'")
         ->allow_extra_args(false);  // else CLI11 reads '[RS]' as a list literal
-    cmd->add_option("files", opt->files, "Crex files: one crex per line, '#' comments; '-' reads stdin");
+    cmd->add_option("files", opt->files, "Pipeline files (.pipe) or crex files (one crex per line, '#' comments); '-' reads stdin");
     cmd->add_option("--format", opt->format, "Diagnostics as text (stderr) or json (stdout)")
         ->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("--explain", opt->explain, "Print the steps each valid crex executes, in words");
@@ -150,6 +160,7 @@ Examples:
   crex check -e 'TT{TTMRSGD}2'              validate one expression
   crex check --explain -e '(TT[RS]G)*D'     what it executes, step by step
   crex check stdlib/crex/thesis.crex        a file, one crex per line
+  crex check examples/pipelines/cornell_prog.pipe   a pipeline file
   crex check --format json -e '{D*}'        diagnostics for tools
   crex check --scene builtin:cornell_diffuse -e '(TTMRSGD)*'   W103: T, M, R, S, G never have work
 

@@ -5,7 +5,7 @@
 #include "CrexLexer.h"
 #include "CrexParser.h"
 #include "antlr4-runtime.h"
-#include "compiler/crex/parse_internal.h"
+#include "compiler/crex/code_point_stream.h"
 
 namespace crex {
 namespace detail {
@@ -51,16 +51,6 @@ DecodedText decode_utf8(std::string_view text, uint32_t base_offset) {
 }
 
 namespace {
-
-// An ANTLRInputStream over code points we decoded ourselves: the runtime's own UTF-8
-// decoder throws on malformed input, ours maps it to U+FFFD so it becomes an E001.
-class CodePointStream : public antlr4::ANTLRInputStream {
-public:
-    explicit CodePointStream(const std::u32string& cps) {
-        _data = cps;
-        p = 0;
-    }
-};
 
 // The grammar accepts every token sequence, so these fire only on an internal inconsistency;
 // they still become located diagnostics rather than text on stdout.

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "compiler/base/json_positions.h"
+#include "compiler/base/nearest_name.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/shapes.h"
@@ -15,18 +16,6 @@ namespace crex {
 namespace {
 
 using nlohmann::json;
-
-size_t edit_distance(std::string_view a, std::string_view b) {
-    std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-    for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-        cur[0] = i;
-        for (size_t j = 1; j <= b.size(); ++j)
-            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-        std::swap(prev, cur);
-    }
-    return prev[b.size()];
-}
 
 std::string type_name(const json& v) {
     if (v.is_number()) return "a number";
@@ -200,15 +189,10 @@ public:
             bool found = false;
             for (auto k : known) found = found || k == key;
             if (found) continue;
-            std::string_view best;
-            size_t best_d = 3;
-            for (auto k : known) {
-                size_t d = edit_distance(key, k);
-                if (d < best_d) best_d = d, best = k;
-            }
+            std::string help = did_you_mean(key, std::vector<std::string>(known.begin(), known.end()));
             Diagnostic& d = sink_.report("W301", doc_.key_span(pointer_ + "/" + escape_pointer_token(key)),
                                          fmt::format("{}: unknown field '{}' is ignored", readable_json_path(pointer_), key));
-            if (!best.empty()) d.help = fmt::format("did you mean '{}'?", best);
+            d.help = help;
         }
     }
 
@@ -419,11 +403,7 @@ private:
     void report_unknown_material(ObjectReader& r, const std::string& name) {
         Diagnostic& d = sink_.report("E305", r.span("material"),
                                      fmt::format("{}: no material named '{}' is defined", r.path("material"), name));
-        size_t best_d = 3;
-        for (const auto& known : material_names_) {
-            size_t dist = edit_distance(name, known);
-            if (dist < best_d) best_d = dist, d.help = fmt::format("did you mean '{}'?", known);
-        }
+        d.help = did_you_mean(name, std::vector<std::string>(material_names_.begin(), material_names_.end()));
     }
 
     void read_tag(ObjectReader& r, Shape& s) {

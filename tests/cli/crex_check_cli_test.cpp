@@ -111,3 +111,22 @@ TEST(CrexCheckCli, RandomArgumentsExitZeroOrOne) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(CrexCheckCli, ChecksPipelineFiles) {
+    auto ok = crex_cli({"check", CREX_SOURCE_DIR "/examples/pipelines/cornell_prog.pipe"});
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_NE(ok.out.find("cornell_prog.pipe:3:10: ok: pipeline cornell_prog"), std::string::npos) << ok.out;
+    EXPECT_NE(ok.err.find("warning[W202]"), std::string::npos);
+    auto path = std::filesystem::temp_directory_path() / "crex_cli_bad.pipe";
+    std::ofstream(path) << "pipeline p {\n  selective { crex \"{D*}\" }\n}\n";
+    auto bad = crex_cli({"check", path.string()});
+    std::filesystem::remove(path);
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_NE(bad.err.find("crex_cli_bad.pipe:2:23: error[E004]"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace crex

@@ -1,0 +1,415 @@
+#include "compiler/pipeline/check.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "compiler/base/nearest_name.h"
+#include "compiler/crex/compile.h"
+
+namespace crex::pipeline {
+namespace {
+
+using ast::Expr;
+using ast::Statement;
+using ast::Value;
+
+enum class Type { kImage, kBuffer, kMap, kObjects, kComponent };
+
+std::string_view type_name(Type t) {
+    switch (t) {
+    case Type::kImage: return "an image";
+    case Type::kBuffer: return "a component buffer";
+    case Type::kMap: return "a map";
+    case Type::kObjects: return "a set of tagged objects";
+    case Type::kComponent: return "a component letter";
+    }
+    return "?";
+}
+
+// A parameter: positional (name "") or named; `types` it accepts, or a literal kind.
+struct Param {
+    std::string name;
+    std::vector<Type> types;      // for expressions
+    std::string literal;          // "number", "angle", "string" for named literal values
+    bool required = true;
+};
+
+struct Operator {
+    std::string name;
+    Type result;
+    std::vector<Param> params;
+    bool weighted_maps = false;  // importance(task 0.5, sal 0.5, op "+"): named args are maps
+};
+
+const std::vector<Operator>& operators() {
+    static const std::vector<Operator> ops = {
+        {"saliency", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
+        {"edges", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
+        {"component", Type::kBuffer, {{"", {Type::kComponent}, "", true}}, false},
+        {"tagged", Type::kObjects, {{"", {}, "string", true}}, false},
+        {"task_map", Type::kMap, {{"", {Type::kObjects}, "", true}, {"fovea", {}, "angle", false}}, false},
+        {"distractors", Type::kMap, {{"", {Type::kObjects}, "", false}}, false},
+        {"xmap", Type::kMap, {}, false},
+        {"importance", Type::kMap, {{"op", {}, "string", false}}, true},
+        {"constant", Type::kMap, {{"", {}, "number", true}}, false},
+        {"normalise", Type::kMap, {{"", {Type::kMap}, "", true}}, false},
+        {"blur", Type::kMap, {{"", {Type::kMap}, "", true}, {"sigma", {}, "number", false}}, false},
+        {"threshold", Type::kMap, {{"", {Type::kMap}, "", true}, {"at", {}, "number", false}}, false},
+    };
+    return ops;
+}
+
+const std::map<std::string, Type>& builtin_names() {
+    static const std::map<std::string, Type> names = {
+        {"preview", Type::kImage}, {"direct", Type::kBuffer}, {"emission", Type::kBuffer}, {"ambient", Type::kBuffer},
+        {"D", Type::kComponent},   {"G", Type::kComponent},   {"S", Type::kComponent},    {"T", Type::kComponent},
+        {"R", Type::kComponent},   {"M", Type::kComponent}};
+    return names;
+}
+
+// Selective variables and their allowed range of values.
+struct Variable {
+    std::string name;
+    double lo, hi;
+    bool integer;
+};
+const std::vector<Variable>& variables() {
+    static const std::vector<Variable> v = {{"spp", 1, 1 << 20, true},           {"shadow_rays", 1, 1024, true},
+                                            {"ic_radius", 1e-9, 1e9, false},     {"subsample", 1, 1024, true},
+                                            {"media_samples", 1, 1024, true},    {"specular_threshold", 0, 1, false}};
+    return v;
+}
+
+// Settings per section: name -> the shape of its values.
+const std::map<std::string, std::map<std::string, std::string>>& settings() {
+    static const std::map<std::string, std::map<std::string, std::string>> s = {
+        {"", {{"scene", "string"}, {"image", "size"}, {"seed", "integer"}, {"budget", "budget"}, {"policy", "string"},
+              {"lw", "number"}, {"max_depth", "integer"}, {"ab", "integer"}, {"av", "number"}, {"aa", "number"},
+              {"reference", "string"}}},
+        {"preselective", {{"crex", "crex"}, {"spp", "integer"}}},
+        {"guidance", {}},
+        {"selective", {{"crex", "crex"}, {"spp", "integer"}}},
+        {"output", {{"image", "string"}, {"components", "bool"}, {"maps", "bool"}, {"report", "string"}}},
+    };
+    return s;
+}
+
+template <class Names>
+std::string nearest(const std::string& name, const Names& names) {
+    return did_you_mean(name, std::vector<std::string>(names.begin(), names.end()));
+}
+
+class Checker {
+public:
+    explicit Checker(DiagnosticSink& sink) : sink_(sink) {}
+
+    void file(const ast::File& f) {
+        std::set<std::string> earlier;
+        for (const auto& p : f.pipelines) {
+            if (earlier.count(p.name)) sink_.report("E211", p.name_span, fmt::format("pipeline '{}' is defined twice", p.name));
+            if (!p.base.empty()) base(p, earlier);
+            pipeline(p);
+            earlier.insert(p.name);
+        }
+    }
+
+private:
+    void base(const ast::Pipeline& p, const std::set<std::string>& earlier) {
+        if (earlier.count(p.base)) return;
+        const auto& lib = stdlib_pipeline_names();
+        if (std::find(lib.begin(), lib.end(), p.base) != lib.end()) {
+            sink_.report("W202", p.base_span, fmt::format("stdlib pipeline '{}' is not written yet: only its name is "
+                                                          "checked, nothing is inherited from it", p.base));
+            return;
+        }
+        std::vector<std::string> all(lib.begin(), lib.end());
+        all.insert(all.end(), earlier.begin(), earlier.end());
+        sink_.report("E210", p.base_span, fmt::format("pipeline '{}' extends '{}', which is neither a stdlib pipeline nor "
+                                                      "defined above it", p.name, p.base)).help = nearest(p.base, all);
+    }
+
+    void pipeline(const ast::Pipeline& p) {
+        maps_.clear();
+        used_.clear();
+        section("", p.body);
+        for (const auto& [name, span] : maps_)
+            if (!used_.count(name))
+                sink_.report("W201", span, fmt::format("map '{}' is defined but no selective variable or crex uses it", name));
+    }
+
+    void section(const std::string& where, const std::vector<Statement>& body) {
+        std::map<std::string, SourceSpan> seen;
+        for (const auto& s : body) {
+            if (s.kind != Statement::Kind::kDefinition) {
+                std::string key = (s.kind == Statement::Kind::kVary ? "vary " : "") + s.key;
+                if (auto it = seen.find(key); it != seen.end()) {
+                    Diagnostic& d = sink_.report("E211", s.key_span, fmt::format("'{}' is given twice here", s.key));
+                    d.notes.push_back({it->second, "first given here"});
+                    continue;
+                }
+                seen[key] = s.key_span;
+            }
+            switch (s.kind) {
+            case Statement::Kind::kSection: {
+                if (!where.empty() || !settings().count(s.key) || s.key.empty()) {
+                    std::vector<std::string> names;
+                    for (const auto& [n, _] : settings())
+                        if (!n.empty()) names.push_back(n);
+                    sink_.report("E202", s.key_span,
+                                 where.empty() ? fmt::format("unknown section '{}'; sections are preselective, guidance, "
+                                                             "selective and output", s.key)
+                                               : fmt::format("sections do not nest: '{}' inside '{}'", s.key, where))
+                        .help = nearest(s.key, names);
+                    continue;
+                }
+                section(s.key, s.body);
+                break;
+            }
+            case Statement::Kind::kDefinition: definition(where, s); break;
+            case Statement::Kind::kVary: vary(where, s); break;
+            case Statement::Kind::kSetting: setting(where, s); break;
+            }
+        }
+    }
+
+    void definition(const std::string& where, const Statement& s) {
+        if (where != "guidance") {
+            sink_.report("E202", s.key_span, fmt::format("maps are defined in the 'guidance' section, not {}",
+                                                         where.empty() ? "at the top of the pipeline" : "in '" + where + "'"));
+            return;
+        }
+        if (maps_.count(s.key) || builtin_names().count(s.key)) {
+            sink_.report("E211", s.key_span, fmt::format("'{}' is already defined", s.key));
+            return;
+        }
+        auto t = expr(s.expr);
+        if (t && *t != Type::kMap)
+            sink_.report("E206", s.expr.span, fmt::format("'{}' must be a map, but this is {}", s.key, type_name(*t)));
+        maps_[s.key] = s.key_span;
+    }
+
+    void vary(const std::string& where, const Statement& s) {
+        if (where != "selective") {
+            sink_.report("E202", s.key_span, "selective variables are varied in the 'selective' section");
+            return;
+        }
+        const Variable* var = nullptr;
+        for (const auto& v : variables())
+            if (v.name == s.key) var = &v;
+        if (!var) {
+            std::vector<std::string> names;
+            for (const auto& v : variables()) names.push_back(v.name);
+            sink_.report("E207", s.key_span, fmt::format("unknown selective variable '{}'", s.key)).help = nearest(s.key, names);
+        } else {
+            for (const Value* v : {&s.lo, &s.hi}) {
+                if (v->kind != Value::Kind::kNumber || !v->unit.empty()) {
+                    sink_.report("E208", v->span, fmt::format("{}: expected a plain number", s.key));
+                    continue;
+                }
+                bool whole = v->number == static_cast<double>(static_cast<long long>(v->number));
+                if (v->number < var->lo || v->number > var->hi || (var->integer && !whole))
+                    sink_.report("E208", v->span, fmt::format("{}: {:g} is out of range: expected {} in [{}, {}]", s.key, v->number,
+                                                              var->integer ? "an integer" : "a number", fmt::format("{:.10g}", var->lo),
+                                                              fmt::format("{:.10g}", var->hi)));
+            }
+        }
+        map_use(s.expr);
+    }
+
+    void setting(const std::string& where, const Statement& s) {
+        const auto& table = settings().at(where);
+        auto it = table.find(s.key);
+        if (it == table.end()) {
+            std::vector<std::string> names;
+            for (const auto& [n, _] : table) names.push_back(n);
+            sink_.report("E202", s.key_span, where == "guidance" ? fmt::format("'{}' is not a map definition (write NAME = operator(...))", s.key)
+                                                                : fmt::format("unknown setting '{}'{}", s.key, where.empty() ? "" : " in '" + where + "'"))
+                .help = nearest(s.key, names);
+            return;
+        }
+        const std::string& shape = it->second;
+        auto bad = [&](const std::string& expected) {
+            SourceSpan span = s.values.empty() ? s.key_span : s.values.front().span.merge(s.values.back().span);
+            sink_.report("E203", span, fmt::format("{}: expected {}", s.key, expected));
+        };
+        auto is = [&](size_t i, Value::Kind k) { return i < s.values.size() && s.values[i].kind == k; };
+        if (s.has_by && shape != "crex") bad("no 'by' here");
+        if (shape == "string" && !(s.values.size() == 1 && is(0, Value::Kind::kString))) bad("a string in double quotes");
+        if (shape == "bool" && !(s.values.size() == 1 && is(0, Value::Kind::kBool))) bad("true or false");
+        if (shape == "number" && !(s.values.size() == 1 && is(0, Value::Kind::kNumber) && s.values[0].unit.empty())) bad("a number");
+        if (shape == "integer") {
+            bool ok = s.values.size() == 1 && is(0, Value::Kind::kNumber) && s.values[0].unit.empty() &&
+                      s.values[0].number >= 0 && s.values[0].number == static_cast<double>(static_cast<long long>(s.values[0].number));
+            if (!ok) bad("a whole number >= 0");
+        }
+        if (shape == "size") {
+            bool ok = s.values.size() == 3 && is(0, Value::Kind::kNumber) && is(1, Value::Kind::kCross) && is(2, Value::Kind::kNumber) &&
+                      s.values[0].number >= 1 && s.values[2].number >= 1 && s.values[0].number <= 16384 && s.values[2].number <= 16384;
+            if (!ok) bad("WIDTH x HEIGHT, e.g. 512 x 512 (1 .. 16384 each)");
+        }
+        if (shape == "budget") {
+            const Value* v = s.values.size() == 1 ? &s.values[0] : nullptr;
+            if (!v || v->kind != Value::Kind::kNumber) {
+                sink_.report("E209", s.values.empty() ? s.key_span : s.values.front().span, "budget: expected a time like 10 s, 500 ms or 25 %");
+            } else if (v->unit != "s" && v->unit != "ms" && v->unit != "%") {
+                sink_.report("E209", v->span, fmt::format("budget: '{}' needs a unit: s, ms or % (of a profiled full render)", v->number));
+            } else if (!(v->number > 0) || (v->unit == "%" && v->number > 100)) {
+                sink_.report("E209", v->span, "budget: must be > 0 (and at most 100 %)");
+            }
+        }
+        if (shape == "crex") {
+            if (!(s.values.size() == 1 && is(0, Value::Kind::kString))) {
+                bad("a crex in double quotes, e.g. crex \"TT\"");
+                return;
+            }
+            const Value& lit = s.values[0];
+            DiagnosticSink crex_sink;
+            CompiledCrex c = compile_crex(*lit.text_span.file, lit.text_span.begin, lit.text_span.end, crex_sink);
+            for (const auto& d : crex_sink.diagnostics()) sink_.add(d);
+            if (where == "preselective" && c.ast) {
+                bool braces = lit.text.find('{') != std::string::npos;
+                if (braces)
+                    sink_.report("E212", lit.text_span, "the pre-selective crex may not contain '{ }': importance exists only "
+                                                        "after guidance").help = "move the '{ }' part to the selective section";
+            }
+            if (s.has_by) {
+                if (where != "selective") sink_.report("E203", s.expr.span, "only the selective crex is modulated 'by' a map");
+                map_use(s.expr);
+            }
+        }
+    }
+
+    // A map argument of `by`: a defined map, or an expression producing one.
+    void map_use(const Expr& e) {
+        auto t = expr(e);
+        if (t && *t != Type::kMap) sink_.report("E206", e.span, fmt::format("expected a map here, but this is {}", type_name(*t)));
+    }
+
+    std::optional<Type> reference(const std::string& name, const SourceSpan& span) {
+        if (auto it = builtin_names().find(name); it != builtin_names().end()) return it->second;
+        if (maps_.count(name)) {
+            used_.insert(name);
+            return Type::kMap;
+        }
+        std::vector<std::string> names;
+        for (const auto& [n, _] : maps_) names.push_back(n);
+        for (const auto& [n, _] : builtin_names()) names.push_back(n);
+        sink_.report("E205", span, fmt::format("'{}' is not defined (maps must be defined above their use)", name)).help =
+            nearest(name, names);
+        return std::nullopt;
+    }
+
+    std::optional<Type> expr(const Expr& e) {
+        switch (e.kind) {
+        case Expr::Kind::kReference: return reference(e.name, e.name_span);
+        case Expr::Kind::kLiteral:
+            sink_.report("E206", e.span, "expected a map, a buffer or an operator call, not a literal value");
+            return std::nullopt;
+        case Expr::Kind::kCall: return call(e);
+        }
+        return std::nullopt;
+    }
+
+    bool literal_ok(const Value& v, const std::string& kind) {
+        if (kind == "string") return v.kind == Value::Kind::kString;
+        if (kind == "number") return v.kind == Value::Kind::kNumber && v.unit.empty();
+        if (kind == "angle") return v.kind == Value::Kind::kNumber && v.unit == "deg" && v.number > 0 && v.number < 180;
+        return false;
+    }
+
+    std::optional<Type> call(const Expr& e) {
+        const Operator* op = nullptr;
+        for (const auto& o : operators())
+            if (o.name == e.name) op = &o;
+        if (!op) {
+            sink_.report("E204", e.name_span, fmt::format("unknown guidance operator '{}'", e.name)).help =
+                nearest(e.name, guidance_operator_names());
+            return std::nullopt;
+        }
+        size_t positional = 0;
+        std::set<std::string> given;
+        for (const auto& a : e.args) {
+            if (a.name.empty()) {
+                // Positional: the n-th positional parameter.
+                const Param* p = nullptr;
+                size_t k = 0;
+                for (const auto& q : op->params)
+                    if (q.name.empty() && k++ == positional) p = &q;
+                ++positional;
+                if (!p) {
+                    sink_.report("E206", a.span, fmt::format("{}() takes no more positional arguments", op->name));
+                    continue;
+                }
+                if (!p->literal.empty()) {
+                    if (a.expr.kind != Expr::Kind::kLiteral || !literal_ok(a.expr.literal, p->literal))
+                        sink_.report("E206", a.span, fmt::format("{}(): expected a {} here", op->name, p->literal));
+                    continue;
+                }
+                auto t = expr(a.expr);
+                if (t && std::find(p->types.begin(), p->types.end(), *t) == p->types.end()) {
+                    std::string want;
+                    for (Type ty : p->types) want += (want.empty() ? "" : " or ") + std::string(type_name(ty));
+                    sink_.report("E206", a.span, fmt::format("{}(): expected {}, but this is {}", op->name, want, type_name(*t)));
+                }
+                continue;
+            }
+            if (!given.insert(a.name).second) {
+                sink_.report("E211", a.name_span, fmt::format("{}(): '{}' is given twice", op->name, a.name));
+                continue;
+            }
+            const Param* p = nullptr;
+            for (const auto& q : op->params)
+                if (q.name == a.name) p = &q;
+            if (p) {
+                if (!literal_ok(a.value, p->literal))
+                    sink_.report("E206", a.value.span, fmt::format("{}(): '{}' expects a {}{}", op->name, a.name, p->literal,
+                                                                   p->literal == "angle" ? " like 2 deg" : ""));
+                if (op->name == "importance" && a.name == "op" && a.value.kind == Value::Kind::kString &&
+                    a.value.text != "+" && a.value.text != "max" && a.value.text != "*")
+                    sink_.report("E206", a.value.span, "importance(): op is \"+\", \"max\" or \"*\"");
+                continue;
+            }
+            if (op->weighted_maps) {  // `task 0.5`: the map `task` with weight 0.5
+                reference(a.name, a.name_span);
+                if (!(a.value.kind == Value::Kind::kNumber && a.value.unit.empty() && a.value.number >= 0))
+                    sink_.report("E206", a.value.span, fmt::format("importance(): the weight of '{}' must be a number >= 0", a.name));
+                continue;
+            }
+            std::vector<std::string> names;
+            for (const auto& q : op->params)
+                if (!q.name.empty()) names.push_back(q.name);
+            sink_.report("E206", a.name_span, fmt::format("{}() has no parameter '{}'", op->name, a.name)).help = nearest(a.name, names);
+        }
+        size_t required = 0;
+        for (const auto& q : op->params) required += q.name.empty() && q.required;
+        if (positional < required)
+            sink_.report("E206", e.span, fmt::format("{}() needs {} argument{}, got {}", op->name, required, required == 1 ? "" : "s", positional));
+        return op->result;
+    }
+
+    DiagnosticSink& sink_;
+    std::map<std::string, SourceSpan> maps_;
+    std::set<std::string> used_;
+};
+
+}  // namespace
+
+const std::vector<std::string>& stdlib_pipeline_names() {
+    static const std::vector<std::string> names = {"gold", "sel_rp", "osd", "sel_edge", "sel_aa", "tc_rp", "cbr", "cbtcr",
+                                                   "cbtcr_sel", "sel_st", "tpict", "apict", "capict", "prog_rp", "prog_all",
+                                                   "prog_dis_all", "prog_tc"};
+    return names;
+}
+
+std::vector<std::string> guidance_operator_names() {
+    std::vector<std::string> out;
+    for (const auto& o : operators()) out.push_back(o.name);
+    return out;
+}
+
+void check_pipeline_file(const ast::File& file, DiagnosticSink& sink) { Checker(sink).file(file); }
+
+}  // namespace crex::pipeline

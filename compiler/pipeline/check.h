@@ -1,0 +1,24 @@
+/// \file check.h
+/// check_pipeline_file(): the static rules of a pipeline file (docs/pipeline-language.md):
+/// known sections, settings and selective variables, guidance operators with their signatures
+/// (the stdlib table below), names defined before use, value ranges, budget units, embedded
+/// crex compiled at their file position, the pre-selective crex without `{ }`, `extends` of a
+/// known pipeline, and maps nothing uses (W201).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "compiler/base/diagnostic.h"
+#include "compiler/pipeline/ast.h"
+
+namespace crex::pipeline {
+
+/// Names of the thesis's renderers (spec/pipeline.md §5), which `extends` may name.
+const std::vector<std::string>& stdlib_pipeline_names();
+/// The guidance operators the checker knows (for docs and `--help`).
+std::vector<std::string> guidance_operator_names();
+
+void check_pipeline_file(const ast::File& file, DiagnosticSink& sink);
+
+}  // namespace crex::pipeline
