@@ -8,6 +8,7 @@
 
 #include "compiler/base/nearest_name.h"
 #include "compiler/crex/compile.h"
+#include "compiler/pipeline/resolve.h"
 
 namespace crex::pipeline {
 namespace {
@@ -49,7 +50,7 @@ const std::vector<Operator>& operators() {
         {"saliency", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
         {"edges", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
         {"component", Type::kBuffer, {{"", {Type::kComponent}, "", true}}, false},
-        {"tagged", Type::kObjects, {{"", {}, "string", true}}, false},
+        {"tagged", Type::kObjects, {{"", {}, "string", false}}, false},  // no name: every tagged object
         {"task_map", Type::kMap, {{"", {Type::kObjects}, "", true}, {"fovea", {}, "angle", false}}, false},
         {"distractors", Type::kMap, {{"", {Type::kObjects}, "", false}}, false},
         {"xmap", Type::kMap, {}, false},
@@ -110,33 +111,46 @@ public:
         std::set<std::string> earlier;
         for (const auto& p : f.pipelines) {
             if (earlier.count(p.name)) sink_.report("E211", p.name_span, fmt::format("pipeline '{}' is defined twice", p.name));
-            if (!p.base.empty()) base(p, earlier);
-            pipeline(p);
+            std::vector<std::string> inherited;
+            if (!p.base.empty() && base(f, p, earlier)) {
+                DiagnosticSink quiet;  // the base's own problems are reported where it is checked
+                if (const ast::Pipeline* b = find_base(f, p, quiet))
+                    if (auto r = resolve_from(f, *b, quiet))
+                        for (const auto& [name, _] : r->maps) inherited.push_back(name);
+            }
+            pipeline(p, inherited);
             earlier.insert(p.name);
         }
     }
 
 private:
-    void base(const ast::Pipeline& p, const std::set<std::string>& earlier) {
-        if (earlier.count(p.base)) return;
+    // True if the base exists (above in the file, or as a stdlib file).
+    bool base(const ast::File& f, const ast::Pipeline& p, const std::set<std::string>& earlier) {
+        if (earlier.count(p.base)) return true;
+        DiagnosticSink stdlib_sink;
+        if (find_base(f, p, stdlib_sink)) return true;
+        for (const auto& d : stdlib_sink.diagnostics()) sink_.add(d);
         const auto& lib = stdlib_pipeline_names();
         if (std::find(lib.begin(), lib.end(), p.base) != lib.end()) {
             sink_.report("W202", p.base_span, fmt::format("stdlib pipeline '{}' is not written yet: only its name is "
                                                           "checked, nothing is inherited from it", p.base));
-            return;
+            return false;
         }
         std::vector<std::string> all(lib.begin(), lib.end());
         all.insert(all.end(), earlier.begin(), earlier.end());
         sink_.report("E210", p.base_span, fmt::format("pipeline '{}' extends '{}', which is neither a stdlib pipeline nor "
                                                       "defined above it", p.name, p.base)).help = nearest(p.base, all);
+        return false;
     }
 
-    void pipeline(const ast::Pipeline& p) {
+    void pipeline(const ast::Pipeline& p, const std::vector<std::string>& inherited) {
         maps_.clear();
         used_.clear();
+        inherited_.clear();
+        for (const auto& name : inherited) inherited_.insert(name);
         section("", p.body);
         for (const auto& [name, span] : maps_)
-            if (!used_.count(name))
+            if (!used_.count(name) && !overrides_.count(name))
                 sink_.report("W201", span, fmt::format("map '{}' is defined but no selective variable or crex uses it", name));
     }
 
@@ -185,6 +199,7 @@ private:
             sink_.report("E211", s.key_span, fmt::format("'{}' is already defined", s.key));
             return;
         }
+        if (inherited_.count(s.key)) overrides_.insert(s.key);  // replaces the base's map: used there
         auto t = expr(s.expr);
         if (t && *t != Type::kMap)
             sink_.report("E206", s.expr.span, fmt::format("'{}' must be a map, but this is {}", s.key, type_name(*t)));
@@ -294,6 +309,7 @@ private:
             used_.insert(name);
             return Type::kMap;
         }
+        if (inherited_.count(name)) return Type::kMap;
         std::vector<std::string> names;
         for (const auto& [n, _] : maps_) names.push_back(n);
         for (const auto& [n, _] : builtin_names()) names.push_back(n);
@@ -393,6 +409,8 @@ private:
     DiagnosticSink& sink_;
     std::map<std::string, SourceSpan> maps_;
     std::set<std::string> used_;
+    std::set<std::string> inherited_;   // maps defined by the bases
+    std::set<std::string> overrides_;   // maps redefined here that the bases use
 };
 
 }  // namespace

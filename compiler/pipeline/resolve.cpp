@@ -1,0 +1,132 @@
+#include "compiler/pipeline/resolve.h"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+#include "compiler/pipeline/parse.h"
+
+namespace crex::pipeline {
+namespace {
+
+// Stdlib pipeline files, parsed once per process. Their texts stay alive for diagnostics.
+struct StdlibEntry {
+    std::unique_ptr<SourceFile> source;
+    std::optional<ast::File> file;
+};
+
+const ast::Pipeline* stdlib_pipeline(const std::string& name, DiagnosticSink& sink) {
+    static std::map<std::string, StdlibEntry> cache;
+    static std::mutex mutex;
+    std::lock_guard<std::mutex> lock(mutex);
+    auto it = cache.find(name);
+    if (it == cache.end()) {
+        StdlibEntry e;
+        std::filesystem::path path = std::filesystem::path(stdlib_dir()) / "pipelines" / fmt::format("{}.pipe", name);
+        std::ifstream in(path);
+        if (in) {
+            std::stringstream text;
+            text << in.rdbuf();
+            e.source = std::make_unique<SourceFile>(path.string(), text.str());
+            DiagnosticSink parse_sink;
+            e.file = parse_pipeline_file(*e.source, parse_sink);
+            for (const auto& d : parse_sink.diagnostics()) sink.add(d);
+        }
+        it = cache.emplace(name, std::move(e)).first;
+    }
+    if (!it->second.file) return nullptr;
+    for (const auto& p : it->second.file->pipelines)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+void merge(ResolvedPipeline& r, const ast::Pipeline& p) {
+    for (const auto& s : p.body) {
+        using K = ast::Statement::Kind;
+        if (s.kind == K::kSetting) {
+            r.top[s.key] = s.values;
+            continue;
+        }
+        if (s.kind != K::kSection) continue;
+        for (const auto& inner : s.body) {
+            if (s.key == "preselective" || s.key == "selective") {
+                ResolvedStage& stage = s.key == "preselective" ? r.preselective : r.selective;
+                if (inner.kind == K::kSetting && inner.key == "crex" && !inner.values.empty()) {
+                    stage.crex = inner.values[0];
+                    stage.crex_by.reset();
+                    if (inner.has_by) stage.crex_by = inner.expr;
+                } else if (inner.kind == K::kSetting && !inner.values.empty()) {
+                    stage.settings[inner.key] = inner.values[0];
+                } else if (inner.kind == K::kVary) {
+                    ResolvedVariable v{inner.key, inner.lo, inner.hi, inner.expr, inner.using_fn};
+                    bool replaced = false;
+                    for (auto& old : r.vary)
+                        if (old.name == v.name) old = v, replaced = true;
+                    if (!replaced) r.vary.push_back(v);
+                }
+            } else if (s.key == "guidance" && inner.kind == K::kDefinition) {
+                bool replaced = false;
+                for (auto& [name, expr] : r.maps)
+                    if (name == inner.key) expr = inner.expr, replaced = true;
+                if (!replaced) r.maps.emplace_back(inner.key, inner.expr);
+            } else if (s.key == "output" && inner.kind == K::kSetting && !inner.values.empty()) {
+                r.output[inner.key] = inner.values[0];
+            }
+        }
+    }
+}
+
+}  // namespace
+
+std::string stdlib_dir() {
+    if (const char* env = std::getenv("CREX_STDLIB")) return env;
+    return CREX_STDLIB_DIR;
+}
+
+const ast::Pipeline* find_base(const ast::File& file, const ast::Pipeline& child, DiagnosticSink& sink) {
+    for (const auto& p : file.pipelines) {
+        if (&p == &child) break;  // only pipelines above it
+        if (p.name == child.base) return &p;
+    }
+    return stdlib_pipeline(child.base, sink);
+}
+
+std::optional<ResolvedPipeline> resolve_pipeline(const ast::File& file, const std::string& name, DiagnosticSink& sink,
+                                                 std::vector<std::unique_ptr<SourceFile>>&) {
+    const ast::Pipeline* top = nullptr;
+    for (const auto& p : file.pipelines)
+        if (name.empty() || p.name == name) top = &p;
+    if (!top) return std::nullopt;
+    return resolve_from(file, *top, sink);
+}
+
+std::optional<ResolvedPipeline> resolve_from(const ast::File& file, const ast::Pipeline& start, DiagnosticSink& sink) {
+    const ast::Pipeline* top = &start;
+    // The chain child -> base -> ...; a cycle is E210.
+    std::vector<const ast::Pipeline*> chain;
+    std::set<std::string> seen;
+    for (const ast::Pipeline* p = top; p;) {
+        if (!seen.insert(p->name).second) {
+            sink.report("E210", p->base_span, fmt::format("'{}' extends itself through its bases", top->name));
+            return std::nullopt;
+        }
+        chain.push_back(p);
+        if (p->base.empty()) break;
+        const ast::Pipeline* base = find_base(file, *p, sink);
+        if (!base) return std::nullopt;  // the checker reports unknown bases (E210) or W202
+        p = base;
+    }
+    ResolvedPipeline r;
+    r.name = top->name;
+    for (const auto* p : chain) r.chain.push_back(p->name);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) merge(r, **it);
+    return r;
+}
+
+}  // namespace crex::pipeline
