@@ -9,7 +9,12 @@
 #include "apps/crex/scene_input.h"
 #include "compiler/base/render_text.h"
 #include "compiler/crex/compile.h"
+#include "apps/crex/input_files.h"
+#include "compiler/pipeline/check.h"
+#include "compiler/pipeline/parse.h"
+#include "compiler/pipeline/resolve.h"
 #include "compiler/plan/emit_plan.h"
+#include "compiler/plan/plan_pipeline.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/scene/census.h"
 
@@ -17,13 +22,84 @@ namespace crex::app {
 namespace {
 
 struct PlanOptions {
+    std::string file;
+    std::string pipeline_name;
     std::string crex;
+    bool crex_given = false;  // -e '' is a valid (empty) crex
     std::string scene;
     std::string format = "text";
     std::string output;
 };
 
+int write_output(const PlanOptions& opt, const std::string& text) {
+    if (opt.output.empty()) {
+        std::cout << text;
+        return kExitOk;
+    }
+    std::string error = write_file_atomically(opt.output, text);
+    if (!error.empty()) {
+        std::cerr << fmt::format("crex plan: error: cannot write '{}': {}\n", opt.output, error);
+        return kExitFailure;
+    }
+    return kExitOk;
+}
+
+// A pipeline file: check, resolve `extends`, plan for its scene (or --scene).
+int plan_pipeline_file(const PlanOptions& opt) {
+    std::string error;
+    auto text = read_input(opt.file, error);
+    if (!text) {
+        std::cerr << "crex plan: error: " << error << "\n";
+        return kExitFailure;
+    }
+    SourceFile file(opt.file, std::move(*text));
+    DiagnosticSink sink;
+    auto ast = pipeline::parse_pipeline_file(file, sink);
+    if (ast) pipeline::check_pipeline_file(*ast, sink);
+    std::optional<pipeline::ResolvedPipeline> resolved;
+    std::vector<std::unique_ptr<SourceFile>> keep;
+    if (ast && !sink.has_errors()) {
+        resolved = pipeline::resolve_pipeline(*ast, opt.pipeline_name, sink, keep);
+        if (!resolved && !sink.has_errors())
+            sink.report("E210", {&file, 0, 0}, opt.pipeline_name.empty() ? "the file holds no pipeline"
+                                                                          : fmt::format("no pipeline named '{}'", opt.pipeline_name));
+    }
+    std::string scene_spec = opt.scene;
+    if (scene_spec.empty() && resolved)
+        if (auto it = resolved->top.find("scene"); it != resolved->top.end() && !it->second.empty()) scene_spec = it->second[0].text;
+    std::unique_ptr<SceneInput> scene;
+    if (!scene_spec.empty() && !sink.has_errors()) scene = load_scene_input(scene_spec, sink);
+    std::optional<PipelinePlan> plan;
+    if (resolved && !sink.has_errors() && (!scene || scene->scene)) {
+        std::optional<BinSet> spawnable;
+        std::string hash;
+        if (scene) {
+            Census census = take_census(*scene->scene);
+            spawnable = census.spawnable;
+            hash = census_hash_hex(census.hash);
+        }
+        plan = plan_pipeline(*resolved, spawnable, scene_spec, hash, sink);
+    }
+    std::cerr << render_text(sink.sorted());
+    if (scene && !scene->failure.empty()) {
+        std::cerr << "crex plan: error: " << scene->failure << "\n";
+        return kExitFailure;
+    }
+    if (!plan) {
+        std::cerr << fmt::format("crex plan: {} error{}; no plan\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
+        return kExitInputErrors;
+    }
+    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*plan).dump(2) + "\n"
+                             : opt.format == "dot" ? pipeline_plan_to_dot(*plan)
+                                                    : pipeline_plan_to_text(*plan));
+}
+
 int run_plan(const PlanOptions& opt) {
+    if (opt.file.empty() != opt.crex_given) {
+        std::cerr << "crex plan: give a pipeline file or -e CREX (one of them; see 'crex plan --help')\n";
+        return kExitUsage;
+    }
+    if (!opt.file.empty()) return plan_pipeline_file(opt);
     SourceFile file("<expr>", opt.crex);
     DiagnosticSink sink;
     CompiledCrex compiled = compile_crex(file, sink);
@@ -49,19 +125,9 @@ int run_plan(const PlanOptions& opt) {
         plan.scene = opt.scene;
         plan.census_hash = census_hash_hex(census.hash);
     }
-    std::string text = opt.format == "json" ? plan_to_json(plan).dump(2) + "\n"
-                       : opt.format == "dot" ? plan_to_dot(plan)
-                                              : plan_to_text(plan);
-    if (opt.output.empty()) {
-        std::cout << text;
-        return kExitOk;
-    }
-    std::string error = write_file_atomically(opt.output, text);
-    if (!error.empty()) {
-        std::cerr << fmt::format("crex plan: error: cannot write '{}': {}\n", opt.output, error);
-        return kExitFailure;
-    }
-    return kExitOk;
+    return write_output(opt, opt.format == "json" ? plan_to_json(plan).dump(2) + "\n"
+                             : opt.format == "dot" ? plan_to_dot(plan)
+                                                    : plan_to_text(plan));
 }
 
 }  // namespace
@@ -69,8 +135,10 @@ int run_plan(const PlanOptions& opt) {
 Runner add_plan_command(CLI::App& app) {
     auto opt = std::make_shared<PlanOptions>();
     CLI::App* cmd = app.add_subcommand("plan", "Show what a crex executes on a scene, pruned of what the scene cannot need");
-    cmd->add_option("-e,--crex", opt->crex, "The crex")->required()->allow_extra_args(false);
-    cmd->add_option("--scene", opt->scene, "Scene to plan for: steps whose bins it can never fill are pruned");
+    cmd->add_option("pipeline", opt->file, "A pipeline file (.pipe) to plan");
+    cmd->add_option("--pipeline", opt->pipeline_name, "Which pipeline of the file (default: the last)");
+    CLI::Option* crex = cmd->add_option("-e,--crex", opt->crex, "A crex to plan (instead of a pipeline file)")->allow_extra_args(false);
+    cmd->add_option("--scene", opt->scene, "Scene to plan for (default: the pipeline's 'scene'): what it cannot need is pruned");
     cmd->add_option("--format", opt->format, "text, json (versioned, byte-stable) or dot (Graphviz)")
         ->check(CLI::IsMember({"text", "json", "dot"}));
     cmd->add_option("-o,--output", opt->output, "Write the plan to FILE (atomically) instead of stdout");
@@ -82,9 +150,14 @@ Examples:
   crex plan -e '(TTMRSGD)*' --scene builtin:cornell_diffuse        executes D*
   crex plan -e 'TT{TTMRSGD}2' --scene builtin:cornell --format json
   crex plan -e '(TT[RS]G)*D' --format dot | dot -Tpng -o plan.png   a picture of the plan
+  crex plan examples/pipelines/cornell_prog.pipe --format dot        a pipeline's execution graph
+  crex plan stdlib/pipelines/gold.pipe --scene builtin:cornell_diffuse
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O failure.)");
-    return [opt] { return run_plan(*opt); };
+    return [opt, crex] {
+        opt->crex_given = crex->count() > 0;
+        return run_plan(*opt);
+    };
 }
 
 }  // namespace crex::app

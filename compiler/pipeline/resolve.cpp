@@ -33,7 +33,8 @@ const ast::Pipeline* stdlib_pipeline(const std::string& name, DiagnosticSink& si
         if (in) {
             std::stringstream text;
             text << in.rdbuf();
-            e.source = std::make_unique<SourceFile>(path.string(), text.str());
+            // Named relative to the stdlib's parent, so plans and messages carry no machine paths.
+            e.source = std::make_unique<SourceFile>(fmt::format("stdlib/pipelines/{}.pipe", name), text.str());
             DiagnosticSink parse_sink;
             e.file = parse_pipeline_file(*e.source, parse_sink);
             for (const auto& d : parse_sink.diagnostics()) sink.add(d);

@@ -1,0 +1,331 @@
+#include "compiler/plan/plan_pipeline.h"
+
+#include <fmt/format.h>
+
+#include <map>
+#include <set>
+
+#include "compiler/crex/compile.h"
+#include "compiler/plan/dot_writer.h"
+#include "compiler/plan/emit_plan.h"
+#include "compiler/sched/print.h"
+
+namespace crex {
+namespace {
+
+using pipeline::ast::Expr;
+using pipeline::ast::Value;
+
+std::string value_text(const Value& v) {
+    switch (v.kind) {
+    case Value::Kind::kNumber: return fmt::format("{:g}{}{}", v.number, v.unit.empty() ? "" : " ", v.unit);
+    case Value::Kind::kString: return "\"" + v.text + "\"";
+    case Value::Kind::kBool: return v.boolean ? "true" : "false";
+    case Value::Kind::kCross: return "x";
+    }
+    return "";
+}
+
+std::string expr_text(const Expr& e) {
+    switch (e.kind) {
+    case Expr::Kind::kReference: return e.name;
+    case Expr::Kind::kLiteral: return value_text(e.literal);
+    case Expr::Kind::kCall: {
+        std::string args;
+        for (const auto& a : e.args) {
+            if (!args.empty()) args += ", ";
+            args += a.name.empty() ? expr_text(a.expr) : a.name + " " + value_text(a.value);
+        }
+        return fmt::format("{}({})", e.name, args);
+    }
+    }
+    return "";
+}
+
+// Compiles a stage's crex literal at its position in its file; the whole lowered crex.
+std::optional<sched::Node> stage_program(const Value& literal, DiagnosticSink& sink) {
+    CompiledCrex c = compile_crex(*literal.text_span.file, literal.text_span.begin, literal.text_span.end, sink);
+    if (!c.program) return std::nullopt;
+    sched::Node all = c.program->preselective;
+    for (auto& child : c.program->selective.children) all.children.push_back(child);
+    return all;
+}
+
+bool has_exec(const sched::Node& n, Component c) {
+    if (n.op == sched::Op::kExec) return n.component == c;
+    for (const auto& k : n.children)
+        if (has_exec(k, c)) return true;
+    return false;
+}
+
+class GraphBuilder {
+public:
+    explicit GraphBuilder(PipelinePlan& plan) : plan_(plan) {}
+
+    void node(const std::string& id, const std::string& kind, const std::string& stage, const std::string& label,
+              nlohmann::json params = nlohmann::json::object()) {
+        if (ids_.insert(id).second) plan_.nodes.push_back({id, kind, stage, label, std::move(params)});
+    }
+    void edge(const std::string& from, const std::string& to, const std::string& kind, const std::string& label = "") {
+        plan_.edges.push_back({from, to, kind, label});
+    }
+
+    // The node producing `e` (creating operator nodes as needed); "" for literals.
+    std::string source(const Expr& e, const std::string& owner, int& counter, const std::set<std::string>& maps) {
+        switch (e.kind) {
+        case Expr::Kind::kLiteral: return "";
+        case Expr::Kind::kReference:
+            if (maps.count(e.name)) return "map." + e.name;
+            if (e.name == "preview") return "preview";
+            node("buffer." + e.name, "buffer", "preselective", e.name);
+            edge("preselective", "buffer." + e.name, "buffer");
+            return "buffer." + e.name;
+        case Expr::Kind::kCall: {
+            std::string id = fmt::format("op.{}.{}", owner, counter++);
+            call_node(id, e, owner, counter, maps);
+            return id;
+        }
+        }
+        return "";
+    }
+
+    void call_node(const std::string& id, const Expr& e, const std::string& owner, int& counter, const std::set<std::string>& maps) {
+        if (e.name == "component" && e.args.size() == 1 && e.args[0].name.empty()) {  // a buffer, not an operator
+            std::string letter = e.args[0].expr.name;
+            node(id, "buffer", "preselective", fmt::format("component({})", letter), {{"component", letter}});
+            edge("preselective", id, "buffer");
+            return;
+        }
+        node(id, "operator", "guidance", expr_text(e), {{"operator", e.name}});
+        for (const auto& a : e.args) {
+            if (a.name.empty()) {
+                std::string from = source(a.expr, owner, counter, maps);
+                if (!from.empty()) edge(from, id, kind_of(from));
+            } else if (maps.count(a.name)) {  // a weighted map (importance)
+                edge("map." + a.name, id, "map", value_text(a.value));
+            } else {
+                for (auto& n : plan_.nodes)
+                    if (n.id == id) n.params[a.name] = value_text(a.value);
+            }
+        }
+    }
+
+    std::string kind_of(const std::string& id) {
+        for (const auto& n : plan_.nodes) {
+            if (n.id != id) continue;
+            if (n.kind == "image" || n.kind == "buffer") return n.kind;
+            if (n.params.value("operator", std::string()) == "tagged") return "objects";
+            return "map";
+        }
+        return "map";
+    }
+
+private:
+    PipelinePlan& plan_;
+    std::set<std::string> ids_;
+};
+
+}  // namespace
+
+std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, const std::optional<BinSet>& spawnable,
+                                          const std::string& scene, const std::string& census_hash, DiagnosticSink& sink) {
+    PipelinePlan plan;
+    plan.name = p.name;
+    plan.chain = p.chain;
+    plan.scene = scene;
+    plan.census_hash = census_hash;
+    for (const auto& [key, values] : p.top) {
+        std::string text;
+        for (const auto& v : values) text += (text.empty() ? "" : " ") + value_text(v);
+        plan.settings[key] = text;
+    }
+    // Stage programs.
+    size_t errors = sink.error_count();
+    plan.program.preselective.op = plan.program.selective.op = sched::Op::kSeq;
+    if (p.preselective.crex)
+        if (auto n = stage_program(*p.preselective.crex, sink)) plan.program.preselective = *n;
+    if (p.selective.crex)
+        if (auto n = stage_program(*p.selective.crex, sink)) plan.program.selective = *n;
+    if (sink.error_count() != errors) return std::nullopt;
+    // The modulation map of the selective crex names its `{ }` groups' map.
+    std::string modulation = p.selective.crex_by ? expr_text(*p.selective.crex_by) : "importance";
+    std::function<void(sched::Node&)> name_map = [&](sched::Node& n) {
+        if (n.op == sched::Op::kModulate) n.map = modulation;
+        for (auto& c : n.children) name_map(c);
+    };
+    name_map(plan.program.selective);
+
+    if (spawnable) {
+        for (const auto& d : find_dead_steps(plan.program, *spawnable))
+            plan.pruned.push_back({fmt::format("step {}", component_letter(d.component)), d.where.to_string(), d.reason});
+        plan.program = prune_dead_steps(plan.program, *spawnable);
+    }
+    bool d_left = has_exec(plan.program.preselective, Component::kD) || has_exec(plan.program.selective, Component::kD);
+
+    // Which variables survive: without a D step there is no irradiance cache to vary.
+    std::vector<const pipeline::ResolvedVariable*> vary;
+    for (const auto& v : p.vary) {
+        if (v.name == "ic_radius" && !d_left) {
+            plan.pruned.push_back({"vary ic_radius", "", "no D step is left for this scene, so there is no irradiance cache"});
+            continue;
+        }
+        vary.push_back(&v);
+    }
+    // Maps consumed by something that survives (transitively through other maps).
+    std::map<std::string, const Expr*> defs;
+    for (const auto& [name, e] : p.maps) defs[name] = &e;
+    std::set<std::string> live;
+    std::function<void(const Expr&)> use = [&](const Expr& e) {
+        if (e.kind == Expr::Kind::kReference && defs.count(e.name) && live.insert(e.name).second) use(*defs[e.name]);
+        for (const auto& a : e.args) {
+            if (a.name.empty()) use(a.expr);
+            else if (defs.count(a.name) && live.insert(a.name).second) use(*defs[a.name]);
+        }
+    };
+    for (const auto* v : vary) use(v->by);
+    if (p.selective.crex_by) use(*p.selective.crex_by);
+    std::set<std::string> maps;
+    for (const auto& [name, e] : p.maps) {
+        if (live.count(name)) maps.insert(name);
+        else plan.pruned.push_back({"map " + name, "", "no selective variable or crex consumes it"});
+    }
+
+    // The graph.
+    GraphBuilder g(plan);
+    uint32_t spp = 1;
+    if (auto it = p.preselective.settings.find("spp"); it != p.preselective.settings.end()) spp = static_cast<uint32_t>(it->second.number);
+    g.node("camera", "camera", "preselective", "camera rays", {{"spp", spp}});
+    g.node("preselective", "crex", "preselective", "pre-selective crex", {{"crex", sched::to_crex(plan.program.preselective)}});
+    g.edge("camera", "preselective", "bin");
+    g.node("preview", "image", "preselective", "preview");
+    g.edge("preselective", "preview", "image");
+    for (const auto& [name, e] : p.maps) {
+        if (!maps.count(name)) continue;
+        int counter = 0;
+        std::string id = "map." + name;
+        if (e.kind == Expr::Kind::kCall) g.call_node(id, e, name, counter, maps);
+        else {
+            g.node(id, "operator", "guidance", expr_text(e));
+            std::string from = g.source(e, name, counter, maps);
+            if (!from.empty()) g.edge(from, id, g.kind_of(from));
+        }
+        for (auto& n : plan.nodes)
+            if (n.id == id) n.label = name + " = " + expr_text(e);
+    }
+    g.node("selective", "crex", "selective", "selective crex", {{"crex", sched::to_crex(plan.program.selective)}});
+    g.edge("preselective", "selective", "bin", "bins carried over");
+    if (p.selective.crex_by) {
+        int counter = 0;
+        std::string from = g.source(*p.selective.crex_by, "modulation", counter, maps);
+        if (!from.empty()) g.edge(from, "selective", "map", "{ } modulation");
+    }
+    for (const auto* v : vary) {
+        std::string id = "vary." + v->name;
+        nlohmann::json params = {{"from", value_text(v->lo)}, {"to", value_text(v->hi)}};
+        if (!v->using_fn.empty()) params["using"] = v->using_fn;
+        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}", v->name, value_text(v->lo), value_text(v->hi)), params);
+        int counter = 0;
+        std::string from = g.source(v->by, id, counter, maps);
+        if (!from.empty()) g.edge(from, id, "map");
+        g.edge(id, "selective", "svt");
+    }
+    bool wants_cache = false;
+    for (const auto& v : p.vary) wants_cache |= v.name == "ic_radius";
+    if (wants_cache && d_left) {
+        g.node("irradiance_cache", "cache", "selective", "irradiance cache");
+        g.edge("preselective", "irradiance_cache", "cache", "records");
+        g.edge("irradiance_cache", "selective", "cache", "records");
+    } else if (wants_cache) {
+        plan.pruned.push_back({"irradiance cache", "", "no D step is left for this scene"});
+    }
+    g.node("composite", "composite", "output", "composite");
+    g.edge("selective", "composite", "image");
+    for (const auto& [key, v] : p.output) {
+        if (key == "components" || key == "maps") {
+            plan.settings["output_" + key] = value_text(v);
+            continue;
+        }
+        g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)), {{"path", v.text}});
+        g.edge("composite", "output." + key, "image");
+    }
+    return plan;
+}
+
+nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
+    nlohmann::json j;
+    j["format"] = "crex-plan";
+    j["version"] = kPlanFormatVersion;
+    j["pipeline"] = {{"name", plan.name}, {"extends", plan.chain}};
+    j["scene"] = plan.scene.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"spec", plan.scene}, {"census_hash", plan.census_hash}};
+    j["settings"] = plan.settings;
+    j["stages"] = {{"preselective", schedule_to_json(plan.program.preselective)}, {"selective", schedule_to_json(plan.program.selective)}};
+    j["nodes"] = nlohmann::json::array();
+    for (const auto& n : plan.nodes)
+        j["nodes"].push_back({{"id", n.id}, {"kind", n.kind}, {"stage", n.stage}, {"label", n.label}, {"params", n.params}});
+    j["edges"] = nlohmann::json::array();
+    for (const auto& e : plan.edges) {
+        nlohmann::json je = {{"from", e.from}, {"to", e.to}, {"kind", e.kind}};
+        if (!e.label.empty()) je["label"] = e.label;
+        j["edges"].push_back(je);
+    }
+    j["pruned"] = nlohmann::json::array();
+    for (const auto& r : plan.pruned) {
+        nlohmann::json jr = {{"what", r.what}, {"reason", r.reason}};
+        if (!r.at.empty()) jr["at"] = r.at;
+        j["pruned"].push_back(jr);
+    }
+    return j;
+}
+
+std::string pipeline_plan_to_dot(const PipelinePlan& plan) {
+    std::string out = "digraph crex_pipeline {\n  rankdir=LR; compound=true;\n  node [shape=box, fontname=\"Helvetica\"];\n";
+    out += fmt::format("  label=\"{}\"; labelloc=t;\n",
+                       escape_dot("pipeline " + plan.name + (plan.scene.empty() ? "" : " on " + plan.scene)));
+    const std::map<std::string, std::string> shape = {{"camera", "ellipse"}, {"image", "note"}, {"buffer", "note"},
+                                                      {"operator", "box"},   {"svt", "hexagon"}, {"cache", "cylinder"},
+                                                      {"composite", "invtrapezium"}, {"output", "folder"}, {"crex", "box3d"}};
+    const std::map<std::string, std::string> color = {{"bin", "#1a73e8"}, {"image", "#188038"}, {"buffer", "#188038"},
+                                                      {"map", "#e37400"}, {"svt", "#9334e6"},  {"cache", "#c5221f"}};
+    for (const char* stage : {"preselective", "guidance", "selective", "output"}) {
+        out += fmt::format("  subgraph cluster_{} {{\n    label=\"{}\"; style=\"filled\"; fillcolor=\"#f8f9fa\";\n", stage, stage);
+        for (const auto& n : plan.nodes) {
+            if (n.stage != stage) continue;
+            std::string label = n.label;
+            if (n.kind == "crex") label += "\\n" + n.params.value("crex", std::string());
+            out += fmt::format("    \"{}\" [label=\"{}\", shape={}];\n", n.id, escape_dot(label), shape.count(n.kind) ? shape.at(n.kind) : "box");
+        }
+        out += "  }\n";
+    }
+    for (const auto& e : plan.edges)
+        out += fmt::format("  \"{}\" -> \"{}\" [label=\"{}\", color=\"{}\", fontcolor=\"{}\"];\n", e.from, e.to,
+                           escape_dot(e.label.empty() ? e.kind : e.kind + ": " + e.label), color.count(e.kind) ? color.at(e.kind) : "black",
+                           color.count(e.kind) ? color.at(e.kind) : "black");
+    if (!plan.pruned.empty()) {
+        out += "  subgraph cluster_pruned {\n    label=\"pruned for this scene\"; style=\"dashed\";\n";
+        for (size_t i = 0; i < plan.pruned.size(); ++i)
+            out += fmt::format("    pruned{} [label=\"{}\", tooltip=\"{}\", style=\"dashed\", color=\"gray50\", fontcolor=\"gray50\"];\n", i,
+                               escape_dot(plan.pruned[i].what + (plan.pruned[i].at.empty() ? "" : "\\n" + plan.pruned[i].at)),
+                               escape_dot(plan.pruned[i].reason));
+        out += "  }\n";
+    }
+    out += "}\n";
+    return out;
+}
+
+std::string pipeline_plan_to_text(const PipelinePlan& plan) {
+    std::string chain;
+    for (size_t i = 1; i < plan.chain.size(); ++i) chain += " extends " + plan.chain[i];
+    std::string out = fmt::format("plan of pipeline {}{}{}\n", plan.name, chain, plan.scene.empty() ? "" : " for " + plan.scene);
+    std::string pre = sched::to_crex(plan.program.preselective), sel = sched::to_crex(plan.program.selective);
+    out += fmt::format("  pre-selective: {}\n", pre.empty() ? "camera rays only" : pre);
+    out += fmt::format("  selective:     {}\n", sel.empty() ? "no crex steps" : sel);
+    for (const auto& n : plan.nodes)
+        if (n.kind == "operator" && n.id.rfind("map.", 0) == 0) out += fmt::format("  map     {}\n", n.label);
+    for (const auto& n : plan.nodes)
+        if (n.kind == "svt") out += fmt::format("  {}\n", n.label);
+    if (!plan.census_hash.empty()) out += fmt::format("  census hash:   {}\n", plan.census_hash);
+    for (const auto& r : plan.pruned) out += fmt::format("  pruned {}{}: {}\n", r.what, r.at.empty() ? "" : " at " + r.at, r.reason);
+    return out;
+}
+
+}  // namespace crex

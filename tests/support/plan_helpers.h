@@ -1,0 +1,48 @@
+/// \file plan_helpers.h
+/// Plans a pipeline file from text for tests (and the golden snapshots).
+#pragma once
+
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "compiler/pipeline/check.h"
+#include "compiler/pipeline/parse.h"
+#include "compiler/pipeline/resolve.h"
+#include "compiler/plan/plan_pipeline.h"
+#include "runtime/scene/census.h"
+#include "runtime/scene/load_scene.h"
+
+namespace crex::testing {
+
+inline std::string read_text(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+struct PlannedPipeline {
+    std::unique_ptr<SourceFile> file;
+    std::optional<PipelinePlan> plan;
+    std::vector<Diagnostic> diagnostics;
+};
+
+/// `name` is how the file is called in positions (keep it relative: plans are goldens).
+inline PlannedPipeline plan_text(const std::string& name, const std::string& text, const std::optional<BinSet>& spawnable,
+                                 const std::string& scene = "", const std::string& hash = "") {
+    PlannedPipeline r;
+    r.file = std::make_unique<SourceFile>(name, text);
+    DiagnosticSink sink;
+    auto ast = pipeline::parse_pipeline_file(*r.file, sink);
+    if (ast) pipeline::check_pipeline_file(*ast, sink);
+    std::vector<std::unique_ptr<SourceFile>> keep;
+    if (ast && !sink.has_errors())
+        if (auto resolved = pipeline::resolve_pipeline(*ast, "", sink, keep))
+            r.plan = plan_pipeline(*resolved, spawnable, scene, hash, sink);
+    r.diagnostics = sink.sorted();
+    return r;
+}
+
+}  // namespace crex::testing
