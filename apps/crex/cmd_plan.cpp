@@ -9,10 +9,7 @@
 #include "apps/crex/scene_input.h"
 #include "compiler/base/render_text.h"
 #include "compiler/crex/compile.h"
-#include "apps/crex/input_files.h"
-#include "compiler/pipeline/check.h"
-#include "compiler/pipeline/parse.h"
-#include "compiler/pipeline/resolve.h"
+#include "apps/crex/pipeline_input.h"
 #include "compiler/plan/emit_plan.h"
 #include "compiler/plan/plan_pipeline.h"
 #include "runtime/base/atomic_file.h"
@@ -46,52 +43,20 @@ int write_output(const PlanOptions& opt, const std::string& text) {
 
 // A pipeline file: check, resolve `extends`, plan for its scene (or --scene).
 int plan_pipeline_file(const PlanOptions& opt) {
-    std::string error;
-    auto text = read_input(opt.file, error);
-    if (!text) {
-        std::cerr << "crex plan: error: " << error << "\n";
-        return kExitFailure;
-    }
-    SourceFile file(opt.file, std::move(*text));
     DiagnosticSink sink;
-    auto ast = pipeline::parse_pipeline_file(file, sink);
-    if (ast) pipeline::check_pipeline_file(*ast, sink);
-    std::optional<pipeline::ResolvedPipeline> resolved;
-    std::vector<std::unique_ptr<SourceFile>> keep;
-    if (ast && !sink.has_errors()) {
-        resolved = pipeline::resolve_pipeline(*ast, opt.pipeline_name, sink, keep);
-        if (!resolved && !sink.has_errors())
-            sink.report("E210", {&file, 0, 0}, opt.pipeline_name.empty() ? "the file holds no pipeline"
-                                                                          : fmt::format("no pipeline named '{}'", opt.pipeline_name));
-    }
-    std::string scene_spec = opt.scene;
-    if (scene_spec.empty() && resolved)
-        if (auto it = resolved->top.find("scene"); it != resolved->top.end() && !it->second.empty()) scene_spec = it->second[0].text;
-    std::unique_ptr<SceneInput> scene;
-    if (!scene_spec.empty() && !sink.has_errors()) scene = load_scene_input(scene_spec, sink);
-    std::optional<PipelinePlan> plan;
-    if (resolved && !sink.has_errors() && (!scene || scene->scene)) {
-        std::optional<BinSet> spawnable;
-        std::string hash;
-        if (scene) {
-            Census census = take_census(*scene->scene);
-            spawnable = census.spawnable;
-            hash = census_hash_hex(census.hash);
-        }
-        plan = plan_pipeline(*resolved, spawnable, scene_spec, hash, sink);
-    }
+    auto in = load_pipeline_input(opt.file, opt.pipeline_name, opt.scene, sink);
     std::cerr << render_text(sink.sorted());
-    if (scene && !scene->failure.empty()) {
-        std::cerr << "crex plan: error: " << scene->failure << "\n";
+    if (!in->failure.empty()) {
+        std::cerr << "crex plan: error: " << in->failure << "\n";
         return kExitFailure;
     }
-    if (!plan) {
+    if (!in->plan) {
         std::cerr << fmt::format("crex plan: {} error{}; no plan\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
         return kExitInputErrors;
     }
-    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*plan).dump(2) + "\n"
-                             : opt.format == "dot" ? pipeline_plan_to_dot(*plan)
-                                                    : pipeline_plan_to_text(*plan));
+    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in->plan).dump(2) + "\n"
+                             : opt.format == "dot" ? pipeline_plan_to_dot(*in->plan)
+                                                    : pipeline_plan_to_text(*in->plan));
 }
 
 int run_plan(const PlanOptions& opt) {

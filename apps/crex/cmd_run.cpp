@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include "apps/crex/progress.h"
 #include "compiler/base/render_text.h"
 #include "apps/crex/input_files.h"
+#include "apps/crex/pipeline_input.h"
 #include "compiler/crex/compile.h"
 #include "compiler/plan/read_plan.h"
 #include "runtime/scene/census.h"
@@ -31,6 +33,7 @@ constexpr const char* kDefaultCrex = "(TTMRSGD)*";
 
 struct RunOptions {
     std::string plan;
+    bool size_given = false, spp_given = false;
     std::string scene;
     std::string crex;
     std::string size = "256x256";
@@ -77,14 +80,12 @@ bool parse_size(const std::string& s, int& w, int& h) {
     return w > 0 && h > 0 && w <= 16384 && h <= 16384;
 }
 
-int run(const RunOptions& opt) {
-    int width = 0, height = 0;
-    if (!parse_size(opt.size, width, height)) {
-        std::cerr << fmt::format("crex run: error: --size '{}': expected WIDTHxHEIGHT, e.g. 512x512\n", opt.size);
-        return kExitUsage;
-    }
-    std::vector<std::string> outputs = opt.outputs;
-    if (outputs.empty()) outputs = {"out/render.exr", "out/render.png"};
+std::string without_spaces(std::string s) {
+    s.erase(std::remove(s.begin(), s.end(), ' '), s.end());
+    return s;
+}
+
+int run(RunOptions opt) {
 
     // What to execute: a crex, or a plan made earlier by `crex plan`.
     if (!opt.plan.empty() && !opt.crex.empty()) {
@@ -96,11 +97,32 @@ int run(const RunOptions& opt) {
     std::string scene_spec = opt.scene;
     std::string expected_census;
     std::unique_ptr<SourceFile> source;
-    if (!opt.plan.empty()) {
-        std::string error;
-        auto text = read_input(opt.plan, error);
+    std::map<std::string, std::string> settings;  // from a pipeline or a pipeline plan
+    bool is_pipeline = opt.plan.size() > 5 && opt.plan.substr(opt.plan.size() - 5) == ".pipe";
+    if (is_pipeline) {
+        auto in = load_pipeline_input(opt.plan, "", opt.scene, sink);
+        if (!in->failure.empty()) {
+            std::cerr << render_text(sink.sorted()) << "crex run: error: " << in->failure << "\n";
+            return kExitFailure;
+        }
+        if (in->plan) {
+            program = in->plan->program;
+            scene_spec = in->scene_spec;
+            for (const auto& [k, v] : in->plan->settings.items()) settings[k] = v.get<std::string>();
+            bool has_guidance = false;
+            for (const auto& n : in->plan->nodes) has_guidance |= n.kind == "operator" || n.kind == "svt";
+            if (has_guidance)
+                sink.report("W403", {in->source.get(), 0, 0},
+                            "guidance maps and selective variables do not execute yet: '{ }' runs with the constant "
+                            "--importance and every variable at its base value")
+                    .help = "what runs is exactly the plan's two crex stages (see 'crex plan')";
+        }
+        source = std::move(in->source);
+    } else if (!opt.plan.empty()) {
+        std::string read_error;
+        auto text = read_input(opt.plan, read_error);
         if (!text) {
-            std::cerr << "crex run: error: " << error << "\n";
+            std::cerr << "crex run: error: " << read_error << "\n";
             return kExitFailure;
         }
         source = std::make_unique<SourceFile>(opt.plan, std::move(*text));
@@ -108,6 +130,7 @@ int run(const RunOptions& opt) {
             program = plan->program;
             if (scene_spec.empty()) scene_spec = plan->scene;
             expected_census = plan->census_hash;
+            settings = plan->settings;
         }
     } else {
         source = std::make_unique<SourceFile>("<crex>", opt.crex.empty() ? kDefaultCrex : opt.crex);
@@ -116,6 +139,18 @@ int run(const RunOptions& opt) {
         program = compile_crex(*source, sink, lower).program;
     }
     if (scene_spec.empty()) scene_spec = "builtin:cornell";
+    // A pipeline's settings apply unless a flag says otherwise (spec/pipeline.md §7).
+    if (!opt.size_given && settings.count("image")) opt.size = without_spaces(settings["image"]);
+    if (!opt.spp_given && settings.count("spp")) opt.spp = static_cast<uint32_t>(std::stoul(settings["spp"]));
+    if (opt.budget.empty() && settings.count("budget")) opt.budget = without_spaces(settings["budget"]);
+    if (opt.outputs.empty() && settings.count("output_image")) opt.outputs = {settings["output_image"]};
+    int width = 0, height = 0;
+    if (!parse_size(opt.size, width, height)) {
+        std::cerr << fmt::format("crex run: error: image size '{}': expected WIDTHxHEIGHT, e.g. 512x512\n", opt.size);
+        return kExitUsage;
+    }
+    std::vector<std::string> outputs = opt.outputs;
+    if (outputs.empty()) outputs = {"out/render.exr", "out/render.png"};
     // The scene.
     SceneSources sources;
     SceneLoadFailure failure;
@@ -298,14 +333,15 @@ int run(const RunOptions& opt) {
 Runner add_run_command(CLI::App& app) {
     auto opt = std::make_shared<RunOptions>();
     CLI::App* cmd = app.add_subcommand("run", "Render a scene with a crex on the component-bin renderer");
-    cmd->add_option("plan", opt->plan, "A plan made by 'crex plan --format json' (instead of -e)");
+    cmd->add_option("plan", opt->plan, "A pipeline file (.pipe), or a plan made by 'crex plan --format json' (instead of -e)");
     cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.obj or builtin:NAME (default: the plan's, "
                                            "else builtin:cornell)");
     cmd->add_option("-e,--crex", opt->crex, std::string("The crex saying in which order bins execute (default ") +
                                                 kDefaultCrex + ")")
         ->allow_extra_args(false);
-    cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();
-    cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(CLI::Range(1u, 1u << 20));
+    CLI::Option* size = cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT (default: the pipeline's image, else 256x256)");
+    CLI::Option* spp = cmd->add_option("--spp", opt->spp, "Camera samples per pixel (default: the pipeline's, else 16)")
+                           ->check(CLI::Range(1u, 1u << 20));
     cmd->add_option("-o,--output", opt->outputs, "Output image(s): .exr (float), .hdr, .png (tone-mapped); repeatable "
                                                  "(default out/render.exr and out/render.png)")
         ->allow_extra_args(false);
@@ -345,7 +381,12 @@ Examples:
   crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
-    return [opt] { return run(*opt); };
+    return [opt, size, spp] {
+        RunOptions o = *opt;
+        o.size_given = size->count() > 0;
+        o.spp_given = spp->count() > 0;
+        return run(o);
+    };
 }
 
 }  // namespace crex::app

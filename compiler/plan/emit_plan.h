@@ -5,6 +5,7 @@
 /// with their count, pruned steps drawn dashed with their reason).
 #pragma once
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@ struct CrexPlan {
     std::vector<DeadStep> pruned;
     std::string scene;           ///< scene spec, "" when planned without a scene
     std::string census_hash;     ///< 16 hex digits, "" without a scene
+    std::map<std::string, std::string> settings;  ///< pipeline plans: image, spp, budget, output_image...
 };
 
 inline constexpr int kPlanFormatVersion = 1;

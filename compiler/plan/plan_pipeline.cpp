@@ -195,6 +195,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
     uint32_t spp = 1;
     if (auto it = p.preselective.settings.find("spp"); it != p.preselective.settings.end()) spp = static_cast<uint32_t>(it->second.number);
     g.node("camera", "camera", "preselective", "camera rays", {{"spp", spp}});
+    plan.settings["spp"] = std::to_string(spp);
     g.node("preselective", "crex", "preselective", "pre-selective crex", {{"crex", sched::to_crex(plan.program.preselective)}});
     g.edge("camera", "preselective", "bin");
     g.node("preview", "image", "preselective", "preview");
@@ -245,6 +246,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             plan.settings["output_" + key] = value_text(v);
             continue;
         }
+        if (key == "image") plan.settings["output_image"] = v.text;
         g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)), {{"path", v.text}});
         g.edge("composite", "output." + key, "image");
     }

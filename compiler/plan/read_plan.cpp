@@ -120,6 +120,9 @@ public:
             plan.scene = j["scene"].value("spec", "");
             plan.census_hash = j["scene"].value("census_hash", "");
         }
+        if (j.contains("settings") && j["settings"].is_object())
+            for (const auto& [key, value] : j["settings"].items())
+                if (value.is_string()) plan.settings[key] = value.get<std::string>();
         if (!j.contains("stages") || !j["stages"].is_object()) {
             fail("/stages", "missing the stages");
             return std::nullopt;
