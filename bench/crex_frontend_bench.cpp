@@ -53,4 +53,39 @@ BENCHMARK(BM_CompileNested)->RangeMultiplier(4)->Range(4, 256)->Complexity();
 
 }  // namespace
 
+
+// Planning the normative example of spec/pipeline.md section 6 end to end: parse, check,
+// resolve `extends` (prog_dis_all from the stdlib), lower both crex, analyse against the census
+// of the Cornell box, prune and emit JSON. Target (issue 5): under 5 ms.
+#include "compiler/pipeline/check.h"
+#include "compiler/pipeline/parse.h"
+#include "compiler/pipeline/resolve.h"
+#include "compiler/plan/plan_pipeline.h"
+#include "runtime/scene/census.h"
+#include "runtime/scene/load_scene.h"
+
+namespace {
+
+void BM_PlanNormativeExample(benchmark::State& state) {
+    std::ifstream in(CREX_EXAMPLE_PIPELINE);
+    std::stringstream text;
+    text << in.rdbuf();
+    crex::Census census = crex::take_census(*crex::builtin_scene("cornell"));
+    for (auto _ : state) {
+        crex::SourceFile file("cornell_prog.pipe", text.str());
+        crex::DiagnosticSink sink;
+        auto ast = crex::pipeline::parse_pipeline_file(file, sink);
+        crex::pipeline::check_pipeline_file(*ast, sink);
+        std::vector<std::unique_ptr<crex::SourceFile>> keep;
+        auto resolved = crex::pipeline::resolve_pipeline(*ast, "", sink, keep);
+        auto plan = crex::plan_pipeline(*resolved, census.spawnable, "builtin:cornell", "", sink);
+        std::string json = crex::pipeline_plan_to_json(*plan).dump(2);
+        benchmark::DoNotOptimize(json);
+        if (sink.has_errors()) state.SkipWithError("the example does not plan");
+    }
+}
+BENCHMARK(BM_PlanNormativeExample)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
 BENCHMARK_MAIN();
