@@ -109,13 +109,7 @@ int run(RunOptions opt) {
             program = in->plan->program;
             scene_spec = in->scene_spec;
             for (const auto& [k, v] : in->plan->settings.items()) settings[k] = v.get<std::string>();
-            bool has_guidance = false;
-            for (const auto& n : in->plan->nodes) has_guidance |= n.kind == "operator" || n.kind == "svt";
-            if (has_guidance)
-                sink.report("W403", {in->source.get(), 0, 0},
-                            "guidance maps and selective variables do not execute yet: '{ }' runs with the constant "
-                            "--importance and every variable at its base value")
-                    .help = "what runs is exactly the plan's two crex stages (see 'crex plan')";
+            // W403 (guidance and selective variables do not execute yet) comes from the checker.
         }
         source = std::move(in->source);
     } else if (!opt.plan.empty()) {

@@ -149,6 +149,14 @@ private:
         inherited_.clear();
         for (const auto& name : inherited) inherited_.insert(name);
         section("", p.body);
+        // Never silently: say which parts the runtime cannot execute yet.
+        bool guidance = !inherited.empty() || !maps_.empty();
+        for (const auto& s : p.body)
+            for (const auto& inner : s.body) guidance |= inner.kind == Statement::Kind::kVary;
+        if (guidance)
+            sink_.report("W403", p.name_span,
+                         fmt::format("pipeline '{}' uses guidance maps or selective variables, which the runtime does not "
+                                     "execute yet: 'crex run' renders only its crex stages", p.name));
         for (const auto& [name, span] : maps_)
             if (!used_.count(name) && !overrides_.count(name))
                 sink_.report("W201", span, fmt::format("map '{}' is defined but no selective variable or crex uses it", name));

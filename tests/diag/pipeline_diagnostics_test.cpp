@@ -38,7 +38,16 @@ TEST(PipelineCheck, NormativeExampleChecksClean) {
     text << in.rdbuf();
     Result r = check(text.str());
     EXPECT_EQ(r.errors, 0u) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
-    EXPECT_TRUE(r.diagnostics.empty()) << r.diagnostics[0].code << " " << r.diagnostics[0].message;
+    // Its only diagnostic says what does not execute yet.
+    ASSERT_EQ(r.diagnostics.size(), 1u) << r.diagnostics[1].code << " " << r.diagnostics[1].message;
+    EXPECT_EQ(r.diagnostics[0].code, "W403");
+    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).line, 3u);
+    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).col, 10u);
+}
+
+TEST(PipelineCheck, PipelinesWithoutGuidanceRunFullyAndGetNoW403) {
+    Result r = check("pipeline p {\n  preselective { crex \"(TTMRSGD)*\" spp 4 }\n}\n");
+    EXPECT_TRUE(r.diagnostics.empty());
 }
 
 TEST(PipelineCheck, StdlibBasesAreInheritedAndNameOnlyOnesSaySo) {
@@ -47,7 +56,9 @@ TEST(PipelineCheck, StdlibBasesAreInheritedAndNameOnlyOnesSaySo) {
     EXPECT_EQ(child.errors, 0u) << (child.diagnostics.empty() ? "" : child.diagnostics[0].message);
     // capict is one of the thesis's renderers that is not written as a pipeline yet.
     Result name_only = check("pipeline p extends capict { }\n");
-    ASSERT_NE(name_only.find("W202"), nullptr);
+    const Diagnostic* w = name_only.find("W202");
+    ASSERT_NE(w, nullptr);
+    EXPECT_EQ(name_only.file->position(w->span.begin).col, 20u);
     EXPECT_EQ(name_only.errors, 0u);
 }
 
