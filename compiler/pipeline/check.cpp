@@ -49,6 +49,7 @@ const std::vector<Operator>& operators() {
     static const std::vector<Operator> ops = {
         {"saliency", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
         {"edges", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
+        {"radiance_difference", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},  // thesis ch. 7
         {"component", Type::kBuffer, {{"", {Type::kComponent}, "", true}}, false},
         {"tagged", Type::kObjects, {{"", {}, "string", false}}, false},  // no name: every tagged object
         {"task_map", Type::kMap, {{"", {Type::kObjects}, "", true}, {"fovea", {}, "angle", false}}, false},
