@@ -76,8 +76,7 @@ void BM_PlanNormativeExample(benchmark::State& state) {
         crex::DiagnosticSink sink;
         auto ast = crex::pipeline::parse_pipeline_file(file, sink);
         crex::pipeline::check_pipeline_file(*ast, sink);
-        std::vector<std::unique_ptr<crex::SourceFile>> keep;
-        auto resolved = crex::pipeline::resolve_pipeline(*ast, "", sink, keep);
+        auto resolved = crex::pipeline::resolve_pipeline(*ast, "", sink);
         auto plan = crex::plan_pipeline(*resolved, census.spawnable, "builtin:cornell", "", sink);
         std::string json = crex::pipeline_plan_to_json(*plan).dump(2);
         benchmark::DoNotOptimize(json);

@@ -24,7 +24,6 @@
 #include "runtime/io/image_io.h"
 #include "runtime/render/profile.h"
 #include "runtime/render/render.h"
-#include "runtime/scene/load_scene.h"
 
 namespace crex::app {
 namespace {
@@ -98,6 +97,7 @@ int run(RunOptions opt) {
     std::string expected_census;
     std::unique_ptr<SourceFile> source;
     std::map<std::string, std::string> settings;  // from a pipeline or a pipeline plan
+    std::unique_ptr<SceneInput> scene_in;          // a pipeline's scene is loaded while planning it
     bool is_pipeline = opt.plan.size() > 5 && opt.plan.substr(opt.plan.size() - 5) == ".pipe";
     if (is_pipeline) {
         auto in = load_pipeline_input(opt.plan, "", opt.scene, sink);
@@ -111,6 +111,7 @@ int run(RunOptions opt) {
             for (const auto& [k, v] : in->plan->settings.items()) settings[k] = v.get<std::string>();
             // W403 (guidance and selective variables do not execute yet) comes from the checker.
         }
+        scene_in = std::move(in->scene);
         source = std::move(in->source);
     } else if (!opt.plan.empty()) {
         std::string read_error;
@@ -146,11 +147,10 @@ int run(RunOptions opt) {
     std::vector<std::string> outputs = opt.outputs;
     if (outputs.empty()) outputs = {"out/render.exr", "out/render.png"};
     // The scene.
-    SceneSources sources;
-    SceneLoadFailure failure;
     auto t_load = std::chrono::steady_clock::now();
-    auto scene = load_scene(scene_spec, sources, sink, failure);
+    if (!scene_in) scene_in = load_scene_input(scene_spec, sink);
     double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+    const std::optional<Scene>& scene = scene_in->scene;
     // A plan is only valid for a scene with the census it was made for (spec 5).
     if (scene && !expected_census.empty()) {
         std::string actual = census_hash_hex(take_census(*scene).hash);
@@ -161,8 +161,8 @@ int run(RunOptions opt) {
                 .help = "plan again for this scene: crex plan -e '...' --scene " + scene_spec;
     }
     std::cerr << render_text(sink.sorted());
-    if (!failure.message.empty()) {
-        std::cerr << "crex run: error: " << failure.message << "\n";
+    if (!scene_in->failure.empty()) {
+        std::cerr << "crex run: error: " << scene_in->failure << "\n";
         return kExitFailure;
     }
     if (sink.has_errors() || !program || !scene) {

@@ -22,8 +22,7 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
     auto ast = pipeline::parse_pipeline_file(*in->source, sink);
     if (ast) pipeline::check_pipeline_file(*ast, sink);
     if (!ast || sink.has_errors()) return in;
-    std::vector<std::unique_ptr<SourceFile>> keep;
-    in->resolved = pipeline::resolve_pipeline(*ast, pipeline_name, sink, keep);
+    in->resolved = pipeline::resolve_pipeline(*ast, pipeline_name, sink);
     if (!in->resolved) {
         if (!sink.has_errors())
             sink.report("E210", {in->source.get(), 0, 0},

@@ -125,13 +125,9 @@ size_t preselective_item_count(const ast::Sequence& top) {
 }
 
 sched::Program lower_crex(const ast::Crex& crex, const LowerOptions& options) {
+    // Without `{ }` everything is pre-selective and the selective stage is empty (spec §3).
     size_t split = preselective_item_count(crex.body);
     sched::Program program;
-    if (split == crex.body.size()) {  // no `{ }`: no selective stage (spec §3)
-        program.preselective = Lowerer(options).lower_top(crex.body, 0, split);
-        program.selective.op = Op::kSeq;
-        return program;
-    }
     program.preselective = Lowerer(options).lower_top(crex.body, 0, split);
     program.selective = Lowerer(options).lower_top(crex.body, split, crex.body.size());
     return program;

@@ -23,10 +23,6 @@ struct DecodedText {
 
 DecodedText decode_utf8(std::string_view text, uint32_t base_offset);
 
-/// An ANTLR input stream over code points we decoded ourselves: the runtime's own UTF-8
-/// decoder throws on malformed input, ours maps it to U+FFFD.
-class CodePointStream;
-
 /// Walks the parse tree of `parser`'s `crex` rule into our AST, reporting E001/E002/E008.
 ast::Crex build_crex_ast(grammar::CrexParser& parser, const SourceFile& file,
                          const DecodedText& text, uint32_t begin, uint32_t end,

@@ -98,8 +98,7 @@ const ast::Pipeline* find_base(const ast::File& file, const ast::Pipeline& child
     return stdlib_pipeline(child.base, sink);
 }
 
-std::optional<ResolvedPipeline> resolve_pipeline(const ast::File& file, const std::string& name, DiagnosticSink& sink,
-                                                 std::vector<std::unique_ptr<SourceFile>>&) {
+std::optional<ResolvedPipeline> resolve_pipeline(const ast::File& file, const std::string& name, DiagnosticSink& sink) {
     const ast::Pipeline* top = nullptr;
     for (const auto& p : file.pipelines)
         if (name.empty() || p.name == name) top = &p;

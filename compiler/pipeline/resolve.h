@@ -48,9 +48,8 @@ const ast::Pipeline* find_base(const ast::File& file, const ast::Pipeline& child
 /// Resolves from a given pipeline (which may come from a stdlib file).
 std::optional<ResolvedPipeline> resolve_from(const ast::File& file, const ast::Pipeline& start, DiagnosticSink& sink);
 
-/// Resolves pipeline `name` of `file` (the last pipeline if `name` is empty). Loaded stdlib
-/// files are kept alive in `keep` (diagnostics point into them).
-std::optional<ResolvedPipeline> resolve_pipeline(const ast::File& file, const std::string& name, DiagnosticSink& sink,
-                                                 std::vector<std::unique_ptr<SourceFile>>& keep);
+/// Resolves pipeline `name` of `file` (the last pipeline if `name` is empty). Stdlib files stay
+/// loaded for the whole process, so diagnostics may point into them.
+std::optional<ResolvedPipeline> resolve_pipeline(const ast::File& file, const std::string& name, DiagnosticSink& sink);
 
 }  // namespace crex::pipeline

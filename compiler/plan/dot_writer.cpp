@@ -73,7 +73,6 @@ void DotWriter::node(const Node& n) {
             return;
         case Op::kRepeat:
         case Op::kRepeatUntilEmpty: {
-            std::string first_before = last;
             int first_id = next_id;
             node(n.children.front());
             if (next_id > first_id) {  // back edge from the loop's last step to its first
@@ -81,7 +80,6 @@ void DotWriter::node(const Node& n) {
                 out += fmt::format("    {} -> n{} [label=\"{}\", style=\"bold\", color=\"#c5221f\", constraint=false];\n", last,
                                    first_id, label);
             }
-            (void)first_before;
             return;
         }
         case Op::kDefer:

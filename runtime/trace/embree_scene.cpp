@@ -10,16 +10,18 @@
 namespace crex {
 namespace {
 
+// Embree's own words for the last error on this thread; check() turns it into an exception.
+thread_local std::string last_embree_error;
+
 void on_embree_error(void*, RTCError code, const char* message) {
-    // Embree reports through this callback; we turn it into an exception at the call site
-    // by checking rtcGetDeviceError, so only note it here.
-    (void)code;
-    (void)message;
+    last_embree_error = fmt::format("{} (error {})", message ? message : "no message", static_cast<int>(code));
 }
 
 void check(RTCDevice device, const char* what) {
     RTCError e = rtcGetDeviceError(device);
-    if (e != RTC_ERROR_NONE) throw std::runtime_error(fmt::format("Embree failed to {} (error {})", what, static_cast<int>(e)));
+    if (e != RTC_ERROR_NONE)
+        throw std::runtime_error(fmt::format("Embree failed to {}: {}", what,
+                                             last_embree_error.empty() ? fmt::format("error {}", static_cast<int>(e)) : last_embree_error));
 }
 
 }  // namespace

@@ -37,9 +37,8 @@ inline PlannedPipeline plan_text(const std::string& name, const std::string& tex
     DiagnosticSink sink;
     auto ast = pipeline::parse_pipeline_file(*r.file, sink);
     if (ast) pipeline::check_pipeline_file(*ast, sink);
-    std::vector<std::unique_ptr<SourceFile>> keep;
     if (ast && !sink.has_errors())
-        if (auto resolved = pipeline::resolve_pipeline(*ast, "", sink, keep))
+        if (auto resolved = pipeline::resolve_pipeline(*ast, "", sink))
             r.plan = plan_pipeline(*resolved, spawnable, scene, hash, sink);
     r.diagnostics = sink.sorted();
     return r;
