@@ -7,6 +7,21 @@
 // parser at their file offset.
 grammar Pipeline;
 
+@parser::members {
+  // Units and the `x` of `image 512 x 512` are ordinary identifiers everywhere else (a map may
+  // be called `s` or `x`): an identifier is that word here only when what follows it does not
+  // start a statement of its own (`s = ...`, `x(...)`, `deg { ... }`).
+  bool wordHere(std::initializer_list<const char*> words) {
+    antlr4::Token* t = _input->LT(1);
+    if (t->getType() != IDENT) return false;
+    size_t next = _input->LA(2);
+    if (next == ASSIGN || next == LPAREN || next == LBRACE) return false;
+    for (const char* w : words)
+      if (t->getText() == w) return true;
+    return false;
+  }
+}
+
 file        : pipeline* EOF ;
 pipeline    : PIPELINE name=IDENT (EXTENDS base=IDENT)? block ;
 block       : LBRACE statement* RBRACE ;
@@ -22,8 +37,8 @@ expr        : IDENT LPAREN (arg (COMMA arg)*)? RPAREN                # call
 arg         : IDENT value                                            # namedArg
             | expr                                                   # positionalArg
             ;
-value       : NUMBER unit? | STRING | TRUE | FALSE | X ;
-unit        : S | MS | PERCENT | DEG ;
+value       : NUMBER unit? | STRING | TRUE | FALSE | {wordHere({"x"})}? IDENT ;
+unit        : PERCENT | {wordHere({"s", "ms", "deg"})}? IDENT ;
 
 PIPELINE    : 'pipeline' ;
 EXTENDS     : 'extends' ;
@@ -32,10 +47,6 @@ BY          : 'by' ;
 USING       : 'using' ;
 TRUE        : 'true' ;
 FALSE       : 'false' ;
-X           : 'x' ;
-S           : 's' ;
-MS          : 'ms' ;
-DEG         : 'deg' ;
 PERCENT     : '%' ;
 RANGE       : '..' ;
 LBRACE      : '{' ;

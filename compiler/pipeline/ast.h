@@ -49,6 +49,7 @@ struct Statement {
     std::vector<Value> values;    ///< kSetting
     Value lo, hi;                 ///< kVary
     std::string using_fn;         ///< kVary: modulation function (`using ...`)
+    SourceSpan using_span;
     SourceSpan span;
 };
 

@@ -106,7 +106,10 @@ private:
             s.hi = value(vary->hi);
             s.expr = expr(vary->expr());
             s.has_by = true;
-            if (vary->USING()) s.using_fn = vary->IDENT(1)->getText();
+            if (vary->USING()) {
+                s.using_fn = vary->IDENT(1)->getText();
+                s.using_span = span(vary->IDENT(1)->getSymbol());
+            }
         } else if (auto* set = dynamic_cast<PipelineParser::SettingContext*>(ctx)) {
             s.kind = ast::Statement::Kind::kSetting;
             s.key = set->IDENT()->getText();
