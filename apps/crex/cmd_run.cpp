@@ -24,6 +24,8 @@
 #include "runtime/io/image_io.h"
 #include "runtime/render/profile.h"
 #include "runtime/render/render.h"
+#include "runtime/pipeline/run_pipeline.h"
+#include "apps/crex/run_pictures.h"
 
 namespace crex::app {
 namespace {
@@ -53,6 +55,8 @@ struct RunOptions {
     std::string budget;
     std::string profile_in;
     std::string profile_out;
+    std::string maps_dir;
+    bool seed_given = false, lw_given = false, max_depth_given = false, ambient_given = false;
 };
 
 // "10s", "500ms", "2.5" (seconds) or "25%" (of the full render time in the profile).
@@ -98,6 +102,7 @@ int run(RunOptions opt) {
     std::unique_ptr<SourceFile> source;
     std::map<std::string, std::string> settings;  // from a pipeline or a pipeline plan
     std::unique_ptr<SceneInput> scene_in;          // a pipeline's scene is loaded while planning it
+    std::optional<PipelinePlan> pipeline_plan;     // a pipeline (file or plan): guidance and svt run too
     bool is_pipeline = opt.plan.size() > 5 && opt.plan.substr(opt.plan.size() - 5) == ".pipe";
     if (is_pipeline) {
         auto in = load_pipeline_input(opt.plan, "", opt.scene, sink);
@@ -107,6 +112,7 @@ int run(RunOptions opt) {
         }
         if (in->plan) {
             program = in->plan->program;
+            pipeline_plan = *in->plan;
             scene_spec = in->scene_spec;
             for (const auto& [k, v] : in->plan->settings.items()) settings[k] = v.get<std::string>();
             // W403 (guidance and selective variables do not execute yet) comes from the checker.
@@ -126,6 +132,7 @@ int run(RunOptions opt) {
             if (scene_spec.empty()) scene_spec = plan->scene;
             expected_census = plan->census_hash;
             settings = plan->settings;
+            if (plan->pipeline) pipeline_plan = std::move(plan->pipeline);
         }
     } else {
         source = std::make_unique<SourceFile>("<crex>", opt.crex.empty() ? kDefaultCrex : opt.crex);
@@ -139,6 +146,15 @@ int run(RunOptions opt) {
     if (!opt.spp_given && settings.count("spp")) opt.spp = static_cast<uint32_t>(std::stoul(settings["spp"]));
     if (opt.budget.empty() && settings.count("budget")) opt.budget = without_spaces(settings["budget"]);
     if (opt.outputs.empty() && settings.count("output_image")) opt.outputs = {settings["output_image"]};
+    try {
+        if (!opt.seed_given && settings.count("seed")) opt.seed = std::stoull(settings["seed"]);
+        if (!opt.lw_given && settings.count("lw")) opt.lw = std::stod(settings["lw"]);
+        if (!opt.max_depth_given && settings.count("max_depth")) opt.max_depth = static_cast<uint32_t>(std::stoul(settings["max_depth"]));
+        if (!opt.ambient_given && settings.count("av")) opt.ambient = std::stod(settings["av"]);
+    } catch (const std::exception&) {
+        std::cerr << "crex run: error: the plan's settings hold a malformed number\n";
+        return kExitInputErrors;
+    }
     int width = 0, height = 0;
     if (!parse_size(opt.size, width, height)) {
         std::cerr << fmt::format("crex run: error: image size '{}': expected WIDTHxHEIGHT, e.g. 512x512\n", opt.size);
@@ -226,15 +242,28 @@ int run(RunOptions opt) {
     ro.executor.progress = [&](const std::string& what, uint64_t rays) { progress.update(what, rays); };
 
     std::optional<RenderResult> rendered;
+    std::optional<PipelineRunResult> piped;
     try {
-        rendered.emplace(render(*scene, *program, ro));
+        if (pipeline_plan) {
+            PipelineRunOptions po;
+            po.width = width, po.height = height;
+            po.preview_spp = opt.spp;
+            po.seed = opt.seed;
+            po.ambient = ro.ambient;
+            po.executor = ro.executor;
+            piped.emplace(run_pipeline(*scene, *pipeline_plan, po));
+        } else {
+            rendered.emplace(render(*scene, *program, ro));
+        }
     } catch (const std::exception& e) {
         progress.finish();
         std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
         return kExitFailure;
     }
     progress.finish();
-    const RenderResult& result = *rendered;
+    const RenderResult& result = piped ? piped->render : *rendered;
+    if (piped)
+        for (const auto& note : piped->notes) std::cerr << "crex run: note: " << note << "\n";
     for (const auto& w : result.warnings) std::cerr << w << "\n";
     if (!opt.profile_out.empty()) {
         auto j = nlohmann::json::parse(profile.to_json_text());
@@ -246,14 +275,28 @@ int run(RunOptions opt) {
         }
     }
 
-    std::vector<ImageLayer> layers = {{"", result.image()}};
+    std::vector<ImageLayer> layers = {{"", piped ? piped->image() : result.image()}};
     if (opt.components)
-        for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.film.aov_image(a)});
+        for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), piped ? piped->aov_image(a) : result.film.aov_image(a)});
     for (const auto& path : outputs) {
         std::error_code ec;
         auto parent = std::filesystem::path(path).parent_path();
         if (!parent.empty()) std::filesystem::create_directories(parent, ec);
         std::string error = write_image(path, width, height, layers);
+        if (!error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitFailure;
+        }
+    }
+
+    PictureSummary pictures;
+    std::string maps_dir = opt.maps_dir;
+    if (maps_dir.empty() && settings.count("output_maps") && settings["output_maps"] == "true")
+        maps_dir = (std::filesystem::path(outputs.front()).parent_path() / "maps").string();
+    if (!maps_dir.empty()) {
+        static const std::vector<std::pair<std::string, guidance::Raster>> no_maps;
+        std::string error = write_run_pictures(maps_dir, result.film, piped ? &piped->preview : nullptr,
+                                               piped ? piped->maps : no_maps, pictures);
         if (!error.empty()) {
             std::cerr << "crex run: error: " << error << "\n";
             return kExitFailure;
@@ -284,6 +327,24 @@ int run(RunOptions opt) {
         }
         j["components"] = comps;
         j["warnings"] = result.warnings;
+        if (piped) {
+            j["pipeline"] = pipeline_plan->name;
+            j["stages"] = {{"preview_seconds", piped->preview_seconds},
+                           {"guidance_seconds", piped->guidance_seconds},
+                           {"selective_seconds", piped->selective_seconds},
+                           {"preview_rays", piped->preview_rays},
+                           {"selective_rays", piped->selective_rays}};
+            j["preview_percent_of_time"] = result.render_seconds > 0 ? 100 * piped->preview_seconds / result.render_seconds : 0.0;
+            nlohmann::json maps = nlohmann::json::array();
+            for (const auto& m : piped->maps) maps.push_back(m.first);
+            j["maps"] = maps;
+            j["notes"] = piped->notes;
+            if (piped->subsample) j["subsampled_pixels_rendered"] = piped->subsample->rendered_count();
+        }
+        if (!maps_dir.empty()) {
+            j["pictures"] = pictures.written;
+            j["rays_per_pixel"] = {{"mean", pictures.mean_rays_per_pixel}, {"max", pictures.max_rays_per_pixel}};
+        }
         if (budget > 0) {
             j["budget_seconds"] = budget;
             j["overshoot_percent"] = (result.render_seconds - budget) / budget * 100;
@@ -296,8 +357,18 @@ int run(RunOptions opt) {
         return kExitOk;
     }
     if (opt.quiet) return kExitOk;
-    std::cout << fmt::format("rendered {} with {} at {}x{}, {} spp\n", scene->source, sched::to_crex(*program), width,
-                             height, opt.spp);
+    if (piped) {
+        uint32_t lo = UINT32_MAX, hi = 0;
+        for (uint32_t p = 0; p < result.film.pixel_count(); ++p)
+            lo = std::min(lo, result.film.samples(p)), hi = std::max(hi, result.film.samples(p));
+        std::string pre = sched::to_crex(program->preselective), sel = sched::to_crex(program->selective);
+        std::cout << fmt::format("rendered {} with pipeline {} (pre-selective {}, selective {}) at {}x{}, {} spp\n", scene->source,
+                                 pipeline_plan->name, pre.empty() ? "camera rays" : pre, sel.empty() ? "no crex" : sel, width,
+                                 height, lo == hi ? std::to_string(lo) : fmt::format("{}..{}", lo, hi));
+    } else {
+        std::cout << fmt::format("rendered {} with {} at {}x{}, {} spp\n", scene->source, sched::to_crex(*program), width,
+                                 height, opt.spp);
+    }
     std::cout << fmt::format("  scene load {:.3f} s, BVH build {:.3f} s, render {:.3f} s ({:.2f} M rays/s)\n", load_seconds,
                              result.setup_seconds, result.render_seconds,
                              result.render_seconds > 0 ? total_rays / 1e6 / result.render_seconds : 0.0);
@@ -306,6 +377,17 @@ int run(RunOptions opt) {
         std::cout << fmt::format("  {:<8} {:>6} {:>11} {:>12} {:>9.3f} {:>10.2f} {:>13}\n", name, steps, s.rays, s.shadow_rays,
                                  s.seconds, s.seconds > 0 ? s.rays / 1e6 / s.seconds : 0.0, left);
     };
+    if (piped) {
+        double total = std::max(result.render_seconds, 1e-12);
+        std::cout << fmt::format("  pipeline {}: preview {:.3f} s ({:.0f} % of the render), guidance {:.3f} s, selective {:.3f} s\n",
+                                 pipeline_plan->name, piped->preview_seconds, 100 * piped->preview_seconds / total,
+                                 piped->guidance_seconds, piped->selective_seconds);
+        if (!piped->maps.empty()) {
+            std::string names;
+            for (const auto& m : piped->maps) names += (names.empty() ? "" : ", ") + m.first;
+            std::cout << "  maps: " << names << "\n";
+        }
+    }
     row("camera", st.camera, "-", 0);
     for (size_t c = 0; c < kComponentCount; ++c)
         if (st.components[c].rays > 0 || result.rays_left[c] > 0)
@@ -319,6 +401,9 @@ int run(RunOptions opt) {
             std::cout << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
     }
     for (const auto& p : outputs) std::cout << "  wrote " << p << "\n";
+    if (!maps_dir.empty())
+        std::cout << fmt::format("  wrote {} pictures to {} (rays per pixel: mean {:.1f}, max {:.0f})\n", pictures.written.size(),
+                                 maps_dir, pictures.mean_rays_per_pixel, pictures.max_rays_per_pixel);
     return kExitOk;
 }
 
@@ -341,14 +426,14 @@ Runner add_run_command(CLI::App& app) {
         ->allow_extra_args(false);
     cmd->add_flag("--components", opt->components, "EXR: add one layer per component AOV (camera, D, G, S, T, R, M)");
     cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-    cmd->add_option("--seed", opt->seed, "Seed of every random number")->capture_default_str();
+    CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number")->capture_default_str();
     cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit")->capture_default_str()->check(CLI::Range(1u, 1024u));
-    cmd->add_option("--lw", opt->lw, "Weight limit: rays below it face Russian roulette")
+    CLI::Option* lw = cmd->add_option("--lw", opt->lw, "Weight limit: rays below it face Russian roulette")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
-    cmd->add_option("--max-depth", opt->max_depth, "No ray is spawned beyond this depth")->capture_default_str()->check(CLI::Range(0u, 65535u));
+    CLI::Option* max_depth = cmd->add_option("--max-depth", opt->max_depth, "No ray is spawned beyond this depth")->capture_default_str()->check(CLI::Range(0u, 65535u));
     cmd->add_flag("--no-roulette", opt->no_roulette, "Drop rays below --lw instead of Russian roulette (biased)");
-    cmd->add_option("--ambient", opt->ambient, "Ambient value av standing in for unexecuted D work")
+    CLI::Option* ambient = cmd->add_option("--ambient", opt->ambient, "Ambient value av standing in for unexecuted D work")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1e30));
     cmd->add_option("--importance", opt->importance, "Constant importance I for '{ }' until guidance maps exist")
@@ -361,6 +446,8 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--save-profile", opt->profile_out, "Write the measured profile (and this render's time) to FILE");
     cmd->add_option("--format", opt->format, "Summary as text or json (stdout)")->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
+    cmd->add_option("--maps", opt->maps_dir, "Write every guidance map, the preview and per-pixel pictures (samples, rays, "
+                                             "components) to DIR (default with 'output { maps true }': beside the image)");
     cmd->footer(R"(
 Camera rays are traced first; then the crex runs over the component bins (D G S T R M) and
 rays still waiting when it ends are dropped (--ambient stands in for waiting D rays).
@@ -375,8 +462,12 @@ Examples:
   crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
-    return [opt, size, spp] {
+    return [opt, size, spp, seed, lw, max_depth, ambient] {
         RunOptions o = *opt;
+        o.seed_given = seed->count() > 0;
+        o.lw_given = lw->count() > 0;
+        o.max_depth_given = max_depth->count() > 0;
+        o.ambient_given = ambient->count() > 0;
         o.size_given = size->count() > 0;
         o.spp_given = spp->count() > 0;
         return run(o);

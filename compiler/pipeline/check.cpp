@@ -53,7 +53,7 @@ const std::vector<Operator>& operators() {
         {"component", Type::kBuffer, {{"", {Type::kComponent}, "", true}}, false},
         {"tagged", Type::kObjects, {{"", {}, "string", false}}, false},  // no name: every tagged object
         {"task_map", Type::kMap, {{"", {Type::kObjects}, "", true}, {"fovea", {}, "angle", false}}, false},
-        {"distractors", Type::kMap, {{"", {Type::kObjects}, "", false}}, false},
+        {"distractors", Type::kMap, {{"", {Type::kObjects}, "", false}, {"fovea", {}, "angle", false}}, false},
         {"xmap", Type::kMap, {}, false},
         {"importance", Type::kMap, {{"op", {}, "string", false}}, true},
         {"constant", Type::kMap, {{"", {}, "number", true}}, false},
@@ -150,14 +150,14 @@ private:
         inherited_.clear();
         for (const auto& name : inherited) inherited_.insert(name);
         section("", p.body);
-        // Never silently: say which parts the runtime cannot execute yet.
-        bool guidance = !inherited.empty() || !maps_.empty();
-        for (const auto& s : p.body)
-            for (const auto& inner : s.body) guidance |= inner.kind == Statement::Kind::kVary;
-        if (guidance)
-            sink_.report("W403", p.name_span,
-                         fmt::format("pipeline '{}' uses guidance maps or selective variables, which the runtime does not "
-                                     "execute yet: 'crex run' renders only its crex stages", p.name));
+        // Never silently: say which selective variables the runtime cannot execute yet.
+        for (const auto& sec : p.body)
+            for (const auto& inner : sec.body)
+                if (inner.kind == Statement::Kind::kVary && (inner.key == "ic_radius" || inner.key == "media_samples"))
+                    sink_.report("W403", inner.key_span,
+                                 fmt::format("'{}' does not execute yet ({}): 'crex run' renders as if it were not varied",
+                                             inner.key, inner.key == "ic_radius" ? "the irradiance cache is issue 7"
+                                                                                 : "the renderer has no participating media yet"));
         for (const auto& [name, span] : maps_)
             if (!used_.count(name) && !overrides_.count(name))
                 sink_.report("W201", span, fmt::format("map '{}' is defined but no selective variable or crex uses it", name));
@@ -239,6 +239,13 @@ private:
                                                               var->integer ? "an integer" : "a number", fmt::format("{:.10g}", var->lo),
                                                               fmt::format("{:.10g}", var->hi)));
             }
+        }
+        if (!s.using_fn.empty()) {
+            static const std::vector<std::string> functions = {"linear", "quadratic", "sqrt", "step"};
+            if (std::find(functions.begin(), functions.end(), s.using_fn) == functions.end())
+                sink_.report("E206", s.using_span,
+                             fmt::format("unknown modulation function '{}': expected linear, quadratic, sqrt or step", s.using_fn))
+                    .help = nearest(s.using_fn, functions);
         }
         map_use(s.expr);
     }

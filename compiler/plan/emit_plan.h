@@ -7,10 +7,12 @@
 
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "compiler/plan/bin_occupancy.h"
+#include "compiler/plan/pipeline_plan.h"
 #include "compiler/sched/program.h"
 
 namespace crex {
@@ -23,6 +25,7 @@ struct CrexPlan {
     std::string scene;           ///< scene spec, "" when planned without a scene
     std::string census_hash;     ///< 16 hex digits, "" without a scene
     std::map<std::string, std::string> settings;  ///< pipeline plans: image, spp, budget, output_image...
+    std::optional<PipelinePlan> pipeline;         ///< a pipeline's plan read back: its graph too
 };
 
 inline constexpr int kPlanFormatVersion = 1;

@@ -98,7 +98,10 @@ public:
         }
         node(id, "operator", "guidance", expr_text(e), {{"operator", e.name}});
         for (const auto& a : e.args) {
-            if (a.name.empty()) {
+            if (a.name.empty() && a.expr.kind == Expr::Kind::kLiteral) {  // tagged("exit_sign"), constant(0.5)
+                for (auto& n : plan_.nodes)
+                    if (n.id == id) n.params["arg"] = value_text(a.expr.literal);
+            } else if (a.name.empty()) {
                 std::string from = source(a.expr, owner, counter, maps);
                 if (!from.empty()) edge(from, id, kind_of(from));
             } else if (maps.count(a.name)) {  // a weighted map (importance)
@@ -213,7 +216,10 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         for (auto& n : plan.nodes)
             if (n.id == id) n.label = name + " = " + expr_text(e);
     }
-    g.node("selective", "crex", "selective", "selective crex", {{"crex", sched::to_crex(plan.program.selective)}});
+    nlohmann::json selective_params = {{"crex", sched::to_crex(plan.program.selective)}};
+    if (auto it = p.selective.settings.find("spp"); it != p.selective.settings.end())
+        selective_params["spp"] = static_cast<uint32_t>(it->second.number);
+    g.node("selective", "crex", "selective", "selective crex", selective_params);
     g.edge("preselective", "selective", "bin", "bins carried over");
     if (p.selective.crex_by) {
         int counter = 0;

@@ -16,34 +16,10 @@
 #include "compiler/base/diagnostic.h"
 #include "compiler/pipeline/resolve.h"
 #include "compiler/plan/bin_occupancy.h"
+#include "compiler/plan/pipeline_plan.h"
 #include "compiler/sched/program.h"
 
 namespace crex {
-
-struct PlanNode {
-    std::string id, kind, stage, label;
-    nlohmann::json params = nlohmann::json::object();
-};
-
-struct PlanEdge {
-    std::string from, to, kind, label;
-};
-
-struct PlanRemoval {
-    std::string what, at, reason;
-};
-
-struct PipelinePlan {
-    std::string name;
-    std::vector<std::string> chain;
-    std::string scene;
-    std::string census_hash;
-    nlohmann::json settings = nlohmann::json::object();
-    sched::Program program;  ///< .preselective / .selective: the two stages' programs
-    std::vector<PlanNode> nodes;
-    std::vector<PlanEdge> edges;
-    std::vector<PlanRemoval> pruned;
-};
 
 /// `spawnable` given: prune for that scene (census hash recorded too).
 std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, const std::optional<BinSet>& spawnable,

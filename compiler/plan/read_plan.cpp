@@ -140,7 +140,54 @@ public:
                 return std::nullopt;
             }
         }
+        if (j.contains("pipeline") && !read_graph(j, plan)) return std::nullopt;
         return plan;
+    }
+
+    // A pipeline plan's graph: nodes and edges as plan_pipeline() wrote them.
+    bool read_graph(const json& j, CrexPlan& plan) {
+        PipelinePlan p;
+        const json& pj = j["pipeline"];
+        if (!pj.is_object() || !pj.contains("name") || !pj["name"].is_string()) return fail("/pipeline", "expected {\"name\": ...}");
+        p.name = pj["name"].get<std::string>();
+        p.scene = plan.scene;
+        p.census_hash = plan.census_hash;
+        p.program = plan.program;
+        for (const auto& [k, v] : plan.settings) p.settings[k] = v;
+        auto text = [&](const json& o, const char* key, const std::string& ptr, std::string& out, bool required) {
+            if (!o.contains(key)) return !required || fail(ptr, std::string("missing \"") + key + "\"");
+            if (!o[key].is_string()) return fail(ptr + "/" + key, "expected a string");
+            out = o[key].get<std::string>();
+            return true;
+        };
+        for (const char* list : {"nodes", "edges"})
+            if (!j.contains(list) || !j[list].is_array()) return fail(std::string("/") + list, "expected an array");
+        for (size_t i = 0; i < j["nodes"].size(); ++i) {
+            const json& n = j["nodes"][i];
+            std::string ptr = "/nodes/" + std::to_string(i);
+            PlanNode node;
+            if (!n.is_object()) return fail(ptr, "expected an object");
+            if (!text(n, "id", ptr, node.id, true) || !text(n, "kind", ptr, node.kind, true) ||
+                !text(n, "stage", ptr, node.stage, false) || !text(n, "label", ptr, node.label, false))
+                return false;
+            if (n.contains("params")) {
+                if (!n["params"].is_object()) return fail(ptr + "/params", "expected an object");
+                node.params = n["params"];
+            }
+            p.nodes.push_back(std::move(node));
+        }
+        for (size_t i = 0; i < j["edges"].size(); ++i) {
+            const json& e = j["edges"][i];
+            std::string ptr = "/edges/" + std::to_string(i);
+            PlanEdge edge;
+            if (!e.is_object()) return fail(ptr, "expected an object");
+            if (!text(e, "from", ptr, edge.from, true) || !text(e, "to", ptr, edge.to, true) ||
+                !text(e, "kind", ptr, edge.kind, true) || !text(e, "label", ptr, edge.label, false))
+                return false;
+            p.edges.push_back(std::move(edge));
+        }
+        plan.pipeline = std::move(p);
+        return true;
     }
 
 private:

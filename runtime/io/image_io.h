@@ -16,6 +16,9 @@ namespace crex {
 struct ImageLayer {
     std::string name;          ///< "" for the composite (channels R, G, B)
     std::vector<float> rgb;    ///< linear RGB, row-major, top row first
+    /// rgb already holds display values in [0, 1] (maps, heat pictures): 8-bit formats store
+    /// them as they are, without the tone map.
+    bool display_referred = false;
 };
 
 /// Returns "" on success, else why it failed (nothing is left behind on failure).
@@ -23,6 +26,11 @@ std::string write_image(const std::string& path, int width, int height, const st
 
 /// Tone map of spec/pipeline.md §7 to 8-bit sRGB (exposed for tests and reports).
 std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
+/// The same tone map in two halves, so guidance operators and metrics can see several
+/// images through one exposure: the exposure (0.18 over the log-average luminance) of an
+/// image, and linear RGB to display values in [0, 1] (Reinhard, then the sRGB curve).
+double display_exposure(const std::vector<float>& rgb);
+std::vector<float> to_display(const std::vector<float>& rgb, double exposure);
 
 /// Reads an image's first three channels as linear float RGB (8-bit sRGB inputs are
 /// linearised). Returns "" on success.

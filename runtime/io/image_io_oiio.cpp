@@ -7,6 +7,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -56,7 +57,16 @@ std::string write_image(const std::string& path, int width, int height, const st
                     }
             ok = out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
         } else {
-            std::vector<unsigned char> bytes = crex::tone_map_srgb8(layers.front().rgb);
+            std::vector<unsigned char> bytes;
+            if (layers.front().display_referred) {
+                bytes.resize(layers.front().rgb.size());
+                for (size_t i = 0; i < bytes.size(); ++i) {
+                    float v = layers.front().rgb[i];
+                    bytes[i] = static_cast<unsigned char>(std::lround(255 * (std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f)));
+                }
+            } else {
+                bytes = crex::tone_map_srgb8(layers.front().rgb);
+            }
             ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
         }
         if (!ok) return "cannot write '" + path + "': " + out->geterror();

@@ -13,7 +13,7 @@ double srgb_encode(double x) {
 
 }  // namespace
 
-std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb) {
+double display_exposure(const std::vector<float>& rgb) {
     size_t n = rgb.size() / 3;
     double log_sum = 0;
     size_t count = 0;
@@ -25,13 +25,23 @@ std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb) {
         }
     }
     double log_avg = count ? std::exp(log_sum / static_cast<double>(count)) : 1.0;
-    double scale = 0.18 / std::fmax(log_avg, 1e-12);
-    std::vector<unsigned char> out(rgb.size());
+    return 0.18 / std::fmax(log_avg, 1e-12);
+}
+
+std::vector<float> to_display(const std::vector<float>& rgb, double exposure) {
+    std::vector<float> out(rgb.size());
     for (size_t i = 0; i < rgb.size(); ++i) {
-        double v = std::isfinite(rgb[i]) ? rgb[i] * scale : 0.0;
+        double v = std::isfinite(rgb[i]) ? std::fmax(rgb[i] * exposure, 0.0) : 0.0;
         v = v / (1 + v);  // Reinhard: keeps highlights from clipping hard
-        out[i] = static_cast<unsigned char>(std::lround(255 * srgb_encode(v)));
+        out[i] = static_cast<float>(srgb_encode(v));
     }
+    return out;
+}
+
+std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb) {
+    std::vector<float> d = to_display(rgb, display_exposure(rgb));
+    std::vector<unsigned char> out(d.size());
+    for (size_t i = 0; i < d.size(); ++i) out[i] = static_cast<unsigned char>(std::lround(255 * d[i]));
     return out;
 }
 

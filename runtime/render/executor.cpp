@@ -12,6 +12,23 @@ namespace crex {
 Executor::Executor(const RenderScene& scene, Film& film, const ExecutorOptions& options)
     : scene_(scene), film_(film), options_(options) {}
 
+void Executor::adopt(Executor& other) {
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        bins_[c].append(other.bins_[c]);
+        other.bins_[c].clear();
+    }
+    const ExecutorStats& o = other.stats_;
+    auto add = [](ComponentStats& a, const ComponentStats& b) {
+        a.executions += b.executions, a.rays += b.rays, a.shadow_rays += b.shadow_rays, a.seconds += b.seconds;
+    };
+    add(stats_.camera, o.camera);
+    for (size_t c = 0; c < kComponentCount; ++c) add(stats_.components[c], o.components[c]);
+    stats_.steps.insert(stats_.steps.end(), o.steps.begin(), o.steps.end());
+    stats_.skipped.insert(stats_.skipped.end(), o.skipped.begin(), o.skipped.end());
+    warnings_.insert(warnings_.end(), other.warnings_.begin(), other.warnings_.end());
+    rays_done_ += other.rays_done_;
+}
+
 double Executor::importance(uint32_t pixel) const {
     double v = options_.importance ? static_cast<double>((*options_.importance)[pixel]) : options_.constant_importance;
     if (std::isnan(v)) return 0;
@@ -31,7 +48,11 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         size_t end = std::min(rays.size(), begin + options_.chunk_rays);
         ShadeOutput& out = shade_;
         trace_and_shade(scene_, rays, begin, end, camera, options_.shade, out);
-        for (size_t i = 0; i < out.contribution.size(); ++i) film_.add(aov, rays.pixel[begin + i], out.contribution[i]);
+        for (size_t i = 0; i < out.contribution.size(); ++i) {
+            film_.add(aov, rays.pixel[begin + i], out.contribution[i]);
+            film_.count_ray(aov, rays.pixel[begin + i]);
+        }
+        for (size_t i = 0; i < out.emission.size(); ++i) film_.add_emission(rays.pixel[begin + i], out.emission[i]);
         for (size_t c = 0; c < kComponentCount; ++c) sink[c].append(out.children[c]);
         stats.rays += end - begin;
         stats.shadow_rays += out.shadow_rays;

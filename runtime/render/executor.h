@@ -80,6 +80,14 @@ public:
     /// Runs one stage's program over the current bins; returns true if any step had work.
     bool run(const sched::Node& node);
 
+    /// Between stages (spec/pipeline.md: the svt applies to the selective stage).
+    void set_shade_params(const ShadeParams& shade) { options_.shade = shade; }
+    void set_importance(const std::vector<float>* importance) { options_.importance = importance; }
+    /// Takes over another executor's bins (appended to these) and adds its statistics: the
+    /// selective stage's new camera samples run their pre-selective crex in a separate
+    /// executor, then join the preview's carried-over bins.
+    void adopt(Executor& other);
+
     const std::array<RayBatch, kComponentCount>& bins() const { return bins_; }
     std::array<RayBatch, kComponentCount>& bins() { return bins_; }
     const ExecutorStats& stats() const { return stats_; }

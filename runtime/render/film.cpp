@@ -12,6 +12,9 @@ std::string aov_name(size_t aov) {
 Film::Film(int width, int height) : width_(width), height_(height) {
     for (auto& s : sums_) s.assign(3 * pixel_count(), 0.0);
     samples_.assign(pixel_count(), 0);
+    rays_.assign(pixel_count(), 0);
+    components_.assign(pixel_count(), 0);
+    emission_.assign(3 * pixel_count(), 0.0);
 }
 
 Vec3 Film::pixel_value(size_t aov, uint32_t pixel) const {
@@ -39,6 +42,16 @@ std::vector<float> Film::aov_image(size_t aov) const {
         out[3 * p] = finite_or_zero(v.x);
         out[3 * p + 1] = finite_or_zero(v.y);
         out[3 * p + 2] = finite_or_zero(v.z);
+    }
+    return out;
+}
+
+std::vector<float> Film::emission_image() const {
+    std::vector<float> out(3 * pixel_count());
+    for (uint32_t p = 0; p < pixel_count(); ++p) {
+        double n = samples_[p];
+        if (n <= 0) continue;
+        for (size_t c = 0; c < 3; ++c) out[3 * p + c] = finite_or_zero(emission_[3 * p + c] / n);
     }
     return out;
 }

@@ -34,6 +34,21 @@ public:
         p[2] += value.z;
     }
     void add_samples(uint32_t pixel, uint32_t n) { samples_[pixel] += n; }
+    /// A ray of `aov` was executed for `pixel` (for the rays-per-pixel picture).
+    void count_ray(size_t aov, uint32_t pixel) {
+        ++rays_[pixel];
+        components_[pixel] = static_cast<uint8_t>(components_[pixel] | (1u << aov));
+    }
+    uint32_t rays(uint32_t pixel) const { return rays_[pixel]; }
+    /// Bit a set: the pixel received rays of AOV a (0 camera, 1 + component).
+    uint8_t components(uint32_t pixel) const { return components_[pixel]; }
+    /// Light seen directly by camera rays from emitters (a part of the camera AOV), for the
+    /// guidance buffers `emission` and `direct` (= camera - emission).
+    void add_emission(uint32_t pixel, const Vec3& value) {
+        double* p = &emission_[3 * static_cast<size_t>(pixel)];
+        p[0] += value.x, p[1] += value.y, p[2] += value.z;
+    }
+    std::vector<float> emission_image() const;
     uint32_t samples(uint32_t pixel) const { return samples_[pixel]; }
 
     /// Linear RGB of one AOV (divided by the pixel's sample count), row-major, top row first.
@@ -46,6 +61,9 @@ private:
     int width_, height_;
     std::array<std::vector<double>, kAovCount> sums_;
     std::vector<uint32_t> samples_;
+    std::vector<uint32_t> rays_;
+    std::vector<uint8_t> components_;
+    std::vector<double> emission_;
 };
 
 }  // namespace crex

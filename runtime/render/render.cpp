@@ -16,6 +16,33 @@ void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double
     rotated_halton(sample, to_unit(h), to_unit(mix64(h)), u, v);
 }
 
+void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
+                        RayBatch& rays) {
+    uint32_t x = pixel % static_cast<uint32_t>(width), y = pixel / static_cast<uint32_t>(width);
+    for (uint32_t k = first; k < first + count; ++k) {
+        double u, v;
+        camera_sample_offset(seed, pixel, k, u, v);
+        RayRecord r;
+        camera.generate(x + u, y + v, r.origin, r.direction);
+        r.beta = {1, 1, 1};
+        r.pixel = pixel;
+        r.path = camera_path_id(seed, pixel, k);
+        rays.push(r);
+    }
+}
+
+std::vector<double> ambient_buffer(const RayBatch& d, const Vec3& av, size_t pixels) {
+    std::vector<double> ambient(3 * pixels, 0.0);
+    if (max_component(av) > 0)
+        for (size_t i = 0; i < d.size(); ++i) {
+            double* a = &ambient[3 * static_cast<size_t>(d.pixel[i])];
+            a[0] += av.x * d.br[i];
+            a[1] += av.y * d.bg[i];
+            a[2] += av.z * d.bb[i];
+        }
+    return ambient;
+}
+
 RenderResult render(const Scene& scene, const sched::Program& program, const RenderOptions& options) {
     using clock = std::chrono::steady_clock;
     auto t0 = clock::now();
@@ -28,17 +55,7 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
     CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
     RayBatch rays;
     for (uint32_t p = 0; p < result.film.pixel_count(); ++p) {
-        uint32_t x = p % static_cast<uint32_t>(options.width), y = p / static_cast<uint32_t>(options.width);
-        for (uint32_t k = options.first_sample; k < options.first_sample + options.spp; ++k) {
-            double u, v;
-            camera_sample_offset(options.seed, p, k, u, v);
-            RayRecord r;
-            camera.generate(x + u, y + v, r.origin, r.direction);
-            r.beta = {1, 1, 1};
-            r.pixel = p;
-            r.path = camera_path_id(options.seed, p, k);
-            rays.push(r);
-        }
+        append_camera_rays(camera, options.seed, options.width, p, options.first_sample, options.spp, rays);
         result.film.add_samples(p, options.spp);
     }
     executor.run_camera_rays(rays);
@@ -47,15 +64,8 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
     executor.run(program.selective);
 
     // The ambient buffer: av times the throughput of every ray still waiting in D (spec §3).
-    result.ambient.assign(3 * result.film.pixel_count(), 0.0);
-    const RayBatch& d = executor.bins()[static_cast<size_t>(Component::kD)];
-    if (max_component(options.ambient) > 0)
-        for (size_t i = 0; i < d.size(); ++i) {
-            double* a = &result.ambient[3 * static_cast<size_t>(d.pixel[i])];
-            a[0] += options.ambient.x * d.br[i];
-            a[1] += options.ambient.y * d.bg[i];
-            a[2] += options.ambient.z * d.bb[i];
-        }
+    result.ambient = ambient_buffer(executor.bins()[static_cast<size_t>(Component::kD)], options.ambient,
+                                    result.film.pixel_count());
     for (size_t c = 0; c < kComponentCount; ++c) result.rays_left[c] = executor.bins()[c].size();
     result.stats = executor.stats();
     result.warnings = executor.warnings();

@@ -11,6 +11,7 @@
 #include "compiler/sched/program.h"
 #include "runtime/render/executor.h"
 #include "runtime/render/film.h"
+#include "runtime/render/render_scene.h"
 #include "runtime/scene/scene.h"
 
 namespace crex {
@@ -38,6 +39,13 @@ struct RenderResult {
 };
 
 RenderResult render(const Scene& scene, const sched::Program& program, const RenderOptions& options);
+
+/// Appends the camera rays of samples [first, first + count) of `pixel`.
+void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
+                        RayBatch& rays);
+/// The ambient buffer: av times the throughput of every ray waiting in bin D (spec §3),
+/// per pixel RGB, sample-summed.
+std::vector<double> ambient_buffer(const RayBatch& d, const Vec3& av, size_t pixels);
 
 /// Path id of camera sample k of pixel p (shared with the oracle).
 uint64_t camera_path_id(uint64_t seed, uint32_t pixel, uint32_t sample);

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "runtime/base/sampling.h"
@@ -38,8 +39,14 @@ int spawn_children(const Material& m, const HitFrame& f, const RayRecord& ray, d
     int n = scatter(m, f, ray.path, ray.depth, lobes);
     int out = 0;
     if (ray.depth + 1u > params.max_depth) return 0;
+    double st = params.specular_threshold_per_pixel ? (*params.specular_threshold_per_pixel)[ray.pixel] : params.specular_threshold;
     for (int l = 0; l < n; ++l) {
-        Vec3 beta = ray.beta * lobes[static_cast<size_t>(l)].weight;
+        const Lobe& lobe_l = lobes[static_cast<size_t>(l)];
+        // The specular threshold (RADIANCE -st, thesis 5.7): weak specular reflections are not sampled.
+        if (st > 0 && (lobe_l.component == Component::kS || lobe_l.component == Component::kG) &&
+            max_component(lobe_l.weight) < st)
+            continue;
+        Vec3 beta = ray.beta * lobe_l.weight;
         double mx = max_component(beta);
         if (!(mx > 0) || !is_finite(beta)) continue;
         if (mx < params.weight_limit) {
@@ -117,6 +124,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     intersect_batch(*scene.embree, hits.data(), n, camera);
 
     out.contribution.assign(n, Vec3{});
+    if (camera) out.emission.assign(n, Vec3{});
     scratch.shadows.resize(n * ns);
     scratch.shadow_value.resize(n * ns);
     scratch.child_slots.resize(n * kMaxLobes);
@@ -155,11 +163,13 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             const Material& m = scene.material_of(h.hit.geomID);
             Vec3 c = ray.beta * emitted(m, f, camera || (ray.flags & kRayFromDeltaLobe), camera);
             out.contribution[i] = is_finite(c) ? c : Vec3{};
+            if (camera) out.emission[i] = out.contribution[i];
             if (!scene.lights->empty() && has_direct_response(m)) {
-                for (uint32_t j = 0; j < ns; ++j) {
+                uint32_t nsi = params.shadow_rays_per_pixel ? std::min<uint32_t>(ns, (*params.shadow_rays_per_pixel)[ray.pixel]) : ns;
+                for (uint32_t j = 0; j < nsi; ++j) {
                     Vec3 value, so, sd;
                     double tfar;
-                    if (!direct_light_sample(scene, m, f, ray, j, ns, value, so, sd, tfar)) continue;
+                    if (!direct_light_sample(scene, m, f, ray, j, nsi, value, so, sd, tfar)) continue;
                     RTCRay& s = shadows[i * ns + j];
                     s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
                     s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);

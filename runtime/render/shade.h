@@ -21,7 +21,11 @@ struct RayCapture {
 };
 
 struct ShadeParams {
-    uint32_t shadow_rays = 1;       ///< shadow rays per hit (a selective variable later)
+    uint32_t shadow_rays = 1;       ///< shadow rays per hit; with a per-pixel table, its maximum
+    /// Selective variables (spec/pipeline.md §1), per pixel when given:
+    const std::vector<uint16_t>* shadow_rays_per_pixel = nullptr;  ///< each <= shadow_rays
+    double specular_threshold = 0;  ///< S and G rays whose lobe weight is below it are not spawned
+    const std::vector<float>* specular_threshold_per_pixel = nullptr;
     double weight_limit = 1e-3;     ///< `lw`
     bool roulette = true;           ///< below lw: Russian roulette (unbiased) instead of dropping
     uint32_t max_depth = 256;       ///< no ray is spawned beyond this depth
@@ -41,6 +45,7 @@ struct ShadeScratch {
 
 struct ShadeOutput {
     std::vector<Vec3> contribution;                        ///< per input ray, times its beta
+    std::vector<Vec3> emission;                            ///< camera rays: the emitted part of it
     std::array<RayBatch, kComponentCount> children;        ///< spawned rays, in ray order
     uint64_t shadow_rays = 0;
     uint64_t hits = 0;
@@ -49,6 +54,7 @@ struct ShadeOutput {
     /// Ready for the next chunk, keeping every buffer's memory.
     void reset() {
         contribution.clear();
+        emission.clear();
         for (auto& c : children) c.reset();
         shadow_rays = hits = 0;
     }

@@ -111,7 +111,7 @@ TEST(CrexPlanCli, RunAPipelineAndItsPlanToTheSamePixels) {
                            "  preselective { spp 2 }\n  output { image \"" << (dir / "from_pipe.exr").string() << "\" }\n}\n";
     auto a = crex_cli({"run", pipe, "--format", "json"});
     ASSERT_EQ(a.exit_code, 0) << a.err;
-    EXPECT_NE(a.err.find("warning[W403]"), std::string::npos) << a.err;  // guidance does not run yet, and says so
+    EXPECT_EQ(a.err.find("warning[W403]"), std::string::npos) << a.err;  // cbr executes fully now
     auto j = nlohmann::json::parse(a.out);
     EXPECT_EQ(j["size"], nlohmann::json::array({16, 12}));  // the pipeline's settings apply
     EXPECT_EQ(j["spp"], 2);

@@ -38,16 +38,25 @@ TEST(PipelineCheck, NormativeExampleChecksClean) {
     text << in.rdbuf();
     Result r = check(text.str());
     EXPECT_EQ(r.errors, 0u) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
-    // Its only diagnostic says what does not execute yet.
+    // Its only diagnostic says what does not execute yet: the irradiance cache's radius.
     ASSERT_EQ(r.diagnostics.size(), 1u) << r.diagnostics[1].code << " " << r.diagnostics[1].message;
     EXPECT_EQ(r.diagnostics[0].code, "W403");
-    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).line, 3u);
+    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).line, 18u);
     EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).col, 10u);
+    EXPECT_NE(r.diagnostics[0].message.find("ic_radius"), std::string::npos);
 }
 
-TEST(PipelineCheck, PipelinesWithoutGuidanceRunFullyAndGetNoW403) {
+TEST(PipelineCheck, PipelinesThatExecuteFullyGetNoW403) {
     Result r = check("pipeline p {\n  preselective { crex \"(TTMRSGD)*\" spp 4 }\n}\n");
     EXPECT_TRUE(r.diagnostics.empty());
+    Result sel = check("pipeline p {\n  guidance { s = saliency(preview) }\n  selective { vary spp 1 .. 8 by s\n"
+                       "    vary shadow_rays 1 .. 4 by s }\n}\n");
+    EXPECT_TRUE(sel.diagnostics.empty()) << sel.diagnostics[0].message;
+    Result media = check("pipeline p {\n  guidance { s = saliency(preview) }\n  selective { vary media_samples 1 .. 8 by s }\n}\n");
+    ASSERT_EQ(media.diagnostics.size(), 1u);
+    EXPECT_EQ(media.diagnostics[0].code, "W403");
+    EXPECT_EQ(media.file->position(media.diagnostics[0].span.begin).line, 3u);
+    EXPECT_EQ(media.file->position(media.diagnostics[0].span.begin).col, 20u);
 }
 
 TEST(PipelineCheck, StdlibBasesAreInheritedAndNameOnlyOnesSaySo) {
@@ -115,6 +124,29 @@ TEST(PipelineCheck, ExtendsUnknownBaseIsE210) {
 
 TEST(PipelineCheck, CommentsAndUtf8AreFine) {
     Result r = check("// caf\xC3\xA9\npipeline p { /* \xC3\xA9 */ scene \"sc\xC3\xA8ne.json\" }\n");
+    EXPECT_EQ(r.errors, 0u) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(PipelineCheck, UnknownModulationFunctionIsE206AtItsName) {
+    Result r = check("pipeline p {\n  guidance { m = constant(1) }\n  selective { vary spp 1 .. 4 by m using sqr }\n}\n");
+    const Diagnostic* d = r.find("E206");
+    ASSERT_NE(d, nullptr);
+    EXPECT_EQ(r.file->position(d->span.begin).line, 3u);
+    EXPECT_EQ(r.file->position(d->span.begin).col, 42u);
+    EXPECT_NE(d->help.find("sqrt"), std::string::npos) << d->help;
+    Result ok = check("pipeline p {\n  guidance { m = constant(1) }\n  selective { vary spp 1 .. 4 by m using sqrt }\n}\n");
+    EXPECT_EQ(ok.errors, 0u);
+}
+
+TEST(PipelineCheck, UnitWordsAndXAreStillUsableAsMapNames) {
+    Result r = check("pipeline p {\n  image 16 x 8\n  budget 2 s\n  guidance { s = constant(1)  x = blur(s, sigma 2)  deg = normalise(x) }\n"
+                     "  selective { vary spp 1 .. 4 by deg }\n}\n");
     EXPECT_EQ(r.errors, 0u) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
 }
 

@@ -1,0 +1,25 @@
+/// \file pixel_probe.h
+/// What the camera sees through each pixel centre, for the guidance operators that reason
+/// about objects (task map, on-screen distractors) and media (X-map): one ray per pixel,
+/// traced as one batch, never part of the image.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "runtime/render/render_scene.h"
+
+namespace crex {
+
+struct PixelProbe {
+    int width = 0, height = 0;
+    std::vector<int32_t> shape;     ///< shape index hit by the centre ray, -1 for none
+    std::vector<int32_t> detected;  ///< shape seen by the pixel's detectable ray: the camera ray,
+                                    ///< continued through mirrors (the OSDM's specular rays)
+    std::vector<float> distance;    ///< to the first hit; +inf for none
+};
+
+/// `mirror_bounces`: how many mirror reflections a detectable ray follows.
+PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mirror_bounces = 4);
+
+}  // namespace crex

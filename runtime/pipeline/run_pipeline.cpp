@@ -1,0 +1,217 @@
+#include "runtime/pipeline/run_pipeline.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "runtime/pipeline/guidance_graph.h"
+#include "runtime/pipeline/pixel_probe.h"
+#include "runtime/pipeline/svt.h"
+
+namespace crex {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+uint64_t total_rays(const ExecutorStats& s) {
+    uint64_t n = s.camera.rays;
+    for (const auto& c : s.components) n += c.rays;
+    return n;
+}
+
+// The map node feeding `id` through an edge of kind `kind` ("" if none).
+std::string map_feeding(const PipelinePlan& plan, const std::string& id, const std::string& label = "") {
+    for (const PlanEdge* e : edges_into(plan, id))
+        if (e->kind == "map" && (label.empty() || e->label == label)) return e->from;
+    return "";
+}
+
+bool needs_probe(const PipelinePlan& plan) {
+    for (const auto& n : plan.nodes) {
+        std::string op = n.params.value("operator", std::string());
+        if (op == "task_map" || op == "distractors" || op == "xmap") return true;
+    }
+    return false;
+}
+
+std::vector<float> map_values(const guidance::Raster& r, size_t pixels) {
+    if (r.channels != 1 || r.pixels() != pixels) throw std::runtime_error("a map does not have the image's size");
+    return r.v;
+}
+
+}  // namespace
+
+bool has_guidance(const PipelinePlan& plan) {
+    for (const auto& n : plan.nodes)
+        if (n.kind == "operator" || n.kind == "svt") return true;
+    return false;
+}
+
+std::vector<float> PipelineRunResult::image() const {
+    std::vector<float> rgb = render.image();
+    if (subsample) subsample->fill(rgb);
+    return rgb;
+}
+
+std::vector<float> PipelineRunResult::aov_image(size_t aov) const {
+    std::vector<float> rgb = render.film.aov_image(aov);
+    if (subsample) subsample->fill(rgb);
+    return rgb;
+}
+
+PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, const PipelineRunOptions& options) {
+    auto t_setup = Clock::now();
+    RenderScene rs(scene);
+    const int w = options.width, h = options.height;
+    PipelineRunResult out{RenderResult{Film(w, h), {}, {}, {}, 0, 0, {}}, {}, {}, {}, std::nullopt, 0, 0, 0, 0, 0};
+    out.render.setup_seconds = seconds_since(t_setup);
+    Film& film = out.render.film;
+    const size_t pixels = film.pixel_count();
+
+    // One clock for both stages: a budget counts from the first camera ray (spec §7).
+    const auto t0 = Clock::now();
+    ExecutorOptions base = options.executor;
+    if (!base.clock) base.clock = [t0] { return seconds_since(t0); };
+
+    // 1. Pre-selective.
+    Executor main(rs, film, base);
+    CameraRays camera(scene.camera, w, h, rs.embree->origin_offset());
+    const uint32_t s0 = options.preview_spp;
+    {
+        RayBatch rays;
+        for (uint32_t p = 0; p < pixels; ++p) {
+            append_camera_rays(camera, options.seed, w, p, 0, s0, rays);
+            film.add_samples(p, s0);
+        }
+        main.run_camera_rays(rays);
+    }
+    main.run(plan.program.preselective);
+    const RayBatch& d_bin = main.bins()[static_cast<size_t>(Component::kD)];
+    std::vector<double> ambient = ambient_buffer(d_bin, options.ambient, pixels);
+    out.preview = film.composite(&ambient);
+    out.preview_seconds = seconds_since(t0);
+    out.preview_rays = total_rays(main.stats());
+
+    // 2. Guidance.
+    auto t_guidance = Clock::now();
+    GuidanceInputs in;
+    in.width = w, in.height = h;
+    in.preview = out.preview;
+    in.scene = &scene;
+    std::vector<float> camera_aov = film.aov_image(kCameraAov), emission = film.emission_image();
+    for (size_t i = 0; i < camera_aov.size(); ++i) camera_aov[i] = std::max(0.0f, camera_aov[i] - emission[i]);
+    in.buffers["direct"] = std::move(camera_aov);
+    in.buffers["emission"] = std::move(emission);
+    {
+        std::vector<float> a(3 * pixels, 0.0f);
+        for (uint32_t p = 0; p < pixels; ++p)
+            for (size_t c = 0; c < 3; ++c)
+                a[3 * p + c] = film.samples(p) ? static_cast<float>(ambient[3 * p + c] / film.samples(p)) : 0.0f;
+        in.buffers["ambient"] = std::move(a);
+    }
+    for (size_t c = 0; c < kComponentCount; ++c)
+        in.buffers[std::string(1, kComponentTable[c].letter)] = film.aov_image(aov_of(static_cast<Component>(c)));
+    PixelProbe probe;
+    if (needs_probe(plan)) {
+        probe = probe_pixels(rs, w, h);
+        in.probe = &probe;
+    }
+    GuidanceGraph graph(plan, std::move(in));
+    for (const auto& n : plan.nodes)
+        if (n.kind == "operator" && n.id.rfind("map.", 0) == 0) out.maps.push_back({n.id.substr(4), graph.map(n.id)});
+
+    // The svt.
+    ShadeParams shade = base.shade;
+    std::vector<double> spp(pixels, s0);
+    if (const PlanNode* sel = find_node(plan, "selective"); sel && sel->params.contains("spp"))
+        std::fill(spp.begin(), spp.end(), std::max<double>(s0, sel->params["spp"].get<double>()));
+    std::vector<uint16_t> shadow_rays;
+    std::vector<float> specular_threshold;
+    for (const auto& n : plan.nodes) {
+        if (n.kind != "svt") continue;
+        std::string var = n.id.substr(5);  // "vary.spp"
+        std::string by = map_feeding(plan, n.id);
+        if (by.empty()) throw std::runtime_error(n.label + ": no map");
+        auto from = plan_number(n.params.value("from", std::string()));
+        auto to = plan_number(n.params.value("to", std::string()));
+        std::string fn = n.params.value("using", std::string());
+        if (!from || !to) throw std::runtime_error(n.label + ": malformed bounds");
+        if (!modulate(fn, 0)) throw std::runtime_error(fmt::format("{}: unknown modulation function '{}'", n.label, fn));
+        std::vector<float> m = map_values(graph.map(by), pixels);
+        if (by.rfind("map.", 0) != 0) out.maps.push_back({by, graph.map(by)});
+        if (var == "spp") {
+            spp = variable_values(*from, *to, fn, m, true);
+        } else if (var == "shadow_rays") {
+            auto v = variable_values(*from, *to, fn, m, true);
+            shadow_rays.resize(pixels);
+            uint32_t mx = 1;
+            for (size_t p = 0; p < pixels; ++p) {
+                shadow_rays[p] = static_cast<uint16_t>(std::clamp(v[p], 1.0, 1024.0));
+                mx = std::max<uint32_t>(mx, shadow_rays[p]);
+            }
+            shade.shadow_rays = mx;
+            shade.shadow_rays_per_pixel = &shadow_rays;
+        } else if (var == "specular_threshold") {
+            auto v = variable_values(*from, *to, fn, m, false);
+            specular_threshold.assign(v.begin(), v.end());
+            shade.specular_threshold_per_pixel = &specular_threshold;
+        } else if (var == "subsample") {
+            out.subsample.emplace(w, h, variable_values(*from, *to, fn, m, true));
+        } else if (var == "ic_radius") {
+            out.notes.push_back("ic_radius is not executed: the irradiance cache does not exist yet (issue 7)");
+        } else if (var == "media_samples") {
+            out.notes.push_back("media_samples is not executed: the renderer has no participating media yet");
+        } else {
+            throw std::runtime_error("this runtime cannot vary '" + var + "'");
+        }
+    }
+    std::vector<float> modulation;
+    std::string modulation_map = map_feeding(plan, "selective", "{ } modulation");
+    if (!modulation_map.empty()) {
+        modulation = map_values(graph.map(modulation_map), pixels);
+        if (modulation_map.rfind("map.", 0) != 0) out.maps.push_back({modulation_map, graph.map(modulation_map)});
+    }
+    out.guidance_seconds = seconds_since(t_guidance);
+
+    // 3. Selective: new camera samples continue each pixel's sequence where the preview stopped.
+    auto t_selective = Clock::now();
+    ExecutorOptions selective = base;
+    selective.shade = shade;
+    {
+        RayBatch rays;
+        for (uint32_t p = 0; p < pixels; ++p) {
+            if (out.subsample && !out.subsample->rendered(p)) continue;
+            uint32_t target = static_cast<uint32_t>(std::clamp(spp[p], 1.0, double(1u << 20)));
+            if (target <= s0) continue;
+            append_camera_rays(camera, options.seed, w, p, s0, target - s0, rays);
+            film.add_samples(p, target - s0);
+        }
+        if (!rays.empty()) {
+            Executor added(rs, film, selective);
+            added.run_camera_rays(rays);
+            added.run(plan.program.preselective);
+            main.adopt(added);
+        }
+    }
+    main.set_shade_params(shade);
+    if (!modulation.empty()) main.set_importance(&modulation);
+    main.run(plan.program.selective);
+    main.set_importance(nullptr);
+    out.selective_seconds = seconds_since(t_selective);
+
+    RenderResult& r = out.render;
+    r.ambient = ambient_buffer(main.bins()[static_cast<size_t>(Component::kD)], options.ambient, pixels);
+    for (size_t c = 0; c < kComponentCount; ++c) r.rays_left[c] = main.bins()[c].size();
+    r.stats = main.stats();
+    r.warnings = main.warnings();
+    r.render_seconds = seconds_since(t0);
+    out.selective_rays = total_rays(r.stats) - out.preview_rays;
+    return out;
+}
+
+}  // namespace crex

@@ -1,0 +1,58 @@
+#include "runtime/pipeline/subsample.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace crex {
+
+SubsampleGrid::SubsampleGrid(int width, int height, const std::vector<double>& spacing)
+    : width_(width), height_(height), corner_(static_cast<size_t>(width) * static_cast<size_t>(height), false),
+      square_(corner_.size()) {
+    double largest = 1;
+    for (double s : spacing) largest = std::max(largest, std::isfinite(s) ? s : 1.0);
+    int top = 1;
+    while (top * 2 <= std::min(largest, 1024.0)) top *= 2;
+    for (int y = 0; y < height; y += top)
+        for (int x = 0; x < width; x += top) split(x, y, top, spacing);
+}
+
+void SubsampleGrid::split(int x0, int y0, int size, const std::vector<double>& spacing) {
+    int x1 = std::min(x0 + size, width_ - 1), y1 = std::min(y0 + size, height_ - 1);
+    double need = 1e30;
+    for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) need = std::min(need, spacing[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)]);
+    if (size > 1 && size > need) {
+        int h = size / 2;
+        for (int dy : {0, h})
+            for (int dx : {0, h})
+                if (x0 + dx < width_ && y0 + dy < height_) split(x0 + dx, y0 + dy, h, spacing);
+        return;
+    }
+    for (int y : {y0, y1})
+        for (int x : {x0, x1}) corner_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)] = true;
+    std::array<uint16_t, 4> sq = {static_cast<uint16_t>(x0), static_cast<uint16_t>(y0), static_cast<uint16_t>(x1), static_cast<uint16_t>(y1)};
+    for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) square_[static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x)] = sq;
+}
+
+size_t SubsampleGrid::rendered_count() const { return static_cast<size_t>(std::count(corner_.begin(), corner_.end(), true)); }
+
+void SubsampleGrid::fill(std::vector<float>& rgb) const {
+    std::vector<float> src = rgb;
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x) {
+            size_t p = static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x);
+            if (corner_[p]) continue;
+            auto [x0, y0, x1, y1] = square_[p];
+            float tx = x1 > x0 ? static_cast<float>(x - x0) / static_cast<float>(x1 - x0) : 0.0f;
+            float ty = y1 > y0 ? static_cast<float>(y - y0) / static_cast<float>(y1 - y0) : 0.0f;
+            auto at = [&](int cx, int cy, int c) { return src[3 * (static_cast<size_t>(cy) * static_cast<size_t>(width_) + static_cast<size_t>(cx)) + static_cast<size_t>(c)]; };
+            for (int c = 0; c < 3; ++c) {
+                float top = at(x0, y0, c) * (1 - tx) + at(x1, y0, c) * tx;
+                float bottom = at(x0, y1, c) * (1 - tx) + at(x1, y1, c) * tx;
+                rgb[3 * p + static_cast<size_t>(c)] = top * (1 - ty) + bottom * ty;
+            }
+        }
+}
+
+}  // namespace crex

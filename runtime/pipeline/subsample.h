@@ -1,0 +1,32 @@
+/// \file subsample.h
+/// Adaptive sub-sampling on a square grid (thesis 4.6, Case III): squares of the largest
+/// spacing are split while any pixel inside asks for a smaller spacing; only the corners of
+/// the final squares are rendered, every other pixel is the bilinear interpolation of its
+/// square's corners.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace crex {
+
+class SubsampleGrid {
+public:
+    /// `spacing`: the corner spacing each pixel asks for (>= 1), row-major.
+    SubsampleGrid(int width, int height, const std::vector<double>& spacing);
+
+    bool rendered(uint32_t pixel) const { return corner_[pixel]; }
+    size_t rendered_count() const;
+    /// Replaces every non-corner pixel of `rgb` (3 floats per pixel) by its interpolation.
+    void fill(std::vector<float>& rgb) const;
+
+private:
+    void split(int x0, int y0, int size, const std::vector<double>& spacing);
+    int width_, height_;
+    std::vector<bool> corner_;
+    std::vector<std::array<uint16_t, 4>> square_;  ///< x0, y0, x1, y1 of each pixel's square
+};
+
+}  // namespace crex

@@ -1,0 +1,33 @@
+/// \file filters.h
+/// The image filters the guidance operators are built from: separable Gaussian blur, the
+/// Gaussian pyramid, bilinear resampling, Sobel gradients and the exact Euclidean distance
+/// transform. Borders are clamped. Small and dependency-free on purpose: OpenImageIO's
+/// ImageBufAlgo would do the same, but linking OIIO into the tool costs every command 0.4 s
+/// of start-up (see runtime/io), and these maps are a few hundred pixels wide.
+#pragma once
+
+#include <vector>
+
+#include "stdlib/guidance/raster.h"
+
+namespace crex::guidance {
+
+/// Gaussian blur with standard deviation `sigma` pixels (kernel radius 3 sigma); sigma <= 0: copy.
+Raster gaussian_blur(const Raster& in, double sigma);
+
+/// Gaussian pyramid: level 0 is the input, each next level blurred (sigma 1) and halved, down
+/// to `max_levels` levels or a level of width or height 1.
+std::vector<Raster> gaussian_pyramid(const Raster& in, int max_levels);
+
+/// Bilinear resampling to w x h (pixel centres aligned).
+Raster resize_bilinear(const Raster& in, int w, int h);
+
+/// Sobel derivatives of channel 0: gx (left to right) and gy (top to bottom).
+void sobel(const Raster& in, Raster& gx, Raster& gy);
+
+/// Squared Euclidean distance (in pixels) from every pixel to the nearest pixel where
+/// `feature` is true (Felzenszwalb-Huttenlocher, exact, linear time); a huge value when there
+/// is none.
+std::vector<double> squared_distance_transform(const std::vector<bool>& feature, int width, int height);
+
+}  // namespace crex::guidance

@@ -1,0 +1,176 @@
+// Running pipelines: the svt per pixel, progressive continuation of the preview, `{ }` by a
+// map, and every runnable stdlib pipeline on both example scenes (issue 6).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "runtime/pipeline/run_pipeline.h"
+#include "runtime/scene/census.h"
+#include "tests/support/plan_helpers.h"
+#include "tests/support/scene_helpers.h"
+#include "tests/support/test_scenes.h"
+
+namespace crex {
+namespace {
+
+Scene load(const std::string& spec) {
+    if (spec.rfind("builtin:", 0) == 0) return *builtin_scene(spec.substr(8));
+    auto r = testing::load_path(spec);
+    if (!r.scene) throw std::runtime_error("cannot load " + spec);
+    return *r.scene;
+}
+
+PipelinePlan plan_for(const std::string& text, const Scene& scene) {
+    auto r = testing::plan_text("test.pipe", text, take_census(scene).spawnable);
+    if (!r.plan) throw std::runtime_error("pipeline does not plan: " + (r.diagnostics.empty() ? "" : r.diagnostics[0].message));
+    return *r.plan;
+}
+
+PipelineRunResult run(const Scene& scene, const PipelinePlan& plan, int w, int h, uint32_t preview_spp = 1) {
+    PipelineRunOptions o;
+    o.width = w, o.height = h;
+    o.preview_spp = preview_spp;
+    return run_pipeline(scene, plan, o);
+}
+
+const guidance::Raster& map_named(const PipelineRunResult& r, const std::string& name) {
+    for (const auto& [n, m] : r.maps)
+        if (n == name) return m;
+    throw std::runtime_error("no map " + name);
+}
+
+TEST(PipelineRun, RaisingSppContinuesThePreviewsSequenceExactly) {
+    // A preview of 1 spp raised to 5 everywhere uses exactly the samples of a direct 5-spp render.
+    Scene scene = load("builtin:cornell");
+    auto plan = plan_for("pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(0.5) }\n"
+                         " selective { vary spp 1 .. 9 by c }\n}\n",
+                         scene);
+    auto piped = run(scene, plan, 20, 16);
+    RenderOptions ro;
+    ro.width = 20, ro.height = 16, ro.spp = 5;
+    auto direct = render(scene, plan.program.preselective.children.empty() ? sched::Program{} : plan.program, ro);
+    auto a = piped.image(), b = direct.image();
+    for (uint32_t p = 0; p < piped.render.film.pixel_count(); ++p) ASSERT_EQ(piped.render.film.samples(p), 5u);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], b[i], 1e-5 * std::max(1.0f, std::fabs(b[i]))) << i;
+    // The preview's camera rays were traced once: 1 + 4 per pixel in all.
+    EXPECT_EQ(piped.render.stats.camera.rays, 5u * 20 * 16);
+}
+
+TEST(PipelineRun, EachPixelGetsTheSppItsMapAsksFor) {
+    Scene scene = load("builtin:cornell");
+    auto plan = plan_for(testing::read_text(CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe"), scene);
+    auto r = run(scene, plan, 32, 32);
+    const auto& sal = map_named(r, "sal");
+    size_t differing = 0;
+    for (uint32_t p = 0; p < r.render.film.pixel_count(); ++p) {
+        uint32_t want = static_cast<uint32_t>(std::round(1 + 15 * static_cast<double>(sal.v[p])));
+        ASSERT_EQ(r.render.film.samples(p), want) << "pixel " << p;
+        differing += want != 16;
+    }
+    EXPECT_GT(differing, 100u);  // selective: most pixels get fewer than the maximum
+}
+
+TEST(PipelineRun, ShadowRaysPerPixelApplyToTheSelectiveSamplesOnly) {
+    Scene scene = load("builtin:cornell_diffuse");
+    auto text = [](const std::string& vary) {
+        return "pipeline p {\n preselective { spp 1 }\n guidance { c = constant(1) }\n selective { " + vary + " }\n}\n";
+    };
+    auto preview = run(scene, plan_for(text("vary spp 1 .. 1 by c"), scene), 16, 16);
+    auto more = run(scene, plan_for(text("vary spp 1 .. 2 by c"), scene), 16, 16);
+    auto four = run(scene, plan_for(text("vary spp 1 .. 2 by c  vary shadow_rays 4 .. 4 by c"), scene), 16, 16);
+    uint64_t c = preview.render.stats.camera.shadow_rays, a = more.render.stats.camera.shadow_rays;
+    ASSERT_GT(a, c);
+    // Every selective hit casts 4 instead of 1; a light sample that lands behind the emitter
+    // or on its edge casts none, which with a different sample count can change for a few hits.
+    double expect = static_cast<double>(c + 4 * (a - c)), got = static_cast<double>(four.render.stats.camera.shadow_rays);
+    EXPECT_NEAR(got, expect, 0.01 * 4 * static_cast<double>(a - c));
+}
+
+TEST(PipelineRun, SpecularThresholdOneStopsSelectiveSpecularRays) {
+    Scene scene = load(CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json");
+    auto text = [](const std::string& vary) {
+        return "pipeline p {\n preselective { crex \"(TTRSGD)*\" spp 1 }\n guidance { c = constant(1) }\n selective { vary spp 1 .. 2 by c "
+               + vary + " }\n}\n";
+    };
+    auto sg = [](const PipelineRunResult& r) {
+        return r.render.stats.components[static_cast<size_t>(Component::kS)].rays +
+               r.render.stats.components[static_cast<size_t>(Component::kG)].rays;
+    };
+    auto base = run(scene, plan_for(text(""), scene), 24, 16);
+    auto cut = run(scene, plan_for(text("vary specular_threshold 1 .. 1 by c"), scene), 24, 16);
+    auto preview = run(scene, plan_for("pipeline p {\n preselective { crex \"(TTRSGD)*\" spp 1 }\n}\n", scene), 24, 16);
+    ASSERT_GT(sg(base), sg(preview));
+    EXPECT_LT(sg(cut), sg(base));
+    // Only the rays the preview spawned remain; the selective samples spawn none into S or G.
+    EXPECT_EQ(sg(cut), sg(preview) + 0) << "cut " << sg(cut) << " preview " << sg(preview);
+}
+
+TEST(PipelineRun, ModulationByAMapDecidesWhatTheSelectiveCrexRuns) {
+    Scene scene = load("builtin:cornell");
+    auto text = [](const std::string& value) {
+        return "pipeline p {\n preselective { crex \"TT\" spp 1 }\n guidance { c = constant(" + value +
+               ") }\n selective { crex \"{TTMRSGD}2\" by c }\n}\n";
+    };
+    auto none = run(scene, plan_for(text("0"), scene), 16, 16);
+    auto all = run(scene, plan_for(text("1"), scene), 16, 16);
+    size_t d = static_cast<size_t>(Component::kD);
+    EXPECT_EQ(none.render.stats.components[d].rays, 0u);
+    EXPECT_GT(all.render.stats.components[d].rays, 0u);
+    EXPECT_GT(none.render.rays_left[d], 0u);  // skipped rays stay in their bin
+}
+
+TEST(PipelineRun, SubsamplingRendersCornersAndInterpolatesTheRest) {
+    Scene scene = load("builtin:cornell");
+    auto plan = plan_for("pipeline p {\n preselective { spp 1 }\n guidance { c = constant(0) }\n"
+                         " selective { spp 4  vary subsample 4 .. 1 by c }\n}\n",
+                         scene);
+    auto r = run(scene, plan, 17, 9);
+    ASSERT_TRUE(r.subsample);
+    for (uint32_t p = 0; p < 17 * 9; ++p) {
+        bool corner = (p % 17 % 4 == 0 || p % 17 == 16) && (p / 17 % 4 == 0 || p / 17 == 8);
+        EXPECT_EQ(r.subsample->rendered(p), corner) << p;
+        EXPECT_EQ(r.render.film.samples(p), corner ? 4u : 1u) << p;
+    }
+    EXPECT_TRUE(testing::all_finite(r.image()));
+}
+
+struct StdlibCase {
+    std::string pipeline, scene;
+};
+
+class StdlibPipelines : public ::testing::TestWithParam<StdlibCase> {};
+
+TEST_P(StdlibPipelines, RenderFiniteImagesWithMapsInTheUnitInterval) {
+    Scene scene = load(GetParam().scene);
+    auto plan = plan_for(testing::read_text(CREX_SOURCE_DIR "/stdlib/pipelines/" + GetParam().pipeline + ".pipe"), scene);
+    auto r = run(scene, plan, 32, 24);
+    EXPECT_TRUE(testing::all_finite(r.image()));
+    EXPECT_TRUE(testing::all_finite(r.preview));
+    uint64_t samples = 0;
+    for (uint32_t p = 0; p < r.render.film.pixel_count(); ++p) {
+        ASSERT_GE(r.render.film.samples(p), 1u);  // the preview's samples are kept
+        samples += r.render.film.samples(p);
+    }
+    EXPECT_EQ(r.render.stats.camera.rays, samples);  // no sample traced twice
+    for (const auto& [name, m] : r.maps) {
+        ASSERT_EQ(m.pixels(), 32u * 24u) << name;
+        for (float x : m.v) ASSERT_TRUE(x >= 0 && x <= 1) << name;
+    }
+    EXPECT_GT(r.preview_seconds, 0);
+}
+
+std::vector<StdlibCase> stdlib_cases() {
+    std::vector<StdlibCase> out;
+    for (const char* p : {"gold", "sel_rp", "osd", "sel_edge", "cbr", "sel_st", "prog_rp", "prog_all", "tc_rp", "apict"})
+        for (const char* s : {"builtin:cornell", CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json"}) out.push_back({p, s});
+    return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(OnCornellAndCorridor, StdlibPipelines, ::testing::ValuesIn(stdlib_cases()),
+                         [](const auto& test) {
+                             return test.param.pipeline + (test.param.scene.find("corridor") != std::string::npos ? "_corridor" : "_cornell");
+                         });
+
+}  // namespace
+}  // namespace crex

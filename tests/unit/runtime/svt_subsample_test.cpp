@@ -1,0 +1,64 @@
+// Selective variables per pixel and the adaptive sub-sampling grid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "runtime/pipeline/subsample.h"
+#include "runtime/pipeline/svt.h"
+
+namespace crex {
+namespace {
+
+TEST(Svt, AWhereTheMapIsZeroBWhereItIsOneInEitherOrder) {
+    std::vector<float> map = {0.0f, 0.5f, 1.0f, NAN, 2.0f};
+    auto spp = variable_values(1, 25, "", map, true);
+    EXPECT_EQ(spp, (std::vector<double>{1, 13, 25, 1, 25}));
+    auto radius = variable_values(0.75, 0.125, "", map, false);
+    EXPECT_DOUBLE_EQ(radius[0], 0.75);
+    EXPECT_DOUBLE_EQ(radius[1], 0.4375);
+    EXPECT_DOUBLE_EQ(radius[2], 0.125);
+    EXPECT_DOUBLE_EQ(variable_values(0, 10, "quadratic", {0.5f}, false)[0], 2.5);
+    EXPECT_DOUBLE_EQ(variable_values(0, 10, "step", {0.49f}, false)[0], 0);
+    EXPECT_FALSE(modulate("cubic", 0.5));
+    EXPECT_NEAR(*plan_number("2 deg"), 2 * std::numbers::pi / 180, 1e-15);
+    EXPECT_EQ(*plan_number("0.5"), 0.5);
+    EXPECT_FALSE(plan_number("\"+\""));
+}
+
+TEST(Subsample, UniformSpacingRendersTheLatticeAndInterpolatesLinearImagesExactly) {
+    const int w = 33, h = 17;
+    SubsampleGrid grid(w, h, std::vector<double>(w * h, 8));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool lattice = (x % 8 == 0 || x == w - 1) && (y % 8 == 0 || y == h - 1);
+            EXPECT_EQ(grid.rendered(static_cast<uint32_t>(y * w + x)), lattice) << x << "," << y;
+        }
+    // Bilinear interpolation reproduces a linear image.
+    std::vector<float> rgb(3 * w * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) rgb[3 * (y * w + x) + c] = static_cast<float>(0.5 * x + 0.25 * y + c);
+    std::vector<float> filled = rgb;
+    for (size_t p = 0; p < static_cast<size_t>(w * h); ++p)
+        if (!grid.rendered(static_cast<uint32_t>(p)))
+            for (int c = 0; c < 3; ++c) filled[3 * p + c] = -1;  // what the renderer did not compute
+    grid.fill(filled);
+    for (size_t i = 0; i < rgb.size(); ++i) EXPECT_NEAR(filled[i], rgb[i], 1e-4) << i;
+}
+
+TEST(Subsample, SquaresSplitWhereAPixelAsksForFinerSpacing) {
+    const int w = 17, h = 17;
+    std::vector<double> spacing(w * h, 8);
+    spacing[5 * w + 5] = 1;  // one pixel wants every pixel rendered around it
+    SubsampleGrid grid(w, h, spacing);
+    EXPECT_TRUE(grid.rendered(5 * w + 5));
+    EXPECT_TRUE(grid.rendered(5 * w + 4));
+    EXPECT_FALSE(grid.rendered(12 * w + 12));  // far away: still the coarse lattice
+    EXPECT_TRUE(grid.rendered(16 * w + 16));
+    SubsampleGrid all(w, h, std::vector<double>(w * h, 1));
+    EXPECT_EQ(all.rendered_count(), static_cast<size_t>(w * h));
+}
+
+}  // namespace
+}  // namespace crex
