@@ -13,7 +13,7 @@ namespace crex {
 namespace {
 
 using WriteFn = std::string (*)(const std::string&, int, int, const std::vector<ImageLayer>&);
-using ReadFn = std::string (*)(const std::string&, int&, int&, std::vector<float>&);
+using ReadFn = std::string (*)(const std::string&, int&, int&, std::vector<float>&, bool&);
 
 struct Plugin {
     WriteFn write = nullptr;
@@ -61,9 +61,12 @@ std::string write_image(const std::string& path, int width, int height, const st
     return p.write ? p.write(path, width, height, layers) : p.error;
 }
 
-std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool* display_referred) {
     const Plugin& p = plugin();
-    return p.read ? p.read(path, width, height, rgb) : p.error;
+    bool ldr = false;
+    std::string error = p.read ? p.read(path, width, height, rgb, ldr) : p.error;
+    if (display_referred) *display_referred = ldr;
+    return error;
 }
 
 }  // namespace crex

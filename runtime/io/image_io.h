@@ -32,8 +32,9 @@ std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
 double display_exposure(const std::vector<float>& rgb);
 std::vector<float> to_display(const std::vector<float>& rgb, double exposure);
 
-/// Reads an image's first three channels as linear float RGB (8-bit sRGB inputs are
-/// linearised). Returns "" on success.
-std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb);
+/// Reads an image's first three channels as linear float RGB (8- and 16-bit sRGB inputs are
+/// linearised; `display_referred` says whether they were). Returns "" on success.
+std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb,
+                       bool* display_referred = nullptr);
 
 }  // namespace crex

@@ -77,7 +77,7 @@ std::string write_image(const std::string& path, int width, int height, const st
     return write_atomically_via(path, writer);
 }
 
-std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool& display_referred) {
     OIIO::ImageBuf buf(path);
     if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return "cannot read '" + path + "': " + buf.geterror();
     const OIIO::ImageSpec& spec = buf.spec();
@@ -86,7 +86,10 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
     int nc = spec.nchannels;
     std::vector<float> all(static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(nc));
     buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, all.data());
-    bool linearise = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
+    // The file's own type: the buffer was read as float, so spec() says FLOAT for any file.
+    const OIIO::TypeDesc stored = buf.nativespec().format;
+    bool linearise = stored == OIIO::TypeDesc::UINT8 || stored == OIIO::TypeDesc::UINT16;
+    display_referred = linearise;
     rgb.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * 3, 0.0f);
     for (size_t p = 0; p < static_cast<size_t>(width) * static_cast<size_t>(height); ++p)
         for (int c = 0; c < 3; ++c) {
@@ -105,7 +108,8 @@ std::string crex_oiio_write_image(const std::string& path, int width, int height
                                   const std::vector<crex::ImageLayer>& layers) {
     return crex::oiio::write_image(path, width, height, layers);
 }
-std::string crex_oiio_read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
-    return crex::oiio::read_image(path, width, height, rgb);
+std::string crex_oiio_read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb,
+                                 bool& display_referred) {
+    return crex::oiio::read_image(path, width, height, rgb, display_referred);
 }
 }
