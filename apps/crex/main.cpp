@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     runners["scene-info"] = add_scene_info_command(app);
     runners["run"] = add_run_command(app);
     runners["plan"] = add_plan_command(app);
+    runners["compare"] = add_compare_command(app);
 
     try {
         app.parse(argc, argv);

@@ -98,3 +98,43 @@ TEST_F(CrexRunCli, UsageAndIoFailures) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST_F(CrexRunCli, APipelineWritesItsMapsAndPerPixelPictures) {
+    auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_st.pipe", "--scene",
+                       CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json", "--size", "32x24", "-o", path("sel_st.exr"),
+                       "--maps", path("maps"), "--format", "json", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["pipeline"], "sel_st");
+    EXPECT_EQ(j["maps"], nlohmann::json::array({"sal", "task", "imp"}));
+    EXPECT_GT(j["stages"]["preview_seconds"].get<double>(), 0.0);
+    EXPECT_GT(j["stages"]["selective_rays"].get<double>(), 0.0);
+    double pct = j["preview_percent_of_time"].get<double>();
+    EXPECT_TRUE(pct > 0 && pct <= 100) << pct;
+    for (const char* f : {"preview.png", "map_sal.png", "map_task.png", "map_imp.png", "samples_per_pixel.png", "rays_per_pixel.png",
+                          "rays_per_pixel.exr", "components_per_pixel.png"})
+        EXPECT_TRUE(fs::exists(dir_ / "maps" / f)) << f;
+    // The rays-per-pixel EXR holds the counts: their mean is what the summary says.
+    int w = 0, h = 0;
+    std::vector<float> rays;
+    ASSERT_EQ(read_image(path("maps/rays_per_pixel.exr"), w, h, rays), "");
+    double sum = 0;
+    for (size_t p = 0; p < rays.size(); p += 3) sum += rays[p];
+    EXPECT_NEAR(sum / (w * h), j["rays_per_pixel"]["mean"].get<double>(), 1e-6);
+    // The task map is 1 on the tagged objects: the exit sign is in view.
+    std::vector<float> task;
+    ASSERT_EQ(read_image(path("maps/map_task.png"), w, h, task), "");
+    EXPECT_NEAR(*std::max_element(task.begin(), task.end()), 1.0f, 1e-6);
+}
+
+TEST_F(CrexRunCli, IcRadiusSaysItIsNotExecuted) {
+    auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/prog_all.pipe", "--size", "16x16", "-o", path("p.exr"), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("note: ic_radius is not executed"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace crex

@@ -1,0 +1,137 @@
+// `crex compare`: how far an image is from a reference, by the metrics of spec §7.
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "apps/crex/commands.h"
+#include "apps/crex/exit_codes.h"
+#include "runtime/io/heat_map.h"
+#include "runtime/io/image_io.h"
+#include "runtime/metrics/metrics.h"
+
+namespace crex::app {
+namespace {
+
+struct CompareOptions {
+    std::string test, reference;
+    std::string metrics = "rmse,relmse,ssim,flip,perr";
+    double perr_threshold = metrics::kDefaultPerrThreshold;
+    double ppd = 67.0206;
+    std::string flip_out;
+    std::string format = "text";
+};
+
+const std::vector<std::string> kMetricNames = {"rmse", "relmse", "ssim", "flip", "perr"};
+
+int compare(const CompareOptions& opt) {
+    std::vector<std::string> wanted;
+    std::stringstream list(opt.metrics);
+    for (std::string m; std::getline(list, m, ',');) {
+        if (std::find(kMetricNames.begin(), kMetricNames.end(), m) == kMetricNames.end()) {
+            std::cerr << fmt::format("crex compare: error: unknown metric '{}': expected some of rmse,relmse,ssim,flip,perr\n", m);
+            return kExitUsage;
+        }
+        wanted.push_back(m);
+    }
+    metrics::Image test, ref;
+    bool test_ldr = false, ref_ldr = false;
+    for (auto [path, img, ldr] : {std::tuple{&opt.test, &test, &test_ldr}, std::tuple{&opt.reference, &ref, &ref_ldr}}) {
+        std::string error = read_image(*path, img->width, img->height, img->rgb, ldr);
+        if (!error.empty()) {
+            std::cerr << "crex compare: error: " << error << "\n";
+            return kExitFailure;
+        }
+    }
+    if (test.width != ref.width || test.height != ref.height) {
+        std::cerr << fmt::format("crex compare: error: {} is {}x{} but the reference {} is {}x{}\n", opt.test, test.width, test.height,
+                                 opt.reference, ref.width, ref.height);
+        return kExitInputErrors;
+    }
+    // HDR if either image is: both are then seen through the reference's exposure.
+    metrics::DisplayView view{!(test_ldr && ref_ldr), display_exposure(ref.rgb)};
+    bool perceptual = false;
+    for (const auto& m : wanted) perceptual |= m == "ssim" || m == "flip" || m == "perr";
+    metrics::Image td, rd;
+    std::vector<float> flip;
+    if (perceptual || !opt.flip_out.empty()) {
+        td = metrics::display_view(test, view), rd = metrics::display_view(ref, view);
+        flip = metrics::flip_map(td, rd, opt.ppd);
+    }
+    nlohmann::json j;
+    j["test"] = opt.test;
+    j["reference"] = opt.reference;
+    j["size"] = {ref.width, ref.height};
+    j["display"] = view.describe();
+    for (const auto& m : wanted) {
+        if (m == "rmse") j["rmse"] = metrics::rmse(test, ref);
+        if (m == "relmse") j["relmse"] = metrics::relmse(test, ref);
+        if (m == "ssim") {
+            auto s = metrics::ssim(td, rd);
+            j["ssim"] = s ? nlohmann::json(*s) : nlohmann::json(nullptr);
+        }
+        if (m == "flip") j["flip"] = metrics::mean(flip);
+        if (m == "perr") {
+            j["perr"] = metrics::perr(flip, opt.perr_threshold);
+            j["perr_threshold"] = opt.perr_threshold;
+        }
+    }
+    if (!opt.flip_out.empty()) {
+        std::vector<double> values(flip.begin(), flip.end());
+        ImageLayer layer{"", heat_colours(values, 1.0), true};
+        std::string error = write_image(opt.flip_out, ref.width, ref.height, {layer});
+        if (!error.empty()) {
+            std::cerr << "crex compare: error: " << error << "\n";
+            return kExitFailure;
+        }
+        j["flip_map"] = opt.flip_out;
+    }
+    if (opt.format == "json") {
+        std::cout << j.dump(2) << "\n";
+        return kExitOk;
+    }
+    std::cout << fmt::format("{} against {} ({}x{})\n", opt.test, opt.reference, ref.width, ref.height);
+    if (j.contains("rmse")) std::cout << fmt::format("  rmse    {:.6g}   (linear radiance)\n", j["rmse"].get<double>());
+    if (j.contains("relmse")) std::cout << fmt::format("  relmse  {:.6g}   (mean of (t-r)^2/(r^2+0.01))\n", j["relmse"].get<double>());
+    if (j.contains("ssim"))
+        std::cout << (j["ssim"].is_null() ? std::string("  ssim    n/a (smaller than the 11x11 window)\n")
+                                          : fmt::format("  ssim    {:.6f}   (1 = identical)\n", j["ssim"].get<double>()));
+    if (j.contains("flip")) std::cout << fmt::format("  flip    {:.6f}   (mean LDR-FLIP, {:.1f} pixels per degree)\n", j["flip"].get<double>(), opt.ppd);
+    if (j.contains("perr"))
+        std::cout << fmt::format("  perr    {:.3f} %  (pixels with FLIP >= {:g}; not Daly's VDP)\n", j["perr"].get<double>(), opt.perr_threshold);
+    if (perceptual) std::cout << "  display: " << view.describe() << "\n";
+    if (!opt.flip_out.empty()) std::cout << "  wrote " << opt.flip_out << "\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+Runner add_compare_command(CLI::App& app) {
+    auto opt = std::make_shared<CompareOptions>();
+    CLI::App* cmd = app.add_subcommand("compare", "Measure how far an image is from a reference (RMSE, relMSE, SSIM, FLIP, perr)");
+    cmd->add_option("test", opt->test, "The image to judge (any format OpenImageIO reads)")->required();
+    cmd->add_option("reference", opt->reference, "The reference image, same size")->required();
+    cmd->add_option("--metric", opt->metrics, "Comma-separated metrics: rmse,relmse,ssim,flip,perr")->capture_default_str();
+    cmd->add_option("--perr-threshold", opt->perr_threshold, "FLIP value from which a pixel counts as visibly different")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--ppd", opt->ppd, "Pixels per degree of visual angle for FLIP")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+    cmd->add_option("--flip-map", opt->flip_out, "Write the per-pixel FLIP error as a picture (viridis, 0..1)");
+    cmd->add_option("--format", opt->format, "Output as text or json")->check(CLI::IsMember({"text", "json"}));
+    cmd->footer(R"(
+RMSE and relMSE compare linear radiance. SSIM, FLIP and perr compare what a viewer sees:
+LDR files (PNG, JPEG) as stored; if either input is HDR (EXR, HDR), both go through the tone
+map of spec section 7 with the reference's exposure, and the output says so.
+
+Examples:
+  crex compare out/sel_rp.exr out/gold.exr
+  crex compare a.png b.png --metric flip,perr --flip-map flip.png
+  crex compare a.exr ref.exr --format json
+
+Exit status: 0 compared, 1 images of different sizes, 2 usage, 3 an image cannot be read or written.)");
+    return [opt] { return compare(*opt); };
+}
+
+}  // namespace crex::app

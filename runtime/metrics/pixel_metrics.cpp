@@ -1,0 +1,95 @@
+// RMSE, relMSE and SSIM.
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "runtime/io/image_io.h"
+#include "runtime/metrics/metrics.h"
+
+namespace crex::metrics {
+
+double rmse(const Image& t, const Image& r) {
+    double sum = 0;  // long double is not needed: squares of values in a few hundred channels
+    for (size_t i = 0; i < r.rgb.size(); ++i) {
+        double d = static_cast<double>(t.rgb[i]) - r.rgb[i];
+        sum += d * d;
+    }
+    return r.rgb.empty() ? 0 : std::sqrt(sum / static_cast<double>(r.rgb.size()));
+}
+
+double relmse(const Image& t, const Image& r, double eps) {
+    double sum = 0;
+    for (size_t i = 0; i < r.rgb.size(); ++i) {
+        double d = static_cast<double>(t.rgb[i]) - r.rgb[i];
+        sum += d * d / (static_cast<double>(r.rgb[i]) * r.rgb[i] + eps);
+    }
+    return r.rgb.empty() ? 0 : sum / static_cast<double>(r.rgb.size());
+}
+
+std::optional<double> ssim(const Image& t, const Image& r) {
+    constexpr int kWin = 11;
+    constexpr double kSigma = 1.5, c1 = 0.01 * 0.01, c2 = 0.03 * 0.03;
+    const int w = r.width, h = r.height;
+    if (w < kWin || h < kWin) return std::nullopt;
+    double weight[kWin], total = 0;
+    for (int i = 0; i < kWin; ++i) total += weight[i] = std::exp(-0.5 * (i - kWin / 2) * (i - kWin / 2) / (kSigma * kSigma));
+    for (double& x : weight) x /= total;
+    auto luma = [](const Image& img) {
+        std::vector<double> y(img.rgb.size() / 3);
+        for (size_t i = 0; i < y.size(); ++i) y[i] = 0.2126 * img.rgb[3 * i] + 0.7152 * img.rgb[3 * i + 1] + 0.0722 * img.rgb[3 * i + 2];
+        return y;
+    };
+    std::vector<double> x = luma(t), y = luma(r);
+    double sum = 0;
+    size_t count = 0;
+    for (int oy = 0; oy + kWin <= h; ++oy)
+        for (int ox = 0; ox + kWin <= w; ++ox) {
+            double mx = 0, my = 0, sxx = 0, syy = 0, sxy = 0;
+            for (int j = 0; j < kWin; ++j)
+                for (int i = 0; i < kWin; ++i) {
+                    double wt = weight[i] * weight[j];
+                    size_t p = static_cast<size_t>(oy + j) * static_cast<size_t>(w) + static_cast<size_t>(ox + i);
+                    mx += wt * x[p], my += wt * y[p];
+                    sxx += wt * x[p] * x[p], syy += wt * y[p] * y[p], sxy += wt * x[p] * y[p];
+                }
+            double vx = sxx - mx * mx, vy = syy - my * my, cxy = sxy - mx * my;
+            sum += (2 * mx * my + c1) * (2 * cxy + c2) / ((mx * mx + my * my + c1) * (vx + vy + c2));
+            ++count;
+        }
+    return sum / static_cast<double>(count);
+}
+
+double perr(const std::vector<float>& flip, double threshold) {
+    if (flip.empty()) return 0;
+    size_t over = static_cast<size_t>(std::count_if(flip.begin(), flip.end(), [&](float v) { return v >= threshold; }));
+    return 100.0 * static_cast<double>(over) / static_cast<double>(flip.size());
+}
+
+double mean(const std::vector<float>& values) {
+    double sum = 0;
+    for (float v : values) sum += v;
+    return values.empty() ? 0 : sum / static_cast<double>(values.size());
+}
+
+std::string DisplayView::describe() const {
+    return hdr ? fmt::format("HDR inputs tone-mapped with the reference's exposure {:.6g} (key 0.18 over its log-average "
+                             "luminance), Reinhard, sRGB curve",
+                             exposure)
+               : "LDR inputs compared as stored (sRGB)";
+}
+
+Image display_view(const Image& linear, const DisplayView& view) {
+    Image out{linear.width, linear.height, {}};
+    if (view.hdr) {
+        out.rgb = to_display(linear.rgb, view.exposure);
+        return out;
+    }
+    out.rgb.resize(linear.rgb.size());
+    for (size_t i = 0; i < out.rgb.size(); ++i) {  // back to the sRGB values the file held
+        double v = std::clamp(static_cast<double>(linear.rgb[i]), 0.0, 1.0);
+        out.rgb[i] = static_cast<float>(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
+    }
+    return out;
+}
+
+}  // namespace crex::metrics
