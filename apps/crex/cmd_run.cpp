@@ -419,7 +419,8 @@ Runner add_run_command(CLI::App& app) {
                                                 kDefaultCrex + ")")
         ->allow_extra_args(false);
     CLI::Option* size = cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT (default: the pipeline's image, else 256x256)");
-    CLI::Option* spp = cmd->add_option("--spp", opt->spp, "Camera samples per pixel (default: the pipeline's, else 16)")
+    CLI::Option* spp = cmd->add_option("--spp", opt->spp, "Camera samples per pixel; of a pipeline, its preview's (default: the "
+                                                          "pipeline's, else 16)")
                            ->check(CLI::Range(1u, 1u << 20));
     cmd->add_option("-o,--output", opt->outputs, "Output image(s): .exr (float), .hdr, .png (tone-mapped); repeatable "
                                                  "(default out/render.exr and out/render.png)")
@@ -451,6 +452,9 @@ Runner add_run_command(CLI::App& app) {
     cmd->footer(R"(
 Camera rays are traced first; then the crex runs over the component bins (D G S T R M) and
 rays still waiting when it ends are dropped (--ambient stands in for waiting D rays).
+A pipeline file (or its plan) runs all three stages: the preview at the base spp, the guidance
+maps, then the selective pass with its variables per pixel (docs/guidance.md); --spp then sets
+the preview's samples, and flags override the pipeline's settings.
 
 Examples:
   crex run                                          built-in Cornell box, (TTMRSGD)*, 256x256
@@ -460,6 +464,8 @@ Examples:
   crex plan -e '(TTMRSGD)*' --scene S --format json -o p.json && crex run p.json   a kept plan
   crex run -e '(TT[RS]G)*D' --save-profile p.json            measure, then render in 25 % of the time:
   crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
+  crex run stdlib/pipelines/sel_rp.pipe --maps out/maps      saliency-driven rays per pixel, with its maps
+  crex run examples/pipelines/cornell_prog.pipe --size 128x128 --format json
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
     return [opt, size, spp, seed, lw, max_depth, ambient] {
