@@ -26,6 +26,10 @@
 #include "runtime/render/render.h"
 #include "runtime/pipeline/run_pipeline.h"
 #include "apps/crex/run_pictures.h"
+#include "apps/crex/run_report.h"
+#include "compiler/plan/emit_plan.h"
+#include "compiler/plan/plan_pipeline.h"
+#include "runtime/report/reference_cache.h"
 
 namespace crex::app {
 namespace {
@@ -56,6 +60,9 @@ struct RunOptions {
     std::string profile_in;
     std::string profile_out;
     std::string maps_dir;
+    std::string reference;     ///< image path, or "auto": the cached `crex reference` of this scene and size
+    std::string report_dir;
+    double checkpoint_interval = 0.1;
     bool seed_given = false, lw_given = false, max_depth_given = false, ambient_given = false;
 };
 
@@ -241,6 +248,47 @@ int run(RunOptions opt) {
     Progress progress(!opt.quiet);
     ro.executor.progress = [&](const std::string& what, uint64_t rays) { progress.update(what, rays); };
 
+    // Checkpoints for the error-against-time curve: with a reference, or for a report.
+    if (opt.report_dir.empty() && settings.count("output_report")) opt.report_dir = settings["output_report"];
+    if (opt.reference.empty() && settings.count("reference")) {
+        opt.reference = settings["reference"];
+        if (opt.reference.size() >= 2 && opt.reference.front() == '"') opt.reference = opt.reference.substr(1, opt.reference.size() - 2);
+    }
+    std::optional<metrics::Image> reference;
+    std::string reference_file = opt.reference;
+    if (!opt.reference.empty() || !opt.report_dir.empty()) {
+        bool automatic = opt.reference.empty() || opt.reference == "auto";
+        if (automatic) {
+            ReferenceSettings rs;
+            rs.width = width, rs.height = height;
+            reference_file = find_cached_reference(*scene, rs);
+        }
+        if (!automatic || !reference_file.empty()) {
+            metrics::Image img;
+            std::string error = read_image(reference_file, img.width, img.height, img.rgb);
+            if (!error.empty()) {
+                std::cerr << "crex run: error: reference: " << error << "\n";
+                return kExitFailure;
+            }
+            if (img.width != width || img.height != height) {
+                std::cerr << fmt::format("crex run: error: the reference {} is {}x{} but the render is {}x{}\n", reference_file, img.width,
+                                         img.height, width, height);
+                return kExitInputErrors;
+            }
+            reference = std::move(img);
+        } else if (opt.reference == "auto") {
+            std::cerr << fmt::format("crex run: error: no cached reference of {} at {}x{}: make one with 'crex reference {} --size "
+                                     "{}x{}'\n",
+                                     scene_spec, width, height, scene_spec, width, height);
+            return kExitFailure;
+        }
+    }
+    std::optional<CheckpointRecorder> recorder;
+    if (reference || !opt.report_dir.empty()) {
+        recorder.emplace(opt.checkpoint_interval);
+        ro.recorder = &*recorder;
+    }
+
     std::optional<RenderResult> rendered;
     std::optional<PipelineRunResult> piped;
     try {
@@ -251,6 +299,7 @@ int run(RunOptions opt) {
             po.seed = opt.seed;
             po.ambient = ro.ambient;
             po.executor = ro.executor;
+            po.recorder = ro.recorder;
             piped.emplace(run_pipeline(*scene, *pipeline_plan, po));
         } else {
             rendered.emplace(render(*scene, *program, ro));
@@ -306,8 +355,8 @@ int run(RunOptions opt) {
     const ExecutorStats& st = result.stats;
     uint64_t total_rays = st.camera.rays;
     for (const auto& c : st.components) total_rays += c.rays;
-    if (opt.format == "json") {
-        nlohmann::json j;
+    nlohmann::json j;  // the summary: printed with --format json, and the report's
+    {
         j["scene"] = scene->source;
         j["crex"] = sched::to_crex(*program);
         j["size"] = {width, height};
@@ -341,6 +390,7 @@ int run(RunOptions opt) {
             j["notes"] = piped->notes;
             if (piped->subsample) j["subsampled_pixels_rendered"] = piped->subsample->rendered_count();
         }
+        if (recorder) j["checkpoint_seconds"] = recorder->paused_seconds();
         if (!maps_dir.empty()) {
             j["pictures"] = pictures.written;
             j["rays_per_pixel"] = {{"mean", pictures.mean_rays_per_pixel}, {"max", pictures.max_rays_per_pixel}};
@@ -353,6 +403,51 @@ int run(RunOptions opt) {
                 skipped.push_back({{"task", sk.what}, {"predicted_seconds", sk.predicted}, {"remaining_seconds", sk.remaining}});
             j["skipped_tasks"] = skipped;
         }
+    }
+    std::vector<CurvePoint> curve;
+    if (!opt.report_dir.empty() || reference) {
+        RunReport report;
+        report.dir = opt.report_dir;
+        report.title = fmt::format("crex run: {} on {}", piped ? "pipeline " + pipeline_plan->name : sched::to_crex(*program), scene->source);
+        report.width = width, report.height = height;
+        report.checkpoints = &recorder->checkpoints();
+        report.reference = reference;
+        report.reference_path = reference_file;
+        report.view = {true, reference ? display_exposure(reference->rgb) : 1.0};
+        if (budget > 0) report.budget_seconds = budget;
+        report.summary = j;
+        report.images.push_back({"final image", layers.front().rgb});
+        if (piped) report.images.push_back({"preview", piped->preview});
+        if (reference) report.images.push_back({"reference", reference->rgb});
+        for (size_t a = 0; a < kAovCount; ++a)
+            report.images.push_back({"component " + aov_name(a), piped ? piped->aov_image(a) : result.film.aov_image(a)});
+        if (piped) report.maps = piped->maps;
+        report.pictures = pictures.written;
+        if (pipeline_plan) {
+            report.plan_dot = pipeline_plan_to_dot(*pipeline_plan);
+        } else {
+            CrexPlan cp;
+            cp.source = source->text();
+            cp.program = *program;
+            report.plan_dot = plan_to_dot(cp);
+        }
+        if (opt.report_dir.empty()) {  // a reference without a report: the curve only, in the summary
+            report.view = {true, display_exposure(reference->rgb)};
+            curve = error_curve(recorder->checkpoints(), *reference, report.view);
+        } else if (std::string error = write_run_report(report, curve); !error.empty()) {
+            std::cerr << "crex run: error: report: " << error << "\n";
+            return kExitFailure;
+        }
+        if (!curve.empty()) {
+            nlohmann::json cj = nlohmann::json::array();
+            for (const auto& c : curve)
+                cj.push_back({{"seconds", c.seconds}, {"stage", c.stage}, {"event", c.event}, {"rmse", c.rmse}, {"flip", c.flip}, {"perr", c.perr}});
+            j["error_curve"] = cj;
+            j["reference"] = reference_file;
+        }
+        if (!opt.report_dir.empty()) j["report"] = (std::filesystem::path(opt.report_dir) / "index.html").string();
+    }
+    if (opt.format == "json") {
         std::cout << j.dump(2) << "\n";
         return kExitOk;
     }
@@ -372,11 +467,6 @@ int run(RunOptions opt) {
     std::cout << fmt::format("  scene load {:.3f} s, BVH build {:.3f} s, render {:.3f} s ({:.2f} M rays/s)\n", load_seconds,
                              result.setup_seconds, result.render_seconds,
                              result.render_seconds > 0 ? total_rays / 1e6 / result.render_seconds : 0.0);
-    std::cout << "  bin       steps        rays  shadow rays   seconds   M rays/s   left at end\n";
-    auto row = [&](const std::string& name, const ComponentStats& s, const std::string& steps, size_t left) {
-        std::cout << fmt::format("  {:<8} {:>6} {:>11} {:>12} {:>9.3f} {:>10.2f} {:>13}\n", name, steps, s.rays, s.shadow_rays,
-                                 s.seconds, s.seconds > 0 ? s.rays / 1e6 / s.seconds : 0.0, left);
-    };
     if (piped) {
         double total = std::max(result.render_seconds, 1e-12);
         std::cout << fmt::format("  pipeline {}: preview {:.3f} s ({:.0f} % of the render), guidance {:.3f} s, selective {:.3f} s\n",
@@ -388,6 +478,11 @@ int run(RunOptions opt) {
             std::cout << "  maps: " << names << "\n";
         }
     }
+    std::cout << "  bin       steps        rays  shadow rays   seconds   M rays/s   left at end\n";
+    auto row = [&](const std::string& name, const ComponentStats& s, const std::string& steps, size_t left) {
+        std::cout << fmt::format("  {:<8} {:>6} {:>11} {:>12} {:>9.3f} {:>10.2f} {:>13}\n", name, steps, s.rays, s.shadow_rays,
+                                 s.seconds, s.seconds > 0 ? s.rays / 1e6 / s.seconds : 0.0, left);
+    };
     row("camera", st.camera, "-", 0);
     for (size_t c = 0; c < kComponentCount; ++c)
         if (st.components[c].rays > 0 || result.rays_left[c] > 0)
@@ -401,6 +496,10 @@ int run(RunOptions opt) {
             std::cout << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
     }
     for (const auto& p : outputs) std::cout << "  wrote " << p << "\n";
+    if (!curve.empty())
+        std::cout << fmt::format("  error against {}: RMSE {:.4g} -> {:.4g}, FLIP {:.4f} -> {:.4f} over {} checkpoints\n", reference_file,
+                                 curve.front().rmse, curve.back().rmse, curve.front().flip, curve.back().flip, curve.size());
+    if (!opt.report_dir.empty()) std::cout << "  wrote the report " << (std::filesystem::path(opt.report_dir) / "index.html").string() << "\n";
     if (!maps_dir.empty())
         std::cout << fmt::format("  wrote {} pictures to {} (rays per pixel: mean {:.1f}, max {:.0f})\n", pictures.written.size(),
                                  maps_dir, pictures.mean_rays_per_pixel, pictures.max_rays_per_pixel);
@@ -447,6 +546,14 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--save-profile", opt->profile_out, "Write the measured profile (and this render's time) to FILE");
     cmd->add_option("--format", opt->format, "Summary as text or json (stdout)")->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
+    cmd->add_option("--reference", opt->reference, "Reference image to measure error against during the render (checkpoints), or "
+                                                   "'auto' for the cached 'crex reference' of the scene at this size");
+    cmd->add_option("--report", opt->report_dir, "Write a report to DIR: checkpoints (JSON, CSV), error plot (SVG), images, plan, "
+                                                 "and one self-contained index.html");
+    cmd->add_option("--checkpoint-interval", opt->checkpoint_interval, "Seconds between checkpoints within long steps (also at "
+                                                                       "every step and stage boundary)")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-4, 1e6));
     cmd->add_option("--maps", opt->maps_dir, "Write every guidance map, the preview and per-pixel pictures (samples, rays, "
                                              "components) to DIR (default with 'output { maps true }': beside the image)");
     cmd->footer(R"(

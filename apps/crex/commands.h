@@ -15,5 +15,6 @@ Runner add_scene_info_command(CLI::App& app);
 Runner add_run_command(CLI::App& app);
 Runner add_plan_command(CLI::App& app);
 Runner add_compare_command(CLI::App& app);
+Runner add_reference_command(CLI::App& app);
 
 }  // namespace crex::app

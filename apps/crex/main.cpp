@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     runners["run"] = add_run_command(app);
     runners["plan"] = add_plan_command(app);
     runners["compare"] = add_compare_command(app);
+    runners["reference"] = add_reference_command(app);
 
     try {
         app.parse(argc, argv);

@@ -253,6 +253,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             continue;
         }
         if (key == "image") plan.settings["output_image"] = v.text;
+        if (key == "report") plan.settings["output_report"] = v.text;
         g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)), {{"path", v.text}});
         g.edge("composite", "output." + key, "image");
     }

@@ -76,10 +76,39 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     // One clock for both stages: a budget counts from the first camera ray (spec §7).
     const auto t0 = Clock::now();
     ExecutorOptions base = options.executor;
-    if (!base.clock) base.clock = [t0] { return seconds_since(t0); };
+    CheckpointRecorder* rec = options.recorder;
+    const Executor* main_ptr = nullptr;
+    const Executor* added_ptr = nullptr;
+    const RayBatch* d_bins[2] = {nullptr, nullptr};
+    auto rays_so_far = [&] { return (main_ptr ? main_ptr->rays_done() : 0) + (added_ptr ? added_ptr->rays_done() : 0); };
+    auto snapshot = [&] {
+        std::vector<double> amb(3 * pixels, 0.0);
+        for (const RayBatch* d : d_bins)
+            if (d) {
+                auto a = ambient_buffer(*d, options.ambient, pixels);
+                for (size_t i = 0; i < a.size(); ++i) amb[i] += a[i];
+            }
+        std::vector<float> rgb = film.composite(&amb);
+        if (out.subsample) out.subsample->fill(rgb);
+        return rgb;
+    };
+    if (rec) {
+        rec->start();
+        base.clock = [rec] { return rec->now(); };
+        base.checkpoint = [&](const std::string& what, bool boundary) { rec->event(what, boundary, rays_so_far(), snapshot); };
+    } else if (!base.clock) {
+        base.clock = [t0] { return seconds_since(t0); };
+    }
+    auto stage_end = [&](const std::string& what, const std::string& next) {
+        if (!rec) return;
+        rec->event(what, true, rays_so_far(), snapshot, true);
+        rec->set_stage(next);
+    };
 
     // 1. Pre-selective.
     Executor main(rs, film, base);
+    main_ptr = &main;
+    d_bins[0] = &main.bins()[static_cast<size_t>(Component::kD)];
     CameraRays camera(scene.camera, w, h, rs.embree->origin_offset());
     const uint32_t s0 = options.preview_spp;
     {
@@ -96,6 +125,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     out.preview = film.composite(&ambient);
     out.preview_seconds = seconds_since(t0);
     out.preview_rays = total_rays(main.stats());
+    stage_end("end of the pre-selective stage", "guidance");
 
     // 2. Guidance.
     auto t_guidance = Clock::now();
@@ -177,6 +207,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
         if (modulation_map.rfind("map.", 0) != 0) out.maps.push_back({modulation_map, graph.map(modulation_map)});
     }
     out.guidance_seconds = seconds_since(t_guidance);
+    stage_end("end of guidance", "selective");
 
     // 3. Selective: new camera samples continue each pixel's sequence where the preview stopped.
     auto t_selective = Clock::now();
@@ -193,9 +224,13 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
         }
         if (!rays.empty()) {
             Executor added(rs, film, selective);
+            added_ptr = &added;
+            d_bins[1] = &added.bins()[static_cast<size_t>(Component::kD)];
             added.run_camera_rays(rays);
             added.run(plan.program.preselective);
             main.adopt(added);
+            added_ptr = nullptr;
+            d_bins[1] = nullptr;
         }
     }
     main.set_shade_params(shade);
@@ -211,6 +246,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     r.warnings = main.warnings();
     r.render_seconds = seconds_since(t0);
     out.selective_rays = total_rays(r.stats) - out.preview_rays;
+    stage_end("end of render", "end");
     return out;
 }
 

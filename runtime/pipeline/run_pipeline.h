@@ -31,6 +31,7 @@ struct PipelineRunOptions {
     uint64_t seed = 0;
     Vec3 ambient{0, 0, 0};
     ExecutorOptions executor;  ///< base-quality shading, budget, profile, progress
+    CheckpointRecorder* recorder = nullptr;  ///< reports: image snapshots during the render
 };
 
 struct PipelineRunResult {

@@ -58,6 +58,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         stats.shadow_rays += out.shadow_rays;
         rays_done_ += end - begin;
         if (options_.progress) options_.progress(label, rays_done_);
+        if (options_.checkpoint) options_.checkpoint(label, false);
     }
     double seconds = now() - start;
     stats.seconds += seconds;
@@ -69,6 +70,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
 
 void Executor::run_camera_rays(const RayBatch& camera_rays) {
     execute_rays(camera_rays, true, kCameraAov, stats_.camera, "camera rays", std::nullopt);
+    if (options_.checkpoint) options_.checkpoint("camera rays", true);
 }
 
 bool Executor::exec(const sched::Node& node) {
@@ -186,7 +188,12 @@ bool Executor::budgeted_group(const sched::Node& node, bool owns) {
 bool Executor::run(const sched::Node& node) {
     using sched::Op;
     switch (node.op) {
-    case Op::kExec: return exec(node);
+    case Op::kExec: {
+        bool work = exec(node);
+        if (work && options_.checkpoint)
+            options_.checkpoint(fmt::format("{} at {}", component_letter(node.component), node.where.to_string()), true);
+        return work;
+    }
     case Op::kSeq: {
         bool work = false;
         for (const auto& child : node.children) work |= run(child);

@@ -66,8 +66,12 @@ struct ExecutorOptions {
     std::function<void(const std::string& what, uint64_t rays_done)> progress;
     double budget_seconds = 0;       ///< 0: no time budget
     Profile* profile = nullptr;      ///< costs per ray; measured into as the render goes
-    /// Seconds since the first camera ray (default: a steady clock). Tests inject a clock.
+    /// Seconds since the first camera ray (default: a steady clock). Tests inject a clock;
+    /// reports give one that pauses while they copy snapshots.
     std::function<double()> clock;
+    /// Called after every chunk (boundary = false) and after every step (boundary = true) with
+    /// what just ran: where a report takes its checkpoints (issue 8).
+    std::function<void(const std::string& event, bool boundary)> checkpoint;
 };
 
 class Executor {
@@ -91,6 +95,7 @@ public:
     const std::array<RayBatch, kComponentCount>& bins() const { return bins_; }
     std::array<RayBatch, kComponentCount>& bins() { return bins_; }
     const ExecutorStats& stats() const { return stats_; }
+    uint64_t rays_done() const { return rays_done_; }
     const std::vector<std::string>& warnings() const { return warnings_; }
 
 private:

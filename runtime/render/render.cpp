@@ -51,17 +51,39 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
     RenderResult result{Film(options.width, options.height), {}, {}, {}, 0, 0, {}};
     result.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
 
-    Executor executor(rs, result.film, options.executor);
+    ExecutorOptions eo = options.executor;
+    const Executor* running = nullptr;
+    CheckpointRecorder* rec = options.recorder;
+    auto snapshot = [&] {
+        std::vector<double> ambient = ambient_buffer(running->bins()[static_cast<size_t>(Component::kD)], options.ambient,
+                                                     result.film.pixel_count());
+        return result.film.composite(&ambient);
+    };
+    if (rec) {
+        if (!eo.clock) eo.clock = [rec] { return rec->now(); };
+        eo.checkpoint = [&](const std::string& what, bool boundary) { rec->event(what, boundary, running->rays_done(), snapshot); };
+    }
+    Executor executor(rs, result.film, eo);
+    running = &executor;
     CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
     RayBatch rays;
     for (uint32_t p = 0; p < result.film.pixel_count(); ++p) {
         append_camera_rays(camera, options.seed, options.width, p, options.first_sample, options.spp, rays);
         result.film.add_samples(p, options.spp);
     }
+    if (rec) rec->start();
     executor.run_camera_rays(rays);
     rays.clear();
     executor.run(program.preselective);
+    if (rec) {
+        rec->event("end of the pre-selective stage", true, executor.rays_done(), snapshot, true);
+        rec->set_stage("selective");
+    }
     executor.run(program.selective);
+    if (rec) {
+        rec->set_stage("end");
+        rec->event("end of render", true, executor.rays_done(), snapshot, true);
+    }
 
     // The ambient buffer: av times the throughput of every ray still waiting in D (spec §3).
     result.ambient = ambient_buffer(executor.bins()[static_cast<size_t>(Component::kD)], options.ambient,

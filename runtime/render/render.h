@@ -12,6 +12,7 @@
 #include "runtime/render/executor.h"
 #include "runtime/render/film.h"
 #include "runtime/render/render_scene.h"
+#include "runtime/report/checkpoints.h"
 #include "runtime/scene/scene.h"
 
 namespace crex {
@@ -24,6 +25,7 @@ struct RenderOptions {
     uint64_t seed = 0;
     Vec3 ambient{0, 0, 0};      ///< `av`: radiance standing in for unexecuted D work
     ExecutorOptions executor;
+    CheckpointRecorder* recorder = nullptr;  ///< reports: image snapshots during the render
 };
 
 struct RenderResult {

@@ -139,6 +139,8 @@ struct StdlibCase {
     std::string pipeline, scene;
 };
 
+void PrintTo(const StdlibCase& c, std::ostream* os) { *os << c.pipeline << " on " << c.scene; }
+
 class StdlibPipelines : public ::testing::TestWithParam<StdlibCase> {};
 
 TEST_P(StdlibPipelines, RenderFiniteImagesWithMapsInTheUnitInterval) {

@@ -1,0 +1,39 @@
+#include "runtime/report/checkpoints.h"
+
+namespace crex {
+
+CheckpointRecorder::CheckpointRecorder(double interval, size_t max_bytes) : interval_(interval > 0 ? interval : 0.1), max_bytes_(max_bytes) {}
+
+void CheckpointRecorder::start() {
+    start_ = Clock::now();
+    paused_ = 0;
+    last_ = -1e30;
+}
+
+double CheckpointRecorder::now() const { return std::chrono::duration<double>(Clock::now() - start_).count() - paused_; }
+
+void CheckpointRecorder::event(const std::string& what, bool boundary, uint64_t rays, const std::function<std::vector<float>()>& snapshot,
+                               bool force) {
+    double t = now();
+    bool due = force || t - last_ >= (boundary ? interval_ / 10 : interval_);
+    if (!due) return;
+    auto copy_start = Clock::now();
+    Checkpoint c{t, stage_, what, rays, snapshot()};
+    bytes_ += c.image.size() * sizeof(float);
+    checkpoints_.push_back(std::move(c));
+    last_ = t;
+    if (bytes_ > max_bytes_) {  // thin out: keep stage ends and every other checkpoint
+        std::vector<Checkpoint> kept;
+        bytes_ = 0;
+        for (size_t i = 0; i < checkpoints_.size(); ++i)
+            if (i % 2 == 0 || i + 1 == checkpoints_.size() || checkpoints_[i].event.rfind("end of ", 0) == 0) {
+                bytes_ += checkpoints_[i].image.size() * sizeof(float);
+                kept.push_back(std::move(checkpoints_[i]));
+            }
+        checkpoints_ = std::move(kept);
+        interval_ *= 2;
+    }
+    paused_ += std::chrono::duration<double>(Clock::now() - copy_start).count();
+}
+
+}  // namespace crex

@@ -1,0 +1,101 @@
+#include "runtime/report/html_report.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace crex {
+namespace {
+
+std::string escape(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        switch (c) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        default: out += c;
+        }
+    }
+    return out;
+}
+
+// Graphviz's SVG starts with an XML prolog and a DOCTYPE, which may not appear inside HTML.
+std::string inline_svg(const std::string& svg) {
+    size_t at = svg.find("<svg");
+    return at == std::string::npos ? svg : svg.substr(at);
+}
+
+constexpr const char* kScript = R"(<script>
+window.addEventListener('load', () => {
+  const imgs = Array.from(document.images);
+  const b = document.body.dataset;
+  b.imagesTotal = imgs.length;
+  b.imagesLoaded = imgs.filter(i => i.complete && i.naturalWidth > 0).length;
+  const plot = document.getElementById('error-plot');
+  b.plotCurves = plot ? plot.querySelectorAll('polyline.curve').length : 0;
+  b.plotWidth = plot ? Math.round(plot.getBoundingClientRect().width) : 0;
+  b.ready = 'yes';
+});
+</script>
+)";
+
+}  // namespace
+
+std::string base64(const std::string& bytes) {
+    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    out.reserve((bytes.size() + 2) / 3 * 4);
+    size_t i = 0;
+    for (; i + 2 < bytes.size(); i += 3) {
+        uint32_t v = (uint32_t(uint8_t(bytes[i])) << 16) | (uint32_t(uint8_t(bytes[i + 1])) << 8) | uint8_t(bytes[i + 2]);
+        out += t[v >> 18], out += t[(v >> 12) & 63], out += t[(v >> 6) & 63], out += t[v & 63];
+    }
+    if (i + 1 == bytes.size()) {
+        uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
+        out += t[v >> 18], out += t[(v >> 12) & 63], out += "==";
+    } else if (i + 2 == bytes.size()) {
+        uint32_t v = (uint32_t(uint8_t(bytes[i])) << 16) | (uint32_t(uint8_t(bytes[i + 1])) << 8);
+        out += t[v >> 18], out += t[(v >> 12) & 63], out += t[(v >> 6) & 63], out += '=';
+    }
+    return out;
+}
+
+std::string render_report_html(const ReportPage& page, std::string& error) {
+    std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escape(page.title) + "</title>\n";
+    html += R"(<style>
+body { font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #202124; }
+h1 { font-size: 20px; } h2 { font-size: 16px; margin-top: 28px; }
+table { border-collapse: collapse; } td, th { border: 1px solid #ddd; padding: 4px 10px; text-align: left; }
+.images { display: flex; flex-wrap: wrap; gap: 16px; }
+figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
+img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
+.plan svg { max-width: 100%; height: auto; }
+</style>
+)";
+    html += kScript;
+    html += "</head>\n<body>\n<h1>" + escape(page.title) + "</h1>\n<h2>Summary</h2>\n<table>\n";
+    for (const auto& [k, v] : page.summary) html += "<tr><th>" + escape(k) + "</th><td>" + escape(v) + "</td></tr>\n";
+    html += "</table>\n";
+    if (!page.plot_svg.empty()) html += "<h2>Error against time</h2>\n<div class=\"plot\">\n" + inline_svg(page.plot_svg) + "</div>\n";
+    html += "<h2>Images</h2>\n<div class=\"images\">\n";
+    for (const auto& img : page.images) {
+        std::ifstream in(img.png_path, std::ios::binary);
+        std::stringstream bytes;
+        bytes << in.rdbuf();
+        if (!in) {
+            error = "cannot read " + img.png_path + " for the report";
+            return "";
+        }
+        html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\"><figcaption>{0}</figcaption></figure>\n",
+                            escape(img.title), base64(bytes.str()));
+    }
+    html += "</div>\n<h2>Plan</h2>\n<div class=\"plan\">\n";
+    html += page.plan_svg.empty() ? "<pre>" + escape(page.plan_dot) + "</pre>\n" : inline_svg(page.plan_svg);
+    html += "</div>\n</body>\n</html>\n";
+    return html;
+}
+
+}  // namespace crex

@@ -1,0 +1,33 @@
+/// \file html_report.h
+/// The report of a run as one self-contained HTML page: images embedded as data: URIs, the
+/// plot and plan graph as inline SVG, a summary table. A script on the page records in
+/// <body data-*> how many images decoded and how many curves the plot drew, which is what the
+/// headless-Chromium test reads back.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace crex {
+
+struct ReportImage {
+    std::string title;
+    std::string png_path;  ///< read and embedded
+};
+
+struct ReportPage {
+    std::string title;
+    std::vector<std::pair<std::string, std::string>> summary;  ///< rows of the summary table
+    std::string plot_svg;
+    std::string plan_svg;  ///< Graphviz's SVG of the plan, or "" to show plan_dot as text
+    std::string plan_dot;
+    std::vector<ReportImage> images;
+};
+
+/// Returns the page; `error` names an image that could not be read.
+std::string render_report_html(const ReportPage& page, std::string& error);
+
+std::string base64(const std::string& bytes);
+
+}  // namespace crex

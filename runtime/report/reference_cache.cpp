@@ -1,0 +1,46 @@
+#include "runtime/report/reference_cache.h"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "runtime/scene/load_scene.h"
+
+namespace crex {
+
+std::string reference_key(const Scene& scene, const ReferenceSettings& s) {
+    std::string text = scene_json_text(scene);
+    text += fmt::format("\n{}x{} seed {} crex {} lw {:.17g} max_depth {} v1", s.width, s.height, s.seed, s.crex, s.lw, s.max_depth);
+    uint64_t h = 1469598103934665603ull;
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    return fmt::format("{:016x}", h);
+}
+
+std::string reference_cache_dir() {
+    namespace fs = std::filesystem;
+    if (const char* c = std::getenv("CREX_CACHE"); c && *c) return (fs::path(c) / "references").string();
+    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return (fs::path(x) / "crex" / "references").string();
+    const char* home = std::getenv("HOME");
+    return (fs::path(home && *home ? home : ".") / ".cache" / "crex" / "references").string();
+}
+
+std::string reference_path(const Scene& scene, const ReferenceSettings& s) {
+    return (std::filesystem::path(reference_cache_dir()) / fmt::format("{}_spp{}.exr", reference_key(scene, s), s.spp)).string();
+}
+
+std::string find_cached_reference(const Scene& scene, const ReferenceSettings& s) {
+    namespace fs = std::filesystem;
+    std::string prefix = reference_key(scene, s) + "_spp", best;
+    unsigned long most = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(reference_cache_dir(), ec)) {
+        std::string name = e.path().filename().string();
+        if (name.rfind(prefix, 0) != 0 || e.path().extension() != ".exr") continue;
+        unsigned long spp = std::strtoul(name.c_str() + prefix.size(), nullptr, 10);
+        if (spp > most) most = spp, best = e.path().string();
+    }
+    return best;
+}
+
+}  // namespace crex

@@ -1,0 +1,32 @@
+/// \file reference_cache.h
+/// Converged references, cached by what determines them: the scene (its full JSON form, not
+/// its path), image size, samples, seed, crex and limits. `crex reference` fills the cache;
+/// `crex run --reference auto` looks there.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+struct ReferenceSettings {
+    int width = 128, height = 128;
+    uint32_t spp = 1024;
+    uint64_t seed = 0;
+    std::string crex = "(TTMRSGD)*";
+    double lw = 1e-3;
+    uint32_t max_depth = 256;
+};
+
+/// 16 hex digits (FNV-1a 64 of the scene JSON and the settings but spp, which is in the
+/// file name: KEY_sppN.exr).
+std::string reference_key(const Scene& scene, const ReferenceSettings& s);
+/// $CREX_CACHE, else $XDG_CACHE_HOME/crex, else ~/.cache/crex; then references/.
+std::string reference_cache_dir();
+std::string reference_path(const Scene& scene, const ReferenceSettings& s);
+/// The cached reference with these settings and the most samples (s.spp ignored); "" if none.
+std::string find_cached_reference(const Scene& scene, const ReferenceSettings& s);
+
+}  // namespace crex

@@ -1,0 +1,103 @@
+// `crex reference` and `crex run --reference/--report`: the cache, checkpoints, error curve
+// and report files (issue 8).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "tests/support/crex_cli.h"
+
+namespace crex {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::crex_cli;
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class ReportCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("crex_report_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+        ::setenv("CREX_CACHE", (dir_ / "cache").c_str(), 1);
+    }
+    void TearDown() override {
+        ::unsetenv("CREX_CACHE");
+        fs::remove_all(dir_);
+    }
+    std::string path(const std::string& f) const { return (dir_ / f).string(); }
+    fs::path dir_;
+};
+
+TEST_F(ReportCli, ReferencesAreCachedByContentAndFoundByAuto) {
+    auto first = crex_cli({"reference", "--size", "24x16", "--spp", "16", "-q"});
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    std::string ref = first.out.substr(0, first.out.find('\n'));
+    EXPECT_TRUE(fs::exists(ref)) << ref;
+    EXPECT_EQ(ref.find(path("cache/references/")), 0u) << ref;
+    auto again = crex_cli({"reference", "--size", "24x16", "--spp", "16"});
+    EXPECT_EQ(again.out, first.out);
+    EXPECT_NE(again.err.find("cached"), std::string::npos) << again.err;
+    // A different scene is a different key.
+    auto other = crex_cli({"reference", "builtin:cornell_diffuse", "--size", "24x16", "--spp", "16", "-q"});
+    EXPECT_NE(other.out, first.out);
+    // auto finds it at the render's size, and says how to make one when there is none.
+    auto run = crex_cli({"run", "--size", "24x16", "--spp", "2", "-o", path("r.exr"), "--reference", "auto", "--format", "json", "-q"});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    auto j = nlohmann::json::parse(run.out);
+    EXPECT_EQ(j["reference"], ref);
+    ASSERT_GE(j["error_curve"].size(), 3u);
+    auto none = crex_cli({"run", "--size", "20x16", "-o", path("r.exr"), "--reference", "auto", "-q"});
+    EXPECT_EQ(none.exit_code, 3);
+    EXPECT_NE(none.err.find("crex reference builtin:cornell --size 20x16"), std::string::npos) << none.err;
+    auto wrong_size = crex_cli({"run", "--size", "20x16", "-o", path("r.exr"), "--reference", ref, "-q"});
+    EXPECT_EQ(wrong_size.exit_code, 1);
+}
+
+TEST_F(ReportCli, TheReportHoldsCheckpointsAFallingCurveAndThePage) {
+    ASSERT_EQ(crex_cli({"reference", "--size", "32x32", "--spp", "64", "-q"}).exit_code, 0);
+    auto r = crex_cli({"run", "--size", "32x32", "--spp", "4", "-o", path("r.exr"), "--reference", "auto", "--report", path("rep"),
+                       "--budget", "30s", "--checkpoint-interval", "0.01", "--format", "json", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* f : {"index.html", "checkpoints.json", "checkpoints.csv", "error_plot.svg", "plan.dot", "images/final_image.png",
+                          "images/reference.png", "images/component_D.png"})
+        EXPECT_TRUE(fs::exists(dir_ / "rep" / f)) << f;
+    auto j = nlohmann::json::parse(slurp(dir_ / "rep" / "checkpoints.json"));
+    const auto& cps = j["checkpoints"];
+    ASSERT_GE(cps.size(), 3u);
+    // Time only grows; the error at the end is far below the first checkpoint's.
+    for (size_t i = 1; i < cps.size(); ++i) EXPECT_GE(cps[i]["seconds"].get<double>(), cps[i - 1]["seconds"].get<double>());
+    EXPECT_LT(cps.back()["flip"].get<double>(), 0.6 * cps.front()["flip"].get<double>());
+    EXPECT_LT(cps.back()["rmse"].get<double>(), cps.front()["rmse"].get<double>());
+    EXPECT_EQ(cps.back()["event"], "end of render");
+    EXPECT_EQ(j["budget_seconds"], 30);
+    // CSV: a header and one row per checkpoint.
+    std::string csv = slurp(dir_ / "rep" / "checkpoints.csv");
+    EXPECT_EQ(csv.rfind("seconds,stage,event,rays,rmse,relmse,flip,perr,ssim\n", 0), 0u);
+    EXPECT_EQ(static_cast<size_t>(std::count(csv.begin(), csv.end(), '\n')), cps.size() + 1);
+    // The plot: one curve per metric, the budget line, a stage boundary.
+    std::string svg = slurp(dir_ / "rep" / "error_plot.svg");
+    size_t curves = 0;
+    for (size_t at = svg.find("class=\"curve\""); at != std::string::npos; at = svg.find("class=\"curve\"", at + 1)) ++curves;
+    EXPECT_EQ(curves, 5u);
+    EXPECT_NE(svg.find("id=\"budget\""), std::string::npos);
+    EXPECT_NE(svg.find("class=\"stage\""), std::string::npos);
+    // The page is self-contained: no file references, images inline.
+    std::string html = slurp(dir_ / "rep" / "index.html");
+    EXPECT_EQ(html.find("src=\"images/"), std::string::npos);
+    EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
+    EXPECT_NE(html.find("id=\"error-plot\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace crex

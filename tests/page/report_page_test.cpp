@@ -1,0 +1,54 @@
+// The report page of the built-in Cornell box, opened in headless Chromium (Debian's
+// `chromium`): every image decodes, the plot draws its curves, and the error falls (issue 8).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+#include "tests/support/crex_cli.h"
+
+namespace crex {
+namespace {
+
+namespace fs = std::filesystem;
+
+int body_attribute(const std::string& dom, const std::string& name) {
+    std::smatch m;
+    if (!std::regex_search(dom, m, std::regex(name + "=\"([0-9]+)\""))) return -1;
+    return std::stoi(m[1]);
+}
+
+TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
+    ASSERT_TRUE(fs::exists("/usr/bin/chromium")) << "the page test needs Debian's chromium (tools/debian-packages.txt)";
+    fs::path dir = fs::temp_directory_path() / ("crex_page_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    ::setenv("CREX_CACHE", (dir / "cache").c_str(), 1);
+    ASSERT_EQ(testing::crex_cli({"reference", "--size", "48x48", "--spp", "64", "-q"}).exit_code, 0);
+    auto run = testing::crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "48x48", "-o",
+                                  (dir / "r.exr").string(), "--reference", "auto", "--report", (dir / "report").string(), "-q"});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    auto page = testing::run_command({"/usr/bin/chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                                      "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                                      "--user-data-dir=" + (dir / "chromium").string(), "--virtual-time-budget=10000", "--dump-dom",
+                                      "file://" + (dir / "report" / "index.html").string()});
+    ASSERT_EQ(page.exit_code, 0) << page.err;
+    EXPECT_NE(page.out.find("data-ready=\"yes\""), std::string::npos) << page.out.substr(0, 400);
+    int total = body_attribute(page.out, "data-images-total"), loaded = body_attribute(page.out, "data-images-loaded");
+    EXPECT_GE(total, 10);  // final, preview, reference, 7 components, the saliency map
+    EXPECT_EQ(loaded, total);
+    EXPECT_EQ(body_attribute(page.out, "data-plot-curves"), 5);
+    EXPECT_GT(body_attribute(page.out, "data-plot-width"), 100);
+    // The curve the plot draws falls: the last checkpoint's FLIP is well below the first.
+    std::ifstream in(dir / "report" / "checkpoints.json");
+    auto j = nlohmann::json::parse(in);
+    EXPECT_LT(j["checkpoints"].back()["flip"].get<double>(), 0.6 * j["checkpoints"].front()["flip"].get<double>());
+    ::unsetenv("CREX_CACHE");
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace crex
