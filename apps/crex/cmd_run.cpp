@@ -30,6 +30,7 @@
 #include "compiler/plan/emit_plan.h"
 #include "compiler/plan/plan_pipeline.h"
 #include "runtime/report/reference_cache.h"
+#include "runtime/cache/irradiance_cache.h"
 
 namespace crex::app {
 namespace {
@@ -63,6 +64,10 @@ struct RunOptions {
     std::string reference;     ///< image path, or "auto": the cached `crex reference` of this scene and size
     std::string report_dir;
     double checkpoint_interval = 0.1;
+    bool ic = false;
+    double aa = 0.15;
+    uint32_t ad = 256, ab = 2;
+    std::string ic_file;
     bool seed_given = false, lw_given = false, max_depth_given = false, ambient_given = false;
 };
 
@@ -283,6 +288,27 @@ int run(RunOptions opt) {
             return kExitFailure;
         }
     }
+    // The irradiance cache: --ic, or a pipeline that varies ic_radius (or sets aa).
+    bool wants_cache = opt.ic || !opt.ic_file.empty();
+    if (pipeline_plan)
+        for (const auto& n : pipeline_plan->nodes) wants_cache |= n.id == "irradiance_cache";
+    if (wants_cache) {
+        IcSettings ics;
+        ics.accuracy = opt.aa, ics.divisions = opt.ad, ics.bounces = opt.ab;
+        ics.ambient = ro.ambient;
+        ics.seed = opt.seed;
+        ro.irradiance_cache = ics;
+        if (!opt.ic_file.empty() && std::filesystem::exists(opt.ic_file)) {
+            RenderScene probe_scene(*scene);  // records are validated against the scene's extent
+            IrradianceCache loader(probe_scene, ics);
+            std::string error = loader.load(opt.ic_file);
+            if (!error.empty()) {
+                std::cerr << "crex run: error: irradiance cache: " << error << "\n";
+                return kExitInputErrors;
+            }
+            ro.ic_records = loader.records();
+        }
+    }
     std::optional<CheckpointRecorder> recorder;
     if (reference || !opt.report_dir.empty()) {
         recorder.emplace(opt.checkpoint_interval);
@@ -300,6 +326,8 @@ int run(RunOptions opt) {
             po.ambient = ro.ambient;
             po.executor = ro.executor;
             po.recorder = ro.recorder;
+            po.irradiance_cache = ro.irradiance_cache;
+            po.ic_records = ro.ic_records;
             piped.emplace(run_pipeline(*scene, *pipeline_plan, po));
         } else {
             rendered.emplace(render(*scene, *program, ro));
@@ -314,6 +342,16 @@ int run(RunOptions opt) {
     if (piped)
         for (const auto& note : piped->notes) std::cerr << "crex run: note: " << note << "\n";
     for (const auto& w : result.warnings) std::cerr << w << "\n";
+    if (!opt.ic_file.empty() && ro.irradiance_cache) {
+        RenderScene rs(*scene);
+        IrradianceCache saver(rs, *ro.irradiance_cache);
+        for (const auto& r : result.ic_records) saver.insert(r);
+        std::string error = saver.save(opt.ic_file);
+        if (!error.empty()) {
+            std::cerr << "crex run: error: cannot save the irradiance cache: " << error << "\n";
+            return kExitFailure;
+        }
+    }
     if (!opt.profile_out.empty()) {
         auto j = nlohmann::json::parse(profile.to_json_text());
         j["full_render_seconds"] = budget > 0 ? full_render_seconds : result.render_seconds;
@@ -391,6 +429,13 @@ int run(RunOptions opt) {
             if (piped->subsample) j["subsampled_pixels_rendered"] = piped->subsample->rendered_count();
         }
         if (recorder) j["checkpoint_seconds"] = recorder->paused_seconds();
+        if (ro.irradiance_cache) {
+            const IcStats& ic = result.ic_stats;
+            j["irradiance_cache"] = {{"aa", opt.aa}, {"ad", opt.ad}, {"ab", opt.ab}, {"records", result.ic_records.size()},
+                                     {"records_made", ic.records}, {"records_loaded", ro.ic_records.size()},
+                                     {"lookups", ic.lookups}, {"interpolated_at_first_lookup", ic.interpolated},
+                                     {"hemisphere_rays", ic.hemisphere_rays}, {"rounds", ic.rounds}};
+        }
         if (!maps_dir.empty()) {
             j["pictures"] = pictures.written;
             j["rays_per_pixel"] = {{"mean", pictures.mean_rays_per_pixel}, {"max", pictures.max_rays_per_pixel}};
@@ -554,6 +599,15 @@ Runner add_run_command(CLI::App& app) {
                                                                        "every step and stage boundary)")
         ->capture_default_str()
         ->check(CLI::Range(1e-4, 1e6));
+    cmd->add_flag("--ic", opt->ic, "Indirect diffuse (D) through a Ward irradiance cache instead of path tracing");
+    cmd->add_option("--aa", opt->aa, "Irradiance cache accuracy (smaller is finer; a pipeline's ic_radius varies it per pixel)")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-3, 1.0));
+    cmd->add_option("--ad", opt->ad, "Hemisphere rays per irradiance record (later bounces use ad/2^k, at least 16)")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 65536u));
+    cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(CLI::Range(1u, 64u));
+    cmd->add_option("--ic-file", opt->ic_file, "Load the irradiance cache from FILE if it exists, save it there after the render (implies --ic)");
     cmd->add_option("--maps", opt->maps_dir, "Write every guidance map, the preview and per-pixel pictures (samples, rays, "
                                              "components) to DIR (default with 'output { maps true }': beside the image)");
     cmd->footer(R"(

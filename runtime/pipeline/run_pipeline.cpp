@@ -68,7 +68,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     auto t_setup = Clock::now();
     RenderScene rs(scene);
     const int w = options.width, h = options.height;
-    PipelineRunResult out{RenderResult{Film(w, h), {}, {}, {}, 0, 0, {}}, {}, {}, {}, std::nullopt, 0, 0, 0, 0, 0};
+    PipelineRunResult out(w, h);
     out.render.setup_seconds = seconds_since(t_setup);
     Film& film = out.render.film;
     const size_t pixels = film.pixel_count();

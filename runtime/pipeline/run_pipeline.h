@@ -32,9 +32,12 @@ struct PipelineRunOptions {
     Vec3 ambient{0, 0, 0};
     ExecutorOptions executor;  ///< base-quality shading, budget, profile, progress
     CheckpointRecorder* recorder = nullptr;  ///< reports: image snapshots during the render
+    std::optional<IcSettings> irradiance_cache;  ///< D through the cache (ic_radius varies its accuracy)
+    std::vector<IrradianceRecord> ic_records;
 };
 
 struct PipelineRunResult {
+    PipelineRunResult(int width, int height) : render(width, height) {}
     RenderResult render;            ///< every sample of both stages
     std::vector<float> preview;     ///< linear RGB at the end of the pre-selective stage
     std::vector<std::pair<std::string, guidance::Raster>> maps;  ///< name ("sal", or a node id), map

@@ -31,6 +31,15 @@ bool positive(const Vec3& v) { return max_component(v) > 0; }
 
 }  // namespace
 
+Vec3 diffuse_albedo(const Material& m) {
+    switch (m.type) {
+    case MaterialType::kPlastic:
+    case MaterialType::kMetal:
+    case MaterialType::kTrans: return split_of(m).diffuse;
+    default: return {};
+    }
+}
+
 double phong_exponent(double roughness) {
     double r = std::fmax(roughness, 1e-4);  // r -> 0 is S, handled apart; keep the exponent finite
     return std::fmax(2.0 / (r * r) - 2.0, 0.0);

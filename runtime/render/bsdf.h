@@ -52,6 +52,9 @@ int scatter(const Material& m, const HitFrame& f, uint64_t path, uint32_t depth,
 /// Sum over the non-delta lobes of BRDF x |cos| for light arriving from unit direction `wi`.
 Vec3 eval_direct(const Material& m, const HitFrame& f, const Vec3& wi);
 
+/// The reflectance of the D reflection lobe (0 for materials without one).
+Vec3 diffuse_albedo(const Material& m);
+
 /// True if the material has a lobe that direct lighting can reach.
 bool has_direct_response(const Material& m);
 

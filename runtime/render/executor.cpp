@@ -6,6 +6,7 @@
 
 #include "compiler/base/render_text.h"
 #include "compiler/sched/print.h"
+#include "runtime/base/sampling.h"
 
 namespace crex {
 
@@ -46,6 +47,21 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
     auto& sink = deferring_ ? pending_ : bins_;
     for (size_t begin = 0; begin < rays.size(); begin += options_.chunk_rays) {
         size_t end = std::min(rays.size(), begin + options_.chunk_rays);
+        if (options_.irradiance && !camera && (rays.flags[begin] & kRayIcQuery)) {  // cached D: interpolate
+            std::vector<Vec3> e;
+            options_.irradiance(rays, begin, end, e);
+            for (size_t i = begin; i < end; ++i) {
+                Vec3 beta{rays.br[i], rays.bg[i], rays.bb[i]};
+                Vec3 c = beta * e[i - begin] / kPi;
+                film_.add(aov, rays.pixel[i], is_finite(c) ? c : Vec3{});
+                film_.count_ray(aov, rays.pixel[i]);
+            }
+            stats.rays += end - begin;
+            rays_done_ += end - begin;
+            if (options_.progress) options_.progress(label, rays_done_);
+            if (options_.checkpoint) options_.checkpoint(label, false);
+            continue;
+        }
         ShadeOutput& out = shade_;
         trace_and_shade(scene_, rays, begin, end, camera, options_.shade, out);
         for (size_t i = 0; i < out.contribution.size(); ++i) {

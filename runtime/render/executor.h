@@ -72,6 +72,9 @@ struct ExecutorOptions {
     /// Called after every chunk (boundary = false) and after every step (boundary = true) with
     /// what just ran: where a report takes its checkpoints (issue 8).
     std::function<void(const std::string& event, bool boundary)> checkpoint;
+    /// An irradiance cache: a D step hands its queries (rays flagged kRayIcQuery) over and
+    /// adds beta E / pi to the D AOV; queries spawn nothing.
+    std::function<void(const RayBatch& queries, size_t begin, size_t end, std::vector<Vec3>& irradiance)> irradiance;
 };
 
 class Executor {

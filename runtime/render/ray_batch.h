@@ -14,6 +14,7 @@ namespace crex {
 
 enum RayFlags : uint8_t {
     kRayFromDeltaLobe = 1,  ///< spawned by S, T, R or M: sees sampled emitters (spec §1)
+    kRayIcQuery = 2,        ///< a D irradiance-cache query: direction holds the normal
 };
 
 struct RayRecord {

@@ -48,7 +48,7 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
     auto t0 = clock::now();
     RenderScene rs(scene);
     auto t1 = clock::now();
-    RenderResult result{Film(options.width, options.height), {}, {}, {}, 0, 0, {}};
+    RenderResult result(options.width, options.height);
     result.setup_seconds = std::chrono::duration<double>(t1 - t0).count();
 
     ExecutorOptions eo = options.executor;
@@ -59,6 +59,13 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
                                                      result.film.pixel_count());
         return result.film.composite(&ambient);
     };
+    std::optional<IrradianceCache> cache;
+    if (options.irradiance_cache) {
+        cache.emplace(rs, *options.irradiance_cache);
+        for (const auto& r : options.ic_records) cache->insert(r);
+        eo.shade.ic_queries = true;
+        eo.irradiance = executor_hook(*cache, options.irradiance_cache->accuracy, nullptr, options.executor.importance);
+    }
     if (rec) {
         if (!eo.clock) eo.clock = [rec] { return rec->now(); };
         eo.checkpoint = [&](const std::string& what, bool boundary) { rec->event(what, boundary, running->rays_done(), snapshot); };
@@ -89,6 +96,10 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
     result.ambient = ambient_buffer(executor.bins()[static_cast<size_t>(Component::kD)], options.ambient,
                                     result.film.pixel_count());
     for (size_t c = 0; c < kComponentCount; ++c) result.rays_left[c] = executor.bins()[c].size();
+    if (cache) {
+        result.ic_records = cache->records();
+        result.ic_stats = cache->stats();
+    }
     result.stats = executor.stats();
     result.warnings = executor.warnings();
     result.render_seconds = std::chrono::duration<double>(clock::now() - t1).count();

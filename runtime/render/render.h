@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compiler/sched/program.h"
+#include "runtime/cache/irradiance_cache.h"
 #include "runtime/render/executor.h"
 #include "runtime/render/film.h"
 #include "runtime/render/render_scene.h"
@@ -26,9 +27,12 @@ struct RenderOptions {
     Vec3 ambient{0, 0, 0};      ///< `av`: radiance standing in for unexecuted D work
     ExecutorOptions executor;
     CheckpointRecorder* recorder = nullptr;  ///< reports: image snapshots during the render
+    std::optional<IcSettings> irradiance_cache;  ///< D through a Ward irradiance cache
+    std::vector<IrradianceRecord> ic_records;    ///< records to start from (a saved cache)
 };
 
 struct RenderResult {
+    RenderResult(int width, int height) : film(width, height) {}
     Film film;
     std::vector<double> ambient;   ///< the ambient buffer at the end (per pixel RGB, sample-summed)
     ExecutorStats stats;
@@ -36,6 +40,8 @@ struct RenderResult {
     double setup_seconds = 0;      ///< scene load into Embree and BVH build
     double render_seconds = 0;     ///< from the first camera ray
     std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end, per bin
+    std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
+    IcStats ic_stats;
 
     std::vector<float> image() const { return film.composite(&ambient); }
 };

@@ -59,10 +59,15 @@ int spawn_children(const Material& m, const HitFrame& f, const RayRecord& ray, d
         RayRecord& c = slots[static_cast<size_t>(out)];
         c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
         c.direction = lobe.direction;
+        if (params.ic_queries && lobe.component == Component::kD) {
+            c.origin = f.position;
+            c.direction = lobe.transmits ? -f.normal : f.normal;
+        }
         c.beta = beta;
         c.pixel = ray.pixel;
         c.depth = static_cast<uint16_t>(ray.depth + 1);
         c.flags = lobe.delta ? kRayFromDeltaLobe : 0;
+        if (params.ic_queries && lobe.component == Component::kD) c.flags = kRayIcQuery;
         c.path = child_path(ray.path, l, lobe.component);
         components[static_cast<size_t>(out)] = lobe.component;
         ++out;

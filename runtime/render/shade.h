@@ -30,6 +30,9 @@ struct ShadeParams {
     bool roulette = true;           ///< below lw: Russian roulette (unbiased) instead of dropping
     uint32_t max_depth = 256;       ///< no ray is spawned beyond this depth
     RayCapture* capture = nullptr;  ///< benchmarks only: keep a copy of every ray traced
+    /// With an irradiance cache, D "rays" are queries: origin at the hit, direction the normal
+    /// on the side the light comes from (flag kRayIcQuery); the D step interpolates them.
+    bool ic_queries = false;
 };
 
 /// Per-chunk buffers, reused from chunk to chunk: allocating and zero-filling them for every

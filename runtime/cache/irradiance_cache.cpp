@@ -1,0 +1,391 @@
+#include "runtime/cache/irradiance_cache.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <numeric>
+#include <sstream>
+
+#include "runtime/base/atomic_file.h"
+#include "runtime/base/sampling.h"
+#include "runtime/render/bsdf.h"
+#include "runtime/render/shade.h"
+#include "runtime/trace/trace_batch.h"
+
+namespace crex {
+namespace {
+
+double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-3, 1.0) : 1.0; }
+
+}  // namespace
+
+IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings) : scene_(scene), settings_(settings) {
+    double extent = scene.embree->extent();
+    r_min_ = settings.min_radius > 0 ? settings.min_radius : 5e-4 * extent;
+    r_max_ = settings.max_radius > 0 ? settings.max_radius : 0.1 * extent;
+    r_max_ = std::max(r_max_, r_min_);
+    max_aa_ = clamp_accuracy(settings.max_accuracy > 0 ? std::max(settings.max_accuracy, settings.accuracy) : settings.accuracy);
+    // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
+    double top = 2 * r_max_;
+    for (double c = top; c >= 2 * 1e-3 * r_min_ && cell_size_.size() < 24; c /= 2) cell_size_.push_back(c);
+}
+
+double IrradianceCache::level_accuracy(double aa, uint32_t level) const {
+    return clamp_accuracy(std::min(aa, max_aa_) * std::pow(2.0, std::min(level, 10u)));
+}
+
+uint64_t IrradianceCache::cell_key(int x, int y, int z) const {
+    auto u = [](int v) { return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu); };
+    return (u(x) << 42) | (u(y) << 21) | u(z);
+}
+
+void IrradianceCache::insert(const IrradianceRecord& r) {
+    uint32_t index = static_cast<uint32_t>(records_.size());
+    records_.push_back(r);
+    // The largest radius at which any query may use it: its level's coarsest accuracy times R.
+    double rad = level_accuracy(max_aa_, r.level) * r.harmonic_distance;
+    size_t L = 0;
+    while (L + 1 < cell_size_.size() && cell_size_[L + 1] >= 2 * rad) ++L;
+    double cell = cell_size_[L];
+    int x0 = static_cast<int>(std::floor((r.position.x - rad) / cell)), x1 = static_cast<int>(std::floor((r.position.x + rad) / cell));
+    int y0 = static_cast<int>(std::floor((r.position.y - rad) / cell)), y1 = static_cast<int>(std::floor((r.position.y + rad) / cell));
+    int z0 = static_cast<int>(std::floor((r.position.z - rad) / cell)), z1 = static_cast<int>(std::floor((r.position.z + rad) / cell));
+    for (int x = x0; x <= x1; ++x)
+        for (int y = y0; y <= y1; ++y)
+            for (int z = z0; z <= z1; ++z) {
+                if (grids_.size() <= r.level) grids_.resize(r.level + 1u);
+                if (grids_[r.level].empty()) grids_[r.level].resize(cell_size_.size());
+                grids_[r.level][L][cell_key(x, y, z)].push_back(index);
+            }
+}
+
+bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const {
+    aa = level_accuracy(aa, level);
+    double sum_w = 0;
+    Vec3 sum{};
+    if (level >= grids_.size()) return false;
+    const std::vector<Grid>& grids = grids_[level];
+    for (size_t L = 0; L < grids.size(); ++L) {
+        if (grids[L].empty()) continue;
+        double cell = cell_size_[L];
+        auto it = grids[L].find(cell_key(static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)),
+                                         static_cast<int>(std::floor(x.z / cell))));
+        if (it == grids[L].end()) continue;
+        for (uint32_t i : it->second) {
+            const IrradianceRecord& r = records_[i];
+            if (r.quality > aa + 1e-6) continue;  // never from records of lower quality
+            double w = ward_weight(r, x, n);
+            if (!(w > 1 / aa) || in_front(r, x, n)) continue;
+            sum_w += w;
+            sum += extrapolate(r, x, n) * w;
+        }
+    }
+    if (!(sum_w > 0)) return false;
+    e = sum / sum_w;
+    return is_finite(e);
+}
+
+void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t level, std::vector<Vec3>& out) {
+    out.assign(queries.size(), Vec3{});
+    std::vector<uint32_t> pending(queries.size());
+    std::iota(pending.begin(), pending.end(), 0u);
+    // Important pixels first: their records are made at their own (finer) accuracy.
+    std::stable_sort(pending.begin(), pending.end(), [&](uint32_t a, uint32_t b) { return queries[a].priority > queries[b].priority; });
+    stats_.lookups += queries.size();
+    bool first = true;
+    for (int round = 0; !pending.empty(); ++round) {
+        // Lookups in parallel (the records do not change here); misses kept in order.
+        std::vector<uint8_t> found(pending.size());
+        tbb::parallel_for(size_t{0}, pending.size(), [&](size_t k) {
+            const IcQuery& q = queries[pending[k]];
+            found[k] = lookup(q.position, q.normal, q.accuracy, level, out[pending[k]]) ? 1 : 0;
+        });
+        std::vector<uint32_t> misses;
+        for (size_t k = 0; k < pending.size(); ++k)
+            if (!found[k]) misses.push_back(pending[k]);
+        if (first) stats_.interpolated += pending.size() - misses.size();
+        first = false;
+        if (misses.empty()) break;
+        ++stats_.rounds;
+        // Sites: sparse first, four times denser each round; at last every miss is a site.
+        double spacing = round < 8 ? r_max_ / std::pow(4.0, round) : 0;
+        if (spacing < r_min_) spacing = 0;
+        std::vector<IcQuery> sites;
+        std::unordered_map<uint64_t, std::vector<uint32_t>> taken;  // spatial hash of chosen sites
+        for (uint32_t q : misses) {
+            const IcQuery& query = queries[q];
+            double s = spacing * level_accuracy(query.accuracy, level);
+            bool near = false;
+            if (s > 0) {
+                int cx = static_cast<int>(std::floor(query.position.x / s)), cy = static_cast<int>(std::floor(query.position.y / s)),
+                    cz = static_cast<int>(std::floor(query.position.z / s));
+                for (int dx = -1; dx <= 1 && !near; ++dx)
+                    for (int dy = -1; dy <= 1 && !near; ++dy)
+                        for (int dz = -1; dz <= 1 && !near; ++dz) {
+                            auto t = taken.find(cell_key(cx + dx, cy + dy, cz + dz));
+                            if (t == taken.end()) continue;
+                            for (uint32_t si : t->second)
+                                if (length(sites[si].position - query.position) < s && dot(sites[si].normal, query.normal) > 0.9) {
+                                    near = true;
+                                    break;
+                                }
+                        }
+                if (!near) taken[cell_key(cx, cy, cz)].push_back(static_cast<uint32_t>(sites.size()));
+            }
+            if (!near) sites.push_back(query);
+        }
+        // In pieces of about a million hemisphere rays, so memory stays bounded.
+        size_t per_piece = std::max<size_t>(1, (size_t{1} << 20) / std::max(16u, settings_.divisions >> std::min(level, 16u)));
+        for (size_t begin = 0; begin < sites.size(); begin += per_piece) {
+            std::vector<IcQuery> piece(sites.begin() + static_cast<std::ptrdiff_t>(begin),
+                                       sites.begin() + static_cast<std::ptrdiff_t>(std::min(sites.size(), begin + per_piece)));
+            for (const auto& r : compute(piece, level)) insert(r);
+        }
+        pending = std::move(misses);
+        if (round > 40) {  // cannot happen (a record covers its own site); never loop forever
+            for (uint32_t q : pending) out[q] = settings_.ambient * kPi;
+            break;
+        }
+    }
+}
+
+std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery>& sites, uint32_t level) {
+    const uint32_t ad = std::max(16u, settings_.divisions >> std::min(level, 16u));
+    const int M = std::max(1, static_cast<int>(std::lround(std::sqrt(ad / kPi))));
+    const int N = std::max(1, static_cast<int>(std::lround(static_cast<double>(ad) / M)));
+    const size_t per = static_cast<size_t>(M) * static_cast<size_t>(N), n = sites.size() * per;
+    stats_.records += sites.size();
+    stats_.hemisphere_rays += n;
+    const double eps = scene_.embree->ray_epsilon();
+    std::vector<RTCRayHit> rays(n);
+    std::vector<Vec3> dirs(n);
+    tbb::parallel_for(size_t{0}, sites.size(), [&](size_t s) {
+        Vec3 t, b;
+        orthonormal_basis(sites[s].normal, t, b);
+        for (int j = 0; j < M; ++j)
+            for (int k = 0; k < N; ++k) {
+                size_t i = s * per + static_cast<size_t>(j * N + k);
+                uint32_t cell = static_cast<uint32_t>(j * N + k);
+                double u = (j + random_at(sites[s].key, level, RandomUse::kIcTheta, cell)) / M;
+                double phi = 2 * kPi * (k + random_at(sites[s].key, level, RandomUse::kIcPhi, cell)) / N;
+                double sin_t = std::sqrt(u), cos_t = std::sqrt(std::fmax(0.0, 1 - u));
+                Vec3 d = t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi)) + sites[s].normal * cos_t;
+                dirs[i] = d;
+                Vec3 o = sites[s].position + sites[s].normal * eps;
+                RTCRayHit& h = rays[i];
+                h.ray.org_x = static_cast<float>(o.x), h.ray.org_y = static_cast<float>(o.y), h.ray.org_z = static_cast<float>(o.z);
+                h.ray.dir_x = static_cast<float>(d.x), h.ray.dir_y = static_cast<float>(d.y), h.ray.dir_z = static_cast<float>(d.z);
+                h.ray.tnear = 0.0f;
+                h.ray.tfar = INFINITY;
+                h.ray.time = 0;
+                h.ray.mask = 0xFFFFFFFFu;
+                h.ray.id = static_cast<unsigned>(i);
+                h.ray.flags = 0;
+                h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            }
+    });
+    intersect_batch(*scene_.embree, rays.data(), n, false);
+
+    // Radiance of every hemisphere ray: emission, one direct-light sample, the next bounce.
+    std::vector<Vec3> radiance(n), albedo(n);
+    std::vector<RTCRay> shadows(n);
+    std::vector<Vec3> shadow_value(n);
+    std::vector<IcQuery> next(n);
+    std::vector<uint8_t> wants_next(n, 0);
+    const bool deeper = level + 1 < settings_.bounces;
+    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+        RTCRay& s = shadows[i];
+        s = RTCRay{};
+        s.tnear = 1.0f, s.tfar = 0.0f, s.dir_z = 1, s.mask = 0xFFFFFFFFu;  // a hole unless filled below
+        const RTCRayHit& h = rays[i];
+        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+            radiance[i] = scene_.scene.background;
+            return;
+        }
+        double dist = h.ray.tfar;
+        Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z};
+        HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, origin + dirs[i] * dist, dirs[i], dist);
+        const Material& m = scene_.material_of(h.hit.geomID);
+        Vec3 l = emitted(m, f, false, false);
+        uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
+        if (!scene_.lights->empty() && has_direct_response(m)) {
+            RayRecord ray;
+            ray.beta = {1, 1, 1};
+            ray.path = key;
+            ray.depth = static_cast<uint16_t>(level + 1);
+            Vec3 value, so, sd;
+            double tfar;
+            if (direct_light_sample(scene_, m, f, ray, 0, 1, value, so, sd, tfar)) {
+                s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
+                s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
+                s.tnear = 0.0f;
+                s.tfar = static_cast<float>(tfar);
+                shadow_value[i] = value;
+            }
+        }
+        albedo[i] = diffuse_albedo(m);
+        if (max_component(albedo[i]) > 0) {
+            if (deeper) {
+                next[i] = {f.position, f.normal, sites[i / per].accuracy, sites[i / per].priority, key};
+                wants_next[i] = 1;
+            } else {
+                l += albedo[i] * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
+            }
+        }
+        radiance[i] = is_finite(l) ? l : Vec3{};
+    });
+    occluded_batch(*scene_.embree, shadows.data(), n);
+    for (size_t i = 0; i < n; ++i) {
+        const RTCRay& s = shadows[i];
+        if (!(s.tnear > s.tfar && s.tfar == 0.0f) && s.tfar != -INFINITY) radiance[i] += shadow_value[i];
+    }
+    if (deeper) {
+        std::vector<IcQuery> q;
+        std::vector<size_t> from;
+        for (size_t i = 0; i < n; ++i)
+            if (wants_next[i]) q.push_back(next[i]), from.push_back(i);
+        std::vector<Vec3> e;
+        irradiance(q, level + 1, e);
+        for (size_t k = 0; k < q.size(); ++k) radiance[from[k]] += albedo[from[k]] * e[k] / kPi;
+    }
+
+    // Per site: E, harmonic mean distance, and the Ward-Heckbert gradients.
+    std::vector<IrradianceRecord> out(sites.size());
+    tbb::parallel_for(size_t{0}, sites.size(), [&](size_t s) {
+        const IcQuery& site = sites[s];
+        Vec3 t, b;
+        orthonormal_basis(site.normal, t, b);
+        auto L = [&](int j, int k) { return radiance[s * per + static_cast<size_t>(j * N + k)]; };
+        auto r = [&](int j, int k) {
+            float d = rays[s * per + static_cast<size_t>(j * N + k)].ray.tfar;
+            return std::isfinite(d) && d > 0 ? static_cast<double>(d) : 1e30;
+        };
+        Vec3 sum{};
+        double inv = 0;
+        for (int j = 0; j < M; ++j)
+            for (int k = 0; k < N; ++k) {
+                sum += L(j, k);
+                inv += 1 / r(j, k);
+            }
+        IrradianceRecord rec;
+        rec.position = site.position;
+        rec.normal = site.normal;
+        rec.irradiance = sum * (kPi / static_cast<double>(per));
+        double R = inv > 0 ? static_cast<double>(per) / inv : r_max_;
+        rec.harmonic_distance = std::clamp(std::isfinite(R) ? R : r_max_, r_min_, r_max_);
+        rec.quality = static_cast<float>(level_accuracy(site.accuracy, level));
+        rec.level = static_cast<uint16_t>(level);
+        // Rotation: (pi / MN) sum_k v_k sum_j (-tan theta_j) L_jk, v_k at phi_k + pi/2.
+        // Translation: Ward and Heckbert's cell-boundary differences, distances min'ed.
+        std::array<Vec3, 3> rot{}, tra{};
+        auto add = [](std::array<Vec3, 3>& g, const Vec3& dir, const Vec3& l) {
+            g[0] += dir * l.x, g[1] += dir * l.y, g[2] += dir * l.z;
+        };
+        for (int k = 0; k < N; ++k) {
+            double phi = 2 * kPi * (k + 0.5) / N, phi_minus = 2 * kPi * k / N;
+            Vec3 u_k = t * std::cos(phi) + b * std::sin(phi);
+            Vec3 v_k = t * -std::sin(phi) + b * std::cos(phi);
+            Vec3 v_minus = t * -std::sin(phi_minus) + b * std::cos(phi_minus);
+            Vec3 rot_k{}, tra_u{}, tra_v{};
+            for (int j = 0; j < M; ++j) {
+                double theta = std::asin(std::sqrt((j + 0.5) / M));
+                rot_k += L(j, k) * -std::tan(std::min(theta, 1.5533));  // 89 degrees at most
+                double sin_minus = std::sqrt(static_cast<double>(j) / M), sin_plus = std::sqrt(static_cast<double>(j + 1) / M);
+                if (j > 0) {
+                    double cos2 = 1 - sin_minus * sin_minus;
+                    tra_u += (L(j, k) - L(j - 1, k)) * (sin_minus * cos2 / std::min(r(j, k), r(j - 1, k)));
+                }
+                int kp = (k + N - 1) % N;
+                tra_v += (L(j, k) - L(j, kp)) * ((sin_plus - sin_minus) / std::min(r(j, k), r(j, kp)));
+            }
+            add(rot, v_k, rot_k * (kPi / static_cast<double>(per)));
+            add(tra, u_k, tra_u * (2 * kPi / N));
+            add(tra, v_minus, tra_v);
+        }
+        for (int c = 0; c < 3; ++c) {
+            if (!is_finite(rot[static_cast<size_t>(c)])) rot[static_cast<size_t>(c)] = {};
+            if (!is_finite(tra[static_cast<size_t>(c)])) tra[static_cast<size_t>(c)] = {};
+        }
+        rec.rotation = rot;
+        rec.translation = tra;
+        if (!is_finite(rec.irradiance)) rec.irradiance = {};
+        out[s] = rec;
+    });
+    return out;
+}
+
+std::string IrradianceCache::save(const std::string& path) const {
+    nlohmann::json j;
+    j["format"] = "crex-irradiance-cache";
+    j["version"] = 1;
+    j["settings"] = {{"divisions", settings_.divisions}, {"bounces", settings_.bounces}, {"min_radius", r_min_}, {"max_radius", r_max_},
+                     {"extent", scene_.embree->extent()}};
+    auto v = [](const Vec3& x) { return nlohmann::json::array({x.x, x.y, x.z}); };
+    j["records"] = nlohmann::json::array();
+    for (const auto& r : records_)
+        j["records"].push_back({{"p", v(r.position)}, {"n", v(r.normal)}, {"e", v(r.irradiance)}, {"r", r.harmonic_distance},
+                                {"rot", {v(r.rotation[0]), v(r.rotation[1]), v(r.rotation[2])}},
+                                {"tra", {v(r.translation[0]), v(r.translation[1]), v(r.translation[2])}},
+                                {"q", r.quality}, {"level", r.level}});
+    return write_file_atomically(path, j.dump() + "\n");
+}
+
+std::string IrradianceCache::load(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) return "cannot read '" + path + "'";
+    std::stringstream text;
+    text << in.rdbuf();
+    auto j = nlohmann::json::parse(text.str(), nullptr, false);
+    if (j.is_discarded() || !j.is_object() || j.value("format", "") != "crex-irradiance-cache")
+        return "'" + path + "' is not a crex irradiance cache";
+    try {
+        const auto& s = j.at("settings");
+        if (s.at("divisions").get<uint32_t>() != settings_.divisions || s.at("bounces").get<uint32_t>() != settings_.bounces ||
+            std::fabs(s.at("extent").get<double>() - scene_.embree->extent()) > 1e-9 * scene_.embree->extent())
+            return "'" + path + "' was made with other cache settings or for another scene";
+        auto v = [](const nlohmann::json& a) { return Vec3{a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>()}; };
+        std::vector<IrradianceRecord> loaded;
+        for (const auto& r : j.at("records")) {
+            IrradianceRecord rec;
+            rec.position = v(r.at("p")), rec.normal = normalize_or_zero(v(r.at("n"))), rec.irradiance = v(r.at("e"));
+            rec.harmonic_distance = std::clamp(r.at("r").get<double>(), r_min_, r_max_);
+            for (size_t c = 0; c < 3; ++c) rec.rotation[c] = v(r.at("rot").at(c)), rec.translation[c] = v(r.at("tra").at(c));
+            rec.quality = r.at("q").get<float>();
+            rec.level = r.at("level").get<uint16_t>();
+            if (!is_finite(rec.position) || rec.normal == Vec3{} || !is_finite(rec.irradiance)) return "'" + path + "' holds a broken record";
+            loaded.push_back(rec);
+        }
+        for (const auto& r : loaded) insert(r);
+    } catch (const std::exception& e) {
+        return "'" + path + "': " + e.what();
+    }
+    return "";
+}
+
+std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
+    IrradianceCache& cache, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
+    std::vector<IcAnswer>* log) {
+    return [&cache, aa, aa_per_pixel, priority, log](const RayBatch& rays, size_t begin, size_t end, std::vector<Vec3>& e) {
+        std::vector<IcQuery> q(end - begin);
+        for (size_t i = begin; i < end; ++i) {
+            uint32_t p = rays.pixel[i];
+            IcQuery& x = q[i - begin];
+            x.position = {rays.ox[i], rays.oy[i], rays.oz[i]};
+            x.normal = normalize_or_zero(Vec3{rays.dx[i], rays.dy[i], rays.dz[i]});
+            x.accuracy = aa_per_pixel ? (*aa_per_pixel)[p] : static_cast<float>(aa);
+            x.priority = priority ? (*priority)[p] : 0.0f;
+            x.key = rays.path[i];
+        }
+        cache.irradiance(q, 0, e);
+        if (log)
+            for (size_t i = begin; i < end; ++i) log->push_back({rays.get(i), e[i - begin], q[i - begin].accuracy});
+    };
+}
+
+}  // namespace crex

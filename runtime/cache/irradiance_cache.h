@@ -1,0 +1,107 @@
+/// \file irradiance_cache.h
+/// A Ward irradiance cache for the D component (thesis 4.6, 6, 8.2), computed in batches:
+/// the queries of a D step are looked up; the misses choose new record sites greedily (in
+/// priority order, sparse first, denser each round), whose hemisphere rays are traced as one
+/// batch through Embree and shaded in parallel; the records are inserted in site order and the
+/// misses looked up again. Everything that decides a result happens in a fixed order, so
+/// images do not depend on the thread count.
+///
+/// Each record holds E, the harmonic mean distance R (clamped to [r_min, r_max], never 0),
+/// rotation and translation gradients (Ward and Heckbert 1992), its bounce level and the
+/// accuracy it was made for. A query at accuracy aa uses records of its level made for
+/// aa' <= aa (never records of lower quality) whose Ward weight exceeds 1/aa and that are not
+/// in front of it. Bounces: a level-k hemisphere ray sees emission (not `light` emitters: they
+/// are direct light), one direct-light sample, and rho/pi E_{k+1} from level k+1 records
+/// (made as needed) up to `bounces`; beyond, the ambient value av. Later levels use fewer
+/// hemisphere rays (ad / 2^k, at least 16), as pbrt's irradiance cache does. Hemisphere rays
+/// that reach specular surfaces do not continue through them (a caustic path is left out).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "runtime/cache/irradiance_record.h"
+#include "runtime/render/ray_batch.h"
+#include "runtime/render/render_scene.h"
+
+namespace crex {
+
+struct IcSettings {
+    double accuracy = 0.15;     ///< aa: default accuracy (smaller is finer)
+    double max_accuracy = 0;    ///< the coarsest aa any query will use (0: `accuracy`); sizes the index
+    uint32_t divisions = 256;   ///< ad: hemisphere rays of a level-0 record
+    uint32_t bounces = 2;       ///< ab; bounce k uses accuracy aa 2^k (capped at 1)
+    double min_radius = 0;      ///< clamp of R (scene units); 0: 0.0005 x the scene's extent
+    double max_radius = 0;      ///< clamp of R; 0: 0.1 x the scene's extent
+    Vec3 ambient{0, 0, 0};      ///< av, radiance beyond the last bounce
+    uint64_t seed = 0;
+};
+
+struct IcQuery {
+    Vec3 position, normal;  ///< local coordinates; unit normal on the side light arrives from
+    float accuracy = 0.15f; ///< aa of this query's pixel
+    float priority = 0;     ///< larger first (pixel importance)
+    uint64_t key = 0;       ///< random-number key of the records it may create
+};
+
+struct IcStats {
+    uint64_t lookups = 0, interpolated = 0, records = 0, hemisphere_rays = 0, rounds = 0;
+};
+
+class IrradianceCache {
+public:
+    IrradianceCache(const RenderScene& scene, const IcSettings& settings);
+
+    /// E at every query of `level`, creating the records that are missing.
+    void irradiance(const std::vector<IcQuery>& queries, uint32_t level, std::vector<Vec3>& out);
+    /// Interpolation only: false if no record is valid at (x, n) for accuracy aa.
+    bool lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const;
+
+    void insert(const IrradianceRecord& r);
+    const std::vector<IrradianceRecord>& records() const { return records_; }
+    const IcSettings& settings() const { return settings_; }
+    const IcStats& stats() const { return stats_; }
+    double min_radius() const { return r_min_; }
+    double max_radius() const { return r_max_; }
+
+    /// Persistence (reuse across frames and runs): JSON with the settings that shaped the
+    /// records; load() refuses a file made with other settings or another scene extent.
+    std::string save(const std::string& path) const;
+    std::string load(const std::string& path);
+
+private:
+    std::vector<IrradianceRecord> compute(const std::vector<IcQuery>& sites, uint32_t level);
+    uint64_t cell_key(int x, int y, int z) const;
+    double level_accuracy(double aa, uint32_t level) const;
+
+    const RenderScene& scene_;
+    IcSettings settings_;
+    double r_min_, r_max_, max_aa_;
+    std::vector<IrradianceRecord> records_;
+    // A hierarchy of uniform grids: level L has cells of 2 rho_max / 2^L; a record sits in the
+    // level whose cells are at least twice its largest validity radius (<= 8 cells of it).
+    std::vector<double> cell_size_;
+    // One hierarchy per bounce level: a lookup never scans another bounce's records.
+    using Grid = std::unordered_map<uint64_t, std::vector<uint32_t>>;
+    std::vector<std::vector<Grid>> grids_;
+    IcStats stats_;
+};
+
+/// A D query as it was answered (for the progressive cache: the same samples are answered
+/// again at a finer accuracy in the selective stage).
+struct IcAnswer {
+    RayRecord query;
+    Vec3 irradiance;
+    float accuracy = 0;
+};
+
+/// The executor's D hook for `cache`: each query at its pixel's accuracy (`aa_per_pixel`, else
+/// `aa`), pixels of higher `priority` first; answers are appended to `log` when given.
+std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
+    IrradianceCache& cache, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
+    std::vector<IcAnswer>* log = nullptr);
+
+}  // namespace crex

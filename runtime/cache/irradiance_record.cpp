@@ -1,0 +1,32 @@
+#include "runtime/cache/irradiance_record.h"
+
+#include <cmath>
+
+namespace crex {
+
+double ward_weight(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
+    double cos_n = dot(n, r.normal);
+    if (!(cos_n > 0) || !is_finite(x) || !is_finite(n)) return 0;  // facing away, or NaN
+    double R = r.harmonic_distance;
+    if (!(R > 0) || !std::isfinite(R)) return 0;
+    double d = length(x - r.position) / R + std::sqrt(std::fmax(0.0, 1 - cos_n));
+    if (!std::isfinite(d)) return 0;
+    return d > 1e-6 ? 1 / d : 1e6;
+}
+
+Vec3 extrapolate(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
+    Vec3 turn = cross(r.normal, n), shift = x - r.position;
+    double e[3] = {r.irradiance.x, r.irradiance.y, r.irradiance.z};
+    for (int c = 0; c < 3; ++c) {
+        double v = e[c] + dot(turn, r.rotation[static_cast<size_t>(c)]) + dot(shift, r.translation[static_cast<size_t>(c)]);
+        e[c] = std::isfinite(v) ? std::fmax(v, 0.0) : std::fmax(e[c], 0.0);
+    }
+    return {e[0], e[1], e[2]};
+}
+
+bool in_front(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
+    Vec3 avg = n + r.normal;
+    return dot(x - r.position, avg) * 0.5 < -0.05 * r.harmonic_distance;
+}
+
+}  // namespace crex

@@ -1,0 +1,39 @@
+/// \file irradiance_record.h
+/// One record of the Ward irradiance cache (Ward, Rubinstein, Clear 1988; gradients: Ward and
+/// Heckbert 1992): plain data, so records can be written to a file and shipped between
+/// processes. Positions are in the renderer's local (recentred) coordinates.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "runtime/base/vec3.h"
+
+namespace crex {
+
+struct IrradianceRecord {
+    Vec3 position;
+    Vec3 normal;                      ///< unit
+    Vec3 irradiance;                  ///< E, RGB
+    double harmonic_distance = 0;     ///< R_i, clamped to [r_min, r_max]: never 0
+    std::array<Vec3, 3> rotation{};   ///< rotational gradient of E, per channel (R, G, B)
+    std::array<Vec3, 3> translation{};///< translational gradient of E, per channel
+    float quality = 1;                ///< the accuracy `aa` of the pixel that asked for it
+    uint16_t level = 0;               ///< ambient bounce: 0 for records camera paths use
+};
+
+/// Ward's weight of record `r` at point `x` with unit normal `n`:
+///   w = 1 / (|x - x_i| / R_i + sqrt(1 - n . n_i)),
+/// guarded: 0 for records facing away (n . n_i <= 0) or non-finite inputs, and capped at
+/// 1e6 where the denominator vanishes (x on the record, same normal).
+double ward_weight(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
+
+/// E of `r` extrapolated to (x, n) with its gradients, clamped at 0 per channel.
+Vec3 extrapolate(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
+
+/// Is `r` "in front" of x (Ward's test: records ahead of the surface along the averaged normal
+/// are not used, they see a different neighbourhood)?
+bool in_front(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
+
+}  // namespace crex
