@@ -68,7 +68,7 @@ struct RunOptions {
     double aa = 0.15;
     uint32_t ad = 256, ab = 2;
     std::string ic_file;
-    bool seed_given = false, lw_given = false, max_depth_given = false, ambient_given = false;
+    bool seed_given = false, lw_given = false, max_depth_given = false, ambient_given = false, aa_given = false, ab_given = false;
 };
 
 // "10s", "500ms", "2.5" (seconds) or "25%" (of the full render time in the profile).
@@ -162,6 +162,8 @@ int run(RunOptions opt) {
         if (!opt.seed_given && settings.count("seed")) opt.seed = std::stoull(settings["seed"]);
         if (!opt.lw_given && settings.count("lw")) opt.lw = std::stod(settings["lw"]);
         if (!opt.max_depth_given && settings.count("max_depth")) opt.max_depth = static_cast<uint32_t>(std::stoul(settings["max_depth"]));
+        if (!opt.aa_given && settings.count("aa")) opt.aa = std::stod(settings["aa"]);
+        if (!opt.ab_given && settings.count("ab")) opt.ab = static_cast<uint32_t>(std::stoul(settings["ab"]));
         if (!opt.ambient_given && settings.count("av")) opt.ambient = std::stod(settings["av"]);
     } catch (const std::exception&) {
         std::cerr << "crex run: error: the plan's settings hold a malformed number\n";
@@ -435,6 +437,11 @@ int run(RunOptions opt) {
                                      {"records_made", ic.records}, {"records_loaded", ro.ic_records.size()},
                                      {"lookups", ic.lookups}, {"interpolated_at_first_lookup", ic.interpolated},
                                      {"hemisphere_rays", ic.hemisphere_rays}, {"rounds", ic.rounds}};
+            if (piped) {
+                j["irradiance_cache"]["preview_records"] = piped->ic_preview_records;
+                j["irradiance_cache"]["reprocessed_preview_samples"] = piped->ic_reprocessed;
+                j["irradiance_cache"]["selective_records"] = piped->ic_selective_records;
+            }
         }
         if (!maps_dir.empty()) {
             j["pictures"] = pictures.written;
@@ -600,13 +607,13 @@ Runner add_run_command(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(1e-4, 1e6));
     cmd->add_flag("--ic", opt->ic, "Indirect diffuse (D) through a Ward irradiance cache instead of path tracing");
-    cmd->add_option("--aa", opt->aa, "Irradiance cache accuracy (smaller is finer; a pipeline's ic_radius varies it per pixel)")
+    CLI::Option* aa = cmd->add_option("--aa", opt->aa, "Irradiance cache accuracy (smaller is finer; a pipeline's ic_radius varies it per pixel)")
         ->capture_default_str()
         ->check(CLI::Range(1e-3, 1.0));
     cmd->add_option("--ad", opt->ad, "Hemisphere rays per irradiance record (later bounces use ad/2^k, at least 16)")
         ->capture_default_str()
         ->check(CLI::Range(1u, 65536u));
-    cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(CLI::Range(1u, 64u));
+    CLI::Option* ab = cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(CLI::Range(1u, 64u));
     cmd->add_option("--ic-file", opt->ic_file, "Load the irradiance cache from FILE if it exists, save it there after the render (implies --ic)");
     cmd->add_option("--maps", opt->maps_dir, "Write every guidance map, the preview and per-pixel pictures (samples, rays, "
                                              "components) to DIR (default with 'output { maps true }': beside the image)");
@@ -629,8 +636,10 @@ Examples:
   crex run examples/pipelines/cornell_prog.pipe --size 128x128 --format json
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
-    return [opt, size, spp, seed, lw, max_depth, ambient] {
+    return [opt, size, spp, seed, lw, max_depth, ambient, aa, ab] {
         RunOptions o = *opt;
+        o.aa_given = aa->count() > 0;
+        o.ab_given = ab->count() > 0;
         o.seed_given = seed->count() > 0;
         o.lw_given = lw->count() > 0;
         o.max_depth_given = max_depth->count() > 0;

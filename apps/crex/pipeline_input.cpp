@@ -2,12 +2,30 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include "apps/crex/input_files.h"
 #include "compiler/pipeline/check.h"
 #include "compiler/pipeline/parse.h"
 #include "runtime/scene/census.h"
 
 namespace crex::app {
+namespace {
+
+// A pipeline's `scene "..."` as written if it exists from here; else relative to the pipeline
+// file's folder or any folder above it (the spec's example names a path from the project root).
+std::string resolve_scene_path(const std::string& scene, const std::string& pipeline_path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (scene.rfind("builtin:", 0) == 0 || fs::path(scene).is_absolute() || fs::exists(scene, ec)) return scene;
+    for (fs::path dir = fs::absolute(pipeline_path, ec).parent_path(); !dir.empty(); dir = dir.parent_path()) {
+        if (fs::exists(dir / scene, ec)) return (dir / scene).lexically_normal().string();
+        if (dir == dir.root_path()) break;
+    }
+    return scene;  // not found: the loader says so, naming the path as written
+}
+
+}  // namespace
 
 std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, const std::string& pipeline_name,
                                                    const std::string& scene_override, DiagnosticSink& sink) {
@@ -32,7 +50,7 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
     in->scene_spec = scene_override;
     if (in->scene_spec.empty())
         if (auto it = in->resolved->top.find("scene"); it != in->resolved->top.end() && !it->second.empty())
-            in->scene_spec = it->second[0].text;
+            in->scene_spec = resolve_scene_path(it->second[0].text, path);
     std::optional<BinSet> spawnable;
     std::string hash;
     if (!in->scene_spec.empty()) {

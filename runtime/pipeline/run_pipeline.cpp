@@ -10,6 +10,7 @@
 #include "runtime/pipeline/guidance_graph.h"
 #include "runtime/pipeline/pixel_probe.h"
 #include "runtime/pipeline/svt.h"
+#include "runtime/base/sampling.h"
 
 namespace crex {
 namespace {
@@ -105,6 +106,26 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
         rec->set_stage(next);
     };
 
+    // The irradiance cache: the preview at the base accuracy (ic_radius where its map is 0).
+    std::optional<IrradianceCache> cache;
+    std::vector<IcAnswer> preview_answers;
+    double base_aa = options.irradiance_cache ? options.irradiance_cache->accuracy : 0;
+    if (options.irradiance_cache) {
+        IcSettings ics = *options.irradiance_cache;
+        if (const PlanNode* v = find_node(plan, "vary.ic_radius")) {
+            auto from = plan_number(v->params.value("from", std::string()));
+            auto to = plan_number(v->params.value("to", std::string()));
+            if (!from || !to) throw std::runtime_error(v->label + ": malformed bounds");
+            base_aa = *from;
+            ics.accuracy = *from;
+            ics.max_accuracy = std::max({*from, *to, ics.accuracy});
+        }
+        cache.emplace(rs, ics);
+        for (const auto& r : options.ic_records) cache->insert(r);
+        base.shade.ic_queries = true;
+        base.irradiance = executor_hook(*cache, base_aa, nullptr, nullptr, &preview_answers);
+    }
+
     // 1. Pre-selective.
     Executor main(rs, film, base);
     main_ptr = &main;
@@ -125,6 +146,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     out.preview = film.composite(&ambient);
     out.preview_seconds = seconds_since(t0);
     out.preview_rays = total_rays(main.stats());
+    if (cache) out.ic_preview_records = cache->records().size();
     stage_end("end of the pre-selective stage", "guidance");
 
     // 2. Guidance.
@@ -162,6 +184,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
         std::fill(spp.begin(), spp.end(), std::max<double>(s0, sel->params["spp"].get<double>()));
     std::vector<uint16_t> shadow_rays;
     std::vector<float> specular_threshold;
+    std::vector<float> ic_accuracy, ic_priority;
     for (const auto& n : plan.nodes) {
         if (n.kind != "svt") continue;
         std::string var = n.id.substr(5);  // "vary.spp"
@@ -193,7 +216,13 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
         } else if (var == "subsample") {
             out.subsample.emplace(w, h, variable_values(*from, *to, fn, m, true));
         } else if (var == "ic_radius") {
-            out.notes.push_back("ic_radius is not executed: the irradiance cache does not exist yet (issue 7)");
+            if (!cache) {
+                out.notes.push_back("ic_radius is not executed: the render has no irradiance cache");
+                continue;
+            }
+            auto v = variable_values(*from, *to, fn, m, false);
+            ic_accuracy.assign(v.begin(), v.end());
+            ic_priority = m;
         } else if (var == "media_samples") {
             out.notes.push_back("media_samples is not executed: the renderer has no participating media yet");
         } else {
@@ -213,6 +242,32 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     auto t_selective = Clock::now();
     ExecutorOptions selective = base;
     selective.shade = shade;
+    if (cache) {
+        // The preview's D samples of pixels that now ask for a finer accuracy are answered
+        // again, important pixels first; the old answer's light is taken back out of the film.
+        if (!ic_accuracy.empty()) {
+            std::vector<IcQuery> again;
+            std::vector<const IcAnswer*> from;
+            for (const auto& a : preview_answers) {
+                uint32_t p = a.query.pixel;
+                if (!(ic_accuracy[p] < a.accuracy - 1e-9)) continue;
+                again.push_back({a.query.origin, normalize_or_zero(a.query.direction), ic_accuracy[p], ic_priority[p], a.query.path});
+                from.push_back(&a);
+            }
+            size_t before = cache->records().size();
+            std::vector<Vec3> e;
+            cache->irradiance(again, 0, e);
+            for (size_t i = 0; i < again.size(); ++i) {
+                Vec3 delta = from[i]->query.beta * (e[i] - from[i]->irradiance) / kPi;
+                if (is_finite(delta)) film.add(aov_of(Component::kD), from[i]->query.pixel, delta);
+            }
+            out.ic_reprocessed = again.size();
+            out.ic_selective_records = cache->records().size() - before;
+        }
+        selective.irradiance = executor_hook(*cache, base_aa, ic_accuracy.empty() ? nullptr : &ic_accuracy,
+                                             ic_priority.empty() ? nullptr : &ic_priority);
+        main.set_irradiance(selective.irradiance);
+    }
     {
         RayBatch rays;
         for (uint32_t p = 0; p < pixels; ++p) {
@@ -240,6 +295,11 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     out.selective_seconds = seconds_since(t_selective);
 
     RenderResult& r = out.render;
+    if (cache) {
+        r.ic_records = cache->records();
+        r.ic_stats = cache->stats();
+        out.ic_selective_records = cache->records().size() - out.ic_preview_records;
+    }
     r.ambient = ambient_buffer(main.bins()[static_cast<size_t>(Component::kD)], options.ambient, pixels);
     for (size_t c = 0; c < kComponentCount; ++c) r.rays_left[c] = main.bins()[c].size();
     r.stats = main.stats();

@@ -9,6 +9,10 @@
 ///     and the selective crex runs over all of them with per-pixel shadow rays and specular
 ///     threshold, `{ }` modulated by its map. The preview's samples are kept: nothing is
 ///     rendered twice.
+/// With an irradiance cache, D is interpolated; `ic_radius` varies its accuracy per pixel: the
+/// preview uses the value where the map is 0 for every pixel, and in the selective stage the
+/// preview's own D samples of pixels asking for finer accuracy are answered again (their old
+/// answer replaced), most important pixels first, making records only where needed.
 /// With `subsample` varied, only the corners of the adaptive grid get selective samples, and
 /// every other pixel of the final image is interpolated from them.
 #pragma once
@@ -44,6 +48,9 @@ struct PipelineRunResult {
     std::vector<std::string> notes;  ///< what the runtime did not execute, and why
     std::optional<SubsampleGrid> subsample;
     double preview_seconds = 0, guidance_seconds = 0, selective_seconds = 0;
+    /// The progressive selective cache (thesis 8.2): records made in the preview, preview D
+    /// samples answered again at a finer accuracy in the selective stage, records made then.
+    size_t ic_preview_records = 0, ic_reprocessed = 0, ic_selective_records = 0;
     uint64_t preview_rays = 0, selective_rays = 0;
 
     /// The final image: the composite, sub-sampled pixels interpolated.

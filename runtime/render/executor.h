@@ -90,6 +90,9 @@ public:
     /// Between stages (spec/pipeline.md: the svt applies to the selective stage).
     void set_shade_params(const ShadeParams& shade) { options_.shade = shade; }
     void set_importance(const std::vector<float>* importance) { options_.importance = importance; }
+    void set_irradiance(std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> hook) {
+        options_.irradiance = std::move(hook);
+    }
     /// Takes over another executor's bins (appended to these) and adds its statistics: the
     /// selective stage's new camera samples run their pre-selective crex in a separate
     /// executor, then join the preview's carried-over bins.

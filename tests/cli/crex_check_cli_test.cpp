@@ -119,7 +119,7 @@ TEST(CrexCheckCli, ChecksPipelineFiles) {
     auto ok = crex_cli({"check", CREX_SOURCE_DIR "/examples/pipelines/cornell_prog.pipe"});
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
     EXPECT_NE(ok.out.find("cornell_prog.pipe:3:10: ok: pipeline cornell_prog"), std::string::npos) << ok.out;
-    EXPECT_NE(ok.err.find("cornell_prog.pipe:18:10: warning[W403]"), std::string::npos) << ok.err;  // ic_radius does not run yet
+    EXPECT_EQ(ok.err.find("warning"), std::string::npos) << ok.err;  // every part of it executes
     auto path = std::filesystem::temp_directory_path() / "crex_cli_bad.pipe";
     std::ofstream(path) << "pipeline p {\n  selective { crex \"{D*}\" }\n}\n";
     auto bad = crex_cli({"check", path.string()});

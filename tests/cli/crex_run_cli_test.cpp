@@ -130,10 +130,16 @@ TEST_F(CrexRunCli, APipelineWritesItsMapsAndPerPixelPictures) {
     EXPECT_NEAR(*std::max_element(task.begin(), task.end()), 1.0f, 1e-6);
 }
 
-TEST_F(CrexRunCli, IcRadiusSaysItIsNotExecuted) {
-    auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/prog_all.pipe", "--size", "16x16", "-o", path("p.exr"), "-q"});
+TEST_F(CrexRunCli, IcRadiusRunsTheProgressiveIrradianceCache) {
+    auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/prog_all.pipe", "--size", "24x24", "-o", path("p.exr"), "--ad", "64",
+                       "--format", "json", "-q"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.err.find("note: ic_radius is not executed"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("note:"), std::string::npos) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    const auto& ic = j["irradiance_cache"];
+    EXPECT_GT(ic["preview_records"].get<int>(), 0);
+    EXPECT_GT(ic["reprocessed_preview_samples"].get<int>(), 0);  // salient pixels asked for a finer radius
+    EXPECT_EQ(ic["records"].get<int>(), ic["preview_records"].get<int>() + ic["selective_records"].get<int>());
 }
 
 }  // namespace

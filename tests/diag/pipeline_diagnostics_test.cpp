@@ -38,12 +38,7 @@ TEST(PipelineCheck, NormativeExampleChecksClean) {
     text << in.rdbuf();
     Result r = check(text.str());
     EXPECT_EQ(r.errors, 0u) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
-    // Its only diagnostic says what does not execute yet: the irradiance cache's radius.
-    ASSERT_EQ(r.diagnostics.size(), 1u) << r.diagnostics[1].code << " " << r.diagnostics[1].message;
-    EXPECT_EQ(r.diagnostics[0].code, "W403");
-    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).line, 18u);
-    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).col, 10u);
-    EXPECT_NE(r.diagnostics[0].message.find("ic_radius"), std::string::npos);
+    EXPECT_TRUE(r.diagnostics.empty()) << r.diagnostics[0].code << " " << r.diagnostics[0].message;
 }
 
 TEST(PipelineCheck, PipelinesThatExecuteFullyGetNoW403) {

@@ -176,3 +176,36 @@ INSTANTIATE_TEST_SUITE_P(OnCornellAndCorridor, StdlibPipelines, ::testing::Value
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
+    Scene scene = load("builtin:cornell_diffuse");
+    auto text = [](const std::string& value) {
+        return "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(" + value +
+               ") }\n selective { vary ic_radius 0.5 .. 0.1 by c }\n}\n";
+    };
+    PipelineRunOptions o;
+    o.width = o.height = 24;
+    IcSettings ic;
+    ic.divisions = 64, ic.bounces = 2;
+    o.irradiance_cache = ic;
+    auto coarse = run_pipeline(scene, plan_for(text("0"), scene), o);
+    auto fine = run_pipeline(scene, plan_for(text("1"), scene), o);
+    // Map 0: nothing asks for more than the base radius: no sample answered again, no record made.
+    EXPECT_EQ(coarse.ic_reprocessed, 0u);
+    EXPECT_EQ(coarse.ic_selective_records, 0u);
+    // Map 1: every preview D sample is answered again at 0.1, with new records where needed.
+    EXPECT_GT(fine.ic_reprocessed, 24u * 24u / 2);
+    EXPECT_GT(fine.ic_selective_records, 0u);
+    EXPECT_EQ(fine.ic_preview_records, coarse.ic_preview_records);  // the same preview
+    // The finer answers replace the coarse ones: the D AOV changes, the camera AOV does not.
+    EXPECT_EQ(fine.render.film.aov_image(kCameraAov), coarse.render.film.aov_image(kCameraAov));
+    EXPECT_NE(fine.render.film.aov_image(aov_of(Component::kD)), coarse.render.film.aov_image(aov_of(Component::kD)));
+    double a = testing::mean_luminance(fine.image()), b = testing::mean_luminance(coarse.image());
+    EXPECT_NEAR(a, b, 0.05 * b);  // same light, answered more finely
+}
+
+}  // namespace
+}  // namespace crex
