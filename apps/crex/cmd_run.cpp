@@ -66,7 +66,7 @@ struct RunOptions {
     double checkpoint_interval = 0.1;
     bool ic = false;
     double aa = 0.15;
-    uint32_t ad = 256, ab = 2;
+    uint32_t ad = 256, ab = 4;
     std::string ic_file;
     bool seed_given = false, lw_given = false, max_depth_given = false, ambient_given = false, aa_given = false, ab_given = false;
 };

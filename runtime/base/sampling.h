@@ -29,7 +29,7 @@ inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix64(a ^ mix64(b)
 inline double to_unit(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
 
 /// Purposes of random numbers at a hit (one stream each).
-enum class RandomUse : uint64_t { kRoulette = 1, kLobeD, kLobeG, kLobeDT, kLight, kLightPick, kCamera, kIcTheta, kIcPhi };
+enum class RandomUse : uint64_t { kRoulette = 1, kLobeD, kLobeG, kLobeDT, kLight, kLightPick, kCamera, kIcTheta, kIcPhi, kIcLobe };
 
 /// Random number `index` for `use` at the hit of path `path_id` at `depth`.
 inline double random_at(uint64_t path_id, uint32_t depth, RandomUse use, uint32_t index = 0) {

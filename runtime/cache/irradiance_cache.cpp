@@ -192,6 +192,65 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     });
     intersect_batch(*scene_.embree, rays.data(), n, false);
 
+    // Hemisphere rays that reach mirrors, glass or dielectrics continue through them (one lobe
+    // chosen by its weight, up to 8 interfaces), so light arriving through them (caustics)
+    // is in E. The first hit's distance stays what the harmonic mean uses.
+    std::vector<RTCRayHit> last = rays;
+    std::vector<Vec3> throughput(n, Vec3{1, 1, 1}), last_dir = dirs;
+    std::vector<uint8_t> via_delta(n, 0);
+    auto is_delta = [&](const RTCRayHit& h) {
+        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+        MaterialType t = scene_.material_of(h.hit.geomID).type;
+        return t == MaterialType::kMirror || t == MaterialType::kGlass || t == MaterialType::kDielectric;
+    };
+    for (uint32_t bounce = 0; bounce < 8; ++bounce) {
+        std::vector<size_t> go;
+        for (size_t i = 0; i < n; ++i)
+            if (is_delta(last[i])) go.push_back(i);
+        if (go.empty()) break;
+        std::vector<RTCRayHit> batch(go.size());
+        tbb::parallel_for(size_t{0}, go.size(), [&](size_t g) {
+            size_t i = go[g];
+            const RTCRayHit& h = last[i];
+            Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
+            double t = h.ray.tfar;
+            HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, o + last_dir[i] * t, last_dir[i], t);
+            uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
+            std::array<Lobe, kMaxLobes> lobes;
+            int nl = scatter(scene_.material_of(h.hit.geomID), f, key, level * 16 + bounce + 1, lobes);
+            double total = 0;
+            for (int l = 0; l < nl; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
+            RTCRayHit& r = batch[g];
+            r = RTCRayHit{};
+            r.ray.tnear = 1.0f, r.ray.tfar = 0.0f;  // a hole unless a lobe is chosen
+            r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            r.ray.mask = 0xFFFFFFFFu;
+            if (!(total > 0)) {
+                throughput[i] = {};
+                return;
+            }
+            double u = random_at(key, level * 16 + bounce, RandomUse::kIcLobe) * total;
+            int pick = 0;
+            for (double acc = 0; pick < nl - 1; ++pick) {
+                acc += max_component(lobes[static_cast<size_t>(pick)].weight);
+                if (u < acc) break;
+            }
+            const Lobe& lobe = lobes[static_cast<size_t>(pick)];
+            double prob = max_component(lobe.weight) / total;
+            throughput[i] = throughput[i] * lobe.weight / prob;
+            via_delta[i] = 1;
+            Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
+            last_dir[i] = lobe.direction;
+            r.ray.org_x = static_cast<float>(no.x), r.ray.org_y = static_cast<float>(no.y), r.ray.org_z = static_cast<float>(no.z);
+            r.ray.dir_x = static_cast<float>(lobe.direction.x), r.ray.dir_y = static_cast<float>(lobe.direction.y),
+            r.ray.dir_z = static_cast<float>(lobe.direction.z);
+            r.ray.tnear = 0.0f;
+            r.ray.tfar = INFINITY;
+        });
+        intersect_batch(*scene_.embree, batch.data(), batch.size(), false);
+        for (size_t g = 0; g < go.size(); ++g) last[go[g]] = batch[g];
+    }
+
     // Radiance of every hemisphere ray: emission, one direct-light sample, the next bounce.
     std::vector<Vec3> radiance(n), albedo(n);
     std::vector<RTCRay> shadows(n);
@@ -203,20 +262,22 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         RTCRay& s = shadows[i];
         s = RTCRay{};
         s.tnear = 1.0f, s.tfar = 0.0f, s.dir_z = 1, s.mask = 0xFFFFFFFFu;  // a hole unless filled below
-        const RTCRayHit& h = rays[i];
+        const RTCRayHit& h = last[i];
+        const Vec3 beta = throughput[i];
+        if (!(max_component(beta) > 0) || is_delta(h)) return;  // absorbed, or still inside glass
         if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-            radiance[i] = scene_.scene.background;
+            radiance[i] = beta * scene_.scene.background;
             return;
         }
         double dist = h.ray.tfar;
         Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z};
-        HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, origin + dirs[i] * dist, dirs[i], dist);
+        HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, origin + last_dir[i] * dist, last_dir[i], dist);
         const Material& m = scene_.material_of(h.hit.geomID);
-        Vec3 l = emitted(m, f, false, false);
+        Vec3 l = emitted(m, f, via_delta[i] != 0, false);  // through a mirror or glass, emitters are seen
         uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
         if (!scene_.lights->empty() && has_direct_response(m)) {
             RayRecord ray;
-            ray.beta = {1, 1, 1};
+            ray.beta = beta;
             ray.path = key;
             ray.depth = static_cast<uint16_t>(level + 1);
             Vec3 value, so, sd;
@@ -229,7 +290,8 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
                 shadow_value[i] = value;
             }
         }
-        albedo[i] = diffuse_albedo(m);
+        albedo[i] = beta * diffuse_albedo(m);
+        l = l * beta;
         if (max_component(albedo[i]) > 0) {
             if (deeper) {
                 next[i] = {f.position, f.normal, sites[i / per].accuracy, sites[i / per].priority, key};

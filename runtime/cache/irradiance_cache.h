@@ -14,7 +14,8 @@
 /// are direct light), one direct-light sample, and rho/pi E_{k+1} from level k+1 records
 /// (made as needed) up to `bounces`; beyond, the ambient value av. Later levels use fewer
 /// hemisphere rays (ad / 2^k, at least 16), as pbrt's irradiance cache does. Hemisphere rays
-/// that reach specular surfaces do not continue through them (a caustic path is left out).
+/// that reach a mirror, glass or a dielectric continue through it (one lobe by weight, up to
+/// 8 interfaces), so caustics reach E; plastic's and metal's ideal specular is not followed.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +34,7 @@ struct IcSettings {
     double accuracy = 0.15;     ///< aa: default accuracy (smaller is finer)
     double max_accuracy = 0;    ///< the coarsest aa any query will use (0: `accuracy`); sizes the index
     uint32_t divisions = 256;   ///< ad: hemisphere rays of a level-0 record
-    uint32_t bounces = 2;       ///< ab; bounce k uses accuracy aa 2^k (capped at 1)
+    uint32_t bounces = 4;       ///< ab; bounce k uses accuracy aa 2^k (capped at 1)
     double min_radius = 0;      ///< clamp of R (scene units); 0: 0.0005 x the scene's extent
     double max_radius = 0;      ///< clamp of R; 0: 0.1 x the scene's extent
     Vec3 ambient{0, 0, 0};      ///< av, radiance beyond the last bounce
