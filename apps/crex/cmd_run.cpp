@@ -68,6 +68,7 @@ struct RunOptions {
     double aa = 0.15;
     uint32_t ad = 256, ab = 4;
     std::string ic_file;
+    std::string filter = "box";
     bool seed_given = false, lw_given = false, max_depth_given = false, ambient_given = false, aa_given = false, ab_given = false;
 };
 
@@ -244,6 +245,7 @@ int run(RunOptions opt) {
     ro.height = height;
     ro.spp = opt.spp;
     ro.seed = opt.seed;
+    ro.filter = opt.filter == "gaussian" ? PixelFilter::kGaussian : PixelFilter::kBox;
     ro.ambient = {opt.ambient, opt.ambient, opt.ambient};
     ro.executor.shade.shadow_rays = opt.shadow_rays;
     ro.executor.shade.weight_limit = opt.lw;
@@ -325,6 +327,7 @@ int run(RunOptions opt) {
             po.width = width, po.height = height;
             po.preview_spp = opt.spp;
             po.seed = opt.seed;
+            po.filter = ro.filter;
             po.ambient = ro.ambient;
             po.executor = ro.executor;
             po.recorder = ro.recorder;
@@ -606,6 +609,9 @@ Runner add_run_command(CLI::App& app) {
                                                                        "every step and stage boundary)")
         ->capture_default_str()
         ->check(CLI::Range(1e-4, 1e6));
+    cmd->add_option("--filter", opt->filter, "Pixel filter: box, or gaussian (sigma 0.5 px, radius 1.5, by filter importance sampling)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"box", "gaussian"}));
     cmd->add_flag("--ic", opt->ic, "Indirect diffuse (D) through a Ward irradiance cache instead of path tracing");
     CLI::Option* aa = cmd->add_option("--aa", opt->aa, "Irradiance cache accuracy (smaller is finer; a pipeline's ic_radius varies it per pixel)")
         ->capture_default_str()

@@ -135,7 +135,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     {
         RayBatch rays;
         for (uint32_t p = 0; p < pixels; ++p) {
-            append_camera_rays(camera, options.seed, w, p, 0, s0, rays);
+            append_camera_rays(camera, options.seed, w, p, 0, s0, rays, options.filter);
             film.add_samples(p, s0);
         }
         main.run_camera_rays(rays);
@@ -274,7 +274,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
             if (out.subsample && !out.subsample->rendered(p)) continue;
             uint32_t target = static_cast<uint32_t>(std::clamp(spp[p], 1.0, double(1u << 20)));
             if (target <= s0) continue;
-            append_camera_rays(camera, options.seed, w, p, s0, target - s0, rays);
+            append_camera_rays(camera, options.seed, w, p, s0, target - s0, rays, options.filter);
             film.add_samples(p, target - s0);
         }
         if (!rays.empty()) {

@@ -33,6 +33,7 @@ struct PipelineRunOptions {
     int width = 128, height = 128;
     uint32_t preview_spp = 1;  ///< camera samples per pixel of the pre-selective stage
     uint64_t seed = 0;
+    PixelFilter filter = PixelFilter::kBox;
     Vec3 ambient{0, 0, 0};
     ExecutorOptions executor;  ///< base-quality shading, budget, profile, progress
     CheckpointRecorder* recorder = nullptr;  ///< reports: image snapshots during the render

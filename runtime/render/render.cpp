@@ -1,6 +1,8 @@
 #include "runtime/render/render.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "runtime/base/sampling.h"
 #include "runtime/render/render_scene.h"
@@ -11,17 +13,46 @@ uint64_t camera_path_id(uint64_t seed, uint32_t pixel, uint32_t sample) {
     return hash_combine(hash_combine(seed, pixel), 0x100000000ull + sample);
 }
 
-void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double& u, double& v) {
+double gaussian_filter_offset(double u) {
+    // Inverse of the distribution of a Gaussian (sigma 0.5) truncated to [-1.5, 1.5], tabulated
+    // once at 4096 points and interpolated.
+    static const std::vector<double> table = [] {
+        constexpr int n = 4096;
+        constexpr double sigma = 0.5, r = 1.5;
+        auto cdf = [&](double x) { return 0.5 * (1 + std::erf(x / (sigma * std::sqrt(2.0)))); };
+        double lo = cdf(-r), hi = cdf(r);
+        std::vector<double> t(n + 1);
+        for (int i = 0; i <= n; ++i) {
+            double target = lo + (hi - lo) * i / n, a = -r, b = r;
+            for (int k = 0; k < 60; ++k) {
+                double m = 0.5 * (a + b);
+                (cdf(m) < target ? a : b) = m;
+            }
+            t[static_cast<size_t>(i)] = 0.5 * (a + b);
+        }
+        return t;
+    }();
+    double x = std::clamp(u, 0.0, 1.0) * 4096;
+    size_t i = std::min<size_t>(static_cast<size_t>(x), 4095);
+    double f = x - static_cast<double>(i);
+    return table[i] * (1 - f) + table[i + 1] * f;
+}
+
+void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double& u, double& v, PixelFilter filter) {
     uint64_t h = hash_combine(seed ^ 0x5bd1e995ull, pixel);
     rotated_halton(sample, to_unit(h), to_unit(mix64(h)), u, v);
+    if (filter == PixelFilter::kGaussian) {
+        u = 0.5 + gaussian_filter_offset(u);
+        v = 0.5 + gaussian_filter_offset(v);
+    }
 }
 
 void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
-                        RayBatch& rays) {
+                        RayBatch& rays, PixelFilter filter) {
     uint32_t x = pixel % static_cast<uint32_t>(width), y = pixel / static_cast<uint32_t>(width);
     for (uint32_t k = first; k < first + count; ++k) {
         double u, v;
-        camera_sample_offset(seed, pixel, k, u, v);
+        camera_sample_offset(seed, pixel, k, u, v, filter);
         RayRecord r;
         camera.generate(x + u, y + v, r.origin, r.direction);
         r.beta = {1, 1, 1};
@@ -75,7 +106,7 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
     CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
     RayBatch rays;
     for (uint32_t p = 0; p < result.film.pixel_count(); ++p) {
-        append_camera_rays(camera, options.seed, options.width, p, options.first_sample, options.spp, rays);
+        append_camera_rays(camera, options.seed, options.width, p, options.first_sample, options.spp, rays, options.filter);
         result.film.add_samples(p, options.spp);
     }
     if (rec) rec->start();
