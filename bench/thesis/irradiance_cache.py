@@ -14,42 +14,19 @@ For each scene (Cornell box, corridor):
 The thesis reports 10-14x for prog-dis-all against gold (RADIANCE, VDP); ours is printed next to it.
 Not run in CI.
 """
-import argparse
 import json
 import math
 import os
-import subprocess
-import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SCENES = [("cornell", "builtin:cornell", "128x128"), ("corridor", os.path.join(ROOT, "examples/scenes/corridor/scene.json"), "128x96")]
+from crex_tool import ROOT, SCENES, arguments, crex, gold_time_at
 
 
-def crex(exe, args, env):
-    r = subprocess.run([exe] + args, capture_output=True, text=True, env=env)
-    if r.returncode != 0:
-        sys.exit(f"crex {' '.join(args)} failed ({r.returncode}):\n{r.stderr}")
-    return r.stdout
 
 
-def gold_time_at(curve, flip):
-    pts = sorted(curve)
-    for (t0, f0), (t1, f1) in zip(pts, pts[1:]):
-        if f1 <= flip <= f0 and f0 > f1 > 0:
-            a = (math.log(flip) - math.log(f0)) / (math.log(f1) - math.log(f0))
-            return math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0)))
-    if pts and flip < pts[-1][1]:  # better than gold's best: extrapolate the last segment
-        (t0, f0), (t1, f1) = pts[-2], pts[-1]
-        slope = (math.log(t1) - math.log(t0)) / (math.log(f1) - math.log(f0))
-        return math.exp(math.log(t1) + slope * (math.log(flip) - math.log(f1)))
-    return None
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
-    ap.add_argument("--reference-spp", type=int, default=256)
+    ap = arguments(__doc__)
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     env = dict(os.environ, CREX_CACHE=os.path.join(a.out, "cache"))

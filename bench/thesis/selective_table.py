@@ -12,51 +12,31 @@ Pipelines with a budget in % (tc_rp) get it of gold 16's time, from its saved pr
 log-log) by the pipeline's time. Prints a markdown table; writes the images and JSON to --out.
 Not run in CI (the reference alone takes minutes).
 """
-import argparse
 import json
-import math
 import os
-import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from crex_tool import ROOT, SCENES, arguments, crex, gold_time_at
+
 PIPELINES = ["sel_rp", "osd", "sel_edge", "cbr", "sel_st", "prog_rp", "prog_all", "tc_rp", "apict"]
-SCENES = [("cornell", "builtin:cornell", (128, 128)), ("corridor", os.path.join(ROOT, "examples/scenes/corridor/scene.json"), (128, 96))]
 
 
-def run(crex, args):
-    r = subprocess.run([crex] + args, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"crex {' '.join(args)} failed ({r.returncode}):\n{r.stderr}")
-    return r
 
 
-def render(crex, pipe, scene, size, out, extra=()):
-    args = ["run", os.path.join(ROOT, "stdlib/pipelines", pipe + ".pipe"), "--scene", scene, "--size", f"{size[0]}x{size[1]}",
+def render(exe, pipe, scene, size, out, extra=()):
+    args = ["run", os.path.join(ROOT, "stdlib/pipelines", pipe + ".pipe"), "--scene", scene, "--size", size,
             "-o", out, "--format", "json", "-q", "--seed", "1"] + list(extra)
-    return json.loads(run(crex, args).stdout)
+    return json.loads(crex(exe, args))
 
 
-def compare(crex, test, ref):
-    return json.loads(run(crex, ["compare", test, ref, "--format", "json"]).stdout)
+def compare(exe, test, ref):
+    return json.loads(crex(exe, ["compare", test, ref, "--format", "json"]))
 
 
-def gold_time_at(curve, flip):
-    """Gold's time at a FLIP value, interpolated log-log between the two nearest curve points."""
-    pts = sorted(curve, key=lambda p: p[0])  # (time, flip), flip falls as time grows
-    for (t0, f0), (t1, f1) in zip(pts, pts[1:]):
-        if f1 <= flip <= f0 and f0 > f1 > 0:
-            a = (math.log(flip) - math.log(f0)) / (math.log(f1) - math.log(f0))
-            return math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0)))
-    return None  # outside the curve
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
-    ap.add_argument("--reference-spp", type=int, default=256)
-    ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
-    a = ap.parse_args()
+    a = arguments(__doc__).parse_args()
     os.makedirs(a.out, exist_ok=True)
     results = {}
     for name, scene, size in SCENES:
@@ -83,7 +63,7 @@ def main():
         results[name] = {"reference_seconds": ref_run["render_seconds"], "gold_curve": curve,
                          "rows": [{"pipeline": r[0], "run": r[1], "vs_reference": r[2], "vs_gold16": r[3]} for r in rows]}
         gold_t = rows[0][1]["render_seconds"]
-        print(f"\n### {name} ({size[0]}x{size[1]}; reference: gold at {a.reference_spp} spp, "
+        print(f"\n### {name} ({size}; reference: gold at {a.reference_spp} spp, "
               f"{ref_run['render_seconds']:.1f} s)\n")
         print("| pipeline | time s | time / gold16 | preview % of time | RMSE vs ref | FLIP vs ref | perr % | RMSE vs gold16 | gold time at equal FLIP | speed-up at equal FLIP |")
         print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")

@@ -10,31 +10,19 @@ reference. Then the same full render with and without --reference (checkpoints e
 and at step boundaries), nine times each, alternating: the median slowdown is what taking
 checkpoints costs. Prints markdown tables. Not run in CI.
 """
-import argparse
 import json
 import os
 import statistics
-import subprocess
-import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SCENES = [("cornell", "builtin:cornell", "128x128"), ("corridor", os.path.join(ROOT, "examples/scenes/corridor/scene.json"), "128x96")]
+from crex_tool import ROOT, SCENES, arguments, crex
+
 CREX = "(TT[RS]GMD)*"  # gold's components, R and S as one [ ] task
 
 
-def crex(exe, args, env=None):
-    r = subprocess.run([exe] + args, capture_output=True, text=True, env=env)
-    if r.returncode != 0:
-        sys.exit(f"crex {' '.join(args)} failed ({r.returncode}):\n{r.stderr}")
-    return r.stdout
-
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
+    ap = arguments(__doc__)
     ap.add_argument("--spp", type=int, default=16)
-    ap.add_argument("--reference-spp", type=int, default=256)
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     env = dict(os.environ, CREX_CACHE=os.path.join(a.out, "cache"))

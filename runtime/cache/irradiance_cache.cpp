@@ -177,17 +177,8 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
                 Vec3 d = t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi)) + sites[s].normal * cos_t;
                 dirs[i] = d;
                 Vec3 o = sites[s].position + sites[s].normal * eps;
-                RTCRayHit& h = rays[i];
-                h.ray.org_x = static_cast<float>(o.x), h.ray.org_y = static_cast<float>(o.y), h.ray.org_z = static_cast<float>(o.z);
-                h.ray.dir_x = static_cast<float>(d.x), h.ray.dir_y = static_cast<float>(d.y), h.ray.dir_z = static_cast<float>(d.z);
-                h.ray.tnear = 0.0f;
-                h.ray.tfar = INFINITY;
-                h.ray.time = 0;
-                h.ray.mask = 0xFFFFFFFFu;
-                h.ray.id = static_cast<unsigned>(i);
-                h.ray.flags = 0;
-                h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                set_ray(rays[i], static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
+                        static_cast<float>(d.y), static_cast<float>(d.z), static_cast<unsigned>(i));
             }
     });
     intersect_batch(*scene_.embree, rays.data(), n, false);
@@ -241,11 +232,8 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             via_delta[i] = 1;
             Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
             last_dir[i] = lobe.direction;
-            r.ray.org_x = static_cast<float>(no.x), r.ray.org_y = static_cast<float>(no.y), r.ray.org_z = static_cast<float>(no.z);
-            r.ray.dir_x = static_cast<float>(lobe.direction.x), r.ray.dir_y = static_cast<float>(lobe.direction.y),
-            r.ray.dir_z = static_cast<float>(lobe.direction.z);
-            r.ray.tnear = 0.0f;
-            r.ray.tfar = INFINITY;
+            set_ray(r, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
+                    static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(i));
         });
         intersect_batch(*scene_.embree, batch.data(), batch.size(), false);
         for (size_t g = 0; g < go.size(); ++g) last[go[g]] = batch[g];

@@ -10,14 +10,8 @@ namespace {
 
 RTCRayHit make_ray(const Vec3& o, const Vec3& d, unsigned id) {
     RTCRayHit h{};
-    h.ray.org_x = static_cast<float>(o.x), h.ray.org_y = static_cast<float>(o.y), h.ray.org_z = static_cast<float>(o.z);
-    h.ray.dir_x = static_cast<float>(d.x), h.ray.dir_y = static_cast<float>(d.y), h.ray.dir_z = static_cast<float>(d.z);
-    h.ray.tnear = 0.0f;
-    h.ray.tfar = INFINITY;
-    h.ray.mask = 0xFFFFFFFFu;
-    h.ray.id = id;
-    h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    set_ray(h, static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
+            static_cast<float>(d.y), static_cast<float>(d.z), id);
     return h;
 }
 

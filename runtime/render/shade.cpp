@@ -112,18 +112,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     scratch.hits.resize(n);
     std::vector<RTCRayHit>& hits = scratch.hits;
     for (size_t i = 0; i < n; ++i) {
-        RTCRayHit& h = hits[i];
         size_t r = begin + i;
-        h.ray.org_x = rays.ox[r], h.ray.org_y = rays.oy[r], h.ray.org_z = rays.oz[r];
-        h.ray.dir_x = rays.dx[r], h.ray.dir_y = rays.dy[r], h.ray.dir_z = rays.dz[r];
-        h.ray.tnear = 0.0f;
-        h.ray.tfar = INFINITY;
-        h.ray.time = 0;
-        h.ray.mask = 0xFFFFFFFFu;
-        h.ray.id = static_cast<unsigned>(i);
-        h.ray.flags = 0;
-        h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        set_ray(hits[i], rays.ox[r], rays.oy[r], rays.oz[r], rays.dx[r], rays.dy[r], rays.dz[r], static_cast<unsigned>(i));
     }
     if (params.capture) params.capture->rays.insert(params.capture->rays.end(), hits.begin(), hits.end());
     intersect_batch(*scene.embree, hits.data(), n, camera);

@@ -2,6 +2,8 @@
 // of spec/pipeline.md section 6 checks clean.
 #include <gtest/gtest.h>
 
+#include "tests/support/diagnostic_helpers.h"
+
 #include <fstream>
 #include <sstream>
 
@@ -11,15 +13,8 @@
 namespace crex {
 namespace {
 
-struct Result {
+struct Result : testing::Diagnosed {
     std::unique_ptr<SourceFile> file;
-    std::vector<Diagnostic> diagnostics;
-    size_t errors = 0;
-    const Diagnostic* find(const std::string& code) const {
-        for (const auto& d : diagnostics)
-            if (d.code == code) return &d;
-        return nullptr;
-    }
 };
 
 Result check(const std::string& text) {
@@ -79,12 +74,7 @@ class PipelineDiagnostic : public ::testing::TestWithParam<Case> {};
 TEST_P(PipelineDiagnostic, HasCodeLineAndColumn) {
     const Case& c = GetParam();
     Result r = check(std::string("pipeline p {\n") + c.body + "\n}\n");
-    const Diagnostic* d = r.find(c.code);
-    ASSERT_NE(d, nullptr) << c.name << ": got " << (r.diagnostics.empty() ? "nothing" : r.diagnostics[0].code + " " + r.diagnostics[0].message);
-    LineCol at = r.file->position(d->span.begin);
-    EXPECT_EQ(at.line, c.line) << c.name << ": " << d->message;
-    EXPECT_EQ(at.col, c.col) << c.name << ": " << d->message;
-    EXPECT_NE(d->message.find(c.message_part), std::string::npos) << c.name << ": " << d->message;
+    testing::expect_diagnostic(r, c.name, c.code, c.line, c.col, c.message_part);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -7,24 +7,13 @@
 #include <vector>
 
 #include "runtime/scene/load_scene.h"
+#include "tests/support/diagnostic_helpers.h"
 
 namespace crex::testing {
 
-struct SceneResult {
+struct SceneResult : Diagnosed {
     std::unique_ptr<SceneSources> sources = std::make_unique<SceneSources>();
     std::optional<Scene> scene;
-    std::vector<Diagnostic> diagnostics;
-    size_t errors = 0;
-
-    const Diagnostic* find(const std::string& code) const {
-        for (const auto& d : diagnostics)
-            if (d.code == code) return &d;
-        return nullptr;
-    }
-    LineCol where(const std::string& code) const {
-        const Diagnostic* d = find(code);
-        return d && d->span.valid() ? d->span.file->position(d->span.begin) : LineCol{0, 0};
-    }
 };
 
 inline SceneResult load_json_text(const std::string& text, const std::string& name = "scene.json") {

@@ -117,15 +117,7 @@ TEST_P(SceneJsonBadInput, IsALocatedErrorNamingTheField) {
     const BadJson& c = GetParam();
     auto r = testing::load_json_text(c.text);
     EXPECT_FALSE(r.scene) << c.name;
-    const Diagnostic* d = r.find(c.code);
-    ASSERT_NE(d, nullptr) << c.name << ": expected " << c.code << ", got "
-                          << (r.diagnostics.empty() ? "nothing" : r.diagnostics[0].code + " " + r.diagnostics[0].message);
-    LineCol at = r.where(c.code);
-    EXPECT_EQ(at.line, c.line) << c.name << ": " << d->message;
-    if (c.col) {
-        EXPECT_EQ(at.col, c.col) << c.name << ": " << d->message;
-    }
-    EXPECT_NE(d->message.find(c.message_part), std::string::npos) << c.name << ": " << d->message;
+    testing::expect_diagnostic(r, c.name, c.code, c.line, c.col, c.message_part);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -145,13 +145,7 @@ TEST_P(SceneRadianceBadInput, IsALocatedErrorNamingTheConstruct) {
     const BadRad& c = GetParam();
     auto r = testing::load_rad_text(c.text);
     EXPECT_FALSE(r.scene) << c.name;
-    const Diagnostic* d = r.find(c.code);
-    ASSERT_NE(d, nullptr) << c.name << ": got " << (r.diagnostics.empty() ? "nothing" : r.diagnostics[0].code + " " + r.diagnostics[0].message);
-    EXPECT_EQ(r.where(c.code).line, c.line) << c.name << ": " << d->message;
-    if (c.col) {
-        EXPECT_EQ(r.where(c.code).col, c.col) << c.name << ": " << d->message;
-    }
-    EXPECT_NE(d->message.find(c.message_part), std::string::npos) << c.name << ": " << d->message;
+    testing::expect_diagnostic(r, c.name, c.code, c.line, c.col, c.message_part);
 }
 
 INSTANTIATE_TEST_SUITE_P(
