@@ -108,7 +108,11 @@ bool Executor::exec(const sched::Node& node) {
     if (take.empty()) return false;
     ComponentStats& stats = stats_.components[c];
     std::string letter(1, component_letter(node.component));
-    auto put_back = [&](const RayBatch& rays, size_t from) {  // skipped rays stay in their bin
+    auto put_back = [&](RayBatch& rays, size_t from) {  // skipped rays stay in their bin, in order
+        if (from == 0 && bin.empty()) {
+            bin = std::move(rays);  // the common case: a whole task skipped, nothing to copy
+            return;
+        }
         RayBatch rest;
         rest.append(rays, from, rays.size());
         rest.append(bin);

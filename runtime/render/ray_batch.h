@@ -5,6 +5,7 @@
 /// number drawn along it) and flags.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -68,8 +69,14 @@ struct RayBatch {
         return {{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, {br[i], bg[i], bb[i]}, pixel[i], depth[i], flags[i], path[i]};
     }
 
+    /// Appends rays [begin, end) of `o`, array by array.
     void append(const RayBatch& o, size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) push(o.get(i));
+        auto cat = [begin, end](auto& a, const auto& b) {
+            a.insert(a.end(), b.begin() + static_cast<std::ptrdiff_t>(begin), b.begin() + static_cast<std::ptrdiff_t>(end));
+        };
+        cat(ox, o.ox), cat(oy, o.oy), cat(oz, o.oz), cat(dx, o.dx), cat(dy, o.dy), cat(dz, o.dz);
+        cat(br, o.br), cat(bg, o.bg), cat(bb, o.bb), cat(pixel, o.pixel), cat(depth, o.depth), cat(flags, o.flags);
+        cat(path, o.path);
     }
     /// Appends all of `o`, array by array (much cheaper than ray by ray).
     void append(const RayBatch& o) {
