@@ -36,7 +36,7 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
 }
 
 double IrradianceCache::level_accuracy(double aa, uint32_t level) const {
-    return clamp_accuracy(std::min(aa, max_aa_) * std::pow(2.0, std::min(level, 10u)));
+    return clamp_accuracy(std::min(aa, max_aa_) * static_cast<double>(1u << std::min(level, 10u)));
 }
 
 uint64_t IrradianceCache::cell_key(int x, int y, int z) const {
@@ -66,6 +66,7 @@ void IrradianceCache::insert(const IrradianceRecord& r) {
 
 bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const {
     aa = level_accuracy(aa, level);
+    const double aa2 = aa * aa;
     double sum_w = 0;
     Vec3 sum{};
     if (level >= grids_.size()) return false;
@@ -79,6 +80,9 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
         for (uint32_t i : it->second) {
             const IrradianceRecord& r = records_[i];
             if (r.quality > aa + 1e-6) continue;  // never from records of lower quality
+            // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test.
+            Vec3 dv = x - r.position;
+            if (!(dot(dv, dv) < aa2 * r.harmonic_distance * r.harmonic_distance)) continue;
             double w = ward_weight(r, x, n);
             if (!(w > 1 / aa) || in_front(r, x, n)) continue;
             sum_w += w;
