@@ -27,6 +27,7 @@
 #include "runtime/pipeline/run_pipeline.h"
 #include "apps/crex/run_pictures.h"
 #include "apps/crex/run_report.h"
+#include "apps/crex/run_summary.h"
 #include "compiler/plan/emit_plan.h"
 #include "compiler/plan/plan_pipeline.h"
 #include "runtime/report/reference_cache.h"
@@ -398,67 +399,24 @@ int run(RunOptions opt) {
     const ExecutorStats& st = result.stats;
     uint64_t total_rays = st.camera.rays;
     for (const auto& c : st.components) total_rays += c.rays;
-    nlohmann::json j;  // the summary: printed with --format json, and the report's
-    {
-        j["scene"] = scene->source;
-        j["crex"] = sched::to_crex(*program);
-        j["size"] = {width, height};
-        j["spp"] = opt.spp;
-        j["load_seconds"] = load_seconds;
-        j["setup_seconds"] = result.setup_seconds;
-        j["render_seconds"] = result.render_seconds;
-        j["rays"] = total_rays;
-        j["outputs"] = outputs;
-        nlohmann::json comps;
-        comps["camera"] = {{"rays", st.camera.rays}, {"shadow_rays", st.camera.shadow_rays}, {"seconds", st.camera.seconds}};
-        for (size_t c = 0; c < kComponentCount; ++c) {
-            const auto& s = st.components[c];
-            comps[std::string(1, kComponentTable[c].letter)] = {{"executions", s.executions}, {"rays", s.rays},
-                                                                {"shadow_rays", s.shadow_rays}, {"seconds", s.seconds},
-                                                                {"rays_left", result.rays_left[c]}};
-        }
-        j["components"] = comps;
-        j["warnings"] = result.warnings;
-        if (piped) {
-            j["pipeline"] = pipeline_plan->name;
-            j["stages"] = {{"preview_seconds", piped->preview_seconds},
-                           {"guidance_seconds", piped->guidance_seconds},
-                           {"selective_seconds", piped->selective_seconds},
-                           {"preview_rays", piped->preview_rays},
-                           {"selective_rays", piped->selective_rays}};
-            j["preview_percent_of_time"] = result.render_seconds > 0 ? 100 * piped->preview_seconds / result.render_seconds : 0.0;
-            nlohmann::json maps = nlohmann::json::array();
-            for (const auto& m : piped->maps) maps.push_back(m.first);
-            j["maps"] = maps;
-            j["notes"] = piped->notes;
-            if (piped->subsample) j["subsampled_pixels_rendered"] = piped->subsample->rendered_count();
-        }
-        if (recorder) j["checkpoint_seconds"] = recorder->paused_seconds();
-        if (ro.irradiance_cache) {
-            const IcStats& ic = result.ic_stats;
-            j["irradiance_cache"] = {{"aa", opt.aa}, {"ad", opt.ad}, {"ab", opt.ab}, {"records", result.ic_records.size()},
-                                     {"records_made", ic.records}, {"records_loaded", ro.ic_records.size()},
-                                     {"lookups", ic.lookups}, {"interpolated_at_first_lookup", ic.interpolated},
-                                     {"hemisphere_rays", ic.hemisphere_rays}, {"rounds", ic.rounds}};
-            if (piped) {
-                j["irradiance_cache"]["preview_records"] = piped->ic_preview_records;
-                j["irradiance_cache"]["reprocessed_preview_samples"] = piped->ic_reprocessed;
-                j["irradiance_cache"]["selective_records"] = piped->ic_selective_records;
-            }
-        }
-        if (!maps_dir.empty()) {
-            j["pictures"] = pictures.written;
-            j["rays_per_pixel"] = {{"mean", pictures.mean_rays_per_pixel}, {"max", pictures.max_rays_per_pixel}};
-        }
-        if (budget > 0) {
-            j["budget_seconds"] = budget;
-            j["overshoot_percent"] = (result.render_seconds - budget) / budget * 100;
-            nlohmann::json skipped = nlohmann::json::array();
-            for (const auto& sk : st.skipped)
-                skipped.push_back({{"task", sk.what}, {"predicted_seconds", sk.predicted}, {"remaining_seconds", sk.remaining}});
-            j["skipped_tasks"] = skipped;
-        }
-    }
+    RunFacts facts;
+    facts.scene = scene->source;
+    facts.program = &*program;
+    facts.width = width, facts.height = height;
+    facts.spp = opt.spp;
+    facts.load_seconds = load_seconds;
+    facts.result = &result;
+    facts.piped = piped ? &*piped : nullptr;
+    facts.plan = pipeline_plan ? &*pipeline_plan : nullptr;
+    facts.outputs = outputs;
+    facts.budget = budget;
+    facts.recorder = recorder ? &*recorder : nullptr;
+    facts.ic = ro.irradiance_cache ? &*ro.irradiance_cache : nullptr;
+    facts.ic_loaded = ro.ic_records.size();
+    facts.maps_dir = maps_dir;
+    facts.pictures = &pictures;
+    facts.report_dir = opt.report_dir;
+    nlohmann::json j = run_summary_json(facts);  // printed with --format json, and the report's
     std::vector<CurvePoint> curve;
     if (!opt.report_dir.empty() || reference) {
         RunReport report;
@@ -494,10 +452,7 @@ int run(RunOptions opt) {
             return kExitFailure;
         }
         if (!curve.empty()) {
-            nlohmann::json cj = nlohmann::json::array();
-            for (const auto& c : curve)
-                cj.push_back({{"seconds", c.seconds}, {"stage", c.stage}, {"event", c.event}, {"rmse", c.rmse}, {"flip", c.flip}, {"perr", c.perr}});
-            j["error_curve"] = cj;
+            j["error_curve"] = curve_json(curve);
             j["reference"] = reference_file;
         }
         if (!opt.report_dir.empty()) j["report"] = (std::filesystem::path(opt.report_dir) / "index.html").string();
@@ -507,57 +462,9 @@ int run(RunOptions opt) {
         return kExitOk;
     }
     if (opt.quiet) return kExitOk;
-    if (piped) {
-        uint32_t lo = UINT32_MAX, hi = 0;
-        for (uint32_t p = 0; p < result.film.pixel_count(); ++p)
-            lo = std::min(lo, result.film.samples(p)), hi = std::max(hi, result.film.samples(p));
-        std::string pre = sched::to_crex(program->preselective), sel = sched::to_crex(program->selective);
-        std::cout << fmt::format("rendered {} with pipeline {} (pre-selective {}, selective {}) at {}x{}, {} spp\n", scene->source,
-                                 pipeline_plan->name, pre.empty() ? "camera rays" : pre, sel.empty() ? "no crex" : sel, width,
-                                 height, lo == hi ? std::to_string(lo) : fmt::format("{}..{}", lo, hi));
-    } else {
-        std::cout << fmt::format("rendered {} with {} at {}x{}, {} spp\n", scene->source, sched::to_crex(*program), width,
-                                 height, opt.spp);
-    }
-    std::cout << fmt::format("  scene load {:.3f} s, BVH build {:.3f} s, render {:.3f} s ({:.2f} M rays/s)\n", load_seconds,
-                             result.setup_seconds, result.render_seconds,
-                             result.render_seconds > 0 ? total_rays / 1e6 / result.render_seconds : 0.0);
-    if (piped) {
-        double total = std::max(result.render_seconds, 1e-12);
-        std::cout << fmt::format("  pipeline {}: preview {:.3f} s ({:.0f} % of the render), guidance {:.3f} s, selective {:.3f} s\n",
-                                 pipeline_plan->name, piped->preview_seconds, 100 * piped->preview_seconds / total,
-                                 piped->guidance_seconds, piped->selective_seconds);
-        if (!piped->maps.empty()) {
-            std::string names;
-            for (const auto& m : piped->maps) names += (names.empty() ? "" : ", ") + m.first;
-            std::cout << "  maps: " << names << "\n";
-        }
-    }
-    std::cout << "  bin       steps        rays  shadow rays   seconds   M rays/s   left at end\n";
-    auto row = [&](const std::string& name, const ComponentStats& s, const std::string& steps, size_t left) {
-        std::cout << fmt::format("  {:<8} {:>6} {:>11} {:>12} {:>9.3f} {:>10.2f} {:>13}\n", name, steps, s.rays, s.shadow_rays,
-                                 s.seconds, s.seconds > 0 ? s.rays / 1e6 / s.seconds : 0.0, left);
-    };
-    row("camera", st.camera, "-", 0);
-    for (size_t c = 0; c < kComponentCount; ++c)
-        if (st.components[c].rays > 0 || result.rays_left[c] > 0)
-            row(std::string(1, kComponentTable[c].letter), st.components[c], std::to_string(st.components[c].executions),
-                result.rays_left[c]);
-    if (budget > 0) {
-        std::cout << fmt::format("  budget {:.3f} s, actual {:.3f} s, overshoot {:+.1f} %, {} task{} skipped\n", budget,
-                                 result.render_seconds, (result.render_seconds - budget) / budget * 100, st.skipped.size(),
-                                 st.skipped.size() == 1 ? "" : "s");
-        for (const auto& sk : st.skipped)
-            std::cout << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
-    }
-    for (const auto& p : outputs) std::cout << "  wrote " << p << "\n";
-    if (!curve.empty())
-        std::cout << fmt::format("  error against {}: RMSE {:.4g} -> {:.4g}, FLIP {:.4f} -> {:.4f} over {} checkpoints\n", reference_file,
-                                 curve.front().rmse, curve.back().rmse, curve.front().flip, curve.back().flip, curve.size());
-    if (!opt.report_dir.empty()) std::cout << "  wrote the report " << (std::filesystem::path(opt.report_dir) / "index.html").string() << "\n";
-    if (!maps_dir.empty())
-        std::cout << fmt::format("  wrote {} pictures to {} (rays per pixel: mean {:.1f}, max {:.0f})\n", pictures.written.size(),
-                                 maps_dir, pictures.mean_rays_per_pixel, pictures.max_rays_per_pixel);
+    facts.curve = &curve;
+    facts.reference = reference_file;
+    print_run_summary(facts, std::cout);
     return kExitOk;
 }
 

@@ -1,0 +1,150 @@
+#include "apps/crex/run_summary.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <climits>
+#include <filesystem>
+
+#include "compiler/sched/print.h"
+
+namespace crex::app {
+namespace {
+
+uint64_t total_rays(const ExecutorStats& st) {
+    uint64_t n = st.camera.rays;
+    for (const auto& c : st.components) n += c.rays;
+    return n;
+}
+
+}  // namespace
+
+nlohmann::json curve_json(const std::vector<CurvePoint>& curve) {
+    nlohmann::json cj = nlohmann::json::array();
+    for (const auto& c : curve)
+        cj.push_back({{"seconds", c.seconds}, {"stage", c.stage}, {"event", c.event}, {"rmse", c.rmse}, {"flip", c.flip}, {"perr", c.perr}});
+    return cj;
+}
+
+nlohmann::json run_summary_json(const RunFacts& f) {
+    const RenderResult& r = *f.result;
+    const ExecutorStats& st = r.stats;
+    nlohmann::json j;
+    j["scene"] = f.scene;
+    j["crex"] = sched::to_crex(*f.program);
+    j["size"] = {f.width, f.height};
+    j["spp"] = f.spp;
+    j["load_seconds"] = f.load_seconds;
+    j["setup_seconds"] = r.setup_seconds;
+    j["render_seconds"] = r.render_seconds;
+    j["rays"] = total_rays(st);
+    j["outputs"] = f.outputs;
+    nlohmann::json comps;
+    comps["camera"] = {{"rays", st.camera.rays}, {"shadow_rays", st.camera.shadow_rays}, {"seconds", st.camera.seconds}};
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        const auto& s = st.components[c];
+        comps[std::string(1, kComponentTable[c].letter)] = {{"executions", s.executions}, {"rays", s.rays},
+                                                            {"shadow_rays", s.shadow_rays}, {"seconds", s.seconds},
+                                                            {"rays_left", r.rays_left[c]}};
+    }
+    j["components"] = comps;
+    j["warnings"] = r.warnings;
+    if (f.piped) {
+        j["pipeline"] = f.plan->name;
+        j["stages"] = {{"preview_seconds", f.piped->preview_seconds},
+                       {"guidance_seconds", f.piped->guidance_seconds},
+                       {"selective_seconds", f.piped->selective_seconds},
+                       {"preview_rays", f.piped->preview_rays},
+                       {"selective_rays", f.piped->selective_rays}};
+        j["preview_percent_of_time"] = r.render_seconds > 0 ? 100 * f.piped->preview_seconds / r.render_seconds : 0.0;
+        nlohmann::json maps = nlohmann::json::array();
+        for (const auto& m : f.piped->maps) maps.push_back(m.first);
+        j["maps"] = maps;
+        j["notes"] = f.piped->notes;
+        if (f.piped->subsample) j["subsampled_pixels_rendered"] = f.piped->subsample->rendered_count();
+    }
+    if (f.recorder) j["checkpoint_seconds"] = f.recorder->paused_seconds();
+    if (f.ic) {
+        const IcStats& ic = r.ic_stats;
+        j["irradiance_cache"] = {{"aa", f.ic->accuracy}, {"ad", f.ic->divisions}, {"ab", f.ic->bounces}, {"records", r.ic_records.size()},
+                                 {"records_made", ic.records}, {"records_loaded", f.ic_loaded},
+                                 {"lookups", ic.lookups}, {"interpolated_at_first_lookup", ic.interpolated},
+                                 {"hemisphere_rays", ic.hemisphere_rays}, {"rounds", ic.rounds}};
+        if (f.piped) {
+            j["irradiance_cache"]["preview_records"] = f.piped->ic_preview_records;
+            j["irradiance_cache"]["reprocessed_preview_samples"] = f.piped->ic_reprocessed;
+            j["irradiance_cache"]["selective_records"] = f.piped->ic_selective_records;
+        }
+    }
+    if (!f.maps_dir.empty() && f.pictures) {
+        j["pictures"] = f.pictures->written;
+        j["rays_per_pixel"] = {{"mean", f.pictures->mean_rays_per_pixel}, {"max", f.pictures->max_rays_per_pixel}};
+    }
+    if (f.budget > 0) {
+        j["budget_seconds"] = f.budget;
+        j["overshoot_percent"] = (r.render_seconds - f.budget) / f.budget * 100;
+        nlohmann::json skipped = nlohmann::json::array();
+        for (const auto& sk : st.skipped)
+            skipped.push_back({{"task", sk.what}, {"predicted_seconds", sk.predicted}, {"remaining_seconds", sk.remaining}});
+        j["skipped_tasks"] = skipped;
+    }
+    return j;
+}
+
+void print_run_summary(const RunFacts& f, std::ostream& out) {
+    const RenderResult& r = *f.result;
+    const ExecutorStats& st = r.stats;
+    if (f.piped) {
+        uint32_t lo = UINT32_MAX, hi = 0;
+        for (uint32_t p = 0; p < r.film.pixel_count(); ++p)
+            lo = std::min(lo, r.film.samples(p)), hi = std::max(hi, r.film.samples(p));
+        std::string pre = sched::to_crex(f.program->preselective), sel = sched::to_crex(f.program->selective);
+        out << fmt::format("rendered {} with pipeline {} (pre-selective {}, selective {}) at {}x{}, {} spp\n", f.scene,
+                           f.plan->name, pre.empty() ? "camera rays" : pre, sel.empty() ? "no crex" : sel, f.width,
+                           f.height, lo == hi ? std::to_string(lo) : fmt::format("{}..{}", lo, hi));
+    } else {
+        out << fmt::format("rendered {} with {} at {}x{}, {} spp\n", f.scene, sched::to_crex(*f.program), f.width,
+                           f.height, f.spp);
+    }
+    out << fmt::format("  scene load {:.3f} s, BVH build {:.3f} s, render {:.3f} s ({:.2f} M rays/s)\n", f.load_seconds,
+                       r.setup_seconds, r.render_seconds,
+                       r.render_seconds > 0 ? total_rays(st) / 1e6 / r.render_seconds : 0.0);
+    if (f.piped) {
+        double total = std::max(r.render_seconds, 1e-12);
+        out << fmt::format("  pipeline {}: preview {:.3f} s ({:.0f} % of the render), guidance {:.3f} s, selective {:.3f} s\n",
+                           f.plan->name, f.piped->preview_seconds, 100 * f.piped->preview_seconds / total,
+                           f.piped->guidance_seconds, f.piped->selective_seconds);
+        if (!f.piped->maps.empty()) {
+            std::string names;
+            for (const auto& m : f.piped->maps) names += (names.empty() ? "" : ", ") + m.first;
+            out << "  maps: " << names << "\n";
+        }
+    }
+    out << "  bin       steps        rays  shadow rays   seconds   M rays/s   left at end\n";
+    auto row = [&](const std::string& name, const ComponentStats& s, const std::string& steps, size_t left) {
+        out << fmt::format("  {:<8} {:>6} {:>11} {:>12} {:>9.3f} {:>10.2f} {:>13}\n", name, steps, s.rays, s.shadow_rays,
+                           s.seconds, s.seconds > 0 ? s.rays / 1e6 / s.seconds : 0.0, left);
+    };
+    row("camera", st.camera, "-", 0);
+    for (size_t c = 0; c < kComponentCount; ++c)
+        if (st.components[c].rays > 0 || r.rays_left[c] > 0)
+            row(std::string(1, kComponentTable[c].letter), st.components[c], std::to_string(st.components[c].executions),
+                r.rays_left[c]);
+    if (f.budget > 0) {
+        out << fmt::format("  budget {:.3f} s, actual {:.3f} s, overshoot {:+.1f} %, {} task{} skipped\n", f.budget,
+                           r.render_seconds, (r.render_seconds - f.budget) / f.budget * 100, st.skipped.size(),
+                           st.skipped.size() == 1 ? "" : "s");
+        for (const auto& sk : st.skipped)
+            out << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
+    }
+    for (const auto& p : f.outputs) out << "  wrote " << p << "\n";
+    if (f.curve && !f.curve->empty())
+        out << fmt::format("  error against {}: RMSE {:.4g} -> {:.4g}, FLIP {:.4f} -> {:.4f} over {} checkpoints\n", f.reference,
+                           f.curve->front().rmse, f.curve->back().rmse, f.curve->front().flip, f.curve->back().flip, f.curve->size());
+    if (!f.report_dir.empty()) out << "  wrote the report " << (std::filesystem::path(f.report_dir) / "index.html").string() << "\n";
+    if (!f.maps_dir.empty() && f.pictures)
+        out << fmt::format("  wrote {} pictures to {} (rays per pixel: mean {:.1f}, max {:.0f})\n", f.pictures->written.size(),
+                           f.maps_dir, f.pictures->mean_rays_per_pixel, f.pictures->max_rays_per_pixel);
+}
+
+}  // namespace crex::app

@@ -1,0 +1,48 @@
+/// \file run_summary.h
+/// What `crex run` says when it is done: the JSON summary (--format json, and the report's
+/// summary table) and the text table for people.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "apps/crex/run_pictures.h"
+#include "compiler/plan/pipeline_plan.h"
+#include "runtime/pipeline/run_pipeline.h"
+#include "runtime/render/render.h"
+#include "runtime/report/checkpoints.h"
+#include "runtime/report/error_curve.h"
+
+namespace crex::app {
+
+/// Everything one run did, as the summaries need it. Pointers are null when not applicable.
+struct RunFacts {
+    std::string scene;
+    const sched::Program* program = nullptr;
+    int width = 0, height = 0;
+    uint32_t spp = 0;
+    double load_seconds = 0;
+    const RenderResult* result = nullptr;
+    const PipelineRunResult* piped = nullptr;  ///< with the plan it ran
+    const PipelinePlan* plan = nullptr;
+    std::vector<std::string> outputs;
+    double budget = 0;
+    const CheckpointRecorder* recorder = nullptr;
+    const IcSettings* ic = nullptr;
+    size_t ic_loaded = 0;
+    std::string maps_dir;
+    const PictureSummary* pictures = nullptr;
+    const std::vector<CurvePoint>* curve = nullptr;
+    std::string reference;
+    std::string report_dir;
+};
+
+nlohmann::json run_summary_json(const RunFacts& f);
+void print_run_summary(const RunFacts& f, std::ostream& out);
+
+/// The error curve's entries for the JSON summary.
+nlohmann::json curve_json(const std::vector<CurvePoint>& curve);
+
+}  // namespace crex::app
