@@ -140,6 +140,27 @@ TEST(IrradianceCache, OnTheCornellBoxItApproachesPathTracedGoldAsAaFalls) {
     RecordProperty("cornell_relative_rmse_aa_0.1", std::to_string(errors[1]));
 }
 
+TEST(IrradianceCache, StiffAndFarAwayScenesStayFinite) {
+    // Albedo 0.999: four bounces, then nothing; finite and the truncated series.
+    auto stiff = render_ic(testing::furnace_box(0.999, 1.0), 12, 1, 0.2, 4, 32);
+    ASSERT_TRUE(testing::all_finite(stiff.image()));
+    double expect = (1 - std::pow(0.999, 5)) / (1 - 0.999);
+    EXPECT_NEAR(testing::mean_luminance(stiff.image()), expect, 2e-3 * expect);
+    // A scene 1e6 units from the origin caches like the same scene at the origin.
+    Scene near = *builtin_scene("cornell_diffuse");
+    Scene far = near;
+    const Vec3 shift{1e6, -1e6, 1e6};
+    for (auto& sh : far.shapes) {
+        sh.center = sh.center + shift;
+        for (auto& v : sh.vertices) v = v + shift;
+    }
+    far.camera.position = far.camera.position + shift;
+    auto a = render_ic(near, 16, 2, 0.2, 2, 64), b = render_ic(far, 16, 2, 0.2, 2, 64);
+    ASSERT_TRUE(testing::all_finite(b.image()));
+    EXPECT_NEAR(testing::mean_luminance(b.image()) / testing::mean_luminance(a.image()), 1.0, 0.02);
+    for (const auto& r : b.ic_records) ASSERT_GT(r.harmonic_distance, 0.0);
+}
+
 TEST(IrradianceCache, ResultsDoNotDependOnTheThreadCount) {
     Scene s = *builtin_scene("cornell");
     std::vector<float> one, two;

@@ -48,7 +48,7 @@ TEST(PipelineRun, RaisingSppContinuesThePreviewsSequenceExactly) {
     auto piped = run(scene, plan, 20, 16);
     RenderOptions ro;
     ro.width = 20, ro.height = 16, ro.spp = 5;
-    auto direct = render(scene, plan.program.preselective.children.empty() ? sched::Program{} : plan.program, ro);
+    auto direct = render(scene, plan.program, ro);
     auto a = piped.image(), b = direct.image();
     for (uint32_t p = 0; p < piped.render.film.pixel_count(); ++p) ASSERT_EQ(piped.render.film.samples(p), 5u);
     ASSERT_EQ(a.size(), b.size());
