@@ -445,7 +445,6 @@ int run(RunOptions opt) {
             report.plan_dot = plan_to_dot(cp);
         }
         if (opt.report_dir.empty()) {  // a reference without a report: the curve only, in the summary
-            report.view = {true, display_exposure(reference->rgb)};
             curve = error_curve(recorder->checkpoints(), *reference, report.view);
         } else if (std::string error = write_run_report(report, curve); !error.empty()) {
             std::cerr << "crex run: error: report: " << error << "\n";

@@ -148,13 +148,7 @@ TEST(IrradianceCache, StiffAndFarAwayScenesStayFinite) {
     EXPECT_NEAR(testing::mean_luminance(stiff.image()), expect, 2e-3 * expect);
     // A scene 1e6 units from the origin caches like the same scene at the origin.
     Scene near = *builtin_scene("cornell_diffuse");
-    Scene far = near;
-    const Vec3 shift{1e6, -1e6, 1e6};
-    for (auto& sh : far.shapes) {
-        sh.center = sh.center + shift;
-        for (auto& v : sh.vertices) v = v + shift;
-    }
-    far.camera.position = far.camera.position + shift;
+    Scene far = testing::shifted(near, {1e6, -1e6, 1e6});
     auto a = render_ic(near, 16, 2, 0.2, 2, 64), b = render_ic(far, 16, 2, 0.2, 2, 64);
     ASSERT_TRUE(testing::all_finite(b.image()));
     EXPECT_NEAR(testing::mean_luminance(b.image()) / testing::mean_luminance(a.image()), 1.0, 0.02);

@@ -39,13 +39,7 @@ TEST(ExtremeScenes, SceneFarFromTheOriginRendersLikeTheSameSceneAtTheOrigin) {
     // Coordinates around 1e6 would lose 6 decimal digits in float; the renderer recentres the
     // scene first, so the image must match the one at the origin closely.
     Scene near = *builtin_scene("cornell_diffuse");
-    Scene far = near;
-    const Vec3 shift{1e6, -1e6, 1e6};
-    for (auto& sh : far.shapes) {
-        sh.center = sh.center + shift;
-        for (auto& v : sh.vertices) v = v + shift;
-    }
-    far.camera.position = far.camera.position + shift;
+    Scene far = testing::shifted(near, {1e6, -1e6, 1e6});
     std::vector<float> a = testing::render_crex(near, "D*", 16, 2).image();
     std::vector<float> b = testing::render_crex(far, "D*", 16, 2).image();
     ASSERT_TRUE(testing::all_finite(b));

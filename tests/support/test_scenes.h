@@ -64,6 +64,16 @@ inline double irradiance_under_square(double L, double half, double h) {
     return 4 * L * q * std::atan(q);
 }
 
+/// The same scene moved by `shift` (shapes and camera), for far-from-the-origin tests.
+inline Scene shifted(Scene s, const Vec3& shift) {
+    for (auto& sh : s.shapes) {
+        sh.center = sh.center + shift;
+        for (auto& v : sh.vertices) v = v + shift;
+    }
+    s.camera.position = s.camera.position + shift;
+    return s;
+}
+
 inline sched::Program lower_or_die(const std::string& crex) {
     SourceFile f("<test>", crex);
     DiagnosticSink sink;
