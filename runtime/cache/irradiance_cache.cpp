@@ -212,7 +212,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, o + last_dir[i] * t, last_dir[i], t);
             uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
             std::array<Lobe, kMaxLobes> lobes;
-            int nl = scatter(scene_.material_of(h.hit.geomID), f, key, level * 16 + bounce + 1, lobes);
+            int nl = scatter(scene_.bsdf_of(h.hit.geomID), f, HitRandom(key, level * 16 + bounce + 1), lobes);
             double total = 0;
             for (int l = 0; l < nl; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
             RTCRayHit& r = batch[g];
@@ -264,17 +264,13 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         double dist = h.ray.tfar;
         Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z};
         HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, origin + last_dir[i] * dist, last_dir[i], dist);
-        const Material& m = scene_.material_of(h.hit.geomID);
-        Vec3 l = emitted(m, f, via_delta[i] != 0, false);  // through a mirror or glass, emitters are seen
+        const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
+        Vec3 l = emitted(*b.material, f, via_delta[i] != 0, false);  // through a mirror or glass, emitters are seen
         uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
-        if (!scene_.lights->empty() && has_direct_response(m)) {
-            RayRecord ray;
-            ray.beta = beta;
-            ray.path = key;
-            ray.depth = static_cast<uint16_t>(level + 1);
+        if (!scene_.lights->empty() && b.direct_response) {
             Vec3 value, so, sd;
             double tfar;
-            if (direct_light_sample(scene_, m, f, ray, 0, 1, value, so, sd, tfar)) {
+            if (direct_light_sample(scene_, b, f, beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1, value, so, sd, tfar)) {
                 s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
                 s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
                 s.tnear = 0.0f;
@@ -282,7 +278,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
                 shadow_value[i] = value;
             }
         }
-        albedo[i] = beta * diffuse_albedo(m);
+        albedo[i] = beta * b.diffuse;
         l = l * beta;
         if (max_component(albedo[i]) > 0) {
             if (deeper) {

@@ -7,37 +7,29 @@
 namespace crex {
 namespace {
 
-struct Split {
-    Vec3 diffuse;           // D reflection
-    Vec3 specular;          // G or S reflection
-    Vec3 diffuse_transmit;  // D transmission
-    Vec3 specular_transmit; // T
-};
-
-Split split_of(const Material& m) {
-    Split s;
-    double spec = m.specularity;
-    double trans = m.type == MaterialType::kTrans ? m.transmissivity : 0.0;
-    s.diffuse = m.color * ((1 - spec) * (1 - trans));
-    s.specular = m.type == MaterialType::kMetal ? m.color * spec : Vec3{spec, spec, spec};
-    if (m.type == MaterialType::kTrans) {
-        s.diffuse_transmit = m.color * ((1 - spec) * trans * (1 - m.transmitted_specular));
-        s.specular_transmit = m.color * ((1 - spec) * trans * m.transmitted_specular);
-    }
-    return s;
-}
-
 bool positive(const Vec3& v) { return max_component(v) > 0; }
 
 }  // namespace
 
-Vec3 diffuse_albedo(const Material& m) {
-    switch (m.type) {
-    case MaterialType::kPlastic:
-    case MaterialType::kMetal:
-    case MaterialType::kTrans: return split_of(m).diffuse;
-    default: return {};
+Bsdf Bsdf::of(const Material& m) {
+    Bsdf b;
+    b.material = &m;
+    b.type = m.type;
+    if (m.type != MaterialType::kPlastic && m.type != MaterialType::kMetal && m.type != MaterialType::kTrans) return b;
+    double spec = m.specularity;
+    double trans = m.type == MaterialType::kTrans ? m.transmissivity : 0.0;
+    b.diffuse = m.color * ((1 - spec) * (1 - trans));
+    b.specular = m.type == MaterialType::kMetal ? m.color * spec : Vec3{spec, spec, spec};
+    if (m.type == MaterialType::kTrans) {
+        b.diffuse_transmit = m.color * ((1 - spec) * trans * (1 - m.transmitted_specular));
+        b.specular_transmit = m.color * ((1 - spec) * trans * m.transmitted_specular);
     }
+    bool specular = spec > 0 && positive(b.specular);
+    b.glossy = specular && m.roughness > 0;
+    b.mirror_like = specular && !(m.roughness > 0);
+    if (b.glossy) b.exponent = phong_exponent(m.roughness);
+    b.direct_response = positive(b.diffuse) || positive(b.diffuse_transmit) || b.glossy;
+    return b;
 }
 
 double phong_exponent(double roughness) {
@@ -55,51 +47,35 @@ double fresnel_dielectric(double cos_i, double eta) {
     return 0.5 * (rs * rs + rp * rp);
 }
 
-bool has_direct_response(const Material& m) {
-    switch (m.type) {
-    case MaterialType::kPlastic:
-    case MaterialType::kMetal:
-    case MaterialType::kTrans: {
-        Split s = split_of(m);
-        return positive(s.diffuse) || positive(s.diffuse_transmit) || (m.roughness > 0 && positive(s.specular));
-    }
-    default: return false;
-    }
-}
-
-int scatter(const Material& m, const HitFrame& f, uint64_t path, uint32_t depth, std::array<Lobe, kMaxLobes>& out) {
+int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out) {
     int n = 0;
     const Vec3& nrm = f.normal;
     const Vec3& d = f.incoming;
-    switch (m.type) {
+    switch (b.type) {
     case MaterialType::kPlastic:
     case MaterialType::kMetal:
     case MaterialType::kTrans: {
-        Split s = split_of(m);
-        if (positive(s.diffuse)) {
-            Vec3 dir = sample_cosine(nrm, random_at(path, depth, RandomUse::kLobeD, 0), random_at(path, depth, RandomUse::kLobeD, 1));
-            out[n++] = {Component::kD, dir, s.diffuse, false, false};
+        if (positive(b.diffuse)) {
+            Vec3 dir = sample_cosine(nrm, random(RandomUse::kLobeD, 0), random(RandomUse::kLobeD, 1));
+            out[n++] = {Component::kD, dir, b.diffuse, false, false};
         }
-        if (m.specularity > 0 && positive(s.specular)) {
-            Vec3 mirror = reflect(d, nrm);
-            if (m.roughness > 0) {
-                double e = phong_exponent(m.roughness);
-                Vec3 dir = sample_phong(mirror, e, random_at(path, depth, RandomUse::kLobeG, 0), random_at(path, depth, RandomUse::kLobeG, 1));
-                double c = dot(dir, nrm);
-                if (c > 0) out[n++] = {Component::kG, dir, s.specular * ((e + 2) / (e + 1) * c), false, false};
-            } else {
-                out[n++] = {Component::kS, mirror, s.specular, false, true};
-            }
+        if (b.glossy) {
+            Vec3 dir = sample_phong(reflect(d, nrm), b.exponent, random(RandomUse::kLobeG, 0), random(RandomUse::kLobeG, 1));
+            double c = dot(dir, nrm);
+            if (c > 0) out[n++] = {Component::kG, dir, b.specular * ((b.exponent + 2) / (b.exponent + 1) * c), false, false};
+        } else if (b.mirror_like) {
+            out[n++] = {Component::kS, reflect(d, nrm), b.specular, false, true};
         }
-        if (positive(s.diffuse_transmit)) {
-            Vec3 dir = sample_cosine(-nrm, random_at(path, depth, RandomUse::kLobeDT, 0), random_at(path, depth, RandomUse::kLobeDT, 1));
-            out[n++] = {Component::kD, dir, s.diffuse_transmit, true, false};
+        if (positive(b.diffuse_transmit)) {
+            Vec3 dir = sample_cosine(-nrm, random(RandomUse::kLobeDT, 0), random(RandomUse::kLobeDT, 1));
+            out[n++] = {Component::kD, dir, b.diffuse_transmit, true, false};
         }
-        if (positive(s.specular_transmit)) out[n++] = {Component::kT, d, s.specular_transmit, true, true};
+        if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true};
         break;
     }
     case MaterialType::kGlass:
     case MaterialType::kDielectric: {
+        const Material& m = *b.material;
         double eta = f.front ? 1.0 / m.ior : m.ior;
         double cos_i = -dot(d, nrm);
         double fr = fresnel_dielectric(cos_i, eta);
@@ -117,7 +93,7 @@ int scatter(const Material& m, const HitFrame& f, uint64_t path, uint32_t depth,
         break;
     }
     case MaterialType::kMirror:
-        if (positive(m.color)) out[n++] = {Component::kM, reflect(d, nrm), m.color, false, true};
+        if (positive(b.material->color)) out[n++] = {Component::kM, reflect(d, nrm), b.material->color, false, true};
         break;
     case MaterialType::kVoid:
     case MaterialType::kLight:
@@ -126,20 +102,17 @@ int scatter(const Material& m, const HitFrame& f, uint64_t path, uint32_t depth,
     return n;
 }
 
-Vec3 eval_direct(const Material& m, const HitFrame& f, const Vec3& wi) {
-    if (m.type != MaterialType::kPlastic && m.type != MaterialType::kMetal && m.type != MaterialType::kTrans) return {};
-    Split s = split_of(m);
+Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
     double c = dot(wi, f.normal);
     Vec3 out;
     if (c > 0) {
-        out += s.diffuse * (c / kPi);
-        if (m.specularity > 0 && m.roughness > 0) {
-            double e = phong_exponent(m.roughness);
+        out += b.diffuse * (c / kPi);
+        if (b.glossy) {
             double ca = dot(wi, reflect(f.incoming, f.normal));
-            if (ca > 0) out += s.specular * ((e + 2) / (2 * kPi) * std::pow(ca, e) * c);
+            if (ca > 0) out += b.specular * ((b.exponent + 2) / (2 * kPi) * std::pow(ca, b.exponent) * c);
         }
     } else if (c < 0) {
-        out += s.diffuse_transmit * (-c / kPi);
+        out += b.diffuse_transmit * (-c / kPi);
     }
     return out;
 }

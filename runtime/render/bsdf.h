@@ -21,6 +21,7 @@
 #include <array>
 
 #include "compiler/crex/components.h"
+#include "runtime/base/sampling.h"
 #include "runtime/scene/scene.h"
 
 namespace crex {
@@ -45,18 +46,29 @@ struct Lobe {
 
 inline constexpr int kMaxLobes = 4;
 
-/// Fills `out` with the lobes spawned at this hit; returns how many. Random numbers are drawn
-/// for path `path` at `depth`.
-int scatter(const Material& m, const HitFrame& f, uint64_t path, uint32_t depth, std::array<Lobe, kMaxLobes>& out);
+/// A material prepared for shading: its lobe weights and Phong exponent computed once per
+/// scene instead of at every hit.
+struct Bsdf {
+    const Material* material = nullptr;
+    MaterialType type = MaterialType::kVoid;
+    Vec3 diffuse;            ///< D reflection (0 unless plastic, metal, trans)
+    Vec3 specular;           ///< G or S reflection
+    Vec3 diffuse_transmit;   ///< D transmission (trans)
+    Vec3 specular_transmit;  ///< T (trans)
+    double exponent = 0;     ///< Phong exponent of G (roughness > 0)
+    bool glossy = false;     ///< a G lobe (specular, rough)
+    bool mirror_like = false;  ///< an S lobe (specular, smooth)
+    bool direct_response = false;  ///< a lobe that direct lighting can reach
+
+    static Bsdf of(const Material& m);
+};
+
+/// Fills `out` with the lobes spawned at this hit; returns how many. Random numbers are the
+/// hit's own (`random`).
+int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out);
 
 /// Sum over the non-delta lobes of BRDF x |cos| for light arriving from unit direction `wi`.
-Vec3 eval_direct(const Material& m, const HitFrame& f, const Vec3& wi);
-
-/// The reflectance of the D reflection lobe (0 for materials without one).
-Vec3 diffuse_albedo(const Material& m);
-
-/// True if the material has a lobe that direct lighting can reach.
-bool has_direct_response(const Material& m);
+Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi);
 
 /// Emission seen by a ray. `camera_or_delta`: a camera ray or a ray from a delta lobe.
 Vec3 emitted(const Material& m, const HitFrame& f, bool camera_or_delta, bool camera);

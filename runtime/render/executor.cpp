@@ -69,7 +69,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
             film_.count_ray(aov, rays.pixel[begin + i]);
         }
         for (size_t i = 0; i < out.emission.size(); ++i) film_.add_emission(rays.pixel[begin + i], out.emission[i]);
-        for (size_t c = 0; c < kComponentCount; ++c) sink[c].append(out.children[c]);
+        out.append_children_to(sink);
         stats.rays += end - begin;
         stats.shadow_rays += out.shadow_rays;
         rays_done_ += end - begin;

@@ -34,14 +34,15 @@ struct Oracle {
         Vec3 dir = normalize_or_zero(r.direction);
         double t = h.ray.tfar;
         HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, r.origin + r.direction * t, dir, t);
-        const Material& m = scene.material_of(h.hit.geomID);
-        Vec3 total = r.beta * emitted(m, f, camera || (r.flags & kRayFromDeltaLobe), camera);
+        const Bsdf& b = scene.bsdf_of(h.hit.geomID);
+        const HitRandom random(r.path, r.depth);
+        Vec3 total = r.beta * emitted(*b.material, f, camera || (r.flags & kRayFromDeltaLobe), camera);
         if (!is_finite(total)) total = {};
-        if (!scene.lights->empty() && has_direct_response(m)) {
+        if (!scene.lights->empty() && b.direct_response) {
             for (uint32_t j = 0; j < params.shadow_rays; ++j) {
                 Vec3 value, so, sd;
                 double tfar;
-                if (!direct_light_sample(scene, m, f, r, j, params.shadow_rays, value, so, sd, tfar)) continue;
+                if (!direct_light_sample(scene, b, f, r.beta, random, j, params.shadow_rays, value, so, sd, tfar)) continue;
                 RTCRay s{};
                 s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
                 s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
@@ -54,7 +55,7 @@ struct Oracle {
         }
         std::array<RayRecord, kMaxLobes> children;
         std::array<Component, kMaxLobes> components;
-        int n = spawn_children(m, f, r, scene.embree->ray_epsilon(), params, children, components);
+        int n = spawn_children(b, f, r, random, scene.embree->ray_epsilon(), params, children, components);
         for (int l = 0; l < n; ++l) total += trace(children[static_cast<size_t>(l)], false);
         return total;
     }

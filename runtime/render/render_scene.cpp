@@ -88,6 +88,7 @@ void CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) c
 RenderScene::RenderScene(const Scene& s) : scene(s) {
     embree = std::make_unique<EmbreeScene>(s);
     lights = std::make_unique<LightSampler>(s, *embree);
+    for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));
 }
 
 }  // namespace crex

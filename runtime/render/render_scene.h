@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "runtime/render/bsdf.h"
 #include "runtime/scene/scene.h"
 #include "runtime/trace/embree_scene.h"
 
@@ -54,11 +55,13 @@ struct RenderScene {
     const Scene& scene;
     std::unique_ptr<EmbreeScene> embree;
     std::unique_ptr<LightSampler> lights;
+    std::vector<Bsdf> bsdfs;  ///< per material, prepared once
 
     explicit RenderScene(const Scene& s);
     const Material& material_of(uint32_t geometry) const {
         return scene.materials[embree->geometries()[geometry].material];
     }
+    const Bsdf& bsdf_of(uint32_t geometry) const { return bsdfs[embree->geometries()[geometry].material]; }
 };
 
 }  // namespace crex

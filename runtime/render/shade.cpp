@@ -33,41 +33,41 @@ HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, doubl
     return f;
 }
 
-int spawn_children(const Material& m, const HitFrame& f, const RayRecord& ray, double epsilon, const ShadeParams& params,
-                   std::array<RayRecord, kMaxLobes>& slots, std::array<Component, kMaxLobes>& components) {
-    std::array<Lobe, kMaxLobes> lobes;
-    int n = scatter(m, f, ray.path, ray.depth, lobes);
-    int out = 0;
+int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
+                   const ShadeParams& params, std::array<RayRecord, kMaxLobes>& slots, std::array<Component, kMaxLobes>& components) {
     if (ray.depth + 1u > params.max_depth) return 0;
+    std::array<Lobe, kMaxLobes> lobes;
+    int n = scatter(b, f, random, lobes);
+    int out = 0;
     double st = params.specular_threshold_per_pixel ? (*params.specular_threshold_per_pixel)[ray.pixel] : params.specular_threshold;
     for (int l = 0; l < n; ++l) {
-        const Lobe& lobe_l = lobes[static_cast<size_t>(l)];
+        const Lobe& lobe = lobes[static_cast<size_t>(l)];
         // The specular threshold (RADIANCE -st, thesis 5.7): weak specular reflections are not sampled.
-        if (st > 0 && (lobe_l.component == Component::kS || lobe_l.component == Component::kG) &&
-            max_component(lobe_l.weight) < st)
+        if (st > 0 && (lobe.component == Component::kS || lobe.component == Component::kG) && max_component(lobe.weight) < st)
             continue;
-        Vec3 beta = ray.beta * lobe_l.weight;
+        Vec3 beta = ray.beta * lobe.weight;
         double mx = max_component(beta);
         if (!(mx > 0) || !is_finite(beta)) continue;
         if (mx < params.weight_limit) {
             if (!params.roulette) continue;
             double q = mx / params.weight_limit;  // survive with probability q, re-weighted by 1/q
-            if (random_at(ray.path, ray.depth, RandomUse::kRoulette, static_cast<uint32_t>(l)) >= q) continue;
+            if (random(RandomUse::kRoulette, static_cast<uint32_t>(l)) >= q) continue;
             beta = beta / q;
         }
-        const Lobe& lobe = lobes[static_cast<size_t>(l)];
         RayRecord& c = slots[static_cast<size_t>(out)];
-        c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
-        c.direction = lobe.direction;
-        if (params.ic_queries && lobe.component == Component::kD) {
+        bool query = params.ic_queries && lobe.component == Component::kD;
+        if (query) {  // an irradiance-cache query: the hit and the normal on the lit side
             c.origin = f.position;
             c.direction = lobe.transmits ? -f.normal : f.normal;
+            c.flags = kRayIcQuery;
+        } else {
+            c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
+            c.direction = lobe.direction;
+            c.flags = lobe.delta ? kRayFromDeltaLobe : 0;
         }
         c.beta = beta;
         c.pixel = ray.pixel;
         c.depth = static_cast<uint16_t>(ray.depth + 1);
-        c.flags = lobe.delta ? kRayFromDeltaLobe : 0;
-        if (params.ic_queries && lobe.component == Component::kD) c.flags = kRayIcQuery;
         c.path = child_path(ray.path, l, lobe.component);
         components[static_cast<size_t>(out)] = lobe.component;
         ++out;
@@ -75,14 +75,13 @@ int spawn_children(const Material& m, const HitFrame& f, const RayRecord& ray, d
     return out;
 }
 
-bool direct_light_sample(const RenderScene& scene, const Material& m, const HitFrame& f, const RayRecord& ray, uint32_t j,
-                         uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar) {
+bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
+                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar) {
     // Low-discrepancy over the n samples of this hit: a rotated Halton set for the point on
     // the emitter, stratified picks between emitters.
     double u, v;
-    rotated_halton(j, random_at(ray.path, ray.depth, RandomUse::kLight, 0), random_at(ray.path, ray.depth, RandomUse::kLight, 1),
-                   u, v);
-    double pick = (j + random_at(ray.path, ray.depth, RandomUse::kLightPick, j)) / n;
+    rotated_halton(j, random(RandomUse::kLight, 0), random(RandomUse::kLight, 1), u, v);
+    double pick = (j + random(RandomUse::kLightPick, j)) / n;
     LightSample ls = scene.lights->sample(pick, u, v);
     Vec3 to = ls.position - f.position;
     double d2 = dot(to, to);
@@ -91,9 +90,9 @@ bool direct_light_sample(const RenderScene& scene, const Material& m, const HitF
     Vec3 wi = to / dist;
     double cos_l = -dot(ls.normal, wi);
     if (cos_l <= 0) return false;  // emitters radiate from their front side only
-    Vec3 fr = eval_direct(m, f, wi);
+    Vec3 fr = eval_direct(b, f, wi);
     if (!(max_component(fr) > 0)) return false;
-    value = ray.beta * fr * ls.radiance * (cos_l / (d2 * ls.pdf_area * n));
+    value = beta * fr * ls.radiance * (cos_l / (d2 * ls.pdf_area * n));
     if (!is_finite(value)) return false;
     double eps = scene.embree->ray_epsilon();
     shadow_origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
@@ -102,6 +101,23 @@ bool direct_light_sample(const RenderScene& scene, const Material& m, const HitF
     return shadow_tfar > 0;
 }
 
+namespace {
+
+// An empty shadow-ray slot: tnear > tfar, so Embree skips it.
+void make_hole(RTCRay& s, unsigned id) {
+    s.tnear = 1.0f;
+    s.tfar = 0.0f;
+    s.org_x = s.org_y = s.org_z = 0;
+    s.dir_x = 0, s.dir_y = 0, s.dir_z = 1;
+    s.mask = 0xFFFFFFFFu;
+    s.flags = 0;
+    s.time = 0;
+    s.id = id;
+}
+bool is_hole(const RTCRay& s) { return s.tnear > s.tfar && s.tfar == 0.0f; }
+
+}  // namespace
+
 void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begin, size_t end, bool camera,
                      const ShadeParams& params, ShadeOutput& out) {
     const size_t n = end - begin;
@@ -109,8 +125,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     const double eps = scene.embree->ray_epsilon();
     out.reset();
     ShadeScratch& scratch = out.scratch;
-    scratch.hits.resize(n);
     std::vector<RTCRayHit>& hits = scratch.hits;
+    hits.resize(n);
     for (size_t i = 0; i < n; ++i) {
         size_t r = begin + i;
         set_ray(hits[i], rays.ox[r], rays.oy[r], rays.oz[r], rays.dx[r], rays.dy[r], rays.dz[r], static_cast<unsigned>(i));
@@ -118,100 +134,88 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     if (params.capture) params.capture->rays.insert(params.capture->rays.end(), hits.begin(), hits.end());
     intersect_batch(*scene.embree, hits.data(), n, camera);
 
-    out.contribution.assign(n, Vec3{});
-    if (camera) out.emission.assign(n, Vec3{});
+    out.contribution.resize(n);
+    if (camera) out.emission.resize(n);
     scratch.shadows.resize(n * ns);
     scratch.shadow_value.resize(n * ns);
-    scratch.child_slots.resize(n * kMaxLobes);
-    scratch.child_components.resize(n);
-    scratch.child_count.assign(n, 0);
+    const size_t blocks = (n + kShadeBlock - 1) / kShadeBlock;
+    if (out.block_children.size() < blocks) out.block_children.resize(blocks);
+    out.blocks = blocks;
+    scratch.block_hits.assign(blocks, 0);
     std::vector<RTCRay>& shadows = scratch.shadows;
     std::vector<Vec3>& shadow_value = scratch.shadow_value;
-    std::vector<RayRecord>& child_slots = scratch.child_slots;
-    std::vector<std::array<Component, kMaxLobes>>& child_components = scratch.child_components;
-    std::vector<uint8_t>& child_count = scratch.child_count;
     const Vec3 background = scene.scene.background;
+    const bool lights = !scene.lights->empty();
 
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t i = range.begin(); i < range.end(); ++i) {
-            for (uint32_t j = 0; j < ns; ++j) {  // every slot starts as a hole (tnear > tfar)
-                RTCRay& s = shadows[i * ns + j];
-                s.tnear = 1.0f;
-                s.tfar = 0.0f;
-                s.org_x = s.org_y = s.org_z = 0;
-                s.dir_x = 0, s.dir_y = 0, s.dir_z = 1;
-                s.mask = 0xFFFFFFFFu;
-                s.flags = 0;
-                s.time = 0;
-                s.id = static_cast<unsigned>(i);
-            }
-            RayRecord ray = rays.get(begin + i);
-            const RTCRayHit& h = hits[i];
-            if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-                out.contribution[i] = ray.beta * background;
-                continue;
-            }
-            Vec3 dir = normalize_or_zero(ray.direction);
-            double t = h.ray.tfar;
-            HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, ray.origin + ray.direction * t,
-                                   dir, t);
-            const Material& m = scene.material_of(h.hit.geomID);
-            Vec3 c = ray.beta * emitted(m, f, camera || (ray.flags & kRayFromDeltaLobe), camera);
-            out.contribution[i] = is_finite(c) ? c : Vec3{};
-            if (camera) out.emission[i] = out.contribution[i];
-            if (!scene.lights->empty() && has_direct_response(m)) {
-                uint32_t nsi = params.shadow_rays_per_pixel ? std::min<uint32_t>(ns, (*params.shadow_rays_per_pixel)[ray.pixel]) : ns;
-                for (uint32_t j = 0; j < nsi; ++j) {
-                    Vec3 value, so, sd;
-                    double tfar;
-                    if (!direct_light_sample(scene, m, f, ray, j, nsi, value, so, sd, tfar)) continue;
-                    RTCRay& s = shadows[i * ns + j];
-                    s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
-                    s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
-                    s.tnear = 0.0f;
-                    s.tfar = static_cast<float>(tfar);
-                    shadow_value[i * ns + j] = value;
+    // Shade: emission, shadow rays to trace, children into the block's own bins.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t block = range.begin(); block < range.end(); ++block) {
+            std::array<RayBatch, kComponentCount>& children = out.block_children[block];
+            uint32_t block_hits = 0;
+            for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
+                for (uint32_t j = 0; j < ns; ++j) make_hole(shadows[i * ns + j], static_cast<unsigned>(i));
+                if (camera) out.emission[i] = {};
+                RayRecord ray = rays.get(begin + i);
+                const RTCRayHit& h = hits[i];
+                if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+                    out.contribution[i] = ray.beta * background;
+                    continue;
                 }
+                ++block_hits;
+                Vec3 dir = normalize_or_zero(ray.direction);
+                double t = h.ray.tfar;
+                HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, ray.origin + ray.direction * t,
+                                       dir, t);
+                const Bsdf& b = scene.bsdf_of(h.hit.geomID);
+                const HitRandom random(ray.path, ray.depth);
+                Vec3 c = ray.beta * emitted(*b.material, f, camera || (ray.flags & kRayFromDeltaLobe), camera);
+                out.contribution[i] = is_finite(c) ? c : Vec3{};
+                if (camera) out.emission[i] = out.contribution[i];
+                if (lights && b.direct_response) {
+                    uint32_t nsi = params.shadow_rays_per_pixel ? std::min<uint32_t>(ns, (*params.shadow_rays_per_pixel)[ray.pixel]) : ns;
+                    for (uint32_t j = 0; j < nsi; ++j) {
+                        Vec3 value, so, sd;
+                        double tfar;
+                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, nsi, value, so, sd, tfar)) continue;
+                        RTCRay& s = shadows[i * ns + j];
+                        s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
+                        s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
+                        s.tnear = 0.0f;
+                        s.tfar = static_cast<float>(tfar);
+                        shadow_value[i * ns + j] = value;
+                    }
+                }
+                std::array<RayRecord, kMaxLobes> slots;
+                std::array<Component, kMaxLobes> components;
+                int spawned = spawn_children(b, f, ray, random, eps, params, slots, components);
+                for (int l = 0; l < spawned; ++l)
+                    children[static_cast<size_t>(components[static_cast<size_t>(l)])].push(slots[static_cast<size_t>(l)]);
             }
-            std::array<RayRecord, kMaxLobes> slots;
-            child_count[i] = static_cast<uint8_t>(spawn_children(m, f, ray, eps, params, slots, child_components[i]));
-            for (int l = 0; l < child_count[i]; ++l) child_slots[i * kMaxLobes + static_cast<size_t>(l)] = slots[static_cast<size_t>(l)];
+            scratch.block_hits[block] = block_hits;
         }
     });
 
     if (params.capture) params.capture->shadow_rays.insert(params.capture->shadow_rays.end(), shadows.begin(), shadows.end());
     occluded_batch(*scene.embree, shadows.data(), shadows.size());
 
-    // Ordered merge, in parallel but into fixed places: each ray's children land after those
-    // of every earlier ray (per component), so the bins' order does not depend on threads.
-    std::vector<std::array<uint32_t, kComponentCount>> offset(n + 1);
-    offset[0] = {};
-    for (size_t i = 0; i < n; ++i) {
-        offset[i + 1] = offset[i];
-        for (int l = 0; l < child_count[i]; ++l) ++offset[i + 1][static_cast<size_t>(child_components[i][static_cast<size_t>(l)])];
-    }
-    for (size_t c = 0; c < kComponentCount; ++c) out.children[c].resize(offset[n][c]);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t i = range.begin(); i < range.end(); ++i) {
-            for (uint32_t j = 0; j < ns; ++j) {
-                const RTCRay& s = shadows[i * ns + j];
-                if (s.tnear > s.tfar && s.tfar == 0.0f) continue;  // hole: no sample
-                if (s.tfar != -INFINITY) out.contribution[i] += shadow_value[i * ns + j];
+    // Unoccluded samples add their light; each ray's own sum, so the order is fixed.
+    std::vector<uint32_t>& block_shadows = scratch.block_hits;  // reused: hits are counted below first
+    for (size_t block = 0; block < blocks; ++block) out.hits += block_shadows[block];
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t block = range.begin(); block < range.end(); ++block) {
+            uint32_t traced = 0;
+            for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
+                for (uint32_t j = 0; j < ns; ++j) {
+                    const RTCRay& s = shadows[i * ns + j];
+                    if (is_hole(s)) continue;
+                    ++traced;
+                    if (s.tfar != -INFINITY) out.contribution[i] += shadow_value[i * ns + j];
+                }
             }
-            std::array<uint32_t, kComponentCount> at = offset[i];
-            for (int l = 0; l < child_count[i]; ++l) {
-                size_t c = static_cast<size_t>(child_components[i][static_cast<size_t>(l)]);
-                out.children[c].set(at[c]++, child_slots[i * kMaxLobes + static_cast<size_t>(l)]);
-            }
+            block_shadows[block] = traced;
         }
     });
-    for (size_t i = 0; i < n; ++i) {
-        if (hits[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) ++out.hits;
-        for (uint32_t j = 0; j < ns; ++j) {
-            const RTCRay& s = shadows[i * ns + j];
-            out.shadow_rays += !(s.tnear > s.tfar && s.tfar == 0.0f);
-        }
-    }
+    for (size_t block = 0; block < blocks; ++block) out.shadow_rays += block_shadows[block];
 }
 
 }  // namespace crex

@@ -35,21 +35,25 @@ struct ShadeParams {
     bool ic_queries = false;
 };
 
+/// Rays are shaded in fixed blocks of this many; each block spawns into its own buffers,
+/// which are joined in block order, so bins do not depend on the thread count.
+inline constexpr size_t kShadeBlock = 512;
+
 /// Per-chunk buffers, reused from chunk to chunk: allocating and zero-filling them for every
 /// chunk cost more than a third of the executor's time (page faults and memset).
 struct ShadeScratch {
     std::vector<RTCRayHit> hits;
     std::vector<RTCRay> shadows;
     std::vector<Vec3> shadow_value;
-    std::vector<RayRecord> child_slots;
-    std::vector<std::array<Component, kMaxLobes>> child_components;
-    std::vector<uint8_t> child_count;
+    std::vector<uint32_t> block_hits;
 };
 
 struct ShadeOutput {
-    std::vector<Vec3> contribution;                        ///< per input ray, times its beta
-    std::vector<Vec3> emission;                            ///< camera rays: the emitted part of it
-    std::array<RayBatch, kComponentCount> children;        ///< spawned rays, in ray order
+    std::vector<Vec3> contribution;  ///< per input ray, times its beta
+    std::vector<Vec3> emission;      ///< camera rays: the emitted part of it
+    /// Spawned rays, per block of kShadeBlock input rays, per component.
+    std::vector<std::array<RayBatch, kComponentCount>> block_children;
+    size_t blocks = 0;  ///< blocks used by the last chunk
     uint64_t shadow_rays = 0;
     uint64_t hits = 0;
     ShadeScratch scratch;
@@ -58,8 +62,20 @@ struct ShadeOutput {
     void reset() {
         contribution.clear();
         emission.clear();
-        for (auto& c : children) c.reset();
+        for (auto& block : block_children)
+            for (auto& c : block) c.reset();
+        blocks = 0;
         shadow_rays = hits = 0;
+    }
+    /// Appends the spawned rays to `bins`, in input ray order per component.
+    void append_children_to(std::array<RayBatch, kComponentCount>& bins) const {
+        for (size_t b = 0; b < blocks; ++b)
+            for (size_t c = 0; c < kComponentCount; ++c) bins[c].append(block_children[b][c]);
+    }
+    size_t children(Component c) const {
+        size_t n = 0;
+        for (size_t b = 0; b < blocks; ++b) n += block_children[b][static_cast<size_t>(c)].size();
+        return n;
     }
 };
 
@@ -80,12 +96,13 @@ HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, doubl
 
 /// Spawns the children of one hit into `slots` (at most kMaxLobes); returns how many, with
 /// their components in `components`. Applies weight limit, roulette and depth limit.
-int spawn_children(const Material& m, const HitFrame& f, const RayRecord& ray, double epsilon, const ShadeParams& params,
-                   std::array<RayRecord, kMaxLobes>& slots, std::array<Component, kMaxLobes>& components);
+/// `random` is the hit's: HitRandom(ray.path, ray.depth).
+int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
+                   const ShadeParams& params, std::array<RayRecord, kMaxLobes>& slots, std::array<Component, kMaxLobes>& components);
 
 /// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
 /// and the shadow ray to test; false if it contributes nothing.
-bool direct_light_sample(const RenderScene& scene, const Material& m, const HitFrame& f, const RayRecord& ray, uint32_t j,
-                         uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar);
+bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
+                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar);
 
 }  // namespace crex
