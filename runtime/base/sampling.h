@@ -14,6 +14,7 @@
 namespace crex {
 
 inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kInvPi = 1 / kPi;
 
 /// SplitMix64 finaliser: a good 64-bit mixer.
 inline uint64_t mix64(uint64_t x) {

@@ -18,7 +18,10 @@ struct Vec3 {
     Vec3 operator-(const Vec3& o) const { return {x - o.x, y - o.y, z - o.z}; }
     Vec3 operator-() const { return {-x, -y, -z}; }
     Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
-    Vec3 operator/(double s) const { return {x / s, y / s, z / s}; }
+    Vec3 operator/(double s) const {
+        double r = 1 / s;  // one division, not three
+        return {x * r, y * r, z * r};
+    }
     Vec3 operator*(const Vec3& o) const { return {x * o.x, y * o.y, z * o.z}; }
     Vec3& operator+=(const Vec3& o) { return *this = *this + o; }
     bool operator==(const Vec3& o) const { return x == o.x && y == o.y && z == o.z; }
@@ -32,10 +35,14 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 inline double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
 inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-inline double max_component(const Vec3& v) { return std::fmax(v.x, std::fmax(v.y, v.z)); }
-inline double min_component(const Vec3& v) { return std::fmin(v.x, std::fmin(v.y, v.z)); }
-inline Vec3 vmin(const Vec3& a, const Vec3& b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
-inline Vec3 vmax(const Vec3& a, const Vec3& b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+/// std::fmax and std::fmin (a NaN argument loses to a number), inline: without -ffast-math
+/// GCC calls libm for them, and shading calls them at every hit.
+inline double max_of(double a, double b) { return a >= b || b != b ? a : b; }
+inline double min_of(double a, double b) { return a <= b || b != b ? a : b; }
+inline double max_component(const Vec3& v) { return max_of(v.x, max_of(v.y, v.z)); }
+inline double min_component(const Vec3& v) { return min_of(v.x, min_of(v.y, v.z)); }
+inline Vec3 vmin(const Vec3& a, const Vec3& b) { return {min_of(a.x, b.x), min_of(a.y, b.y), min_of(a.z, b.z)}; }
+inline Vec3 vmax(const Vec3& a, const Vec3& b) { return {max_of(a.x, b.x), max_of(a.y, b.y), max_of(a.z, b.z)}; }
 /// Unit vector, or the zero vector when `v` has no usable length.
 inline Vec3 normalize_or_zero(const Vec3& v) {
     double l = length(v);

@@ -106,13 +106,13 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
     double c = dot(wi, f.normal);
     Vec3 out;
     if (c > 0) {
-        out += b.diffuse * (c / kPi);
+        out += b.diffuse * (c * kInvPi);
         if (b.glossy) {
             double ca = dot(wi, reflect(f.incoming, f.normal));
-            if (ca > 0) out += b.specular * ((b.exponent + 2) / (2 * kPi) * std::pow(ca, b.exponent) * c);
+            if (ca > 0) out += b.specular * ((b.exponent + 2) * (0.5 * kInvPi) * std::pow(ca, b.exponent) * c);
         }
     } else if (c < 0) {
-        out += b.diffuse_transmit * (-c / kPi);
+        out += b.diffuse_transmit * (-c * kInvPi);
     }
     return out;
 }

@@ -33,7 +33,7 @@ struct Oracle {
         if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return r.beta * scene.scene.background;
         Vec3 dir = normalize_or_zero(r.direction);
         double t = h.ray.tfar;
-        HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, r.origin + r.direction * t, dir, t);
+        HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, r.origin + r.direction * t, dir, t);
         const Bsdf& b = scene.bsdf_of(h.hit.geomID);
         const HitRandom random(r.path, r.depth);
         Vec3 total = r.beta * emitted(*b.material, f, camera || (r.flags & kRayFromDeltaLobe), camera);
@@ -53,10 +53,9 @@ struct Oracle {
                 if (s.tfar != -INFINITY) total += value;
             }
         }
-        std::array<RayRecord, kMaxLobes> children;
-        std::array<Component, kMaxLobes> components;
-        int n = spawn_children(b, f, r, random, scene.embree->ray_epsilon(), params, children, components);
-        for (int l = 0; l < n; ++l) total += trace(children[static_cast<size_t>(l)], false);
+        SpawnScratch spawn;
+        int n = spawn_children(b, f, r, random, scene.embree->ray_epsilon(), params, spawn);
+        for (int l = 0; l < n; ++l) total += trace(spawn.children[static_cast<size_t>(l)], false);
         return total;
     }
 };

@@ -33,15 +33,16 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
             e.c = g.positions[t[2]];
             e.radiance = m.color;
             e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
+            e.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
             if (e.area > 0) entries_.push_back(e);
         }
     }
     double total = 0;
     for (const auto& e : entries_) total += e.area * std::fmax(luminance(e.radiance), 1e-12);
     double acc = 0;
-    for (const auto& e : entries_) {
+    for (auto& e : entries_) {
         double p = e.area * std::fmax(luminance(e.radiance), 1e-12) / total;
-        pick_.push_back(p);
+        e.pdf_area = p / e.area;
         acc += p;
         cdf_.push_back(acc);
     }
@@ -54,7 +55,7 @@ LightSample LightSampler::sample(double u_pick, double u, double v) const {
     const Entry& e = entries_[i];
     LightSample s;
     s.radiance = e.radiance;
-    s.pdf_area = pick_[i] / e.area;
+    s.pdf_area = e.pdf_area;
     if (e.sphere) {
         double z = 1 - 2 * u, r = std::sqrt(std::fmax(0.0, 1 - z * z)), phi = 2 * kPi * v;
         s.normal = {r * std::cos(phi), r * std::sin(phi), z};
@@ -63,7 +64,7 @@ LightSample LightSampler::sample(double u_pick, double u, double v) const {
         double su = std::sqrt(u);
         double b0 = 1 - su, b1 = v * su;
         s.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1);
-        s.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
+        s.normal = e.normal;
     }
     return s;
 }

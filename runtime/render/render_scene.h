@@ -30,13 +30,14 @@ public:
 private:
     struct Entry {
         Vec3 a, b, c;         // triangle corners, or sphere: a = centre, b.x = radius
+        Vec3 normal;          // triangle: unit normal
         bool sphere = false;
         Vec3 radiance;
         double area = 0;
+        double pdf_area = 0;  // probability of this entry / area
     };
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
-    std::vector<double> pick_;  // probability of each entry
 };
 
 /// Pinhole camera. Pixel (0, 0) is the top-left; (x + u, y + v) for u, v in [0, 1) within it.

@@ -10,21 +10,20 @@
 
 namespace crex {
 
-HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, double u, double v, const Vec3& approx,
-                   const Vec3& dir, double t) {
+HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, const Vec3& point, const Vec3& dir, double t) {
     const GeometryInfo& g = scene.geometries()[geom];
     HitFrame f;
     if (g.sphere) {
-        Vec3 n = normalize_or_zero(approx - g.center);
+        Vec3 n = normalize_or_zero(point - g.center);
         if (n == Vec3{}) n = -dir;
         f.geometric = n;
         f.position = g.center + n * g.radius;  // back onto the surface: float error does not accumulate
     } else {
-        const auto& tri = g.indices[prim];
-        const Vec3 &p0 = g.positions[tri[0]], &p1 = g.positions[tri[1]], &p2 = g.positions[tri[2]];
-        f.geometric = normalize_or_zero(cross(p1 - p0, p2 - p0));
+        // The ray's own point: its error (~1e-7 of the extent) is far below the ray epsilon
+        // (1e-5 of the extent), and it needs no vertex fetch (cache misses on large meshes).
+        f.geometric = g.normals[prim];
         if (f.geometric == Vec3{}) f.geometric = -dir;
-        f.position = p0 * (1 - u - v) + p1 * u + p2 * v;
+        f.position = point;
     }
     f.incoming = dir;
     f.front = dot(dir, f.geometric) < 0;
@@ -34,10 +33,10 @@ HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, doubl
 }
 
 int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
-                   const ShadeParams& params, std::array<RayRecord, kMaxLobes>& slots, std::array<Component, kMaxLobes>& components) {
+                   const ShadeParams& params, SpawnScratch& scratch) {
     if (ray.depth + 1u > params.max_depth) return 0;
-    std::array<Lobe, kMaxLobes> lobes;
-    int n = scatter(b, f, random, lobes);
+    const std::array<Lobe, kMaxLobes>& lobes = scratch.lobes;
+    int n = scatter(b, f, random, scratch.lobes);
     int out = 0;
     double st = params.specular_threshold_per_pixel ? (*params.specular_threshold_per_pixel)[ray.pixel] : params.specular_threshold;
     for (int l = 0; l < n; ++l) {
@@ -54,7 +53,7 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
             if (random(RandomUse::kRoulette, static_cast<uint32_t>(l)) >= q) continue;
             beta = beta / q;
         }
-        RayRecord& c = slots[static_cast<size_t>(out)];
+        RayRecord& c = scratch.children[static_cast<size_t>(out)];
         bool query = params.ic_queries && lobe.component == Component::kD;
         if (query) {  // an irradiance-cache query: the hit and the normal on the lit side
             c.origin = f.position;
@@ -69,7 +68,7 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         c.pixel = ray.pixel;
         c.depth = static_cast<uint16_t>(ray.depth + 1);
         c.path = child_path(ray.path, l, lobe.component);
-        components[static_cast<size_t>(out)] = lobe.component;
+        scratch.components[static_cast<size_t>(out)] = lobe.component;
         ++out;
     }
     return out;
@@ -151,6 +150,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t block = range.begin(); block < range.end(); ++block) {
             std::array<RayBatch, kComponentCount>& children = out.block_children[block];
+            SpawnScratch spawn;
             uint32_t block_hits = 0;
             for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
                 for (uint32_t j = 0; j < ns; ++j) make_hole(shadows[i * ns + j], static_cast<unsigned>(i));
@@ -164,7 +164,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 ++block_hits;
                 Vec3 dir = normalize_or_zero(ray.direction);
                 double t = h.ray.tfar;
-                HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, h.hit.u, h.hit.v, ray.origin + ray.direction * t,
+                HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, ray.origin + ray.direction * t,
                                        dir, t);
                 const Bsdf& b = scene.bsdf_of(h.hit.geomID);
                 const HitRandom random(ray.path, ray.depth);
@@ -185,11 +185,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                         shadow_value[i * ns + j] = value;
                     }
                 }
-                std::array<RayRecord, kMaxLobes> slots;
-                std::array<Component, kMaxLobes> components;
-                int spawned = spawn_children(b, f, ray, random, eps, params, slots, components);
-                for (int l = 0; l < spawned; ++l)
-                    children[static_cast<size_t>(components[static_cast<size_t>(l)])].push(slots[static_cast<size_t>(l)]);
+                int spawned = spawn_children(b, f, ray, random, eps, params, spawn);
+                for (size_t l = 0; l < static_cast<size_t>(spawned); ++l)
+                    children[static_cast<size_t>(spawn.components[l])].push(spawn.children[l]);
             }
             scratch.block_hits[block] = block_hits;
         }

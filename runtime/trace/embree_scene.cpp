@@ -68,6 +68,11 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
             for (auto& v : mesh.positions) v = v - offset_;
             info.positions = mesh.positions;
             info.indices = mesh.indices;
+            info.normals.reserve(mesh.indices.size());
+            for (const auto& t : mesh.indices) {
+                const Vec3 &p0 = mesh.positions[t[0]], &p1 = mesh.positions[t[1]], &p2 = mesh.positions[t[2]];
+                info.normals.push_back(normalize_or_zero(cross(p1 - p0, p2 - p0)));
+            }
             g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
             // One extra vertex of padding: Embree may load 16 bytes from the last float3.
             auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,

@@ -24,6 +24,7 @@ struct GeometryInfo {
     double radius = 0;
     std::vector<Vec3> positions;                   ///< triangles: local vertex positions
     std::vector<std::array<uint32_t, 3>> indices;  ///< triangles
+    std::vector<Vec3> normals;  ///< triangles: unit geometric normal, zero when degenerate
 };
 
 class EmbreeScene {
