@@ -71,10 +71,10 @@ inline double radical_inverse_3(uint32_t k) {
 
 /// Point k of a 2-D Halton set rotated (Cranley-Patterson) by (u0, u1).
 inline void rotated_halton(uint32_t k, double u0, double u1, double& x, double& y) {
-    x = radical_inverse_2(k) + u0;
+    x = radical_inverse_2(k) + u0;  // both in [0, 2): wrap without floor (a libm call on x86-64)
     y = radical_inverse_3(k) + u1;
-    x -= std::floor(x);
-    y -= std::floor(y);
+    if (x >= 1) x -= 1;
+    if (y >= 1) y -= 1;
 }
 
 /// An orthonormal frame around unit `n` (Duff et al. 2017).

@@ -209,7 +209,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             const RTCRayHit& h = last[i];
             Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
             double t = h.ray.tfar;
-            HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, o + last_dir[i] * t, last_dir[i], t);
+            HitFrame f = hit_frame(*scene_.embree, h.hit, o + last_dir[i] * t, last_dir[i], t);
             uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
             std::array<Lobe, kMaxLobes> lobes;
             int nl = scatter(scene_.bsdf_of(h.hit.geomID), f, HitRandom(key, level * 16 + bounce + 1), lobes);
@@ -263,7 +263,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         }
         double dist = h.ray.tfar;
         Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z};
-        HitFrame f = hit_frame(*scene_.embree, h.hit.geomID, h.hit.primID, origin + last_dir[i] * dist, last_dir[i], dist);
+        HitFrame f = hit_frame(*scene_.embree, h.hit, origin + last_dir[i] * dist, last_dir[i], dist);
         const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
         Vec3 l = emitted(*b.material, f, via_delta[i] != 0, false);  // through a mirror or glass, emitters are seen
         uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);

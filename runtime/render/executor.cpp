@@ -1,7 +1,9 @@
 #include "runtime/render/executor.h"
 
 #include <fmt/format.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "compiler/base/render_text.h"
@@ -41,13 +43,20 @@ double Executor::now() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
+size_t Executor::chunk_rays() const {
+    if (options_.chunk_rays > 0) return options_.chunk_rays;
+    return 4096 * static_cast<size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+}
+
 void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label,
                             std::optional<Component> profiled) {
     double start = now();
     auto& sink = deferring_ ? pending_ : bins_;
-    for (size_t begin = 0; begin < rays.size(); begin += options_.chunk_rays) {
-        size_t end = std::min(rays.size(), begin + options_.chunk_rays);
-        if (options_.irradiance && !camera && (rays.flags[begin] & kRayIcQuery)) {  // cached D: interpolate
+    const bool queries = options_.irradiance && !camera && !rays.empty() && (rays.flags[0] & kRayIcQuery);
+    const size_t chunk = queries ? std::max<size_t>(options_.query_chunk_rays, 1) : chunk_rays();
+    for (size_t begin = 0; begin < rays.size(); begin += chunk) {
+        size_t end = std::min(rays.size(), begin + chunk);
+        if (queries) {  // cached D: interpolate
             std::vector<Vec3> e;
             options_.irradiance(rays, begin, end, e);
             for (size_t i = begin; i < end; ++i) {
@@ -124,7 +133,7 @@ bool Executor::exec(const sched::Node& node) {
         std::optional<double> cost = options_.profile ? options_.profile->cost(node.component) : std::nullopt;
         if (!cost) {
             // Pilot: the first 1 % of the rays, at least one chunk; its results are kept.
-            size_t pilot = std::min(take.size(), std::max((take.size() + 99) / 100, options_.chunk_rays));
+            size_t pilot = std::min(take.size(), std::max((take.size() + 99) / 100, chunk_rays()));
             RayBatch head;
             head.append(take, 0, pilot);
             ++stats.executions;

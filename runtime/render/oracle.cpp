@@ -33,7 +33,7 @@ struct Oracle {
         if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return r.beta * scene.scene.background;
         Vec3 dir = normalize_or_zero(r.direction);
         double t = h.ray.tfar;
-        HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, r.origin + r.direction * t, dir, t);
+        HitFrame f = hit_frame(*scene.embree, h.hit, r.origin + r.direction * t, dir, t);
         const Bsdf& b = scene.bsdf_of(h.hit.geomID);
         const HitRandom random(r.path, r.depth);
         Vec3 total = r.beta * emitted(*b.material, f, camera || (r.flags & kRayFromDeltaLobe), camera);

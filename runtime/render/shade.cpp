@@ -10,8 +10,8 @@
 
 namespace crex {
 
-HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, const Vec3& point, const Vec3& dir, double t) {
-    const GeometryInfo& g = scene.geometries()[geom];
+HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec3& point, const Vec3& dir, double t) {
+    const GeometryInfo& g = scene.geometries()[hit.geomID];
     HitFrame f;
     if (g.sphere) {
         Vec3 n = normalize_or_zero(point - g.center);
@@ -19,9 +19,11 @@ HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, const
         f.geometric = n;
         f.position = g.center + n * g.radius;  // back onto the surface: float error does not accumulate
     } else {
-        // The ray's own point: its error (~1e-7 of the extent) is far below the ray epsilon
-        // (1e-5 of the extent), and it needs no vertex fetch (cache misses on large meshes).
-        f.geometric = g.normals[prim];
+        // Embree's Ng (cross(v1 - v0, v2 - v0), as ours) and the ray's own point, whose error
+        // (~1e-7 of the extent) is far below the ray epsilon (1e-5 of it): no vertex or normal
+        // fetch, which on large meshes were cache misses at every hit.
+        f.geometric = normalize_or_zero(Vec3{hit.Ng_x, hit.Ng_y, hit.Ng_z});
+        if (f.geometric == Vec3{}) f.geometric = g.normals[hit.primID];  // underflowed in float
         if (f.geometric == Vec3{}) f.geometric = -dir;
         f.position = point;
     }
@@ -126,10 +128,12 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     ShadeScratch& scratch = out.scratch;
     std::vector<RTCRayHit>& hits = scratch.hits;
     hits.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        size_t r = begin + i;
-        set_ray(hits[i], rays.ox[r], rays.oy[r], rays.oz[r], rays.dx[r], rays.dy[r], rays.dz[r], static_cast<unsigned>(i));
-    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kShadeBlock), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i < range.end(); ++i) {
+            size_t r = begin + i;
+            set_ray(hits[i], rays.ox[r], rays.oy[r], rays.oz[r], rays.dx[r], rays.dy[r], rays.dz[r], static_cast<unsigned>(i));
+        }
+    });
     if (params.capture) params.capture->rays.insert(params.capture->rays.end(), hits.begin(), hits.end());
     intersect_batch(*scene.embree, hits.data(), n, camera);
 
@@ -155,17 +159,20 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
                 for (uint32_t j = 0; j < ns; ++j) make_hole(shadows[i * ns + j], static_cast<unsigned>(i));
                 if (camera) out.emission[i] = {};
-                RayRecord ray = rays.get(begin + i);
+                const size_t r = begin + i;
+                const Vec3 beta{rays.br[r], rays.bg[r], rays.bb[r]};
                 const RTCRayHit& h = hits[i];
                 if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-                    out.contribution[i] = ray.beta * background;
+                    out.contribution[i] = beta * background;
                     continue;
                 }
                 ++block_hits;
-                Vec3 dir = normalize_or_zero(ray.direction);
+                // Origin and direction from the hit record (in cache, unlike six of the bin's
+                // arrays); directions are unit already (sampled, reflected or normalised).
+                const RayRecord ray{{h.ray.org_x, h.ray.org_y, h.ray.org_z}, {h.ray.dir_x, h.ray.dir_y, h.ray.dir_z}, beta,
+                                    rays.pixel[r], rays.depth[r], rays.flags[r], rays.path[r]};
                 double t = h.ray.tfar;
-                HitFrame f = hit_frame(*scene.embree, h.hit.geomID, h.hit.primID, ray.origin + ray.direction * t,
-                                       dir, t);
+                HitFrame f = hit_frame(*scene.embree, h.hit, ray.origin + ray.direction * t, ray.direction, t);
                 const Bsdf& b = scene.bsdf_of(h.hit.geomID);
                 const HitRandom random(ray.path, ray.depth);
                 Vec3 c = ray.beta * emitted(*b.material, f, camera || (ray.flags & kRayFromDeltaLobe), camera);

@@ -89,9 +89,9 @@ inline uint64_t child_path(uint64_t parent, int lobe_index, Component c) {
            static_cast<uint64_t>(c);
 }
 
-/// The hit geometry of geometry `geom`, primitive `prim`, at `point` (the ray's origin plus
-/// t times its direction; spheres put it back onto the surface), for a ray along unit `dir`.
-HitFrame hit_frame(const EmbreeScene& scene, uint32_t geom, uint32_t prim, const Vec3& point, const Vec3& dir, double t);
+/// The geometry of Embree's `hit` at `point` (the ray's origin plus t times its direction;
+/// spheres put it back onto the surface), for a ray along unit `dir`.
+HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec3& point, const Vec3& dir, double t);
 
 /// Where spawn_children() works and leaves its result; made once per block of rays, not per
 /// hit (zero-filling these arrays at every hit was 7 % of shading).
