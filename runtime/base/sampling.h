@@ -40,6 +40,12 @@ public:
     double operator()(RandomUse use, uint32_t index = 0) const {
         return to_unit(hash_combine(key_, (static_cast<uint64_t>(use) << 32) | index));
     }
+    /// Two uniforms in [0, 1) with 32 bits each from one hash (a 2-D sample for one purpose).
+    void pair(RandomUse use, double& u, double& v) const {
+        uint64_t h = hash_combine(key_, (static_cast<uint64_t>(use) << 32) | 0xffffffffu);
+        u = static_cast<double>(h >> 32) * 0x1.0p-32;
+        v = static_cast<double>(h & 0xffffffffu) * 0x1.0p-32;
+    }
 
 private:
     uint64_t key_;

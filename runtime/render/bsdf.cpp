@@ -15,6 +15,7 @@ Bsdf Bsdf::of(const Material& m) {
     Bsdf b;
     b.material = &m;
     b.type = m.type;
+    b.emits = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.emission.has_value();
     if (m.type != MaterialType::kPlastic && m.type != MaterialType::kMetal && m.type != MaterialType::kTrans) return b;
     double spec = m.specularity;
     double trans = m.type == MaterialType::kTrans ? m.transmissivity : 0.0;
@@ -56,18 +57,24 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
     case MaterialType::kMetal:
     case MaterialType::kTrans: {
         if (positive(b.diffuse)) {
-            Vec3 dir = sample_cosine(nrm, random(RandomUse::kLobeD, 0), random(RandomUse::kLobeD, 1));
+            double u1, u2;
+            random.pair(RandomUse::kLobeD, u1, u2);
+            Vec3 dir = sample_cosine(nrm, u1, u2);
             out[n++] = {Component::kD, dir, b.diffuse, false, false};
         }
         if (b.glossy) {
-            Vec3 dir = sample_phong(reflect(d, nrm), b.exponent, random(RandomUse::kLobeG, 0), random(RandomUse::kLobeG, 1));
+            double u1, u2;
+            random.pair(RandomUse::kLobeG, u1, u2);
+            Vec3 dir = sample_phong(reflect(d, nrm), b.exponent, u1, u2);
             double c = dot(dir, nrm);
             if (c > 0) out[n++] = {Component::kG, dir, b.specular * ((b.exponent + 2) / (b.exponent + 1) * c), false, false};
         } else if (b.mirror_like) {
             out[n++] = {Component::kS, reflect(d, nrm), b.specular, false, true};
         }
         if (positive(b.diffuse_transmit)) {
-            Vec3 dir = sample_cosine(-nrm, random(RandomUse::kLobeDT, 0), random(RandomUse::kLobeDT, 1));
+            double u1, u2;
+            random.pair(RandomUse::kLobeDT, u1, u2);
+            Vec3 dir = sample_cosine(-nrm, u1, u2);
             out[n++] = {Component::kD, dir, b.diffuse_transmit, true, false};
         }
         if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true};

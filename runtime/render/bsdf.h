@@ -59,6 +59,7 @@ struct Bsdf {
     bool glossy = false;     ///< a G lobe (specular, rough)
     bool mirror_like = false;  ///< an S lobe (specular, smooth)
     bool direct_response = false;  ///< a lobe that direct lighting can reach
+    bool emits = false;            ///< light, glow, or an emission of its own
 
     static Bsdf of(const Material& m);
 };

@@ -73,11 +73,8 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         }
         ShadeOutput& out = shade_;
         trace_and_shade(scene_, rays, begin, end, camera, options_.shade, out);
-        for (size_t i = 0; i < out.contribution.size(); ++i) {
-            film_.add(aov, rays.pixel[begin + i], out.contribution[i]);
-            film_.count_ray(aov, rays.pixel[begin + i]);
-        }
-        for (size_t i = 0; i < out.emission.size(); ++i) film_.add_emission(rays.pixel[begin + i], out.emission[i]);
+        film_.add_rays(aov, rays.pixel.data() + begin, out.contribution.data(), camera ? out.emission.data() : nullptr,
+                       out.contribution.size());
         out.append_children_to(sink);
         stats.rays += end - begin;
         stats.shadow_rays += out.shadow_rays;

@@ -1,5 +1,9 @@
 #include "runtime/render/film.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
 #include <cmath>
 
 namespace crex {
@@ -15,6 +19,22 @@ Film::Film(int width, int height) : width_(width), height_(height) {
     rays_.assign(pixel_count(), 0);
     components_.assign(pixel_count(), 0);
     emission_.assign(3 * pixel_count(), 0.0);
+}
+
+void Film::add_rays(size_t aov, const uint32_t* pixel, const Vec3* value, const Vec3* emission, size_t n) {
+    // Each part owns a range of pixels and scans every ray: a few parts only, since each
+    // scan reads all n pixel indices.
+    const size_t pixels = pixel_count();
+    const size_t parts = n < 4096 ? 1 : std::min<size_t>(static_cast<size_t>(std::max(1, tbb::this_task_arena::max_concurrency())), 4);
+    tbb::parallel_for(size_t{0}, parts, [&](size_t part) {
+        const size_t lo = pixels * part / parts, hi = pixels * (part + 1) / parts;
+        for (size_t i = 0; i < n; ++i) {
+            if (pixel[i] < lo || pixel[i] >= hi) continue;
+            add(aov, pixel[i], value[i]);
+            count_ray(aov, pixel[i]);
+            if (emission) add_emission(pixel[i], emission[i]);
+        }
+    });
 }
 
 Vec3 Film::pixel_value(size_t aov, uint32_t pixel) const {

@@ -34,6 +34,10 @@ public:
         p[2] += value.z;
     }
     void add_samples(uint32_t pixel, uint32_t n) { samples_[pixel] += n; }
+    /// For each i < n: add(aov, pixel[i], value[i]) and count_ray(aov, pixel[i]); with
+    /// `emission`, add_emission(pixel[i], emission[i]) too. In parallel over pixel ranges,
+    /// each pixel's values in ray order: the same sums at any thread count.
+    void add_rays(size_t aov, const uint32_t* pixel, const Vec3* value, const Vec3* emission, size_t n);
     /// A ray of `aov` was executed for `pixel` (for the rays-per-pixel picture).
     void count_ray(size_t aov, uint32_t pixel) {
         ++rays_[pixel];

@@ -80,8 +80,9 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
                          uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar) {
     // Low-discrepancy over the n samples of this hit: a rotated Halton set for the point on
     // the emitter, stratified picks between emitters.
-    double u, v;
-    rotated_halton(j, random(RandomUse::kLight, 0), random(RandomUse::kLight, 1), u, v);
+    double u, v, r0, r1;
+    random.pair(RandomUse::kLight, r0, r1);
+    rotated_halton(j, r0, r1, u, v);
     double pick = (j + random(RandomUse::kLightPick, j)) / n;
     LightSample ls = scene.lights->sample(pick, u, v);
     Vec3 to = ls.position - f.position;
@@ -175,7 +176,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 HitFrame f = hit_frame(*scene.embree, h.hit, ray.origin + ray.direction * t, ray.direction, t);
                 const Bsdf& b = scene.bsdf_of(h.hit.geomID);
                 const HitRandom random(ray.path, ray.depth);
-                Vec3 c = ray.beta * emitted(*b.material, f, camera || (ray.flags & kRayFromDeltaLobe), camera);
+                Vec3 c = b.emits ? ray.beta * emitted(*b.material, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
                 out.contribution[i] = is_finite(c) ? c : Vec3{};
                 if (camera) out.emission[i] = out.contribution[i];
                 if (lights && b.direct_response) {
