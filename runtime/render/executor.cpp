@@ -98,7 +98,18 @@ void Executor::run_camera_rays(const RayBatch& camera_rays) {
 bool Executor::exec(const sched::Node& node) {
     size_t c = static_cast<size_t>(node.component);
     RayBatch& bin = bins_[c];
-    RayBatch take;
+    // The rays taken out run from a batch that is kept afterwards, so the bin refills into
+    // memory it already owns instead of growing a new allocation at every step.
+    RayBatch take = std::move(spare_);
+    take.reset();
+    struct KeepSpare {
+        RayBatch& take;
+        RayBatch& spare;
+        ~KeepSpare() {
+            take.reset();
+            spare = std::move(take);
+        }
+    } keep_spare{take, spare_};
     if (in_modulate_) {
         double index = node.first_index;
         for (const auto& [stride, iteration] : strides_) index += stride * static_cast<double>(iteration);
@@ -109,7 +120,7 @@ bool Executor::exec(const sched::Node& node) {
         }
         bin = std::move(keep);
     } else {
-        std::swap(take, bin);
+        std::swap(take, bin);  // the bin continues in the spare's memory
     }
     if (take.empty()) return false;
     ComponentStats& stats = stats_.components[c];
@@ -183,7 +194,7 @@ bool Executor::run_deferred(const sched::Node& node, bool owns) {
     deferring_ = false;
     for (size_t c = 0; c < kComponentCount; ++c) {
         bins_[c].append(pending_[c]);
-        pending_[c].clear();
+        pending_[c].reset();
     }
     return work;
 }

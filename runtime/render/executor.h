@@ -124,6 +124,7 @@ private:
     ExecutorOptions options_;
     std::array<RayBatch, kComponentCount> bins_;
     std::array<RayBatch, kComponentCount> pending_;
+    RayBatch spare_;  // memory for the next step's bin (see exec())
     bool deferring_ = false;
     // Inside a Modulate: its n, and the (stride, iteration) of the repeats between it and the step.
     double modulate_n_ = 0;
