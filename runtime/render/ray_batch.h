@@ -5,6 +5,7 @@
 /// number drawn along it) and flags.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -84,6 +85,35 @@ struct RayBatch {
         cat(ox, o.ox), cat(oy, o.oy), cat(oz, o.oz), cat(dx, o.dx), cat(dy, o.dy), cat(dz, o.dz);
         cat(br, o.br), cat(bg, o.bg), cat(bb, o.bb), cat(pixel, o.pixel), cat(depth, o.depth), cat(flags, o.flags);
         cat(path, o.path);
+    }
+
+    /// The batch's arrays, for copying them one by one (in parallel): array k of 0..kArrays-1.
+    static constexpr size_t kArrays = 13;
+    /// Appends array k of each of `parts` (in order) to array k of this batch.
+    template <class Parts>
+    void append_array(size_t k, const Parts& parts) {
+        auto cat = [&parts](auto member, RayBatch& to) {
+            auto& dst = to.*member;
+            size_t total = dst.size();
+            for (const RayBatch* p : parts) total += ((*p).*member).size();
+            if (total > dst.capacity()) dst.reserve(std::max(total, 2 * dst.capacity()));  // geometric growth
+            for (const RayBatch* p : parts) dst.insert(dst.end(), ((*p).*member).begin(), ((*p).*member).end());
+        };
+        switch (k) {
+        case 0: cat(&RayBatch::ox, *this); break;
+        case 1: cat(&RayBatch::oy, *this); break;
+        case 2: cat(&RayBatch::oz, *this); break;
+        case 3: cat(&RayBatch::dx, *this); break;
+        case 4: cat(&RayBatch::dy, *this); break;
+        case 5: cat(&RayBatch::dz, *this); break;
+        case 6: cat(&RayBatch::br, *this); break;
+        case 7: cat(&RayBatch::bg, *this); break;
+        case 8: cat(&RayBatch::bb, *this); break;
+        case 9: cat(&RayBatch::pixel, *this); break;
+        case 10: cat(&RayBatch::depth, *this); break;
+        case 11: cat(&RayBatch::flags, *this); break;
+        default: cat(&RayBatch::path, *this); break;
+        }
     }
 
     /// Empties the batch but keeps its memory for reuse.

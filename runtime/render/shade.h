@@ -67,11 +67,9 @@ struct ShadeOutput {
         blocks = 0;
         shadow_rays = hits = 0;
     }
-    /// Appends the spawned rays to `bins`, in input ray order per component.
-    void append_children_to(std::array<RayBatch, kComponentCount>& bins) const {
-        for (size_t b = 0; b < blocks; ++b)
-            for (size_t c = 0; c < kComponentCount; ++c) bins[c].append(block_children[b][c]);
-    }
+    /// Appends the spawned rays to `bins`, in input ray order per component (each array of
+    /// each bin is one task: a serial copy was 10 % of a 2-thread render).
+    void append_children_to(std::array<RayBatch, kComponentCount>& bins) const;
     size_t children(Component c) const {
         size_t n = 0;
         for (size_t b = 0; b < blocks; ++b) n += block_children[b][static_cast<size_t>(c)].size();
