@@ -53,6 +53,27 @@ struct RayBatch {
         path.push_back(r.path);
     }
 
+    /// Appends `count` rays at once: each array grows once, then a plain loop fills them (13
+    /// push_backs per ray cost ~40 ns; a uint8_t store may alias every vector's pointers).
+    void append(const RayRecord* records, size_t count) {
+        const size_t at = size();
+        resize(at + count);
+        float *pox = ox.data() + at, *poy = oy.data() + at, *poz = oz.data() + at;
+        float *pdx = dx.data() + at, *pdy = dy.data() + at, *pdz = dz.data() + at;
+        float *pbr = br.data() + at, *pbg = bg.data() + at, *pbb = bb.data() + at;
+        uint32_t* ppixel = pixel.data() + at;
+        uint16_t* pdepth = depth.data() + at;
+        uint8_t* pflags = flags.data() + at;
+        uint64_t* ppath = path.data() + at;
+        for (size_t i = 0; i < count; ++i) {
+            const RayRecord& r = records[i];
+            pox[i] = static_cast<float>(r.origin.x), poy[i] = static_cast<float>(r.origin.y), poz[i] = static_cast<float>(r.origin.z);
+            pdx[i] = static_cast<float>(r.direction.x), pdy[i] = static_cast<float>(r.direction.y), pdz[i] = static_cast<float>(r.direction.z);
+            pbr[i] = static_cast<float>(r.beta.x), pbg[i] = static_cast<float>(r.beta.y), pbb[i] = static_cast<float>(r.beta.z);
+            ppixel[i] = r.pixel, pdepth[i] = r.depth, pflags[i] = r.flags, ppath[i] = r.path;
+        }
+    }
+
     void resize(size_t n) {
         for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &br, &bg, &bb}) v->resize(n);
         pixel.resize(n), depth.resize(n), flags.resize(n), path.resize(n);

@@ -49,23 +49,10 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
     if (!cdf_.empty()) cdf_.back() = 1.0;
 }
 
-LightSample LightSampler::sample(double u_pick, double u, double v) const {
-    size_t i = static_cast<size_t>(std::lower_bound(cdf_.begin(), cdf_.end(), u_pick) - cdf_.begin());
-    i = std::min(i, entries_.size() - 1);
-    const Entry& e = entries_[i];
-    LightSample s;
-    s.radiance = e.radiance;
-    s.pdf_area = e.pdf_area;
-    if (e.sphere) {
-        double z = 1 - 2 * u, r = std::sqrt(std::fmax(0.0, 1 - z * z)), phi = 2 * kPi * v;
-        s.normal = {r * std::cos(phi), r * std::sin(phi), z};
-        s.position = e.a + s.normal * e.b.x;
-    } else {
-        double su = std::sqrt(u);
-        double b0 = 1 - su, b1 = v * su;
-        s.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1);
-        s.normal = e.normal;
-    }
+LightSample LightSampler::sample_sphere(const Entry& e, double u, double v, LightSample& s) {
+    double z = 1 - 2 * u, r = std::sqrt(std::fmax(0.0, 1 - z * z)), phi = 2 * kPi * v;
+    s.normal = {r * std::cos(phi), r * std::sin(phi), z};
+    s.position = e.a + s.normal * e.b.x;
     return s;
 }
 

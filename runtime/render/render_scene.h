@@ -3,6 +3,8 @@
 /// emitters (`light` surfaces) with a power-proportional choice between them, and the camera.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -25,7 +27,25 @@ class LightSampler {
 public:
     LightSampler(const Scene& scene, const EmbreeScene& embree);
     bool empty() const { return entries_.empty(); }
-    LightSample sample(double u_pick, double u, double v) const;
+    LightSample sample(double u_pick, double u, double v) const {
+        // A linear scan for the few emitters of most scenes (lower_bound's branches cost more).
+        size_t i = 0;
+        if (cdf_.size() <= 16) {
+            while (i + 1 < cdf_.size() && cdf_[i] < u_pick) ++i;
+        } else {
+            i = std::min(static_cast<size_t>(std::lower_bound(cdf_.begin(), cdf_.end(), u_pick) - cdf_.begin()), entries_.size() - 1);
+        }
+        const Entry& e = entries_[i];
+        LightSample s;
+        s.radiance = e.radiance;
+        s.pdf_area = e.pdf_area;
+        if (e.sphere) return sample_sphere(e, u, v, s);
+        double su = std::sqrt(u);
+        double b0 = 1 - su, b1 = v * su;
+        s.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1);
+        s.normal = e.normal;
+        return s;
+    }
 
 private:
     struct Entry {
@@ -38,6 +58,7 @@ private:
     };
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
+    static LightSample sample_sphere(const Entry& e, double u, double v, LightSample& s);
 };
 
 /// Pinhole camera. Pixel (0, 0) is the top-left; (x + u, y + v) for u, v in [0, 1) within it.

@@ -99,7 +99,9 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     double eps = scene.embree->ray_epsilon();
     shadow_origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
     shadow_dir = wi;
-    shadow_tfar = length(ls.position - shadow_origin) - 2 * eps;
+    // The origin moved by eps, so the light point is at least dist - eps away: stopping at
+    // dist - 3 eps keeps a 2 eps margin before the emitter without a second square root.
+    shadow_tfar = dist - 3 * eps;
     return shadow_tfar > 0;
 }
 
@@ -155,6 +157,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     scratch.shadow_value.resize(n * ns);
     const size_t blocks = (n + kShadeBlock - 1) / kShadeBlock;
     if (out.block_children.size() < blocks) out.block_children.resize(blocks);
+    if (out.block_spawned.size() < blocks) out.block_spawned.resize(blocks);
     out.blocks = blocks;
     scratch.block_hits.assign(blocks, 0);
     std::vector<RTCRay>& shadows = scratch.shadows;
@@ -166,6 +169,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t block = range.begin(); block < range.end(); ++block) {
             std::array<RayBatch, kComponentCount>& children = out.block_children[block];
+            std::array<std::vector<RayRecord>, kComponentCount>& spawned_rays = out.block_spawned[block];
+            for (auto& v : spawned_rays) v.clear();
             SpawnScratch spawn;
             uint32_t block_hits = 0;
             for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
@@ -206,8 +211,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 }
                 int spawned = spawn_children(b, f, ray, random, eps, params, spawn);
                 for (size_t l = 0; l < static_cast<size_t>(spawned); ++l)
-                    children[static_cast<size_t>(spawn.components[l])].push(spawn.children[l]);
+                    spawned_rays[static_cast<size_t>(spawn.components[l])].push_back(spawn.children[l]);
             }
+            for (size_t c = 0; c < kComponentCount; ++c) children[c].append(spawned_rays[c].data(), spawned_rays[c].size());
             scratch.block_hits[block] = block_hits;
         }
     });

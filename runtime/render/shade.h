@@ -53,6 +53,8 @@ struct ShadeOutput {
     std::vector<Vec3> emission;      ///< camera rays: the emitted part of it
     /// Spawned rays, per block of kShadeBlock input rays, per component.
     std::vector<std::array<RayBatch, kComponentCount>> block_children;
+    /// The same, as records while a block is shaded (converted to arrays at its end).
+    std::vector<std::array<std::vector<RayRecord>, kComponentCount>> block_spawned;
     size_t blocks = 0;  ///< blocks used by the last chunk
     uint64_t shadow_rays = 0;
     uint64_t hits = 0;
