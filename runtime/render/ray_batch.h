@@ -37,21 +37,7 @@ struct RayBatch {
     size_t size() const { return pixel.size(); }
     bool empty() const { return pixel.empty(); }
 
-    void push(const RayRecord& r) {
-        ox.push_back(static_cast<float>(r.origin.x));
-        oy.push_back(static_cast<float>(r.origin.y));
-        oz.push_back(static_cast<float>(r.origin.z));
-        dx.push_back(static_cast<float>(r.direction.x));
-        dy.push_back(static_cast<float>(r.direction.y));
-        dz.push_back(static_cast<float>(r.direction.z));
-        br.push_back(static_cast<float>(r.beta.x));
-        bg.push_back(static_cast<float>(r.beta.y));
-        bb.push_back(static_cast<float>(r.beta.z));
-        pixel.push_back(r.pixel);
-        depth.push_back(r.depth);
-        flags.push_back(r.flags);
-        path.push_back(r.path);
-    }
+    void push(const RayRecord& r) { append(&r, 1); }
 
     /// Appends `count` rays at once: each array grows once, then a plain loop fills them (13
     /// push_backs per ray cost ~40 ns; a uint8_t store may alias every vector's pointers).
@@ -77,14 +63,6 @@ struct RayBatch {
     void resize(size_t n) {
         for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &br, &bg, &bb}) v->resize(n);
         pixel.resize(n), depth.resize(n), flags.resize(n), path.resize(n);
-    }
-
-    /// Overwrites ray i (the batch must already hold it).
-    void set(size_t i, const RayRecord& r) {
-        ox[i] = static_cast<float>(r.origin.x), oy[i] = static_cast<float>(r.origin.y), oz[i] = static_cast<float>(r.origin.z);
-        dx[i] = static_cast<float>(r.direction.x), dy[i] = static_cast<float>(r.direction.y), dz[i] = static_cast<float>(r.direction.z);
-        br[i] = static_cast<float>(r.beta.x), bg[i] = static_cast<float>(r.beta.y), bb[i] = static_cast<float>(r.beta.z);
-        pixel[i] = r.pixel, depth[i] = r.depth, flags[i] = r.flags, path[i] = r.path;
     }
 
     RayRecord get(size_t i) const {
