@@ -30,6 +30,7 @@ Bsdf Bsdf::of(const Material& m) {
     b.mirror_like = specular && !(m.roughness > 0);
     if (b.glossy) b.exponent = phong_exponent(m.roughness);
     b.direct_response = positive(b.diffuse) || positive(b.diffuse_transmit) || b.glossy;
+    b.lambertian = !b.glossy && !positive(b.diffuse_transmit);
     return b;
 }
 

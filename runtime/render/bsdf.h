@@ -60,6 +60,7 @@ struct Bsdf {
     bool mirror_like = false;  ///< an S lobe (specular, smooth)
     bool direct_response = false;  ///< a lobe that direct lighting can reach
     bool emits = false;            ///< light, glow, or an emission of its own
+    bool lambertian = false;       ///< direct light reaches the D reflection lobe only
 
     static Bsdf of(const Material& m);
 };

@@ -1,6 +1,7 @@
 #include "runtime/render/render.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -50,16 +51,21 @@ void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double
 void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
                         RayBatch& rays, PixelFilter filter) {
     uint32_t x = pixel % static_cast<uint32_t>(width), y = pixel / static_cast<uint32_t>(width);
+    std::array<RayRecord, 16> buffer;  // appended in bulk, not ray by ray
+    size_t buffered = 0;
     for (uint32_t k = first; k < first + count; ++k) {
         double u, v;
         camera_sample_offset(seed, pixel, k, u, v, filter);
-        RayRecord r;
+        RayRecord& r = buffer[buffered++];
         camera.generate(x + u, y + v, r.origin, r.direction);
         r.beta = {1, 1, 1};
         r.pixel = pixel;
+        r.depth = 0;
+        r.flags = 0;
         r.path = camera_path_id(seed, pixel, k);
-        rays.push(r);
+        if (buffered == buffer.size()) rays.append(buffer.data(), buffered), buffered = 0;
     }
+    rays.append(buffer.data(), buffered);
 }
 
 std::vector<double> ambient_buffer(const RayBatch& d, const Vec3& av, size_t pixels) {

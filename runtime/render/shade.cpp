@@ -10,30 +10,6 @@
 
 namespace crex {
 
-HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec3& point, const Vec3& dir, double t) {
-    const GeometryInfo& g = scene.geometries()[hit.geomID];
-    HitFrame f;
-    if (g.sphere) {
-        Vec3 n = normalize_or_zero(point - g.center);
-        if (n == Vec3{}) n = -dir;
-        f.geometric = n;
-        f.position = g.center + n * g.radius;  // back onto the surface: float error does not accumulate
-    } else {
-        // Embree's Ng (cross(v1 - v0, v2 - v0), as ours) and the ray's own point, whose error
-        // (~1e-7 of the extent) is far below the ray epsilon (1e-5 of it): no vertex or normal
-        // fetch, which on large meshes were cache misses at every hit.
-        f.geometric = normalize_or_zero(Vec3{hit.Ng_x, hit.Ng_y, hit.Ng_z});
-        if (f.geometric == Vec3{}) f.geometric = g.normals[hit.primID];  // underflowed in float
-        if (f.geometric == Vec3{}) f.geometric = -dir;
-        f.position = point;
-    }
-    f.incoming = dir;
-    f.front = dot(dir, f.geometric) < 0;
-    f.normal = f.front ? f.geometric : -f.geometric;
-    f.distance = t;
-    return f;
-}
-
 int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
                    const ShadeParams& params, SpawnScratch& scratch) {
     if (ray.depth + 1u > params.max_depth) return 0;
@@ -92,7 +68,13 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     Vec3 wi = to / dist;
     double cos_l = -dot(ls.normal, wi);
     if (cos_l <= 0) return false;  // emitters radiate from their front side only
-    Vec3 fr = eval_direct(b, f, wi);
+    Vec3 fr;
+    if (b.lambertian) {  // the common case, inline: D reflection only
+        double c = dot(wi, f.normal);
+        if (c > 0) fr = b.diffuse * (c * kInvPi);
+    } else {
+        fr = eval_direct(b, f, wi);
+    }
     if (!(max_component(fr) > 0)) return false;
     value = beta * fr * ls.radiance * (cos_l / (d2 * ls.pdf_area * n));
     if (!is_finite(value)) return false;
