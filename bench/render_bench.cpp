@@ -3,7 +3,7 @@
 // BM_BinExecutor renders a scene with (TTMRSGD)*; BM_RawEmbree replays every ray that render
 // traced (rtcIntersect1M) and every shadow ray (rtcOccluded1M) with no shading, no bins and
 // no film. The overhead ratio is the first time over the second. Both run at 1 and 2 threads
-// for scaling, on two scenes: the built-in Cornell box (36 triangles and two analytic spheres:
+// for scaling, on two scenes: the built-in Cornell box (24 triangles and two analytic spheres:
 // traversal is as cheap as it gets, so shading weighs most) and the same box with a bumpy
 // ball of 262,144 triangles in it (geometry of a modelled scene).
 #include <benchmark/benchmark.h>
