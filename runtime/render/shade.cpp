@@ -142,6 +142,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     if (out.block_spawned.size() < blocks) out.block_spawned.resize(blocks);
     out.blocks = blocks;
     scratch.block_hits.assign(blocks, 0);
+    scratch.block_shadow_rays.assign(blocks, 0);
     std::vector<RTCRay>& shadows = scratch.shadows;
     std::vector<Vec3>& shadow_value = scratch.shadow_value;
     const Vec3 background = scene.scene.background;
@@ -154,7 +155,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             std::array<std::vector<RayRecord>, kComponentCount>& spawned_rays = out.block_spawned[block];
             for (auto& v : spawned_rays) v.clear();
             SpawnScratch spawn;
-            uint32_t block_hits = 0;
+            uint32_t block_hits = 0, block_shadow_rays = 0;
             for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
                 for (uint32_t j = 0; j < ns; ++j) make_hole(shadows[i * ns + j], static_cast<unsigned>(i));
                 if (camera) out.emission[i] = {};
@@ -189,6 +190,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                         s.tnear = 0.0f;
                         s.tfar = static_cast<float>(tfar);
                         shadow_value[i * ns + j] = value;
+                        ++block_shadow_rays;
                     }
                 }
                 int spawned = spawn_children(b, f, ray, random, eps, params, spawn);
@@ -197,30 +199,25 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             }
             for (size_t c = 0; c < kComponentCount; ++c) children[c].append(spawned_rays[c].data(), spawned_rays[c].size());
             scratch.block_hits[block] = block_hits;
+            scratch.block_shadow_rays[block] = block_shadow_rays;
         }
     });
+    for (size_t block = 0; block < blocks; ++block) {
+        out.hits += scratch.block_hits[block];
+        out.shadow_rays += scratch.block_shadow_rays[block];
+    }
 
     if (params.capture) params.capture->shadow_rays.insert(params.capture->shadow_rays.end(), shadows.begin(), shadows.end());
     occluded_batch(*scene.embree, shadows.data(), shadows.size());
 
     // Unoccluded samples add their light; each ray's own sum, so the order is fixed.
-    std::vector<uint32_t>& block_shadows = scratch.block_hits;  // reused: hits are counted below first
-    for (size_t block = 0; block < blocks; ++block) out.hits += block_shadows[block];
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t block = range.begin(); block < range.end(); ++block) {
-            uint32_t traced = 0;
-            for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
-                for (uint32_t j = 0; j < ns; ++j) {
-                    const RTCRay& s = shadows[i * ns + j];
-                    if (is_hole(s)) continue;
-                    ++traced;
-                    if (s.tfar != -INFINITY) out.contribution[i] += shadow_value[i * ns + j];
-                }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kShadeBlock), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i < range.end(); ++i)
+            for (uint32_t j = 0; j < ns; ++j) {
+                const RTCRay& s = shadows[i * ns + j];
+                if (!is_hole(s) && s.tfar != -INFINITY) out.contribution[i] += shadow_value[i * ns + j];
             }
-            block_shadows[block] = traced;
-        }
     });
-    for (size_t block = 0; block < blocks; ++block) out.shadow_rays += block_shadows[block];
 }
 
 }  // namespace crex

@@ -45,7 +45,7 @@ struct ShadeScratch {
     std::vector<RTCRayHit> hits;
     std::vector<RTCRay> shadows;
     std::vector<Vec3> shadow_value;
-    std::vector<uint32_t> block_hits;
+    std::vector<uint32_t> block_hits, block_shadow_rays;  ///< per block, summed in block order
 };
 
 struct ShadeOutput {
