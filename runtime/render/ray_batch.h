@@ -44,6 +44,11 @@ struct RayBatch {
     void append(const RayRecord* records, size_t count) {
         const size_t at = size();
         resize(at + count);
+        write(at, records, count);
+    }
+
+    /// Overwrites rays [at, at + count), which the batch must already hold.
+    void write(size_t at, const RayRecord* records, size_t count) {
         float *pox = ox.data() + at, *poy = oy.data() + at, *poz = oz.data() + at;
         float *pdx = dx.data() + at, *pdy = dy.data() + at, *pdz = dz.data() + at;
         float *pbr = br.data() + at, *pbg = bg.data() + at, *pbb = bb.data() + at;

@@ -1,5 +1,7 @@
 #include "runtime/render/render.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -48,21 +50,24 @@ void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double
     }
 }
 
+RayRecord camera_ray(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t sample, PixelFilter filter) {
+    uint32_t x = pixel % static_cast<uint32_t>(width), y = pixel / static_cast<uint32_t>(width);
+    double u, v;
+    camera_sample_offset(seed, pixel, sample, u, v, filter);
+    RayRecord r;
+    camera.generate(x + u, y + v, r.origin, r.direction);
+    r.beta = {1, 1, 1};
+    r.pixel = pixel;
+    r.path = camera_path_id(seed, pixel, sample);
+    return r;
+}
+
 void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
                         RayBatch& rays, PixelFilter filter) {
-    uint32_t x = pixel % static_cast<uint32_t>(width), y = pixel / static_cast<uint32_t>(width);
     std::array<RayRecord, 16> buffer;  // appended in bulk, not ray by ray
     size_t buffered = 0;
     for (uint32_t k = first; k < first + count; ++k) {
-        double u, v;
-        camera_sample_offset(seed, pixel, k, u, v, filter);
-        RayRecord& r = buffer[buffered++];
-        camera.generate(x + u, y + v, r.origin, r.direction);
-        r.beta = {1, 1, 1};
-        r.pixel = pixel;
-        r.depth = 0;
-        r.flags = 0;
-        r.path = camera_path_id(seed, pixel, k);
+        buffer[buffered++] = camera_ray(camera, seed, width, pixel, k, filter);
         if (buffered == buffer.size()) rays.append(buffer.data(), buffered), buffered = 0;
     }
     rays.append(buffer.data(), buffered);
@@ -110,11 +115,18 @@ RenderResult render(const Scene& scene, const sched::Program& program, const Ren
     Executor executor(rs, result.film, eo);
     running = &executor;
     CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
+    // Camera rays, pixel after pixel, made in parallel into their fixed places.
+    const size_t pixels = result.film.pixel_count();
     RayBatch rays;
-    for (uint32_t p = 0; p < result.film.pixel_count(); ++p) {
-        append_camera_rays(camera, options.seed, options.width, p, options.first_sample, options.spp, rays, options.filter);
-        result.film.add_samples(p, options.spp);
-    }
+    rays.resize(pixels * options.spp);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 256), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p)
+            for (uint32_t k = 0; k < options.spp; ++k) {
+                RayRecord r = camera_ray(camera, options.seed, options.width, static_cast<uint32_t>(p), options.first_sample + k, options.filter);
+                rays.write(p * options.spp + k, &r, 1);
+            }
+    });
+    for (uint32_t p = 0; p < pixels; ++p) result.film.add_samples(p, options.spp);
     if (rec) rec->start();
     executor.run_camera_rays(rays);
     rays.clear();

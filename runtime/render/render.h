@@ -55,6 +55,9 @@ struct RenderResult {
 
 RenderResult render(const Scene& scene, const sched::Program& program, const RenderOptions& options);
 
+/// The camera ray of sample `sample` of `pixel`.
+RayRecord camera_ray(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t sample,
+                     PixelFilter filter = PixelFilter::kBox);
 /// Appends the camera rays of samples [first, first + count) of `pixel`.
 void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
                         RayBatch& rays, PixelFilter filter = PixelFilter::kBox);
