@@ -46,7 +46,11 @@ run_tests() {
         -DCREX_SANITIZE=ON -DCREX_BENCH=OFF >/dev/null
   cmake --build build/asan -j "$JOBS"
   log "tests (ASan+UBSan, fast labels)"
-  (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+  # intercept_tls_get_addr=0: the leak check at exit walks the dynamic TLS of the dlopen'd
+  # image plugin (libcrex_oiio.so) and LSan's tracer crashed there in about one run in five
+  # ("Tracer caught signal 11", as in google/sanitizers#1353); without the interception,
+  # 0 of 60 runs failed.
+  (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0 \
       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --output-on-failure -j "$JOBS" -L '^(unit|diag|cli|numerics)$')
 }
