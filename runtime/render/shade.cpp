@@ -106,13 +106,20 @@ bool is_hole(const RTCRay& s) { return s.tnear > s.tfar && s.tfar == 0.0f; }
 
 void ShadeOutput::append_children_to(std::array<RayBatch, kComponentCount>& bins) const {
     std::array<std::vector<const RayBatch*>, kComponentCount> parts;
+    size_t total = 0;
     for (size_t c = 0; c < kComponentCount; ++c)
         for (size_t b = 0; b < blocks; ++b)
-            if (!block_children[b][c].empty()) parts[c].push_back(&block_children[b][c]);
-    tbb::parallel_for(size_t{0}, kComponentCount * RayBatch::kArrays, [&](size_t task) {
+            if (!block_children[b][c].empty()) parts[c].push_back(&block_children[b][c]), total += block_children[b][c].size();
+    auto copy = [&](size_t task) {
         size_t c = task / RayBatch::kArrays;
         if (!parts[c].empty()) bins[c].append_array(task % RayBatch::kArrays, parts[c]);
-    });
+    };
+    const size_t tasks = kComponentCount * RayBatch::kArrays;
+    if (total < kShadeBlock) {  // the tails of paths: a few rays, not worth 78 tasks
+        for (size_t task = 0; task < tasks; ++task) copy(task);
+        return;
+    }
+    tbb::parallel_for(size_t{0}, tasks, copy);
 }
 
 void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begin, size_t end, bool camera,
