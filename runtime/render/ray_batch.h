@@ -66,64 +66,51 @@ struct RayBatch {
     }
 
     void resize(size_t n) {
-        for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &br, &bg, &bb}) v->resize(n);
-        pixel.resize(n), depth.resize(n), flags.resize(n), path.resize(n);
+        for_each_array([n](auto member, RayBatch& self) { (self.*member).resize(n); });
     }
 
     RayRecord get(size_t i) const {
         return {{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, {br[i], bg[i], bb[i]}, pixel[i], depth[i], flags[i], path[i]};
     }
 
-    /// Appends rays [begin, end) of `o`, array by array.
+    /// Appends rays [begin, end) of `o`, array by array (much cheaper than ray by ray).
     void append(const RayBatch& o, size_t begin, size_t end) {
-        auto cat = [begin, end](auto& a, const auto& b) {
-            a.insert(a.end(), b.begin() + static_cast<std::ptrdiff_t>(begin), b.begin() + static_cast<std::ptrdiff_t>(end));
-        };
-        cat(ox, o.ox), cat(oy, o.oy), cat(oz, o.oz), cat(dx, o.dx), cat(dy, o.dy), cat(dz, o.dz);
-        cat(br, o.br), cat(bg, o.bg), cat(bb, o.bb), cat(pixel, o.pixel), cat(depth, o.depth), cat(flags, o.flags);
-        cat(path, o.path);
+        for_each_array([&o, begin, end](auto member, RayBatch& self) {
+            const auto& from = o.*member;
+            (self.*member).insert((self.*member).end(), from.begin() + static_cast<std::ptrdiff_t>(begin),
+                                  from.begin() + static_cast<std::ptrdiff_t>(end));
+        });
     }
-    /// Appends all of `o`, array by array (much cheaper than ray by ray).
-    void append(const RayBatch& o) {
-        auto cat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
-        cat(ox, o.ox), cat(oy, o.oy), cat(oz, o.oz), cat(dx, o.dx), cat(dy, o.dy), cat(dz, o.dz);
-        cat(br, o.br), cat(bg, o.bg), cat(bb, o.bb), cat(pixel, o.pixel), cat(depth, o.depth), cat(flags, o.flags);
-        cat(path, o.path);
-    }
+    void append(const RayBatch& o) { append(o, 0, o.size()); }
 
     /// The batch's arrays, for copying them one by one (in parallel): array k of 0..kArrays-1.
     static constexpr size_t kArrays = 13;
     /// Appends array k of each of `parts` (in order) to array k of this batch.
     template <class Parts>
     void append_array(size_t k, const Parts& parts) {
-        auto cat = [&parts](auto member, RayBatch& to) {
-            auto& dst = to.*member;
+        size_t index = 0;
+        for_each_array([&](auto member, RayBatch& self) {
+            if (index++ != k) return;
+            auto& dst = self.*member;
             size_t total = dst.size();
             for (const RayBatch* p : parts) total += ((*p).*member).size();
             if (total > dst.capacity()) dst.reserve(std::max(total, 2 * dst.capacity()));  // geometric growth
             for (const RayBatch* p : parts) dst.insert(dst.end(), ((*p).*member).begin(), ((*p).*member).end());
-        };
-        switch (k) {
-        case 0: cat(&RayBatch::ox, *this); break;
-        case 1: cat(&RayBatch::oy, *this); break;
-        case 2: cat(&RayBatch::oz, *this); break;
-        case 3: cat(&RayBatch::dx, *this); break;
-        case 4: cat(&RayBatch::dy, *this); break;
-        case 5: cat(&RayBatch::dz, *this); break;
-        case 6: cat(&RayBatch::br, *this); break;
-        case 7: cat(&RayBatch::bg, *this); break;
-        case 8: cat(&RayBatch::bb, *this); break;
-        case 9: cat(&RayBatch::pixel, *this); break;
-        case 10: cat(&RayBatch::depth, *this); break;
-        case 11: cat(&RayBatch::flags, *this); break;
-        default: cat(&RayBatch::path, *this); break;
-        }
+        });
     }
 
     /// Empties the batch but keeps its memory for reuse.
     void reset() {
-        for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &br, &bg, &bb}) v->clear();
-        pixel.clear(), depth.clear(), flags.clear(), path.clear();
+        for_each_array([](auto member, RayBatch& self) { (self.*member).clear(); });
+    }
+
+    /// Calls f(pointer to member, *this) for each of the kArrays arrays, in a fixed order.
+    template <class F>
+    void for_each_array(F&& f) {
+        f(&RayBatch::ox, *this), f(&RayBatch::oy, *this), f(&RayBatch::oz, *this);
+        f(&RayBatch::dx, *this), f(&RayBatch::dy, *this), f(&RayBatch::dz, *this);
+        f(&RayBatch::br, *this), f(&RayBatch::bg, *this), f(&RayBatch::bb, *this);
+        f(&RayBatch::pixel, *this), f(&RayBatch::depth, *this), f(&RayBatch::flags, *this), f(&RayBatch::path, *this);
     }
 
     void clear() { *this = RayBatch{}; }

@@ -49,11 +49,10 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
     if (!cdf_.empty()) cdf_.back() = 1.0;
 }
 
-LightSample LightSampler::sample_sphere(const Entry& e, double u, double v, LightSample& s) {
+void LightSampler::sample_sphere(const Entry& e, double u, double v, LightSample& s) {
     double z = 1 - 2 * u, r = std::sqrt(std::fmax(0.0, 1 - z * z)), phi = 2 * kPi * v;
     s.normal = {r * std::cos(phi), r * std::sin(phi), z};
     s.position = e.a + s.normal * e.b.x;
-    return s;
 }
 
 CameraRays::CameraRays(const Camera& c, int width, int height, const Vec3& origin_offset)

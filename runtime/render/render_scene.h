@@ -39,7 +39,10 @@ public:
         LightSample s;
         s.radiance = e.radiance;
         s.pdf_area = e.pdf_area;
-        if (e.sphere) return sample_sphere(e, u, v, s);
+        if (e.sphere) {
+            sample_sphere(e, u, v, s);
+            return s;
+        }
         double su = std::sqrt(u);
         double b0 = 1 - su, b1 = v * su;
         s.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1);
@@ -58,7 +61,7 @@ private:
     };
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
-    static LightSample sample_sphere(const Entry& e, double u, double v, LightSample& s);
+    static void sample_sphere(const Entry& e, double u, double v, LightSample& s);  // position, normal
 };
 
 /// Pinhole camera. Pixel (0, 0) is the top-left; (x + u, y + v) for u, v in [0, 1) within it.
