@@ -61,7 +61,7 @@ struct ExecutorStats {
 struct ExecutorOptions {
     ShadeParams shade;
     /// Rays traced and shaded at once; 0: 4096 per worker thread, so that a chunk's hits,
-    /// shadow rays and children stay in cache (10-15 % faster than 65536, bench/render_bench).
+    /// shadow rays and children stay in cache (5-10 % faster than 65536, bench/render_bench).
     size_t chunk_rays = 0;
     /// Irradiance-cache queries handed over at once (the cache batches its new records).
     size_t query_chunk_rays = size_t{1} << 16;
