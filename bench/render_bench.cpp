@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "compiler/crex/compile.h"
-#include "runtime/render/render.h"
+#include "runtime/driver/run_plan.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/base/sampling.h"
 #include "runtime/scene/load_scene.h"
@@ -57,8 +57,8 @@ sched::Program program() {
     return *compile_crex(f, sink).program;
 }
 
-RenderOptions options(RayCapture* capture, size_t chunk_rays = ExecutorOptions{}.chunk_rays) {
-    RenderOptions o;
+RunSettings options(RayCapture* capture, size_t chunk_rays = ExecutorOptions{}.chunk_rays) {
+    RunSettings o;
     o.width = o.height = kSize;
     o.spp = kSpp;
     o.executor.shade.capture = capture;
@@ -72,7 +72,7 @@ void BM_BinExecutor(benchmark::State& state) {
     sched::Program p = program();
     uint64_t rays = 0;
     for (auto _ : state) {
-        RenderResult r = render(scene, p, options(nullptr, static_cast<size_t>(state.range(2))));
+        RunResult r = render(scene, p, options(nullptr, static_cast<size_t>(state.range(2))));
         rays = r.stats.camera.rays + r.stats.camera.shadow_rays;
         for (const auto& c : r.stats.components) rays += c.rays + c.shadow_rays;
         state.SetIterationTime(r.render_seconds);  // excludes the BVH build, like the raw replay

@@ -12,7 +12,7 @@
 #include "compiler/base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "runtime/io/image_io.h"
-#include "runtime/render/render.h"
+#include "runtime/driver/run_plan.h"
 #include "runtime/report/reference_cache.h"
 
 namespace crex::app {
@@ -52,15 +52,15 @@ int reference(const ReferenceOptions& opt) {
         if (!opt.quiet) std::cerr << "crex reference: cached (key " << reference_key(*in->scene, s) << "); --force renders again\n";
         return kExitOk;
     }
-    RenderOptions ro;
+    RunSettings ro;
     ro.width = s.width, ro.height = s.height, ro.spp = s.spp, ro.seed = s.seed;
     ro.executor.shade.weight_limit = s.lw;
     ro.executor.shade.max_depth = s.max_depth;
     Progress progress(!opt.quiet);
-    ro.executor.progress = [&](const std::string& what, uint64_t rays) { progress.update(what, rays); };
+    ro.progress = [&](const RunProgress& p) { progress.update(p); };
     SourceFile crex("<reference>", s.crex);
     auto program = compile_crex(crex, sink).program;
-    std::optional<RenderResult> r;
+    std::optional<RunResult> r;
     try {
         r.emplace(render(*in->scene, *program, ro));
     } catch (const std::exception& e) {

@@ -1,5 +1,5 @@
 /// \file progress.h
-/// A one-line progress display on stderr, only when stderr is a terminal (quiet in pipes and
+/// A one-line progress display on stderr (stage, pass, percent, ETA, ray rate), only when stderr is a terminal (quiet in pipes and
 /// CI logs), redrawn at most ten times a second.
 #pragma once
 
@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <string>
 
+#include "runtime/driver/run_plan.h"
+
 namespace crex::app {
 
 class Progress {
@@ -16,14 +18,19 @@ public:
     explicit Progress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO)) {}
     ~Progress() { finish(); }
 
-    void update(const std::string& what, uint64_t rays) {
+    /// "  selective  pass 3/12   41%  ETA 12 s   5.20 M rays/s  D at <crex>:1:7"
+    void update(const RunProgress& p) {
         if (!enabled_) return;
         auto now = std::chrono::steady_clock::now();
         if (now - last_ < std::chrono::milliseconds(100)) return;
         last_ = now;
         double s = std::chrono::duration<double>(now - start_).count();
-        std::fprintf(stderr, "\r\033[K  rendering: %-12s %8.2f M rays  %6.1f s  %6.2f M rays/s", what.c_str(), rays / 1e6, s,
-                     s > 0 ? rays / 1e6 / s : 0.0);
+        std::string eta = "";
+        if (p.fraction > 0.02 && p.fraction < 1)
+            eta = "ETA " + std::to_string(static_cast<long>(p.stage_seconds / p.fraction * (1 - p.fraction) + 0.5)) + " s";
+        std::string pass = p.passes > 1 ? "pass " + std::to_string(p.pass) + "/" + std::to_string(p.passes) : "";
+        std::fprintf(stderr, "\r\033[K  %-13s %-11s %3.0f%%  %-10s %6.2f M rays/s  %s", p.stage.c_str(), pass.c_str(), 100 * p.fraction,
+                     eta.c_str(), s > 0 ? p.rays / 1e6 / s : 0.0, p.step.c_str());
         drawn_ = true;
     }
     void finish() {

@@ -9,15 +9,6 @@
 #include "compiler/sched/print.h"
 
 namespace crex::app {
-namespace {
-
-uint64_t total_rays(const ExecutorStats& st) {
-    uint64_t n = st.camera.rays;
-    for (const auto& c : st.components) n += c.rays;
-    return n;
-}
-
-}  // namespace
 
 nlohmann::json curve_json(const std::vector<CurvePoint>& curve) {
     nlohmann::json cj = nlohmann::json::array();
@@ -27,7 +18,7 @@ nlohmann::json curve_json(const std::vector<CurvePoint>& curve) {
 }
 
 nlohmann::json run_summary_json(const RunFacts& f) {
-    const RenderResult& r = *f.result;
+    const RunResult& r = *f.result;
     const ExecutorStats& st = r.stats;
     nlohmann::json j;
     j["scene"] = f.scene;
@@ -49,6 +40,7 @@ nlohmann::json run_summary_json(const RunFacts& f) {
     }
     j["components"] = comps;
     j["warnings"] = r.warnings;
+    j["passes"] = r.passes;
     if (f.piped) {
         j["pipeline"] = f.plan->name;
         j["stages"] = {{"preview_seconds", f.piped->preview_seconds},
@@ -92,7 +84,7 @@ nlohmann::json run_summary_json(const RunFacts& f) {
 }
 
 void print_run_summary(const RunFacts& f, std::ostream& out) {
-    const RenderResult& r = *f.result;
+    const RunResult& r = *f.result;
     const ExecutorStats& st = r.stats;
     if (f.piped) {
         uint32_t lo = UINT32_MAX, hi = 0;

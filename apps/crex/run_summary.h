@@ -10,8 +10,7 @@
 
 #include "apps/crex/run_pictures.h"
 #include "compiler/plan/pipeline_plan.h"
-#include "runtime/pipeline/run_pipeline.h"
-#include "runtime/render/render.h"
+#include "runtime/driver/run_plan.h"
 #include "runtime/report/checkpoints.h"
 #include "runtime/report/error_curve.h"
 
@@ -24,8 +23,8 @@ struct RunFacts {
     int width = 0, height = 0;
     uint32_t spp = 0;
     double load_seconds = 0;
-    const RenderResult* result = nullptr;
-    const PipelineRunResult* piped = nullptr;  ///< with the plan it ran
+    const RunResult* result = nullptr;
+    const RunResult* piped = nullptr;  ///< with the plan it ran
     const PipelinePlan* plan = nullptr;
     std::vector<std::string> outputs;
     double budget = 0;

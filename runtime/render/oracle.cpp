@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "runtime/render/camera_samples.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/shade.h"
 #include "runtime/trace/trace_batch.h"
@@ -62,12 +63,12 @@ struct Oracle {
 
 }  // namespace
 
-std::vector<float> render_oracle(const Scene& scene, const RenderOptions& options) {
+std::vector<float> render_oracle(const Scene& scene, const OracleOptions& options) {
     RenderScene rs(scene);
     CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
     size_t pixels = static_cast<size_t>(options.width) * static_cast<size_t>(options.height);
     std::vector<float> image(3 * pixels, 0.0f);
-    Oracle oracle{rs, options.executor.shade};
+    Oracle oracle{rs, options.shade};
     tbb::parallel_for(size_t{0}, pixels, [&](size_t p) {
         uint32_t x = static_cast<uint32_t>(p % static_cast<size_t>(options.width));
         uint32_t y = static_cast<uint32_t>(p / static_cast<size_t>(options.width));

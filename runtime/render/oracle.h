@@ -8,11 +8,20 @@
 
 #include <vector>
 
-#include "runtime/render/render.h"
+#include "runtime/render/shade.h"
+#include "runtime/scene/scene.h"
 
 namespace crex {
 
+struct OracleOptions {
+    int width = 16, height = 16;
+    uint32_t spp = 1;
+    uint32_t first_sample = 0;  ///< samples [first_sample, first_sample + spp)
+    uint64_t seed = 0;
+    ShadeParams shade;
+};
+
 /// The composite image (linear RGB, row-major) of `scene` by recursion.
-std::vector<float> render_oracle(const Scene& scene, const RenderOptions& options);
+std::vector<float> render_oracle(const Scene& scene, const OracleOptions& options);
 
 }  // namespace crex

@@ -61,8 +61,8 @@ TEST(IrradianceCache, RecordsInCornersNeverHaveZeroRadius) {
     for (const Vec3& v : e) EXPECT_TRUE(is_finite(v));
 }
 
-RenderResult render_ic(const Scene& s, int size, uint32_t spp, double aa, uint32_t bounces, uint32_t ad = 128) {
-    RenderOptions o;
+RunResult render_ic(const Scene& s, int size, uint32_t spp, double aa, uint32_t bounces, uint32_t ad = 128) {
+    RunSettings o;
     o.width = o.height = size;
     o.spp = spp;
     IcSettings ic;
@@ -84,14 +84,14 @@ TEST(IrradianceCache, WhiteFurnaceGivesTheTruncatedSeriesExactly) {
     }
 }
 
-double mean_d(const RenderResult& r) { return testing::mean_luminance(r.film.aov_image(aov_of(Component::kD))); }
+double mean_d(const RunResult& r) { return testing::mean_luminance(r.film.aov_image(aov_of(Component::kD))); }
 
 TEST(IrradianceCache, ConvergesToPathTracingWithTheSameBouncesAsAaFalls) {
     // The diffuse Cornell box: the cache with ab bounces against path tracing whose D rays
     // stop at depth ab (no roulette), both on the D AOV, at 24 x 24.
     Scene s = *builtin_scene("cornell_diffuse");
     const uint32_t ab = 2;
-    RenderOptions pt;
+    RunSettings pt;
     pt.width = pt.height = 24;
     pt.spp = 2048;
     pt.executor.shade.max_depth = ab;
@@ -120,7 +120,7 @@ TEST(IrradianceCache, OnTheCornellBoxItApproachesPathTracedGoldAsAaFalls) {
     // through them) against path-traced gold with every bounce, at 16 x 16: with 6 bounces the
     // image mean is within 3 %, and the per-pixel error falls as aa does.
     Scene s = *builtin_scene("cornell");
-    RenderOptions pt;
+    RunSettings pt;
     pt.width = pt.height = 16;
     pt.spp = 2048;
     auto gold = render(s, testing::lower_or_die("(TTMRSGD)*"), pt);
@@ -190,7 +190,7 @@ TEST(IrradianceCache, ASavedCacheIsReusedWithoutNewRecords) {
         IrradianceCache refuse(rs, other);
         EXPECT_NE(refuse.load(path), "");  // made with other settings
     }
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = 20;
     o.spp = 2;
     IcSettings set;

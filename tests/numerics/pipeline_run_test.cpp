@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "runtime/pipeline/run_pipeline.h"
+#include "runtime/driver/run_plan.h"
 #include "runtime/scene/census.h"
 #include "tests/support/plan_helpers.h"
 #include "tests/support/scene_helpers.h"
@@ -26,14 +26,14 @@ PipelinePlan plan_for(const std::string& text, const Scene& scene) {
     return *r.plan;
 }
 
-PipelineRunResult run(const Scene& scene, const PipelinePlan& plan, int w, int h, uint32_t preview_spp = 1) {
-    PipelineRunOptions o;
+RunResult run(const Scene& scene, const PipelinePlan& plan, int w, int h, uint32_t preview_spp = 1) {
+    RunSettings o;
     o.width = w, o.height = h;
-    o.preview_spp = preview_spp;
-    return run_pipeline(scene, plan, o);
+    o.spp = preview_spp;
+    return run_plan(scene, plan, o);
 }
 
-const guidance::Raster& map_named(const PipelineRunResult& r, const std::string& name) {
+const guidance::Raster& map_named(const RunResult& r, const std::string& name) {
     for (const auto& [n, m] : r.maps)
         if (n == name) return m;
     throw std::runtime_error("no map " + name);
@@ -46,15 +46,15 @@ TEST(PipelineRun, RaisingSppContinuesThePreviewsSequenceExactly) {
                          " selective { vary spp 1 .. 9 by c }\n}\n",
                          scene);
     auto piped = run(scene, plan, 20, 16);
-    RenderOptions ro;
+    RunSettings ro;
     ro.width = 20, ro.height = 16, ro.spp = 5;
     auto direct = render(scene, plan.program, ro);
     auto a = piped.image(), b = direct.image();
-    for (uint32_t p = 0; p < piped.render.film.pixel_count(); ++p) ASSERT_EQ(piped.render.film.samples(p), 5u);
+    for (uint32_t p = 0; p < piped.film.pixel_count(); ++p) ASSERT_EQ(piped.film.samples(p), 5u);
     ASSERT_EQ(a.size(), b.size());
     for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], b[i], 1e-5 * std::max(1.0f, std::fabs(b[i]))) << i;
     // The preview's camera rays were traced once: 1 + 4 per pixel in all.
-    EXPECT_EQ(piped.render.stats.camera.rays, 5u * 20 * 16);
+    EXPECT_EQ(piped.stats.camera.rays, 5u * 20 * 16);
 }
 
 TEST(PipelineRun, EachPixelGetsTheSppItsMapAsksFor) {
@@ -63,9 +63,9 @@ TEST(PipelineRun, EachPixelGetsTheSppItsMapAsksFor) {
     auto r = run(scene, plan, 32, 32);
     const auto& sal = map_named(r, "sal");
     size_t differing = 0;
-    for (uint32_t p = 0; p < r.render.film.pixel_count(); ++p) {
+    for (uint32_t p = 0; p < r.film.pixel_count(); ++p) {
         uint32_t want = static_cast<uint32_t>(std::round(1 + 15 * static_cast<double>(sal.v[p])));
-        ASSERT_EQ(r.render.film.samples(p), want) << "pixel " << p;
+        ASSERT_EQ(r.film.samples(p), want) << "pixel " << p;
         differing += want != 16;
     }
     EXPECT_GT(differing, 100u);  // selective: most pixels get fewer than the maximum
@@ -79,11 +79,11 @@ TEST(PipelineRun, ShadowRaysPerPixelApplyToTheSelectiveSamplesOnly) {
     auto preview = run(scene, plan_for(text("vary spp 1 .. 1 by c"), scene), 16, 16);
     auto more = run(scene, plan_for(text("vary spp 1 .. 2 by c"), scene), 16, 16);
     auto four = run(scene, plan_for(text("vary spp 1 .. 2 by c  vary shadow_rays 4 .. 4 by c"), scene), 16, 16);
-    uint64_t c = preview.render.stats.camera.shadow_rays, a = more.render.stats.camera.shadow_rays;
+    uint64_t c = preview.stats.camera.shadow_rays, a = more.stats.camera.shadow_rays;
     ASSERT_GT(a, c);
     // Every selective hit casts 4 instead of 1; a light sample that lands behind the emitter
     // or on its edge casts none, which with a different sample count can change for a few hits.
-    double expect = static_cast<double>(c + 4 * (a - c)), got = static_cast<double>(four.render.stats.camera.shadow_rays);
+    double expect = static_cast<double>(c + 4 * (a - c)), got = static_cast<double>(four.stats.camera.shadow_rays);
     EXPECT_NEAR(got, expect, 0.01 * 4 * static_cast<double>(a - c));
 }
 
@@ -93,9 +93,9 @@ TEST(PipelineRun, SpecularThresholdOneStopsSelectiveSpecularRays) {
         return "pipeline p {\n preselective { crex \"(TTRSGD)*\" spp 1 }\n guidance { c = constant(1) }\n selective { vary spp 1 .. 2 by c "
                + vary + " }\n}\n";
     };
-    auto sg = [](const PipelineRunResult& r) {
-        return r.render.stats.components[static_cast<size_t>(Component::kS)].rays +
-               r.render.stats.components[static_cast<size_t>(Component::kG)].rays;
+    auto sg = [](const RunResult& r) {
+        return r.stats.components[static_cast<size_t>(Component::kS)].rays +
+               r.stats.components[static_cast<size_t>(Component::kG)].rays;
     };
     auto base = run(scene, plan_for(text(""), scene), 24, 16);
     auto cut = run(scene, plan_for(text("vary specular_threshold 1 .. 1 by c"), scene), 24, 16);
@@ -115,9 +115,9 @@ TEST(PipelineRun, ModulationByAMapDecidesWhatTheSelectiveCrexRuns) {
     auto none = run(scene, plan_for(text("0"), scene), 16, 16);
     auto all = run(scene, plan_for(text("1"), scene), 16, 16);
     size_t d = static_cast<size_t>(Component::kD);
-    EXPECT_EQ(none.render.stats.components[d].rays, 0u);
-    EXPECT_GT(all.render.stats.components[d].rays, 0u);
-    EXPECT_GT(none.render.rays_left[d], 0u);  // skipped rays stay in their bin
+    EXPECT_EQ(none.stats.components[d].rays, 0u);
+    EXPECT_GT(all.stats.components[d].rays, 0u);
+    EXPECT_GT(none.rays_left[d], 0u);  // skipped rays stay in their bin
 }
 
 TEST(PipelineRun, SubsamplingRendersCornersAndInterpolatesTheRest) {
@@ -130,7 +130,7 @@ TEST(PipelineRun, SubsamplingRendersCornersAndInterpolatesTheRest) {
     for (uint32_t p = 0; p < 17 * 9; ++p) {
         bool corner = (p % 17 % 4 == 0 || p % 17 == 16) && (p / 17 % 4 == 0 || p / 17 == 8);
         EXPECT_EQ(r.subsample->rendered(p), corner) << p;
-        EXPECT_EQ(r.render.film.samples(p), corner ? 4u : 1u) << p;
+        EXPECT_EQ(r.film.samples(p), corner ? 4u : 1u) << p;
     }
     EXPECT_TRUE(testing::all_finite(r.image()));
 }
@@ -150,11 +150,11 @@ TEST_P(StdlibPipelines, RenderFiniteImagesWithMapsInTheUnitInterval) {
     EXPECT_TRUE(testing::all_finite(r.image()));
     EXPECT_TRUE(testing::all_finite(r.preview));
     uint64_t samples = 0;
-    for (uint32_t p = 0; p < r.render.film.pixel_count(); ++p) {
-        ASSERT_GE(r.render.film.samples(p), 1u);  // the preview's samples are kept
-        samples += r.render.film.samples(p);
+    for (uint32_t p = 0; p < r.film.pixel_count(); ++p) {
+        ASSERT_GE(r.film.samples(p), 1u);  // the preview's samples are kept
+        samples += r.film.samples(p);
     }
-    EXPECT_EQ(r.render.stats.camera.rays, samples);  // no sample traced twice
+    EXPECT_EQ(r.stats.camera.rays, samples);  // no sample traced twice
     for (const auto& [name, m] : r.maps) {
         ASSERT_EQ(m.pixels(), 32u * 24u) << name;
         for (float x : m.v) ASSERT_TRUE(x >= 0 && x <= 1) << name;
@@ -186,13 +186,13 @@ TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
         return "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(" + value +
                ") }\n selective { vary ic_radius 0.5 .. 0.1 by c }\n}\n";
     };
-    PipelineRunOptions o;
+    RunSettings o;
     o.width = o.height = 24;
     IcSettings ic;
     ic.divisions = 64, ic.bounces = 2;
     o.irradiance_cache = ic;
-    auto coarse = run_pipeline(scene, plan_for(text("0"), scene), o);
-    auto fine = run_pipeline(scene, plan_for(text("1"), scene), o);
+    auto coarse = run_plan(scene, plan_for(text("0"), scene), o);
+    auto fine = run_plan(scene, plan_for(text("1"), scene), o);
     // Map 0: nothing asks for more than the base radius: no sample answered again, no record made.
     EXPECT_EQ(coarse.ic_reprocessed, 0u);
     EXPECT_EQ(coarse.ic_selective_records, 0u);
@@ -201,8 +201,8 @@ TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
     EXPECT_GT(fine.ic_selective_records, 0u);
     EXPECT_EQ(fine.ic_preview_records, coarse.ic_preview_records);  // the same preview
     // The finer answers replace the coarse ones: the D AOV changes, the camera AOV does not.
-    EXPECT_EQ(fine.render.film.aov_image(kCameraAov), coarse.render.film.aov_image(kCameraAov));
-    EXPECT_NE(fine.render.film.aov_image(aov_of(Component::kD)), coarse.render.film.aov_image(aov_of(Component::kD)));
+    EXPECT_EQ(fine.film.aov_image(kCameraAov), coarse.film.aov_image(kCameraAov));
+    EXPECT_NE(fine.film.aov_image(aov_of(Component::kD)), coarse.film.aov_image(aov_of(Component::kD)));
     double a = testing::mean_luminance(fine.image()), b = testing::mean_luminance(coarse.image());
     EXPECT_NEAR(a, b, 0.05 * b);  // same light, answered more finely
 }

@@ -37,7 +37,7 @@ TEST(GaussianFilter, AnEdgeIsSpreadLikeTheFilterAndTheBoxKeepsItSharp) {
     s.camera.position = {0, 0, 5};
     s.camera.direction = {0, 0, -1};
     auto run = [&](PixelFilter f) {
-        RenderOptions o;
+        RunSettings o;
         o.width = o.height = 32;
         o.spp = 256;
         o.filter = f;
@@ -57,11 +57,11 @@ TEST(GaussianFilter, AnEdgeIsSpreadLikeTheFilterAndTheBoxKeepsItSharp) {
 
 TEST(GaussianFilter, RaisingTheSampleCountStillContinuesTheSequence) {
     Scene s = *builtin_scene("cornell");
-    RenderOptions one;
+    RunSettings one;
     one.width = one.height = 16, one.spp = 1, one.filter = PixelFilter::kGaussian;
-    RenderOptions more = one;
+    RunSettings more = one;
     more.first_sample = 1, more.spp = 3;
-    RenderOptions all = one;
+    RunSettings all = one;
     all.spp = 4;
     auto p = testing::lower_or_die("(TTMRSGD)*");
     auto a = render(s, p, one), b = render(s, p, more), c = render(s, p, all);

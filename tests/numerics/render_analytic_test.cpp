@@ -12,7 +12,7 @@ class WhiteFurnace : public ::testing::TestWithParam<double> {};
 TEST_P(WhiteFurnace, ConvergesToEmissionOverOneMinusAlbedo) {
     double a = GetParam(), le = 0.25;
     Scene s = testing::furnace_box(a, le);
-    RenderResult r = testing::render_crex(s, "D*", 16, 4);
+    RunResult r = testing::render_crex(s, "D*", 16, 4);
     std::vector<float> img = r.image();
     ASSERT_TRUE(testing::all_finite(img));
     double expected = le / (1 - a);
@@ -30,11 +30,11 @@ TEST(WhiteFurnace, WithoutRouletteTheTruncationBiasIsTheGeometricTail) {
     // the image is the partial sum, not le / (1 - a).
     double a = 0.5, le = 1;
     Scene s = testing::furnace_box(a, le);
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = 8;
     o.spp = 1;
     o.executor.shade.roulette = false;
-    RenderResult r = render(s, testing::lower_or_die("D*"), o);
+    RunResult r = render(s, testing::lower_or_die("D*"), o);
     int k = 0;
     double partial = 0, w = 1;
     while (w >= 1e-3) partial += w * le, w *= a, ++k;  // terms whose weight is at least lw
@@ -45,7 +45,7 @@ TEST(SquareLight, DiffusePlaneMatchesTheAnalyticIrradiance) {
     double rho = 0.6, L = 3.0, half = 0.5, h = 1.0;
     Scene s = testing::square_light_over_plane(rho, L, half, h);
     // Camera rays only: the crex is empty, so the image is direct light at the primary hits.
-    RenderResult r = testing::render_crex(s, "", 16, 16, 0, 16);
+    RunResult r = testing::render_crex(s, "", 16, 16, 0, 16);
     double expected = rho / kPi * testing::irradiance_under_square(L, half, h);
     EXPECT_NEAR(testing::mean_luminance(r.image()) / expected, 1.0, 0.01);
 }

@@ -15,7 +15,7 @@ using testing::make_material;
 using testing::quad;
 
 TEST(ExtremeScenes, AlbedoNearOneEnclosureTerminates) {
-    RenderResult r = testing::render_crex(testing::furnace_box(0.999, 1.0), "D*", 8, 1);
+    RunResult r = testing::render_crex(testing::furnace_box(0.999, 1.0), "D*", 8, 1);
     std::vector<float> img = r.image();
     ASSERT_TRUE(testing::all_finite(img));
     // Roulette keeps it unbiased until max_depth (256) truncates: at least the first 256 terms.
@@ -71,7 +71,7 @@ TEST(ExtremeScenes, GrazingAngleGlassStaysFinite) {
     s.camera.position = {0, 1e-4, 5};
     s.camera.direction = {0, -1e-5, -1};  // skimming the glass at about 89.999 degrees
     s.camera.vfov_deg = 2;
-    RenderResult r = testing::render_crex(s, "(TRD)*", 16, 2);
+    RunResult r = testing::render_crex(s, "(TRD)*", 16, 2);
     EXPECT_TRUE(testing::all_finite(r.image()));
     for (size_t a = 0; a < kAovCount; ++a) EXPECT_TRUE(testing::all_finite(r.film.aov_image(a)));
 }
@@ -95,15 +95,15 @@ TEST(ProgressiveSampling, OneThenFifteenMoreIsExactlySixteen) {
     // samples [0, 1) and [1, 16) add up to those of a direct 16-sample render.
     Scene s = *builtin_scene("cornell_diffuse");
     sched::Program p = testing::lower_or_die("D*");
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = 12;
     o.spp = 16;
-    RenderResult all = render(s, p, o);
+    RunResult all = render(s, p, o);
     o.spp = 1;
-    RenderResult first = render(s, p, o);
+    RunResult first = render(s, p, o);
     o.first_sample = 1;
     o.spp = 15;
-    RenderResult rest = render(s, p, o);
+    RunResult rest = render(s, p, o);
     std::vector<float> a = all.image(), f = first.image(), r = rest.image();
     for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], (f[i] + 15 * r[i]) / 16, 1e-5 * std::fabs(a[i]) + 1e-7) << i;
 }

@@ -18,7 +18,7 @@ std::vector<float> bins_image(const std::string& crex, uint64_t seed) {
 }
 
 std::vector<float> oracle_image(uint64_t seed) {
-    RenderOptions o;
+    OracleOptions o;
     o.width = o.height = kSize;
     o.spp = kSpp;
     o.seed = seed;

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "compiler/crex/compile.h"
-#include "runtime/render/render.h"
+#include "runtime/driver/run_plan.h"
 #include "runtime/scene/scene.h"
 #include "runtime/scene/scene_builders.h"
 
@@ -82,9 +82,9 @@ inline sched::Program lower_or_die(const std::string& crex) {
     return *c.program;
 }
 
-inline RenderResult render_crex(const Scene& s, const std::string& crex, int size, uint32_t spp, uint64_t seed = 0,
+inline RunResult render_crex(const Scene& s, const std::string& crex, int size, uint32_t spp, uint64_t seed = 0,
                                 uint32_t shadow_rays = 1) {
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = size;
     o.spp = spp;
     o.seed = seed;

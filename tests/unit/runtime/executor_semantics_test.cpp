@@ -35,8 +35,8 @@ Scene glass_slab() {
 
 TEST(ExecutorSemantics, TTFollowsLightThroughBothGlassInterfaces) {
     Scene s = glass_slab();
-    RenderResult t = testing::render_crex(s, "T", 8, 1);
-    RenderResult tt = testing::render_crex(s, "TT", 8, 1);
+    RunResult t = testing::render_crex(s, "T", 8, 1);
+    RunResult tt = testing::render_crex(s, "TT", 8, 1);
     // Every camera ray enters the slab: T takes 64 rays; their children wait in T inside the
     // glass. TT executes those too, reaching the wall, which is then lit in the image.
     ASSERT_EQ(t.stats.steps.size(), 1u);
@@ -73,9 +73,9 @@ TEST(ExecutorSemantics, DeferredGroupHoldsSpawnedRaysBack) {
     size_t g_after_d = testing::render_crex(s, "D", 8, 2).rays_left[static_cast<size_t>(Component::kG)];
     ASSERT_GT(g_after_d, g_from_camera);
 
-    RenderResult inherit = testing::render_crex(s, "(DGS)G", 8, 2);
-    RenderResult deferred = testing::render_crex(s, "<DGS>G", 8, 2);
-    auto first_g = [](const RenderResult& r) {
+    RunResult inherit = testing::render_crex(s, "(DGS)G", 8, 2);
+    RunResult deferred = testing::render_crex(s, "<DGS>G", 8, 2);
+    auto first_g = [](const RunResult& r) {
         for (const auto& st : r.stats.steps)
             if (st.component == Component::kG) return st.rays;
         return uint64_t{0};
@@ -97,7 +97,7 @@ TEST(ExecutorSemantics, ModulationFollowsTheCeilRuleOnAStepMap) {
     const int n = 8;
     std::vector<float> importance(n * n);
     for (int p = 0; p < n * n; ++p) importance[static_cast<size_t>(p)] = (p % n) < n / 2 ? 0.3f : 0.9f;
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = n;
     o.spp = 2;
     o.executor.importance = &importance;
@@ -134,10 +134,10 @@ TEST(ExecutorSemantics, ModulationFollowsTheCeilRuleOnAStepMap) {
 TEST(ExecutorSemantics, ImportanceZeroRunsNoneAndOneRunsAll) {
     Scene s = testing::furnace_box(0.5, 0.1);
     for (double I : {0.0, 1.0}) {
-        RenderOptions o;
+        RunSettings o;
         o.width = o.height = 4;
         o.executor.constant_importance = I;
-        RenderResult r = render(s, testing::lower_or_die("{DD}"), o);
+        RunResult r = render(s, testing::lower_or_die("{DD}"), o);
         EXPECT_EQ(r.stats.steps.size(), I == 0 ? 0u : 2u) << "I = " << I;
     }
 }
@@ -159,17 +159,17 @@ Scene facing_mirrors(double reflectance) {
 TEST(ExecutorSemantics, StarTerminatesBetweenPerfectMirrorsAtTheDepthLimit) {
     // Perfect mirrors never lose weight: only max_depth (256) ends the bouncing, and '*'
     // stops at the first iteration without work, well before its cap.
-    RenderResult r = testing::render_crex(facing_mirrors(1.0), "M*", 4, 1);
+    RunResult r = testing::render_crex(facing_mirrors(1.0), "M*", 4, 1);
     EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kM)].executions, 256u);
     EXPECT_TRUE(r.warnings.empty());
     EXPECT_TRUE(testing::all_finite(r.image()));
 }
 
 TEST(ExecutorSemantics, StarTerminatesBetweenLossyMirrorsByWeight) {
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = 4;
     o.executor.shade.roulette = false;
-    RenderResult r = render(facing_mirrors(0.9), testing::lower_or_die("(M)*"), o);
+    RunResult r = render(facing_mirrors(0.9), testing::lower_or_die("(M)*"), o);
     // 0.9^k >= 1e-3 for k <= 65: 65 mirror bounces, then the weight limit drops the rays.
     EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kM)].executions, 65u);
 }
@@ -180,9 +180,9 @@ TEST(ExecutorSemantics, StarCapStopsWithW401) {
     LowerOptions lo;
     lo.star_cap = 10;
     CompiledCrex c = compile_crex(f, sink, lo);
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = 2;
-    RenderResult r = render(facing_mirrors(1.0), *c.program, o);
+    RunResult r = render(facing_mirrors(1.0), *c.program, o);
     EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kM)].executions, 10u);
     ASSERT_EQ(r.warnings.size(), 1u);
     EXPECT_NE(r.warnings[0].find("W401"), std::string::npos);
@@ -191,14 +191,14 @@ TEST(ExecutorSemantics, StarCapStopsWithW401) {
 
 TEST(ExecutorSemantics, AmbientStandsInForWaitingDiffuseRaysOnly) {
     Scene s = testing::furnace_box(0.5, 0);
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = 4;
     o.ambient = {0.2, 0.2, 0.2};
     // Camera rays only: every pixel has one D ray of weight 0.5 waiting: ambient = 0.5 * 0.2.
-    RenderResult r = render(s, testing::lower_or_die(""), o);
+    RunResult r = render(s, testing::lower_or_die(""), o);
     EXPECT_NEAR(testing::mean_luminance(r.image()), 0.1, 1e-6);
     // After D* nothing waits in D, so the ambient term has faded to zero.
-    RenderResult all = render(s, testing::lower_or_die("D*"), o);
+    RunResult all = render(s, testing::lower_or_die("D*"), o);
     EXPECT_NEAR(testing::mean_luminance(all.image()), 0.0, 1e-9);
 }
 
@@ -220,7 +220,7 @@ struct BudgetRun {
 constexpr int kBudgetSize = 32;
 
 BudgetRun run_with_budget(const Scene& s, const std::string& crex, double budget_rays) {
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = kBudgetSize;
     o.spp = 1;
     Profile profile;
@@ -230,7 +230,7 @@ BudgetRun run_with_budget(const Scene& s, const std::string& crex, double budget
     o.executor.budget_seconds = budget_rays * 1e-6;
     o.executor.clock = [&] { return fake_now; };
     o.executor.progress = [&](const std::string&, uint64_t rays) { fake_now = static_cast<double>(rays) * 1e-6; };
-    RenderResult r = render(s, testing::lower_or_die(crex), o);
+    RunResult r = render(s, testing::lower_or_die(crex), o);
     return {r.stats.steps, r.stats.skipped};
 }
 
@@ -294,13 +294,13 @@ TEST(BudgetScheduling, ThesisFigure513) {
 
 TEST(BudgetScheduling, WithoutAProfileAPilotRunsAndIsKept) {
     Scene s = testing::furnace_box(0.5, 0.1);
-    RenderOptions o;
+    RunSettings o;
     o.width = o.height = 20;  // 400 camera rays -> 400 D rays
     o.executor.chunk_rays = 10;
     Profile profile;
     o.executor.profile = &profile;
     o.executor.budget_seconds = 1e-9;  // nothing beyond the pilot fits
-    RenderResult r = render(s, testing::lower_or_die("D"), o);
+    RunResult r = render(s, testing::lower_or_die("D"), o);
     ASSERT_EQ(r.stats.steps.size(), 1u);
     EXPECT_EQ(r.stats.steps[0].rays, 10u);  // max(1 % of 400, one chunk of 10)
     EXPECT_TRUE(profile.cost(Component::kD).has_value());

@@ -1,0 +1,31 @@
+/// \file run_input.h
+/// What `crex run` executes: a crex (-e), a pipeline file, or a plan kept from `crex plan`,
+/// always as one PipelinePlan (a crex is a plan without guidance), with its scene loaded and
+/// the pipeline's settings applied to the options no flag overrode.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "apps/crex/run_options.h"
+#include "apps/crex/scene_input.h"
+#include "compiler/base/diagnostic.h"
+#include "compiler/plan/pipeline_plan.h"
+
+namespace crex::app {
+
+struct RunInput {
+    std::unique_ptr<SourceFile> source;  ///< the crex, pipeline or plan text diagnostics point into
+    PipelinePlan plan;
+    bool pipeline = false;               ///< a pipeline (file or plan), not a bare crex
+    std::string scene_spec;
+    std::unique_ptr<SceneInput> scene;
+    double load_seconds = 0;
+};
+
+/// Reads the input and its scene; diagnostics are printed. Returns an exit code on failure,
+/// std::nullopt when the run can go on.
+std::optional<int> read_run_input(RunOptions& opt, RunInput& in);
+
+}  // namespace crex::app

@@ -1,0 +1,60 @@
+/// \file run_options.h
+/// The options of `crex run` as the command line gives them (apps/crex/cmd_run.cpp defines the
+/// flags), with which of them were given: a pipeline's settings apply unless a flag says
+/// otherwise (spec/pipeline.md §7).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "compiler/sched/program.h"
+#include "runtime/driver/run_plan.h"
+
+namespace crex::app {
+
+inline constexpr const char* kDefaultCrex = "(TTMRSGD)*";
+
+struct RunOptions {
+    std::string plan;          ///< a .pipe file or a plan JSON
+    std::string scene;
+    std::string crex;
+    bool crex_given = false;
+    std::string size = "256x256";
+    uint32_t spp = 16;
+    std::vector<std::string> outputs;
+    bool components = false;
+    int threads = 0;
+    uint64_t seed = 0;
+    uint32_t shadow_rays = 1;
+    double lw = 1e-3;
+    uint32_t max_depth = 256;
+    bool no_roulette = false;
+    double ambient = 0;
+    double importance = 1;
+    uint32_t star_cap = sched::kDefaultStarCap;
+    std::string format = "text";
+    bool quiet = false;
+    std::string budget;
+    bool no_budget = false;
+    std::string profile_in;
+    std::string profile_out;
+    std::string maps_dir;
+    bool maps_beside_output = false;  ///< a pipeline's `output { maps true }`: DIR is maps/ beside the image
+    std::string reference;     ///< image path, or "auto": the cached `crex reference` of this scene and size
+    std::string report_dir;
+    double checkpoint_interval = 0.1;
+    bool ic = false;
+    double aa = 0.15;
+    uint32_t ad = 256, ab = 4;
+    std::string ic_file;
+    std::string filter = "box";
+    std::string uniform = "off";
+    double max_memory_mib = double(kDefaultMaxMemory >> 20);
+    uint32_t pass_samples = 0;
+    // Which flags were given (they override the pipeline's settings).
+    bool size_given = false, spp_given = false, seed_given = false, lw_given = false, max_depth_given = false,
+         ambient_given = false, aa_given = false, ab_given = false;
+};
+
+}  // namespace crex::app

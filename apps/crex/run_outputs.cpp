@@ -1,0 +1,128 @@
+#include "apps/crex/run_outputs.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "apps/crex/exit_codes.h"
+#include "apps/crex/run_pictures.h"
+#include "apps/crex/run_report.h"
+#include "apps/crex/run_summary.h"
+#include "compiler/plan/emit_plan.h"
+#include "compiler/plan/plan_pipeline.h"
+#include "compiler/sched/print.h"
+#include "runtime/base/atomic_file.h"
+#include "runtime/io/image_io.h"
+
+namespace crex::app {
+
+int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup& setup, const RunResult& result,
+                      const CheckpointRecorder* recorder) {
+    const RunSettings& rs = setup.settings;
+    const int width = rs.width, height = rs.height;
+    const bool guided = result.staged;
+    for (const auto& note : result.notes) std::cerr << "crex run: note: " << note << "\n";
+    for (const auto& w : result.warnings) std::cerr << w << "\n";
+    if (!opt.profile_out.empty()) {
+        auto j = nlohmann::json::parse(setup.profile.to_json_text());
+        j["full_render_seconds"] = setup.budget > 0 ? setup.full_render_seconds : result.render_seconds;
+        std::string error = write_file_atomically(opt.profile_out, j.dump(2) + "\n");
+        if (!error.empty()) {
+            std::cerr << fmt::format("crex run: error: cannot write profile '{}': {}\n", opt.profile_out, error);
+            return kExitFailure;
+        }
+    }
+
+    std::vector<ImageLayer> layers = {{"", result.image()}};
+    if (opt.components)
+        for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.aov_image(a)});
+    for (const auto& path : setup.outputs) {
+        std::error_code ec;
+        auto parent = std::filesystem::path(path).parent_path();
+        if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+        std::string error = write_image(path, width, height, layers);
+        if (!error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitFailure;
+        }
+    }
+
+    PictureSummary pictures;
+    if (!setup.maps_dir.empty()) {
+        std::string error = write_run_pictures(setup.maps_dir, result.film, guided ? &result.preview : nullptr, result.maps, pictures);
+        if (!error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitFailure;
+        }
+    }
+
+    RunFacts facts;
+    facts.scene = in.scene->scene->source;
+    facts.program = &in.plan.program;
+    facts.width = width, facts.height = height;
+    facts.spp = rs.spp;
+    facts.load_seconds = in.load_seconds;
+    facts.result = &result;
+    facts.piped = guided ? &result : nullptr;
+    facts.plan = in.pipeline ? &in.plan : nullptr;
+    facts.outputs = setup.outputs;
+    facts.budget = setup.budget;
+    facts.recorder = recorder;
+    facts.ic = rs.irradiance_cache ? &*rs.irradiance_cache : nullptr;
+    facts.ic_loaded = result.ic_loaded + rs.ic_records.size();
+    facts.maps_dir = setup.maps_dir;
+    facts.pictures = &pictures;
+    facts.report_dir = opt.report_dir;
+    nlohmann::json j = run_summary_json(facts);  // printed with --format json, and the report's
+    std::vector<CurvePoint> curve;
+    if (recorder) {
+        RunReport report;
+        report.dir = opt.report_dir;
+        report.title = fmt::format("crex run: {} on {}", in.pipeline ? "pipeline " + in.plan.name : sched::to_crex(in.plan.program),
+                                   in.scene->scene->source);
+        report.width = width, report.height = height;
+        report.checkpoints = &recorder->checkpoints();
+        report.reference = setup.reference;
+        report.reference_path = setup.reference_file;
+        report.view = {true, setup.reference ? display_exposure(setup.reference->rgb) : 1.0};
+        if (setup.budget > 0) report.budget_seconds = setup.budget;
+        report.summary = j;
+        report.images.push_back({"final image", layers.front().rgb});
+        if (guided) report.images.push_back({"preview", result.preview});
+        if (setup.reference) report.images.push_back({"reference", setup.reference->rgb});
+        for (size_t a = 0; a < kAovCount; ++a) report.images.push_back({"component " + aov_name(a), result.aov_image(a)});
+        report.maps = result.maps;
+        report.pictures = pictures.written;
+        if (in.pipeline) {
+            report.plan_dot = pipeline_plan_to_dot(in.plan);
+        } else {
+            CrexPlan cp;
+            cp.source = in.source->text();
+            cp.program = in.plan.program;
+            report.plan_dot = plan_to_dot(cp);
+        }
+        if (opt.report_dir.empty()) {  // a reference without a report: the curve only, in the summary
+            curve = error_curve(recorder->checkpoints(), *setup.reference, report.view);
+        } else if (std::string error = write_run_report(report, curve); !error.empty()) {
+            std::cerr << "crex run: error: report: " << error << "\n";
+            return kExitFailure;
+        }
+        if (!curve.empty()) {
+            j["error_curve"] = curve_json(curve);
+            j["reference"] = setup.reference_file;
+        }
+        if (!opt.report_dir.empty()) j["report"] = (std::filesystem::path(opt.report_dir) / "index.html").string();
+    }
+    if (opt.format == "json") {
+        std::cout << j.dump(2) << "\n";
+        return kExitOk;
+    }
+    if (opt.quiet) return kExitOk;
+    facts.curve = &curve;
+    facts.reference = setup.reference_file;
+    print_run_summary(facts, std::cout);
+    return kExitOk;
+}
+
+}  // namespace crex::app

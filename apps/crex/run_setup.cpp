@@ -1,0 +1,155 @@
+#include "apps/crex/run_setup.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "apps/crex/exit_codes.h"
+#include "runtime/io/image_io.h"
+#include "runtime/report/reference_cache.h"
+
+namespace crex::app {
+namespace {
+
+// "10s", "500ms" or "25%" (of the full render time in the profile).
+bool parse_budget(const std::string& text, double& value, bool& percent) {
+    std::string t = text;
+    percent = false;
+    double scale = 1;
+    if (t.size() > 2 && t.substr(t.size() - 2) == "ms") t.resize(t.size() - 2), scale = 1e-3;
+    else if (!t.empty() && t.back() == 's') t.pop_back();
+    else if (!t.empty() && t.back() == '%') t.pop_back(), percent = true;
+    else return false;  // a unit is required, as in the pipeline language
+    try {
+        size_t used = 0;
+        value = std::stod(t, &used) * scale;
+        return used == t.size() && value > 0 && std::isfinite(value) && value <= 1e7 && (!percent || value <= 1000);
+    } catch (...) {
+        return false;
+    }
+}
+
+}  // namespace
+
+bool parse_image_size(const std::string& text, int& width, int& height) {
+    size_t x = text.find_first_of("xX");
+    if (x == std::string::npos || x == 0 || x + 1 == text.size()) return false;
+    auto whole = [](const std::string& s, int& v) {
+        if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return false;
+        v = std::stoi(s);
+        return v >= 1 && v <= 16384;
+    };
+    return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
+}
+
+std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, RunSetup& setup) {
+    const Scene& scene = *in.scene->scene;
+    RunSettings& rs = setup.settings;
+    if (!parse_image_size(opt.size, rs.width, rs.height)) {
+        std::cerr << fmt::format("crex run: error: image size '{}': expected WIDTHxHEIGHT, each 1 to 16384, e.g. 512x512\n", opt.size);
+        return kExitUsage;
+    }
+    rs.spp = opt.spp;
+    rs.seed = opt.seed;
+    rs.filter = opt.filter == "gaussian" ? PixelFilter::kGaussian : PixelFilter::kBox;
+    rs.ambient = {opt.ambient, opt.ambient, opt.ambient};
+    rs.executor.shade.shadow_rays = opt.shadow_rays;
+    rs.executor.shade.weight_limit = opt.lw;
+    rs.executor.shade.max_depth = opt.max_depth;
+    rs.executor.shade.roulette = !opt.no_roulette;
+    rs.executor.constant_importance = opt.importance;
+    rs.executor.profile = &setup.profile;
+    rs.max_memory = static_cast<size_t>(opt.max_memory_mib * double(1 << 20));
+    rs.pass_samples = opt.pass_samples;
+    rs.uniform = opt.uniform == "max" ? UniformQuality::kMax : opt.uniform == "min" ? UniformQuality::kMin : UniformQuality::kOff;
+
+    // The budget and the profile it is predicted from.
+    if (!opt.profile_in.empty()) {
+        std::ifstream file(opt.profile_in);
+        std::stringstream text;
+        text << file.rdbuf();
+        if (!file) {
+            std::cerr << fmt::format("crex run: error: cannot read profile '{}'\n", opt.profile_in);
+            return kExitFailure;
+        }
+        std::string error = Profile::from_json_text(text.str(), setup.profile);
+        if (!error.empty()) {
+            std::cerr << fmt::format("crex run: error: profile '{}': {}\n", opt.profile_in, error);
+            return kExitInputErrors;
+        }
+        auto j = nlohmann::json::parse(text.str(), nullptr, false);
+        if (j.is_object()) setup.full_render_seconds = j.value("full_render_seconds", 0.0);
+    }
+    if (!opt.budget.empty() && !opt.no_budget) {
+        bool percent = false;
+        if (!parse_budget(opt.budget, setup.budget, percent)) {
+            std::cerr << fmt::format("crex run: error: --budget '{}': expected a time with its unit, e.g. 10s, 500ms or 25%\n",
+                                     opt.budget);
+            return kExitUsage;
+        }
+        if (percent) {
+            if (!(setup.full_render_seconds > 0)) {
+                std::cerr << "crex run: error: a budget in % needs the time of a full render: render once without a "
+                             "budget with --save-profile FILE, then pass --profile FILE (or --no-budget)\n";
+                return kExitUsage;
+            }
+            setup.budget = setup.budget / 100 * setup.full_render_seconds;
+        }
+    }
+    rs.executor.budget_seconds = setup.budget;
+
+    // The irradiance cache: --ic, --ic-file, or a pipeline that has one.
+    bool wants_cache = opt.ic || !opt.ic_file.empty();
+    for (const auto& n : in.plan.nodes) wants_cache |= n.id == "irradiance_cache";
+    if (wants_cache) {
+        IcSettings ics;
+        ics.accuracy = opt.aa, ics.divisions = opt.ad, ics.bounces = opt.ab;
+        ics.ambient = rs.ambient;
+        ics.seed = opt.seed;
+        rs.irradiance_cache = ics;
+        rs.ic_file = opt.ic_file;
+    }
+
+    setup.outputs = opt.outputs;
+    if (setup.outputs.empty()) setup.outputs = {"out/render.exr", "out/render.png"};
+    setup.maps_dir = opt.maps_dir;
+    if (setup.maps_dir.empty() && opt.maps_beside_output)
+        setup.maps_dir = (std::filesystem::path(setup.outputs.front()).parent_path() / "maps").string();
+
+    // The reference of the error curve: with --reference, or for a report.
+    setup.reference_file = opt.reference;
+    if (!opt.reference.empty() || !opt.report_dir.empty()) {
+        bool automatic = opt.reference.empty() || opt.reference == "auto";
+        if (automatic) {
+            ReferenceSettings ref;
+            ref.width = rs.width, ref.height = rs.height;
+            setup.reference_file = find_cached_reference(scene, ref);
+        }
+        if (!automatic || !setup.reference_file.empty()) {
+            metrics::Image img;
+            std::string error = read_image(setup.reference_file, img.width, img.height, img.rgb);
+            if (!error.empty()) {
+                std::cerr << "crex run: error: reference: " << error << "\n";
+                return kExitFailure;
+            }
+            if (img.width != rs.width || img.height != rs.height) {
+                std::cerr << fmt::format("crex run: error: the reference {} is {}x{} but the render is {}x{}\n", setup.reference_file,
+                                         img.width, img.height, rs.width, rs.height);
+                return kExitInputErrors;
+            }
+            setup.reference = std::move(img);
+        } else if (opt.reference == "auto") {
+            std::cerr << fmt::format("crex run: error: no cached reference of {} at {}x{}: make one with 'crex reference {} --size "
+                                     "{}x{}'\n",
+                                     in.scene_spec, rs.width, rs.height, in.scene_spec, rs.width, rs.height);
+            return kExitFailure;
+        }
+    }
+    return std::nullopt;
+}
+
+}  // namespace crex::app

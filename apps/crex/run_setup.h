@@ -1,0 +1,36 @@
+/// \file run_setup.h
+/// From `crex run`'s options to the driver's settings: image size, shading limits, the budget
+/// and the profile it is predicted from, the irradiance cache, the reference the error curve
+/// is measured against. Everything here is checked before a ray is traced.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "apps/crex/run_input.h"
+#include "apps/crex/run_options.h"
+#include "runtime/driver/run_plan.h"
+#include "runtime/metrics/metrics.h"
+#include "runtime/render/profile.h"
+
+namespace crex::app {
+
+struct RunSetup {
+    RunSettings settings;
+    Profile profile;                 ///< read from --profile, measured into during the run
+    double full_render_seconds = 0;  ///< the profile's, for budgets in %
+    double budget = 0;               ///< seconds, 0: none
+    std::optional<metrics::Image> reference;
+    std::string reference_file;
+    std::vector<std::string> outputs;
+    std::string maps_dir;
+};
+
+/// Fills `setup` (which must not move afterwards: the settings point into it). Returns an exit
+/// code on failure (the error printed), std::nullopt when the run can go on.
+std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, RunSetup& setup);
+
+/// "WIDTHxHEIGHT" with 1..16384 each, nothing else.
+bool parse_image_size(const std::string& text, int& width, int& height);
+
+}  // namespace crex::app

@@ -1,0 +1,542 @@
+#include "runtime/driver/run_plan.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "runtime/base/sampling.h"
+#include "runtime/driver/sample_passes.h"
+#include "runtime/pipeline/guidance_graph.h"
+#include "runtime/pipeline/pixel_probe.h"
+#include "runtime/pipeline/svt.h"
+#include "runtime/render/render_scene.h"
+
+namespace crex {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Memory model of a pass: a camera sample in flight is its ray, its hit and shading buffers
+// and the children it leaves in the bins. Before passes, 512x512 at 16 spp of (TTMRSGD)* on
+// builtin:cornell peaked at 1.51 GB for 4.2 M samples (~360 bytes each); 512 leaves room for
+// the allocator's slack (at 400, 64 spp peaked at 1.10 GB under a 1 GiB limit; at 512, 0.87 GB).
+constexpr size_t kBytesPerSample = 512;
+// The process without any rays: code, Embree's and TBB's arenas, the images being written.
+constexpr size_t kBaselineBytes = size_t{96} << 20;
+// Film: 7 AOVs and the emission of doubles, sample and ray counts, component bits, the
+// ambient buffer.
+constexpr size_t kFilmBytesPerPixel = 8 * 3 * 8 + 4 + 4 + 1 + 3 * 8;
+// The images made after the render (composite, layers, tone-mapped copies).
+constexpr size_t kOutputBytesPerPixel = 3 * 12;
+// A triangle: its vertices and normal here, Embree's copy and BVH nodes.
+constexpr size_t kBytesPerTriangle = 256;
+// Guidance: the preview, nine linear buffers, maps and their intermediates.
+constexpr size_t kGuidanceBytesPerPixel = 12 * 12 + 16 * 4;
+
+// The map node feeding `id` through an edge of kind "map" (with `label`, if given); "" if none.
+std::string map_feeding(const PipelinePlan& plan, const std::string& id, const std::string& label = "") {
+    for (const PlanEdge* e : edges_into(plan, id))
+        if (e->kind == "map" && (label.empty() || e->label == label)) return e->from;
+    return "";
+}
+
+bool needs_probe(const PipelinePlan& plan) {
+    for (const auto& n : plan.nodes) {
+        std::string op = n.params.value("operator", std::string());
+        if (op == "task_map" || op == "distractors" || op == "xmap") return true;
+    }
+    return false;
+}
+
+std::vector<float> map_values(const guidance::Raster& r, size_t pixels) {
+    if (r.channels != 1 || r.pixels() != pixels) throw std::runtime_error("a map does not have the image's size");
+    return r.v;
+}
+
+/// The per-pixel values the svt gives the selective stage.
+struct SelectiveSetup {
+    ShadeParams shade;
+    std::vector<uint32_t> spp_end;  ///< per pixel: sample index to end at (<= preview spp: none added)
+    std::vector<uint16_t> shadow_rays;
+    std::vector<float> specular_threshold;
+    std::vector<float> ic_accuracy, ic_priority;
+    std::vector<float> modulation;  ///< I(p) of `{ }`
+};
+
+class PlanRun {
+public:
+    PlanRun(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings)
+        : scene_(scene), plan_(plan), s_(settings), out_(settings.width, settings.height) {}
+
+    RunResult execute();
+
+private:
+    // A stage's camera samples in passes: pixel p gets samples [start, end_of[p]) (end_of
+    // empty: [start, end) for every pixel); each pass then runs `programs` over its bins.
+    void run_samples(const std::string& stage, uint32_t start, uint32_t end, const std::vector<uint32_t>& end_of,
+                     const std::function<void()>& after_camera_rays);
+    void trace_camera_rays(const SamplePass& pass, uint32_t start, const std::vector<uint32_t>& end_of);
+    void flush_bins();  // rays left at the end of a pass: D stands in as ambient, the rest dropped
+    std::vector<float> snapshot() const;
+    size_t pass_bytes(size_t held_bytes) const;
+    void report_progress(const std::string& step);
+    void stage_end(const std::string& what, const std::string& next);
+    double now() const { return clock_(); }
+
+    void setup_cache();
+    void save_cache();
+    SelectiveSetup guidance();
+    void reanswer_preview_queries(const SelectiveSetup& sel);
+
+    const Scene& scene_;
+    const PipelinePlan& plan_;
+    const RunSettings& s_;
+    RunResult out_;
+    std::optional<RenderScene> rs_;
+    std::optional<CameraRays> camera_;
+    std::optional<Executor> ex_;
+    std::function<double()> clock_;
+    std::vector<double> ambient_;  // av of D rays dropped at the end of passes
+    std::array<RayBatch, kComponentCount> carried_;  // the preview's rays waiting for the selective crex
+    std::optional<IrradianceCache> cache_;
+    std::vector<IcAnswer> preview_answers_;
+    double base_aa_ = 0;
+    // Progress within the running stage.
+    RunProgress progress_;
+    uint64_t stage_samples_ = 0, stage_samples_done_ = 0;
+    Clock::time_point stage_start_ = Clock::now();
+};
+
+size_t PlanRun::pass_bytes(size_t held_bytes) const {
+    // A model, not a measurement of the process, so that the passes (and so the order of the
+    // film's sums) are the same on every run: what the process holds (scene, film, carried
+    // rays) and what is still to come (guidance's buffers, the output images).
+    const size_t pixels = out_.film.pixel_count();
+    size_t used = kBaselineBytes + pixels * (kFilmBytesPerPixel + kOutputBytesPerPixel) + held_bytes;
+    if (out_.staged && out_.preview.empty()) used += pixels * kGuidanceBytesPerPixel;
+    for (const auto& g : rs_->embree->geometries()) used += g.indices.size() * kBytesPerTriangle;
+    // At least one row of samples, whatever the limit says: a pass cannot be smaller.
+    size_t row = static_cast<size_t>(s_.width) * kBytesPerSample;
+    return s_.max_memory > used + row ? s_.max_memory - used : row;
+}
+
+void PlanRun::report_progress(const std::string& step) {
+    if (!s_.progress) return;
+    progress_.step = step;
+    progress_.stage_seconds = seconds_since(stage_start_);
+    progress_.fraction = stage_samples_ ? double(stage_samples_done_) / double(stage_samples_) : 0;
+    progress_.rays = ex_ ? ex_->rays_done() : 0;
+    s_.progress(progress_);
+}
+
+void PlanRun::trace_camera_rays(const SamplePass& pass, uint32_t start, const std::vector<uint32_t>& end_of) {
+    const size_t w = static_cast<size_t>(s_.width);
+    const size_t p0 = static_cast<size_t>(pass.row_begin) * w, p1 = static_cast<size_t>(pass.row_end) * w;
+    const uint32_t first = std::max(start, pass.first);
+    auto samples_of = [&](size_t p) -> uint32_t {
+        uint32_t end = std::min(pass.end, end_of.empty() ? pass.end : end_of[p]);
+        return end > first ? end - first : 0;
+    };
+    // Each pixel's rays go to a fixed place, so they can be made in parallel and in order.
+    std::vector<uint64_t> at(p1 - p0 + 1, 0);
+    for (size_t p = p0; p < p1; ++p) at[p - p0 + 1] = at[p - p0] + samples_of(p);
+    RayBatch rays;
+    rays.resize(at.back());
+    tbb::parallel_for(tbb::blocked_range<size_t>(p0, p1, 256), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+            const uint32_t n = samples_of(p);
+            for (uint32_t k = 0; k < n; ++k) {
+                RayRecord r = camera_ray(*camera_, s_.seed, s_.width, static_cast<uint32_t>(p), first + k, s_.filter);
+                rays.write(at[p - p0] + k, &r, 1);
+            }
+        }
+    });
+    for (size_t p = p0; p < p1; ++p)
+        if (uint32_t n = samples_of(p)) out_.film.add_samples(static_cast<uint32_t>(p), n);
+    ex_->run_camera_rays(rays);
+}
+
+void PlanRun::flush_bins() {
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        RayBatch& bin = ex_->bins()[c];
+        if (c == static_cast<size_t>(Component::kD)) add_ambient(bin, s_.ambient, ambient_);
+        out_.rays_left[c] += bin.size();
+        bin = RayBatch();  // freed: bins kept at their largest would add up over passes
+    }
+}
+
+std::vector<float> PlanRun::snapshot() const {
+    std::vector<double> ambient = ambient_;
+    add_ambient(ex_->bins()[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
+    add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
+    std::vector<float> rgb = out_.film.composite(&ambient);
+    if (out_.subsample) out_.subsample->fill(rgb);
+    return rgb;
+}
+
+void PlanRun::stage_end(const std::string& what, const std::string& next) {
+    if (!s_.recorder) return;
+    s_.recorder->event(what, true, ex_->rays_done(), [this] { return snapshot(); }, true);
+    s_.recorder->set_stage(next);
+}
+
+void PlanRun::run_samples(const std::string& stage, uint32_t start, uint32_t end, const std::vector<uint32_t>& end_of,
+                          const std::function<void()>& after_camera_rays) {
+    PassLimits limits;
+    size_t held = 0;
+    for (const RayBatch& b : carried_) held += b.size() * kBytesPerSample / 2;
+    limits.bytes = pass_bytes(held);
+    limits.bytes_per_sample = kBytesPerSample;
+    limits.max_samples = s_.pass_samples;
+    std::vector<SamplePass> passes = plan_sample_passes(s_.width, s_.height, start, end, end_of, limits);
+    progress_ = {};
+    progress_.stage = stage;
+    progress_.passes = passes.size();
+    stage_samples_ = 0, stage_samples_done_ = 0;
+    stage_start_ = Clock::now();
+    for (const auto& p : passes) stage_samples_ += p.samples;
+    for (size_t i = 0; i < passes.size(); ++i) {
+        progress_.pass = i + 1;
+        report_progress("camera rays");
+        trace_camera_rays(passes[i], start, end_of);
+        after_camera_rays();
+        stage_samples_done_ += passes[i].samples;
+        ++out_.passes;
+    }
+    report_progress("");
+}
+
+void PlanRun::setup_cache() {
+    IcSettings ics = *s_.irradiance_cache;
+    base_aa_ = ics.accuracy;
+    if (const PlanNode* v = find_node(plan_, "vary.ic_radius")) {
+        // The preview uses the accuracy where the map is 0 (spec: `from`); the selective stage refines.
+        auto from = plan_number(v->params.value("from", std::string()));
+        auto to = plan_number(v->params.value("to", std::string()));
+        if (!from || !to) throw RunInputError(v->label + ": malformed bounds");
+        base_aa_ = *from;
+        ics.accuracy = *from;
+        ics.max_accuracy = std::max({*from, *to, ics.accuracy});
+    }
+    cache_.emplace(*rs_, ics);
+    for (const auto& r : s_.ic_records) cache_->insert(r);
+    if (!s_.ic_file.empty() && std::filesystem::exists(s_.ic_file)) {
+        size_t before = cache_->records().size();
+        std::string error = cache_->load(s_.ic_file);  // records are validated against the scene's extent
+        if (!error.empty()) throw RunInputError("irradiance cache: " + error);
+        out_.ic_loaded = cache_->records().size() - before;
+    }
+}
+
+void PlanRun::save_cache() {
+    out_.ic_records = cache_->records();
+    out_.ic_stats = cache_->stats();
+    if (s_.ic_file.empty()) return;
+    std::string error = cache_->save(s_.ic_file);
+    if (!error.empty()) throw std::runtime_error("cannot save the irradiance cache: " + error);
+}
+
+SelectiveSetup PlanRun::guidance() {
+    const int w = s_.width, h = s_.height;
+    const size_t pixels = out_.film.pixel_count();
+    const Film& film = out_.film;
+    const uint32_t s0 = s_.spp;
+    SelectiveSetup sel;
+    sel.shade = s_.executor.shade;
+    sel.spp_end.assign(pixels, s0);
+    if (const PlanNode* n = find_node(plan_, "selective"); n && n->params.contains("spp"))
+        std::fill(sel.spp_end.begin(), sel.spp_end.end(), static_cast<uint32_t>(std::clamp(n->params["spp"].get<double>(), double(s0), double(1u << 20))));
+
+    // The maps: computed by the guidance graph, or constant under --uniform.
+    std::optional<GuidanceGraph> graph;
+    std::optional<guidance::Raster> constant;
+    if (s_.uniform != UniformQuality::kOff) {
+        guidance::Raster r;
+        r.width = w, r.height = h, r.channels = 1;
+        r.v.assign(pixels, s_.uniform == UniformQuality::kMax ? 1.0f : 0.0f);
+        constant = std::move(r);
+    } else {
+        std::vector<double> preview_ambient = ambient_;
+        add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
+        GuidanceInputs in;
+        in.width = w, in.height = h;
+        in.preview = out_.preview;
+        in.scene = &scene_;
+        std::vector<float> camera_aov = film.aov_image(kCameraAov), emission = film.emission_image();
+        for (size_t i = 0; i < camera_aov.size(); ++i) camera_aov[i] = std::max(0.0f, camera_aov[i] - emission[i]);
+        in.buffers["direct"] = std::move(camera_aov);
+        in.buffers["emission"] = std::move(emission);
+        std::vector<float> a(3 * pixels, 0.0f);
+        for (uint32_t p = 0; p < pixels; ++p)
+            for (size_t c = 0; c < 3; ++c)
+                a[3 * p + c] = film.samples(p) ? static_cast<float>(preview_ambient[3 * p + c] / film.samples(p)) : 0.0f;
+        in.buffers["ambient"] = std::move(a);
+        for (size_t c = 0; c < kComponentCount; ++c)
+            in.buffers[std::string(1, kComponentTable[c].letter)] = film.aov_image(aov_of(static_cast<Component>(c)));
+        PixelProbe probe;
+        if (needs_probe(plan_)) {
+            probe = probe_pixels(*rs_, w, h);
+            in.probe = &probe;
+        }
+        graph.emplace(plan_, std::move(in));
+        for (const auto& n : plan_.nodes)
+            if (n.kind == "operator" && n.id.rfind("map.", 0) == 0) out_.maps.push_back({n.id.substr(4), graph->map(n.id)});
+    }
+    auto map_of = [&](const std::string& id) -> const guidance::Raster& {
+        if (constant) return *constant;
+        const guidance::Raster& r = graph->map(id);
+        if (id.rfind("map.", 0) != 0) out_.maps.push_back({id, r});  // an inline map: shown under its node id
+        return r;
+    };
+
+    for (const auto& n : plan_.nodes) {
+        if (n.kind != "svt") continue;
+        std::string var = n.id.substr(5);  // "vary.spp"
+        std::string by = map_feeding(plan_, n.id);
+        if (by.empty()) throw RunInputError(n.label + ": no map");
+        auto from = plan_number(n.params.value("from", std::string()));
+        auto to = plan_number(n.params.value("to", std::string()));
+        std::string fn = n.params.value("using", std::string());
+        if (!from || !to) throw RunInputError(n.label + ": malformed bounds");
+        if (!modulate(fn, 0)) throw RunInputError(fmt::format("{}: unknown modulation function '{}'", n.label, fn));
+        std::vector<float> m = map_values(map_of(by), pixels);
+        if (var == "spp") {
+            auto v = variable_values(*from, *to, fn, m, true);
+            for (size_t p = 0; p < pixels; ++p) sel.spp_end[p] = static_cast<uint32_t>(std::clamp(v[p], 1.0, double(1u << 20)));
+        } else if (var == "shadow_rays") {
+            auto v = variable_values(*from, *to, fn, m, true);
+            sel.shadow_rays.resize(pixels);
+            uint32_t mx = 1;
+            for (size_t p = 0; p < pixels; ++p) {
+                sel.shadow_rays[p] = static_cast<uint16_t>(std::clamp(v[p], 1.0, 1024.0));
+                mx = std::max<uint32_t>(mx, sel.shadow_rays[p]);
+            }
+            sel.shade.shadow_rays = mx;
+        } else if (var == "specular_threshold") {
+            auto v = variable_values(*from, *to, fn, m, false);
+            sel.specular_threshold.assign(v.begin(), v.end());
+        } else if (var == "subsample") {
+            out_.subsample.emplace(w, h, variable_values(*from, *to, fn, m, true));
+        } else if (var == "ic_radius") {
+            if (!cache_) {
+                out_.notes.push_back("ic_radius is not executed: the render has no irradiance cache");
+                continue;
+            }
+            auto v = variable_values(*from, *to, fn, m, false);
+            sel.ic_accuracy.assign(v.begin(), v.end());
+            sel.ic_priority = m;
+        } else if (var == "media_samples") {
+            out_.notes.push_back("media_samples is not executed: the renderer has no participating media yet");
+        } else {
+            throw RunInputError("this runtime cannot vary '" + var + "'");
+        }
+    }
+    std::string modulation_map = map_feeding(plan_, "selective", "{ } modulation");
+    if (!modulation_map.empty()) sel.modulation = map_values(map_of(modulation_map), pixels);
+    if (out_.subsample)
+        for (size_t p = 0; p < pixels; ++p)
+            if (!out_.subsample->rendered(static_cast<uint32_t>(p))) sel.spp_end[p] = 0;
+    return sel;
+}
+
+void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
+    // The preview's D samples of pixels that now ask for a finer accuracy are answered again,
+    // important pixels first; the old answer's light is taken back out of the film.
+    if (sel.ic_accuracy.empty()) return;
+    std::vector<IcQuery> again;
+    std::vector<const IcAnswer*> from;
+    for (const auto& a : preview_answers_) {
+        uint32_t p = a.query.pixel;
+        if (!(sel.ic_accuracy[p] < a.accuracy - 1e-9)) continue;
+        again.push_back({a.query.origin, normalize_or_zero(a.query.direction), sel.ic_accuracy[p], sel.ic_priority[p], a.query.path});
+        from.push_back(&a);
+    }
+    std::vector<Vec3> e;
+    cache_->irradiance(again, 0, e);
+    for (size_t i = 0; i < again.size(); ++i) {
+        Vec3 delta = from[i]->query.beta * (e[i] - from[i]->irradiance) / kPi;
+        if (is_finite(delta)) out_.film.add(aov_of(Component::kD), from[i]->query.pixel, delta);
+    }
+    out_.ic_reprocessed = again.size();
+    preview_answers_.clear();
+    preview_answers_.shrink_to_fit();
+}
+
+RunResult PlanRun::execute() {
+    auto t_setup = Clock::now();
+    rs_.emplace(scene_);
+    out_.setup_seconds = seconds_since(t_setup);
+    const size_t pixels = out_.film.pixel_count();
+    ambient_.assign(3 * pixels, 0.0);
+    // A pipeline runs in stages (its preview is kept and shown); a bare crex runs each pass
+    // through both programs.
+    out_.staged = !plan_.nodes.empty();
+    if (s_.uniform != UniformQuality::kOff && !has_guidance(plan_))
+        out_.notes.push_back("--uniform has no effect: the plan varies nothing");
+
+    // One clock from the first camera ray for every stage (spec §7); reports pause it while
+    // they copy snapshots.
+    const auto t0 = Clock::now();
+    CheckpointRecorder* rec = s_.recorder;
+    ExecutorOptions eo = s_.executor;
+    if (rec) {
+        rec->start();
+        clock_ = [rec] { return rec->now(); };
+    } else if (eo.clock) {
+        clock_ = eo.clock;
+    } else {
+        clock_ = [t0] { return seconds_since(t0); };
+    }
+    eo.clock = clock_;
+    if (rec) eo.checkpoint = [this, rec](const std::string& what, bool boundary) {
+        rec->event(what, boundary, ex_->rays_done(), [this] { return snapshot(); });
+    };
+    eo.progress = [this](const std::string& what, uint64_t rays) {
+        if (s_.executor.progress) s_.executor.progress(what, rays);
+        report_progress(what);
+    };
+    if (s_.irradiance_cache) {
+        setup_cache();
+        eo.shade.ic_queries = true;
+        eo.irradiance = executor_hook(*cache_, base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance,
+                                      out_.staged ? &preview_answers_ : nullptr);
+    }
+    ex_.emplace(*rs_, out_.film, eo);
+    camera_.emplace(scene_.camera, s_.width, s_.height, rs_->embree->origin_offset());
+    const sched::Program& program = plan_.program;
+
+    if (!out_.staged) {
+        // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
+        run_samples("render", s_.first_sample, s_.first_sample + s_.spp, {}, [&] {
+            if (rec) rec->set_stage("preselective");
+            ex_->run(program.preselective);
+            if (rec) {
+                rec->event("end of the pre-selective crex", true, ex_->rays_done(), [this] { return snapshot(); }, true);
+                rec->set_stage("selective");
+            }
+            ex_->run(program.selective);
+            flush_bins();
+        });
+        if (rec) {
+            rec->set_stage("end");
+            rec->event("end of render", true, ex_->rays_done(), [this] { return snapshot(); }, true);
+        }
+    } else {
+        // 1. Pre-selective: the rays each pass leaves waiting are carried to the selective stage.
+        run_samples("pre-selective", 0, s_.spp, {}, [&] {
+            ex_->run(program.preselective);
+            for (size_t c = 0; c < kComponentCount; ++c) {
+                RayBatch& bin = ex_->bins()[c];
+                carried_[c].append(bin, 0, bin.size());
+                bin.clear();
+            }
+        });
+        {
+            std::vector<double> preview_ambient = ambient_;
+            add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
+            out_.preview = out_.film.composite(&preview_ambient);
+        }
+        out_.preview_seconds = seconds_since(t0);
+        out_.preview_rays = total_rays(ex_->stats());
+        if (cache_) out_.ic_preview_records = cache_->records().size();
+        stage_end("end of the pre-selective stage", "guidance");
+
+        // 2. Guidance and the svt.
+        auto t_guidance = Clock::now();
+        progress_ = {};
+        progress_.stage = "guidance";
+        report_progress("maps");
+        SelectiveSetup sel = guidance();
+        out_.guidance_seconds = seconds_since(t_guidance);
+        stage_end("end of guidance", "selective");
+
+        // 3. Selective.
+        auto t_selective = Clock::now();
+        ShadeParams shade = sel.shade;
+        if (!sel.shadow_rays.empty()) shade.shadow_rays_per_pixel = &sel.shadow_rays;
+        if (!sel.specular_threshold.empty()) shade.specular_threshold_per_pixel = &sel.specular_threshold;
+        ex_->set_shade_params(shade);
+        if (cache_) {
+            size_t before = cache_->records().size();
+            reanswer_preview_queries(sel);
+            out_.ic_selective_records = cache_->records().size() - before;
+            ex_->set_irradiance(executor_hook(*cache_, base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
+                                              sel.ic_priority.empty() ? nullptr : &sel.ic_priority));
+        }
+        const std::vector<float>* base_importance = s_.executor.importance;
+        const std::vector<float>* modulation = sel.modulation.empty() ? base_importance : &sel.modulation;
+        auto run_selective = [&] {
+            ex_->set_importance(modulation);
+            ex_->run(program.selective);
+            ex_->set_importance(base_importance);
+            flush_bins();
+        };
+        // The preview's waiting rays first, then the new samples pass by pass.
+        for (size_t c = 0; c < kComponentCount; ++c) std::swap(ex_->bins()[c], carried_[c]);
+        run_selective();
+        for (RayBatch& b : carried_) b = RayBatch();
+        run_samples("selective", s_.spp, 0, sel.spp_end, [&] {
+            ex_->run(program.preselective);
+            run_selective();
+        });
+        out_.selective_seconds = seconds_since(t_selective);
+        out_.selective_rays = total_rays(ex_->stats()) - out_.preview_rays;
+        if (cache_) out_.ic_selective_records = cache_->records().size() - out_.ic_preview_records;
+        stage_end("end of render", "end");
+    }
+
+    out_.ambient = std::move(ambient_);
+    out_.stats = ex_->stats();
+    // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.
+    std::set<std::string> said;
+    for (const auto& w : ex_->warnings())
+        if (said.insert(w).second) out_.warnings.push_back(w);
+    out_.render_seconds = clock_();
+    if (cache_) save_cache();
+    return std::move(out_);
+}
+
+}  // namespace
+
+bool has_guidance(const PipelinePlan& plan) {
+    for (const auto& n : plan.nodes)
+        if (n.kind == "operator" || n.kind == "svt") return true;
+    return false;
+}
+
+uint64_t total_rays(const ExecutorStats& stats) {
+    uint64_t n = stats.camera.rays;
+    for (const auto& c : stats.components) n += c.rays;
+    return n;
+}
+
+std::vector<float> RunResult::image() const {
+    std::vector<float> rgb = film.composite(&ambient);
+    if (subsample) subsample->fill(rgb);
+    return rgb;
+}
+
+std::vector<float> RunResult::aov_image(size_t aov) const {
+    std::vector<float> rgb = film.aov_image(aov);
+    if (subsample) subsample->fill(rgb);
+    return rgb;
+}
+
+RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings) {
+    return PlanRun(scene, plan, settings).execute();
+}
+
+RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings) {
+    PipelinePlan plan;
+    plan.program = program;
+    return run_plan(scene, plan, settings);
+}
+
+}  // namespace crex

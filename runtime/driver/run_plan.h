@@ -1,0 +1,131 @@
+/// \file run_plan.h
+/// The one render driver (spec/pipeline.md §1, §4): run_plan() executes a plan on one Embree
+/// scene in stages, camera -> pre-selective -> guidance -> selective. A plain crex run is a
+/// plan without guidance: its samples run both programs pass after pass.
+///  1. pre-selective: camera samples [0, spp) in sample passes, each running the pre-selective
+///     crex over its own bins; the composite is the preview, the AOVs are the buffers guidance
+///     reads. The rays left waiting are carried over to the selective stage.
+///  2. guidance: every map of the plan, by the stdlib operators.
+///  3. selective: the svt gives each pixel its variables. The carried-over rays run the
+///     selective crex first; then pixels whose `spp` exceeds the preview's get new camera
+///     samples in passes, continuing the preview's Halton sequence, each pass running the
+///     pre-selective and then the selective crex with per-pixel shadow rays and specular
+///     threshold, `{ }` modulated by its map. The preview's samples are kept: nothing is
+///     rendered twice.
+/// Sample passes keep memory bounded (issue 13): a pass holds at most `max_memory` worth of
+/// rays, and when one sample of every pixel is over that, a pass covers a band of rows. Every
+/// random number of a path is keyed by its pixel and sample index, so the image does not
+/// depend on the pass size or the thread count beyond the order of the film's sums (and, with
+/// an irradiance cache, on the order records are made in).
+/// With an irradiance cache, D is interpolated; `ic_radius` varies its accuracy per pixel (the
+/// progressive selective cache, thesis 8.2). With `subsample` varied, only the corners of the
+/// adaptive grid get selective samples, and the other pixels are interpolated from them.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "compiler/plan/pipeline_plan.h"
+#include "runtime/cache/irradiance_cache.h"
+#include "runtime/pipeline/subsample.h"
+#include "runtime/render/camera_samples.h"
+#include "runtime/render/executor.h"
+#include "runtime/render/film.h"
+#include "runtime/report/checkpoints.h"
+#include "runtime/scene/scene.h"
+#include "stdlib/guidance/raster.h"
+
+namespace crex {
+
+/// `--uniform`: every selective variable at its base (min) or its maximum (max) in every
+/// pixel, as if every map were 0 or 1; guidance is not computed. `max` is a pipeline's own gold.
+enum class UniformQuality { kOff, kMin, kMax };
+
+/// What the driver is doing, for a progress line.
+struct RunProgress {
+    std::string stage;        ///< "render", "pre-selective", "guidance", "selective"
+    size_t pass = 0, passes = 0;  ///< 1-based pass within the stage
+    double fraction = 0;      ///< of the stage's camera samples traced so far
+    double stage_seconds = 0; ///< since the stage began
+    uint64_t rays = 0;        ///< rays executed since the first camera ray
+    std::string step;         ///< the crex step running
+};
+
+inline constexpr size_t kDefaultMaxMemory = size_t{1} << 30;
+
+struct RunSettings {
+    int width = 128, height = 128;
+    /// Camera samples per pixel: of a plain crex run all of them, of a pipeline the preview's.
+    uint32_t spp = 1;
+    uint32_t first_sample = 0;  ///< a plain crex run renders samples [first_sample, first_sample + spp)
+    uint64_t seed = 0;
+    PixelFilter filter = PixelFilter::kBox;
+    Vec3 ambient{0, 0, 0};      ///< `av`: radiance standing in for unexecuted D work
+    ExecutorOptions executor;   ///< base-quality shading, budget, profile
+    CheckpointRecorder* recorder = nullptr;      ///< reports: image snapshots during the render
+    std::optional<IcSettings> irradiance_cache;  ///< D through a Ward irradiance cache
+    std::vector<IrradianceRecord> ic_records;    ///< records to start from
+    std::string ic_file;        ///< with a cache: load records from it if it exists, save them there at the end
+    size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
+    uint32_t pass_samples = 0;  ///< samples per pixel per pass at most (0: as many as fit)
+    UniformQuality uniform = UniformQuality::kOff;
+    std::function<void(const RunProgress&)> progress;
+};
+
+/// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot
+/// execute): the user's to fix (exit 1), unlike runtime failures (std::runtime_error, exit 3).
+struct RunInputError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct RunResult {
+    RunResult(int width, int height) : film(width, height) {}
+    Film film;
+    std::vector<double> ambient;   ///< per pixel RGB, sample-summed: av for D rays never executed
+    ExecutorStats stats;
+    std::vector<std::string> warnings;
+    std::vector<std::string> notes;  ///< what the runtime did not execute, and why
+    double setup_seconds = 0;      ///< Embree scene and BVH build
+    double render_seconds = 0;     ///< from the first camera ray
+    std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end of passes, per bin
+    size_t passes = 0;             ///< sample passes over all stages
+    std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
+    IcStats ic_stats;
+    size_t ic_loaded = 0;          ///< records read from `ic_file`
+
+    // Pipelines: they run in stages.
+    bool staged = false;
+    std::vector<float> preview;    ///< linear RGB at the end of the pre-selective stage
+    std::vector<std::pair<std::string, guidance::Raster>> maps;  ///< name ("sal", or a node id), map
+    std::optional<SubsampleGrid> subsample;
+    double preview_seconds = 0, guidance_seconds = 0, selective_seconds = 0;
+    /// The progressive selective cache (thesis 8.2): records made in the preview, preview D
+    /// samples answered again at a finer accuracy in the selective stage, records made then.
+    size_t ic_preview_records = 0, ic_reprocessed = 0, ic_selective_records = 0;
+    uint64_t preview_rays = 0, selective_rays = 0;
+
+    /// The final image: the composite plus the ambient stand-in, sub-sampled pixels interpolated.
+    std::vector<float> image() const;
+    /// One AOV of the final image, interpolated like it.
+    std::vector<float> aov_image(size_t aov) const;
+};
+
+/// Executes `plan` on `scene`. Throws RunInputError for input it cannot use and
+/// std::runtime_error for runtime failures (Embree, I/O of the cache file).
+RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings);
+
+/// A plain crex run: the plan of `program` without guidance.
+RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings);
+
+/// Does the plan have anything beyond two crex stages (maps, variables)?
+bool has_guidance(const PipelinePlan& plan);
+
+/// Rays executed in total (camera rays and every component's).
+uint64_t total_rays(const ExecutorStats& stats);
+
+}  // namespace crex

@@ -1,0 +1,34 @@
+/// \file sample_passes.h
+/// Splitting a stage's camera samples into passes that fit a memory limit (issue 13). A pass
+/// traces samples [first, end) of every pixel of rows [row_begin, row_end) that asks for them
+/// and runs the crex over its own bins to the end; the film accumulates. Because every random
+/// number of a path is keyed by its pixel and sample index, the image does not depend on how
+/// the samples are split, up to the order of the film's sums.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace crex {
+
+struct SamplePass {
+    uint32_t first = 0, end = 0;  ///< sample indices [first, end)
+    int row_begin = 0, row_end = 0;
+    uint64_t samples = 0;         ///< camera samples this pass traces
+};
+
+struct PassLimits {
+    size_t bytes = 0;             ///< memory the passes' rays may take; 0: one pass
+    size_t bytes_per_sample = 0;  ///< what one camera sample and its rays in flight take
+    uint32_t max_samples = 0;     ///< samples per pixel per pass at most (0: no limit; tests)
+};
+
+/// The passes for pixel p's samples [first, end_of[p]) (end_of empty: every pixel ends at
+/// `end`). Passes go over sample indices, as many per pass as fit; when even one sample index
+/// of every pixel does not fit, a pass covers a band of rows instead. The passes cover every
+/// requested sample exactly once; none is empty.
+std::vector<SamplePass> plan_sample_passes(int width, int height, uint32_t first, uint32_t end,
+                                           const std::vector<uint32_t>& end_of, const PassLimits& limits);
+
+}  // namespace crex
