@@ -1,0 +1,93 @@
+// Splitting camera samples into passes (issue 13): every requested sample exactly once, no
+// pass over its memory, bands of rows when one sample of every pixel does not fit.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "runtime/driver/sample_passes.h"
+
+namespace crex {
+namespace {
+
+// How often each (pixel, sample) is covered by the passes.
+std::map<std::pair<size_t, uint32_t>, int> coverage(int w, int h, uint32_t first, uint32_t end, const std::vector<uint32_t>& end_of,
+                                                    const std::vector<SamplePass>& passes) {
+    std::map<std::pair<size_t, uint32_t>, int> seen;
+    for (const auto& p : passes) {
+        uint64_t n = 0;
+        for (int y = p.row_begin; y < p.row_end; ++y)
+            for (int x = 0; x < w; ++x) {
+                size_t px = static_cast<size_t>(y) * w + x;
+                uint32_t e = end_of.empty() ? end : end_of[px];
+                for (uint32_t k = std::max(first, p.first); k < std::min(p.end, e); ++k) ++seen[{px, k}], ++n;
+            }
+        EXPECT_EQ(n, p.samples);
+        EXPECT_GT(p.samples, 0u);
+    }
+    (void)h;
+    return seen;
+}
+
+void expect_exact_cover(int w, int h, uint32_t first, uint32_t end, const std::vector<uint32_t>& end_of,
+                        const std::vector<SamplePass>& passes) {
+    auto seen = coverage(w, h, first, end, end_of, passes);
+    size_t want = 0;
+    for (size_t p = 0; p < static_cast<size_t>(w) * h; ++p) {
+        uint32_t e = end_of.empty() ? end : end_of[p];
+        for (uint32_t k = first; k < e; ++k) {
+            ++want;
+            ASSERT_EQ((seen[{p, k}]), 1) << "pixel " << p << " sample " << k;
+        }
+    }
+    EXPECT_EQ(seen.size(), want);
+}
+
+TEST(SamplePasses, WithoutALimitOnePassHoldsEverySample) {
+    auto passes = plan_sample_passes(8, 4, 0, 16, {}, {});
+    ASSERT_EQ(passes.size(), 1u);
+    EXPECT_EQ(passes[0].samples, 8u * 4 * 16);
+    expect_exact_cover(8, 4, 0, 16, {}, passes);
+}
+
+TEST(SamplePasses, AMemoryLimitSplitsSampleIndicesAndNoPassExceedsIt) {
+    PassLimits limits{8 * 4 * 3 * 100, 100, 0};  // three samples of every pixel
+    auto passes = plan_sample_passes(8, 4, 2, 16, {}, limits);
+    ASSERT_EQ(passes.size(), 5u);  // 14 samples in passes of 3
+    for (const auto& p : passes) EXPECT_LE(p.samples * limits.bytes_per_sample, limits.bytes);
+    expect_exact_cover(8, 4, 2, 16, {}, passes);
+}
+
+TEST(SamplePasses, FixedSamplesPerPass) {
+    auto passes = plan_sample_passes(5, 3, 0, 7, {}, {0, 0, 3});
+    ASSERT_EQ(passes.size(), 3u);
+    EXPECT_EQ(passes[0].end - passes[0].first, 3u);
+    EXPECT_EQ(passes[2].end - passes[2].first, 1u);
+    expect_exact_cover(5, 3, 0, 7, {}, passes);
+}
+
+TEST(SamplePasses, BandsOfRowsWhenOneSampleOfEveryPixelIsTooMuch) {
+    PassLimits limits{10 * 3 * 64, 64, 0};  // three rows of ten pixels
+    auto passes = plan_sample_passes(10, 8, 0, 2, {}, limits);
+    ASSERT_EQ(passes.size(), 6u);  // two sample indices, each in bands of 3, 3 and 2 rows
+    for (const auto& p : passes) {
+        EXPECT_EQ(p.end - p.first, 1u);
+        EXPECT_LE(p.row_end - p.row_begin, 3);
+        EXPECT_LE(p.samples * limits.bytes_per_sample, limits.bytes);
+    }
+    expect_exact_cover(10, 8, 0, 2, {}, passes);
+}
+
+TEST(SamplePasses, PerPixelEndsContinueFromTheFirstSampleAndSkipPixelsThatAskForNone) {
+    const int w = 6, h = 5;
+    std::vector<uint32_t> end_of(w * h);
+    for (size_t p = 0; p < end_of.size(); ++p) end_of[p] = static_cast<uint32_t>((p * 7) % 11);  // 0..10, some below first
+    PassLimits limits{40 * 32, 32, 0};
+    auto passes = plan_sample_passes(w, h, 2, 0, end_of, limits);
+    for (const auto& p : passes) EXPECT_LE(p.samples * limits.bytes_per_sample, limits.bytes);
+    expect_exact_cover(w, h, 2, 0, end_of, passes);
+    // Nothing asked for: no pass.
+    EXPECT_TRUE(plan_sample_passes(w, h, 20, 0, end_of, limits).empty());
+}
+
+}  // namespace
+}  // namespace crex
