@@ -18,6 +18,7 @@ namespace crex::app {
 namespace {
 
 int run(RunOptions opt) {
+    if (auto exit = parse_ambient(opt)) return *exit;
     RunInput in;
     if (auto exit = read_run_input(opt, in)) return *exit;
     RunSetup setup;
@@ -75,9 +76,10 @@ Runner add_run_command(CLI::App& app) {
         ->check(CLI::Range(0.0, 1.0));
     CLI::Option* max_depth = cmd->add_option("--max-depth", opt->max_depth, "No ray is spawned beyond this depth")->capture_default_str()->check(CLI::Range(0u, 65535u));
     cmd->add_flag("--no-roulette", opt->no_roulette, "Drop rays below --lw instead of Russian roulette (biased)");
-    CLI::Option* ambient = cmd->add_option("--ambient", opt->ambient, "Ambient value av standing in for unexecuted D work")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1e30));
+    CLI::Option* ambient = cmd->add_option("--ambient", opt->ambient_text, "Ambient value av standing in for unexecuted D work "
+                                                                           "(default 0), or 'auto': every unexecuted ray stands in "
+                                                                           "with what its component's rays brought back on average "
+                                                                           "(the default of pipelines)");
     cmd->add_option("--importance", opt->importance, "Constant importance I for '{ }' of a crex without guidance maps")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));

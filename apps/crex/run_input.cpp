@@ -44,7 +44,7 @@ bool apply_settings(const std::map<std::string, std::string>& settings, RunOptio
         if (!opt.max_depth_given && has("max_depth")) opt.max_depth = static_cast<uint32_t>(std::stoul(settings.at("max_depth")));
         if (!opt.aa_given && has("aa")) opt.aa = std::stod(settings.at("aa"));
         if (!opt.ab_given && has("ab")) opt.ab = static_cast<uint32_t>(std::stoul(settings.at("ab")));
-        if (!opt.ambient_given && has("av")) opt.ambient = std::stod(settings.at("av"));
+        if (!opt.ambient_given && has("av")) opt.ambient = std::stod(settings.at("av")), opt.ambient_given = true;
     } catch (const std::exception&) {
         return false;
     }

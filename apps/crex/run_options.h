@@ -30,7 +30,9 @@ struct RunOptions {
     double lw = 1e-3;
     uint32_t max_depth = 256;
     bool no_roulette = false;
+    std::string ambient_text;  ///< --ambient: a radiance, or "auto"
     double ambient = 0;
+    bool ambient_auto = false;
     double importance = 1;
     uint32_t star_cap = sched::kDefaultStarCap;
     std::string format = "text";

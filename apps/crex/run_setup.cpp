@@ -46,6 +46,23 @@ bool parse_image_size(const std::string& text, int& width, int& height) {
     return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
 }
 
+std::optional<int> parse_ambient(RunOptions& opt) {
+    if (opt.ambient_text.empty()) return std::nullopt;
+    if (opt.ambient_text == "auto") {
+        opt.ambient_auto = true;
+        return std::nullopt;
+    }
+    try {
+        size_t used = 0;
+        opt.ambient = std::stod(opt.ambient_text, &used);
+        if (used == opt.ambient_text.size() && std::isfinite(opt.ambient) && opt.ambient >= 0 && opt.ambient <= 1e30)
+            return std::nullopt;
+    } catch (const std::exception&) {
+    }
+    std::cerr << fmt::format("crex run: error: --ambient '{}': expected 'auto' or a radiance from 0 to 1e30\n", opt.ambient_text);
+    return kExitUsage;
+}
+
 std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, RunSetup& setup) {
     const Scene& scene = *in.scene->scene;
     RunSettings& rs = setup.settings;
@@ -57,6 +74,8 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     rs.seed = opt.seed;
     rs.filter = opt.filter == "gaussian" ? PixelFilter::kGaussian : PixelFilter::kBox;
     rs.ambient = {opt.ambient, opt.ambient, opt.ambient};
+    // A pipeline never shows black for skipped work unless it asked for an av (spec §6).
+    rs.ambient_auto = opt.ambient_auto || (in.pipeline && !opt.ambient_given);
     rs.executor.shade.shadow_rays = opt.shadow_rays;
     rs.executor.shade.weight_limit = opt.lw;
     rs.executor.shade.max_depth = opt.max_depth;

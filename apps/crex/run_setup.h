@@ -30,6 +30,10 @@ struct RunSetup {
 /// code on failure (the error printed), std::nullopt when the run can go on.
 std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, RunSetup& setup);
 
+/// --ambient: "auto" or a radiance (into opt.ambient / opt.ambient_auto). Returns an exit code
+/// on a malformed value (the error printed).
+std::optional<int> parse_ambient(RunOptions& opt);
+
 /// "WIDTHxHEIGHT" with 1..16384 each, nothing else.
 bool parse_image_size(const std::string& text, int& width, int& height);
 

@@ -104,6 +104,8 @@ private:
     std::optional<Executor> ex_;
     std::function<double()> clock_;
     std::vector<double> ambient_;  // av of D rays dropped at the end of passes
+    std::array<std::vector<float>, kComponentCount> leftover_beta_;  // ambient_auto: per pixel RGB
+    void add_auto_ambient();
     std::array<RayBatch, kComponentCount> carried_;  // the preview's rays waiting for the selective crex
     std::optional<IrradianceCache> cache_;
     std::vector<IcAnswer> preview_answers_;
@@ -166,7 +168,16 @@ void PlanRun::trace_camera_rays(const SamplePass& pass, uint32_t start, const st
 void PlanRun::flush_bins() {
     for (size_t c = 0; c < kComponentCount; ++c) {
         RayBatch& bin = ex_->bins()[c];
-        if (c == static_cast<size_t>(Component::kD)) add_ambient(bin, s_.ambient, ambient_);
+        if (s_.ambient_auto && !bin.empty()) {
+            std::vector<float>& left = leftover_beta_[c];
+            if (left.empty()) left.assign(3 * out_.film.pixel_count(), 0.0f);
+            for (size_t i = 0; i < bin.size(); ++i) {
+                float* l = &left[3 * static_cast<size_t>(bin.pixel[i])];
+                l[0] += bin.br[i], l[1] += bin.bg[i], l[2] += bin.bb[i];
+            }
+        } else if (c == static_cast<size_t>(Component::kD)) {
+            add_ambient(bin, s_.ambient, ambient_);
+        }
         out_.rays_left[c] += bin.size();
         bin = RayBatch();  // freed: bins kept at their largest would add up over passes
     }
@@ -179,6 +190,45 @@ std::vector<float> PlanRun::snapshot() const {
     std::vector<float> rgb = out_.film.composite(&ambient);
     if (out_.subsample) out_.subsample->fill(rgb);
     return rgb;
+}
+
+void PlanRun::add_auto_ambient() {
+    const Film& film = out_.film;
+    const size_t pixels = film.pixel_count();
+    // Where no ray of a component ran, the mean radiance of the image stands in (RADIANCE's
+    // usual choice of -av): the preview's for a pipeline, else the composite so far.
+    Vec3 mean;
+    {
+        std::vector<float> rgb = out_.preview.empty() ? film.composite(&ambient_) : out_.preview;
+        double sum[3] = {0, 0, 0};
+        for (size_t p = 0; p < pixels; ++p)
+            for (int k = 0; k < 3; ++k) sum[k] += std::isfinite(rgb[3 * p + k]) ? rgb[3 * p + k] : 0.0f;
+        mean = Vec3{sum[0], sum[1], sum[2]} / double(std::max<size_t>(pixels, 1));
+    }
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        if (leftover_beta_[c].empty()) continue;
+        const size_t aov = aov_of(static_cast<Component>(c));
+        double found[3] = {0, 0, 0};
+        for (uint32_t p = 0; p < pixels; ++p) {
+            Vec3 v = film.pixel_value(aov, p) * double(film.samples(p));
+            found[0] += v.x, found[1] += v.y, found[2] += v.z;
+        }
+        const double* beta = out_.stats.components[c].beta;
+        const bool measured = beta[0] + beta[1] + beta[2] > 0;
+        Vec3 av = mean;
+        if (measured) {
+            auto ratio = [](double a, double b) { return b > 0 && std::isfinite(a / b) ? std::max(0.0, a / b) : 0.0; };
+            av = {ratio(found[0], beta[0]), ratio(found[1], beta[1]), ratio(found[2], beta[2])};
+        }
+        out_.auto_ambient[c] = av;
+        const std::vector<float>& left = leftover_beta_[c];
+        for (size_t i = 0; i < 3 * pixels; ++i) ambient_[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
+        out_.notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), {}",
+                                         kComponentTable[c].letter, av.x, av.y, av.z,
+                                         measured ? "what its executed rays brought back per unit throughput"
+                                                  : "the mean radiance of the image (none of its rays ran)"));
+        leftover_beta_[c] = {};
+    }
 }
 
 void PlanRun::stage_end(const std::string& what, const std::string& next) {
@@ -492,8 +542,9 @@ RunResult PlanRun::execute() {
         stage_end("end of render", "end");
     }
 
-    out_.ambient = std::move(ambient_);
     out_.stats = ex_->stats();
+    if (s_.ambient_auto) add_auto_ambient();
+    out_.ambient = std::move(ambient_);
     // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.
     std::set<std::string> said;
     for (const auto& w : ex_->warnings())

@@ -66,6 +66,11 @@ struct RunSettings {
     uint64_t seed = 0;
     PixelFilter filter = PixelFilter::kBox;
     Vec3 ambient{0, 0, 0};      ///< `av`: radiance standing in for unexecuted D work
+    /// Instead of `ambient`: every ray left unexecuted in any bin stands in with what rays of
+    /// its component brought back on average in this render (its AOV over the throughput of
+    /// its executed rays), or the image's mean radiance where none of them ran. So a pixel
+    /// whose components were skipped is never black for lack of work (spec/pipeline.md §6).
+    bool ambient_auto = false;
     ExecutorOptions executor;   ///< base-quality shading, budget, profile
     CheckpointRecorder* recorder = nullptr;      ///< reports: image snapshots during the render
     std::optional<IcSettings> irradiance_cache;  ///< D through a Ward irradiance cache
@@ -90,6 +95,8 @@ struct RunResult {
     ExecutorStats stats;
     std::vector<std::string> warnings;
     std::vector<std::string> notes;  ///< what the runtime did not execute, and why
+    /// With ambient_auto: the radiance that stood in for each component's unexecuted rays.
+    std::array<Vec3, kComponentCount> auto_ambient{};
     double setup_seconds = 0;      ///< Embree scene and BVH build
     double render_seconds = 0;     ///< from the first camera ray
     std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end of passes, per bin

@@ -15,23 +15,6 @@ namespace crex {
 Executor::Executor(const RenderScene& scene, Film& film, const ExecutorOptions& options)
     : scene_(scene), film_(film), options_(options) {}
 
-void Executor::adopt(Executor& other) {
-    for (size_t c = 0; c < kComponentCount; ++c) {
-        bins_[c].append(other.bins_[c]);
-        other.bins_[c].clear();
-    }
-    const ExecutorStats& o = other.stats_;
-    auto add = [](ComponentStats& a, const ComponentStats& b) {
-        a.executions += b.executions, a.rays += b.rays, a.shadow_rays += b.shadow_rays, a.seconds += b.seconds;
-    };
-    add(stats_.camera, o.camera);
-    for (size_t c = 0; c < kComponentCount; ++c) add(stats_.components[c], o.components[c]);
-    stats_.steps.insert(stats_.steps.end(), o.steps.begin(), o.steps.end());
-    stats_.skipped.insert(stats_.skipped.end(), o.skipped.begin(), o.skipped.end());
-    warnings_.insert(warnings_.end(), other.warnings_.begin(), other.warnings_.end());
-    rays_done_ += other.rays_done_;
-}
-
 double Executor::importance(uint32_t pixel) const {
     double v = options_.importance ? static_cast<double>((*options_.importance)[pixel]) : options_.constant_importance;
     if (std::isnan(v)) return 0;
@@ -54,6 +37,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
     auto& sink = deferring_ ? pending_ : bins_;
     const bool queries = options_.irradiance && !camera && !rays.empty() && (rays.flags[0] & kRayIcQuery);
     const size_t chunk = queries ? std::max<size_t>(options_.query_chunk_rays, 1) : chunk_rays();
+    for (size_t i = 0; i < rays.size(); ++i) stats.beta[0] += rays.br[i], stats.beta[1] += rays.bg[i], stats.beta[2] += rays.bb[i];
     for (size_t begin = 0; begin < rays.size(); begin += chunk) {
         size_t end = std::min(rays.size(), begin + chunk);
         if (queries) {  // cached D: interpolate

@@ -36,6 +36,9 @@ struct ComponentStats {
     uint64_t rays = 0;
     uint64_t shadow_rays = 0;
     double seconds = 0;
+    /// Throughput of the rays executed, summed: with the component's AOV it says what a ray of
+    /// this component brings back on average (the driver's automatic ambient stand-in).
+    double beta[3] = {0, 0, 0};
 };
 
 /// One executed step, in execution order (for reports and semantics tests).
@@ -97,10 +100,6 @@ public:
     void set_irradiance(std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> hook) {
         options_.irradiance = std::move(hook);
     }
-    /// Takes over another executor's bins (appended to these) and adds its statistics: the
-    /// selective stage's new camera samples run their pre-selective crex in a separate
-    /// executor, then join the preview's carried-over bins.
-    void adopt(Executor& other);
 
     const std::array<RayBatch, kComponentCount>& bins() const { return bins_; }
     std::array<RayBatch, kComponentCount>& bins() { return bins_; }

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Peak memory of `crex run` against image size and samples (issue 13): plain crex and a stdlib
+# pipeline, with the default --max-memory (1 GiB). Prints a markdown table. Slow (minutes per
+# row on 2 cores); never in CI.
+#   bash bench/memory_table.sh [path/to/crex]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+CREX=${1:-build/release/apps/crex/crex}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+row() {  # label, then crex run arguments
+    local label=$1; shift
+    /usr/bin/time -v "$CREX" run -q -o "$out/img.exr" "$@" 2>"$out/time.txt" >/dev/null
+    local kb secs
+    kb=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$out/time.txt")
+    secs=$(awk '/Elapsed \(wall clock\)/ {print $NF}' "$out/time.txt")
+    printf '| %s | %d MiB | %s |\n' "$label" "$((kb / 1024))" "$secs"
+}
+echo "| run | peak memory (max RSS) | wall time |"
+echo "|---|---|---|"
+for spp in 1 16 256 1024; do row "(TTMRSGD)* builtin:cornell 512x512, $spp spp" --size 512x512 --spp "$spp"; done
+row "(TTMRSGD)* builtin:cornell 1920x1080, 64 spp" --size 1920x1080 --spp 64
+for spp in 1 16 256 1024; do row "gold.pipe builtin:cornell 512x512, $spp spp" stdlib/pipelines/gold.pipe --size 512x512 --spp "$spp"; done
+row "gold.pipe builtin:cornell 1920x1080, 64 spp" stdlib/pipelines/gold.pipe --size 1920x1080 --spp 64
+row "prog_dis_all.pipe builtin:cornell 512x512 (1 + up to 16 spp)" stdlib/pipelines/prog_dis_all.pipe --size 512x512
+row "prog_dis_all.pipe builtin:cornell 1920x1080, preview 4 spp (+ up to 16)" stdlib/pipelines/prog_dis_all.pipe --size 1920x1080 --spp 4
