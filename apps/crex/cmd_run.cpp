@@ -115,6 +115,9 @@ Runner add_run_command(CLI::App& app) {
                                                "every pixel, guidance skipped: max is the pipeline's own gold")
         ->capture_default_str()
         ->check(CLI::IsMember({"off", "min", "max"}));
+    cmd->add_option("--rounds", opt->rounds, "Rounds of guidance and selective rendering (the cyclic process): each round "
+                                             "recomputes the maps on the image so far (default: the pipeline's, else 1)")
+        ->check(CLI::Range(1u, 1024u));
     cmd->add_option("--max-memory", opt->max_memory_mib, "Memory the render's sample passes are sized for, in MiB: camera samples "
                                                          "go in passes (or bands of rows) that fit")
         ->capture_default_str()

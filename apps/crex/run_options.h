@@ -54,6 +54,7 @@ struct RunOptions {
     std::string uniform = "off";
     double max_memory_mib = double(kDefaultMaxMemory >> 20);
     uint32_t pass_samples = 0;
+    uint32_t rounds = 0;
     // Which flags were given (they override the pipeline's settings).
     bool size_given = false, spp_given = false, seed_given = false, lw_given = false, max_depth_given = false,
          ambient_given = false, aa_given = false, ab_given = false;

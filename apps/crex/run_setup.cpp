@@ -84,6 +84,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     rs.executor.profile = &setup.profile;
     rs.max_memory = static_cast<size_t>(opt.max_memory_mib * double(1 << 20));
     rs.pass_samples = opt.pass_samples;
+    rs.rounds = opt.rounds;
     rs.uniform = opt.uniform == "max" ? UniformQuality::kMax : opt.uniform == "min" ? UniformQuality::kMin : UniformQuality::kOff;
 
     // The budget and the profile it is predicted from.

@@ -78,11 +78,10 @@ public:
     RunResult execute();
 
 private:
-    // A stage's camera samples in passes: pixel p gets samples [start, end_of[p]) (end_of
-    // empty: [start, end) for every pixel); each pass then runs `programs` over its bins.
-    void run_samples(const std::string& stage, uint32_t start, uint32_t end, const std::vector<uint32_t>& end_of,
-                     const std::function<void()>& after_camera_rays);
-    void trace_camera_rays(const SamplePass& pass, uint32_t start, const std::vector<uint32_t>& end_of);
+    // A stage's camera samples in passes; after each pass's camera rays, `after_camera_rays`
+    // runs the programs over its bins.
+    void run_samples(const std::string& stage, const SampleRanges& ranges, const std::function<void()>& after_camera_rays);
+    void trace_camera_rays(const SamplePass& pass, const SampleRanges& ranges);
     void flush_bins();  // rays left at the end of a pass: D stands in as ambient, the rest dropped
     std::vector<float> snapshot() const;
     size_t pass_bytes(size_t held_bytes) const;
@@ -92,7 +91,7 @@ private:
 
     void setup_cache();
     void save_cache();
-    SelectiveSetup guidance();
+    SelectiveSetup guidance(bool from_current_image);
     void reanswer_preview_queries(const SelectiveSetup& sel);
 
     const Scene& scene_;
@@ -138,12 +137,12 @@ void PlanRun::report_progress(const std::string& step) {
     s_.progress(progress_);
 }
 
-void PlanRun::trace_camera_rays(const SamplePass& pass, uint32_t start, const std::vector<uint32_t>& end_of) {
+void PlanRun::trace_camera_rays(const SamplePass& pass, const SampleRanges& ranges) {
     const size_t w = static_cast<size_t>(s_.width);
     const size_t p0 = static_cast<size_t>(pass.row_begin) * w, p1 = static_cast<size_t>(pass.row_end) * w;
-    const uint32_t first = std::max(start, pass.first);
+    auto first_of = [&](size_t p) { return std::max(ranges.start(p), pass.first); };
     auto samples_of = [&](size_t p) -> uint32_t {
-        uint32_t end = std::min(pass.end, end_of.empty() ? pass.end : end_of[p]);
+        uint32_t first = first_of(p), end = std::min(pass.end, ranges.stop(p));
         return end > first ? end - first : 0;
     };
     // Each pixel's rays go to a fixed place, so they can be made in parallel and in order.
@@ -155,13 +154,13 @@ void PlanRun::trace_camera_rays(const SamplePass& pass, uint32_t start, const st
         for (size_t p = range.begin(); p < range.end(); ++p) {
             const uint32_t n = samples_of(p);
             for (uint32_t k = 0; k < n; ++k) {
-                RayRecord r = camera_ray(*camera_, s_.seed, s_.width, static_cast<uint32_t>(p), first + k, s_.filter);
+                RayRecord r = camera_ray(*camera_, s_.seed, s_.width, static_cast<uint32_t>(p), first_of(p) + k, s_.filter);
                 rays.write(at[p - p0] + k, &r, 1);
             }
         }
     });
     for (size_t p = p0; p < p1; ++p)
-        if (uint32_t n = samples_of(p)) out_.film.add_samples(static_cast<uint32_t>(p), n);
+        if (uint32_t n = samples_of(p)) out_.film.add_samples(static_cast<uint32_t>(p), first_of(p), n);
     ex_->run_camera_rays(rays);
 }
 
@@ -237,15 +236,14 @@ void PlanRun::stage_end(const std::string& what, const std::string& next) {
     s_.recorder->set_stage(next);
 }
 
-void PlanRun::run_samples(const std::string& stage, uint32_t start, uint32_t end, const std::vector<uint32_t>& end_of,
-                          const std::function<void()>& after_camera_rays) {
+void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, const std::function<void()>& after_camera_rays) {
     PassLimits limits;
     size_t held = 0;
     for (const RayBatch& b : carried_) held += b.size() * kBytesPerSample / 2;
     limits.bytes = pass_bytes(held);
     limits.bytes_per_sample = kBytesPerSample;
     limits.max_samples = s_.pass_samples;
-    std::vector<SamplePass> passes = plan_sample_passes(s_.width, s_.height, start, end, end_of, limits);
+    std::vector<SamplePass> passes = plan_sample_passes(s_.width, s_.height, ranges, limits);
     progress_ = {};
     progress_.stage = stage;
     progress_.passes = passes.size();
@@ -255,7 +253,7 @@ void PlanRun::run_samples(const std::string& stage, uint32_t start, uint32_t end
     for (size_t i = 0; i < passes.size(); ++i) {
         progress_.pass = i + 1;
         report_progress("camera rays");
-        trace_camera_rays(passes[i], start, end_of);
+        trace_camera_rays(passes[i], ranges);
         after_camera_rays();
         stage_samples_done_ += passes[i].samples;
         ++out_.passes;
@@ -293,7 +291,7 @@ void PlanRun::save_cache() {
     if (!error.empty()) throw std::runtime_error("cannot save the irradiance cache: " + error);
 }
 
-SelectiveSetup PlanRun::guidance() {
+SelectiveSetup PlanRun::guidance(bool from_current_image) {
     const int w = s_.width, h = s_.height;
     const size_t pixels = out_.film.pixel_count();
     const Film& film = out_.film;
@@ -317,7 +315,8 @@ SelectiveSetup PlanRun::guidance() {
         add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
         GuidanceInputs in;
         in.width = w, in.height = h;
-        in.preview = out_.preview;
+        in.preview = from_current_image ? film.composite(&preview_ambient) : out_.preview;
+        in.buffers["noise"] = film.noise_image();
         in.scene = &scene_;
         std::vector<float> camera_aov = film.aov_image(kCameraAov), emission = film.emission_image();
         for (size_t i = 0; i < camera_aov.size(); ++i) camera_aov[i] = std::max(0.0f, camera_aov[i] - emission[i]);
@@ -336,6 +335,7 @@ SelectiveSetup PlanRun::guidance() {
             in.probe = &probe;
         }
         graph.emplace(plan_, std::move(in));
+        out_.maps.clear();  // a later round's maps replace the earlier ones
         for (const auto& n : plan_.nodes)
             if (n.kind == "operator" && n.id.rfind("map.", 0) == 0) out_.maps.push_back({n.id.substr(4), graph->map(n.id)});
     }
@@ -412,7 +412,7 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     cache_->irradiance(again, 0, e);
     for (size_t i = 0; i < again.size(); ++i) {
         Vec3 delta = from[i]->query.beta * (e[i] - from[i]->irradiance) / kPi;
-        if (is_finite(delta)) out_.film.add(aov_of(Component::kD), from[i]->query.pixel, delta);
+        if (is_finite(delta)) out_.film.add(aov_of(Component::kD), from[i]->query.pixel, delta, from[i]->query.flags & kRayOddSample);
     }
     out_.ic_reprocessed = again.size();
     preview_answers_.clear();
@@ -464,7 +464,7 @@ RunResult PlanRun::execute() {
 
     if (!out_.staged) {
         // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
-        run_samples("render", s_.first_sample, s_.first_sample + s_.spp, {}, [&] {
+        run_samples("render", {s_.first_sample, s_.first_sample + s_.spp, {}, {}}, [&] {
             if (rec) rec->set_stage("preselective");
             ex_->run(program.preselective);
             if (rec) {
@@ -480,7 +480,7 @@ RunResult PlanRun::execute() {
         }
     } else {
         // 1. Pre-selective: the rays each pass leaves waiting are carried to the selective stage.
-        run_samples("pre-selective", 0, s_.spp, {}, [&] {
+        run_samples("pre-selective", {0, s_.spp, {}, {}}, [&] {
             ex_->run(program.preselective);
             for (size_t c = 0; c < kComponentCount; ++c) {
                 RayBatch& bin = ex_->bins()[c];
@@ -498,47 +498,63 @@ RunResult PlanRun::execute() {
         if (cache_) out_.ic_preview_records = cache_->records().size();
         stage_end("end of the pre-selective stage", "guidance");
 
-        // 2. Guidance and the svt.
-        auto t_guidance = Clock::now();
-        progress_ = {};
-        progress_.stage = "guidance";
-        report_progress("maps");
-        SelectiveSetup sel = guidance();
-        out_.guidance_seconds = seconds_since(t_guidance);
-        stage_end("end of guidance", "selective");
-
-        // 3. Selective.
-        auto t_selective = Clock::now();
-        ShadeParams shade = sel.shade;
-        if (!sel.shadow_rays.empty()) shade.shadow_rays_per_pixel = &sel.shadow_rays;
-        if (!sel.specular_threshold.empty()) shade.specular_threshold_per_pixel = &sel.specular_threshold;
-        ex_->set_shade_params(shade);
-        if (cache_) {
-            size_t before = cache_->records().size();
-            reanswer_preview_queries(sel);
-            out_.ic_selective_records = cache_->records().size() - before;
-            ex_->set_irradiance(executor_hook(*cache_, base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
-                                              sel.ic_priority.empty() ? nullptr : &sel.ic_priority));
-        }
+        // 2-3. Guidance and selective rendering, `rounds` times (the cyclic process, spec §1):
+        // each round computes the maps on the image so far and takes the samples its svt asks
+        // for by then (a share r / rounds of the way from the preview's spp to the target)
+        // beyond what each pixel has; the first round also runs the preview's waiting rays.
+        const uint32_t rounds = std::max<uint32_t>(1, s_.rounds ? s_.rounds : plan_rounds(plan_));
         const std::vector<float>* base_importance = s_.executor.importance;
-        const std::vector<float>* modulation = sel.modulation.empty() ? base_importance : &sel.modulation;
-        auto run_selective = [&] {
-            ex_->set_importance(modulation);
-            ex_->run(program.selective);
-            ex_->set_importance(base_importance);
-            flush_bins();
-        };
-        // The preview's waiting rays first, then the new samples pass by pass.
-        for (size_t c = 0; c < kComponentCount; ++c) std::swap(ex_->bins()[c], carried_[c]);
-        run_selective();
-        for (RayBatch& b : carried_) b = RayBatch();
-        run_samples("selective", s_.spp, 0, sel.spp_end, [&] {
-            ex_->run(program.preselective);
-            run_selective();
-        });
-        out_.selective_seconds = seconds_since(t_selective);
-        out_.selective_rays = total_rays(ex_->stats()) - out_.preview_rays;
+        double selective_seconds = 0;
+        for (uint32_t round = 1; round <= rounds; ++round) {
+            const std::string label = rounds > 1 ? fmt::format(" (round {}/{})", round, rounds) : "";
+            auto t_guidance = Clock::now();
+            progress_ = {};
+            progress_.stage = "guidance" + label;
+            report_progress("maps");
+            SelectiveSetup sel = guidance(round > 1);
+            out_.guidance_seconds += seconds_since(t_guidance);
+            stage_end("end of guidance" + label, "selective");
+
+            auto t_selective = Clock::now();
+            ShadeParams shade = sel.shade;
+            if (!sel.shadow_rays.empty()) shade.shadow_rays_per_pixel = &sel.shadow_rays;
+            if (!sel.specular_threshold.empty()) shade.specular_threshold_per_pixel = &sel.specular_threshold;
+            ex_->set_shade_params(shade);
+            if (cache_) {
+                if (round == 1) reanswer_preview_queries(sel);
+                ex_->set_irradiance(executor_hook(*cache_, base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
+                                                  sel.ic_priority.empty() ? nullptr : &sel.ic_priority));
+            }
+            const std::vector<float>* modulation = sel.modulation.empty() ? base_importance : &sel.modulation;
+            auto run_selective = [&] {
+                ex_->set_importance(modulation);
+                ex_->run(program.selective);
+                ex_->set_importance(base_importance);
+                flush_bins();
+            };
+            if (round == 1) {  // the preview's waiting rays first
+                for (size_t c = 0; c < kComponentCount; ++c) std::swap(ex_->bins()[c], carried_[c]);
+                run_selective();
+                for (RayBatch& b : carried_) b = RayBatch();
+            }
+            SampleRanges ranges;
+            ranges.start_of.resize(pixels);
+            ranges.end_of.resize(pixels);
+            for (size_t p = 0; p < pixels; ++p) {
+                ranges.start_of[p] = out_.film.samples(static_cast<uint32_t>(p));
+                double target = sel.spp_end[p] <= s_.spp ? 0 : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
+                ranges.end_of[p] = static_cast<uint32_t>(std::ceil(target - 1e-9));
+            }
+            run_samples("selective" + label, ranges, [&] {
+                ex_->run(program.preselective);
+                run_selective();
+            });
+            selective_seconds += seconds_since(t_selective);
+            if (round < rounds) stage_end("end of selective rendering" + label, "guidance");
+        }
+        out_.selective_seconds = selective_seconds;
         if (cache_) out_.ic_selective_records = cache_->records().size() - out_.ic_preview_records;
+        out_.selective_rays = total_rays(ex_->stats()) - out_.preview_rays;
         stage_end("end of render", "end");
     }
 
@@ -555,6 +571,13 @@ RunResult PlanRun::execute() {
 }
 
 }  // namespace
+
+uint32_t plan_rounds(const PipelinePlan& plan) {
+    const PlanNode* sel = find_node(plan, "selective");
+    if (!sel || !sel->params.contains("rounds")) return 1;
+    const auto& r = sel->params["rounds"];
+    return r.is_number() ? static_cast<uint32_t>(std::clamp(r.get<double>(), 1.0, 1024.0)) : 1;
+}
 
 bool has_guidance(const PipelinePlan& plan) {
     for (const auto& n : plan.nodes)

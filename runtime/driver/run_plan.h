@@ -79,6 +79,7 @@ struct RunSettings {
     size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
     uint32_t pass_samples = 0;  ///< samples per pixel per pass at most (0: as many as fit)
     UniformQuality uniform = UniformQuality::kOff;
+    uint32_t rounds = 0;        ///< rounds of guidance and selective rendering (0: the plan's, else 1)
     std::function<void(const RunProgress&)> progress;
 };
 
@@ -128,6 +129,9 @@ RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettin
 
 /// A plain crex run: the plan of `program` without guidance.
 RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings);
+
+/// The plan's rounds of guidance and selective rendering (the cyclic process), at least 1.
+uint32_t plan_rounds(const PipelinePlan& plan);
 
 /// Does the plan have anything beyond two crex stages (maps, variables)?
 bool has_guidance(const PipelinePlan& plan);

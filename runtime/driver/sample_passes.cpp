@@ -5,23 +5,26 @@
 
 namespace crex {
 
-std::vector<SamplePass> plan_sample_passes(int width, int height, uint32_t first, uint32_t end,
-                                           const std::vector<uint32_t>& end_of, const PassLimits& limits) {
+std::vector<SamplePass> plan_sample_passes(int width, int height, const SampleRanges& ranges, const PassLimits& limits) {
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
-    const bool uniform = end_of.empty();
-    uint32_t last = end;
-    if (!uniform) last = end_of.empty() ? first : *std::max_element(end_of.begin(), end_of.end());
-    std::vector<SamplePass> passes;
-    if (last <= first || pixels == 0) return passes;
-
-    // count[k - first]: pixels that ask for sample index k (non-increasing in k).
-    std::vector<uint64_t> count(last - first, uniform ? pixels : 0);
+    const bool uniform = ranges.start_of.empty() && ranges.end_of.empty();
+    uint32_t lo = ranges.first, hi = ranges.end;
     if (!uniform) {
-        std::vector<uint64_t> ending(last - first + 1, 0);
-        for (uint32_t e : end_of)
-            if (e > first) ++ending[e - first];
-        uint64_t alive = 0;
-        for (size_t k = count.size(); k-- > 0;) count[k] = alive += ending[k + 1];
+        lo = UINT32_MAX, hi = 0;
+        for (size_t p = 0; p < pixels; ++p)
+            if (ranges.start(p) < ranges.stop(p)) lo = std::min(lo, ranges.start(p)), hi = std::max(hi, ranges.stop(p));
+    }
+    std::vector<SamplePass> passes;
+    if (hi <= lo || pixels == 0) return passes;
+
+    // count[k - lo]: pixels that ask for sample index k.
+    std::vector<uint64_t> count(hi - lo, uniform ? pixels : 0);
+    if (!uniform) {
+        std::vector<int64_t> delta(hi - lo + 1, 0);
+        for (size_t p = 0; p < pixels; ++p)
+            if (ranges.start(p) < ranges.stop(p)) ++delta[ranges.start(p) - lo], --delta[ranges.stop(p) - lo];
+        int64_t alive = 0;
+        for (size_t k = 0; k < count.size(); ++k) count[k] = static_cast<uint64_t>(alive += delta[k]);
     }
     const uint64_t cap = limits.bytes && limits.bytes_per_sample
                              ? std::max<uint64_t>(1, limits.bytes / limits.bytes_per_sample)
@@ -31,16 +34,20 @@ std::vector<SamplePass> plan_sample_passes(int width, int height, uint32_t first
     auto band_samples = [&](uint32_t k, int r0, int r1) -> uint64_t {
         if (uniform) return static_cast<uint64_t>(r1 - r0) * static_cast<uint64_t>(width);
         uint64_t n = 0;
-        for (size_t p = static_cast<size_t>(r0) * width; p < static_cast<size_t>(r1) * width; ++p) n += end_of[p] > k;
+        for (size_t p = static_cast<size_t>(r0) * width; p < static_cast<size_t>(r1) * width; ++p)
+            n += ranges.start(p) <= k && k < ranges.stop(p);
         return n;
     };
 
-    uint32_t k = first;
-    while (k < last && count[k - first] > 0) {
+    uint32_t k = lo;
+    while (k < hi) {
+        if (count[k - lo] == 0) {  // a gap between pixels' ranges
+            ++k;
+            continue;
+        }
         uint64_t total = 0;
         uint32_t k1 = k;
-        while (k1 < last && count[k1 - first] > 0 && k1 - k < max_indices && total + count[k1 - first] <= cap)
-            total += count[k1 - first], ++k1;
+        while (k1 < hi && k1 - k < max_indices && total + count[k1 - lo] <= cap) total += count[k1 - lo], ++k1;
         if (k1 > k) {
             passes.push_back({k, k1, 0, height, total});
             k = k1;

@@ -24,11 +24,18 @@ struct PassLimits {
     uint32_t max_samples = 0;     ///< samples per pixel per pass at most (0: no limit; tests)
 };
 
-/// The passes for pixel p's samples [first, end_of[p]) (end_of empty: every pixel ends at
-/// `end`). Passes go over sample indices, as many per pass as fit; when even one sample index
-/// of every pixel does not fit, a pass covers a band of rows instead. The passes cover every
-/// requested sample exactly once; none is empty.
-std::vector<SamplePass> plan_sample_passes(int width, int height, uint32_t first, uint32_t end,
-                                           const std::vector<uint32_t>& end_of, const PassLimits& limits);
+/// Which samples each pixel asks for: [start_of[p], end_of[p]), either vector empty meaning
+/// `first` or `end` for every pixel.
+struct SampleRanges {
+    uint32_t first = 0, end = 0;
+    std::vector<uint32_t> start_of, end_of;
+    uint32_t start(size_t p) const { return start_of.empty() ? first : start_of[p]; }
+    uint32_t stop(size_t p) const { return end_of.empty() ? end : end_of[p]; }
+};
+
+/// The passes for the samples `ranges` asks for. Passes go over sample indices, as many per
+/// pass as fit; when even one sample index of every pixel does not fit, a pass covers a band
+/// of rows instead. The passes cover every requested sample exactly once; none is empty.
+std::vector<SamplePass> plan_sample_passes(int width, int height, const SampleRanges& ranges, const PassLimits& limits);
 
 }  // namespace crex

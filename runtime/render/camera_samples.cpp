@@ -56,6 +56,7 @@ RayRecord camera_ray(const CameraRays& camera, uint64_t seed, int width, uint32_
     r.beta = {1, 1, 1};
     r.pixel = pixel;
     r.path = camera_path_id(seed, pixel, sample);
+    r.flags = (sample & 1) ? kRayOddSample : 0;
     return r;
 }
 

@@ -46,7 +46,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
             for (size_t i = begin; i < end; ++i) {
                 Vec3 beta{rays.br[i], rays.bg[i], rays.bb[i]};
                 Vec3 c = beta * e[i - begin] / kPi;
-                film_.add(aov, rays.pixel[i], is_finite(c) ? c : Vec3{});
+                film_.add(aov, rays.pixel[i], is_finite(c) ? c : Vec3{}, rays.flags[i] & kRayOddSample);
                 film_.count_ray(aov, rays.pixel[i]);
             }
             stats.rays += end - begin;
@@ -57,8 +57,8 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         }
         ShadeOutput& out = shade_;
         trace_and_shade(scene_, rays, begin, end, camera, options_.shade, out);
-        film_.add_rays(aov, rays.pixel.data() + begin, out.contribution.data(), camera ? out.emission.data() : nullptr,
-                       out.contribution.size());
+        film_.add_rays(aov, rays.pixel.data() + begin, rays.flags.data() + begin, out.contribution.data(),
+                       camera ? out.emission.data() : nullptr, out.contribution.size());
         out.append_children_to(sink);
         stats.rays += end - begin;
         stats.shadow_rays += out.shadow_rays;

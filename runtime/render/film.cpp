@@ -19,9 +19,11 @@ Film::Film(int width, int height) : width_(width), height_(height) {
     rays_.assign(pixel_count(), 0);
     components_.assign(pixel_count(), 0);
     emission_.assign(3 * pixel_count(), 0.0);
+    odd_.assign(3 * pixel_count(), 0.0);
+    odd_samples_.assign(pixel_count(), 0);
 }
 
-void Film::add_rays(size_t aov, const uint32_t* pixel, const Vec3* value, const Vec3* emission, size_t n) {
+void Film::add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, const Vec3* value, const Vec3* emission, size_t n) {
     // Each part owns a range of pixels and scans every ray: a few parts only, since each
     // scan reads all n pixel indices.
     const size_t pixels = pixel_count();
@@ -30,7 +32,7 @@ void Film::add_rays(size_t aov, const uint32_t* pixel, const Vec3* value, const 
         const size_t lo = pixels * part / parts, hi = pixels * (part + 1) / parts;
         for (size_t i = 0; i < n; ++i) {
             if (pixel[i] < lo || pixel[i] >= hi) continue;
-            add(aov, pixel[i], value[i]);
+            add(aov, pixel[i], value[i], flags[i] & kRayOddSample);
             count_ray(aov, pixel[i]);
             if (emission) add_emission(pixel[i], emission[i]);
         }
@@ -72,6 +74,21 @@ std::vector<float> Film::emission_image() const {
         double n = samples_[p];
         if (n <= 0) continue;
         for (size_t c = 0; c < 3; ++c) out[3 * p + c] = finite_or_zero(emission_[3 * p + c] / n);
+    }
+    return out;
+}
+
+std::vector<float> Film::noise_image() const {
+    std::vector<float> out(3 * pixel_count(), 0.0f);
+    for (uint32_t p = 0; p < pixel_count(); ++p) {
+        double odd = odd_samples_[p], even = double(samples_[p]) - odd;
+        if (odd <= 0 || even <= 0) continue;
+        for (size_t c = 0; c < 3; ++c) {
+            double total = 0;
+            for (const auto& s : sums_) total += s[3 * p + c];
+            double o = odd_[3 * p + c];
+            out[3 * p + c] = finite_or_zero(std::fabs((total - o) / even - o / odd) / 2);
+        }
     }
     return out;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compiler/crex/components.h"
+#include "runtime/render/ray_batch.h"
 #include "runtime/base/vec3.h"
 
 namespace crex {
@@ -27,17 +28,28 @@ public:
     int height() const { return height_; }
     size_t pixel_count() const { return static_cast<size_t>(width_) * static_cast<size_t>(height_); }
 
-    void add(size_t aov, uint32_t pixel, const Vec3& value) {
+    /// Adds a ray's contribution; `odd`: it descends from an odd camera sample, so it goes to
+    /// the odd half-buffer too (the noise estimate).
+    void add(size_t aov, uint32_t pixel, const Vec3& value, bool odd = false) {
         double* p = &sums_[aov][3 * static_cast<size_t>(pixel)];
         p[0] += value.x;
         p[1] += value.y;
         p[2] += value.z;
+        if (odd) {
+            double* q = &odd_[3 * static_cast<size_t>(pixel)];
+            q[0] += value.x, q[1] += value.y, q[2] += value.z;
+        }
     }
-    void add_samples(uint32_t pixel, uint32_t n) { samples_[pixel] += n; }
-    /// For each i < n: add(aov, pixel[i], value[i]) and count_ray(aov, pixel[i]); with
-    /// `emission`, add_emission(pixel[i], emission[i]) too. In parallel over pixel ranges,
-    /// each pixel's values in ray order: the same sums at any thread count.
-    void add_rays(size_t aov, const uint32_t* pixel, const Vec3* value, const Vec3* emission, size_t n);
+    /// Camera samples [first, first + n) of `pixel` were taken.
+    void add_samples(uint32_t pixel, uint32_t first, uint32_t n) {
+        samples_[pixel] += n;
+        odd_samples_[pixel] += (first + n) / 2 - first / 2;
+    }
+    /// For each i < n: add(aov, pixel[i], value[i], flags[i] & kRayOddSample) and
+    /// count_ray(aov, pixel[i]); with `emission`, add_emission(pixel[i], emission[i]) too. In
+    /// parallel over pixel ranges, each pixel's values in ray order: the same sums at any
+    /// thread count.
+    void add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, const Vec3* value, const Vec3* emission, size_t n);
     /// A ray of `aov` was executed for `pixel` (for the rays-per-pixel picture).
     void count_ray(size_t aov, uint32_t pixel) {
         ++rays_[pixel];
@@ -53,6 +65,9 @@ public:
         p[0] += value.x, p[1] += value.y, p[2] += value.z;
     }
     std::vector<float> emission_image() const;
+    /// Per pixel RGB, the standard error of the pixel's mean, from its two half-buffers (even
+    /// and odd camera samples): |mean(even) - mean(odd)| / 2. 0 where a half is empty.
+    std::vector<float> noise_image() const;
     uint32_t samples(uint32_t pixel) const { return samples_[pixel]; }
 
     /// Linear RGB of one AOV (divided by the pixel's sample count), row-major, top row first.
@@ -68,6 +83,8 @@ private:
     std::vector<uint32_t> rays_;
     std::vector<uint8_t> components_;
     std::vector<double> emission_;
+    std::vector<double> odd_;            // every AOV's contributions of odd camera samples
+    std::vector<uint32_t> odd_samples_;
 };
 
 }  // namespace crex

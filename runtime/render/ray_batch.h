@@ -17,6 +17,7 @@ namespace crex {
 enum RayFlags : uint8_t {
     kRayFromDeltaLobe = 1,  ///< spawned by S, T, R or M: sees sampled emitters (spec §1)
     kRayIcQuery = 2,        ///< a D irradiance-cache query: direction holds the normal
+    kRayOddSample = 4,      ///< descends from an odd camera sample: the film's second half-buffer
 };
 
 struct RayRecord {

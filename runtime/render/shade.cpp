@@ -36,11 +36,11 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         if (query) {  // an irradiance-cache query: the hit and the normal on the lit side
             c.origin = f.position;
             c.direction = lobe.transmits ? -f.normal : f.normal;
-            c.flags = kRayIcQuery;
+            c.flags = static_cast<uint8_t>(kRayIcQuery | (ray.flags & kRayOddSample));
         } else {
             c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
             c.direction = lobe.direction;
-            c.flags = lobe.delta ? kRayFromDeltaLobe : 0;
+            c.flags = static_cast<uint8_t>((lobe.delta ? kRayFromDeltaLobe : 0) | (ray.flags & kRayOddSample));
         }
         c.beta = beta;
         c.pixel = ray.pixel;

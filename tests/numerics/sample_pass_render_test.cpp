@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "runtime/driver/run_plan.h"
@@ -95,6 +96,72 @@ TEST(SamplePassRender, SelectiveSamplesContinueThePreviewAcrossPasses) {
     EXPECT_EQ(a.stats.camera.rays, b.stats.camera.rays);  // no sample traced twice
     expect_same_image(a.image(), b.image(), 1e-6);
     expect_same_image(a.preview, b.preview, 1e-6);
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(CyclicProcess, RoundsWithAConstantMapTakeTheSameSamplesAsOneRound) {
+    Scene s = *builtin_scene("cornell");
+    auto planned = testing::plan_text("t.pipe", R"(pipeline t {
+  preselective { crex "TT" spp 1 }
+  guidance { some = constant(0.5) }
+  selective { crex "(MRSGD)*" vary spp 1 .. 9 by some }
+})",
+                                      take_census(s).spawnable);
+    ASSERT_TRUE(planned.plan);
+    RunSettings one = settings(1, 0), three = settings(1, 0);
+    three.rounds = 3;
+    RunResult a = run_plan(s, *planned.plan, one), b = run_plan(s, *planned.plan, three);
+    for (uint32_t p = 0; p < a.film.pixel_count(); ++p) ASSERT_EQ(a.film.samples(p), 5u);
+    for (uint32_t p = 0; p < b.film.pixel_count(); ++p) ASSERT_EQ(b.film.samples(p), 5u);
+    EXPECT_GE(b.passes, a.passes + 2);
+    expect_same_image(a.image(), b.image(), 1e-6);
+}
+
+TEST(CyclicProcess, LaterRoundsFollowTheNoiseOfTheImageSoFar) {
+    // Each round recomputes the map on the image so far and tops pixels up towards its target.
+    Scene s = *builtin_scene("cornell");
+    auto planned = testing::plan_text("t.pipe", R"(pipeline t {
+  preselective { crex "(TTMRSGD)*" spp 2 }
+  guidance { rough = normalise(blur(edges(component(D)))) }
+  selective { crex "(TTMRSGD)*" vary spp 2 .. 24 by rough }
+})",
+                                      take_census(s).spawnable);
+    ASSERT_TRUE(planned.plan) << (planned.diagnostics.empty() ? "" : planned.diagnostics[0].message);
+    RunSettings o = settings(2, 0);
+    o.rounds = 4;
+    RunResult r = run_plan(s, *planned.plan, o);
+    uint64_t samples = 0;
+    uint32_t most = 0;
+    for (uint32_t p = 0; p < r.film.pixel_count(); ++p) samples += r.film.samples(p), most = std::max(most, r.film.samples(p));
+    EXPECT_EQ(r.stats.camera.rays, samples);  // no sample twice, across rounds
+    EXPECT_GT(most, 2u);
+    EXPECT_LE(most, 24u);
+    std::vector<float> image = r.image();
+    EXPECT_TRUE(std::all_of(image.begin(), image.end(), [](float v) { return std::isfinite(v); }));
+}
+
+TEST(NoiseEstimate, HalfBuffersShrinkLikeOneOverTheSquareRootOfTheSamples) {
+    Scene s = *builtin_scene("cornell");
+    auto mean_noise = [&](uint32_t spp) {
+        RunResult r = testing::render_crex(s, "(TTMRSGD)*", kSize, spp, 5);
+        std::vector<float> n = r.film.noise_image();
+        double sum = 0;
+        for (float v : n) {
+            EXPECT_TRUE(std::isfinite(v) && v >= 0);
+            sum += v;
+        }
+        return sum / double(n.size());
+    };
+    double few = mean_noise(4), many = mean_noise(64);
+    EXPECT_GT(few, 0);
+    // sqrt(64 / 4) = 4 in expectation; the estimate is noisy itself.
+    EXPECT_GT(few / many, 2.0);
+    EXPECT_LT(few / many, 8.0);
 }
 
 }  // namespace

@@ -43,7 +43,7 @@ void expect_exact_cover(int w, int h, uint32_t first, uint32_t end, const std::v
 }
 
 TEST(SamplePasses, WithoutALimitOnePassHoldsEverySample) {
-    auto passes = plan_sample_passes(8, 4, 0, 16, {}, {});
+    auto passes = plan_sample_passes(8, 4, {0, 16, {}, {}}, {});
     ASSERT_EQ(passes.size(), 1u);
     EXPECT_EQ(passes[0].samples, 8u * 4 * 16);
     expect_exact_cover(8, 4, 0, 16, {}, passes);
@@ -51,14 +51,14 @@ TEST(SamplePasses, WithoutALimitOnePassHoldsEverySample) {
 
 TEST(SamplePasses, AMemoryLimitSplitsSampleIndicesAndNoPassExceedsIt) {
     PassLimits limits{8 * 4 * 3 * 100, 100, 0};  // three samples of every pixel
-    auto passes = plan_sample_passes(8, 4, 2, 16, {}, limits);
+    auto passes = plan_sample_passes(8, 4, {2, 16, {}, {}}, limits);
     ASSERT_EQ(passes.size(), 5u);  // 14 samples in passes of 3
     for (const auto& p : passes) EXPECT_LE(p.samples * limits.bytes_per_sample, limits.bytes);
     expect_exact_cover(8, 4, 2, 16, {}, passes);
 }
 
 TEST(SamplePasses, FixedSamplesPerPass) {
-    auto passes = plan_sample_passes(5, 3, 0, 7, {}, {0, 0, 3});
+    auto passes = plan_sample_passes(5, 3, {0, 7, {}, {}}, {0, 0, 3});
     ASSERT_EQ(passes.size(), 3u);
     EXPECT_EQ(passes[0].end - passes[0].first, 3u);
     EXPECT_EQ(passes[2].end - passes[2].first, 1u);
@@ -67,7 +67,7 @@ TEST(SamplePasses, FixedSamplesPerPass) {
 
 TEST(SamplePasses, BandsOfRowsWhenOneSampleOfEveryPixelIsTooMuch) {
     PassLimits limits{10 * 3 * 64, 64, 0};  // three rows of ten pixels
-    auto passes = plan_sample_passes(10, 8, 0, 2, {}, limits);
+    auto passes = plan_sample_passes(10, 8, {0, 2, {}, {}}, limits);
     ASSERT_EQ(passes.size(), 6u);  // two sample indices, each in bands of 3, 3 and 2 rows
     for (const auto& p : passes) {
         EXPECT_EQ(p.end - p.first, 1u);
@@ -82,11 +82,33 @@ TEST(SamplePasses, PerPixelEndsContinueFromTheFirstSampleAndSkipPixelsThatAskFor
     std::vector<uint32_t> end_of(w * h);
     for (size_t p = 0; p < end_of.size(); ++p) end_of[p] = static_cast<uint32_t>((p * 7) % 11);  // 0..10, some below first
     PassLimits limits{40 * 32, 32, 0};
-    auto passes = plan_sample_passes(w, h, 2, 0, end_of, limits);
+    auto passes = plan_sample_passes(w, h, {2, 0, {}, end_of}, limits);
     for (const auto& p : passes) EXPECT_LE(p.samples * limits.bytes_per_sample, limits.bytes);
     expect_exact_cover(w, h, 2, 0, end_of, passes);
     // Nothing asked for: no pass.
-    EXPECT_TRUE(plan_sample_passes(w, h, 20, 0, end_of, limits).empty());
+    EXPECT_TRUE(plan_sample_passes(w, h, {20, 0, {}, end_of}, limits).empty());
+}
+
+TEST(SamplePasses, PerPixelStartsAsInALaterRound) {
+    // Each pixel continues from the samples it has (a round of the cyclic process): every
+    // (pixel, k) with start <= k < end is covered once, nothing else.
+    const int w = 7, h = 3;
+    std::vector<uint32_t> start_of(w * h), end_of(w * h);
+    for (size_t p = 0; p < start_of.size(); ++p) start_of[p] = static_cast<uint32_t>(p % 5), end_of[p] = static_cast<uint32_t>(p % 5 + p % 3);
+    for (uint32_t most : {0u, 1u, 2u}) {
+        auto passes = plan_sample_passes(w, h, {0, 0, start_of, end_of}, {0, 0, most});
+        std::map<std::pair<size_t, uint32_t>, int> seen;
+        for (const auto& pass : passes) {
+            uint64_t n = 0;
+            for (size_t p = static_cast<size_t>(pass.row_begin) * w; p < static_cast<size_t>(pass.row_end) * w; ++p)
+                for (uint32_t k = std::max(start_of[p], pass.first); k < std::min(end_of[p], pass.end); ++k) ++seen[{p, k}], ++n;
+            EXPECT_EQ(n, pass.samples);
+        }
+        size_t want = 0;
+        for (size_t p = 0; p < start_of.size(); ++p)
+            for (uint32_t k = start_of[p]; k < end_of[p]; ++k, ++want) EXPECT_EQ((seen[{p, k}]), 1) << p << " " << k;
+        EXPECT_EQ(seen.size(), want);
+    }
 }
 
 }  // namespace
