@@ -9,6 +9,7 @@
 #include "compiler/base/nearest_name.h"
 #include "compiler/crex/compile.h"
 #include "compiler/pipeline/resolve.h"
+#include "compiler/pipeline/settings_table.h"
 
 namespace crex::pipeline {
 namespace {
@@ -83,20 +84,6 @@ const std::vector<Variable>& variables() {
                                             {"ic_radius", 1e-9, 1e9, false},     {"subsample", 1, 1024, true},
                                             {"media_samples", 1, 1024, true},    {"specular_threshold", 0, 1, false}};
     return v;
-}
-
-// Settings per section: name -> the shape of its values.
-const std::map<std::string, std::map<std::string, std::string>>& settings() {
-    static const std::map<std::string, std::map<std::string, std::string>> s = {
-        {"", {{"scene", "string"}, {"image", "size"}, {"seed", "integer"}, {"budget", "budget"}, {"policy", "string"},
-              {"lw", "number"}, {"max_depth", "integer"}, {"ab", "integer"}, {"av", "number"}, {"aa", "number"},
-              {"reference", "string"}}},
-        {"preselective", {{"crex", "crex"}, {"spp", "integer"}}},
-        {"guidance", {}},
-        {"selective", {{"crex", "crex"}, {"spp", "integer"}}},
-        {"output", {{"image", "string"}, {"components", "bool"}, {"maps", "bool"}, {"report", "string"}}},
-    };
-    return s;
 }
 
 template <class Names>
@@ -176,10 +163,11 @@ private:
             }
             switch (s.kind) {
             case Statement::Kind::kSection: {
-                if (!where.empty() || !settings().count(s.key) || s.key.empty()) {
+                const auto sections = setting_sections();
+                if (!where.empty() || s.key.empty() || std::find(sections.begin(), sections.end(), s.key) == sections.end()) {
                     std::vector<std::string> names;
-                    for (const auto& [n, _] : settings())
-                        if (!n.empty()) names.push_back(n);
+                    for (auto n : sections)
+                        if (!n.empty()) names.emplace_back(n);
                     sink_.report("E202", s.key_span,
                                  where.empty() ? fmt::format("unknown section '{}'; sections are preselective, guidance, "
                                                              "selective and output", s.key)
@@ -250,47 +238,74 @@ private:
     }
 
     void setting(const std::string& where, const Statement& s) {
-        const auto& table = settings().at(where);
-        auto it = table.find(s.key);
-        if (it == table.end()) {
+        const SettingRule* rule = find_setting_rule(where, s.key);
+        if (!rule) {
             std::vector<std::string> names;
-            for (const auto& [n, _] : table) names.push_back(n);
+            for (const auto& r : setting_rules())
+                if (r.section == where) names.emplace_back(r.name);
             sink_.report("E202", s.key_span, where == "guidance" ? fmt::format("'{}' is not a map definition (write NAME = operator(...))", s.key)
                                                                 : fmt::format("unknown setting '{}'{}", s.key, where.empty() ? "" : " in '" + where + "'"))
                 .help = nearest(s.key, names);
             return;
         }
-        const std::string& shape = it->second;
-        auto bad = [&](const std::string& expected) {
-            SourceSpan span = s.values.empty() ? s.key_span : s.values.front().span.merge(s.values.back().span);
+        const SettingShape shape = rule->shape;
+        auto bad_at = [&](const SourceSpan& span, const std::string& expected) {
             sink_.report("E203", span, fmt::format("{}: expected {}", s.key, expected));
         };
+        auto bad = [&](const std::string& expected) {
+            bad_at(s.values.empty() ? s.key_span : s.values.front().span.merge(s.values.back().span), expected);
+        };
         auto is = [&](size_t i, Value::Kind k) { return i < s.values.size() && s.values[i].kind == k; };
-        if (s.has_by && shape != "crex") bad("no 'by' here");
-        if (shape == "string" && !(s.values.size() == 1 && is(0, Value::Kind::kString))) bad("a string in double quotes");
-        if (shape == "bool" && !(s.values.size() == 1 && is(0, Value::Kind::kBool))) bad("true or false");
-        if (shape == "number" && !(s.values.size() == 1 && is(0, Value::Kind::kNumber) && s.values[0].unit.empty())) bad("a number");
-        if (shape == "integer") {
-            bool ok = s.values.size() == 1 && is(0, Value::Kind::kNumber) && s.values[0].unit.empty() &&
-                      s.values[0].number >= 0 && s.values[0].number == static_cast<double>(static_cast<long long>(s.values[0].number));
-            if (!ok) bad("a whole number >= 0");
-        }
-        if (shape == "size") {
-            bool ok = s.values.size() == 3 && is(0, Value::Kind::kNumber) && is(1, Value::Kind::kCross) && is(2, Value::Kind::kNumber) &&
-                      s.values[0].number >= 1 && s.values[2].number >= 1 && s.values[0].number <= 16384 && s.values[2].number <= 16384;
-            if (!ok) bad("WIDTH x HEIGHT, e.g. 512 x 512 (1 .. 16384 each)");
-        }
-        if (shape == "budget") {
+        auto plain_number = [&](size_t i) { return is(i, Value::Kind::kNumber) && s.values[i].unit.empty(); };
+        if (s.has_by && shape != SettingShape::kCrex) bad("no 'by' here");
+        switch (shape) {
+        case SettingShape::kString:
+            if (!(s.values.size() == 1 && is(0, Value::Kind::kString))) bad("a string in double quotes");
+            break;
+        case SettingShape::kBool:
+            if (!(s.values.size() == 1 && is(0, Value::Kind::kBool))) bad("true or false");
+            break;
+        case SettingShape::kInteger:
+        case SettingShape::kNumber:
+            if (!(s.values.size() == 1 && plain_number(0))) bad(shape == SettingShape::kInteger ? "a whole number" : "a number");
+            else if (auto e = setting_range_error(*rule, s.values[0].number); !e.empty()) bad_at(s.values[0].span, e);
+            break;
+        case SettingShape::kSize:
+            if (!(s.values.size() == 3 && plain_number(0) && is(1, Value::Kind::kCross) && plain_number(2))) {
+                bad(fmt::format("WIDTH x HEIGHT, e.g. 512 x 512 ({:g} .. {:g} each)", rule->lo, rule->hi));
+                break;
+            }
+            for (size_t i : {size_t{0}, size_t{2}})
+                if (auto e = setting_range_error(*rule, s.values[i].number); !e.empty())
+                    bad_at(s.values[i].span, fmt::format("{} in {}", i == 0 ? "a width" : "a height", e));
+            break;
+        case SettingShape::kBudget: {
             const Value* v = s.values.size() == 1 ? &s.values[0] : nullptr;
             if (!v || v->kind != Value::Kind::kNumber) {
                 sink_.report("E209", s.values.empty() ? s.key_span : s.values.front().span, "budget: expected a time like 10 s, 500 ms or 25 %");
             } else if (v->unit != "s" && v->unit != "ms" && v->unit != "%") {
                 sink_.report("E209", v->span, fmt::format("budget: '{}' needs a unit: s, ms or % (of a profiled full render)", v->number));
-            } else if (!(v->number > 0) || (v->unit == "%" && v->number > 100)) {
-                sink_.report("E209", v->span, "budget: must be > 0 (and at most 100 %)");
+            } else {
+                double amount = v->unit == "ms" ? v->number / 1000 : v->number;
+                if (auto e = budget_range_error(amount, v->unit == "%"); !e.empty())
+                    sink_.report("E209", v->span, fmt::format("budget: expected {}", e));
             }
+            break;
         }
-        if (shape == "crex") {
+        case SettingShape::kPolicy: {
+            std::vector<std::string> names(scheduling_policy_names().begin(), scheduling_policy_names().end());
+            if (!(s.values.size() == 1 && is(0, Value::Kind::kString)))
+                bad("a policy in double quotes: \"tasks\" or \"queues\"");
+            else if (!scheduling_policy_from_name(s.values[0].text))
+                sink_.report("E203", s.values[0].span, fmt::format("policy: unknown scheduling policy '{}': expected \"tasks\" "
+                                                                   "(whole tasks, thesis 5.4) or \"queues\" (per-variable queues, 8.3)",
+                                                                   s.values[0].text))
+                    .help = nearest(s.values[0].text, names);
+            break;
+        }
+        case SettingShape::kCrex: break;
+        }
+        if (shape == SettingShape::kCrex) {
             if (!(s.values.size() == 1 && is(0, Value::Kind::kString))) {
                 bad("a crex in double quotes, e.g. crex \"TT\"");
                 return;
