@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 
 #include "compiler/base/nearest_name.h"
 #include "compiler/crex/compile.h"
+#include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/resolve.h"
 #include "compiler/pipeline/settings_table.h"
 
@@ -18,7 +21,7 @@ using ast::Expr;
 using ast::Statement;
 using ast::Value;
 
-enum class Type { kImage, kBuffer, kMap, kObjects, kComponent };
+using Type = ValueType;
 
 std::string_view type_name(Type t) {
     switch (t) {
@@ -31,38 +34,14 @@ std::string_view type_name(Type t) {
     return "?";
 }
 
-// A parameter: positional (name "") or named; `types` it accepts, or a literal kind.
-struct Param {
-    std::string name;
-    std::vector<Type> types;      // for expressions
-    std::string literal;          // "number", "angle", "string" for named literal values
-    bool required = true;
-};
-
-struct Operator {
-    std::string name;
-    Type result;
-    std::vector<Param> params;
-    bool weighted_maps = false;  // importance(task 0.5, sal 0.5, op "+"): named args are maps
-};
-
-const std::vector<Operator>& operators() {
-    static const std::vector<Operator> ops = {
-        {"saliency", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
-        {"edges", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},
-        {"radiance_difference", Type::kMap, {{"", {Type::kImage, Type::kBuffer}, "", true}}, false},  // thesis ch. 7
-        {"component", Type::kBuffer, {{"", {Type::kComponent}, "", true}}, false},
-        {"tagged", Type::kObjects, {{"", {}, "string", false}}, false},  // no name: every tagged object
-        {"task_map", Type::kMap, {{"", {Type::kObjects}, "", true}, {"fovea", {}, "angle", false}}, false},
-        {"distractors", Type::kMap, {{"", {Type::kObjects}, "", false}, {"fovea", {}, "angle", false}}, false},
-        {"xmap", Type::kMap, {}, false},
-        {"importance", Type::kMap, {{"op", {}, "string", false}}, true},
-        {"constant", Type::kMap, {{"", {}, "number", true}}, false},
-        {"normalise", Type::kMap, {{"", {Type::kMap}, "", true}}, false},
-        {"blur", Type::kMap, {{"", {Type::kMap}, "", true}, {"sigma", {}, "number", false}}, false},
-        {"threshold", Type::kMap, {{"", {Type::kMap}, "", true}, {"at", {}, "number", false}}, false},
-    };
-    return ops;
+std::string_view literal_name(LiteralKind k) {
+    switch (k) {
+    case LiteralKind::kNumber: return "number";
+    case LiteralKind::kAngle: return "angle";
+    case LiteralKind::kString: return "string";
+    case LiteralKind::kNone: break;
+    }
+    return "?";
 }
 
 const std::map<std::string, Type>& builtin_names() {
@@ -71,19 +50,6 @@ const std::map<std::string, Type>& builtin_names() {
         {"D", Type::kComponent},   {"G", Type::kComponent},   {"S", Type::kComponent},    {"T", Type::kComponent},
         {"R", Type::kComponent},   {"M", Type::kComponent}};
     return names;
-}
-
-// Selective variables and their allowed range of values.
-struct Variable {
-    std::string name;
-    double lo, hi;
-    bool integer;
-};
-const std::vector<Variable>& variables() {
-    static const std::vector<Variable> v = {{"spp", 1, 1 << 20, true},           {"shadow_rays", 1, 1024, true},
-                                            {"ic_radius", 1e-9, 1e9, false},     {"subsample", 1, 1024, true},
-                                            {"media_samples", 1, 1024, true},    {"specular_threshold", 0, 1, false}};
-    return v;
 }
 
 template <class Names>
@@ -207,12 +173,11 @@ private:
             sink_.report("E202", s.key_span, "selective variables are varied in the 'selective' section");
             return;
         }
-        const Variable* var = nullptr;
-        for (const auto& v : variables())
-            if (v.name == s.key) var = &v;
+        auto known = selective_variable_from_name(s.key);
+        const VariableSignature* var = known ? &signature(*known) : nullptr;
         if (!var) {
             std::vector<std::string> names;
-            for (const auto& v : variables()) names.push_back(v.name);
+            for (const auto& v : kSelectiveVariables) names.emplace_back(v.name);
             sink_.report("E207", s.key_span, fmt::format("unknown selective variable '{}'", s.key)).help = nearest(s.key, names);
         } else {
             for (const Value* v : {&s.lo, &s.hi}) {
@@ -228,8 +193,8 @@ private:
             }
         }
         if (!s.using_fn.empty()) {
-            static const std::vector<std::string> functions = {"linear", "quadratic", "sqrt", "step"};
-            if (std::find(functions.begin(), functions.end(), s.using_fn) == functions.end())
+            const std::vector<std::string> functions(kModulationFunctionNames.begin(), kModulationFunctionNames.end());
+            if (!modulation_function_from_name(s.using_fn))
                 sink_.report("E206", s.using_span,
                              fmt::format("unknown modulation function '{}': expected linear, quadratic, sqrt or step", s.using_fn))
                     .help = nearest(s.using_fn, functions);
@@ -359,17 +324,19 @@ private:
         return std::nullopt;
     }
 
-    bool literal_ok(const Value& v, const std::string& kind) {
-        if (kind == "string") return v.kind == Value::Kind::kString;
-        if (kind == "number") return v.kind == Value::Kind::kNumber && v.unit.empty();
-        if (kind == "angle") return v.kind == Value::Kind::kNumber && v.unit == "deg" && v.number > 0 && v.number < 180;
+    bool literal_ok(const Value& v, LiteralKind kind) {
+        switch (kind) {
+        case LiteralKind::kString: return v.kind == Value::Kind::kString;
+        case LiteralKind::kNumber: return v.kind == Value::Kind::kNumber && v.unit.empty() && std::isfinite(v.number);
+        case LiteralKind::kAngle: return v.kind == Value::Kind::kNumber && v.unit == "deg" && v.number > 0 && v.number < 180;
+        case LiteralKind::kNone: break;
+        }
         return false;
     }
 
     std::optional<Type> call(const Expr& e) {
-        const Operator* op = nullptr;
-        for (const auto& o : operators())
-            if (o.name == e.name) op = &o;
+        auto known = guidance_operator_from_name(e.name);
+        const OperatorSignature* op = known ? &signature(*known) : nullptr;
         if (!op) {
             sink_.report("E204", e.name_span, fmt::format("unknown guidance operator '{}'", e.name)).help =
                 nearest(e.name, guidance_operator_names());
@@ -380,24 +347,25 @@ private:
         for (const auto& a : e.args) {
             if (a.name.empty()) {
                 // Positional: the n-th positional parameter.
-                const Param* p = nullptr;
+                const ParamSignature* p = nullptr;
                 size_t k = 0;
-                for (const auto& q : op->params)
+                for (const auto& q : op->parameters())
                     if (q.name.empty() && k++ == positional) p = &q;
                 ++positional;
                 if (!p) {
                     sink_.report("E206", a.span, fmt::format("{}() takes no more positional arguments", op->name));
                     continue;
                 }
-                if (!p->literal.empty()) {
+                if (p->literal != LiteralKind::kNone) {
                     if (a.expr.kind != Expr::Kind::kLiteral || !literal_ok(a.expr.literal, p->literal))
-                        sink_.report("E206", a.span, fmt::format("{}(): expected a {} here", op->name, p->literal));
+                        sink_.report("E206", a.span, fmt::format("{}(): expected a {} here", op->name, literal_name(p->literal)));
                     continue;
                 }
                 auto t = expr(a.expr);
-                if (t && std::find(p->types.begin(), p->types.end(), *t) == p->types.end()) {
+                if (t && !accepts(p->accepts, *t)) {
                     std::string want;
-                    for (Type ty : p->types) want += (want.empty() ? "" : " or ") + std::string(type_name(ty));
+                    for (Type ty : {Type::kImage, Type::kBuffer, Type::kMap, Type::kObjects, Type::kComponent})
+                        if (accepts(p->accepts, ty)) want += (want.empty() ? "" : " or ") + std::string(type_name(ty));
                     sink_.report("E206", a.span, fmt::format("{}(): expected {}, but this is {}", op->name, want, type_name(*t)));
                 }
                 continue;
@@ -406,14 +374,14 @@ private:
                 sink_.report("E211", a.name_span, fmt::format("{}(): '{}' is given twice", op->name, a.name));
                 continue;
             }
-            const Param* p = nullptr;
-            for (const auto& q : op->params)
+            const ParamSignature* p = nullptr;
+            for (const auto& q : op->parameters())
                 if (q.name == a.name) p = &q;
             if (p) {
                 if (!literal_ok(a.value, p->literal))
-                    sink_.report("E206", a.value.span, fmt::format("{}(): '{}' expects a {}{}", op->name, a.name, p->literal,
-                                                                   p->literal == "angle" ? " like 2 deg" : ""));
-                if (op->name == "importance" && a.name == "op" && a.value.kind == Value::Kind::kString &&
+                    sink_.report("E206", a.value.span, fmt::format("{}(): '{}' expects a {}{}", op->name, a.name, literal_name(p->literal),
+                                                                   p->literal == LiteralKind::kAngle ? " like 2 deg" : ""));
+                if (op->op == GuidanceOperator::kImportance && a.name == "op" && a.value.kind == Value::Kind::kString &&
                     a.value.text != "+" && a.value.text != "max" && a.value.text != "*")
                     sink_.report("E206", a.value.span, "importance(): op is \"+\", \"max\" or \"*\"");
                 continue;
@@ -425,12 +393,12 @@ private:
                 continue;
             }
             std::vector<std::string> names;
-            for (const auto& q : op->params)
-                if (!q.name.empty()) names.push_back(q.name);
+            for (const auto& q : op->parameters())
+                if (!q.name.empty()) names.emplace_back(q.name);
             sink_.report("E206", a.name_span, fmt::format("{}() has no parameter '{}'", op->name, a.name)).help = nearest(a.name, names);
         }
         size_t required = 0;
-        for (const auto& q : op->params) required += q.name.empty() && q.required;
+        for (const auto& q : op->parameters()) required += q.name.empty() && q.required;
         if (positional < required)
             sink_.report("E206", e.span, fmt::format("{}() needs {} argument{}, got {}", op->name, required, required == 1 ? "" : "s", positional));
         return op->result;
@@ -446,15 +414,23 @@ private:
 }  // namespace
 
 const std::vector<std::string>& stdlib_pipeline_names() {
-    static const std::vector<std::string> names = {"gold", "sel_rp", "osd", "sel_edge", "sel_aa", "tc_rp", "cbr", "cbtcr",
-                                                   "cbtcr_sel", "sel_st", "tpict", "apict", "capict", "prog_rp", "prog_all",
-                                                   "prog_dis_all", "prog_tc"};
+    static const std::vector<std::string> names = [] {
+        // The thesis's renderers not written as a pipeline file yet (W202 names them), then
+        // every stdlib/pipelines/NAME.pipe, where `extends NAME` looks (resolve.cpp).
+        std::vector<std::string> out = {"capict"};
+        std::error_code ec;
+        for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(stdlib_dir()) / "pipelines", ec))
+            if (entry.path().extension() == ".pipe") out.push_back(entry.path().stem().string());
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        return out;
+    }();
     return names;
 }
 
 std::vector<std::string> guidance_operator_names() {
     std::vector<std::string> out;
-    for (const auto& o : operators()) out.push_back(o.name);
+    for (const auto& o : kGuidanceOperators) out.emplace_back(o.name);
     return out;
 }
 

@@ -89,30 +89,41 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         return display(it->second);
     }
     std::vector<const PlanEdge*> inputs = edges_into(plan_, node.id);
-    std::string op = param(node, "operator");
+    std::string op_name = param(node, "operator");
     auto input = [&](size_t k) -> Raster {
         size_t seen = 0;
         for (const PlanEdge* e : inputs)
             if (e->kind != "objects" && seen++ == k) return map(e->from);
         throw std::runtime_error(fmt::format("{} has no input {}", node.label, k + 1));
     };
-    if (op.empty()) return as_map(input(0));  // `m = other`: an alias
-    if (op == "saliency") return guidance::saliency(input(0));
-    if (op == "edges") return guidance::edges(input(0));
-    if (op == "radiance_difference") return guidance::radiance_difference(input(0));
-    if (op == "constant") return guidance::constant_map(w, h, number_param(node, "arg", 0));
-    if (op == "normalise") {
+    if (op_name.empty()) return as_map(input(0));  // `m = other`: an alias
+    auto known = pipeline::guidance_operator_from_name(op_name);
+    if (!known) throw std::runtime_error("this runtime has no guidance operator '" + op_name + "'");
+    const pipeline::GuidanceOperator op = *known;
+    if (pipeline::signature(op).needs_scene && (!in_.scene || !in_.probe)) throw std::runtime_error(node.label + " needs the scene");
+    // One case per pipeline::GuidanceOperator, no default: -Werror=switch (CMakeLists.txt) makes a
+    // new operator without an implementation here a compile error.
+    using G = pipeline::GuidanceOperator;
+    switch (op) {
+    case G::kComponent:
+    case G::kTagged:
+        throw std::runtime_error(fmt::format("{}: {}() gives a buffer or objects, not a map", node.label, op_name));
+    case G::kSaliency: return guidance::saliency(input(0));
+    case G::kEdges: return guidance::edges(input(0));
+    case G::kRadianceDifference: return guidance::radiance_difference(input(0));
+    case G::kConstant: return guidance::constant_map(w, h, number_param(node, "arg", 0));
+    case G::kNormalise: {
         Raster m = as_map(input(0));
         guidance::normalise_max(m);
         return m;
     }
-    if (op == "blur") {
+    case G::kBlur: {
         Raster m = guidance::gaussian_blur(as_map(input(0)), number_param(node, "sigma", 2));
         guidance::clamp01(m);
         return m;
     }
-    if (op == "threshold") return guidance::threshold(as_map(input(0)), number_param(node, "at", 0.5));
-    if (op == "importance") {
+    case G::kThreshold: return guidance::threshold(as_map(input(0)), number_param(node, "at", 0.5));
+    case G::kImportance: {
         std::vector<Raster> maps;
         std::vector<double> weights;
         for (const PlanEdge* e : inputs) {
@@ -126,10 +137,9 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         std::string how = unquote(param(node, "op"));
         return guidance::importance(ptrs, weights, how.empty() ? "+" : how);
     }
-    if (!in_.scene || !in_.probe) throw std::runtime_error(node.label + " needs the scene");
-    const PixelProbe& probe = *in_.probe;
-    guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
-    if (op == "task_map") {
+    case G::kTaskMap: {
+        const PixelProbe& probe = *in_.probe;
+        guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
         std::vector<bool> selected;
         bool named = false;
         for (const PlanEdge* e : inputs)
@@ -152,7 +162,9 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         }
         return guidance::task_map(covered, value, view, number_param(node, "fovea", kDefaultFovea));
     }
-    if (op == "distractors") {
+    case G::kDistractors: {
+        const PixelProbe& probe = *in_.probe;
+        guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
         std::vector<bool> selected;
         for (const PlanEdge* e : inputs)
             if (e->kind == "objects") selected = objects(e->from);
@@ -165,7 +177,8 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
             detectable[p] = probe.detected[p] >= 0 && selected[static_cast<size_t>(probe.detected[p])];
         return guidance::distractor_map(detectable, view, number_param(node, "fovea", kDefaultFovea));
     }
-    if (op == "xmap") {
+    case G::kXmap: {
+        const PixelProbe& probe = *in_.probe;
         // Fraction of the light leaving the first surface that reaches the camera through the
         // scene's homogeneous medium: exp(-sigma_t d), luminance-weighted.
         Raster m(w, h, 1, 1.0f);
@@ -178,7 +191,8 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         guidance::clamp01(m);
         return m;
     }
-    throw std::runtime_error("this runtime has no guidance operator '" + op + "'");
+    }
+    throw std::runtime_error("this runtime has no guidance operator '" + op_name + "'");
 }
 
 }  // namespace crex

@@ -34,8 +34,8 @@ std::string map_feeding(const PipelinePlan& plan, const std::string& id, const s
 
 bool needs_probe(const PipelinePlan& plan) {
     for (const auto& n : plan.nodes) {
-        std::string op = n.params.value("operator", std::string());
-        if (op == "task_map" || op == "distractors" || op == "xmap") return true;
+        auto op = pipeline::guidance_operator_from_name(n.params.value("operator", std::string()));
+        if (op && pipeline::signature(*op).needs_scene) return true;
     }
     return false;
 }
@@ -187,20 +187,26 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     std::vector<float> ic_accuracy, ic_priority;
     for (const auto& n : plan.nodes) {
         if (n.kind != "svt") continue;
-        std::string var = n.id.substr(5);  // "vary.spp"
+        auto var = pipeline::selective_variable_from_name(n.id.substr(5));  // "vary.spp"
+        if (!var) throw std::runtime_error("this runtime cannot vary '" + n.id.substr(5) + "'");
         std::string by = map_feeding(plan, n.id);
         if (by.empty()) throw std::runtime_error(n.label + ": no map");
         auto from = plan_number(n.params.value("from", std::string()));
         auto to = plan_number(n.params.value("to", std::string()));
-        std::string fn = n.params.value("using", std::string());
+        std::string fn_name = n.params.value("using", std::string());
         if (!from || !to) throw std::runtime_error(n.label + ": malformed bounds");
-        if (!modulate(fn, 0)) throw std::runtime_error(fmt::format("{}: unknown modulation function '{}'", n.label, fn));
+        auto fn = fn_name.empty() ? pipeline::ModulationFunction::kLinear : pipeline::modulation_function_from_name(fn_name);
+        if (!fn) throw std::runtime_error(fmt::format("{}: unknown modulation function '{}'", n.label, fn_name));
         std::vector<float> m = map_values(graph.map(by), pixels);
         if (by.rfind("map.", 0) != 0) out.maps.push_back({by, graph.map(by)});
-        if (var == "spp") {
-            spp = variable_values(*from, *to, fn, m, true);
-        } else if (var == "shadow_rays") {
-            auto v = variable_values(*from, *to, fn, m, true);
+        // One case per pipeline::SelectiveVariable, no default (-Werror=switch).
+        using V = pipeline::SelectiveVariable;
+        switch (*var) {
+        case V::kSpp:
+            spp = variable_values(*from, *to, *fn, m, true);
+            break;
+        case V::kShadowRays: {
+            auto v = variable_values(*from, *to, *fn, m, true);
             shadow_rays.resize(pixels);
             uint32_t mx = 1;
             for (size_t p = 0; p < pixels; ++p) {
@@ -209,24 +215,30 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
             }
             shade.shadow_rays = mx;
             shade.shadow_rays_per_pixel = &shadow_rays;
-        } else if (var == "specular_threshold") {
-            auto v = variable_values(*from, *to, fn, m, false);
+            break;
+        }
+        case V::kSpecularThreshold: {
+            auto v = variable_values(*from, *to, *fn, m, false);
             specular_threshold.assign(v.begin(), v.end());
             shade.specular_threshold_per_pixel = &specular_threshold;
-        } else if (var == "subsample") {
-            out.subsample.emplace(w, h, variable_values(*from, *to, fn, m, true));
-        } else if (var == "ic_radius") {
+            break;
+        }
+        case V::kSubsample:
+            out.subsample.emplace(w, h, variable_values(*from, *to, *fn, m, true));
+            break;
+        case V::kIcRadius: {
             if (!cache) {
                 out.notes.push_back("ic_radius is not executed: the render has no irradiance cache");
                 continue;
             }
-            auto v = variable_values(*from, *to, fn, m, false);
+            auto v = variable_values(*from, *to, *fn, m, false);
             ic_accuracy.assign(v.begin(), v.end());
             ic_priority = m;
-        } else if (var == "media_samples") {
+            break;
+        }
+        case V::kMediaSamples:
             out.notes.push_back("media_samples is not executed: the renderer has no participating media yet");
-        } else {
-            throw std::runtime_error("this runtime cannot vary '" + var + "'");
+            break;
         }
     }
     std::vector<float> modulation;
