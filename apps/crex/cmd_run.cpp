@@ -97,11 +97,6 @@ bool parse_size(const std::string& s, int& w, int& h) {
     return w > 0 && h > 0 && w <= 16384 && h <= 16384;
 }
 
-std::string without_spaces(std::string s) {
-    s.erase(std::remove(s.begin(), s.end(), ' '), s.end());
-    return s;
-}
-
 int run(RunOptions opt) {
 
     // What to execute: a crex, or a plan made earlier by `crex plan`.
@@ -114,7 +109,8 @@ int run(RunOptions opt) {
     std::string scene_spec = opt.scene;
     std::string expected_census;
     std::unique_ptr<SourceFile> source;
-    std::map<std::string, std::string> settings;  // from a pipeline or a pipeline plan
+    PlanSettings settings;                         // from a pipeline or a pipeline plan
+    PlanOutputs plan_outputs;
     std::unique_ptr<SceneInput> scene_in;          // a pipeline's scene is loaded while planning it
     std::optional<PipelinePlan> pipeline_plan;     // a pipeline (file or plan): guidance and svt run too
     bool is_pipeline = opt.plan.size() > 5 && opt.plan.substr(opt.plan.size() - 5) == ".pipe";
@@ -128,7 +124,8 @@ int run(RunOptions opt) {
             program = in->plan->program;
             pipeline_plan = *in->plan;
             scene_spec = in->scene_spec;
-            for (const auto& [k, v] : in->plan->settings.items()) settings[k] = v.get<std::string>();
+            settings = in->plan->settings;
+            plan_outputs = in->plan->outputs;
             // W403 (guidance and selective variables do not execute yet) comes from the checker.
         }
         scene_in = std::move(in->scene);
@@ -145,8 +142,11 @@ int run(RunOptions opt) {
             program = plan->program;
             if (scene_spec.empty()) scene_spec = plan->scene;
             expected_census = plan->census_hash;
-            settings = plan->settings;
-            if (plan->pipeline) pipeline_plan = std::move(plan->pipeline);
+            if (plan->pipeline) {
+                settings = plan->pipeline->settings;
+                plan_outputs = plan->pipeline->outputs;
+                pipeline_plan = std::move(plan->pipeline);
+            }
         }
     } else {
         source = std::make_unique<SourceFile>("<crex>", opt.crex.empty() ? kDefaultCrex : opt.crex);
@@ -156,20 +156,18 @@ int run(RunOptions opt) {
     }
     if (scene_spec.empty()) scene_spec = "builtin:cornell";
     // A pipeline's settings apply unless a flag says otherwise (spec/pipeline.md §7).
-    if (!opt.size_given && settings.count("image")) opt.size = without_spaces(settings["image"]);
-    if (!opt.spp_given && settings.count("spp")) opt.spp = static_cast<uint32_t>(std::stoul(settings["spp"]));
-    if (opt.budget.empty() && settings.count("budget")) opt.budget = without_spaces(settings["budget"]);
-    if (opt.outputs.empty() && settings.count("output_image")) opt.outputs = {settings["output_image"]};
-    try {
-        if (!opt.seed_given && settings.count("seed")) opt.seed = std::stoull(settings["seed"]);
-        if (!opt.lw_given && settings.count("lw")) opt.lw = std::stod(settings["lw"]);
-        if (!opt.max_depth_given && settings.count("max_depth")) opt.max_depth = static_cast<uint32_t>(std::stoul(settings["max_depth"]));
-        if (!opt.aa_given && settings.count("aa")) opt.aa = std::stod(settings["aa"]);
-        if (!opt.ab_given && settings.count("ab")) opt.ab = static_cast<uint32_t>(std::stoul(settings["ab"]));
-        if (!opt.ambient_given && settings.count("av")) opt.ambient = std::stod(settings["av"]);
-    } catch (const std::exception&) {
-        std::cerr << "crex run: error: the plan's settings hold a malformed number\n";
-        return kExitInputErrors;
+    // The plan's settings are typed and range-checked (compiler/pipeline/settings_table.h).
+    if (!opt.size_given && settings.width && settings.height) opt.size = fmt::format("{}x{}", *settings.width, *settings.height);
+    if (!opt.spp_given && pipeline_plan) opt.spp = settings.spp;
+    if (opt.budget.empty() && settings.budget) opt.budget = fmt::format("{}{}", settings.budget->amount, settings.budget->percent ? "%" : "s");
+    if (opt.outputs.empty() && !plan_outputs.images.empty()) opt.outputs = plan_outputs.images;
+    if (pipeline_plan) {
+        if (!opt.seed_given && settings.seed) opt.seed = *settings.seed;
+        if (!opt.lw_given && settings.lw) opt.lw = *settings.lw;
+        if (!opt.max_depth_given && settings.max_depth) opt.max_depth = *settings.max_depth;
+        if (!opt.aa_given && settings.aa) opt.aa = *settings.aa;
+        if (!opt.ab_given && settings.ab) opt.ab = *settings.ab;
+        if (!opt.ambient_given && settings.av) opt.ambient = *settings.av;
     }
     int width = 0, height = 0;
     if (!parse_size(opt.size, width, height)) {
@@ -259,11 +257,8 @@ int run(RunOptions opt) {
     ro.executor.progress = [&](const std::string& what, uint64_t rays) { progress.update(what, rays); };
 
     // Checkpoints for the error-against-time curve: with a reference, or for a report.
-    if (opt.report_dir.empty() && settings.count("output_report")) opt.report_dir = settings["output_report"];
-    if (opt.reference.empty() && settings.count("reference")) {
-        opt.reference = settings["reference"];
-        if (opt.reference.size() >= 2 && opt.reference.front() == '"') opt.reference = opt.reference.substr(1, opt.reference.size() - 2);
-    }
+    if (opt.report_dir.empty()) opt.report_dir = plan_outputs.report;
+    if (opt.reference.empty()) opt.reference = settings.reference;
     std::optional<metrics::Image> reference;
     std::string reference_file = opt.reference;
     if (!opt.reference.empty() || !opt.report_dir.empty()) {
@@ -384,7 +379,7 @@ int run(RunOptions opt) {
 
     PictureSummary pictures;
     std::string maps_dir = opt.maps_dir;
-    if (maps_dir.empty() && settings.count("output_maps") && settings["output_maps"] == "true")
+    if (maps_dir.empty() && plan_outputs.maps)
         maps_dir = (std::filesystem::path(outputs.front()).parent_path() / "maps").string();
     if (!maps_dir.empty()) {
         static const std::vector<std::pair<std::string, guidance::Raster>> no_maps;

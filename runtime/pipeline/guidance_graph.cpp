@@ -17,23 +17,18 @@ namespace {
 
 using guidance::Raster;
 
-std::string unquote(std::string s) {
-    if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return s.substr(1, s.size() - 2);
-    return s;
+// A node's string parameter ("" when absent); the plan reader has checked the types.
+std::string text_param(const PlanNode& n, const std::string& key) {
+    auto it = n.params.find(key);
+    return it != n.params.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
-std::string param(const PlanNode& n, const std::string& key) {
-    if (!n.params.contains(key)) return "";
-    const auto& v = n.params[key];
-    return v.is_string() ? v.get<std::string>() : v.dump();
-}
-
+// A node's number parameter, already in the runtime's units (angles in radians).
 double number_param(const PlanNode& n, const std::string& key, double fallback) {
-    std::string text = param(n, key);
-    if (text.empty()) return fallback;
-    auto v = plan_number(text);
-    if (!v) throw std::runtime_error(fmt::format("{}: {} '{}' is not a number", n.label, key, text));
-    return *v;
+    auto it = n.params.find(key);
+    if (it == n.params.end()) return fallback;
+    if (!it->is_number()) throw std::runtime_error(fmt::format("{}: {} is not a number", n.label, key));
+    return it->get<double>();
 }
 
 constexpr double kDefaultFovea = 2 * std::numbers::pi / 180;  // 2 degrees: the fovea
@@ -73,7 +68,7 @@ std::vector<bool> GuidanceGraph::objects(const std::string& id) {
     const PlanNode* node = find_node(plan_, id);
     const auto& shapes = in_.scene->shapes;
     std::vector<bool> out(shapes.size(), false);
-    std::string name = node ? unquote(param(*node, "arg")) : "";
+    std::string name = node ? text_param(*node, "arg") : "";
     for (size_t s = 0; s < shapes.size(); ++s)
         out[s] = shapes[s].tag && (name.empty() || shapes[s].tag->name == name);
     return out;
@@ -83,13 +78,13 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
     const int w = in_.width, h = in_.height;
     if (node.kind == "image") return display(in_.preview);
     if (node.kind == "buffer") {
-        std::string name = node.params.contains("component") ? param(node, "component") : node.label;
+        std::string name = node.params.contains("component") ? text_param(node, "component") : node.label;
         auto it = in_.buffers.find(name);
         if (it == in_.buffers.end()) throw std::runtime_error("no buffer '" + name + "' for " + node.id);
         return display(it->second);
     }
     std::vector<const PlanEdge*> inputs = edges_into(plan_, node.id);
-    std::string op_name = param(node, "operator");
+    std::string op_name = text_param(node, "operator");
     auto input = [&](size_t k) -> Raster {
         size_t seen = 0;
         for (const PlanEdge* e : inputs)
@@ -128,13 +123,12 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         std::vector<double> weights;
         for (const PlanEdge* e : inputs) {
             maps.push_back(as_map(map(e->from)));
-            auto wgt = plan_number(e->label);
-            weights.push_back(wgt.value_or(1.0));
+            weights.push_back(e->weight.value_or(1.0));
         }
         std::vector<const Raster*> ptrs;
         for (const auto& m : maps) ptrs.push_back(&m);
         if (ptrs.empty()) return Raster(w, h, 1);
-        std::string how = unquote(param(node, "op"));
+        std::string how = text_param(node, "op");
         return guidance::importance(ptrs, weights, how.empty() ? "+" : how);
     }
     case G::kTaskMap: {
@@ -146,7 +140,7 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
             if (e->kind == "objects") {
                 selected = objects(e->from);
                 const PlanNode* t = find_node(plan_, e->from);
-                named = t && !unquote(param(*t, "arg")).empty();
+                named = t && !text_param(*t, "arg").empty();
             }
         if (selected.empty()) selected = objects("");
         // One set per task value (thesis: 0..3): value = task / 3; an object named explicitly

@@ -25,13 +25,6 @@ uint64_t total_rays(const ExecutorStats& s) {
     return n;
 }
 
-// The map node feeding `id` through an edge of kind `kind` ("" if none).
-std::string map_feeding(const PipelinePlan& plan, const std::string& id, const std::string& label = "") {
-    for (const PlanEdge* e : edges_into(plan, id))
-        if (e->kind == "map" && (label.empty() || e->label == label)) return e->from;
-    return "";
-}
-
 bool needs_probe(const PipelinePlan& plan) {
     for (const auto& n : plan.nodes) {
         auto op = pipeline::guidance_operator_from_name(n.params.value("operator", std::string()));
@@ -112,14 +105,12 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     double base_aa = options.irradiance_cache ? options.irradiance_cache->accuracy : 0;
     if (options.irradiance_cache) {
         IcSettings ics = *options.irradiance_cache;
-        if (const PlanNode* v = find_node(plan, "vary.ic_radius")) {
-            auto from = plan_number(v->params.value("from", std::string()));
-            auto to = plan_number(v->params.value("to", std::string()));
-            if (!from || !to) throw std::runtime_error(v->label + ": malformed bounds");
-            base_aa = *from;
-            ics.accuracy = *from;
-            ics.max_accuracy = std::max({*from, *to, ics.accuracy});
-        }
+        for (const PlanVariable& v : plan.variables)
+            if (v.variable == pipeline::SelectiveVariable::kIcRadius) {
+                base_aa = v.from;
+                ics.accuracy = v.from;
+                ics.max_accuracy = std::max({v.from, v.to, ics.accuracy});
+            }
         cache.emplace(rs, ics);
         for (const auto& r : options.ic_records) cache->insert(r);
         base.shade.ic_queries = true;
@@ -180,33 +171,22 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
     // The svt.
     ShadeParams shade = base.shade;
     std::vector<double> spp(pixels, s0);
-    if (const PlanNode* sel = find_node(plan, "selective"); sel && sel->params.contains("spp"))
-        std::fill(spp.begin(), spp.end(), std::max<double>(s0, sel->params["spp"].get<double>()));
+    if (plan.settings.selective_spp) std::fill(spp.begin(), spp.end(), std::max<double>(s0, *plan.settings.selective_spp));
     std::vector<uint16_t> shadow_rays;
     std::vector<float> specular_threshold;
     std::vector<float> ic_accuracy, ic_priority;
-    for (const auto& n : plan.nodes) {
-        if (n.kind != "svt") continue;
-        auto var = pipeline::selective_variable_from_name(n.id.substr(5));  // "vary.spp"
-        if (!var) throw std::runtime_error("this runtime cannot vary '" + n.id.substr(5) + "'");
-        std::string by = map_feeding(plan, n.id);
-        if (by.empty()) throw std::runtime_error(n.label + ": no map");
-        auto from = plan_number(n.params.value("from", std::string()));
-        auto to = plan_number(n.params.value("to", std::string()));
-        std::string fn_name = n.params.value("using", std::string());
-        if (!from || !to) throw std::runtime_error(n.label + ": malformed bounds");
-        auto fn = fn_name.empty() ? pipeline::ModulationFunction::kLinear : pipeline::modulation_function_from_name(fn_name);
-        if (!fn) throw std::runtime_error(fmt::format("{}: unknown modulation function '{}'", n.label, fn_name));
+    for (const PlanVariable& var : plan.variables) {
+        const std::string& by = var.map;
         std::vector<float> m = map_values(graph.map(by), pixels);
         if (by.rfind("map.", 0) != 0) out.maps.push_back({by, graph.map(by)});
         // One case per pipeline::SelectiveVariable, no default (-Werror=switch).
         using V = pipeline::SelectiveVariable;
-        switch (*var) {
+        switch (var.variable) {
         case V::kSpp:
-            spp = variable_values(*from, *to, *fn, m, true);
+            spp = variable_values(var.from, var.to, var.modulation, m, true);
             break;
         case V::kShadowRays: {
-            auto v = variable_values(*from, *to, *fn, m, true);
+            auto v = variable_values(var.from, var.to, var.modulation, m, true);
             shadow_rays.resize(pixels);
             uint32_t mx = 1;
             for (size_t p = 0; p < pixels; ++p) {
@@ -218,20 +198,20 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
             break;
         }
         case V::kSpecularThreshold: {
-            auto v = variable_values(*from, *to, *fn, m, false);
+            auto v = variable_values(var.from, var.to, var.modulation, m, false);
             specular_threshold.assign(v.begin(), v.end());
             shade.specular_threshold_per_pixel = &specular_threshold;
             break;
         }
         case V::kSubsample:
-            out.subsample.emplace(w, h, variable_values(*from, *to, *fn, m, true));
+            out.subsample.emplace(w, h, variable_values(var.from, var.to, var.modulation, m, true));
             break;
         case V::kIcRadius: {
             if (!cache) {
                 out.notes.push_back("ic_radius is not executed: the render has no irradiance cache");
                 continue;
             }
-            auto v = variable_values(*from, *to, *fn, m, false);
+            auto v = variable_values(var.from, var.to, var.modulation, m, false);
             ic_accuracy.assign(v.begin(), v.end());
             ic_priority = m;
             break;
@@ -242,7 +222,7 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
         }
     }
     std::vector<float> modulation;
-    std::string modulation_map = map_feeding(plan, "selective", "{ } modulation");
+    const std::string& modulation_map = plan.modulation_map;
     if (!modulation_map.empty()) {
         modulation = map_values(graph.map(modulation_map), pixels);
         if (modulation_map.rfind("map.", 0) != 0) out.maps.push_back({modulation_map, graph.map(modulation_map)});

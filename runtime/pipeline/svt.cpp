@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 
 namespace crex {
 
@@ -44,21 +43,6 @@ std::vector<double> variable_values(double from, double to, ModulationFunction f
         out[i] = integer ? std::round(v) : v;
     }
     return out;
-}
-
-std::optional<double> plan_number(const std::string& text) {
-    try {
-        size_t used = 0;
-        double v = std::stod(text, &used);
-        std::string unit = text.substr(used);
-        unit.erase(0, unit.find_first_not_of(' '));
-        if (unit == "deg") return v * std::numbers::pi / 180;
-        if (unit.empty() || unit == "rad") return v;
-        if (unit == "%") return v / 100;
-        return std::nullopt;
-    } catch (...) {
-        return std::nullopt;
-    }
 }
 
 }  // namespace crex

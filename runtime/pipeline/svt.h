@@ -21,8 +21,4 @@ std::optional<double> modulate(const std::string& function, double m);
 std::vector<double> variable_values(double from, double to, pipeline::ModulationFunction function, const std::vector<float>& map,
                                     bool integer);
 
-/// A plan's number text ("16", "0.5", "2 deg") as a number (degrees become radians); nullopt
-/// when it is not one.
-std::optional<double> plan_number(const std::string& text);
-
 }  // namespace crex

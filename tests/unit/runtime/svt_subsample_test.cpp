@@ -23,9 +23,6 @@ TEST(Svt, AWhereTheMapIsZeroBWhereItIsOneInEitherOrder) {
     EXPECT_FALSE(modulate("cubic", 0.5));
     EXPECT_DOUBLE_EQ(*modulate("sqrt", 0.25), 0.5);
     EXPECT_DOUBLE_EQ(*modulate("", 0.25), 0.25);
-    EXPECT_NEAR(*plan_number("2 deg"), 2 * std::numbers::pi / 180, 1e-15);
-    EXPECT_EQ(*plan_number("0.5"), 0.5);
-    EXPECT_FALSE(plan_number("\"+\""));
 }
 
 TEST(Subsample, UniformSpacingRendersTheLatticeAndInterpolatesLinearImagesExactly) {
