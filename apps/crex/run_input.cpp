@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
-#include <map>
 
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/input_files.h"
@@ -18,37 +17,23 @@
 namespace crex::app {
 namespace {
 
-std::string without_spaces(std::string s) {
-    s.erase(std::remove(s.begin(), s.end(), ' '), s.end());
-    return s;
-}
-
-std::string unquoted(std::string s) {
-    if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
-    return s;
-}
-
-// A pipeline's settings apply unless a flag says otherwise (spec/pipeline.md §7).
-bool apply_settings(const std::map<std::string, std::string>& settings, RunOptions& opt) {
-    auto has = [&](const char* k) { return settings.count(k) > 0; };
-    if (!opt.size_given && has("image")) opt.size = without_spaces(settings.at("image"));
-    if (opt.budget.empty() && has("budget")) opt.budget = without_spaces(settings.at("budget"));
-    if (opt.outputs.empty() && has("output_image")) opt.outputs = {unquoted(settings.at("output_image"))};
-    if (opt.report_dir.empty() && has("output_report")) opt.report_dir = unquoted(settings.at("output_report"));
-    if (opt.reference.empty() && has("reference")) opt.reference = unquoted(settings.at("reference"));
-    if (opt.maps_dir.empty() && has("output_maps") && settings.at("output_maps") == "true") opt.maps_beside_output = true;
-    try {
-        if (!opt.spp_given && has("spp")) opt.spp = static_cast<uint32_t>(std::stoul(settings.at("spp")));
-        if (!opt.seed_given && has("seed")) opt.seed = std::stoull(settings.at("seed"));
-        if (!opt.lw_given && has("lw")) opt.lw = std::stod(settings.at("lw"));
-        if (!opt.max_depth_given && has("max_depth")) opt.max_depth = static_cast<uint32_t>(std::stoul(settings.at("max_depth")));
-        if (!opt.aa_given && has("aa")) opt.aa = std::stod(settings.at("aa"));
-        if (!opt.ab_given && has("ab")) opt.ab = static_cast<uint32_t>(std::stoul(settings.at("ab")));
-        if (!opt.ambient_given && has("av")) opt.ambient = std::stod(settings.at("av")), opt.ambient_given = true;
-    } catch (const std::exception&) {
-        return false;
-    }
-    return true;
+// A pipeline's settings apply unless a flag says otherwise (spec/pipeline.md §7). They are
+// typed and range-checked already (compiler/pipeline/settings_table.h).
+void apply_settings(const PipelinePlan& plan, RunOptions& opt) {
+    const PlanSettings& s = plan.settings;
+    if (!opt.size_given && s.width && s.height) opt.size = fmt::format("{}x{}", *s.width, *s.height);
+    if (!opt.spp_given) opt.spp = s.spp;
+    if (opt.budget.empty() && s.budget) opt.budget = fmt::format("{}{}", s.budget->amount, s.budget->percent ? "%" : "s");
+    if (opt.outputs.empty()) opt.outputs = plan.outputs.images;
+    if (opt.report_dir.empty()) opt.report_dir = plan.outputs.report;
+    if (opt.reference.empty()) opt.reference = s.reference;
+    if (opt.maps_dir.empty() && plan.outputs.maps) opt.maps_beside_output = true;
+    if (!opt.seed_given && s.seed) opt.seed = *s.seed;
+    if (!opt.lw_given && s.lw) opt.lw = *s.lw;
+    if (!opt.max_depth_given && s.max_depth) opt.max_depth = *s.max_depth;
+    if (!opt.aa_given && s.aa) opt.aa = *s.aa;
+    if (!opt.ab_given && s.ab) opt.ab = *s.ab;
+    if (!opt.ambient_given && s.av) opt.ambient = *s.av, opt.ambient_given = true;
 }
 
 }  // namespace
@@ -59,7 +44,6 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
         return kExitUsage;
     }
     DiagnosticSink sink;
-    std::map<std::string, std::string> settings;
     std::string expected_census;
     bool planned = false;
     in.scene_spec = opt.scene;
@@ -74,7 +58,6 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
             in.plan = *pipe->plan;
             in.pipeline = planned = true;
             in.scene_spec = pipe->scene_spec;
-            for (const auto& [k, v] : pipe->plan->settings.items()) settings[k] = v.get<std::string>();
         }
         in.scene = std::move(pipe->scene);
         in.source = std::move(pipe->source);
@@ -92,7 +75,6 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
             if (kept->pipeline) in.plan = std::move(*kept->pipeline), in.pipeline = true;
             if (in.scene_spec.empty()) in.scene_spec = kept->scene;
             expected_census = kept->census_hash;
-            settings = kept->settings;
         }
     } else {
         // An empty -e is an empty crex (camera rays only), as `check` and `plan` take it.
@@ -102,10 +84,7 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
         if (auto program = compile_crex(*in.source, sink, lower).program) in.plan.program = *program, planned = true;
     }
     if (in.scene_spec.empty()) in.scene_spec = "builtin:cornell";
-    if (!apply_settings(settings, opt)) {
-        std::cerr << "crex run: error: the plan's settings hold a malformed number\n";
-        return kExitInputErrors;
-    }
+    if (in.pipeline) apply_settings(in.plan, opt);
 
     auto t_load = std::chrono::steady_clock::now();
     if (!in.scene) in.scene = load_scene_input(in.scene_spec, sink);

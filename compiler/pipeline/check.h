@@ -14,9 +14,10 @@
 
 namespace crex::pipeline {
 
-/// Names of the thesis's renderers (spec/pipeline.md §5), which `extends` may name.
+/// Names of the thesis's renderers (spec/pipeline.md §5), which `extends` may name: the files
+/// of stdlib/pipelines and the few not written yet.
 const std::vector<std::string>& stdlib_pipeline_names();
-/// The guidance operators the checker knows (for docs and `--help`).
+/// The guidance operators the checker knows (registry.h; for docs, `--help` and did-you-mean).
 std::vector<std::string> guidance_operator_names();
 
 void check_pipeline_file(const ast::File& file, DiagnosticSink& sink);

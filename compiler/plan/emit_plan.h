@@ -24,11 +24,11 @@ struct CrexPlan {
     std::vector<DeadStep> pruned;
     std::string scene;           ///< scene spec, "" when planned without a scene
     std::string census_hash;     ///< 16 hex digits, "" without a scene
-    std::map<std::string, std::string> settings;  ///< pipeline plans: image, spp, budget, output_image...
-    std::optional<PipelinePlan> pipeline;         ///< a pipeline's plan read back: its graph too
+    std::optional<PipelinePlan> pipeline;         ///< a pipeline's plan read back: settings, variables, graph
 };
 
-inline constexpr int kPlanFormatVersion = 1;
+/// 2: typed settings, outputs, variables and node parameters (numbers, radians, registry names).
+inline constexpr int kPlanFormatVersion = 2;
 
 nlohmann::json plan_to_json(const CrexPlan& plan);
 std::string plan_to_dot(const CrexPlan& plan);

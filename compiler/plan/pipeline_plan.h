@@ -1,18 +1,63 @@
 /// \file pipeline_plan.h
-/// A pipeline's execution plan as plain data (spec/pipeline.md §3): the two stages'
-/// programs and the typed graph of camera rays, buffers, guidance operators, selective
-/// variables, cache, composite and outputs. The planner writes it, `crex run` reads it back
-/// from JSON, and the runtime executes it; nothing here needs the parser.
+/// A pipeline's execution plan as plain, typed data (spec/pipeline.md §3): the settings with
+/// units resolved by the compiler, the two stages' programs, the selective variables, the map
+/// modulating `{ }`, the outputs, and the graph of camera rays, buffers, guidance operators,
+/// selective variables, cache, composite and outputs. The planner writes it, `crex run` reads
+/// it back from JSON (read_plan.cpp validates every field), and the runtime executes it without
+/// parsing any text: numbers are numbers (angles in radians), names are registry enums.
 #pragma once
 
+#include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "compiler/pipeline/registry.h"
+#include "compiler/pipeline/settings_table.h"
 #include "compiler/sched/program.h"
 
 namespace crex {
 
+/// `budget N s | N ms | N %`: seconds (ms resolved), or a share of a profiled full render.
+struct PlanBudget {
+    double amount = 0;
+    bool percent = false;
+};
+
+/// The pipeline's settings (compiler/pipeline/settings_table.h gives their ranges); unset ones
+/// leave the choice to `crex run`'s flags and defaults.
+struct PlanSettings {
+    std::optional<int> width, height;        ///< `image W x H`: both or neither
+    uint32_t spp = 1;                        ///< pre-selective camera samples per pixel
+    std::optional<uint32_t> selective_spp;   ///< `selective { spp N }`: every pixel's floor
+    std::optional<uint64_t> seed;
+    std::optional<double> lw, av, aa;
+    std::optional<uint32_t> max_depth, ab;
+    std::optional<PlanBudget> budget;
+    std::optional<pipeline::SchedulingPolicy> policy;
+    std::string reference;                   ///< "" when none
+};
+
+/// The `output` section.
+struct PlanOutputs {
+    std::vector<std::string> images;
+    bool components = false, maps = false;
+    std::string report;                      ///< report directory, "" when none
+};
+
+/// `vary VARIABLE FROM .. TO by MAP using MODULATION`.
+struct PlanVariable {
+    pipeline::SelectiveVariable variable = pipeline::SelectiveVariable::kSpp;
+    double from = 0, to = 0;
+    pipeline::ModulationFunction modulation = pipeline::ModulationFunction::kLinear;
+    std::string map;                         ///< id of the node giving the map
+};
+
+/// A graph node. Operator nodes (kind "operator") are the map definitions: params hold
+/// "operator" (a registry name; absent for an alias `m = other`) and the operator's typed
+/// parameters ("fovea" in radians, "sigma", "at", "op", "arg"); their inputs are the edges into
+/// them in argument order, importance weights on the edges.
 struct PlanNode {
     std::string id, kind, stage, label;
     nlohmann::json params = nlohmann::json::object();
@@ -20,6 +65,7 @@ struct PlanNode {
 
 struct PlanEdge {
     std::string from, to, kind, label;
+    std::optional<double> weight;            ///< importance(m w, ...): the weight of map m
 };
 
 struct PlanRemoval {
@@ -31,8 +77,11 @@ struct PipelinePlan {
     std::vector<std::string> chain;
     std::string scene;
     std::string census_hash;
-    nlohmann::json settings = nlohmann::json::object();
+    PlanSettings settings;
+    PlanOutputs outputs;
     sched::Program program;  ///< .preselective / .selective: the two stages' programs
+    std::vector<PlanVariable> variables;
+    std::string modulation_map;              ///< node id of the map modulating `{ }`, "" when none
     std::vector<PlanNode> nodes;
     std::vector<PlanEdge> edges;
     std::vector<PlanRemoval> pruned;
@@ -51,5 +100,9 @@ inline const PlanNode* find_node(const PipelinePlan& plan, const std::string& id
         if (n.id == id) return &n;
     return nullptr;
 }
+
+/// The typed settings and outputs as JSON (plan format 2), and back is read_plan.cpp.
+nlohmann::json plan_settings_to_json(const PlanSettings& s);
+nlohmann::json plan_outputs_to_json(const PlanOutputs& o);
 
 }  // namespace crex

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "compiler/crex/compile.h"
@@ -24,6 +25,18 @@ std::string value_text(const Value& v) {
     case Value::Kind::kCross: return "x";
     }
     return "";
+}
+
+// A literal as the runtime uses it: numbers as numbers (degrees resolved to radians), strings
+// without quotes. The checker has already refused other units here.
+nlohmann::json value_json(const Value& v) {
+    switch (v.kind) {
+    case Value::Kind::kNumber: return v.unit == "deg" ? v.number * std::numbers::pi / 180 : v.number;
+    case Value::Kind::kString: return v.text;
+    case Value::Kind::kBool: return v.boolean;
+    case Value::Kind::kCross: return "x";
+    }
+    return nullptr;
 }
 
 std::string expr_text(const Expr& e) {
@@ -58,6 +71,40 @@ bool has_exec(const sched::Node& n, Component c) {
     return false;
 }
 
+// The top-level and stage settings, typed; the checker has range-checked every value.
+PlanSettings typed_settings(const pipeline::ResolvedPipeline& p) {
+    PlanSettings s;
+    auto number = [&](const char* key) -> std::optional<double> {
+        auto it = p.top.find(key);
+        if (it == p.top.end() || it->second.size() != 1 || it->second[0].kind != Value::Kind::kNumber) return std::nullopt;
+        return it->second[0].number;
+    };
+    auto text = [&](const char* key) -> std::string {
+        auto it = p.top.find(key);
+        return it == p.top.end() || it->second.empty() ? "" : it->second[0].text;
+    };
+    if (auto it = p.top.find("image"); it != p.top.end() && it->second.size() == 3) {
+        s.width = static_cast<int>(it->second[0].number);
+        s.height = static_cast<int>(it->second[2].number);
+    }
+    if (auto v = number("seed")) s.seed = static_cast<uint64_t>(*v);
+    s.lw = number("lw");
+    s.av = number("av");
+    s.aa = number("aa");
+    if (auto v = number("max_depth")) s.max_depth = static_cast<uint32_t>(*v);
+    if (auto v = number("ab")) s.ab = static_cast<uint32_t>(*v);
+    if (auto it = p.top.find("budget"); it != p.top.end() && it->second.size() == 1) {
+        const Value& b = it->second[0];
+        s.budget = PlanBudget{b.unit == "ms" ? b.number / 1000 : b.number, b.unit == "%"};
+    }
+    if (auto name = text("policy"); !name.empty()) s.policy = pipeline::scheduling_policy_from_name(name);
+    s.reference = text("reference");
+    if (auto it = p.preselective.settings.find("spp"); it != p.preselective.settings.end()) s.spp = static_cast<uint32_t>(it->second.number);
+    if (auto it = p.selective.settings.find("spp"); it != p.selective.settings.end())
+        s.selective_spp = static_cast<uint32_t>(it->second.number);
+    return s;
+}
+
 class GraphBuilder {
 public:
     explicit GraphBuilder(PipelinePlan& plan) : plan_(plan) {}
@@ -66,8 +113,9 @@ public:
               nlohmann::json params = nlohmann::json::object()) {
         if (ids_.insert(id).second) plan_.nodes.push_back({id, kind, stage, label, std::move(params)});
     }
-    void edge(const std::string& from, const std::string& to, const std::string& kind, const std::string& label = "") {
-        plan_.edges.push_back({from, to, kind, label});
+    void edge(const std::string& from, const std::string& to, const std::string& kind, const std::string& label = "",
+              std::optional<double> weight = std::nullopt) {
+        plan_.edges.push_back({from, to, kind, label, weight});
     }
 
     // The node producing `e` (creating operator nodes as needed); "" for literals.
@@ -100,15 +148,15 @@ public:
         for (const auto& a : e.args) {
             if (a.name.empty() && a.expr.kind == Expr::Kind::kLiteral) {  // tagged("exit_sign"), constant(0.5)
                 for (auto& n : plan_.nodes)
-                    if (n.id == id) n.params["arg"] = value_text(a.expr.literal);
+                    if (n.id == id) n.params["arg"] = value_json(a.expr.literal);
             } else if (a.name.empty()) {
                 std::string from = source(a.expr, owner, counter, maps);
                 if (!from.empty()) edge(from, id, kind_of(from));
             } else if (maps.count(a.name)) {  // a weighted map (importance)
-                edge("map." + a.name, id, "map", value_text(a.value));
+                edge("map." + a.name, id, "map", value_text(a.value), a.value.number);
             } else {
                 for (auto& n : plan_.nodes)
-                    if (n.id == id) n.params[a.name] = value_text(a.value);
+                    if (n.id == id) n.params[a.name] = value_json(a.value);
             }
         }
     }
@@ -137,11 +185,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
     plan.chain = p.chain;
     plan.scene = scene;
     plan.census_hash = census_hash;
-    for (const auto& [key, values] : p.top) {
-        std::string text;
-        for (const auto& v : values) text += (text.empty() ? "" : " ") + value_text(v);
-        plan.settings[key] = text;
-    }
+    plan.settings = typed_settings(p);
     // Stage programs.
     size_t errors = sink.error_count();
     plan.program.preselective.op = plan.program.selective.op = sched::Op::kSeq;
@@ -195,10 +239,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
 
     // The graph.
     GraphBuilder g(plan);
-    uint32_t spp = 1;
-    if (auto it = p.preselective.settings.find("spp"); it != p.preselective.settings.end()) spp = static_cast<uint32_t>(it->second.number);
-    g.node("camera", "camera", "preselective", "camera rays", {{"spp", spp}});
-    plan.settings["spp"] = std::to_string(spp);
+    g.node("camera", "camera", "preselective", "camera rays", {{"spp", plan.settings.spp}});
     g.node("preselective", "crex", "preselective", "pre-selective crex", {{"crex", sched::to_crex(plan.program.preselective)}});
     g.edge("camera", "preselective", "bin");
     g.node("preview", "image", "preselective", "preview");
@@ -217,24 +258,31 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             if (n.id == id) n.label = name + " = " + expr_text(e);
     }
     nlohmann::json selective_params = {{"crex", sched::to_crex(plan.program.selective)}};
-    if (auto it = p.selective.settings.find("spp"); it != p.selective.settings.end())
-        selective_params["spp"] = static_cast<uint32_t>(it->second.number);
+    if (plan.settings.selective_spp) selective_params["spp"] = *plan.settings.selective_spp;
     g.node("selective", "crex", "selective", "selective crex", selective_params);
     g.edge("preselective", "selective", "bin", "bins carried over");
     if (p.selective.crex_by) {
         int counter = 0;
         std::string from = g.source(*p.selective.crex_by, "modulation", counter, maps);
         if (!from.empty()) g.edge(from, "selective", "map", "{ } modulation");
+        plan.modulation_map = from;
     }
     for (const auto* v : vary) {
         std::string id = "vary." + v->name;
-        nlohmann::json params = {{"from", value_text(v->lo)}, {"to", value_text(v->hi)}};
-        if (!v->using_fn.empty()) params["using"] = v->using_fn;
+        PlanVariable typed;
+        typed.variable = *pipeline::selective_variable_from_name(v->name);  // checked
+        typed.from = v->lo.number;
+        typed.to = v->hi.number;
+        if (!v->using_fn.empty()) typed.modulation = *pipeline::modulation_function_from_name(v->using_fn);
+        nlohmann::json params = {{"variable", v->name}, {"from", typed.from}, {"to", typed.to},
+                                 {"using", pipeline::name_of(typed.modulation)}};
         g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}", v->name, value_text(v->lo), value_text(v->hi)), params);
         int counter = 0;
         std::string from = g.source(v->by, id, counter, maps);
         if (!from.empty()) g.edge(from, id, "map");
         g.edge(id, "selective", "svt");
+        typed.map = from;
+        plan.variables.push_back(typed);
     }
     bool wants_cache = false;
     for (const auto& v : p.vary) wants_cache |= v.name == "ic_radius";
@@ -249,15 +297,38 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
     g.edge("selective", "composite", "image");
     for (const auto& [key, v] : p.output) {
         if (key == "components" || key == "maps") {
-            plan.settings["output_" + key] = value_text(v);
+            (key == "maps" ? plan.outputs.maps : plan.outputs.components) = v.boolean;
             continue;
         }
-        if (key == "image") plan.settings["output_image"] = v.text;
-        if (key == "report") plan.settings["output_report"] = v.text;
+        if (key == "image") plan.outputs.images.push_back(v.text);
+        if (key == "report") plan.outputs.report = v.text;
         g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)), {{"path", v.text}});
         g.edge("composite", "output." + key, "image");
     }
     return plan;
+}
+
+nlohmann::json plan_settings_to_json(const PlanSettings& s) {
+    nlohmann::json j = nlohmann::json::object();
+    if (s.width && s.height) j["image"] = {{"width", *s.width}, {"height", *s.height}};
+    j["spp"] = s.spp;
+    if (s.selective_spp) j["selective_spp"] = *s.selective_spp;
+    if (s.seed) j["seed"] = *s.seed;
+    if (s.lw) j["lw"] = *s.lw;
+    if (s.av) j["av"] = *s.av;
+    if (s.aa) j["aa"] = *s.aa;
+    if (s.max_depth) j["max_depth"] = *s.max_depth;
+    if (s.ab) j["ab"] = *s.ab;
+    if (s.budget) j["budget"] = {{s.budget->percent ? "percent" : "seconds", s.budget->amount}};
+    if (s.policy) j["policy"] = pipeline::name_of(*s.policy);
+    if (!s.reference.empty()) j["reference"] = s.reference;
+    return j;
+}
+
+nlohmann::json plan_outputs_to_json(const PlanOutputs& o) {
+    nlohmann::json j = {{"images", o.images}, {"components", o.components}, {"maps", o.maps}};
+    if (!o.report.empty()) j["report"] = o.report;
+    return j;
 }
 
 nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
@@ -266,7 +337,13 @@ nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
     j["version"] = kPlanFormatVersion;
     j["pipeline"] = {{"name", plan.name}, {"extends", plan.chain}};
     j["scene"] = plan.scene.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"spec", plan.scene}, {"census_hash", plan.census_hash}};
-    j["settings"] = plan.settings;
+    j["settings"] = plan_settings_to_json(plan.settings);
+    j["outputs"] = plan_outputs_to_json(plan.outputs);
+    j["variables"] = nlohmann::json::array();
+    for (const auto& v : plan.variables)
+        j["variables"].push_back({{"variable", pipeline::name_of(v.variable)}, {"from", v.from}, {"to", v.to},
+                                  {"modulation", pipeline::name_of(v.modulation)}, {"map", v.map}});
+    j["modulation_map"] = plan.modulation_map.empty() ? nlohmann::json(nullptr) : nlohmann::json(plan.modulation_map);
     j["stages"] = {{"preselective", schedule_to_json(plan.program.preselective)}, {"selective", schedule_to_json(plan.program.selective)}};
     j["nodes"] = nlohmann::json::array();
     for (const auto& n : plan.nodes)
@@ -275,6 +352,7 @@ nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
     for (const auto& e : plan.edges) {
         nlohmann::json je = {{"from", e.from}, {"to", e.to}, {"kind", e.kind}};
         if (!e.label.empty()) je["label"] = e.label;
+        if (e.weight) je["weight"] = *e.weight;
         j["edges"].push_back(je);
     }
     j["pruned"] = nlohmann::json::array();

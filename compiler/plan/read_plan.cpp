@@ -2,7 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <set>
+
 #include "compiler/base/json_positions.h"
+#include "compiler/pipeline/registry.h"
+#include "compiler/pipeline/settings_table.h"
 
 namespace crex {
 namespace {
@@ -40,6 +48,7 @@ public:
 
     bool node(const json& j, const std::string& ptr, Node& out) {
         if (!j.is_object()) return fail(ptr, "expected a step object");
+        if (j.contains("op") && !j["op"].is_string()) return fail(ptr + "/op", "expected a step name (a string)");
         std::string op = j.value("op", "");
         static const std::pair<const char*, Op> kOps[] = {{"exec", Op::kExec},         {"seq", Op::kSeq},
                                                           {"defer", Op::kDefer},       {"modulate", Op::kModulate},
@@ -49,17 +58,21 @@ public:
         for (const auto& [name, value] : kOps)
             if (op == name) out.op = value, known = true;
         if (!known) return fail(ptr + "/op", fmt::format("unknown step '{}'", op));
-        auto number = [&](const char* key, double lo, double hi, double& v) {
+        auto number = [&](const char* key, double lo, double hi, double& v, bool whole = false) {
             if (!j.contains(key) || !j[key].is_number()) return fail(ptr + "/" + key, "expected a number");
             v = j[key].get<double>();
-            if (!(v >= lo && v <= hi)) return fail(ptr + "/" + key, fmt::format("expected a number in [{}, {}]", lo, hi));
+            if (!(v >= lo && v <= hi) || (whole && v != std::floor(v)))
+                return fail(ptr + "/" + key, fmt::format("expected {} in [{}, {}]", whole ? "a whole number" : "a number", lo, hi));
             return true;
         };
-        if (j.contains("at") && j["at"].is_string()) out.where = parse_location(j["at"].get<std::string>());
+        if (j.contains("at") && !j["at"].is_string()) return fail(ptr + "/at", "expected \"file:line:col\"");
+        if (j.contains("at")) out.where = parse_location(j["at"].get<std::string>());
         double v = 0;
         switch (out.op) {
         case Op::kExec: {
-            std::string c = j.value("component", "");
+            if (!j.contains("component") || !j["component"].is_string())
+                return fail(ptr + "/component", "expected a component letter: \"D\", \"G\", \"S\", \"T\", \"R\" or \"M\"");
+            std::string c = j["component"].get<std::string>();
             auto comp = c.size() == 1 ? component_from_letter(c[0]) : std::nullopt;
             if (!comp) return fail(ptr + "/component", fmt::format("unknown component '{}'", c));
             out.component = *comp;
@@ -70,7 +83,7 @@ public:
             break;
         }
         case Op::kRepeat:
-            if (!number("count", 1, 2147483647, v)) return false;
+            if (!number("count", 1, 2147483647, v, true)) return false;
             out.count = static_cast<uint64_t>(v);
             if (j.contains("stride")) {
                 if (!number("stride", 0, 1e300, v)) return false;
@@ -78,15 +91,19 @@ public:
             }
             break;
         case Op::kRepeatUntilEmpty:
-            if (!number("cap", 1, 4294967295.0, v)) return false;
+            if (!number("cap", 1, 4294967295.0, v, true)) return false;
             out.cap = static_cast<uint32_t>(v);
             break;
         case Op::kModulate:
             if (!number("occurrences", 0, 1e300, v)) return false;
             out.occurrences = v;
+            if (j.contains("map") && !j["map"].is_string()) return fail(ptr + "/map", "expected a map name (a string)");
             out.map = j.value("map", "importance");
             break;
-        case Op::kBudgeted: out.owns_deferral = j.value("owns_deferral", true); break;
+        case Op::kBudgeted:
+            if (j.contains("owns_deferral") && !j["owns_deferral"].is_boolean()) return fail(ptr + "/owns_deferral", "expected true or false");
+            out.owns_deferral = j.value("owns_deferral", true);
+            break;
         case Op::kDefer: out.owns_deferral = true; break;
         case Op::kSeq: break;
         }
@@ -106,85 +123,287 @@ public:
 
     std::optional<CrexPlan> read() {
         const json& j = doc_.value;
-        if (!j.is_object() || j.value("format", "") != "crex-plan") {
+        if (!j.is_object() || !j.contains("format") || j["format"] != "crex-plan") {
             fail("", "not a crex plan (\"format\": \"crex-plan\" missing)");
             return std::nullopt;
         }
-        if (j.value("version", 0) != kPlanFormatVersion) {
-            fail("/version", fmt::format("this crex reads plan version {}", kPlanFormatVersion));
+        if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<int64_t>() != kPlanFormatVersion) {
+            fail("/version", fmt::format("expected the integer {}: this crex reads plan version {} (run 'crex plan' again to "
+                                         "write one)", kPlanFormatVersion, kPlanFormatVersion));
             return std::nullopt;
         }
         CrexPlan plan;
-        if (j.contains("crex") && j["crex"].is_object()) plan.source = j["crex"].value("source", "");
-        if (j.contains("scene") && j["scene"].is_object()) {
-            plan.scene = j["scene"].value("spec", "");
-            plan.census_hash = j["scene"].value("census_hash", "");
+        if (j.contains("crex")) {
+            if (!j["crex"].is_object()) return none("/crex", "expected an object {\"source\": ..., \"canonical\": ...}");
+            if (!text(j["crex"], "/crex", "source", plan.source, false)) return std::nullopt;
         }
-        if (j.contains("settings") && j["settings"].is_object())
-            for (const auto& [key, value] : j["settings"].items())
-                if (value.is_string()) plan.settings[key] = value.get<std::string>();
-        if (!j.contains("stages") || !j["stages"].is_object()) {
-            fail("/stages", "missing the stages");
-            return std::nullopt;
+        if (j.contains("scene") && !j["scene"].is_null()) {
+            if (!j["scene"].is_object()) return none("/scene", "expected null or {\"spec\": ..., \"census_hash\": ...}");
+            if (!text(j["scene"], "/scene", "spec", plan.scene, false) || !text(j["scene"], "/scene", "census_hash", plan.census_hash, false))
+                return std::nullopt;
         }
+        if (!j.contains("stages") || !j["stages"].is_object()) return none("/stages", "missing the stages");
         for (const char* stage : {"preselective", "selective"}) {
             std::string ptr = std::string("/stages/") + stage;
-            if (!j["stages"].contains(stage)) {
-                fail(ptr, "missing");
-                return std::nullopt;
-            }
+            if (!j["stages"].contains(stage)) return none(ptr, "missing");
             Node& out = std::string(stage) == "preselective" ? plan.program.preselective : plan.program.selective;
             if (!node(j["stages"][stage], ptr, out)) return std::nullopt;
-            if (out.op != Op::kSeq) {
-                fail(ptr + "/op", "a stage is a 'seq'");
-                return std::nullopt;
-            }
+            if (out.op != Op::kSeq) return none(ptr + "/op", "a stage is a 'seq'");
         }
-        if (j.contains("pipeline") && !read_graph(j, plan)) return std::nullopt;
+        if (j.contains("pipeline") && !read_pipeline(j, plan)) return std::nullopt;
         return plan;
     }
 
-    // A pipeline plan's graph: nodes and edges as plan_pipeline() wrote them.
-    bool read_graph(const json& j, CrexPlan& plan) {
+    std::optional<CrexPlan> none(const std::string& pointer, const std::string& message) {
+        fail(pointer, message);
+        return std::nullopt;
+    }
+
+    bool text(const json& o, const std::string& ptr, const char* key, std::string& out, bool required) {
+        if (!o.contains(key)) return !required || fail(ptr, std::string("missing \"") + key + "\"");
+        if (!o[key].is_string()) return fail(ptr + "/" + key, "expected a string");
+        out = o[key].get<std::string>();
+        return true;
+    }
+
+    bool boolean(const json& o, const std::string& ptr, const char* key, bool& out) {
+        if (!o.contains(key)) return true;
+        if (!o[key].is_boolean()) return fail(ptr + "/" + key, "expected true or false");
+        out = o[key].get<bool>();
+        return true;
+    }
+
+    bool number(const json& o, const std::string& ptr, const char* key, double& out) {
+        if (!o.contains(key)) return fail(ptr, std::string("missing \"") + key + "\"");
+        if (!o[key].is_number()) return fail(ptr + "/" + key, "expected a number");
+        out = o[key].get<double>();
+        return true;
+    }
+
+    // A setting's number, in the range of compiler/pipeline/settings_table.cpp.
+    bool ranged(const json& o, const std::string& ptr, const char* key, std::string_view section, std::string_view name, double& out) {
+        if (!number(o, ptr, key, out)) return false;
+        const pipeline::SettingRule* rule = pipeline::find_setting_rule(section, name);
+        if (auto e = rule ? pipeline::setting_range_error(*rule, out) : ""; !e.empty()) return fail(ptr + "/" + key, "expected " + e);
+        return true;
+    }
+
+    bool read_settings(const json& s, PlanSettings& out) {
+        const std::string ptr = "/settings";
+        if (!s.is_object()) return fail(ptr, "expected an object of settings");
+        static const std::set<std::string> known = {"image", "spp", "selective_spp", "seed", "lw", "av", "aa",
+                                                    "max_depth", "ab", "budget", "policy", "reference"};
+        for (const auto& [key, _] : s.items())
+            if (!known.count(key)) return fail(ptr + "/" + escape_pointer_token(key), fmt::format("unknown setting '{}'", key));
+        double v = 0;
+        if (s.contains("image")) {
+            const json& im = s["image"];
+            double w = 0, h = 0;
+            if (!im.is_object()) return fail(ptr + "/image", "expected {\"width\": W, \"height\": H}");
+            if (!ranged(im, ptr + "/image", "width", "", "image", w) || !ranged(im, ptr + "/image", "height", "", "image", h)) return false;
+            out.width = static_cast<int>(w);
+            out.height = static_cast<int>(h);
+        }
+        if (s.contains("spp")) {
+            if (!ranged(s, ptr, "spp", "preselective", "spp", v)) return false;
+            out.spp = static_cast<uint32_t>(v);
+        }
+        if (s.contains("selective_spp")) {
+            if (!ranged(s, ptr, "selective_spp", "selective", "spp", v)) return false;
+            out.selective_spp = static_cast<uint32_t>(v);
+        }
+        if (s.contains("seed")) {
+            if (!ranged(s, ptr, "seed", "", "seed", v)) return false;
+            out.seed = static_cast<uint64_t>(v);
+        }
+        for (auto [key, field] : {std::pair{"lw", &out.lw}, std::pair{"av", &out.av}, std::pair{"aa", &out.aa}})
+            if (s.contains(key)) {
+                if (!ranged(s, ptr, key, "", key, v)) return false;
+                *field = v;
+            }
+        for (auto [key, field] : {std::pair{"max_depth", &out.max_depth}, std::pair{"ab", &out.ab}})
+            if (s.contains(key)) {
+                if (!ranged(s, ptr, key, "", key, v)) return false;
+                *field = static_cast<uint32_t>(v);
+            }
+        if (s.contains("budget")) {
+            const json& b = s["budget"];
+            if (!b.is_object() || b.size() != 1 || !(b.contains("seconds") || b.contains("percent")))
+                return fail(ptr + "/budget", "expected {\"seconds\": N} or {\"percent\": N}");
+            bool percent = b.contains("percent");
+            const char* key = percent ? "percent" : "seconds";
+            if (!number(b, ptr + "/budget", key, v)) return false;
+            if (auto e = pipeline::budget_range_error(v, percent); !e.empty()) return fail(ptr + "/budget/" + key, "expected " + e);
+            out.budget = PlanBudget{v, percent};
+        }
+        if (s.contains("policy")) {
+            std::string name;
+            if (!text(s, ptr, "policy", name, true)) return false;
+            out.policy = pipeline::scheduling_policy_from_name(name);
+            if (!out.policy) return fail(ptr + "/policy", fmt::format("unknown scheduling policy '{}': expected \"tasks\" or \"queues\"", name));
+        }
+        return text(s, ptr, "reference", out.reference, false);
+    }
+
+    bool read_outputs(const json& o, PlanOutputs& out) {
+        const std::string ptr = "/outputs";
+        if (!o.is_object()) return fail(ptr, "expected {\"images\": [...], \"components\": ..., \"maps\": ...}");
+        if (o.contains("images")) {
+            if (!o["images"].is_array()) return fail(ptr + "/images", "expected an array of paths");
+            for (size_t i = 0; i < o["images"].size(); ++i) {
+                if (!o["images"][i].is_string()) return fail(ptr + "/images/" + std::to_string(i), "expected a path (a string)");
+                out.images.push_back(o["images"][i].get<std::string>());
+            }
+        }
+        return boolean(o, ptr, "components", out.components) && boolean(o, ptr, "maps", out.maps) && text(o, ptr, "report", out.report, false);
+    }
+
+    // The typed parameters of one node (compiler/plan/pipeline_plan.h).
+    bool node_params(const PlanNode& n, const json& params, const std::string& ptr) {
+        if (n.kind == "operator" && params.contains("operator")) {
+            if (!params["operator"].is_string()) return fail(ptr + "/operator", "expected a guidance operator's name");
+            std::string name = params["operator"].get<std::string>();
+            if (!pipeline::guidance_operator_from_name(name)) return fail(ptr + "/operator", fmt::format("unknown guidance operator '{}'", name));
+        }
+        for (const char* key : {"sigma", "at", "fovea", "spp"})
+            if (params.contains(key) && !(params[key].is_number() && std::isfinite(params[key].get<double>())))
+                return fail(ptr + "/" + key, "expected a number");
+        if (params.contains("fovea") && !(params["fovea"].get<double>() > 0 && params["fovea"].get<double>() < std::numbers::pi))
+            return fail(ptr + "/fovea", "expected an angle in radians in (0, pi)");
+        if (params.contains("op")) {
+            if (!params["op"].is_string()) return fail(ptr + "/op", "expected \"+\", \"max\" or \"*\"");
+            std::string how = params["op"].get<std::string>();
+            if (how != "+" && how != "max" && how != "*") return fail(ptr + "/op", fmt::format("expected \"+\", \"max\" or \"*\", not \"{}\"", how));
+        }
+        if (params.contains("arg") && !params["arg"].is_string() && !(params["arg"].is_number() && std::isfinite(params["arg"].get<double>())))
+            return fail(ptr + "/arg", "expected a number or a string");
+        if (params.contains("component")) {
+            if (!params["component"].is_string() || params["component"].get<std::string>().size() != 1 ||
+                !component_from_letter(params["component"].get<std::string>()[0]))
+                return fail(ptr + "/component", "expected a component letter: \"D\", \"G\", \"S\", \"T\", \"R\" or \"M\"");
+        }
+        return true;
+    }
+
+    // A pipeline plan: settings, outputs, variables and the graph, every reference resolved.
+    bool read_pipeline(const json& j, CrexPlan& plan) {
         PipelinePlan p;
         const json& pj = j["pipeline"];
         if (!pj.is_object() || !pj.contains("name") || !pj["name"].is_string()) return fail("/pipeline", "expected {\"name\": ...}");
         p.name = pj["name"].get<std::string>();
+        if (pj.contains("extends")) {
+            if (!pj["extends"].is_array()) return fail("/pipeline/extends", "expected an array of pipeline names");
+            for (size_t i = 0; i < pj["extends"].size(); ++i) {
+                if (!pj["extends"][i].is_string()) return fail("/pipeline/extends/" + std::to_string(i), "expected a pipeline name");
+                p.chain.push_back(pj["extends"][i].get<std::string>());
+            }
+        }
         p.scene = plan.scene;
         p.census_hash = plan.census_hash;
         p.program = plan.program;
-        for (const auto& [k, v] : plan.settings) p.settings[k] = v;
-        auto text = [&](const json& o, const char* key, const std::string& ptr, std::string& out, bool required) {
-            if (!o.contains(key)) return !required || fail(ptr, std::string("missing \"") + key + "\"");
-            if (!o[key].is_string()) return fail(ptr + "/" + key, "expected a string");
-            out = o[key].get<std::string>();
-            return true;
-        };
-        for (const char* list : {"nodes", "edges"})
+        if (j.contains("settings") && !read_settings(j["settings"], p.settings)) return false;
+        if (j.contains("outputs") && !read_outputs(j["outputs"], p.outputs)) return false;
+        for (const char* list : {"nodes", "edges", "variables"})
             if (!j.contains(list) || !j[list].is_array()) return fail(std::string("/") + list, "expected an array");
+        static const std::set<std::string> kinds = {"camera", "crex", "image", "buffer", "operator", "svt", "cache", "composite", "output"};
+        static const std::set<std::string> stages = {"preselective", "guidance", "selective", "output"};
+        std::map<std::string, size_t> index;
         for (size_t i = 0; i < j["nodes"].size(); ++i) {
             const json& n = j["nodes"][i];
             std::string ptr = "/nodes/" + std::to_string(i);
             PlanNode node;
             if (!n.is_object()) return fail(ptr, "expected an object");
-            if (!text(n, "id", ptr, node.id, true) || !text(n, "kind", ptr, node.kind, true) ||
-                !text(n, "stage", ptr, node.stage, false) || !text(n, "label", ptr, node.label, false))
+            if (!text(n, ptr, "id", node.id, true) || !text(n, ptr, "kind", node.kind, true) || !text(n, ptr, "stage", node.stage, false) ||
+                !text(n, ptr, "label", node.label, false))
                 return false;
+            if (!kinds.count(node.kind)) return fail(ptr + "/kind", fmt::format("unknown node kind '{}'", node.kind));
+            if (!node.stage.empty() && !stages.count(node.stage)) return fail(ptr + "/stage", fmt::format("unknown stage '{}'", node.stage));
+            if (!index.emplace(node.id, i).second) return fail(ptr + "/id", fmt::format("node '{}' is defined twice", node.id));
             if (n.contains("params")) {
                 if (!n["params"].is_object()) return fail(ptr + "/params", "expected an object");
+                if (!node_params(node, n["params"], ptr + "/params")) return false;
                 node.params = n["params"];
             }
             p.nodes.push_back(std::move(node));
         }
+        // The nodes every pipeline has: without them a stage would silently not run.
+        for (const char* id : {"camera", "preselective", "preview", "selective", "composite"})
+            if (!index.count(id)) return fail("/nodes", fmt::format("the plan has no '{}' node (every pipeline plan has camera, "
+                                                                    "preselective, preview, selective and composite)", id));
+        static const std::set<std::string> edge_kinds = {"bin", "image", "buffer", "map", "objects", "svt", "cache", "profile"};
+        std::map<std::string, std::vector<std::pair<std::string, size_t>>> out_edges;
         for (size_t i = 0; i < j["edges"].size(); ++i) {
             const json& e = j["edges"][i];
             std::string ptr = "/edges/" + std::to_string(i);
             PlanEdge edge;
             if (!e.is_object()) return fail(ptr, "expected an object");
-            if (!text(e, "from", ptr, edge.from, true) || !text(e, "to", ptr, edge.to, true) ||
-                !text(e, "kind", ptr, edge.kind, true) || !text(e, "label", ptr, edge.label, false))
+            if (!text(e, ptr, "from", edge.from, true) || !text(e, ptr, "to", edge.to, true) || !text(e, ptr, "kind", edge.kind, true) ||
+                !text(e, ptr, "label", edge.label, false))
                 return false;
+            for (const auto& [key, id] : {std::pair{"from", edge.from}, std::pair{"to", edge.to}})
+                if (!index.count(id)) return fail(ptr + "/" + key, fmt::format("no node '{}' in the plan", id));
+            if (!edge_kinds.count(edge.kind)) return fail(ptr + "/kind", fmt::format("unknown edge kind '{}'", edge.kind));
+            if (e.contains("weight")) {
+                double w = 0;
+                if (!number(e, ptr, "weight", w)) return false;
+                if (!(std::isfinite(w) && w >= 0)) return fail(ptr + "/weight", "expected a weight >= 0");
+                edge.weight = w;
+            }
+            out_edges[edge.from].push_back({edge.to, i});
             p.edges.push_back(std::move(edge));
+        }
+        // Acyclic: a map may not (through others) depend on itself.
+        std::map<std::string, int> state;  // 1 on the path, 2 done
+        std::function<bool(const std::string&)> visit = [&](const std::string& id) {
+            state[id] = 1;
+            for (const auto& [to, i] : out_edges[id]) {
+                if (state[to] == 1)
+                    return fail("/edges/" + std::to_string(i), fmt::format("this edge closes a cycle through '{}'", to));
+                if (state[to] == 0 && !visit(to)) return false;
+            }
+            state[id] = 2;
+            return true;
+        };
+        for (const auto& n : p.nodes)
+            if (state[n.id] == 0 && !visit(n.id)) return false;
+        for (size_t i = 0; i < j["variables"].size(); ++i) {
+            const json& v = j["variables"][i];
+            std::string ptr = "/variables/" + std::to_string(i);
+            if (!v.is_object()) return fail(ptr, "expected {\"variable\", \"from\", \"to\", \"modulation\", \"map\"}");
+            PlanVariable var;
+            std::string name, modulation = "linear";
+            if (!text(v, ptr, "variable", name, true) || !text(v, ptr, "modulation", modulation, false) || !text(v, ptr, "map", var.map, true) ||
+                !number(v, ptr, "from", var.from) || !number(v, ptr, "to", var.to))
+                return false;
+            auto known = pipeline::selective_variable_from_name(name);
+            if (!known) return fail(ptr + "/variable", fmt::format("unknown selective variable '{}'", name));
+            var.variable = *known;
+            const auto& sig = pipeline::signature(var.variable);
+            for (const auto& [key, value] : {std::pair{"from", var.from}, std::pair{"to", var.to}})
+                if (!(value >= sig.lo && value <= sig.hi) || (sig.integer && value != std::floor(value)))
+                    return fail(ptr + "/" + key, fmt::format("expected {} in [{:.10g}, {:.10g}] for {}", sig.integer ? "a whole number" : "a number",
+                                                             sig.lo, sig.hi, name));
+            auto f = pipeline::modulation_function_from_name(modulation);
+            if (!f) return fail(ptr + "/modulation", fmt::format("unknown modulation function '{}'", modulation));
+            var.modulation = *f;
+            if (!index.count(var.map)) return fail(ptr + "/map", fmt::format("no node '{}' in the plan", var.map));
+            p.variables.push_back(var);
+        }
+        if (j.contains("modulation_map") && !j["modulation_map"].is_null()) {
+            if (!text(j, "", "modulation_map", p.modulation_map, true)) return false;
+            if (!index.count(p.modulation_map)) return fail("/modulation_map", fmt::format("no node '{}' in the plan", p.modulation_map));
+        }
+        if (j.contains("pruned")) {
+            if (!j["pruned"].is_array()) return fail("/pruned", "expected an array");
+            for (size_t i = 0; i < j["pruned"].size(); ++i) {
+                std::string ptr = "/pruned/" + std::to_string(i);
+                PlanRemoval r;
+                if (!j["pruned"][i].is_object()) return fail(ptr, "expected {\"what\", \"reason\"}");
+                if (!text(j["pruned"][i], ptr, "what", r.what, true) || !text(j["pruned"][i], ptr, "at", r.at, false) ||
+                    !text(j["pruned"][i], ptr, "reason", r.reason, true))
+                    return false;
+                p.pruned.push_back(std::move(r));
+            }
         }
         plan.pipeline = std::move(p);
         return true;
@@ -200,7 +419,12 @@ private:
 std::optional<CrexPlan> read_plan(const SourceFile& file, DiagnosticSink& sink) {
     PositionedJson doc;
     if (!parse_json_with_positions(file, doc, sink, "E401")) return std::nullopt;
-    return PlanReader(doc, sink).read();
+    try {
+        return PlanReader(doc, sink).read();
+    } catch (const nlohmann::json::exception& e) {  // a check above is missing: still located, never a crash
+        sink.report("E401", doc.span(""), fmt::format("malformed plan: {}", e.what()));
+        return std::nullopt;
+    }
 }
 
 }  // namespace crex

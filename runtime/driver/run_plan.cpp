@@ -40,17 +40,10 @@ constexpr size_t kBytesPerTriangle = 256;
 // Guidance: the preview, nine linear buffers, maps and their intermediates.
 constexpr size_t kGuidanceBytesPerPixel = 12 * 12 + 16 * 4;
 
-// The map node feeding `id` through an edge of kind "map" (with `label`, if given); "" if none.
-std::string map_feeding(const PipelinePlan& plan, const std::string& id, const std::string& label = "") {
-    for (const PlanEdge* e : edges_into(plan, id))
-        if (e->kind == "map" && (label.empty() || e->label == label)) return e->from;
-    return "";
-}
-
 bool needs_probe(const PipelinePlan& plan) {
     for (const auto& n : plan.nodes) {
-        std::string op = n.params.value("operator", std::string());
-        if (op == "task_map" || op == "distractors" || op == "xmap") return true;
+        auto op = pipeline::guidance_operator_from_name(n.params.value("operator", std::string()));
+        if (op && pipeline::signature(*op).needs_scene) return true;
     }
     return false;
 }
@@ -264,15 +257,13 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, 
 void PlanRun::setup_cache() {
     IcSettings ics = *s_.irradiance_cache;
     base_aa_ = ics.accuracy;
-    if (const PlanNode* v = find_node(plan_, "vary.ic_radius")) {
-        // The preview uses the accuracy where the map is 0 (spec: `from`); the selective stage refines.
-        auto from = plan_number(v->params.value("from", std::string()));
-        auto to = plan_number(v->params.value("to", std::string()));
-        if (!from || !to) throw RunInputError(v->label + ": malformed bounds");
-        base_aa_ = *from;
-        ics.accuracy = *from;
-        ics.max_accuracy = std::max({*from, *to, ics.accuracy});
-    }
+    for (const PlanVariable& v : plan_.variables)
+        if (v.variable == pipeline::SelectiveVariable::kIcRadius) {
+            // The preview uses the accuracy where the map is 0 (spec: `from`); the selective stage refines.
+            base_aa_ = v.from;
+            ics.accuracy = v.from;
+            ics.max_accuracy = std::max({v.from, v.to, ics.accuracy});
+        }
     cache_.emplace(*rs_, ics);
     for (const auto& r : s_.ic_records) cache_->insert(r);
     if (!s_.ic_file.empty() && std::filesystem::exists(s_.ic_file)) {
@@ -299,8 +290,7 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
     SelectiveSetup sel;
     sel.shade = s_.executor.shade;
     sel.spp_end.assign(pixels, s0);
-    if (const PlanNode* n = find_node(plan_, "selective"); n && n->params.contains("spp"))
-        std::fill(sel.spp_end.begin(), sel.spp_end.end(), static_cast<uint32_t>(std::clamp(n->params["spp"].get<double>(), double(s0), double(1u << 20))));
+    if (plan_.settings.selective_spp) std::fill(sel.spp_end.begin(), sel.spp_end.end(), std::max(s0, *plan_.settings.selective_spp));
 
     // The maps: computed by the guidance graph, or constant under --uniform.
     std::optional<GuidanceGraph> graph;
@@ -346,22 +336,19 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
         return r;
     };
 
-    for (const auto& n : plan_.nodes) {
-        if (n.kind != "svt") continue;
-        std::string var = n.id.substr(5);  // "vary.spp"
-        std::string by = map_feeding(plan_, n.id);
-        if (by.empty()) throw RunInputError(n.label + ": no map");
-        auto from = plan_number(n.params.value("from", std::string()));
-        auto to = plan_number(n.params.value("to", std::string()));
-        std::string fn = n.params.value("using", std::string());
-        if (!from || !to) throw RunInputError(n.label + ": malformed bounds");
-        if (!modulate(fn, 0)) throw RunInputError(fmt::format("{}: unknown modulation function '{}'", n.label, fn));
-        std::vector<float> m = map_values(map_of(by), pixels);
-        if (var == "spp") {
-            auto v = variable_values(*from, *to, fn, m, true);
+    for (const PlanVariable& var : plan_.variables) {
+        std::vector<float> m = map_values(map_of(var.map), pixels);
+        // One case per pipeline::SelectiveVariable, no default (-Werror=switch): a variable the
+        // compiler knows and the runtime does not bind does not compile.
+        using V = pipeline::SelectiveVariable;
+        switch (var.variable) {
+        case V::kSpp: {
+            auto v = variable_values(var.from, var.to, var.modulation, m, true);
             for (size_t p = 0; p < pixels; ++p) sel.spp_end[p] = static_cast<uint32_t>(std::clamp(v[p], 1.0, double(1u << 20)));
-        } else if (var == "shadow_rays") {
-            auto v = variable_values(*from, *to, fn, m, true);
+            break;
+        }
+        case V::kShadowRays: {
+            auto v = variable_values(var.from, var.to, var.modulation, m, true);
             sel.shadow_rays.resize(pixels);
             uint32_t mx = 1;
             for (size_t p = 0; p < pixels; ++p) {
@@ -369,27 +356,32 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
                 mx = std::max<uint32_t>(mx, sel.shadow_rays[p]);
             }
             sel.shade.shadow_rays = mx;
-        } else if (var == "specular_threshold") {
-            auto v = variable_values(*from, *to, fn, m, false);
+            break;
+        }
+        case V::kSpecularThreshold: {
+            auto v = variable_values(var.from, var.to, var.modulation, m, false);
             sel.specular_threshold.assign(v.begin(), v.end());
-        } else if (var == "subsample") {
-            out_.subsample.emplace(w, h, variable_values(*from, *to, fn, m, true));
-        } else if (var == "ic_radius") {
+            break;
+        }
+        case V::kSubsample:
+            out_.subsample.emplace(w, h, variable_values(var.from, var.to, var.modulation, m, true));
+            break;
+        case V::kIcRadius: {
             if (!cache_) {
                 out_.notes.push_back("ic_radius is not executed: the render has no irradiance cache");
-                continue;
+                break;
             }
-            auto v = variable_values(*from, *to, fn, m, false);
+            auto v = variable_values(var.from, var.to, var.modulation, m, false);
             sel.ic_accuracy.assign(v.begin(), v.end());
             sel.ic_priority = m;
-        } else if (var == "media_samples") {
+            break;
+        }
+        case V::kMediaSamples:
             out_.notes.push_back("media_samples is not executed: the renderer has no participating media yet");
-        } else {
-            throw RunInputError("this runtime cannot vary '" + var + "'");
+            break;
         }
     }
-    std::string modulation_map = map_feeding(plan_, "selective", "{ } modulation");
-    if (!modulation_map.empty()) sel.modulation = map_values(map_of(modulation_map), pixels);
+    if (!plan_.modulation_map.empty()) sel.modulation = map_values(map_of(plan_.modulation_map), pixels);
     if (out_.subsample)
         for (size_t p = 0; p < pixels; ++p)
             if (!out_.subsample->rendered(static_cast<uint32_t>(p))) sel.spp_end[p] = 0;
@@ -580,8 +572,9 @@ uint32_t plan_rounds(const PipelinePlan& plan) {
 }
 
 bool has_guidance(const PipelinePlan& plan) {
+    if (!plan.variables.empty() || !plan.modulation_map.empty()) return true;
     for (const auto& n : plan.nodes)
-        if (n.kind == "operator" || n.kind == "svt") return true;
+        if (n.kind == "operator") return true;
     return false;
 }
 

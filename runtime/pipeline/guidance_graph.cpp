@@ -17,23 +17,18 @@ namespace {
 
 using guidance::Raster;
 
-std::string unquote(std::string s) {
-    if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return s.substr(1, s.size() - 2);
-    return s;
+// A node's string parameter ("" when absent); the plan reader has checked the types.
+std::string text_param(const PlanNode& n, const std::string& key) {
+    auto it = n.params.find(key);
+    return it != n.params.end() && it->is_string() ? it->get<std::string>() : "";
 }
 
-std::string param(const PlanNode& n, const std::string& key) {
-    if (!n.params.contains(key)) return "";
-    const auto& v = n.params[key];
-    return v.is_string() ? v.get<std::string>() : v.dump();
-}
-
+// A node's number parameter, already in the runtime's units (angles in radians).
 double number_param(const PlanNode& n, const std::string& key, double fallback) {
-    std::string text = param(n, key);
-    if (text.empty()) return fallback;
-    auto v = plan_number(text);
-    if (!v) throw std::runtime_error(fmt::format("{}: {} '{}' is not a number", n.label, key, text));
-    return *v;
+    auto it = n.params.find(key);
+    if (it == n.params.end()) return fallback;
+    if (!it->is_number()) throw std::runtime_error(fmt::format("{}: {} is not a number", n.label, key));
+    return it->get<double>();
 }
 
 constexpr double kDefaultFovea = 2 * std::numbers::pi / 180;  // 2 degrees: the fovea
@@ -73,7 +68,7 @@ std::vector<bool> GuidanceGraph::objects(const std::string& id) {
     const PlanNode* node = find_node(plan_, id);
     const auto& shapes = in_.scene->shapes;
     std::vector<bool> out(shapes.size(), false);
-    std::string name = node ? unquote(param(*node, "arg")) : "";
+    std::string name = node ? text_param(*node, "arg") : "";
     for (size_t s = 0; s < shapes.size(); ++s)
         out[s] = shapes[s].tag && (name.empty() || shapes[s].tag->name == name);
     return out;
@@ -83,60 +78,69 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
     const int w = in_.width, h = in_.height;
     if (node.kind == "image") return display(in_.preview);
     if (node.kind == "buffer") {
-        std::string name = node.params.contains("component") ? param(node, "component") : node.label;
+        std::string name = node.params.contains("component") ? text_param(node, "component") : node.label;
         auto it = in_.buffers.find(name);
         if (it == in_.buffers.end()) throw std::runtime_error("no buffer '" + name + "' for " + node.id);
         return display(it->second);
     }
     std::vector<const PlanEdge*> inputs = edges_into(plan_, node.id);
-    std::string op = param(node, "operator");
+    std::string op_name = text_param(node, "operator");
     auto input = [&](size_t k) -> Raster {
         size_t seen = 0;
         for (const PlanEdge* e : inputs)
             if (e->kind != "objects" && seen++ == k) return map(e->from);
         throw std::runtime_error(fmt::format("{} has no input {}", node.label, k + 1));
     };
-    if (op.empty()) return as_map(input(0));  // `m = other`: an alias
-    if (op == "saliency") return guidance::saliency(input(0));
-    if (op == "edges") return guidance::edges(input(0));
-    if (op == "radiance_difference") return guidance::radiance_difference(input(0));
-    if (op == "constant") return guidance::constant_map(w, h, number_param(node, "arg", 0));
-    if (op == "normalise") {
+    if (op_name.empty()) return as_map(input(0));  // `m = other`: an alias
+    auto known = pipeline::guidance_operator_from_name(op_name);
+    if (!known) throw std::runtime_error("this runtime has no guidance operator '" + op_name + "'");
+    const pipeline::GuidanceOperator op = *known;
+    if (pipeline::signature(op).needs_scene && (!in_.scene || !in_.probe)) throw std::runtime_error(node.label + " needs the scene");
+    // One case per pipeline::GuidanceOperator, no default: -Werror=switch (CMakeLists.txt) makes a
+    // new operator without an implementation here a compile error.
+    using G = pipeline::GuidanceOperator;
+    switch (op) {
+    case G::kComponent:
+    case G::kTagged:
+        throw std::runtime_error(fmt::format("{}: {}() gives a buffer or objects, not a map", node.label, op_name));
+    case G::kSaliency: return guidance::saliency(input(0));
+    case G::kEdges: return guidance::edges(input(0));
+    case G::kRadianceDifference: return guidance::radiance_difference(input(0));
+    case G::kConstant: return guidance::constant_map(w, h, number_param(node, "arg", 0));
+    case G::kNormalise: {
         Raster m = as_map(input(0));
         guidance::normalise_max(m);
         return m;
     }
-    if (op == "blur") {
+    case G::kBlur: {
         Raster m = guidance::gaussian_blur(as_map(input(0)), number_param(node, "sigma", 2));
         guidance::clamp01(m);
         return m;
     }
-    if (op == "threshold") return guidance::threshold(as_map(input(0)), number_param(node, "at", 0.5));
-    if (op == "importance") {
+    case G::kThreshold: return guidance::threshold(as_map(input(0)), number_param(node, "at", 0.5));
+    case G::kImportance: {
         std::vector<Raster> maps;
         std::vector<double> weights;
         for (const PlanEdge* e : inputs) {
             maps.push_back(as_map(map(e->from)));
-            auto wgt = plan_number(e->label);
-            weights.push_back(wgt.value_or(1.0));
+            weights.push_back(e->weight.value_or(1.0));
         }
         std::vector<const Raster*> ptrs;
         for (const auto& m : maps) ptrs.push_back(&m);
         if (ptrs.empty()) return Raster(w, h, 1);
-        std::string how = unquote(param(node, "op"));
+        std::string how = text_param(node, "op");
         return guidance::importance(ptrs, weights, how.empty() ? "+" : how);
     }
-    if (!in_.scene || !in_.probe) throw std::runtime_error(node.label + " needs the scene");
-    const PixelProbe& probe = *in_.probe;
-    guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
-    if (op == "task_map") {
+    case G::kTaskMap: {
+        const PixelProbe& probe = *in_.probe;
+        guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
         std::vector<bool> selected;
         bool named = false;
         for (const PlanEdge* e : inputs)
             if (e->kind == "objects") {
                 selected = objects(e->from);
                 const PlanNode* t = find_node(plan_, e->from);
-                named = t && !unquote(param(*t, "arg")).empty();
+                named = t && !text_param(*t, "arg").empty();
             }
         if (selected.empty()) selected = objects("");
         // One set per task value (thesis: 0..3): value = task / 3; an object named explicitly
@@ -152,7 +156,9 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         }
         return guidance::task_map(covered, value, view, number_param(node, "fovea", kDefaultFovea));
     }
-    if (op == "distractors") {
+    case G::kDistractors: {
+        const PixelProbe& probe = *in_.probe;
+        guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
         std::vector<bool> selected;
         for (const PlanEdge* e : inputs)
             if (e->kind == "objects") selected = objects(e->from);
@@ -165,7 +171,8 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
             detectable[p] = probe.detected[p] >= 0 && selected[static_cast<size_t>(probe.detected[p])];
         return guidance::distractor_map(detectable, view, number_param(node, "fovea", kDefaultFovea));
     }
-    if (op == "xmap") {
+    case G::kXmap: {
+        const PixelProbe& probe = *in_.probe;
         // Fraction of the light leaving the first surface that reaches the camera through the
         // scene's homogeneous medium: exp(-sigma_t d), luminance-weighted.
         Raster m(w, h, 1, 1.0f);
@@ -178,7 +185,8 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         guidance::clamp01(m);
         return m;
     }
-    throw std::runtime_error("this runtime has no guidance operator '" + op + "'");
+    }
+    throw std::runtime_error("this runtime has no guidance operator '" + op_name + "'");
 }
 
 }  // namespace crex

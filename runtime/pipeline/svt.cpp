@@ -1,44 +1,48 @@
 #include "runtime/pipeline/svt.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <numbers>
 
 namespace crex {
 
-std::optional<double> modulate(const std::string& function, double m) {
+namespace {
+
+using pipeline::ModulationFunction;
+using ModulationFn = double (*)(double);
+
+// One implementation per ModulationFunction, in enum order; a missing row fails to compile.
+constexpr std::array<ModulationFn, pipeline::kModulationFunctionCount> kModulations = {
+    [](double m) { return m; },                    // linear
+    [](double m) { return m * m; },                // quadratic
+    [](double m) { return std::sqrt(m); },         // sqrt
+    [](double m) { return m >= 0.5 ? 1.0 : 0.0; },  // step
+};
+static_assert(std::ranges::none_of(kModulations, [](ModulationFn f) { return f == nullptr; }),
+              "every pipeline::ModulationFunction needs an implementation in kModulations");
+
+}  // namespace
+
+double modulate(ModulationFunction function, double m) {
     m = std::isnan(m) ? 0.0 : std::clamp(m, 0.0, 1.0);
-    if (function.empty() || function == "linear") return m;
-    if (function == "quadratic") return m * m;
-    if (function == "sqrt") return std::sqrt(m);
-    if (function == "step") return m >= 0.5 ? 1.0 : 0.0;
-    return std::nullopt;
+    return kModulations[static_cast<size_t>(function)](m);
 }
 
-std::vector<double> variable_values(double from, double to, const std::string& function, const std::vector<float>& map,
+std::optional<double> modulate(const std::string& function, double m) {
+    if (function.empty()) return modulate(ModulationFunction::kLinear, m);
+    auto f = pipeline::modulation_function_from_name(function);
+    if (!f) return std::nullopt;
+    return modulate(*f, m);
+}
+
+std::vector<double> variable_values(double from, double to, ModulationFunction function, const std::vector<float>& map,
                                     bool integer) {
     std::vector<double> out(map.size());
     for (size_t i = 0; i < map.size(); ++i) {
-        double f = modulate(function, map[i]).value_or(map[i]);
-        double v = from + (to - from) * f;
+        double v = from + (to - from) * modulate(function, map[i]);
         out[i] = integer ? std::round(v) : v;
     }
     return out;
-}
-
-std::optional<double> plan_number(const std::string& text) {
-    try {
-        size_t used = 0;
-        double v = std::stod(text, &used);
-        std::string unit = text.substr(used);
-        unit.erase(0, unit.find_first_not_of(' '));
-        if (unit == "deg") return v * std::numbers::pi / 180;
-        if (unit.empty() || unit == "rad") return v;
-        if (unit == "%") return v / 100;
-        return std::nullopt;
-    } catch (...) {
-        return std::nullopt;
-    }
 }
 
 }  // namespace crex

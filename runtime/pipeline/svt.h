@@ -1,26 +1,24 @@
 /// \file svt.h
 /// The selective variable table at run time: `vary V A .. B by MAP [using F]` gives pixel p
-/// the value A + (B - A) f(MAP(p)), rounded for integer variables (spec/pipeline.md §1).
+/// the value A + (B - A) f(MAP(p)), rounded for integer variables (spec/pipeline.md §1). The
+/// modulation functions f are bound here, one per pipeline::ModulationFunction.
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "compiler/pipeline/registry.h"
+
 namespace crex {
 
-/// The modulation functions `using` may name; linear when none is given.
-inline constexpr const char* kModulationFunctions[] = {"linear", "quadratic", "sqrt", "step"};
-
-/// f(m) for m in [0, 1]; std::nullopt for an unknown function name.
+/// f(m), m clamped to [0, 1] (NaN counts as 0).
+double modulate(pipeline::ModulationFunction function, double m);
+/// The same by name ("" is linear); std::nullopt for a name registry.h does not know.
 std::optional<double> modulate(const std::string& function, double m);
 
 /// The per-pixel values of one variable. `map` is in [0, 1] (NaN counts as 0).
-std::vector<double> variable_values(double from, double to, const std::string& function, const std::vector<float>& map,
+std::vector<double> variable_values(double from, double to, pipeline::ModulationFunction function, const std::vector<float>& map,
                                     bool integer);
-
-/// A plan's number text ("16", "0.5", "2 deg") as a number (degrees become radians); nullopt
-/// when it is not one.
-std::optional<double> plan_number(const std::string& text);
 
 }  // namespace crex

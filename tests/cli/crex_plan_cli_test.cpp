@@ -89,7 +89,7 @@ TEST(CrexPlanCli, RunAcceptsAPlanAndRendersTheSameImage) {
     EXPECT_FALSE(std::filesystem::exists(dir / "c.exr"));
 
     // A damaged plan is a located error.
-    std::ofstream(dir / "bad.json") << "{\"format\": \"crex-plan\", \"version\": 1,\n \"stages\": {\"preselective\": {\"op\": \"jump\"}}}";
+    std::ofstream(dir / "bad.json") << "{\"format\": \"crex-plan\", \"version\": 2,\n \"stages\": {\"preselective\": {\"op\": \"jump\"}}}";
     auto bad = crex_cli({"run", (dir / "bad.json").string(), "-o", (dir / "d.exr").string()});
     EXPECT_EQ(bad.exit_code, 1);
     EXPECT_NE(bad.err.find("bad.json:2:36: error[E401]"), std::string::npos) << bad.err;

@@ -91,6 +91,20 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"unknown_variable", "  selective { vary spp_max 1 .. 2 by constant(1) }", "E207", 2, 20, "unknown selective variable"},
         Case{"range", "  selective { vary spp 1 .. 2.5 by constant(1) }", "E208", 2, 29, "out of range"},
         Case{"budget_unit", "  budget 10 deg", "E209", 2, 10, "needs a unit"},
+        // Settings out of the range of settings_table.cpp (the same as crex run's flags).
+        Case{"spp_zero", "  preselective { spp 0 }", "E203", 2, 22, "whole number in [1, 1048576]"},
+        Case{"spp_huge", "  selective { spp 1e9 }", "E203", 2, 19, "whole number in [1, 1048576]"},
+        Case{"image_fraction", "  image 32.5 x 32", "E203", 2, 9, "a width in a whole number"},
+        Case{"image_height_zero", "  image 32 x 0", "E203", 2, 14, "a height in a whole number"},
+        Case{"budget_infinite", "  budget 1e400 s", "E209", 2, 10, "a time in (0, 1e+06] s"},
+        Case{"budget_over_100_percent", "  budget 101 %", "E209", 2, 10, "(0, 100] %"},
+        Case{"av_negative", "  av -1", "E203", 2, 6, "a number in [0, 1e+30]"},
+        Case{"lw_above_one", "  lw 2", "E203", 2, 6, "a number in [0, 1]"},
+        Case{"max_depth_huge", "  max_depth 1e12", "E203", 2, 13, "whole number in [0, 65535]"},
+        Case{"ab_huge", "  ab 100000", "E203", 2, 6, "whole number in [1, 64]"},
+        Case{"aa_zero", "  aa 0", "E203", 2, 6, "a number in [0.001, 1]"},
+        Case{"seed_fraction", "  seed 1.5", "E203", 2, 8, "whole number in [0, 9007199254740992]"},
+        Case{"unknown_policy", "  policy \"nosuch\"", "E203", 2, 10, "unknown scheduling policy 'nosuch'"},
         Case{"duplicate_map", "  guidance { a = saliency(preview)\n  a = edges(direct) }", "E211", 3, 3, "already defined"},
         Case{"duplicate_setting", "  image 8 x 8\n  image 16 x 16", "E211", 3, 3, "given twice"},
         Case{"braces_in_preselective", "  preselective { crex \"T{R}\" }", "E212", 2, 24, "may not contain"},
@@ -127,6 +141,14 @@ TEST(PipelineCheck, UnknownModulationFunctionIsE206AtItsName) {
     EXPECT_NE(d->help.find("sqrt"), std::string::npos) << d->help;
     Result ok = check("pipeline p {\n  guidance { m = constant(1) }\n  selective { vary spp 1 .. 4 by m using sqrt }\n}\n");
     EXPECT_EQ(ok.errors, 0u);
+}
+
+TEST(PipelineCheck, SettingsAtTheEdgesOfTheirRangesAreAccepted) {
+    Result r = check("pipeline p {\n  image 1 x 16384\n  seed 0\n  budget 1000000 s\n  policy \"queues\"\n  lw 0\n  max_depth 65535\n"
+                     "  ab 64\n  av 0\n  aa 0.001\n  preselective { spp 1048576 }\n  selective { spp 1 }\n}\n");
+    EXPECT_EQ(r.errors, 0u) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    Result percent = check("pipeline p {\n  budget 100 %\n  policy \"tasks\"\n}\n");
+    EXPECT_EQ(percent.errors, 0u) << (percent.diagnostics.empty() ? "" : percent.diagnostics[0].message);
 }
 
 TEST(PipelineCheck, UnitWordsAndXAreStillUsableAsMapNames) {

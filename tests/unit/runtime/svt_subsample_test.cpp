@@ -12,18 +12,17 @@ namespace {
 
 TEST(Svt, AWhereTheMapIsZeroBWhereItIsOneInEitherOrder) {
     std::vector<float> map = {0.0f, 0.5f, 1.0f, NAN, 2.0f};
-    auto spp = variable_values(1, 25, "", map, true);
+    auto spp = variable_values(1, 25, pipeline::ModulationFunction::kLinear, map, true);
     EXPECT_EQ(spp, (std::vector<double>{1, 13, 25, 1, 25}));
-    auto radius = variable_values(0.75, 0.125, "", map, false);
+    auto radius = variable_values(0.75, 0.125, pipeline::ModulationFunction::kLinear, map, false);
     EXPECT_DOUBLE_EQ(radius[0], 0.75);
     EXPECT_DOUBLE_EQ(radius[1], 0.4375);
     EXPECT_DOUBLE_EQ(radius[2], 0.125);
-    EXPECT_DOUBLE_EQ(variable_values(0, 10, "quadratic", {0.5f}, false)[0], 2.5);
-    EXPECT_DOUBLE_EQ(variable_values(0, 10, "step", {0.49f}, false)[0], 0);
+    EXPECT_DOUBLE_EQ(variable_values(0, 10, pipeline::ModulationFunction::kQuadratic, {0.5f}, false)[0], 2.5);
+    EXPECT_DOUBLE_EQ(variable_values(0, 10, pipeline::ModulationFunction::kStep, {0.49f}, false)[0], 0);
     EXPECT_FALSE(modulate("cubic", 0.5));
-    EXPECT_NEAR(*plan_number("2 deg"), 2 * std::numbers::pi / 180, 1e-15);
-    EXPECT_EQ(*plan_number("0.5"), 0.5);
-    EXPECT_FALSE(plan_number("\"+\""));
+    EXPECT_DOUBLE_EQ(*modulate("sqrt", 0.25), 0.5);
+    EXPECT_DOUBLE_EQ(*modulate("", 0.25), 0.25);
 }
 
 TEST(Subsample, UniformSpacingRendersTheLatticeAndInterpolatesLinearImagesExactly) {

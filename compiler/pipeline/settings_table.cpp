@@ -1,0 +1,77 @@
+#include "compiler/pipeline/settings_table.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+
+namespace crex::pipeline {
+namespace {
+
+using S = SettingShape;
+
+// 2^53: the largest whole number a JSON plan (a double) holds exactly.
+constexpr double kMaxExactInteger = 9007199254740992.0;
+// Budgets up to 10^6 s (11.6 days): longer is a typo, and keeps clock arithmetic exact.
+constexpr double kMaxBudgetSeconds = 1e6;
+
+constexpr std::array kRules = {
+    SettingRule{"", "scene", S::kString},
+    SettingRule{"", "image", S::kSize, 1, 16384},
+    SettingRule{"", "seed", S::kInteger, 0, kMaxExactInteger},
+    SettingRule{"", "budget", S::kBudget, 0, kMaxBudgetSeconds},
+    SettingRule{"", "policy", S::kPolicy},
+    SettingRule{"", "lw", S::kNumber, 0, 1},                 // crex run --lw
+    SettingRule{"", "max_depth", S::kInteger, 0, 65535},     // --max-depth
+    SettingRule{"", "ab", S::kInteger, 1, 64},               // --ab
+    SettingRule{"", "av", S::kNumber, 0, 1e30},              // --ambient
+    SettingRule{"", "aa", S::kNumber, 1e-3, 1},              // --aa
+    SettingRule{"", "reference", S::kString},
+    SettingRule{"preselective", "crex", S::kCrex},
+    SettingRule{"preselective", "spp", S::kInteger, 1, 1 << 20},  // --spp
+    SettingRule{"selective", "crex", S::kCrex},
+    SettingRule{"selective", "spp", S::kInteger, 1, 1 << 20},
+    SettingRule{"output", "image", S::kString},
+    SettingRule{"output", "components", S::kBool},
+    SettingRule{"output", "maps", S::kBool},
+    SettingRule{"output", "report", S::kString},
+};
+
+constexpr std::array<std::string_view, 5> kSections = {"", "preselective", "guidance", "selective", "output"};
+constexpr std::array<std::string_view, 2> kPolicies = {"tasks", "queues"};
+
+}  // namespace
+
+std::span<const SettingRule> setting_rules() { return kRules; }
+std::span<const std::string_view> setting_sections() { return kSections; }
+
+const SettingRule* find_setting_rule(std::string_view section, std::string_view name) {
+    for (const auto& r : kRules)
+        if (r.section == section && r.name == name) return &r;
+    return nullptr;
+}
+
+std::string setting_range_error(const SettingRule& rule, double v) {
+    bool whole = rule.shape == S::kInteger || rule.shape == S::kSize;
+    bool ok = std::isfinite(v) && v >= rule.lo && v <= rule.hi && (!whole || v == std::floor(v));
+    if (ok) return "";
+    return fmt::format("{} in [{:.16g}, {:.16g}]", whole ? "a whole number" : "a number", rule.lo, rule.hi);
+}
+
+std::string budget_range_error(double v, bool percent) {
+    double hi = percent ? 100 : kMaxBudgetSeconds;
+    if (std::isfinite(v) && v > 0 && v <= hi) return "";
+    return percent ? "a share in (0, 100] %" : fmt::format("a time in (0, {:g}] s", kMaxBudgetSeconds);
+}
+
+std::span<const std::string_view> scheduling_policy_names() { return kPolicies; }
+
+std::optional<SchedulingPolicy> scheduling_policy_from_name(std::string_view name) {
+    for (size_t i = 0; i < kPolicies.size(); ++i)
+        if (kPolicies[i] == name) return static_cast<SchedulingPolicy>(i);
+    return std::nullopt;
+}
+
+std::string_view name_of(SchedulingPolicy p) { return kPolicies[static_cast<size_t>(p)]; }
+
+}  // namespace crex::pipeline

@@ -1,0 +1,134 @@
+// The plan reader (compiler/plan/read_plan.cpp): a typed pipeline plan reads back to the same
+// JSON, and every kind of damage is a located E401 at the offending value, never an exception,
+// a silently dropped stage or a rounded number. Each case damages one golden plan.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <functional>
+#include <numbers>
+#include <sstream>
+
+#include "compiler/plan/plan_pipeline.h"
+#include "compiler/plan/read_plan.h"
+#include "tests/support/diagnostic_helpers.h"
+
+namespace crex {
+namespace {
+
+using nlohmann::json;
+
+json golden(const std::string& name) {
+    std::ifstream in(std::string(CREX_SOURCE_DIR "/tests/golden/plans/") + name + ".plan.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    return json::parse(text.str());
+}
+
+struct Read : testing::Diagnosed {
+    std::unique_ptr<SourceFile> file;
+    std::optional<CrexPlan> plan;
+    // The plan text at the first diagnostic (what it points at).
+    std::string pointed_at(size_t n) const {
+        if (diagnostics.empty() || !diagnostics[0].span.valid()) return "";
+        return file->text().substr(diagnostics[0].span.begin, n);
+    }
+};
+
+Read read(const std::string& text) {
+    Read r;
+    r.file = std::make_unique<SourceFile>("plan.json", text);
+    DiagnosticSink sink;
+    r.plan = read_plan(*r.file, sink);
+    r.diagnostics = sink.sorted();
+    r.errors = sink.error_count();
+    return r;
+}
+
+TEST(PlanReader, EveryGoldenPipelinePlanReadsBackToTheSameJson) {
+    for (const char* name : {"prog_dis_all.cornell", "tc_rp.cornell", "sel_st.cornell_diffuse", "prog_tc.cornell", "sel_edge.cornell"}) {
+        json j = golden(name);
+        Read r = read(j.dump(2));
+        ASSERT_TRUE(r.plan && r.plan->pipeline) << name << ": " << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+        EXPECT_EQ(pipeline_plan_to_json(*r.plan->pipeline), j) << name;
+    }
+}
+
+TEST(PlanReader, TypedValuesAreResolvedByTheCompiler) {
+    Read r = read(golden("tc_rp.cornell").dump(2));
+    ASSERT_TRUE(r.plan && r.plan->pipeline);
+    const PipelinePlan& p = *r.plan->pipeline;
+    ASSERT_TRUE(p.settings.budget);
+    EXPECT_TRUE(p.settings.budget->percent);
+    EXPECT_EQ(p.settings.budget->amount, 50);
+    ASSERT_EQ(p.variables.size(), 2u);
+    EXPECT_EQ(p.variables[1].variable, pipeline::SelectiveVariable::kSubsample);
+    EXPECT_EQ(p.variables[1].from, 4);
+    const PlanNode* task = find_node(p, "map.task");
+    ASSERT_NE(task, nullptr);
+    EXPECT_NEAR(task->params["fovea"].get<double>(), 2 * std::numbers::pi / 180, 1e-15);  // `fovea 2 deg`
+    for (const PlanEdge* e : edges_into(p, "map.imp")) EXPECT_EQ(e->weight, 0.5);
+}
+
+struct Case {
+    const char* name;
+    std::function<void(json&)> damage;
+    const char* at;       // the plan text the error points at (its first characters)
+    const char* message;  // part of the message
+};
+
+class PlanReaderDiagnostic : public ::testing::TestWithParam<Case> {};
+
+TEST_P(PlanReaderDiagnostic, IsALocatedE401) {
+    const Case& c = GetParam();
+    json j = golden("prog_dis_all.cornell");
+    c.damage(j);
+    Read r = read(j.dump(2));
+    EXPECT_FALSE(r.plan) << c.name;
+    ASSERT_EQ(r.errors, 1u) << c.name;
+    EXPECT_EQ(r.diagnostics[0].code, "E401") << c.name;
+    EXPECT_NE(r.diagnostics[0].message.find(c.message), std::string::npos) << c.name << ": " << r.diagnostics[0].message;
+    EXPECT_EQ(r.pointed_at(std::string(c.at).size()), c.at) << c.name << ": " << r.diagnostics[0].message;
+    EXPECT_GT(r.file->position(r.diagnostics[0].span.begin).line, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryDamage, PlanReaderDiagnostic,
+    ::testing::Values(
+        Case{"version_as_text", [](json& j) { j["version"] = "1"; }, "\"1\"", "expected the integer 2"},
+        Case{"old_version", [](json& j) { j["version"] = 1; }, "1", "this crex reads plan version 2"},
+        Case{"component_as_number", [](json& j) { j["stages"]["preselective"]["children"][0]["children"][0]["children"][0]["component"] = 3; }, "3",
+             "expected a component letter"},
+        Case{"count_not_whole", [](json& j) {
+                 j["stages"]["selective"] = {{"op", "seq"}, {"children", {{{"op", "repeat"}, {"count", 2.5},
+                                                                          {"children", {{{"op", "exec"}, {"component", "T"}}}}}}}};
+             }, "2.5", "a whole number"},
+        Case{"no_nodes", [](json& j) { j["nodes"] = json::array(); j["edges"] = json::array(); j["variables"] = json::array(); },
+             "[]", "no 'camera' node"},
+        Case{"selective_node_missing", [](json& j) {
+                 auto& n = j["nodes"];
+                 for (size_t i = 0; i < n.size(); ++i)
+                     if (n[i]["id"] == "selective") n.erase(i);
+             }, "[", "no 'selective' node"},
+        Case{"dangling_edge", [](json& j) { j["edges"][0]["to"] = "nowhere"; }, "\"nowhere\"", "no node 'nowhere'"},
+        Case{"cycle", [](json& j) { j["edges"].push_back({{"from", "selective"}, {"to", "preselective"}, {"kind", "bin"}}); },
+             "{", "closes a cycle"},
+        Case{"duplicate_node", [](json& j) { j["nodes"][3]["id"] = "camera"; }, "\"camera\"", "defined twice"},
+        Case{"unknown_operator", [](json& j) { j["nodes"][3]["params"]["operator"] = "salience"; }, "\"salience\"",
+             "unknown guidance operator 'salience'"},
+        Case{"fovea_as_text", [](json& j) { j["nodes"][3]["params"]["fovea"] = "2 deg"; }, "\"2 deg\"", "expected a number"},
+        Case{"spp_zero", [](json& j) { j["settings"]["spp"] = 0; }, "0", "whole number in [1, 1048576]"},
+        Case{"lw_above_one", [](json& j) { j["settings"]["lw"] = 2; }, "2", "a number in [0, 1]"},
+        Case{"image_fraction", [](json& j) { j["settings"]["image"] = {{"width", 32.5}, {"height", 32}}; }, "32.5", "whole number"},
+        Case{"budget_huge", [](json& j) { j["settings"]["budget"] = {{"seconds", 1e300}}; }, "1e+300", "a time in (0, 1e+06] s"},
+        Case{"unknown_policy", [](json& j) { j["settings"]["policy"] = "nosuch"; }, "\"nosuch\"", "unknown scheduling policy"},
+        Case{"unknown_setting", [](json& j) { j["settings"]["spp_max"] = 3; }, "3", "unknown setting 'spp_max'"},
+        Case{"variable_out_of_range", [](json& j) { j["variables"][0]["to"] = 1e9; }, "1000000000", "in [1, 1048576] for spp"},
+        Case{"variable_unknown", [](json& j) { j["variables"][0]["variable"] = "rays"; }, "\"rays\"", "unknown selective variable"},
+        Case{"modulation_unknown", [](json& j) { j["variables"][0]["modulation"] = "cubic"; }, "\"cubic\"", "unknown modulation function"},
+        Case{"variable_map_dangling", [](json& j) { j["variables"][0]["map"] = "map.nosuch"; }, "\"map.nosuch\"", "no node 'map.nosuch'"},
+        Case{"negative_weight", [](json& j) { j["edges"].push_back({{"from", "map.sal"}, {"to", "map.dl"}, {"kind", "map"}, {"weight", -1}}); },
+             "-1", "weight >= 0"}),
+    [](const ::testing::TestParamInfo<Case>& p) { return std::string(p.param.name); });
+
+}  // namespace
+}  // namespace crex
