@@ -1,15 +1,70 @@
 // crex: the selective-rendering pipeline compiler and runtime, one tool with subcommands.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <algorithm>
+#include <cctype>
+#include <regex>
 #include <map>
+#include <string>
+#include <vector>
 
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
+#include "compiler/base/nearest_name.h"
+
+namespace {
+
+std::string capitalised(std::string s) {
+    if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
+    return s;
+}
+
+// CLI11's "--spp: Value abc not in range 1 to 1048576" as "--spp: 'abc' is not in the range 1 to 1048576".
+std::string plain_range_error(const std::string& what) {
+    static const std::regex range(R"(Value (.*) not in range (\S+) to (\S+))");
+    std::smatch m;
+    if (!std::regex_search(what, m, range)) return what;
+    return m.prefix().str() + "'" + m[1].str() + "' is not in the range " + m[2].str() + " to " + m[3].str() + m.suffix().str();
+}
+
+// git's manner: name what was wrong, suggest the nearest right thing, say where help is.
+int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** argv) {
+    std::vector<std::string> commands;
+    for (const auto* sub : app.get_subcommands({})) commands.push_back(sub->get_name());
+    std::string first = argc > 1 ? argv[1] : "";
+    if (!first.empty() && first[0] != '-' && std::find(commands.begin(), commands.end(), first) == commands.end()) {
+        std::string hint = capitalised(crex::did_you_mean(first, commands));
+        std::cerr << "crex: '" << first << "' is not a crex command." << (hint.empty() ? "" : " " + hint) << " See 'crex --help'.\n";
+        return crex::app::kExitUsage;
+    }
+    const CLI::App* sub = nullptr;
+    for (const auto* s : app.get_subcommands({}))
+        if (s->get_name() == first) sub = s;
+    std::string prefix = sub ? "crex " + sub->get_name() : "crex";
+    std::string what = e.what();
+    // An unknown flag: the nearest one the command has.
+    const std::string unexpected = "The following argument was not expected: ";
+    if (sub && what.rfind(unexpected, 0) == 0) {
+        std::string arg = what.substr(unexpected.size());
+        std::string flag = arg.substr(0, arg.find('='));
+        std::vector<std::string> flags;
+        for (const auto* o : sub->get_options())
+            for (const auto& n : o->get_lnames()) flags.push_back("--" + n);
+        std::string hint = flag.rfind("--", 0) == 0 ? capitalised(crex::did_you_mean(flag, flags)) : "";
+        std::cerr << prefix << ": error: unknown option '" << arg << "'." << (hint.empty() ? "" : " " + hint) << " See '" << prefix
+                  << " --help'.\n";
+        return crex::app::kExitUsage;
+    }
+    std::cerr << prefix << ": error: " << plain_range_error(what) << ". See '" << prefix << " --help'.\n";
+    return crex::app::kExitUsage;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace crex::app;
     CLI::App app{"crex: compile and run selective-rendering pipelines", "crex"};
-    app.set_version_flag("--version", std::string("crex 0.1.0"));
+    app.set_version_flag("--version", std::string("crex ") + CREX_VERSION);
     app.require_subcommand(1);
     app.footer("Run 'crex <command> --help' for the options and examples of each command.");
 
@@ -30,8 +85,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
-        return kExitUsage;
+        return usage_error(app, e, argc, argv);
     }
     try {
         for (auto* sub : app.get_subcommands()) return runners.at(sub->get_name())();

@@ -1,0 +1,84 @@
+// Usage errors in git's manner (issue 17) and the run driver's flags (issue 13): what was
+// wrong, the nearest right thing, the subcommand named, exit code 2.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "runtime/io/image_io.h"
+#include "tests/support/crex_cli.h"
+
+namespace crex {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::crex_cli;
+
+TEST(UsageCli, AMisspelledCommandIsNamedWithTheNearestOne) {
+    auto r = crex_cli({"rnu"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("crex: 'rnu' is not a crex command. Did you mean 'run'?"), std::string::npos) << r.err;
+    auto c = crex_cli({"chek", "-e", "TT"});
+    EXPECT_EQ(c.exit_code, 2);
+    EXPECT_NE(c.err.find("Did you mean 'check'?"), std::string::npos) << c.err;
+}
+
+TEST(UsageCli, AMisspelledFlagGetsTheNearestFlagAndTheCommandsName) {
+    auto r = crex_cli({"run", "--sze", "64x64"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("crex run: error: unknown option '--sze'. Did you mean '--size'?"), std::string::npos) << r.err;
+}
+
+TEST(UsageCli, RangeErrorsSayTheRange) {
+    auto r = crex_cli({"run", "--spp=abc"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("crex run: error: --spp: 'abc' is not in the range 1 to 1048576"), std::string::npos) << r.err;
+    auto size = crex_cli({"run", "--size", "0x64", "-q"});
+    EXPECT_EQ(size.exit_code, 2);
+    EXPECT_NE(size.err.find("each 1 to 16384"), std::string::npos) << size.err;
+}
+
+TEST(UsageCli, VersionIsPrinted) {
+    auto r = crex_cli({"--version"});
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_EQ(r.out.rfind("crex ", 0), 0u) << r.out;
+}
+
+TEST(DriverCli, BudgetsNeedTheirUnitAndAmbientRejectsNan) {
+    auto budget = crex_cli({"run", "--size", "8x8", "--budget", "10", "-q", "-o", "/tmp/crex_usage_never.exr"});
+    EXPECT_EQ(budget.exit_code, 2);
+    EXPECT_NE(budget.err.find("expected a time with its unit"), std::string::npos) << budget.err;
+    auto nan = crex_cli({"run", "--size", "8x8", "--ambient", "nan", "-q", "-o", "/tmp/crex_usage_never.exr"});
+    EXPECT_EQ(nan.exit_code, 2);
+    EXPECT_NE(nan.err.find("--ambient 'nan'"), std::string::npos) << nan.err;
+    EXPECT_FALSE(fs::exists("/tmp/crex_usage_never.exr"));
+}
+
+TEST(DriverCli, AnEmptyCrexIsEmptyAsCheckAndPlanTakeIt) {
+    fs::path out = fs::temp_directory_path() / ("crex_usage_empty_" + std::to_string(::getpid()) + ".exr");
+    auto r = crex_cli({"run", "-e", "", "--size", "8x8", "--spp", "1", "--format", "json", "-q", "-o", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["crex"], "");
+    for (const char* c : {"D", "G", "S", "T", "R", "M"}) EXPECT_EQ(j["components"][c]["rays"], 0) << c;
+    EXPECT_EQ(j["components"]["camera"]["rays"], 64);
+    fs::remove(out);
+}
+
+TEST(DriverCli, UniformMaxIsThePipelinesGoldAndPassesAreReported) {
+    // --uniform max: every variable at its maximum (spp 1..16 by saliency -> 16 everywhere).
+    fs::path out = fs::temp_directory_path() / ("crex_usage_gold_" + std::to_string(::getpid()) + ".exr");
+    auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "12x8", "--uniform", "max", "--pass-samples",
+                       "3", "--format", "json", "-q", "-o", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_GE(j["passes"].get<int>(), 2);
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    ASSERT_EQ(read_image(out.string(), w, h, rgb), "");
+    EXPECT_EQ(w, 12);
+    fs::remove(out);
+}
+
+}  // namespace
+}  // namespace crex
