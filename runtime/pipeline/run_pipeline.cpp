@@ -26,10 +26,8 @@ uint64_t total_rays(const ExecutorStats& s) {
 }
 
 bool needs_probe(const PipelinePlan& plan) {
-    for (const auto& n : plan.nodes) {
-        auto op = pipeline::guidance_operator_from_name(n.params.value("operator", std::string()));
-        if (op && pipeline::signature(*op).needs_scene) return true;
-    }
+    for (const auto& m : plan.maps)
+        if (m.op && pipeline::signature(*m.op).needs_scene) return true;
     return false;
 }
 
@@ -41,9 +39,7 @@ std::vector<float> map_values(const guidance::Raster& r, size_t pixels) {
 }  // namespace
 
 bool has_guidance(const PipelinePlan& plan) {
-    for (const auto& n : plan.nodes)
-        if (n.kind == "operator" || n.kind == "svt") return true;
-    return false;
+    return !plan.maps.empty() || !plan.variables.empty();
 }
 
 std::vector<float> PipelineRunResult::image() const {
@@ -165,8 +161,8 @@ PipelineRunResult run_pipeline(const Scene& scene, const PipelinePlan& plan, con
         in.probe = &probe;
     }
     GuidanceGraph graph(plan, std::move(in));
-    for (const auto& n : plan.nodes)
-        if (n.kind == "operator" && n.id.rfind("map.", 0) == 0) out.maps.push_back({n.id.substr(4), graph.map(n.id)});
+    for (const auto& m : plan.maps)
+        if (!m.defines.empty()) out.maps.push_back({m.defines, graph.map(m.id)});
 
     // The svt.
     ShadeParams shade = base.shade;
