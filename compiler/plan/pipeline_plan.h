@@ -54,6 +54,38 @@ struct PlanVariable {
     std::string map;                         ///< id of the node giving the map
 };
 
+/// One argument of a guidance operator: the node giving it (the preview, a buffer, a map or a
+/// tagged-objects call) and, for importance(m w, ...), its weight.
+struct PlanMapInput {
+    std::string node;
+    std::optional<double> weight;
+};
+
+/// An operator's literal parameters, typed (the registry's signature says which apply).
+struct PlanMapParams {
+    std::optional<double> constant;       ///< constant(v)
+    std::optional<std::string> tag;       ///< tagged("name"); absent: every tagged object
+    std::optional<double> fovea;          ///< task_map, distractors: radians
+    std::optional<double> sigma, at;      ///< blur, threshold
+    std::optional<std::string> combine;   ///< importance: "+", "max" or "*"
+};
+
+/// A map definition (`NAME = operator(...)`) or a call nested in one: what the runtime evaluates.
+struct PlanMap {
+    std::string id;                       ///< node id: "map.NAME", or "op.OWNER.K" for a nested call
+    std::string defines;                  ///< NAME for a definition, "" for a nested call
+    std::string name;                     ///< as the user wrote it: "sal = saliency(preview)"
+    std::optional<pipeline::GuidanceOperator> op;  ///< absent: an alias `m = other` (one input)
+    std::vector<PlanMapInput> inputs;     ///< in argument order
+    PlanMapParams params;
+};
+
+/// A buffer guidance reads: "direct", "emission", "ambient", or a component letter.
+struct PlanBuffer {
+    std::string id;                       ///< node id: "buffer.direct", "op.OWNER.K" for component(X)
+    std::string buffer;
+};
+
 /// A graph node. Operator nodes (kind "operator") are the map definitions: params hold
 /// "operator" (a registry name; absent for an alias `m = other`) and the operator's typed
 /// parameters ("fovea" in radians, "sigma", "at", "op", "arg"); their inputs are the edges into
@@ -80,6 +112,8 @@ struct PipelinePlan {
     PlanSettings settings;
     PlanOutputs outputs;
     sched::Program program;  ///< .preselective / .selective: the two stages' programs
+    std::vector<PlanMap> maps;               ///< live maps and nested calls, inputs before their users
+    std::vector<PlanBuffer> buffers;
     std::vector<PlanVariable> variables;
     std::string modulation_map;              ///< node id of the map modulating `{ }`, "" when none
     std::vector<PlanNode> nodes;
@@ -101,8 +135,21 @@ inline const PlanNode* find_node(const PipelinePlan& plan, const std::string& id
     return nullptr;
 }
 
+inline const PlanMap* find_map(const PipelinePlan& plan, const std::string& id) {
+    for (const auto& m : plan.maps)
+        if (m.id == id) return &m;
+    return nullptr;
+}
+
+inline const PlanBuffer* find_buffer(const PipelinePlan& plan, const std::string& id) {
+    for (const auto& b : plan.buffers)
+        if (b.id == id) return &b;
+    return nullptr;
+}
+
 /// The typed settings and outputs as JSON (plan format 2), and back is read_plan.cpp.
 nlohmann::json plan_settings_to_json(const PlanSettings& s);
 nlohmann::json plan_outputs_to_json(const PlanOutputs& o);
+nlohmann::json plan_map_to_json(const PlanMap& m);
 
 }  // namespace crex

@@ -125,6 +125,7 @@ public:
         case Expr::Kind::kReference:
             if (maps.count(e.name)) return "map." + e.name;
             if (e.name == "preview") return "preview";
+            if (!ids_.count("buffer." + e.name)) plan_.buffers.push_back({"buffer." + e.name, e.name});
             node("buffer." + e.name, "buffer", "preselective", e.name);
             edge("preselective", "buffer." + e.name, "buffer");
             return "buffer." + e.name;
@@ -140,25 +141,47 @@ public:
     void call_node(const std::string& id, const Expr& e, const std::string& owner, int& counter, const std::set<std::string>& maps) {
         if (e.name == "component" && e.args.size() == 1 && e.args[0].name.empty()) {  // a buffer, not an operator
             std::string letter = e.args[0].expr.name;
+            if (!ids_.count(id)) plan_.buffers.push_back({id, letter});
             node(id, "buffer", "preselective", fmt::format("component({})", letter), {{"component", letter}});
             edge("preselective", id, "buffer");
             return;
         }
         node(id, "operator", "guidance", expr_text(e), {{"operator", e.name}});
+        // Its typed definition; indexed, since nested calls append to plan_.maps meanwhile.
+        PlanMap def;
+        def.id = id;
+        def.name = expr_text(e);
+        def.op = pipeline::guidance_operator_from_name(e.name);  // checked
+        PlanMapParams params;
+        std::vector<PlanMapInput> inputs;
         for (const auto& a : e.args) {
             if (a.name.empty() && a.expr.kind == Expr::Kind::kLiteral) {  // tagged("exit_sign"), constant(0.5)
                 for (auto& n : plan_.nodes)
                     if (n.id == id) n.params["arg"] = value_json(a.expr.literal);
+                if (a.expr.literal.kind == Value::Kind::kString) params.tag = a.expr.literal.text;
+                else params.constant = a.expr.literal.number;
             } else if (a.name.empty()) {
                 std::string from = source(a.expr, owner, counter, maps);
-                if (!from.empty()) edge(from, id, kind_of(from));
+                if (!from.empty()) {
+                    edge(from, id, kind_of(from));
+                    inputs.push_back({from, std::nullopt});
+                }
             } else if (maps.count(a.name)) {  // a weighted map (importance)
                 edge("map." + a.name, id, "map", value_text(a.value), a.value.number);
+                inputs.push_back({"map." + a.name, a.value.number});
             } else {
                 for (auto& n : plan_.nodes)
                     if (n.id == id) n.params[a.name] = value_json(a.value);
+                const nlohmann::json v = value_json(a.value);
+                if (a.name == "fovea") params.fovea = v.get<double>();
+                if (a.name == "sigma") params.sigma = v.get<double>();
+                if (a.name == "at") params.at = v.get<double>();
+                if (a.name == "op") params.combine = v.get<std::string>();
             }
         }
+        def.inputs = std::move(inputs);
+        def.params = std::move(params);
+        plan_.maps.push_back(std::move(def));
     }
 
     std::string kind_of(const std::string& id) {
@@ -253,9 +276,18 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             g.node(id, "operator", "guidance", expr_text(e));
             std::string from = g.source(e, name, counter, maps);
             if (!from.empty()) g.edge(from, id, g.kind_of(from));
+            PlanMap alias;
+            alias.id = id;
+            if (!from.empty()) alias.inputs.push_back({from, std::nullopt});
+            plan.maps.push_back(std::move(alias));
         }
         for (auto& n : plan.nodes)
             if (n.id == id) n.label = name + " = " + expr_text(e);
+        for (auto& m : plan.maps)
+            if (m.id == id) {
+                m.defines = name;
+                m.name = name + " = " + expr_text(e);
+            }
     }
     nlohmann::json selective_params = {{"crex", sched::to_crex(plan.program.selective)}};
     if (plan.settings.selective_spp) selective_params["spp"] = *plan.settings.selective_spp;
@@ -331,6 +363,25 @@ nlohmann::json plan_outputs_to_json(const PlanOutputs& o) {
     return j;
 }
 
+nlohmann::json plan_map_to_json(const PlanMap& m) {
+    nlohmann::json j = {{"id", m.id}, {"name", m.name}, {"inputs", nlohmann::json::array()}, {"params", nlohmann::json::object()}};
+    j["operator"] = m.op ? nlohmann::json(pipeline::name_of(*m.op)) : nlohmann::json(nullptr);
+    if (!m.defines.empty()) j["defines"] = m.defines;
+    for (const auto& in : m.inputs) {
+        nlohmann::json ji = {{"node", in.node}};
+        if (in.weight) ji["weight"] = *in.weight;
+        j["inputs"].push_back(ji);
+    }
+    nlohmann::json& p = j["params"];
+    if (m.params.constant) p["constant"] = *m.params.constant;
+    if (m.params.tag) p["tag"] = *m.params.tag;
+    if (m.params.fovea) p["fovea"] = *m.params.fovea;
+    if (m.params.sigma) p["sigma"] = *m.params.sigma;
+    if (m.params.at) p["at"] = *m.params.at;
+    if (m.params.combine) p["combine"] = *m.params.combine;
+    return j;
+}
+
 nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
     nlohmann::json j;
     j["format"] = "crex-plan";
@@ -343,6 +394,10 @@ nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
     for (const auto& v : plan.variables)
         j["variables"].push_back({{"variable", pipeline::name_of(v.variable)}, {"from", v.from}, {"to", v.to},
                                   {"modulation", pipeline::name_of(v.modulation)}, {"map", v.map}});
+    j["maps"] = nlohmann::json::array();
+    for (const auto& m : plan.maps) j["maps"].push_back(plan_map_to_json(m));
+    j["buffers"] = nlohmann::json::array();
+    for (const auto& b : plan.buffers) j["buffers"].push_back({{"id", b.id}, {"buffer", b.buffer}});
     j["modulation_map"] = plan.modulation_map.empty() ? nlohmann::json(nullptr) : nlohmann::json(plan.modulation_map);
     j["stages"] = {{"preselective", schedule_to_json(plan.program.preselective)}, {"selective", schedule_to_json(plan.program.selective)}};
     j["nodes"] = nlohmann::json::array();

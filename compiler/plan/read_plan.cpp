@@ -285,6 +285,106 @@ public:
         return true;
     }
 
+    // The typed map definitions and buffers guidance evaluates; every id names a graph node,
+    // every input a buffer, a map or the preview, and no map depends on itself.
+    bool read_guidance(const json& j, const std::map<std::string, size_t>& index, PipelinePlan& p) {
+        for (const char* list : {"maps", "buffers"})
+            if (!j.contains(list) || !j[list].is_array()) return fail(std::string("/") + list, "expected an array");
+        static const std::set<std::string> buffers = {"direct", "emission", "ambient", "D", "G", "S", "T", "R", "M"};
+        std::set<std::string> ids = {"preview"};
+        for (size_t i = 0; i < j["buffers"].size(); ++i) {
+            const json& b = j["buffers"][i];
+            std::string ptr = "/buffers/" + std::to_string(i);
+            PlanBuffer buffer;
+            if (!b.is_object()) return fail(ptr, "expected {\"id\", \"buffer\"}");
+            if (!text(b, ptr, "id", buffer.id, true) || !text(b, ptr, "buffer", buffer.buffer, true)) return false;
+            if (!index.count(buffer.id)) return fail(ptr + "/id", fmt::format("no node '{}' in the plan", buffer.id));
+            if (!buffers.count(buffer.buffer))
+                return fail(ptr + "/buffer", fmt::format("unknown buffer '{}': expected direct, emission, ambient or a component letter", buffer.buffer));
+            if (!ids.insert(buffer.id).second) return fail(ptr + "/id", fmt::format("'{}' is defined twice", buffer.id));
+            p.buffers.push_back(std::move(buffer));
+        }
+        for (const auto& m : j["maps"])
+            if (m.is_object() && m.contains("id") && m["id"].is_string()) ids.insert(m["id"].get<std::string>());
+        std::map<std::string, std::vector<std::pair<std::string, std::string>>> uses;  // map -> (input, pointer)
+        std::set<std::string> map_ids;
+        for (size_t i = 0; i < j["maps"].size(); ++i) {
+            const json& m = j["maps"][i];
+            std::string ptr = "/maps/" + std::to_string(i);
+            PlanMap def;
+            if (!m.is_object()) return fail(ptr, "expected {\"id\", \"name\", \"operator\", \"inputs\", \"params\"}");
+            if (!text(m, ptr, "id", def.id, true) || !text(m, ptr, "name", def.name, false) || !text(m, ptr, "defines", def.defines, false))
+                return false;
+            if (!index.count(def.id)) return fail(ptr + "/id", fmt::format("no node '{}' in the plan", def.id));
+            if (!map_ids.insert(def.id).second) return fail(ptr + "/id", fmt::format("map '{}' is defined twice", def.id));
+            if (m.contains("operator") && !m["operator"].is_null()) {
+                if (!m["operator"].is_string()) return fail(ptr + "/operator", "expected a guidance operator's name or null");
+                def.op = pipeline::guidance_operator_from_name(m["operator"].get<std::string>());
+                if (!def.op) return fail(ptr + "/operator", fmt::format("unknown guidance operator '{}'", m["operator"].get<std::string>()));
+            }
+            if (!m.contains("inputs") || !m["inputs"].is_array()) return fail(ptr + "/inputs", "expected an array");
+            for (size_t k = 0; k < m["inputs"].size(); ++k) {
+                const json& in = m["inputs"][k];
+                std::string iptr = ptr + "/inputs/" + std::to_string(k);
+                PlanMapInput input;
+                if (!in.is_object()) return fail(iptr, "expected {\"node\": ...}");
+                if (!text(in, iptr, "node", input.node, true)) return false;
+                if (!ids.count(input.node)) return fail(iptr + "/node", fmt::format("'{}' is not a map, a buffer or the preview", input.node));
+                if (in.contains("weight")) {
+                    double w = 0;
+                    if (!number(in, iptr, "weight", w)) return false;
+                    if (!(std::isfinite(w) && w >= 0)) return fail(iptr + "/weight", "expected a weight >= 0");
+                    input.weight = w;
+                }
+                uses[def.id].push_back({input.node, iptr + "/node"});
+                def.inputs.push_back(std::move(input));
+            }
+            if (!def.op && def.inputs.size() != 1) return fail(ptr + "/inputs", "an alias (no operator) has exactly one input");
+            if (m.contains("params") && !map_params(m["params"], ptr + "/params", def.params)) return false;
+            p.maps.push_back(std::move(def));
+        }
+        std::map<std::string, int> state;  // 1 on the path, 2 done
+        std::function<bool(const std::string&)> visit = [&](const std::string& id) {
+            state[id] = 1;
+            for (const auto& [to, ptr] : uses[id]) {
+                if (state[to] == 1) return fail(ptr, fmt::format("map '{}' depends on itself through '{}'", to, id));
+                if (state[to] == 0 && !visit(to)) return false;
+            }
+            state[id] = 2;
+            return true;
+        };
+        for (const auto& m : p.maps)
+            if (state[m.id] == 0 && !visit(m.id)) return false;
+        return true;
+    }
+
+    bool map_params(const json& params, const std::string& ptr, PlanMapParams& out) {
+        if (!params.is_object()) return fail(ptr, "expected an object");
+        static const std::set<std::string> known = {"constant", "tag", "fovea", "sigma", "at", "combine"};
+        for (const auto& [key, _] : params.items())
+            if (!known.count(key)) return fail(ptr + "/" + escape_pointer_token(key), fmt::format("unknown parameter '{}'", key));
+        double v = 0;
+        for (auto [key, field] : {std::pair{"constant", &out.constant}, std::pair{"fovea", &out.fovea}, std::pair{"sigma", &out.sigma},
+                                  std::pair{"at", &out.at}})
+            if (params.contains(key)) {
+                if (!number(params, ptr, key, v)) return false;
+                if (!std::isfinite(v)) return fail(ptr + "/" + key, "expected a finite number");
+                *field = v;
+            }
+        if (out.fovea && !(*out.fovea > 0 && *out.fovea < std::numbers::pi)) return fail(ptr + "/fovea", "expected an angle in radians in (0, pi)");
+        std::string t;
+        if (params.contains("tag")) {
+            if (!text(params, ptr, "tag", t, true)) return false;
+            out.tag = t;
+        }
+        if (params.contains("combine")) {
+            if (!text(params, ptr, "combine", t, true)) return false;
+            if (t != "+" && t != "max" && t != "*") return fail(ptr + "/combine", fmt::format("expected \"+\", \"max\" or \"*\", not \"{}\"", t));
+            out.combine = t;
+        }
+        return true;
+    }
+
     // A pipeline plan: settings, outputs, variables and the graph, every reference resolved.
     bool read_pipeline(const json& j, CrexPlan& plan) {
         PipelinePlan p;
@@ -389,6 +489,7 @@ public:
             if (!index.count(var.map)) return fail(ptr + "/map", fmt::format("no node '{}' in the plan", var.map));
             p.variables.push_back(var);
         }
+        if (!read_guidance(j, index, p)) return false;
         if (j.contains("modulation_map") && !j["modulation_map"].is_null()) {
             if (!text(j, "", "modulation_map", p.modulation_map, true)) return false;
             if (!index.count(p.modulation_map)) return fail("/modulation_map", fmt::format("no node '{}' in the plan", p.modulation_map));

@@ -41,10 +41,8 @@ constexpr size_t kBytesPerTriangle = 256;
 constexpr size_t kGuidanceBytesPerPixel = 12 * 12 + 16 * 4;
 
 bool needs_probe(const PipelinePlan& plan) {
-    for (const auto& n : plan.nodes) {
-        auto op = pipeline::guidance_operator_from_name(n.params.value("operator", std::string()));
-        if (op && pipeline::signature(*op).needs_scene) return true;
-    }
+    for (const PlanMap& m : plan.maps)
+        if (m.op && pipeline::signature(*m.op).needs_scene) return true;
     return false;
 }
 
@@ -326,8 +324,8 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
         }
         graph.emplace(plan_, std::move(in));
         out_.maps.clear();  // a later round's maps replace the earlier ones
-        for (const auto& n : plan_.nodes)
-            if (n.kind == "operator" && n.id.rfind("map.", 0) == 0) out_.maps.push_back({n.id.substr(4), graph->map(n.id)});
+        for (const PlanMap& m : plan_.maps)
+            if (!m.defines.empty()) out_.maps.push_back({m.defines, graph->map(m.id)});
     }
     auto map_of = [&](const std::string& id) -> const guidance::Raster& {
         if (constant) return *constant;
@@ -571,12 +569,7 @@ uint32_t plan_rounds(const PipelinePlan& plan) {
     return r.is_number() ? static_cast<uint32_t>(std::clamp(r.get<double>(), 1.0, 1024.0)) : 1;
 }
 
-bool has_guidance(const PipelinePlan& plan) {
-    if (!plan.variables.empty() || !plan.modulation_map.empty()) return true;
-    for (const auto& n : plan.nodes)
-        if (n.kind == "operator") return true;
-    return false;
-}
+bool has_guidance(const PipelinePlan& plan) { return !plan.maps.empty() || !plan.variables.empty(); }
 
 uint64_t total_rays(const ExecutorStats& stats) {
     uint64_t n = stats.camera.rays;

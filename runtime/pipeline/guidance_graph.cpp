@@ -17,20 +17,6 @@ namespace {
 
 using guidance::Raster;
 
-// A node's string parameter ("" when absent); the plan reader has checked the types.
-std::string text_param(const PlanNode& n, const std::string& key) {
-    auto it = n.params.find(key);
-    return it != n.params.end() && it->is_string() ? it->get<std::string>() : "";
-}
-
-// A node's number parameter, already in the runtime's units (angles in radians).
-double number_param(const PlanNode& n, const std::string& key, double fallback) {
-    auto it = n.params.find(key);
-    if (it == n.params.end()) return fallback;
-    if (!it->is_number()) throw std::runtime_error(fmt::format("{}: {} is not a number", n.label, key));
-    return it->get<double>();
-}
-
 constexpr double kDefaultFovea = 2 * std::numbers::pi / 180;  // 2 degrees: the fovea
 
 }  // namespace
@@ -54,93 +40,96 @@ Raster GuidanceGraph::as_map(const Raster& r) const {
 
 const Raster& GuidanceGraph::map(const std::string& id) {
     if (auto it = memo_.find(id); it != memo_.end()) return it->second;
-    const PlanNode* node = find_node(plan_, id);
-    if (!node) throw std::runtime_error("the plan has no node '" + id + "'");
+    if (id == "preview") return memo_[id] = display(in_.preview);
+    if (const PlanBuffer* b = find_buffer(plan_, id)) {
+        auto it = in_.buffers.find(b->buffer);
+        if (it == in_.buffers.end()) throw std::runtime_error("no buffer '" + b->buffer + "' for " + id);
+        return memo_[id] = display(it->second);
+    }
+    const PlanMap* m = find_map(plan_, id);
+    if (!m) throw std::runtime_error("the plan has no map, buffer or preview '" + id + "'");
     if (std::find(evaluating_.begin(), evaluating_.end(), id) != evaluating_.end())
         throw std::runtime_error("the plan's maps depend on each other in a cycle through '" + id + "'");
     evaluating_.push_back(id);
-    Raster r = evaluate(*node);
+    Raster r = evaluate(*m);
     evaluating_.pop_back();
     return memo_[id] = std::move(r);
 }
 
 std::vector<bool> GuidanceGraph::objects(const std::string& id) {
-    const PlanNode* node = find_node(plan_, id);
+    const PlanMap* m = find_map(plan_, id);
     const auto& shapes = in_.scene->shapes;
     std::vector<bool> out(shapes.size(), false);
-    std::string name = node ? text_param(*node, "arg") : "";
+    std::string name = m && m->params.tag ? *m->params.tag : "";
     for (size_t s = 0; s < shapes.size(); ++s)
         out[s] = shapes[s].tag && (name.empty() || shapes[s].tag->name == name);
     return out;
 }
 
-Raster GuidanceGraph::evaluate(const PlanNode& node) {
+bool GuidanceGraph::is_objects(const std::string& id) const {
+    const PlanMap* m = find_map(plan_, id);
+    return m && m->op == pipeline::GuidanceOperator::kTagged;
+}
+
+Raster GuidanceGraph::evaluate(const PlanMap& node) {
     const int w = in_.width, h = in_.height;
-    if (node.kind == "image") return display(in_.preview);
-    if (node.kind == "buffer") {
-        std::string name = node.params.contains("component") ? text_param(node, "component") : node.label;
-        auto it = in_.buffers.find(name);
-        if (it == in_.buffers.end()) throw std::runtime_error("no buffer '" + name + "' for " + node.id);
-        return display(it->second);
-    }
-    std::vector<const PlanEdge*> inputs = edges_into(plan_, node.id);
-    std::string op_name = text_param(node, "operator");
+    const std::vector<PlanMapInput>& inputs = node.inputs;
+    // The k-th input that is a picture or map (tagged objects are read by objects()).
     auto input = [&](size_t k) -> Raster {
         size_t seen = 0;
-        for (const PlanEdge* e : inputs)
-            if (e->kind != "objects" && seen++ == k) return map(e->from);
-        throw std::runtime_error(fmt::format("{} has no input {}", node.label, k + 1));
+        for (const PlanMapInput& in : inputs)
+            if (!is_objects(in.node) && seen++ == k) return map(in.node);
+        throw std::runtime_error(fmt::format("{} has no input {}", node.name, k + 1));
     };
-    if (op_name.empty()) return as_map(input(0));  // `m = other`: an alias
-    auto known = pipeline::guidance_operator_from_name(op_name);
-    if (!known) throw std::runtime_error("this runtime has no guidance operator '" + op_name + "'");
-    const pipeline::GuidanceOperator op = *known;
-    if (pipeline::signature(op).needs_scene && (!in_.scene || !in_.probe)) throw std::runtime_error(node.label + " needs the scene");
+    if (!node.op) return as_map(input(0));  // `m = other`: an alias
+    const pipeline::GuidanceOperator op = *node.op;
+    const std::string_view op_name = pipeline::name_of(op);
+    const PlanMapParams& params = node.params;
+    if (pipeline::signature(op).needs_scene && (!in_.scene || !in_.probe)) throw std::runtime_error(node.name + " needs the scene");
     // One case per pipeline::GuidanceOperator, no default: -Werror=switch (CMakeLists.txt) makes a
     // new operator without an implementation here a compile error.
     using G = pipeline::GuidanceOperator;
     switch (op) {
     case G::kComponent:
     case G::kTagged:
-        throw std::runtime_error(fmt::format("{}: {}() gives a buffer or objects, not a map", node.label, op_name));
+        throw std::runtime_error(fmt::format("{}: {}() gives a buffer or objects, not a map", node.name, op_name));
     case G::kSaliency: return guidance::saliency(input(0));
     case G::kEdges: return guidance::edges(input(0));
     case G::kRadianceDifference: return guidance::radiance_difference(input(0));
-    case G::kConstant: return guidance::constant_map(w, h, number_param(node, "arg", 0));
+    case G::kConstant: return guidance::constant_map(w, h, params.constant.value_or(0));
     case G::kNormalise: {
         Raster m = as_map(input(0));
         guidance::normalise_max(m);
         return m;
     }
     case G::kBlur: {
-        Raster m = guidance::gaussian_blur(as_map(input(0)), number_param(node, "sigma", 2));
+        Raster m = guidance::gaussian_blur(as_map(input(0)), params.sigma.value_or(2));
         guidance::clamp01(m);
         return m;
     }
-    case G::kThreshold: return guidance::threshold(as_map(input(0)), number_param(node, "at", 0.5));
+    case G::kThreshold: return guidance::threshold(as_map(input(0)), params.at.value_or(0.5));
     case G::kImportance: {
         std::vector<Raster> maps;
         std::vector<double> weights;
-        for (const PlanEdge* e : inputs) {
-            maps.push_back(as_map(map(e->from)));
-            weights.push_back(e->weight.value_or(1.0));
+        for (const PlanMapInput& in : inputs) {
+            maps.push_back(as_map(map(in.node)));
+            weights.push_back(in.weight.value_or(1.0));
         }
         std::vector<const Raster*> ptrs;
         for (const auto& m : maps) ptrs.push_back(&m);
         if (ptrs.empty()) return Raster(w, h, 1);
-        std::string how = text_param(node, "op");
-        return guidance::importance(ptrs, weights, how.empty() ? "+" : how);
+        return guidance::importance(ptrs, weights, params.combine.value_or("+"));
     }
     case G::kTaskMap: {
         const PixelProbe& probe = *in_.probe;
         guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
         std::vector<bool> selected;
         bool named = false;
-        for (const PlanEdge* e : inputs)
-            if (e->kind == "objects") {
-                selected = objects(e->from);
-                const PlanNode* t = find_node(plan_, e->from);
-                named = t && !text_param(*t, "arg").empty();
+        for (const PlanMapInput& in : inputs)
+            if (is_objects(in.node)) {
+                selected = objects(in.node);
+                const PlanMap* t = find_map(plan_, in.node);
+                named = t && t->params.tag && !t->params.tag->empty();
             }
         if (selected.empty()) selected = objects("");
         // One set per task value (thesis: 0..3): value = task / 3; an object named explicitly
@@ -154,14 +143,14 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
             if (task <= 0 && named) task = 3;
             if (task > 0) covered[static_cast<size_t>(std::min(task, 3) - 1)][p] = true;
         }
-        return guidance::task_map(covered, value, view, number_param(node, "fovea", kDefaultFovea));
+        return guidance::task_map(covered, value, view, params.fovea.value_or(kDefaultFovea));
     }
     case G::kDistractors: {
         const PixelProbe& probe = *in_.probe;
         guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
         std::vector<bool> selected;
-        for (const PlanEdge* e : inputs)
-            if (e->kind == "objects") selected = objects(e->from);
+        for (const PlanMapInput& in : inputs)
+            if (is_objects(in.node)) selected = objects(in.node);
         if (selected.empty()) {
             selected.assign(in_.scene->shapes.size(), false);
             for (size_t s = 0; s < selected.size(); ++s) selected[s] = in_.scene->shapes[s].tag && in_.scene->shapes[s].tag->distractor;
@@ -169,7 +158,7 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         std::vector<bool> detectable(probe.detected.size(), false);
         for (size_t p = 0; p < detectable.size(); ++p)
             detectable[p] = probe.detected[p] >= 0 && selected[static_cast<size_t>(probe.detected[p])];
-        return guidance::distractor_map(detectable, view, number_param(node, "fovea", kDefaultFovea));
+        return guidance::distractor_map(detectable, view, params.fovea.value_or(kDefaultFovea));
     }
     case G::kXmap: {
         const PixelProbe& probe = *in_.probe;
@@ -186,7 +175,7 @@ Raster GuidanceGraph::evaluate(const PlanNode& node) {
         return m;
     }
     }
-    throw std::runtime_error("this runtime has no guidance operator '" + op_name + "'");
+    throw std::runtime_error(fmt::format("this runtime has no guidance operator '{}'", op_name));
 }
 
 }  // namespace crex

@@ -1,7 +1,7 @@
 /// \file guidance_graph.h
-/// Evaluates the guidance part of a plan: each `operator` node (and the `image`/`buffer`
-/// nodes it reads) becomes a raster, computed once, in dependency order, by the stdlib
-/// operators of stdlib/guidance. Operators see linear buffers through one tone map (spec
+/// Evaluates the guidance part of a plan: each typed map definition (PipelinePlan::maps, and
+/// the preview and buffers it reads) becomes a raster, computed once, in dependency order, by
+/// the stdlib operators of stdlib/guidance, bound per pipeline::GuidanceOperator in a switch. Operators see linear buffers through one tone map (spec
 /// §7): the preview's exposure applied to every buffer, then the display curve.
 #pragma once
 
@@ -27,14 +27,15 @@ struct GuidanceInputs {
 class GuidanceGraph {
 public:
     GuidanceGraph(const PipelinePlan& plan, GuidanceInputs inputs);
-    /// The raster of node `id` (a map: one channel in [0, 1]). Throws std::runtime_error for a
+    /// The raster of node `id`: "preview", a buffer, or a map (one channel in [0, 1]). Throws std::runtime_error for a
     /// plan this runtime cannot evaluate (unknown operator, missing input).
     const guidance::Raster& map(const std::string& id);
     /// Every map evaluated so far, by node id.
     const std::map<std::string, guidance::Raster>& evaluated() const { return memo_; }
 
 private:
-    guidance::Raster evaluate(const PlanNode& node);
+    guidance::Raster evaluate(const PlanMap& node);
+    bool is_objects(const std::string& id) const;
     guidance::Raster display(const std::vector<float>& linear) const;
     std::vector<bool> objects(const std::string& id);
     guidance::Raster as_map(const guidance::Raster& r) const;

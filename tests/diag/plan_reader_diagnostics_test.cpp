@@ -67,6 +67,18 @@ TEST(PlanReader, TypedValuesAreResolvedByTheCompiler) {
     ASSERT_NE(task, nullptr);
     EXPECT_NEAR(task->params["fovea"].get<double>(), 2 * std::numbers::pi / 180, 1e-15);  // `fovea 2 deg`
     for (const PlanEdge* e : edges_into(p, "map.imp")) EXPECT_EQ(e->weight, 0.5);
+    // The typed definitions the runtime evaluates.
+    const PlanMap* imp = find_map(p, "map.imp");
+    ASSERT_NE(imp, nullptr);
+    EXPECT_EQ(imp->op, pipeline::GuidanceOperator::kImportance);
+    EXPECT_EQ(imp->defines, "imp");
+    EXPECT_EQ(imp->params.combine, "+");
+    ASSERT_EQ(imp->inputs.size(), 2u);
+    EXPECT_EQ(imp->inputs[0].node, "map.task");
+    EXPECT_EQ(imp->inputs[0].weight, 0.5);
+    const PlanMap* tm = find_map(p, "map.task");
+    ASSERT_NE(tm, nullptr);
+    EXPECT_NEAR(*tm->params.fovea, 2 * std::numbers::pi / 180, 1e-15);
 }
 
 struct Case {
@@ -126,6 +138,14 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"variable_unknown", [](json& j) { j["variables"][0]["variable"] = "rays"; }, "\"rays\"", "unknown selective variable"},
         Case{"modulation_unknown", [](json& j) { j["variables"][0]["modulation"] = "cubic"; }, "\"cubic\"", "unknown modulation function"},
         Case{"variable_map_dangling", [](json& j) { j["variables"][0]["map"] = "map.nosuch"; }, "\"map.nosuch\"", "no node 'map.nosuch'"},
+        Case{"map_unknown_operator", [](json& j) { j["maps"][0]["operator"] = "salience"; }, "\"salience\"",
+             "unknown guidance operator 'salience'"},
+        Case{"map_input_dangling", [](json& j) { j["maps"][0]["inputs"][0]["node"] = "buffer.nosuch"; }, "\"buffer.nosuch\"",
+             "not a map, a buffer or the preview"},
+        Case{"map_depends_on_itself", [](json& j) { j["maps"][0]["inputs"][0]["node"] = j["maps"][0]["id"]; }, "\"map.sal\"",
+             "depends on itself"},
+        Case{"map_fovea_in_degrees", [](json& j) { j["maps"][0]["params"]["fovea"] = 200; }, "200", "radians in (0, pi)"},
+        Case{"map_unknown_buffer", [](json& j) { j["buffers"][0]["buffer"] = "indirect"; }, "\"indirect\"", "unknown buffer"},
         Case{"negative_weight", [](json& j) { j["edges"].push_back({{"from", "map.sal"}, {"to", "map.dl"}, {"kind", "map"}, {"weight", -1}}); },
              "-1", "weight >= 0"}),
     [](const ::testing::TestParamInfo<Case>& p) { return std::string(p.param.name); });
