@@ -21,9 +21,9 @@ namespace crex::pipeline {
 
 enum class GuidanceOperator : uint8_t {
     kSaliency, kEdges, kRadianceDifference, kComponent, kTagged, kTaskMap, kDistractors, kXmap,
-    kImportance, kConstant, kNormalise, kBlur, kThreshold,
+    kImportance, kConstant, kNormalise, kBlur, kThreshold, kNoise,
 };
-inline constexpr size_t kGuidanceOperatorCount = 13;
+inline constexpr size_t kGuidanceOperatorCount = 14;
 
 /// What an expression is (a bit each, so a parameter may accept several).
 enum class ValueType : uint8_t { kImage = 1, kBuffer = 2, kMap = 4, kObjects = 8, kComponent = 16 };
@@ -76,6 +76,7 @@ inline constexpr std::array<OperatorSignature, kGuidanceOperatorCount> kGuidance
         {G::kNormalise, "normalise", V::kMap, {{{"", kMapOnly}}}, 1},
         {G::kBlur, "blur", V::kMap, {{{"", kMapOnly}, {"sigma", 0, L::kNumber, false}}}, 2},
         {G::kThreshold, "threshold", V::kMap, {{{"", kMapOnly}, {"at", 0, L::kNumber, false}}}, 2},
+        {G::kNoise, "noise", V::kMap, {{{"", static_cast<uint8_t>(V::kImage)}}}, 1},  // the cyclic process's error estimate
     }};
 }();
 
@@ -122,7 +123,7 @@ constexpr bool variables_in_order() {
 }
 static_assert(operators_in_order(), "kGuidanceOperators: row i must describe GuidanceOperator i");
 static_assert(variables_in_order(), "kSelectiveVariables: row i must describe SelectiveVariable i");
-static_assert(static_cast<size_t>(GuidanceOperator::kThreshold) + 1 == kGuidanceOperatorCount);
+static_assert(static_cast<size_t>(GuidanceOperator::kNoise) + 1 == kGuidanceOperatorCount);
 static_assert(static_cast<size_t>(SelectiveVariable::kSpecularThreshold) + 1 == kSelectiveVariableCount);
 static_assert(static_cast<size_t>(ModulationFunction::kStep) + 1 == kModulationFunctionCount);
 }  // namespace registry_detail

@@ -31,6 +31,7 @@ constexpr std::array kRules = {
     SettingRule{"preselective", "spp", S::kInteger, 1, 1 << 20},  // --spp
     SettingRule{"selective", "crex", S::kCrex},
     SettingRule{"selective", "spp", S::kInteger, 1, 1 << 20},
+    SettingRule{"selective", "rounds", S::kInteger, 1, 64},  // the cyclic process; --rounds
     SettingRule{"output", "image", S::kString},
     SettingRule{"output", "components", S::kBool},
     SettingRule{"output", "maps", S::kBool},

@@ -31,6 +31,7 @@ struct PlanSettings {
     std::optional<int> width, height;        ///< `image W x H`: both or neither
     uint32_t spp = 1;                        ///< pre-selective camera samples per pixel
     std::optional<uint32_t> selective_spp;   ///< `selective { spp N }`: every pixel's floor
+    std::optional<uint32_t> rounds;          ///< `selective { rounds N }`: guidance and selective N times
     std::optional<uint64_t> seed;
     std::optional<double> lw, av, aa;
     std::optional<uint32_t> max_depth, ab;

@@ -102,6 +102,7 @@ PlanSettings typed_settings(const pipeline::ResolvedPipeline& p) {
     if (auto it = p.preselective.settings.find("spp"); it != p.preselective.settings.end()) s.spp = static_cast<uint32_t>(it->second.number);
     if (auto it = p.selective.settings.find("spp"); it != p.selective.settings.end())
         s.selective_spp = static_cast<uint32_t>(it->second.number);
+    if (auto it = p.selective.settings.find("rounds"); it != p.selective.settings.end()) s.rounds = static_cast<uint32_t>(it->second.number);
     return s;
 }
 
@@ -291,6 +292,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
     }
     nlohmann::json selective_params = {{"crex", sched::to_crex(plan.program.selective)}};
     if (plan.settings.selective_spp) selective_params["spp"] = *plan.settings.selective_spp;
+    if (plan.settings.rounds) selective_params["rounds"] = *plan.settings.rounds;
     g.node("selective", "crex", "selective", "selective crex", selective_params);
     g.edge("preselective", "selective", "bin", "bins carried over");
     if (p.selective.crex_by) {
@@ -345,6 +347,7 @@ nlohmann::json plan_settings_to_json(const PlanSettings& s) {
     if (s.width && s.height) j["image"] = {{"width", *s.width}, {"height", *s.height}};
     j["spp"] = s.spp;
     if (s.selective_spp) j["selective_spp"] = *s.selective_spp;
+    if (s.rounds) j["rounds"] = *s.rounds;
     if (s.seed) j["seed"] = *s.seed;
     if (s.lw) j["lw"] = *s.lw;
     if (s.av) j["av"] = *s.av;
@@ -442,6 +445,11 @@ std::string pipeline_plan_to_dot(const PipelinePlan& plan) {
         out += fmt::format("  \"{}\" -> \"{}\" [label=\"{}\", color=\"{}\", fontcolor=\"{}\"];\n", e.from, e.to,
                            escape_dot(e.label.empty() ? e.kind : e.kind + ": " + e.label), color.count(e.kind) ? color.at(e.kind) : "black",
                            color.count(e.kind) ? color.at(e.kind) : "black");
+    // The cyclic process: after each round but the last, guidance runs again on the image so far.
+    if (plan.settings.rounds && *plan.settings.rounds > 1 && !plan.maps.empty())
+        out += fmt::format("  \"selective\" -> \"{}\" [label=\"rounds: {} (maps again on the image so far)\", style=\"bold\", "
+                           "color=\"#c5221f\", fontcolor=\"#c5221f\", constraint=false];\n",
+                           plan.maps.front().id, *plan.settings.rounds);
     if (!plan.pruned.empty()) {
         out += "  subgraph cluster_pruned {\n    label=\"pruned for this scene\"; style=\"dashed\";\n";
         for (size_t i = 0; i < plan.pruned.size(); ++i)
@@ -461,6 +469,8 @@ std::string pipeline_plan_to_text(const PipelinePlan& plan) {
     std::string pre = sched::to_crex(plan.program.preselective), sel = sched::to_crex(plan.program.selective);
     out += fmt::format("  pre-selective: {}\n", pre.empty() ? "camera rays only" : pre);
     out += fmt::format("  selective:     {}\n", sel.empty() ? "no crex steps" : sel);
+    if (plan.settings.rounds && *plan.settings.rounds > 1)
+        out += fmt::format("  rounds:        {} (guidance and selective rendering repeated on the image so far)\n", *plan.settings.rounds);
     for (const auto& n : plan.nodes)
         if (n.kind == "operator" && n.id.rfind("map.", 0) == 0) out += fmt::format("  map     {}\n", n.label);
     for (const auto& n : plan.nodes)

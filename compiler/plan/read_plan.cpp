@@ -191,7 +191,7 @@ public:
     bool read_settings(const json& s, PlanSettings& out) {
         const std::string ptr = "/settings";
         if (!s.is_object()) return fail(ptr, "expected an object of settings");
-        static const std::set<std::string> known = {"image", "spp", "selective_spp", "seed", "lw", "av", "aa",
+        static const std::set<std::string> known = {"image", "spp", "selective_spp", "rounds", "seed", "lw", "av", "aa",
                                                     "max_depth", "ab", "budget", "policy", "reference"};
         for (const auto& [key, _] : s.items())
             if (!known.count(key)) return fail(ptr + "/" + escape_pointer_token(key), fmt::format("unknown setting '{}'", key));
@@ -211,6 +211,10 @@ public:
         if (s.contains("selective_spp")) {
             if (!ranged(s, ptr, "selective_spp", "selective", "spp", v)) return false;
             out.selective_spp = static_cast<uint32_t>(v);
+        }
+        if (s.contains("rounds")) {
+            if (!ranged(s, ptr, "rounds", "selective", "rounds", v)) return false;
+            out.rounds = static_cast<uint32_t>(v);
         }
         if (s.contains("seed")) {
             if (!ranged(s, ptr, "seed", "", "seed", v)) return false;

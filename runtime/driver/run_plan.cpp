@@ -562,12 +562,7 @@ RunResult PlanRun::execute() {
 
 }  // namespace
 
-uint32_t plan_rounds(const PipelinePlan& plan) {
-    const PlanNode* sel = find_node(plan, "selective");
-    if (!sel || !sel->params.contains("rounds")) return 1;
-    const auto& r = sel->params["rounds"];
-    return r.is_number() ? static_cast<uint32_t>(std::clamp(r.get<double>(), 1.0, 1024.0)) : 1;
-}
+uint32_t plan_rounds(const PipelinePlan& plan) { return plan.settings.rounds.value_or(1); }
 
 bool has_guidance(const PipelinePlan& plan) { return !plan.maps.empty() || !plan.variables.empty(); }
 

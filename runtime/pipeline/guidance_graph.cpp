@@ -160,6 +160,18 @@ Raster GuidanceGraph::evaluate(const PlanMap& node) {
             detectable[p] = probe.detected[p] >= 0 && selected[static_cast<size_t>(probe.detected[p])];
         return guidance::distractor_map(detectable, view, params.fovea.value_or(kDefaultFovea));
     }
+    case G::kNoise: {
+        // The image so far at its pixels' mean plus and minus their standard error (the film's
+        // half-buffers, buffer "noise"), both through the display tone map.
+        auto it = in_.buffers.find("noise");
+        if (it == in_.buffers.end() || it->second.size() != in_.preview.size()) throw std::runtime_error("noise(): no half-buffers");
+        std::vector<float> high(in_.preview.size()), low(in_.preview.size());
+        for (size_t i = 0; i < high.size(); ++i) {
+            high[i] = in_.preview[i] + it->second[i];
+            low[i] = std::max(0.0f, in_.preview[i] - it->second[i]);
+        }
+        return guidance::noise_map(display(high), display(low));
+    }
     case G::kXmap: {
         const PixelProbe& probe = *in_.probe;
         // Fraction of the light leaving the first surface that reaches the camera through the

@@ -65,6 +65,11 @@ Raster distractor_map(const std::vector<bool>& detectable, const ViewGeometry& v
 /// w_i m_i, "*" multiplies them; clamped to [0, 1].
 Raster importance(const std::vector<const Raster*>& maps, const std::vector<double>& weights, const std::string& op);
 
+/// Where the image is still noisy, as a viewer would see it: from the displayed (tone-mapped)
+/// image at its pixels' mean plus and minus their standard error (the film's two half-buffers),
+/// the luminance difference, blurred by one pixel and scaled so the 98th percentile is 1.
+Raster noise_map(const Raster& display_high, const Raster& display_low);
+
 Raster constant_map(int width, int height, double value);
 Raster threshold(const Raster& map, double at);
 
