@@ -7,6 +7,7 @@
 #include <set>
 
 #include "compiler/crex/compile.h"
+#include "compiler/pipeline/print.h"
 #include "compiler/plan/dot_writer.h"
 #include "compiler/plan/emit_plan.h"
 #include "compiler/sched/print.h"
@@ -16,16 +17,8 @@ namespace {
 
 using pipeline::ast::Expr;
 using pipeline::ast::Value;
-
-std::string value_text(const Value& v) {
-    switch (v.kind) {
-    case Value::Kind::kNumber: return fmt::format("{:g}{}{}", v.number, v.unit.empty() ? "" : " ", v.unit);
-    case Value::Kind::kString: return "\"" + v.text + "\"";
-    case Value::Kind::kBool: return v.boolean ? "true" : "false";
-    case Value::Kind::kCross: return "x";
-    }
-    return "";
-}
+using pipeline::expr_text;
+using pipeline::value_text;
 
 // A literal as the runtime uses it: numbers as numbers (degrees resolved to radians), strings
 // without quotes. The checker has already refused other units here.
@@ -37,22 +30,6 @@ nlohmann::json value_json(const Value& v) {
     case Value::Kind::kCross: return "x";
     }
     return nullptr;
-}
-
-std::string expr_text(const Expr& e) {
-    switch (e.kind) {
-    case Expr::Kind::kReference: return e.name;
-    case Expr::Kind::kLiteral: return value_text(e.literal);
-    case Expr::Kind::kCall: {
-        std::string args;
-        for (const auto& a : e.args) {
-            if (!args.empty()) args += ", ";
-            args += a.name.empty() ? expr_text(a.expr) : a.name + " " + value_text(a.value);
-        }
-        return fmt::format("{}({})", e.name, args);
-    }
-    }
-    return "";
 }
 
 // Compiles a stage's crex literal at its position in its file; the whole lowered crex.
