@@ -119,11 +119,11 @@ public:
         if (e.name == "component" && e.args.size() == 1 && e.args[0].name.empty()) {  // a buffer, not an operator
             std::string letter = e.args[0].expr.name;
             if (!ids_.count(id)) plan_.buffers.push_back({id, letter});
-            node(id, "buffer", "preselective", fmt::format("component({})", letter), {{"component", letter}});
+            node(id, "buffer", "preselective", fmt::format("component({})", letter));
             edge("preselective", id, "buffer");
             return;
         }
-        node(id, "operator", "guidance", expr_text(e), {{"operator", e.name}});
+        node(id, "operator", "guidance", expr_text(e));
         // Its typed definition; indexed, since nested calls append to plan_.maps meanwhile.
         PlanMap def;
         def.id = id;
@@ -133,8 +133,6 @@ public:
         std::vector<PlanMapInput> inputs;
         for (const auto& a : e.args) {
             if (a.name.empty() && a.expr.kind == Expr::Kind::kLiteral) {  // tagged("exit_sign"), constant(0.5)
-                for (auto& n : plan_.nodes)
-                    if (n.id == id) n.params["arg"] = value_json(a.expr.literal);
                 if (a.expr.literal.kind == Value::Kind::kString) params.tag = a.expr.literal.text;
                 else params.constant = a.expr.literal.number;
             } else if (a.name.empty()) {
@@ -147,8 +145,6 @@ public:
                 edge("map." + a.name, id, "map", value_text(a.value), a.value.number);
                 inputs.push_back({"map." + a.name, a.value.number});
             } else {
-                for (auto& n : plan_.nodes)
-                    if (n.id == id) n.params[a.name] = value_json(a.value);
                 const nlohmann::json v = value_json(a.value);
                 if (a.name == "fovea") params.fovea = v.get<double>();
                 if (a.name == "sigma") params.sigma = v.get<double>();
@@ -165,7 +161,7 @@ public:
         for (const auto& n : plan_.nodes) {
             if (n.id != id) continue;
             if (n.kind == "image" || n.kind == "buffer") return n.kind;
-            if (n.params.value("operator", std::string()) == "tagged") return "objects";
+            if (const PlanMap* m = find_map(plan_, id); m && m->op == pipeline::GuidanceOperator::kTagged) return "objects";
             return "map";
         }
         return "map";
@@ -239,7 +235,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
 
     // The graph.
     GraphBuilder g(plan);
-    g.node("camera", "camera", "preselective", "camera rays", {{"spp", plan.settings.spp}});
+    g.node("camera", "camera", "preselective", "camera rays");
     g.node("preselective", "crex", "preselective", "pre-selective crex", {{"crex", sched::to_crex(plan.program.preselective)}});
     g.edge("camera", "preselective", "bin");
     g.node("preview", "image", "preselective", "preview");
@@ -267,7 +263,6 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             }
     }
     nlohmann::json selective_params = {{"crex", sched::to_crex(plan.program.selective)}};
-    if (plan.settings.selective_spp) selective_params["spp"] = *plan.settings.selective_spp;
     g.node("selective", "crex", "selective", "selective crex", selective_params);
     g.edge("preselective", "selective", "bin", "bins carried over");
     if (p.selective.crex_by) {
@@ -283,9 +278,8 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         typed.from = v->lo.number;
         typed.to = v->hi.number;
         if (!v->using_fn.empty()) typed.modulation = *pipeline::modulation_function_from_name(v->using_fn);
-        nlohmann::json params = {{"variable", v->name}, {"from", typed.from}, {"to", typed.to},
-                                 {"using", pipeline::name_of(typed.modulation)}};
-        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}", v->name, value_text(v->lo), value_text(v->hi)), params);
+        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}{}", v->name, value_text(v->lo), value_text(v->hi),
+                                                   v->using_fn.empty() ? "" : " using " + v->using_fn));
         int counter = 0;
         std::string from = g.source(v->by, id, counter, maps);
         if (!from.empty()) g.edge(from, id, "map");
@@ -311,7 +305,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         }
         if (key == "image") plan.outputs.images.push_back(v.text);
         if (key == "report") plan.outputs.report = v.text;
-        g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)), {{"path", v.text}});
+        g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)));
         g.edge("composite", "output." + key, "image");
     }
     return plan;
