@@ -10,7 +10,9 @@
 #include "compiler/base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "apps/crex/pipeline_input.h"
+#include "compiler/pipeline/print.h"
 #include "compiler/plan/emit_plan.h"
+#include "compiler/sched/print.h"
 #include "compiler/plan/plan_pipeline.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/scene/census.h"
@@ -26,6 +28,7 @@ struct PlanOptions {
     std::string scene;
     std::string format = "text";
     std::string output;
+    std::string dump_after;  // a front-end pass: print the pipeline as it leaves it
 };
 
 int write_output(const PlanOptions& opt, const std::string& text) {
@@ -41,6 +44,40 @@ int write_output(const PlanOptions& opt, const std::string& text) {
     return kExitOk;
 }
 
+// `--dump-after PASS`: the pipeline as the front end's pass PASS leaves it. parse and check
+// print the file back (check only when it passed), resolve the pipeline with its bases applied,
+// compile the two stages' lowered crex, plan the plan before scene pruning, prune the plan.
+int dump_after(const PlanOptions& opt, const PipelineInput& in, const DiagnosticSink& sink) {
+    const std::string& pass = opt.dump_after;
+    auto failed = [&] {
+        std::cerr << fmt::format("crex plan: {} error{} before the end of '{}'; nothing to dump\n", sink.error_count(),
+                                 sink.error_count() == 1 ? "" : "s", pass);
+        return kExitInputErrors;
+    };
+    if (pass == "parse" || pass == "check") {
+        if (!in.ast || (pass == "check" && sink.has_errors())) return failed();
+        int status = write_output(opt, pipeline::print_file(*in.ast));
+        return status == kExitOk && sink.has_errors() ? kExitInputErrors : status;
+    }
+    if (!in.resolved) return failed();
+    if (pass == "resolve") return write_output(opt, pipeline::print_resolved(*in.resolved));
+    if (pass == "prune") {
+        if (!in.plan) return failed();
+        return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in.plan).dump(2) + "\n"
+                                 : opt.format == "dot" ? pipeline_plan_to_dot(*in.plan)
+                                                        : pipeline_plan_to_text(*in.plan));
+    }
+    DiagnosticSink again;  // compile and plan without the scene; their diagnostics are reported above
+    auto unpruned = plan_pipeline(*in.resolved, std::nullopt, "", "", again);
+    if (!unpruned) return failed();
+    if (pass == "compile")
+        return write_output(opt, fmt::format("preselective: {}\nselective:    {}\n", sched::to_crex(unpruned->program.preselective),
+                                             sched::to_crex(unpruned->program.selective)));
+    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*unpruned).dump(2) + "\n"
+                             : opt.format == "dot" ? pipeline_plan_to_dot(*unpruned)
+                                                    : pipeline_plan_to_text(*unpruned));
+}
+
 // A pipeline file: check, resolve `extends`, plan for its scene (or --scene).
 int plan_pipeline_file(const PlanOptions& opt) {
     DiagnosticSink sink;
@@ -50,6 +87,7 @@ int plan_pipeline_file(const PlanOptions& opt) {
         std::cerr << "crex plan: error: " << in->failure << "\n";
         return kExitFailure;
     }
+    if (!opt.dump_after.empty()) return dump_after(opt, *in, sink);
     if (!in->plan) {
         std::cerr << fmt::format("crex plan: {} error{}; no plan\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
         return kExitInputErrors;
@@ -62,6 +100,10 @@ int plan_pipeline_file(const PlanOptions& opt) {
 int run_plan(const PlanOptions& opt) {
     if (opt.file.empty() != opt.crex_given) {
         std::cerr << "crex plan: give a pipeline file or -e CREX (one of them; see 'crex plan --help')\n";
+        return kExitUsage;
+    }
+    if (!opt.dump_after.empty() && opt.file.empty()) {
+        std::cerr << "crex plan: --dump-after needs a pipeline file (a crex's lowered form: 'crex check --print-ir')\n";
         return kExitUsage;
     }
     if (!opt.file.empty()) return plan_pipeline_file(opt);
@@ -107,6 +149,9 @@ Runner add_plan_command(CLI::App& app) {
     cmd->add_option("--format", opt->format, "text, json (versioned, byte-stable) or dot (Graphviz)")
         ->check(CLI::IsMember({"text", "json", "dot"}));
     cmd->add_option("-o,--output", opt->output, "Write the plan to FILE (atomically) instead of stdout");
+    cmd->add_option("--dump-after", opt->dump_after, "Pipeline files: print the pipeline after this front-end pass: parse, check, "
+                                                     "resolve (extends applied), compile (lowered crex), plan (before pruning), prune")
+        ->check(CLI::IsMember({"parse", "check", "resolve", "compile", "plan", "prune"}));
     cmd->footer(R"(
 The planner follows the scene's spawn graph: a step whose bin no material in use can fill
 never has work, so it is removed, and the plan says why.

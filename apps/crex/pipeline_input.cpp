@@ -37,10 +37,10 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
         return in;
     }
     in->source = std::make_unique<SourceFile>(path, std::move(*text));
-    auto ast = pipeline::parse_pipeline_file(*in->source, sink);
-    if (ast) pipeline::check_pipeline_file(*ast, sink);
-    if (!ast || sink.has_errors()) return in;
-    in->resolved = pipeline::resolve_pipeline(*ast, pipeline_name, sink);
+    in->ast = pipeline::parse_pipeline_file(*in->source, sink);
+    if (in->ast) pipeline::check_pipeline_file(*in->ast, sink);
+    if (!in->ast || sink.has_errors()) return in;
+    in->resolved = pipeline::resolve_pipeline(*in->ast, pipeline_name, sink);
     if (!in->resolved) {
         if (!sink.has_errors())
             sink.report("E210", {in->source.get(), 0, 0},

@@ -15,6 +15,7 @@ namespace crex::app {
 
 struct PipelineInput {
     std::unique_ptr<SourceFile> source;
+    std::optional<pipeline::ast::File> ast;   ///< as parsed (checked unless the sink has errors)
     std::optional<pipeline::ResolvedPipeline> resolved;
     std::unique_ptr<SceneInput> scene;  ///< null when the pipeline names no scene and none was given
     std::string scene_spec;

@@ -87,10 +87,8 @@ struct PlanBuffer {
     std::string buffer;
 };
 
-/// A graph node. Operator nodes (kind "operator") are the map definitions: params hold
-/// "operator" (a registry name; absent for an alias `m = other`) and the operator's typed
-/// parameters ("fovea" in radians, "sigma", "at", "op", "arg"); their inputs are the edges into
-/// them in argument order, importance weights on the edges.
+/// A graph node, for the picture (DOT) and the JSON graph: what the runtime executes is in the
+/// typed fields of PipelinePlan. params holds only a crex stage's "crex".
 struct PlanNode {
     std::string id, kind, stage, label;
     nlohmann::json params = nlohmann::json::object();

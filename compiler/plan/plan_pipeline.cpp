@@ -7,6 +7,7 @@
 #include <set>
 
 #include "compiler/crex/compile.h"
+#include "compiler/pipeline/print.h"
 #include "compiler/plan/dot_writer.h"
 #include "compiler/plan/emit_plan.h"
 #include "compiler/sched/print.h"
@@ -16,16 +17,8 @@ namespace {
 
 using pipeline::ast::Expr;
 using pipeline::ast::Value;
-
-std::string value_text(const Value& v) {
-    switch (v.kind) {
-    case Value::Kind::kNumber: return fmt::format("{:g}{}{}", v.number, v.unit.empty() ? "" : " ", v.unit);
-    case Value::Kind::kString: return "\"" + v.text + "\"";
-    case Value::Kind::kBool: return v.boolean ? "true" : "false";
-    case Value::Kind::kCross: return "x";
-    }
-    return "";
-}
+using pipeline::expr_text;
+using pipeline::value_text;
 
 // A literal as the runtime uses it: numbers as numbers (degrees resolved to radians), strings
 // without quotes. The checker has already refused other units here.
@@ -37,22 +30,6 @@ nlohmann::json value_json(const Value& v) {
     case Value::Kind::kCross: return "x";
     }
     return nullptr;
-}
-
-std::string expr_text(const Expr& e) {
-    switch (e.kind) {
-    case Expr::Kind::kReference: return e.name;
-    case Expr::Kind::kLiteral: return value_text(e.literal);
-    case Expr::Kind::kCall: {
-        std::string args;
-        for (const auto& a : e.args) {
-            if (!args.empty()) args += ", ";
-            args += a.name.empty() ? expr_text(a.expr) : a.name + " " + value_text(a.value);
-        }
-        return fmt::format("{}({})", e.name, args);
-    }
-    }
-    return "";
 }
 
 // Compiles a stage's crex literal at its position in its file; the whole lowered crex.
@@ -143,11 +120,11 @@ public:
         if (e.name == "component" && e.args.size() == 1 && e.args[0].name.empty()) {  // a buffer, not an operator
             std::string letter = e.args[0].expr.name;
             if (!ids_.count(id)) plan_.buffers.push_back({id, letter});
-            node(id, "buffer", "preselective", fmt::format("component({})", letter), {{"component", letter}});
+            node(id, "buffer", "preselective", fmt::format("component({})", letter));
             edge("preselective", id, "buffer");
             return;
         }
-        node(id, "operator", "guidance", expr_text(e), {{"operator", e.name}});
+        node(id, "operator", "guidance", expr_text(e));
         // Its typed definition; indexed, since nested calls append to plan_.maps meanwhile.
         PlanMap def;
         def.id = id;
@@ -157,8 +134,6 @@ public:
         std::vector<PlanMapInput> inputs;
         for (const auto& a : e.args) {
             if (a.name.empty() && a.expr.kind == Expr::Kind::kLiteral) {  // tagged("exit_sign"), constant(0.5)
-                for (auto& n : plan_.nodes)
-                    if (n.id == id) n.params["arg"] = value_json(a.expr.literal);
                 if (a.expr.literal.kind == Value::Kind::kString) params.tag = a.expr.literal.text;
                 else params.constant = a.expr.literal.number;
             } else if (a.name.empty()) {
@@ -171,8 +146,6 @@ public:
                 edge("map." + a.name, id, "map", value_text(a.value), a.value.number);
                 inputs.push_back({"map." + a.name, a.value.number});
             } else {
-                for (auto& n : plan_.nodes)
-                    if (n.id == id) n.params[a.name] = value_json(a.value);
                 const nlohmann::json v = value_json(a.value);
                 if (a.name == "fovea") params.fovea = v.get<double>();
                 if (a.name == "sigma") params.sigma = v.get<double>();
@@ -189,7 +162,7 @@ public:
         for (const auto& n : plan_.nodes) {
             if (n.id != id) continue;
             if (n.kind == "image" || n.kind == "buffer") return n.kind;
-            if (n.params.value("operator", std::string()) == "tagged") return "objects";
+            if (const PlanMap* m = find_map(plan_, id); m && m->op == pipeline::GuidanceOperator::kTagged) return "objects";
             return "map";
         }
         return "map";
@@ -263,7 +236,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
 
     // The graph.
     GraphBuilder g(plan);
-    g.node("camera", "camera", "preselective", "camera rays", {{"spp", plan.settings.spp}});
+    g.node("camera", "camera", "preselective", "camera rays");
     g.node("preselective", "crex", "preselective", "pre-selective crex", {{"crex", sched::to_crex(plan.program.preselective)}});
     g.edge("camera", "preselective", "bin");
     g.node("preview", "image", "preselective", "preview");
@@ -291,8 +264,6 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             }
     }
     nlohmann::json selective_params = {{"crex", sched::to_crex(plan.program.selective)}};
-    if (plan.settings.selective_spp) selective_params["spp"] = *plan.settings.selective_spp;
-    if (plan.settings.rounds) selective_params["rounds"] = *plan.settings.rounds;
     g.node("selective", "crex", "selective", "selective crex", selective_params);
     g.edge("preselective", "selective", "bin", "bins carried over");
     if (p.selective.crex_by) {
@@ -308,9 +279,8 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         typed.from = v->lo.number;
         typed.to = v->hi.number;
         if (!v->using_fn.empty()) typed.modulation = *pipeline::modulation_function_from_name(v->using_fn);
-        nlohmann::json params = {{"variable", v->name}, {"from", typed.from}, {"to", typed.to},
-                                 {"using", pipeline::name_of(typed.modulation)}};
-        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}", v->name, value_text(v->lo), value_text(v->hi)), params);
+        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}{}", v->name, value_text(v->lo), value_text(v->hi),
+                                                   v->using_fn.empty() ? "" : " using " + v->using_fn));
         int counter = 0;
         std::string from = g.source(v->by, id, counter, maps);
         if (!from.empty()) g.edge(from, id, "map");
@@ -336,7 +306,7 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         }
         if (key == "image") plan.outputs.images.push_back(v.text);
         if (key == "report") plan.outputs.report = v.text;
-        g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)), {{"path", v.text}});
+        g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)));
         g.edge("composite", "output." + key, "image");
     }
     return plan;

@@ -262,29 +262,11 @@ public:
         return boolean(o, ptr, "components", out.components) && boolean(o, ptr, "maps", out.maps) && text(o, ptr, "report", out.report, false);
     }
 
-    // The typed parameters of one node (compiler/plan/pipeline_plan.h).
-    bool node_params(const PlanNode& n, const json& params, const std::string& ptr) {
-        if (n.kind == "operator" && params.contains("operator")) {
-            if (!params["operator"].is_string()) return fail(ptr + "/operator", "expected a guidance operator's name");
-            std::string name = params["operator"].get<std::string>();
-            if (!pipeline::guidance_operator_from_name(name)) return fail(ptr + "/operator", fmt::format("unknown guidance operator '{}'", name));
-        }
-        for (const char* key : {"sigma", "at", "fovea", "spp"})
-            if (params.contains(key) && !(params[key].is_number() && std::isfinite(params[key].get<double>())))
-                return fail(ptr + "/" + key, "expected a number");
-        if (params.contains("fovea") && !(params["fovea"].get<double>() > 0 && params["fovea"].get<double>() < std::numbers::pi))
-            return fail(ptr + "/fovea", "expected an angle in radians in (0, pi)");
-        if (params.contains("op")) {
-            if (!params["op"].is_string()) return fail(ptr + "/op", "expected \"+\", \"max\" or \"*\"");
-            std::string how = params["op"].get<std::string>();
-            if (how != "+" && how != "max" && how != "*") return fail(ptr + "/op", fmt::format("expected \"+\", \"max\" or \"*\", not \"{}\"", how));
-        }
-        if (params.contains("arg") && !params["arg"].is_string() && !(params["arg"].is_number() && std::isfinite(params["arg"].get<double>())))
-            return fail(ptr + "/arg", "expected a number or a string");
-        if (params.contains("component")) {
-            if (!params["component"].is_string() || params["component"].get<std::string>().size() != 1 ||
-                !component_from_letter(params["component"].get<std::string>()[0]))
-                return fail(ptr + "/component", "expected a component letter: \"D\", \"G\", \"S\", \"T\", \"R\" or \"M\"");
+    // A graph node's parameters: only a stage's crex, for the picture; the typed data is elsewhere.
+    bool node_params(const json& params, const std::string& ptr) {
+        for (const auto& [key, value] : params.items()) {
+            if (key != "crex") return fail(ptr + "/" + escape_pointer_token(key), fmt::format("unknown node parameter '{}'", key));
+            if (!value.is_string()) return fail(ptr + "/crex", "expected the stage's crex (a string)");
         }
         return true;
     }
@@ -425,7 +407,7 @@ public:
             if (!index.emplace(node.id, i).second) return fail(ptr + "/id", fmt::format("node '{}' is defined twice", node.id));
             if (n.contains("params")) {
                 if (!n["params"].is_object()) return fail(ptr + "/params", "expected an object");
-                if (!node_params(node, n["params"], ptr + "/params")) return false;
+                if (!node_params(n["params"], ptr + "/params")) return false;
                 node.params = n["params"];
             }
             p.nodes.push_back(std::move(node));

@@ -134,3 +134,58 @@ TEST(CrexPlanCli, RunAPipelineAndItsPlanToTheSamePixels) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+// --dump-after resolve prints a pipeline without `extends` that plans exactly like the original.
+TEST(CrexPlanCli, DumpAfterResolvePlansLikeTheOriginal) {
+    auto dir = std::filesystem::temp_directory_path() / fmt::format("crex_plan_dump_{}", ::getpid());
+    std::filesystem::create_directories(dir);
+    for (const char* name : {"prog_dis_all", "sel_st", "tc_rp", "cbtcr_sel"}) {
+        std::string pipe = std::string(CREX_SOURCE_DIR "/stdlib/pipelines/") + name + ".pipe";
+        std::string flat = (dir / (std::string(name) + ".pipe")).string();
+        auto resolved = crex_cli({"plan", pipe, "--dump-after", "resolve", "-o", flat});
+        ASSERT_EQ(resolved.exit_code, 0) << name << ": " << resolved.err;
+        auto a = crex_cli({"plan", pipe, "--scene", "builtin:cornell", "--format", "json"});
+        auto b = crex_cli({"plan", flat, "--scene", "builtin:cornell", "--format", "json"});
+        ASSERT_EQ(b.exit_code, 0) << name << ": " << b.err;
+        auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+        for (const char* key : {"settings", "outputs", "maps", "buffers", "variables", "modulation_map", "nodes", "edges"})
+            EXPECT_EQ(ja[key], jb[key]) << name << ": " << key;
+        EXPECT_EQ(jb["pipeline"]["extends"], nlohmann::json::array({name})) << name;  // itself only: no bases left
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(CrexPlanCli, DumpAfterEachPass) {
+    std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/prog_dis_all.pipe";
+    auto parse = crex_cli({"plan", pipe, "--dump-after", "parse"});
+    EXPECT_EQ(parse.exit_code, 0);
+    EXPECT_NE(parse.out.find("pipeline prog_dis_all {"), std::string::npos) << parse.out;
+    EXPECT_NE(parse.out.find("    ic = edges(component(D))"), std::string::npos) << parse.out;
+    auto compile = crex_cli({"plan", pipe, "--dump-after", "compile"});
+    EXPECT_EQ(compile.exit_code, 0);
+    EXPECT_NE(compile.out.find("preselective: (TTMRSGD)*"), std::string::npos) << compile.out;
+    // plan keeps what prune removes for the diffuse box (its specular steps).
+    auto plan = crex_cli({"plan", pipe, "--scene", "builtin:cornell_diffuse", "--dump-after", "plan"});
+    auto pruned = crex_cli({"plan", pipe, "--scene", "builtin:cornell_diffuse", "--dump-after", "prune"});
+    EXPECT_EQ(plan.out.find("pruned"), std::string::npos) << plan.out;
+    EXPECT_NE(pruned.out.find("pruned"), std::string::npos) << pruned.out;
+    // A pass after a failed check has nothing to print; parse still prints the file.
+    auto dir = std::filesystem::temp_directory_path() / fmt::format("crex_plan_dump_bad_{}", ::getpid());
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "bad.pipe") << "pipeline p {\n  preselective { spp 0 }\n}\n";
+    auto bad_parse = crex_cli({"plan", (dir / "bad.pipe").string(), "--dump-after", "parse"});
+    EXPECT_EQ(bad_parse.exit_code, 1);
+    EXPECT_NE(bad_parse.out.find("spp 0"), std::string::npos) << bad_parse.out;
+    auto bad_check = crex_cli({"plan", (dir / "bad.pipe").string(), "--dump-after", "check"});
+    EXPECT_EQ(bad_check.exit_code, 1);
+    EXPECT_EQ(bad_check.out, "");
+    EXPECT_NE(bad_check.err.find("bad.pipe:2:22: error[E203]"), std::string::npos) << bad_check.err;
+    EXPECT_EQ(crex_cli({"plan", "-e", "TT", "--dump-after", "parse"}).exit_code, 2);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace crex

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
@@ -65,6 +66,27 @@ TEST(PipelineRegistry, StdlibPipelineNamesAreTheStdlibFilesPlusTheUnwrittenOnes)
     }
     EXPECT_GE(files, 16u);
     EXPECT_EQ(names.size(), files + 1);  // + capict, not written yet (W202)
+}
+
+// docs/plan.schema.json spells the registries' names out; they must be the same sets.
+TEST(PipelineRegistry, PlanSchemaEnumsAreTheRegistryNames) {
+    std::ifstream in(CREX_SOURCE_DIR "/docs/plan.schema.json");
+    auto schema = nlohmann::json::parse(in);
+    auto names = [](const nlohmann::json& e) {
+        std::set<std::string> out;
+        for (const auto& v : e) out.insert(v.get<std::string>());
+        return out;
+    };
+    const auto& props = schema["properties"];
+    std::set<std::string> ops, vars, fns, policies;
+    for (const auto& o : kGuidanceOperators) ops.emplace(o.name);
+    for (const auto& v : kSelectiveVariables) vars.emplace(v.name);
+    for (auto f : kModulationFunctionNames) fns.emplace(f);
+    for (auto p : scheduling_policy_names()) policies.emplace(p);
+    EXPECT_EQ(names(props["maps"]["items"]["properties"]["operator"]["oneOf"][1]["enum"]), ops);
+    EXPECT_EQ(names(props["variables"]["items"]["properties"]["variable"]["enum"]), vars);
+    EXPECT_EQ(names(props["variables"]["items"]["properties"]["modulation"]["enum"]), fns);
+    EXPECT_EQ(names(props["settings"]["properties"]["policy"]["enum"]), policies);
 }
 
 TEST(SettingsTable, RangesMatchTheFlagsOfCrexRun) {
