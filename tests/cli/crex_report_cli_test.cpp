@@ -101,3 +101,34 @@ TEST_F(ReportCli, TheReportHoldsCheckpointsAFallingCurveAndThePage) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(CyclicReportCli, TheRoundsOfTheCyclicPipelineShowInThePlanAndTheErrorCurve) {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("crex_cyclic_report_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/adaptive.pipe";
+    auto json = testing::crex_cli({"plan", pipe, "--format", "json"});
+    ASSERT_EQ(json.exit_code, 0) << json.err;
+    EXPECT_EQ(nlohmann::json::parse(json.out)["settings"]["rounds"], 4);
+    auto dot = testing::crex_cli({"plan", pipe, "--format", "dot"});
+    EXPECT_NE(dot.out.find("rounds: 4"), std::string::npos) << dot.out;
+    // A reference of the same size, then the report: its checkpoints name every round.
+    auto ref = testing::crex_cli({"run", "--size", "24x16", "--spp", "64", "-o", (dir / "ref.exr").string(), "-q"});
+    ASSERT_EQ(ref.exit_code, 0) << ref.err;
+    auto r = testing::crex_cli({"run", pipe, "--size", "24x16", "-o", (dir / "a.exr").string(), "--reference", (dir / "ref.exr").string(),
+                                "--report", (dir / "rep").string(), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(dir / "rep" / "checkpoints.json");
+    auto j = nlohmann::json::parse(in);
+    std::string events;
+    for (const auto& c : j["checkpoints"]) events += c["event"].get<std::string>() + "\n";
+    for (int round = 1; round <= 4; ++round)
+        EXPECT_NE(events.find("end of guidance (round " + std::to_string(round) + "/4)"), std::string::npos) << events;
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace crex
