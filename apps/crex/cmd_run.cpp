@@ -13,6 +13,7 @@
 #include "apps/crex/run_options.h"
 #include "apps/crex/run_outputs.h"
 #include "apps/crex/run_setup.h"
+#include "compiler/base/check.h"
 
 namespace crex::app {
 namespace {
@@ -36,6 +37,9 @@ int run(RunOptions opt) {
     std::optional<RunResult> result;
     try {
         result.emplace(run_plan(*in.scene->scene, in.plan, setup.settings));
+    } catch (const InternalError&) {
+        progress.finish();
+        throw;  // a bug, not a failed render: main says so
     } catch (const RunInputError& e) {
         progress.finish();
         std::cerr << "crex run: error: " << e.what() << "\n";

@@ -10,6 +10,7 @@
 
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
+#include "compiler/base/check.h"
 #include "compiler/base/nearest_name.h"
 
 namespace {
@@ -89,6 +90,9 @@ int main(int argc, char** argv) {
     }
     try {
         for (auto* sub : app.get_subcommands()) return runners.at(sub->get_name())();
+    } catch (const crex::InternalError& e) {
+        std::cerr << "crex: " << e.what() << "\n";
+        return kExitFailure;
     } catch (const std::exception& e) {
         std::cerr << "crex: internal error: " << e.what() << "\n";
         return kExitFailure;

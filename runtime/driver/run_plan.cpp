@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <set>
 
+#include "compiler/base/check.h"
 #include "runtime/base/sampling.h"
 #include "runtime/driver/sample_passes.h"
 #include "runtime/pipeline/guidance_graph.h"
@@ -47,7 +48,7 @@ bool needs_probe(const PipelinePlan& plan) {
 }
 
 std::vector<float> map_values(const guidance::Raster& r, size_t pixels) {
-    if (r.channels != 1 || r.pixels() != pixels) throw std::runtime_error("a map does not have the image's size");
+    CREX_CHECK(r.channels == 1 && r.pixels() == pixels);  // every operator makes maps of the image's size
     return r.v;
 }
 
@@ -152,6 +153,7 @@ void PlanRun::trace_camera_rays(const SamplePass& pass, const SampleRanges& rang
     });
     for (size_t p = p0; p < p1; ++p)
         if (uint32_t n = samples_of(p)) out_.film.add_samples(static_cast<uint32_t>(p), first_of(p), n);
+    CREX_CHECK(rays.size() == pass.samples);
     ex_->run_camera_rays(rays);
 }
 
@@ -235,6 +237,7 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, 
     limits.bytes_per_sample = kBytesPerSample;
     limits.max_samples = s_.pass_samples;
     std::vector<SamplePass> passes = plan_sample_passes(s_.width, s_.height, ranges, limits);
+    for (const SamplePass& p : passes) CREX_CHECK(p.first < p.end && p.row_begin < p.row_end && p.samples > 0);
     progress_ = {};
     progress_.stage = stage;
     progress_.passes = passes.size();
