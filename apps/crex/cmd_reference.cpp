@@ -12,6 +12,7 @@
 #include "compiler/base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "runtime/io/image_io.h"
+#include "apps/crex/cli_values.h"
 #include "runtime/driver/run_plan.h"
 #include "runtime/report/reference_cache.h"
 
@@ -30,10 +31,8 @@ struct ReferenceOptions {
 
 int reference(const ReferenceOptions& opt) {
     ReferenceSettings s;
-    char x = 0;
-    if (std::sscanf(opt.size.c_str(), "%d%c%d", &s.width, &x, &s.height) != 3 || (x != 'x' && x != 'X') || s.width <= 0 ||
-        s.height <= 0 || s.width > 16384 || s.height > 16384) {
-        std::cerr << fmt::format("crex reference: error: image size '{}': expected WIDTHxHEIGHT, e.g. 128x128\n", opt.size);
+    if (!parse_image_size(opt.size, s.width, s.height)) {  // sscanf took trailing junk
+        std::cerr << fmt::format("crex reference: error: image size '{}': expected WIDTHxHEIGHT, each 1 to 16384, e.g. 128x128\n", opt.size);
         return kExitUsage;
     }
     s.spp = opt.spp;

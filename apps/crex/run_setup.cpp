@@ -8,6 +8,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "apps/crex/cli_values.h"
 #include "apps/crex/exit_codes.h"
 #include "runtime/io/image_io.h"
 #include "runtime/report/reference_cache.h"
@@ -34,17 +35,6 @@ bool parse_budget(const std::string& text, double& value, bool& percent) {
 }
 
 }  // namespace
-
-bool parse_image_size(const std::string& text, int& width, int& height) {
-    size_t x = text.find_first_of("xX");
-    if (x == std::string::npos || x == 0 || x + 1 == text.size()) return false;
-    auto whole = [](const std::string& s, int& v) {
-        if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return false;
-        v = std::stoi(s);
-        return v >= 1 && v <= 16384;
-    };
-    return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
-}
 
 std::optional<int> parse_ambient(RunOptions& opt) {
     if (opt.ambient_text.empty()) return std::nullopt;

@@ -34,7 +34,4 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
 /// on a malformed value (the error printed).
 std::optional<int> parse_ambient(RunOptions& opt);
 
-/// "WIDTHxHEIGHT" with 1..16384 each, nothing else.
-bool parse_image_size(const std::string& text, int& width, int& height);
-
 }  // namespace crex::app

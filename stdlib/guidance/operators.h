@@ -1,8 +1,9 @@
 /// \file operators.h
 /// The guidance operators of spec/pipeline.md §1: each turns rasters (the preview, component
 /// buffers, other maps) and what the camera sees (object ids) into a map in [0, 1] at image
-/// resolution. They are a library: the pipeline runtime calls them by name from the plan's
-/// operator nodes (evaluate.h), and nothing in the compiler knows how they work.
+/// resolution. They are a library: the runtime binds each to its registry entry
+/// (compiler/pipeline/registry.h) in runtime/pipeline/guidance_graph.cpp, and nothing in the
+/// compiler knows how they work.
 #pragma once
 
 #include <cstdint>
