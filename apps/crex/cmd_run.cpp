@@ -114,6 +114,10 @@ Runner add_run_command(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(1u, 65536u));
     CLI::Option* ab = cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(CLI::Range(1u, 64u));
+    cmd->add_option("--ar", opt->ar, "Irradiance cache resolution (RADIANCE -ar): records no closer than the scene's extent / ar; "
+                                     "0 for no cap")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e6));
     cmd->add_option("--ic-file", opt->ic_file, "Load the irradiance cache from FILE if it exists, save it there after the render (implies --ic)");
     cmd->add_option("--uniform", opt->uniform, "Every selective variable of a pipeline at its base (min) or its maximum (max) in "
                                                "every pixel, guidance skipped: max is the pipeline's own gold")

@@ -49,6 +49,7 @@ struct RunOptions {
     bool ic = false;
     double aa = 0.15;
     uint32_t ad = 256, ab = 4;
+    double ar = 128;
     std::string ic_file;
     std::string filter = "box";
     std::string uniform = "off";

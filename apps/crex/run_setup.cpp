@@ -117,7 +117,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     for (const auto& n : in.plan.nodes) wants_cache |= n.id == "irradiance_cache";
     if (wants_cache) {
         IcSettings ics;
-        ics.accuracy = opt.aa, ics.divisions = opt.ad, ics.bounces = opt.ab;
+        ics.accuracy = opt.aa, ics.divisions = opt.ad, ics.bounces = opt.ab, ics.resolution = opt.ar;
         ics.ambient = rs.ambient;
         ics.seed = opt.seed;
         rs.irradiance_cache = ics;

@@ -26,7 +26,7 @@ double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-
 
 IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings) : scene_(scene), settings_(settings) {
     double extent = scene.embree->extent();
-    r_min_ = settings.min_radius > 0 ? settings.min_radius : 5e-4 * extent;
+    r_min_ = settings.min_radius > 0 ? settings.min_radius : extent / (settings.resolution > 0 ? settings.resolution : 2000);
     r_max_ = settings.max_radius > 0 ? settings.max_radius : 0.1 * extent;
     r_max_ = std::max(r_max_, r_min_);
     max_aa_ = clamp_accuracy(settings.max_accuracy > 0 ? std::max(settings.max_accuracy, settings.accuracy) : settings.accuracy);

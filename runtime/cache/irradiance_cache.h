@@ -35,7 +35,10 @@ struct IcSettings {
     double max_accuracy = 0;    ///< the coarsest aa any query will use (0: `accuracy`); sizes the index
     uint32_t divisions = 256;   ///< ad: hemisphere rays of a level-0 record
     uint32_t bounces = 4;       ///< ab; bounce k uses accuracy aa 2^k (capped at 1)
-    double min_radius = 0;      ///< clamp of R (scene units); 0: 0.0005 x the scene's extent
+    double min_radius = 0;      ///< clamp of R (scene units); 0: the scene's extent / `resolution`
+    /// RADIANCE's -ar: records are never closer than the scene's extent / ar, which caps their
+    /// density in corners and at deeper bounces (0: extent / 2000, nearly no cap).
+    double resolution = 128;
     double max_radius = 0;      ///< clamp of R; 0: 0.1 x the scene's extent
     Vec3 ambient{0, 0, 0};      ///< av, radiance beyond the last bounce
     uint64_t seed = 0;
