@@ -18,9 +18,13 @@ row() {  # label, then crex run arguments
 }
 echo "| run | peak memory (max RSS) | wall time |"
 echo "|---|---|---|"
-for spp in 1 16 256 1024; do row "(TTMRSGD)* builtin:cornell 512x512, $spp spp" --size 512x512 --spp "$spp"; done
-row "(TTMRSGD)* builtin:cornell 1920x1080, 64 spp" --size 1920x1080 --spp 64
-for spp in 1 16 256 1024; do row "gold.pipe builtin:cornell 512x512, $spp spp" stdlib/pipelines/gold.pipe --size 512x512 --spp "$spp"; done
-row "gold.pipe builtin:cornell 1920x1080, 64 spp" stdlib/pipelines/gold.pipe --size 1920x1080 --spp 64
-row "prog_dis_all.pipe builtin:cornell 512x512 (1 + up to 16 spp)" stdlib/pipelines/prog_dis_all.pipe --size 512x512
-row "prog_dis_all.pipe builtin:cornell 1920x1080, preview 4 spp (+ up to 16)" stdlib/pipelines/prog_dis_all.pipe --size 1920x1080 --spp 4
+rows=${ROWS:-all}
+if [ "$rows" = all ] || [ "$rows" = crex ]; then
+  for spp in 1 16 256 1024; do row "(TTMRSGD)* builtin:cornell 512x512, $spp spp" --size 512x512 --spp "$spp"; done
+  row "(TTMRSGD)* builtin:cornell 1920x1080, 64 spp" --size 1920x1080 --spp 64
+fi
+if [ "$rows" = all ] || [ "$rows" = pipelines ]; then
+  for spp in 1 16 256; do row "gold.pipe builtin:cornell 512x512, $spp spp" stdlib/pipelines/gold.pipe --size 512x512 --spp "$spp"; done
+  row "prog_dis_all.pipe builtin:cornell 512x512 (1 + up to 16 spp, irradiance cache)" stdlib/pipelines/prog_dis_all.pipe --size 512x512
+  row "sel_rp.pipe builtin:cornell 1920x1080 (preview 4 spp + up to 16)" stdlib/pipelines/sel_rp.pipe --size 1920x1080 --spp 4
+fi
