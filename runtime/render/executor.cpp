@@ -242,7 +242,11 @@ bool Executor::run(const sched::Node& node) {
         if (numbered) strides_.push_back({node.stride, 0});
         for (uint64_t k = 0; k < node.count; ++k) {
             if (numbered) strides_.back().second = k;
-            work |= run(node.children.front());
+            // An iteration that took no ray left every bin as it found it, and a later one can
+            // only do less (a higher `{ }` occurrence executes a subset, a budget has less time):
+            // the rest of the count costs nothing (D2147483647 on empty bins used to spin).
+            if (!run(node.children.front())) break;
+            work = true;
         }
         if (numbered) strides_.pop_back();
         return work;

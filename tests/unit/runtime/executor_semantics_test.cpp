@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "runtime/scene/census.h"
+#include "runtime/scene/load_scene.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -318,6 +319,23 @@ TEST(BudgetScheduling, ProfileRoundTripsThroughJson) {
     EXPECT_FALSE(q.cost(Component::kD).has_value());
     Profile bad;
     EXPECT_NE(Profile::from_json_text("{\"format\": \"crex-profile\", \"version\": 1, \"seconds_per_ray\": {\"X\": 1}}", bad), "");
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(RepeatCounts, AHugeCountStopsAtTheFirstIterationWithoutWork) {
+    // D2147483647 used to run two billion steps on empty bins. The image equals D1000's (paths
+    // end by weight and depth long before), and the same holds for a repeated '*' and '[ ]'.
+    Scene s = *builtin_scene("cornell_diffuse");
+    auto image = [&](const std::string& crex) { return testing::render_crex(s, crex, 8, 1).image(); };
+    std::vector<float> finite = image("D1000");
+    EXPECT_EQ(image("D2147483647"), finite);
+    EXPECT_EQ(image("(D*)2147483647"), image("(D*)1000"));
+    EXPECT_EQ(image("[D]2147483647"), image("[D]1000"));
 }
 
 }  // namespace
