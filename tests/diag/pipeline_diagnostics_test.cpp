@@ -159,3 +159,33 @@ TEST(PipelineCheck, UnitWordsAndXAreStillUsableAsMapNames) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(PipelineNesting, DeepBlocksAndCallsAreALocatedErrorNotAStackOverflow) {
+    // ~8,000 nested blocks or ~10,000 nested calls used to overflow the parser's stack.
+    std::string blocks = "pipeline p {\n";
+    for (int i = 0; i < 20000; ++i) blocks += "preselective {";
+    Result b = check(blocks);
+    ASSERT_EQ(b.errors, 1u);
+    EXPECT_EQ(b.diagnostics[0].code, "E213");
+    // The 65th '{' overall is the 64th of line 2, each "preselective {" 14 columns wide.
+    EXPECT_EQ(b.where("E213").line, 2u);
+    EXPECT_EQ(b.where("E213").col, 14u * 64);
+    std::string calls = "pipeline p {\n  guidance { m = ";
+    for (int i = 0; i < 20000; ++i) calls += "blur(";
+    Result c = check(calls);
+    ASSERT_EQ(c.errors, 1u);
+    EXPECT_EQ(c.diagnostics[0].code, "E213");
+    // Sixty levels are still fine syntax-wise (the checker may say what it thinks of them).
+    std::string fine = "pipeline p {\n  guidance { m = ";
+    for (int i = 0; i < 60; ++i) fine += "blur(";
+    fine += "edges(preview)";
+    for (int i = 0; i < 60; ++i) fine += ")";
+    fine += " }\n}\n";
+    for (const auto& d : check(fine).diagnostics) EXPECT_NE(d.code, "E213");
+}
+
+}  // namespace
+}  // namespace crex
