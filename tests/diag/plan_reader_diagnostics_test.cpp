@@ -175,3 +175,20 @@ INSTANTIATE_TEST_SUITE_P(
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(PlanReaderNesting, DeepJsonIsALocatedErrorInLinearMemory) {
+    // 30,000 nested arrays used to take 955 MB (every pointer as long as its depth) and a
+    // 20,000-deep tree crashed. Now the 65th level is E401 where it opens.
+    std::string deep = "{\"version\": 2, \"x\": " + std::string(30000, '[') + std::string(30000, ']') + "}";
+    Read r = read(deep);
+    EXPECT_FALSE(r.plan);
+    ASSERT_NE(r.find("E401"), nullptr);
+    EXPECT_NE(r.find("E401")->message.find("nested more than 64 deep"), std::string::npos) << r.find("E401")->message;
+    EXPECT_EQ(r.where("E401").col, 20u + 64);  // the 64th '[' after the 20 characters before them
+}
+
+}  // namespace
+}  // namespace crex
