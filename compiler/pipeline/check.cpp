@@ -162,7 +162,16 @@ private:
             return;
         }
         if (inherited_.count(s.key)) overrides_.insert(s.key);  // replaces the base's map: used there
+        deepest_reference_ = 0;
         auto t = expr(s.expr);
+        // Maps built on maps: planning and evaluating them recurse once per level (a chain of
+        // 29,000 blur()s crashed `crex plan`), so the chain is bounded like the nesting.
+        map_depth_[s.key] = deepest_reference_ + 1;
+        if (map_depth_[s.key] > kMaxMapChain) {
+            sink_.report("E214", s.key_span, fmt::format("'{}' is built on a chain of more than {} maps", s.key, kMaxMapChain)).help =
+                "combine maps with importance(...) instead of chaining them";
+            map_depth_[s.key] = 0;
+        }
         if (t && *t != Type::kMap)
             sink_.report("E206", s.expr.span, fmt::format("'{}' must be a map, but this is {}", s.key, type_name(*t)));
         maps_[s.key] = s.key_span;
@@ -302,6 +311,7 @@ private:
         if (auto it = builtin_names().find(name); it != builtin_names().end()) return it->second;
         if (maps_.count(name)) {
             used_.insert(name);
+            deepest_reference_ = std::max(deepest_reference_, map_depth_[name]);
             return Type::kMap;
         }
         if (inherited_.count(name)) return Type::kMap;
@@ -406,6 +416,9 @@ private:
 
     DiagnosticSink& sink_;
     std::map<std::string, SourceSpan> maps_;
+    static constexpr int kMaxMapChain = 256;
+    std::map<std::string, int> map_depth_;  // 1 + the deepest map a definition reads
+    int deepest_reference_ = 0;
     std::set<std::string> used_;
     std::set<std::string> inherited_;   // maps defined by the bases
     std::set<std::string> overrides_;   // maps redefined here that the bases use

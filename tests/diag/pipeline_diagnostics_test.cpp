@@ -189,3 +189,21 @@ TEST(PipelineNesting, DeepBlocksAndCallsAreALocatedErrorNotAStackOverflow) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(PipelineNesting, AChainOfMapsIsBoundedToo) {
+    // 29,000 maps each blurring the last crashed `crex plan` (recursion per level).
+    std::string text = "pipeline p {\n  guidance {\n    m0 = saliency(preview)\n";
+    for (int i = 1; i <= 300; ++i) text += "    m" + std::to_string(i) + " = blur(m" + std::to_string(i - 1) + ")\n";
+    text += "  }\n  selective { vary spp 1 .. 4 by m300 }\n}\n";
+    Result r = check(text);
+    ASSERT_NE(r.find("E214"), nullptr);
+    EXPECT_EQ(r.where("E214").line, 3u + 256);  // m256 is the 257th map: a chain of 257
+    EXPECT_EQ(r.where("E214").col, 5u);
+    EXPECT_EQ(r.errors, 1u);
+}
+
+}  // namespace
+}  // namespace crex
