@@ -10,9 +10,16 @@
 
 namespace crex {
 
+// Roulette always starts at least here, whatever `lw` says: with --lw 0 glass split into T and
+// R at every interface without end (2^depth rays until bad_alloc). Below 1e-4 of a camera ray's
+// weight a ray survives with probability weight / 1e-4, so the expected rays per sample stay
+// bounded and the estimate unbiased.
+constexpr double kMinWeightLimit = 1e-4;
+
 int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
                    const ShadeParams& params, SpawnScratch& scratch) {
     if (ray.depth + 1u > params.max_depth) return 0;
+    const double weight_limit = std::max(params.weight_limit, kMinWeightLimit);
     const std::array<Lobe, kMaxLobes>& lobes = scratch.lobes;
     int n = scatter(b, f, random, scratch.lobes);
     int out = 0;
@@ -25,9 +32,9 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         Vec3 beta = ray.beta * lobe.weight;
         double mx = max_component(beta);
         if (!(mx > 0) || !is_finite(beta)) continue;
-        if (mx < params.weight_limit) {
-            if (!params.roulette) continue;
-            double q = mx / params.weight_limit;  // survive with probability q, re-weighted by 1/q
+        if (mx < weight_limit) {
+            if (!params.roulette && mx < params.weight_limit) continue;
+            double q = mx / weight_limit;  // survive with probability q, re-weighted by 1/q
             if (random(RandomUse::kRoulette, static_cast<uint32_t>(l)) >= q) continue;
             beta = beta / q;
         }

@@ -110,3 +110,30 @@ TEST(ProgressiveSampling, OneThenFifteenMoreIsExactlySixteen) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(RenderExtreme, AZeroWeightLimitStillEndsGlassPaths) {
+    // --lw 0 used to split glass into T and R at every interface without end (2^depth rays
+    // until bad_alloc). Roulette now starts at 1e-4 of a camera ray's weight at the latest.
+    Scene s = *builtin_scene("cornell");
+    RunSettings o;
+    o.width = o.height = 8;
+    o.spp = 2;
+    o.executor.shade.weight_limit = 0;
+    RunResult r = render(s, testing::lower_or_die("(TTMRSGD)*"), o);
+    uint64_t rays = total_rays(r.stats);
+    EXPECT_LT(rays, uint64_t{200000}) << rays;  // about 30 rays per camera ray at lw 1e-3
+    EXPECT_TRUE(testing::all_finite(r.image()));
+    // The same mean as the default lw (both unbiased), within the noise of 128 samples.
+    o.executor.shade.weight_limit = 1e-3;
+    o.spp = 64;
+    double with_default = testing::mean_luminance(render(s, testing::lower_or_die("(TTMRSGD)*"), o).image());
+    o.executor.shade.weight_limit = 0;
+    double with_zero = testing::mean_luminance(render(s, testing::lower_or_die("(TTMRSGD)*"), o).image());
+    EXPECT_NEAR(with_zero, with_default, 0.05 * with_default);
+}
+
+}  // namespace
+}  // namespace crex
