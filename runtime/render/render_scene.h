@@ -19,6 +19,7 @@ struct LightSample {
     Vec3 normal;    ///< unit, the emitting side
     Vec3 radiance;
     double pdf_area = 0;  ///< pdf of this point, per unit area, including the choice of emitter
+    bool sphere = false;  ///< on an analytic sphere (whose hit distance Embree finds less precisely)
 };
 
 /// Emitters of type `light`, each triangle or sphere chosen with probability proportional to
@@ -40,6 +41,7 @@ public:
         s.radiance = e.radiance;
         s.pdf_area = e.pdf_area;
         if (e.sphere) {
+            s.sphere = true;
             sample_sphere(e, u, v, s);
             return s;
         }
