@@ -143,8 +143,11 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
             }
             if (!near) sites.push_back(query);
         }
-        // In pieces of about a million hemisphere rays, so memory stays bounded.
-        size_t per_piece = std::max<size_t>(1, (size_t{1} << 20) / std::max(16u, settings_.divisions >> std::min(level, 16u)));
+        // In pieces of about 256 Ki hemisphere rays (~70 MB of rays, hits and throughputs),
+        // so memory stays bounded: a piece's records ask the next bounce for theirs while its
+        // buffers are alive, so up to `bounces` pieces are held at once (at 1 Mi rays a piece,
+        // prog_dis_all at 512x512 peaked at 1.18 GB).
+        size_t per_piece = std::max<size_t>(1, (size_t{1} << 18) / std::max(16u, settings_.divisions >> std::min(level, 16u)));
         for (size_t begin = 0; begin < sites.size(); begin += per_piece) {
             std::vector<IcQuery> piece(sites.begin() + static_cast<std::ptrdiff_t>(begin),
                                        sites.begin() + static_cast<std::ptrdiff_t>(std::min(sites.size(), begin + per_piece)));

@@ -307,19 +307,30 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
         GuidanceInputs in;
         in.width = w, in.height = h;
         in.preview = from_current_image ? film.composite(&preview_ambient) : out_.preview;
-        in.buffers["noise"] = film.noise_image();
         in.scene = &scene_;
-        std::vector<float> camera_aov = film.aov_image(kCameraAov), emission = film.emission_image();
-        for (size_t i = 0; i < camera_aov.size(); ++i) camera_aov[i] = std::max(0.0f, camera_aov[i] - emission[i]);
-        in.buffers["direct"] = std::move(camera_aov);
-        in.buffers["emission"] = std::move(emission);
-        std::vector<float> a(3 * pixels, 0.0f);
-        for (uint32_t p = 0; p < pixels; ++p)
-            for (size_t c = 0; c < 3; ++c)
-                a[3 * p + c] = film.samples(p) ? static_cast<float>(preview_ambient[3 * p + c] / film.samples(p)) : 0.0f;
-        in.buffers["ambient"] = std::move(a);
-        for (size_t c = 0; c < kComponentCount; ++c)
-            in.buffers[std::string(1, kComponentTable[c].letter)] = film.aov_image(aov_of(static_cast<Component>(c)));
+        // Only the buffers the plan reads: at 1920x1080 all ten took 250 MB.
+        std::set<std::string> read;
+        for (const PlanBuffer& b : plan_.buffers) read.insert(b.buffer);
+        for (const PlanMap& m : plan_.maps)
+            if (m.op == pipeline::GuidanceOperator::kNoise) read.insert("noise");
+        if (read.count("noise")) in.buffers["noise"] = film.noise_image();
+        if (read.count("direct") || read.count("emission")) {
+            std::vector<float> camera_aov = film.aov_image(kCameraAov), emission = film.emission_image();
+            for (size_t i = 0; i < camera_aov.size(); ++i) camera_aov[i] = std::max(0.0f, camera_aov[i] - emission[i]);
+            if (read.count("direct")) in.buffers["direct"] = std::move(camera_aov);
+            if (read.count("emission")) in.buffers["emission"] = std::move(emission);
+        }
+        if (read.count("ambient")) {
+            std::vector<float> a(3 * pixels, 0.0f);
+            for (uint32_t p = 0; p < pixels; ++p)
+                for (size_t c = 0; c < 3; ++c)
+                    a[3 * p + c] = film.samples(p) ? static_cast<float>(preview_ambient[3 * p + c] / film.samples(p)) : 0.0f;
+            in.buffers["ambient"] = std::move(a);
+        }
+        for (size_t c = 0; c < kComponentCount; ++c) {
+            std::string letter(1, kComponentTable[c].letter);
+            if (read.count(letter)) in.buffers[letter] = film.aov_image(aov_of(static_cast<Component>(c)));
+        }
         PixelProbe probe;
         if (needs_probe(plan_)) {
             probe = probe_pixels(*rs_, w, h);
