@@ -9,6 +9,7 @@
 #include "apps/crex/input_files.h"
 #include "compiler/base/render_json.h"
 #include "compiler/base/render_text.h"
+#include "apps/crex/pipeline_input.h"
 #include "apps/crex/scene_input.h"
 #include "compiler/crex/compile.h"
 #include "compiler/pipeline/check.h"
@@ -65,6 +66,7 @@ int run_check(const CheckOptions& opt) {
 
     DiagnosticSink sink;
     std::vector<CompiledCrex> compiled;
+    std::vector<std::unique_ptr<PipelineInput>> kept_inputs;  // the sources their diagnostics point into
     for (size_t i = 0; i < sources.size(); ++i) {
         if (i < opt.expressions.size()) {
             compiled.push_back(compile_crex(*sources[i], sink));
@@ -73,6 +75,20 @@ int run_check(const CheckOptions& opt) {
             size_t errors = sink.error_count();
             auto file = pipeline::parse_pipeline_file(*sources[i], sink);
             if (file) pipeline::check_pipeline_file(*file, sink);
+            if (file && sink.error_count() == errors && sources[i]->name() != "<stdin>") {
+                // Against its scene (the pipeline's, or --scene): the scene must load, and what
+                // the pipeline asks of it must be there (W203 tags, W204 buffers). The pipeline
+                // is read again for that; only what the scene adds is kept.
+                DiagnosticSink scene_sink;
+                auto in = load_pipeline_input(sources[i]->name(), "", opt.scene, scene_sink);
+                for (const auto& d : scene_sink.sorted())
+                    if (d.code == "W203" || d.code == "W204" || d.code[1] == '3' || d.code == "E308") sink.add(d);
+                if (!in->failure.empty()) {
+                    std::cerr << render_text(sink.sorted()) << "crex check: error: " << in->failure << "\n";
+                    return kExitFailure;
+                }
+                kept_inputs.push_back(std::move(in));
+            }
             if (file && sink.error_count() == errors && !opt.quiet && opt.format == "text")
                 for (const auto& p : file->pipelines)
                     std::cout << fmt::format("{}: ok: pipeline {}\n", format_location(p.name_span), p.name);

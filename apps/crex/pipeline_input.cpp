@@ -7,6 +7,7 @@
 #include "apps/crex/input_files.h"
 #include "compiler/pipeline/check.h"
 #include "compiler/pipeline/parse.h"
+#include "compiler/plan/pipeline_warnings.h"
 #include "runtime/scene/census.h"
 
 namespace crex::app {
@@ -52,6 +53,7 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
         if (auto it = in->resolved->top.find("scene"); it != in->resolved->top.end() && !it->second.empty())
             in->scene_spec = resolve_scene_path(it->second[0].text, path);
     std::optional<BinSet> spawnable;
+    std::optional<std::vector<std::string>> tags;
     std::string hash;
     if (!in->scene_spec.empty()) {
         in->scene = load_scene_input(in->scene_spec, sink);
@@ -62,9 +64,11 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
         if (!in->scene->scene) return in;
         Census census = take_census(*in->scene->scene);
         spawnable = census.spawnable;
+        tags = census.tags;
         hash = census_hash_hex(census.hash);
     }
     in->plan = plan_pipeline(*in->resolved, spawnable, in->scene_spec, hash, sink);
+    if (in->plan) warn_scene_mismatches(*in->resolved, *in->plan, tags ? &*tags : nullptr, sink);
     return in;
 }
 

@@ -339,7 +339,12 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
         graph.emplace(plan_, std::move(in));
         out_.maps.clear();  // a later round's maps replace the earlier ones
         for (const PlanMap& m : plan_.maps)
-            if (!m.defines.empty()) out_.maps.push_back({m.defines, graph->map(m.id)});
+            if (!m.defines.empty()) {
+                const guidance::Raster& r = graph->map(m.id);
+                out_.maps.push_back({m.defines, r});
+                if (std::all_of(r.v.begin(), r.v.end(), [](float v) { return !(v > 0); }))
+                    out_.notes.push_back(fmt::format("map '{}' is 0 everywhere: what it drives stays at its base value", m.name));
+            }
     }
     auto map_of = [&](const std::string& id) -> const guidance::Raster& {
         if (constant) return *constant;

@@ -118,14 +118,39 @@ namespace {
 TEST(CrexCheckCli, ChecksPipelineFiles) {
     auto ok = crex_cli({"check", CREX_SOURCE_DIR "/examples/pipelines/cornell_prog.pipe"});
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
-    EXPECT_NE(ok.out.find("cornell_prog.pipe:3:10: ok: pipeline cornell_prog"), std::string::npos) << ok.out;
-    EXPECT_EQ(ok.err.find("warning"), std::string::npos) << ok.err;  // every part of it executes
+    EXPECT_NE(ok.out.find("cornell_prog.pipe:7:10: ok: pipeline cornell_prog"), std::string::npos) << ok.out;
+    EXPECT_EQ(ok.err.find("warning"), std::string::npos) << ok.err;  // every part of it executes, its scene has the tag
     auto path = std::filesystem::temp_directory_path() / "crex_cli_bad.pipe";
     std::ofstream(path) << "pipeline p {\n  selective { crex \"{D*}\" }\n}\n";
     auto bad = crex_cli({"check", path.string()});
     std::filesystem::remove(path);
     EXPECT_EQ(bad.exit_code, 1);
     EXPECT_NE(bad.err.find("crex_cli_bad.pipe:2:23: error[E004]"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(CrexCheckCli, APipelineAgainstItsSceneWarnsWhereItAsksForWhatIsNotThere) {
+    // spec §6: the scene must tag what the task map asks for, and the pre-selective crex must
+    // fill every buffer guidance reads; both are warnings at the pipeline's line.
+    auto path = std::filesystem::temp_directory_path() / ("crex_cli_scene_" + std::to_string(::getpid()) + ".pipe");
+    std::ofstream(path) << "pipeline p {\n  scene \"" CREX_SOURCE_DIR "/examples/scenes/cornell/scene.json\"\n"
+                           "  preselective { crex \"TT\" }\n"
+                           "  guidance {\n    ic = edges(component(D))\n    task = task_map(tagged(\"exit_sign\"))\n"
+                           "    imp = importance(task 0.5, ic 0.5)\n  }\n  selective { vary spp 1 .. 4 by imp }\n}\n";
+    auto r = crex_cli({"check", path.string()});
+    EXPECT_EQ(r.exit_code, 0) << r.err;  // warnings only
+    EXPECT_NE(r.err.find(":5:16: warning[W204]: component(D)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(":6:28: warning[W203]: no object of the scene is tagged 'exit_sign'"), std::string::npos) << r.err;
+    // A scene that cannot be read is an error of check, not only of run.
+    std::ofstream(path) << "pipeline p {\n  scene \"/nonexistent/scene.json\"\n}\n";
+    auto missing = crex_cli({"check", path.string()});
+    EXPECT_EQ(missing.exit_code, 3) << missing.err;
+    std::filesystem::remove(path);
 }
 
 }  // namespace

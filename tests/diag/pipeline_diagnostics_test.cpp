@@ -207,3 +207,59 @@ TEST(PipelineNesting, AChainOfMapsIsBoundedToo) {
 
 }  // namespace
 }  // namespace crex
+
+#include "tests/support/plan_helpers.h"
+
+namespace crex {
+namespace {
+
+TEST(PipelineAgainstScene, ATagNoObjectHasIsW203AtTheTag) {
+    std::vector<std::string> tags = {"book", "exit_sign"};
+    auto r = testing::plan_text("p.pipe", R"(pipeline p {
+  guidance {
+    task = task_map(tagged("exit_sgn"), fovea 2 deg)
+  }
+  selective { vary spp 1 .. 4 by task }
+})",
+                                std::nullopt, "", "", &tags);
+    ASSERT_TRUE(r.plan);
+    ASSERT_EQ(r.diagnostics.size(), 1u);
+    const Diagnostic& d = r.diagnostics[0];
+    EXPECT_EQ(d.code, "W203");
+    EXPECT_EQ(r.file->position(d.span.begin).line, 3u);
+    EXPECT_EQ(r.file->position(d.span.begin).col, 28u);
+    EXPECT_NE(d.help.find("'exit_sign'"), std::string::npos) << d.help;
+    // The right tag, or no scene known: nothing to say.
+    std::vector<std::string> right = {"exit_sgn"};
+    auto ok = testing::plan_text("p.pipe", R"(pipeline p {
+  guidance { task = task_map(tagged("exit_sgn")) }
+  selective { vary spp 1 .. 4 by task }
+})",
+                                 std::nullopt, "", "", &right);
+    EXPECT_TRUE(ok.diagnostics.empty());
+}
+
+TEST(PipelineAgainstScene, AComponentBufferThePreviewNeverFillsIsW204AtTheCall) {
+    std::vector<std::string> tags;
+    auto r = testing::plan_text("p.pipe", R"(pipeline p {
+  preselective { crex "TT" }
+  guidance { ic = edges(component(D)) }
+  selective { vary spp 1 .. 4 by ic }
+})",
+                                std::nullopt, "", "", &tags);
+    ASSERT_TRUE(r.plan);
+    ASSERT_EQ(r.diagnostics.size(), 1u);
+    EXPECT_EQ(r.diagnostics[0].code, "W204");
+    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).line, 3u);
+    EXPECT_EQ(r.file->position(r.diagnostics[0].span.begin).col, 25u);
+    auto filled = testing::plan_text("p.pipe", R"(pipeline p {
+  preselective { crex "TTD" }
+  guidance { ic = edges(component(D)) }
+  selective { vary spp 1 .. 4 by ic }
+})",
+                                     std::nullopt, "", "", &tags);
+    EXPECT_TRUE(filled.diagnostics.empty());
+}
+
+}  // namespace
+}  // namespace crex

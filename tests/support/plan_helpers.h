@@ -10,6 +10,7 @@
 #include "compiler/pipeline/check.h"
 #include "compiler/pipeline/parse.h"
 #include "compiler/pipeline/resolve.h"
+#include "compiler/plan/pipeline_warnings.h"
 #include "compiler/plan/plan_pipeline.h"
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
@@ -30,8 +31,10 @@ struct PlannedPipeline {
 };
 
 /// `name` is how the file is called in positions (keep it relative: plans are goldens).
+/// `tags` given: also the scene-aware warnings (W203, W204) for a scene with those tags.
 inline PlannedPipeline plan_text(const std::string& name, const std::string& text, const std::optional<BinSet>& spawnable,
-                                 const std::string& scene = "", const std::string& hash = "") {
+                                 const std::string& scene = "", const std::string& hash = "",
+                                 const std::vector<std::string>* tags = nullptr) {
     PlannedPipeline r;
     r.file = std::make_unique<SourceFile>(name, text);
     DiagnosticSink sink;
@@ -39,7 +42,8 @@ inline PlannedPipeline plan_text(const std::string& name, const std::string& tex
     if (ast) pipeline::check_pipeline_file(*ast, sink);
     if (ast && !sink.has_errors())
         if (auto resolved = pipeline::resolve_pipeline(*ast, "", sink))
-            r.plan = plan_pipeline(*resolved, spawnable, scene, hash, sink);
+            if ((r.plan = plan_pipeline(*resolved, spawnable, scene, hash, sink)) && tags)
+                warn_scene_mismatches(*resolved, *r.plan, tags, sink);
     r.diagnostics = sink.sorted();
     return r;
 }

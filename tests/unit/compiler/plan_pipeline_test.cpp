@@ -47,8 +47,8 @@ TEST(PlanPipeline, NormativeExampleIsATypedGraph) {
     EXPECT_TRUE(edge(p, "map.imp", "selective", "map"));  // modulates the { } groups
     EXPECT_TRUE(edge(p, "vary.spp", "selective", "svt"));
     EXPECT_TRUE(edge(p, "preselective", "selective", "bin"));
-    EXPECT_EQ(sched::to_crex(p.program.preselective), "TT");
-    EXPECT_EQ(sched::to_crex(p.program.selective), "{TTMRD}2");  // S and G cannot occur in the Cornell box
+    EXPECT_EQ(sched::to_crex(p.program.preselective), "TTD");  // D fills edges(component(D))
+    EXPECT_EQ(sched::to_crex(p.program.selective), "{TTMRD}2");  // S and G cannot occur with these bins
     // prog_dis_all's `dl` drove shadow_rays; cornell_prog varies them by edges(direct) instead.
     bool dl_pruned = false;
     for (const auto& pr : p.pruned) dl_pruned |= pr.what == "map dl";

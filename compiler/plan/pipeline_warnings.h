@@ -1,0 +1,22 @@
+/// \file pipeline_warnings.h
+/// What a pipeline asks of its scene that the scene cannot give (spec/pipeline.md §6), said
+/// at the pipeline's line: `tagged("x")` when no object of the scene has that tag (W203), and
+/// a guidance buffer `component(X)` that the pre-selective crex never fills because it never
+/// executes X, or X can never occur in the scene (W204). Both checks see only names: the tags
+/// of the scene's objects and the steps of the planned pre-selective program.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "compiler/base/diagnostic.h"
+#include "compiler/pipeline/resolve.h"
+#include "compiler/plan/pipeline_plan.h"
+
+namespace crex {
+
+/// `scene_tags` null: no scene is known, so W203 is not checked.
+void warn_scene_mismatches(const pipeline::ResolvedPipeline& pipeline, const PipelinePlan& plan,
+                           const std::vector<std::string>* scene_tags, DiagnosticSink& sink);
+
+}  // namespace crex
