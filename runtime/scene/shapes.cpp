@@ -120,8 +120,28 @@ std::vector<std::array<uint32_t, 3>> triangulate_polygon(const std::vector<Vec3>
     return tris;
 }
 
-std::optional<std::string> shape_problem(const Shape& s, double scale) {
-    double eps = 1e-12 * std::fmax(scale, 1e-300);
+namespace {
+
+// The diagonal of a polygon's bounds: the size its area is measured against.
+double own_size(const std::vector<Vec3>& points) {
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (const auto& p : points) {
+        lo = {std::fmin(lo.x, p.x), std::fmin(lo.y, p.y), std::fmin(lo.z, p.z)};
+        hi = {std::fmax(hi.x, p.x), std::fmax(hi.y, p.y), std::fmax(hi.z, p.z)};
+    }
+    return length(hi - lo);
+}
+
+}  // namespace
+
+bool degenerate_polygon(const Shape& s) {
+    if (s.type != ShapeType::kPolygon || s.vertices.size() < 3) return false;
+    double size = own_size(s.vertices);
+    double area = 0.5 * length(newell_normal(s.vertices));
+    return !(area > 1e-12 * size * size);
+}
+
+std::optional<std::string> shape_problem(const Shape& s) {
     switch (s.type) {
     case ShapeType::kSphere:
         if (!is_finite(s.center) || !std::isfinite(s.radius)) return "non-finite centre or radius";
@@ -131,8 +151,6 @@ std::optional<std::string> shape_problem(const Shape& s, double scale) {
         if (s.vertices.size() < 3) return fmt::format("a polygon needs at least 3 vertices, got {}", s.vertices.size());
         for (const auto& v : s.vertices)
             if (!is_finite(v)) return "non-finite vertex coordinate";
-        double area = 0.5 * length(newell_normal(s.vertices));
-        if (!(area > eps * scale)) return fmt::format("zero-area polygon (area {:g}): its normal is undefined", area);
         return std::nullopt;
     }
     case ShapeType::kMesh:
@@ -159,7 +177,9 @@ std::optional<std::string> shape_problem(const Shape& s, double scale) {
         double r0 = s.type == ShapeType::kCylinder ? s.radius : s.r0;
         double r1 = s.type == ShapeType::kCylinder ? s.radius : s.r1;
         if (!is_finite(s.p0) || !is_finite(s.p1) || !finite_all({r0, r1})) return "non-finite end point or radius";
-        if (!(length(s.p1 - s.p0) > eps)) return "end points coincide: the axis is degenerate";
+        // Relative to the shape's own numbers: its coordinates and radii.
+        double own = std::fmax(std::fmax(length(s.p0), length(s.p1)), std::fmax(r0, r1));
+        if (!(length(s.p1 - s.p0) > 1e-12 * own)) return "end points coincide: the axis is degenerate";
         if (!(r0 >= 0 && r1 >= 0 && r0 + r1 > 0)) return fmt::format("radii must be >= 0 and not both 0, got {} and {}", r0, r1);
         return std::nullopt;
     }

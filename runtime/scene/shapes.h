@@ -24,10 +24,15 @@ struct TriangleMesh {
     std::vector<std::array<uint32_t, 3>> indices;
 };
 
-/// Why `shape` cannot be rendered (non-finite numbers, zero radius or area, degenerate normal,
-/// index out of range, ...), or nullopt when it is fine. `scale` is the scene's size, so that
-/// "zero area" means small relative to the scene.
-std::optional<std::string> shape_problem(const Shape& shape, double scale);
+/// Why `shape` cannot be rendered (non-finite numbers, zero radius, degenerate normal or axis,
+/// index out of range, ...), or nullopt when it is fine. "Degenerate" is relative to the
+/// shape's own size, never the scene's: one huge ground plane must not make a 2 m floor
+/// "zero-area". A zero-area polygon is not a problem here but degenerate_polygon().
+std::optional<std::string> shape_problem(const Shape& shape);
+
+/// A polygon whose area is zero relative to its own size: it has no normal, and is dropped
+/// with a warning (RADIANCE warns too) rather than failing the scene.
+bool degenerate_polygon(const Shape& shape);
 
 /// Appends the triangles of `shape` (nothing for spheres). Degenerate mesh triangles are
 /// dropped and counted in `dropped` when given.

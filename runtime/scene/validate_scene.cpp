@@ -18,7 +18,6 @@ const Material* Scene::find_material(const std::string& name) const {
 void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::function<SourceSpan(size_t)>& locate) {
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
     for (const auto& s : scene.shapes) expand_bounds(s, lo, hi);
-    double scale = is_finite(hi - lo) ? std::fmax(length(hi - lo), 1e-300) : 1.0;
     size_t lights = 0;
     for (size_t i = 0; i < scene.shapes.size(); ++i) {
         const Shape& s = scene.shapes[i];
@@ -27,13 +26,17 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
             sink.report("E305", locate(i), fmt::format("shape uses material '{}', which is not defined", s.material));
             continue;
         }
-        if (auto problem = shape_problem(s, scale))
+        const auto problem = shape_problem(s);
+        if (problem)
             sink.report("E306", locate(i), fmt::format("{}{}: {}", shape_type_name(s.type),
                                                        s.name.empty() ? "" : " '" + s.name + "'", *problem));
+        else if (degenerate_polygon(s))
+            sink.report("W304", locate(i), fmt::format("polygon{}: zero area for its size, so no normal: dropped",
+                                                       s.name.empty() ? "" : " '" + s.name + "'"));
         if (s.type == ShapeType::kMesh) {
             size_t dropped = 0;
             TriangleMesh tm;
-            if (!shape_problem(s, scale)) tessellate(s, tm, &dropped);
+            if (!problem) tessellate(s, tm, &dropped);
             if (dropped > 0)
                 sink.report("W303", locate(i), fmt::format("mesh{}: {} of {} triangles have zero area and are dropped",
                                                            s.name.empty() ? "" : " '" + s.name + "'", dropped, s.triangles.size()));
@@ -43,6 +46,19 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
     const Camera& c = scene.camera;
     if (!is_finite(c.position) || !is_finite(c.direction) || !is_finite(c.up))
         sink.report("E303", locate(SIZE_MAX), "camera: non-finite position, direction or up vector");
+    // Rays are float in coordinates centred on the scene (runtime/trace): beyond ~1e15 units
+    // from that centre they lose all precision, and Embree aborted (exit 134) near 1.8e18.
+    constexpr double kMaxReach = 1e15;
+    if (is_finite(hi - lo)) {
+        Vec3 centre = (lo + hi) * 0.5;
+        if (length(hi - lo) > kMaxReach)
+            sink.report("E303", locate(SIZE_MAX), fmt::format("the scene spans {:.3g} units: more than float rays can represent ({:g})",
+                                                              length(hi - lo), kMaxReach));
+        if (is_finite(c.position) && length(c.position - centre) > kMaxReach)
+            sink.report("E303", locate(SIZE_MAX), fmt::format("camera: {:.3g} units from the scene, more than float rays can represent ({:g})",
+                                                              length(c.position - centre), kMaxReach))
+                .help = "move the camera closer, or scale the scene down";
+    }
     if (lights == 0 && !scene.shapes.empty())
         sink.report("W302", locate(SIZE_MAX), "no shape has a 'light' material: direct lighting will be black")
             .help = "give an emitter the material type 'light' so it is sampled";

@@ -142,9 +142,6 @@ INSTANTIATE_TEST_SUITE_P(
         BadJson{"duplicate_material", with_shapes("[]", R"([{"name": "w", "type": "plastic"}, {"name": "w", "type": "mirror"}])"),
                 "E305", 2, 0, "already defined"},
         BadJson{"duplicate_key", "{\"shapes\": [], \"shapes\": []}", "E301", 1, 16, "duplicate key"},
-        BadJson{"zero_area_polygon",
-                with_shapes(R"([{"type": "polygon", "material": "w", "vertices": [[0,0,0],[1,0,0],[2,0,0]]}])"), "E306", 3, 12,
-                "zero-area polygon"},
         BadJson{"degenerate_ring_normal",
                 with_shapes(R"([{"type": "ring", "material": "w", "center": [0,0,0], "normal": [0,0,0], "outer_radius": 1}])"),
                 "E306", 3, 0, "degenerate normal"},
@@ -213,6 +210,39 @@ TEST(SceneLoad, MissingFileIsAnIoFailureNamingIt) {
     EXPECT_NE(failure.message.find("builtin:cornell"), std::string::npos);
     EXPECT_FALSE(load_scene("scene.xyz", sources, sink, failure));
     EXPECT_NE(failure.message.find(".rad"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(SceneDegeneracy, ZeroAreaIsRelativeToTheShapeAndDroppedWithAWarning) {
+    // A zero-area polygon is dropped with W304 (RADIANCE warns too), the scene still loads.
+    auto zero = testing::load_json_text(
+        with_shapes(R"([{"type": "polygon", "material": "w", "vertices": [[0,0,0],[1,0,0],[2,0,0]]}])"));
+    EXPECT_TRUE(zero.scene);
+    testing::expect_diagnostic(zero, "zero_area_polygon", "W304", 3, 12, "zero area for its size");
+    // A +-1e6 ground plane used to raise the threshold until the 4 m2 floor was "zero-area".
+    auto big = testing::load_json_text(with_shapes(R"([
+      {"type": "polygon", "material": "w", "vertices": [[-1e6,-1,-1e6],[1e6,-1,-1e6],[1e6,-1,1e6],[-1e6,-1,1e6]]},
+      {"type": "polygon", "material": "w", "vertices": [[-1,0,-1],[1,0,-1],[1,0,1],[-1,0,1]]},
+      {"type": "cylinder", "material": "w", "p0": [0,0,0], "p1": [0,0.001,0], "radius": 0.01},
+      {"type": "sphere", "material": "l", "center": [0,3,0], "radius": 0.5}])"));
+    EXPECT_TRUE(big.scene);
+    EXPECT_EQ(big.errors, 0u) << (big.diagnostics.empty() ? "" : big.diagnostics[0].message);
+    EXPECT_EQ(big.find("W304"), nullptr);
+}
+
+TEST(SceneDegeneracy, ACameraBeyondWhatFloatRaysReachIsALocatedError) {
+    // A camera coordinate above ~1.8e18 aborted inside Embree (exit 134); scene-info accepted it.
+    auto far = testing::load_json_text("{\"camera\": {\"position\": [0, 0, 2e18], \"direction\": [0, 0, -1]},\n\"materials\": "
+                                       "[{\"name\": \"w\", \"type\": \"plastic\"}],\n\"shapes\": [{\"type\": \"sphere\", "
+                                       "\"material\": \"w\", \"center\": [0,0,0], \"radius\": 1}]}");
+    EXPECT_FALSE(far.scene);
+    ASSERT_NE(far.find("E303"), nullptr);
+    EXPECT_NE(far.find("E303")->message.find("more than float rays can represent"), std::string::npos) << far.find("E303")->message;
 }
 
 }  // namespace

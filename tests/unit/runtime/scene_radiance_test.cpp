@@ -166,7 +166,6 @@ INSTANTIATE_TEST_SUITE_P(
         BadRad{"reflectance_range", "void plastic p 0 0 5 1 2 1 0 0\n", "E303", 1, 24, "reflectance must be in [0, 1]"},
         BadRad{"undefined_modifier", "void light l 0 0 3 1 1 1\nwhite sphere s 0 0 4 0 0 0 1\n", "E305", 2, 1,
                "modifier 'white', which is not defined"},
-        BadRad{"zero_area_polygon", "void light l 0 0 3 1 1 1\nl polygon p 0 0 9 0 0 0 1 1 1 2 2 2\n", "E306", 2, 3, "zero-area"},
         BadRad{"degenerate_ring_normal", "void light l 0 0 3 1 1 1\nl ring r 0 0 8 0 0 0 0 0 0 0 1\n", "E306", 2, 3,
                "degenerate normal"},
         BadRad{"zero_radius_sphere", "void light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 0\n", "E306", 2, 3, "radius must be > 0"},
@@ -180,6 +179,20 @@ TEST(SceneRadiance, KeepsGoingAfterAnUnsupportedPrimitive) {
     EXPECT_EQ(e307, 2u);
     EXPECT_EQ(e306, 0u);  // geometry is validated only once the file reads cleanly
     EXPECT_FALSE(r.scene);
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(SceneRadianceDegeneracy, ADegenerateEmitterPolygonIsDroppedNotFatal) {
+    // One degenerate polygon among the emitters rejected the whole scene (E306); RADIANCE warns.
+    auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl polygon p 0 0 9 0 0 0 1 1 1 2 2 2\n"
+                                    "l polygon q 0 0 9 0 0 0 1 0 0 0 0 1\n");
+    EXPECT_TRUE(r.scene);
+    testing::expect_diagnostic(r, "degenerate_emitter", "W304", 2, 3, "zero area");
 }
 
 }  // namespace
