@@ -3,6 +3,9 @@
 // 0.4 s relocating 265 shared libraries, most of them codecs an image write never touches.
 #include "runtime/io/image_io.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -45,7 +48,7 @@ std::string write_image(const std::string& path, int width, int height, const st
         OIIO::ImageSpec spec(width, height, static_cast<int>(nc), exr || hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
         spec.channelnames = names;
         if (exr) spec.attribute("compression", "zip");
-        if (!out->open(tmp, spec)) return "cannot open '" + tmp + "': " + out->geterror();
+        if (!out->open(tmp, spec)) return "cannot write '" + path + "': " + out->geterror();
         bool ok;
         if (exr || hdr) {
             pixels.resize(np * nc);
@@ -71,6 +74,16 @@ std::string write_image(const std::string& path, int width, int height, const st
         }
         if (!ok) return "cannot write '" + path + "': " + out->geterror();
         if (!out->close()) return "cannot close '" + path + "': " + out->geterror();
+        // Some writers (PNG's) do not report a short write: a full disk replaced a good old
+        // file with a truncated one and said "wrote". Flushed, then read back whole, before
+        // the rename puts it in place.
+        int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+        bool synced = fd >= 0 && ::fsync(fd) == 0;
+        if (fd >= 0) ::close(fd);
+        if (!synced) return "cannot write '" + path + "': the data did not reach the disk";
+        OIIO::ImageBuf check(tmp);
+        if (!check.read(0, 0, true, OIIO::TypeDesc::FLOAT) || check.spec().width != width || check.spec().height != height)
+            return "cannot write '" + path + "': what reached the disk does not read back (disk full?)";
         return "";
     };
     if (layers.empty()) return "nothing to write";

@@ -144,3 +144,34 @@ TEST_F(CrexRunCli, IcRadiusRunsTheProgressiveIrradianceCache) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(RunOutputsCli, AShortWriteNeverReplacesTheOldImage) {
+    // A PNG written to a full disk reported "wrote" and replaced the good old file with a
+    // truncated one. A file-size limit (the shell's ulimit, SIGXFSZ ignored) makes the write
+    // short: the run fails with exit 3 naming the user's path, and the old file is intact.
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("crex_short_write_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string png = (dir / "a.png").string();
+    auto first = testing::crex_cli({"run", "--size", "64x64", "--spp", "1", "-o", png, "-q"});
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    const auto before = fs::file_size(png);
+    auto limited = testing::run_command({"/bin/sh", "-c", std::string("trap '' XFSZ; ulimit -f 2; exec ") + CREX_BINARY +
+                                                                " run --size 64x64 --spp 2 -o " + png + " -q"});
+    EXPECT_EQ(limited.exit_code, 3) << limited.err;
+    EXPECT_NE(limited.err.find("cannot write '" + png + "'"), std::string::npos) << limited.err;
+    EXPECT_EQ(fs::file_size(png), before);
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    EXPECT_EQ(read_image(png, w, h, rgb), "");  // still the whole old picture
+    size_t files = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
+    EXPECT_EQ(files, 1u);  // no temporary left behind
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace crex
