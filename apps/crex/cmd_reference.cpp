@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -13,6 +14,7 @@
 #include "compiler/crex/compile.h"
 #include "runtime/io/image_io.h"
 #include "apps/crex/cli_values.h"
+#include "runtime/base/atomic_file.h"
 #include "runtime/driver/run_plan.h"
 #include "runtime/report/reference_cache.h"
 
@@ -46,7 +48,22 @@ int reference(const ReferenceOptions& opt) {
     }
     if (!in->scene) return kExitInputErrors;
     std::string path = opt.output.empty() ? reference_path(*in->scene, s) : opt.output;
-    if (!opt.force && std::filesystem::exists(path)) {
+    // An existing file counts as this reference only when it is one: the key file written
+    // beside it names the same scene content and settings, and it reads as an image of the
+    // requested size (-o used to take any existing file, even /etc/hostname).
+    const std::string key = reference_key(*in->scene, s), key_path = path + ".key";
+    auto is_this_reference = [&] {
+        if (!std::filesystem::exists(path)) return false;
+        if (!opt.output.empty()) {
+            std::ifstream k(key_path);
+            std::string stored;
+            if (!(k >> stored) || stored != key) return false;
+        }
+        int w = 0, h = 0;
+        std::vector<float> rgb;
+        return read_image(path, w, h, rgb).empty() && w == s.width && h == s.height;
+    };
+    if (!opt.force && is_this_reference()) {
         std::cout << path << "\n";
         if (!opt.quiet) std::cerr << "crex reference: cached (key " << reference_key(*in->scene, s) << "); --force renders again\n";
         return kExitOk;
@@ -71,6 +88,7 @@ int reference(const ReferenceOptions& opt) {
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
     std::string error = write_image(path, s.width, s.height, {{"", r->image()}});
+    if (error.empty() && !opt.output.empty()) error = write_file_atomically(key_path, key + "\n");
     if (!error.empty()) {
         std::cerr << "crex reference: error: " << error << "\n";
         return kExitFailure;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "runtime/io/image_io.h"
 #include "tests/support/crex_cli.h"
 
 namespace crex {
@@ -127,6 +128,39 @@ TEST(CyclicReportCli, TheRoundsOfTheCyclicPipelineShowInThePlanAndTheErrorCurve)
     for (const auto& c : j["checkpoints"]) events += c["event"].get<std::string>() + "\n";
     for (int round = 1; round <= 4; ++round)
         EXPECT_NE(events.find("end of guidance (round " + std::to_string(round) + "/4)"), std::string::npos) << events;
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(ReferenceCli, AnExistingOutputIsReusedOnlyWhenItIsThisReference) {
+    // `crex reference -o EXISTING` took any existing file as the cached reference (even
+    // /etc/hostname, or a 64x64 image for a 16x16 request of another scene).
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("crex_reference_o_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string out = (dir / "ref.exr").string();
+    std::ofstream(out) << "not an image\n";
+    auto r = testing::crex_cli({"reference", "--size", "16x16", "--spp", "4", "-o", out});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("cached"), std::string::npos) << r.err;  // rendered, not taken
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    ASSERT_EQ(read_image(out, w, h, rgb), "");
+    EXPECT_EQ(w, 16);
+    // The same request again: cached. Another scene or size: rendered again.
+    auto again = testing::crex_cli({"reference", "--size", "16x16", "--spp", "4", "-o", out});
+    EXPECT_NE(again.err.find("cached"), std::string::npos) << again.err;
+    auto other = testing::crex_cli({"reference", "builtin:cornell_diffuse", "--size", "16x16", "--spp", "4", "-o", out});
+    EXPECT_EQ(other.err.find("cached"), std::string::npos) << other.err;
+    auto size = testing::crex_cli({"reference", "builtin:cornell_diffuse", "--size", "8x8", "--spp", "4", "-o", out});
+    EXPECT_EQ(size.err.find("cached"), std::string::npos) << size.err;
+    ASSERT_EQ(read_image(out, w, h, rgb), "");
+    EXPECT_EQ(w, 8);
     fs::remove_all(dir);
 }
 
