@@ -1,5 +1,7 @@
 // `crex compare`: how far an image is from a reference, by the metrics of spec §7.
 #include <fmt/format.h>
+
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include <iostream>
@@ -43,6 +45,14 @@ int compare(const CompareOptions& opt) {
         if (!error.empty()) {
             std::cerr << "crex compare: error: " << error << "\n";
             return kExitFailure;
+        }
+        // NaN or Inf would make every metric 'nan' and the comparison say nothing, with exit 0.
+        size_t bad = 0;
+        for (float v : img->rgb) bad += !std::isfinite(v);
+        if (bad > 0) {
+            std::cerr << fmt::format("crex compare: error: {} holds {} non-finite value{} (NaN or Inf): nothing to compare\n", *path,
+                                     bad, bad == 1 ? "" : "s");
+            return kExitInputErrors;
         }
     }
     if (test.width != ref.width || test.height != ref.height) {

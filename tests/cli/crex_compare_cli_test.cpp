@@ -60,3 +60,35 @@ TEST_F(CompareCli, ExitCodesSayWhatWentWrong) {
 
 }  // namespace
 }  // namespace crex
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+namespace crex {
+namespace {
+
+TEST(CompareNonFiniteCli, NonFiniteImagesAreAnInputErrorNotNan) {
+    // compare of NaN images reported 'nan' for every metric and exited 0. PFM is written by
+    // hand here: crex's own writers never let NaN into a file.
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("crex_compare_nan_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    auto pfm = [&](const std::string& name, float value_5) {
+        std::vector<float> rgb(4 * 2 * 3, 0.5f);
+        rgb[5] = value_5;
+        std::ofstream out(dir / name, std::ios::binary);
+        out << "PF\n4 2\n-1.0\n";
+        out.write(reinterpret_cast<const char*>(rgb.data()), static_cast<std::streamsize>(rgb.size() * sizeof(float)));
+        return (dir / name).string();
+    };
+    std::string nan = pfm("nan.pfm", std::nanf("")), ok = pfm("ok.pfm", 0.5f);
+    auto r = testing::crex_cli({"compare", nan, ok});
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.err.find("holds 1 non-finite value"), std::string::npos) << r.err;
+    EXPECT_EQ(testing::crex_cli({"compare", ok, ok}).exit_code, 0);
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace crex
