@@ -7,8 +7,11 @@ namespace crex {
 SourceFile::SourceFile(std::string name, std::string text)
     : name_(std::move(name)), text_(std::move(text)) {
     line_starts_.push_back(0);
-    for (uint32_t i = 0; i < text_.size(); ++i)
-        if (text_[i] == '\n') line_starts_.push_back(i + 1);
+    line_ascii_.push_back(true);
+    for (uint32_t i = 0; i < text_.size(); ++i) {
+        if (text_[i] == '\n') line_starts_.push_back(i + 1), line_ascii_.push_back(true);
+        else if (static_cast<unsigned char>(text_[i]) >= 0x80) line_ascii_.back() = false;
+    }
 }
 
 LineCol SourceFile::position(uint32_t offset) const {
@@ -16,6 +19,9 @@ LineCol SourceFile::position(uint32_t offset) const {
     auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), offset);
     uint32_t line = static_cast<uint32_t>(it - line_starts_.begin());  // 1-based
     uint32_t start = line_starts_[line - 1];
+    // A column is a count of code points; on an ASCII line that is the byte distance (counting
+    // made every diagnostic and lowered step of a 300k-character crex cost its whole line).
+    if (line_ascii_[line - 1]) return {line, offset - start + 1};
     std::string_view before(text_.data() + start, offset - start);
     return {line, count_code_points(before) + 1};
 }

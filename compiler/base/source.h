@@ -38,6 +38,7 @@ private:
     std::string name_;
     std::string text_;
     std::vector<uint32_t> line_starts_;
+    std::vector<bool> line_ascii_;  // per line: no byte >= 0x80, so columns are byte distances
 };
 
 /// A half-open byte range [begin, end) of one SourceFile. An empty span marks a point
