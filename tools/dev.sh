@@ -68,16 +68,23 @@ run_fuzz() {
   log "configure + build (libFuzzer, clang-14)"
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
-  cmake --build build/fuzz -j "$JOBS" --target crex_check_fuzzer scene_load_fuzzer
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/crex build/fuzz/corpus/scene
+  local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer)
+  cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
-  cp examples/scenes/*/scene.json examples/scenes/*/scene.rad build/fuzz/corpus/scene/ 2>/dev/null || true
-  log "fuzzing the crex checker for ${seconds}s"
-  build/fuzz/tests/fuzz/crex_check_fuzzer -max_total_time="$seconds" -max_len=512 \
-      -print_final_stats=1 build/fuzz/corpus/crex
-  log "fuzzing the scene loaders for ${seconds}s"
-  build/fuzz/tests/fuzz/scene_load_fuzzer -max_total_time="$seconds" -max_len=8192 \
-      -print_final_stats=1 build/fuzz/corpus/scene
+  # Seeds keep their directory in their name: three scene.json files are three seeds.
+  for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad; do
+    [ -f "$f" ] && cp "$f" "build/fuzz/corpus/scene/$(echo "$f" | tr '/' '_')"
+  done
+  for f in stdlib/pipelines/*.pipe examples/pipelines/*.pipe; do cp "$f" "build/fuzz/corpus/pipeline/$(echo "$f" | tr '/' '_')"; done
+  for f in tests/golden/plans/*.plan.json; do cp "$f" build/fuzz/corpus/plan/; done
+  local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan)
+  local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384)
+  for t in "${targets[@]}"; do
+    log "fuzzing ${t} for ${seconds}s"
+    build/fuzz/tests/fuzz/"$t" -max_total_time="$seconds" -timeout=10 -max_len="${max_len[$t]}" \
+        -print_final_stats=1 "build/fuzz/corpus/${corpus[$t]}"
+  done
 }
 
 case "${1:-}" in
