@@ -62,7 +62,16 @@ CameraRays::CameraRays(const Camera& c, int width, int height, const Vec3& origi
     right_ = normalize_or_zero(cross(forward_, c.up));
     up_ = cross(right_, forward_);
     tan_y_ = std::tan(c.vfov_deg * kPi / 360.0);
-    tan_x_ = c.hfov_deg > 0 ? std::tan(c.hfov_deg * kPi / 360.0) : tan_y_ * width / std::max(height, 1);
+    const double aspect = static_cast<double>(width) / std::max(height, 1);
+    tan_x_ = tan_y_ * aspect;
+    if (c.hfov_deg > 0) {
+        // Both fields of view given: pixels stay square, as rpict keeps them, by narrowing the
+        // one the image's aspect cannot hold (a 128x64 render of a 40x40 degree view shows 40
+        // degrees across and 20.6 down, instead of squashing spheres into ellipses).
+        double tx = std::tan(c.hfov_deg * kPi / 360.0);
+        if (tx / tan_y_ > aspect) tan_x_ = tan_y_ * aspect;
+        else tan_x_ = tx, tan_y_ = tx / aspect;
+    }
 }
 
 void CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) const {

@@ -67,6 +67,8 @@ private:
 };
 
 /// Pinhole camera. Pixel (0, 0) is the top-left; (x + u, y + v) for u, v in [0, 1) within it.
+/// Pixels are square: when the scene gives both fields of view, the one the image's aspect
+/// cannot hold is narrowed (rpict's rule).
 class CameraRays {
 public:
     CameraRays(const Camera& camera, int width, int height, const Vec3& origin_offset);

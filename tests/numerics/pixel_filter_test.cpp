@@ -1,8 +1,10 @@
 // The Gaussian pixel filter by filter importance sampling (issue 4).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "runtime/render/render_scene.h"
 #include "runtime/scene/load_scene.h"
 #include "tests/support/test_scenes.h"
 
@@ -67,6 +69,33 @@ TEST(GaussianFilter, RaisingTheSampleCountStillContinuesTheSequence) {
     auto a = render(s, p, one), b = render(s, p, more), c = render(s, p, all);
     auto ia = a.image(), ib = b.image(), ic = c.image();
     for (size_t i = 0; i < ic.size(); ++i) EXPECT_NEAR((ia[i] * 1 + ib[i] * 3) / 4, ic[i], 1e-4 * std::max(1.0f, ic[i]));
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+TEST(Camera, PixelsAreSquareWhateverTheAspect) {
+    // --size 128x64 on builtin:cornell (40 x 40 degrees) squashed its spheres into ellipses.
+    // A pixel's step right and its step down subtend the same angle at the centre.
+    for (auto [w, h] : {std::pair{128, 64}, std::pair{64, 128}, std::pair{100, 100}}) {
+        Scene s = *builtin_scene("cornell");
+        CameraRays cam(s.camera, w, h, {0, 0, 0});
+        Vec3 o, centre, right, down;
+        cam.generate(w / 2.0, h / 2.0, o, centre);
+        cam.generate(w / 2.0 + 1, h / 2.0, o, right);
+        cam.generate(w / 2.0, h / 2.0 + 1, o, down);
+        double across = std::acos(std::clamp(dot(centre, right), -1.0, 1.0)), along = std::acos(std::clamp(dot(centre, down), -1.0, 1.0));
+        EXPECT_NEAR(across / along, 1.0, 1e-9) << w << "x" << h;
+        // The view never exceeds the scene's 40 degrees either way.
+        Vec3 left_edge, top_edge;
+        cam.generate(0, h / 2.0, o, left_edge);
+        cam.generate(w / 2.0, 0, o, top_edge);
+        EXPECT_LE(2 * std::acos(dot(centre, left_edge)) * 180 / kPi, 40 + 1e-9);
+        EXPECT_LE(2 * std::acos(dot(centre, top_edge)) * 180 / kPi, 40 + 1e-9);
+    }
 }
 
 }  // namespace
