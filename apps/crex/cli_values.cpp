@@ -1,8 +1,19 @@
 #include "apps/crex/cli_values.h"
 
+#include <cstdint>
 #include <string>
 
 namespace crex::app {
+
+CLI::Validator seed_value() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            bool digits = !text.empty() && text.size() <= 16 && text.find_first_not_of("0123456789") == std::string::npos;
+            if (digits && std::stoull(text) <= (uint64_t{1} << 53)) return "";
+            return "'" + text + "' is not a whole number from 0 to 9007199254740992";
+        },
+        "SEED");
+}
 
 bool parse_image_size(const std::string& text, int& width, int& height) {
     size_t x = text.find_first_of("xX");

@@ -108,7 +108,7 @@ Runner add_reference_command(CLI::App& app) {
     cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.obj or builtin:NAME")->capture_default_str();
     cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(CLI::Range(1u, 1u << 20));
-    cmd->add_option("--seed", opt->seed, "Seed")->capture_default_str();
+    cmd->add_option("--seed", opt->seed, "Seed (0 to 2^53)")->capture_default_str()->check(seed_value());
     cmd->add_option("-o,--output", opt->output, "Write here instead of the cache");
     cmd->add_flag("--force", opt->force, "Render even if the cache has it");
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no messages");

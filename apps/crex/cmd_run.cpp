@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 
+#include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
@@ -73,7 +74,7 @@ Runner add_run_command(CLI::App& app) {
         ->allow_extra_args(false);
     cmd->add_flag("--components", opt->components, "EXR: add one layer per component AOV (camera, D, G, S, T, R, M)");
     cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-    CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number")->capture_default_str();
+    CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number (0 to 2^53)")->capture_default_str()->check(seed_value());
     cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit")->capture_default_str()->check(CLI::Range(1u, 1024u));
     CLI::Option* lw = cmd->add_option("--lw", opt->lw, "Weight limit: rays below it face Russian roulette")
         ->capture_default_str()

@@ -38,6 +38,15 @@ TEST(UsageCli, RangeErrorsSayTheRange) {
     EXPECT_NE(size.err.find("each 1 to 16384"), std::string::npos) << size.err;
 }
 
+TEST(UsageCli, SeedsAreWholeNumbersNotWrappedNegatives) {
+    // --seed -1 and --seed 1e23 both became 2^64 - 1.
+    for (const char* bad : {"-1", "1e23", "18446744073709551615", "4.5"}) {
+        auto r = crex_cli({"run", "--seed", bad, "--size", "8x8", "-q", "-o", "/tmp/crex_usage_never.exr"});
+        EXPECT_EQ(r.exit_code, 2) << bad;
+        EXPECT_NE(r.err.find("is not a whole number from 0 to 9007199254740992"), std::string::npos) << r.err;
+    }
+}
+
 TEST(UsageCli, VersionIsPrinted) {
     auto r = crex_cli({"--version"});
     EXPECT_EQ(r.exit_code, 0);
