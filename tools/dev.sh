@@ -51,6 +51,7 @@ run_tests() {
   # ("Tracer caught signal 11", as in google/sanitizers#1353); without the interception,
   # 0 of 60 runs failed.
   (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0 \
+      LSAN_OPTIONS=suppressions="$ROOT/tools/lsan.supp" \
       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --output-on-failure -j "$JOBS" -L '^(unit|diag|cli|numerics)$')
 }
