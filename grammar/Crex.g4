@@ -4,7 +4,7 @@
 // letters and unknown characters all parse into the tree, so that the AST builder reports them
 // in crex's own words (E001, E002, E008) with precise spans and keeps going: every error of an
 // expression is reported in one pass, and ANTLR's generic recovery messages are never shown.
-// Which letters are components is decided by the component table (compiler/crex/components.h),
+// Which letters are components is decided by the component table (base/components.h),
 // not here, so a new component is one row of that table.
 //
 // It is shaped for linear-time parsing: a repeat can only be stray at the start of a sequence

@@ -7,7 +7,7 @@
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/scene_input.h"
-#include "compiler/base/render_text.h"
+#include "base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "apps/crex/pipeline_input.h"
 #include "compiler/pipeline/print.h"

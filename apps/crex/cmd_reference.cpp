@@ -10,7 +10,7 @@
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
 #include "apps/crex/scene_input.h"
-#include "compiler/base/render_text.h"
+#include "base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "runtime/io/image_io.h"
 #include "apps/crex/cli_values.h"

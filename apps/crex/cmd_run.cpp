@@ -14,7 +14,7 @@
 #include "apps/crex/run_options.h"
 #include "apps/crex/run_outputs.h"
 #include "apps/crex/run_setup.h"
-#include "compiler/base/check.h"
+#include "base/check.h"
 
 namespace crex::app {
 namespace {

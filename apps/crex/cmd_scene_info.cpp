@@ -8,8 +8,8 @@
 
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
-#include "compiler/base/render_json.h"
-#include "compiler/base/render_text.h"
+#include "base/render_json.h"
+#include "base/render_text.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"

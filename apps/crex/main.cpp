@@ -10,8 +10,8 @@
 
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
-#include "compiler/base/check.h"
-#include "compiler/base/nearest_name.h"
+#include "base/check.h"
+#include "base/nearest_name.h"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/input_files.h"
 #include "apps/crex/pipeline_input.h"
-#include "compiler/base/render_text.h"
+#include "base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "compiler/plan/read_plan.h"
 #include "runtime/scene/census.h"

@@ -10,7 +10,7 @@
 
 #include "apps/crex/run_options.h"
 #include "apps/crex/scene_input.h"
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/plan/pipeline_plan.h"
 
 namespace crex::app {

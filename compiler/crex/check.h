@@ -5,7 +5,7 @@
 /// parse errors too, so all errors come out in one pass. W103 needs a scene (planner).
 #pragma once
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/crex/ast.h"
 
 namespace crex {

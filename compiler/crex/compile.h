@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/crex/ast.h"
 #include "compiler/crex/lower.h"
 #include "compiler/sched/program.h"

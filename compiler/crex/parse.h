@@ -6,8 +6,8 @@
 
 #include <optional>
 
-#include "compiler/base/diagnostic.h"
-#include "compiler/base/source.h"
+#include "base/diagnostic.h"
+#include "base/source.h"
 #include "compiler/crex/ast.h"
 
 namespace crex {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/crex/ast.h"
 
 namespace crex::grammar {

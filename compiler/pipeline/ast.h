@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/source.h"
+#include "base/source.h"
 
 namespace crex::pipeline::ast {
 

@@ -8,7 +8,7 @@
 #include <map>
 #include <set>
 
-#include "compiler/base/nearest_name.h"
+#include "base/nearest_name.h"
 #include "compiler/crex/compile.h"
 #include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/resolve.h"

@@ -4,7 +4,7 @@
 
 #include <optional>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/pipeline/ast.h"
 
 namespace crex::pipeline {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/pipeline/ast.h"
 
 namespace crex::pipeline {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/crex/components.h"
+#include "base/components.h"
 #include "compiler/sched/program.h"
 
 namespace crex {

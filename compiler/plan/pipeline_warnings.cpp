@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <functional>
 
-#include "compiler/crex/components.h"
+#include "base/components.h"
 
 namespace crex {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/pipeline/resolve.h"
 #include "compiler/plan/pipeline_plan.h"
 

@@ -8,7 +8,7 @@
 #include <numbers>
 #include <set>
 
-#include "compiler/base/json_positions.h"
+#include "base/json_positions.h"
 #include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/settings_table.h"
 

@@ -6,7 +6,7 @@
 
 #include <optional>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/plan/emit_plan.h"
 
 namespace crex {

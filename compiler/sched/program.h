@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/source.h"
-#include "compiler/crex/components.h"
+#include "base/source.h"
+#include "base/components.h"
 
 namespace crex::sched {
 

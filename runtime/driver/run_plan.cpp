@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <set>
 
-#include "compiler/base/check.h"
+#include "base/check.h"
 #include "runtime/base/sampling.h"
 #include "runtime/driver/sample_passes.h"
 #include "runtime/pipeline/guidance_graph.h"

@@ -20,7 +20,7 @@
 
 #include <array>
 
-#include "compiler/crex/components.h"
+#include "base/components.h"
 #include "runtime/base/sampling.h"
 #include "runtime/scene/scene.h"
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "compiler/base/render_text.h"
+#include "base/render_text.h"
 #include "compiler/sched/print.h"
 #include "runtime/base/sampling.h"
 

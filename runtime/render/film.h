@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/crex/components.h"
+#include "base/components.h"
 #include "runtime/render/ray_batch.h"
 #include "runtime/base/vec3.h"
 

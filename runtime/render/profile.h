@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "compiler/crex/components.h"
+#include "base/components.h"
 
 namespace crex {
 

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <set>
 
-#include "compiler/base/json_positions.h"
-#include "compiler/base/nearest_name.h"
+#include "base/json_positions.h"
+#include "base/nearest_name.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/shapes.h"

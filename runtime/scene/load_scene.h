@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/diagnostic.h"
-#include "compiler/base/source.h"
+#include "base/diagnostic.h"
+#include "base/source.h"
 #include "runtime/scene/scene.h"
 
 namespace crex {

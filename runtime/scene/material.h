@@ -8,7 +8,7 @@
 #include <optional>
 #include <string_view>
 
-#include "compiler/crex/components.h"
+#include "base/components.h"
 #include "runtime/scene/scene.h"
 
 namespace crex {

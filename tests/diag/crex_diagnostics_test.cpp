@@ -2,8 +2,8 @@
 // test passes on a different error. A few cases also pin the full rendered text.
 #include <gtest/gtest.h>
 
-#include "compiler/base/render_json.h"
-#include "compiler/base/render_text.h"
+#include "base/render_json.h"
+#include "base/render_text.h"
 #include "compiler/crex/parse.h"
 
 #include <set>

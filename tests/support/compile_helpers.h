@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 #include "compiler/crex/compile.h"
 
 namespace crex::testing {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 
 namespace crex::testing {
 

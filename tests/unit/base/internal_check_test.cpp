@@ -1,7 +1,7 @@
 // CREX_CHECK: an invariant that fails is an internal error naming its place, not user input.
 #include <gtest/gtest.h>
 
-#include "compiler/base/check.h"
+#include "base/check.h"
 
 namespace crex {
 namespace {

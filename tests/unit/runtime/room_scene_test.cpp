@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "compiler/crex/components.h"
+#include "base/components.h"
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
 

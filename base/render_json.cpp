@@ -1,4 +1,4 @@
-#include "compiler/base/render_json.h"
+#include "base/render_json.h"
 
 namespace crex {
 namespace {

@@ -1,4 +1,4 @@
-#include "compiler/base/render_text.h"
+#include "base/render_text.h"
 
 #include <fmt/format.h>
 

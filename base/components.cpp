@@ -1,4 +1,4 @@
-#include "compiler/crex/components.h"
+#include "base/components.h"
 
 #include <string>
 

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "compiler/base/diagnostic.h"
-#include "compiler/base/source.h"
+#include "base/diagnostic.h"
+#include "base/source.h"
 
 namespace crex {
 

@@ -1,4 +1,4 @@
-#include "compiler/base/json_positions.h"
+#include "base/json_positions.h"
 
 #include <fmt/format.h>
 

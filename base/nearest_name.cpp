@@ -1,4 +1,4 @@
-#include "compiler/base/nearest_name.h"
+#include "base/nearest_name.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "compiler/base/diagnostic.h"
+#include "base/diagnostic.h"
 
 #include <algorithm>
 #include <tuple>
@@ -17,7 +17,7 @@ std::string_view severity_name(Severity s) {
 const std::vector<DiagnosticCodeInfo>& diagnostic_code_table() {
     static const std::vector<DiagnosticCodeInfo> table = {
 #define CREX_DIAGNOSTIC(code, severity, summary) {#code, Severity::severity, summary},
-#include "compiler/base/diagnostic_codes.def"
+#include "base/diagnostic_codes.def"
 #undef CREX_DIAGNOSTIC
     };
     return table;
