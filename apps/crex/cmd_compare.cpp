@@ -13,9 +13,34 @@
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/metrics.h"
+#include "stdlib/guidance/operators.h"
 
 namespace crex::app {
 namespace {
+
+// Where a viewer looks, as weights per pixel: the Itti-Koch saliency of the reference as
+// displayed, or a map from a file (a task map written by `crex run --maps`; its first channel).
+std::string attention_weights(const std::string& source, const metrics::Image& reference_display, std::vector<float>& weights) {
+    if (source == "saliency") {
+        guidance::Raster rgb(reference_display.width, reference_display.height, 3);
+        rgb.v = reference_display.rgb;
+        weights = guidance::saliency(rgb).v;
+        // A featureless reference draws the eye nowhere in particular: every pixel counts alike.
+        if (std::none_of(weights.begin(), weights.end(), [](float w) { return w > 0; })) std::fill(weights.begin(), weights.end(), 1.0f);
+        return "";
+    }
+    int w = 0, h = 0;
+    bool ldr = false;
+    std::vector<float> rgb;
+    std::string error = read_image(source, w, h, rgb, &ldr);
+    if (!error.empty()) return error;
+    if (w != reference_display.width || h != reference_display.height)
+        return fmt::format("the attention map {} is {}x{} but the reference is {}x{}", source, w, h, reference_display.width,
+                           reference_display.height);
+    weights.resize(static_cast<size_t>(w) * static_cast<size_t>(h));
+    for (size_t i = 0; i < weights.size(); ++i) weights[i] = rgb[3 * i];
+    return "";
+}
 
 struct CompareOptions {
     std::string test, reference;
@@ -23,6 +48,7 @@ struct CompareOptions {
     double perr_threshold = metrics::kDefaultPerrThreshold;
     double ppd = 67.0206;
     std::string flip_out;
+    std::string attention;  ///< "saliency" or a map file: weights of the attention-weighted FLIP
     std::string format = "text";
 };
 
@@ -66,7 +92,7 @@ int compare(const CompareOptions& opt) {
     for (const auto& m : wanted) perceptual |= m == "ssim" || m == "flip" || m == "perr";
     metrics::Image td, rd;
     std::vector<float> flip;
-    if (perceptual || !opt.flip_out.empty()) {
+    if (perceptual || !opt.flip_out.empty() || !opt.attention.empty()) {
         td = metrics::display_view(test, view), rd = metrics::display_view(ref, view);
         flip = metrics::flip_map(td, rd, opt.ppd);
     }
@@ -87,6 +113,21 @@ int compare(const CompareOptions& opt) {
             j["perr"] = metrics::perr(flip, opt.perr_threshold);
             j["perr_threshold"] = opt.perr_threshold;
         }
+    }
+    if (!opt.attention.empty()) {
+        std::vector<float> weights;
+        std::string error = attention_weights(opt.attention, rd, weights);
+        if (!error.empty()) {
+            std::cerr << "crex compare: error: " << error << "\n";
+            return kExitFailure;
+        }
+        auto aflip = metrics::weighted_mean(flip, weights);
+        if (!aflip) {
+            std::cerr << fmt::format("crex compare: error: the attention map {} is zero everywhere: nothing to weight by\n", opt.attention);
+            return kExitInputErrors;
+        }
+        j["aflip"] = *aflip;
+        j["attention"] = opt.attention;
     }
     if (!opt.flip_out.empty()) {
         std::vector<double> values(flip.begin(), flip.end());
@@ -111,6 +152,9 @@ int compare(const CompareOptions& opt) {
     if (j.contains("flip")) std::cout << fmt::format("  flip    {:.6f}   (mean LDR-FLIP, {:.1f} pixels per degree)\n", j["flip"].get<double>(), opt.ppd);
     if (j.contains("perr"))
         std::cout << fmt::format("  perr    {:.3f} %  (pixels with FLIP >= {:g}; not Daly's VDP)\n", j["perr"].get<double>(), opt.perr_threshold);
+    if (j.contains("aflip"))
+        std::cout << fmt::format("  aflip   {:.6f}   (FLIP weighted by {})\n", j["aflip"].get<double>(),
+                                 opt.attention == "saliency" ? "the reference's saliency" : opt.attention);
     if (perceptual) std::cout << "  display: " << view.describe() << "\n";
     if (!opt.flip_out.empty()) std::cout << "  wrote " << opt.flip_out << "\n";
     return kExitOk;
@@ -129,6 +173,8 @@ Runner add_compare_command(CLI::App& app) {
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--ppd", opt->ppd, "Pixels per degree of visual angle for FLIP")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
     cmd->add_option("--flip-map", opt->flip_out, "Write the per-pixel FLIP error as a picture (viridis, 0..1)");
+    cmd->add_option("--attention", opt->attention,
+                    "Also the attention-weighted FLIP (aflip): FLIP averaged with weights 'saliency' (of the reference) or from a map file (e.g. a task map)");
     cmd->add_option("--format", opt->format, "Output as text or json")->check(CLI::IsMember({"text", "json"}));
     cmd->footer(R"(
 RMSE and relMSE compare linear radiance. SSIM, FLIP and perr compare what a viewer sees:
@@ -139,6 +185,7 @@ Examples:
   crex compare out/sel_rp.exr out/gold.exr
   crex compare a.png b.png --metric flip,perr --flip-map flip.png
   crex compare a.exr ref.exr --format json
+  crex compare a.exr ref.exr --attention saliency        FLIP where a viewer looks
 
 Exit status: 0 compared, 1 images of different sizes, 2 usage, 3 an image cannot be read or written.)");
     return [opt] { return compare(*opt); };

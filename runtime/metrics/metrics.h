@@ -37,6 +37,11 @@ inline constexpr double kDefaultPerrThreshold = 0.1;
 double perr(const std::vector<float>& flip, double threshold = kDefaultPerrThreshold);
 double mean(const std::vector<float>& values);
 
+/// Attention-weighted mean: sum(w_i v_i) / sum(w_i), so errors count where a viewer looks
+/// (weights: a saliency or task map in [0, 1]). Negative and non-finite weights count as 0;
+/// nullopt when every weight is 0 or the sizes differ.
+std::optional<double> weighted_mean(const std::vector<float>& values, const std::vector<float>& weights);
+
 /// How an image is shown to the perceptual metrics: LDR inputs as they are (sRGB), HDR inputs
 /// through the tone map of spec §7 with the *reference's* exposure, so both images of a pair
 /// are seen the same way.

@@ -71,6 +71,17 @@ double mean(const std::vector<float>& values) {
     return values.empty() ? 0 : sum / static_cast<double>(values.size());
 }
 
+std::optional<double> weighted_mean(const std::vector<float>& values, const std::vector<float>& weights) {
+    if (values.size() != weights.size()) return std::nullopt;
+    double sum = 0, total = 0;
+    for (size_t i = 0; i < values.size(); ++i) {
+        double w = std::isfinite(weights[i]) && weights[i] > 0 ? weights[i] : 0.0;
+        sum += w * values[i], total += w;
+    }
+    if (!(total > 0)) return std::nullopt;
+    return sum / total;
+}
+
 std::string DisplayView::describe() const {
     return hdr ? fmt::format("HDR inputs tone-mapped with the reference's exposure {:.6g} (key 0.18 over its log-average "
                              "luminance), Reinhard, sRGB curve",

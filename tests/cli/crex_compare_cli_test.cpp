@@ -49,6 +49,30 @@ TEST_F(CompareCli, MetricsAsJson) {
     EXPECT_TRUE(fs::exists(path("flip.png")));
 }
 
+// The attention-weighted FLIP counts errors where the weights are: weight on the one changed
+// pixel gives more than the plain mean, weight everywhere else less; no weight at all is an error.
+TEST_F(CompareCli, AttentionWeightsTheFlipMap) {
+    std::vector<float> at_change(3 * 16 * 12, 0.0f), elsewhere(3 * 16 * 12, 1.0f);
+    for (int c = 0; c < 3; ++c) at_change[static_cast<size_t>(c)] = 1.0f, elsewhere[static_cast<size_t>(c)] = 0.0f;
+    ASSERT_EQ(write_image(path("at_change.exr"), 16, 12, {{"", at_change}}), "");
+    ASSERT_EQ(write_image(path("elsewhere.exr"), 16, 12, {{"", elsewhere}}), "");
+    ASSERT_EQ(write_image(path("zero.exr"), 16, 12, {{"", std::vector<float>(3 * 16 * 12, 0.0f)}}), "");
+    auto run = [&](const std::string& weights) {
+        auto r = crex_cli({"compare", path("b.exr"), path("a.exr"), "--format", "json", "--metric", "flip", "--attention", weights});
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(r.out);
+    };
+    auto on = run(path("at_change.exr")), off = run(path("elsewhere.exr")), sal = run("saliency");
+    double flip = on["flip"].get<double>();
+    EXPECT_GT(on["aflip"].get<double>(), 10 * flip);
+    EXPECT_LT(off["aflip"].get<double>(), flip);
+    EXPECT_NEAR(sal["aflip"].get<double>(), flip, 1e-9);  // a flat reference has no salient spot: plain FLIP
+    auto zero = crex_cli({"compare", path("b.exr"), path("a.exr"), "--attention", path("zero.exr")});
+    EXPECT_EQ(zero.exit_code, 1);
+    EXPECT_NE(zero.err.find("zero everywhere"), std::string::npos);
+    EXPECT_EQ(crex_cli({"compare", path("b.exr"), path("a.exr"), "--attention", path("small.exr")}).exit_code, 3);  // wrong size
+}
+
 TEST_F(CompareCli, ExitCodesSayWhatWentWrong) {
     EXPECT_EQ(crex_cli({"compare", path("a.exr"), path("small.exr")}).exit_code, 1);  // sizes differ
     auto missing = crex_cli({"compare", path("a.exr"), path("nothing.exr")});
