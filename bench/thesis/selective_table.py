@@ -1,85 +1,161 @@
 #!/usr/bin/env python3
-"""The thesis's comparison, on our scenes, from one run: every runnable stdlib pipeline against
-gold, as time and error against a converged reference, and gold's time at the same error.
+"""Does selective rendering pay? Every runnable stdlib pipeline on the Cornell box, the corridor
+and the furnished room, under the two protocols of issue 14, side by side in one run.
 
-  python3 bench/thesis/selective_table.py [--crex build/release/apps/crex/crex] [--size 128]
-                                          [--reference-spp 256] [--out out/thesis]
+  python3 bench/thesis/selective_table.py [--crex build/release/apps/crex/crex] [--width 128]
+        [--reference-spp 4096] [--pipelines adaptive,prog_dis_all,...] [--scenes cornell,room]
+        [--out out/thesis]
 
-For each scene: a reference (gold at --reference-spp), gold at 1, 2, 4, 8, 16 and 32 spp (its
-error-against-time curve), then each pipeline at its own settings (max 16 spp, like gold 16).
-Pipelines with a budget in % (tc_rp) get it of gold 16's time, from its saved profile.
-"Speed-up at equal FLIP" divides gold's time at the pipeline's FLIP (interpolated on the curve,
-log-log) by the pipeline's time. Prints a markdown table; writes the images and JSON to --out.
-Not run in CI (the reference alone takes minutes).
+Thesis protocol: the pipeline against its own gold, `crex run P --uniform max` (every selective
+variable at its maximum in every pixel): the time ratio gold / pipeline, and the perr of both
+against a converged reference; the pipeline's cost in quality is its perr minus gold's (crex's
+gold is stochastic, so a difference from gold itself would count gold's own noise).
+
+Equal-error protocol (what a user feels): the pipeline's error against the converged reference
+(a path-traced `crex reference` at --reference-spp); the time plain uniform rendering
+(`crex run --spp k`, k = 1..64, with and without --ic) needs for the same error on its best
+curve (the lower envelope of both, interpolated log-log between its points), divided by the
+pipeline's time. Two errors:
+  FLIP  - mean LDR-FLIP of the tone-mapped images (`crex compare`);
+  aFLIP - attention-weighted FLIP, sum(w FLIP) / sum(w) (`crex compare --attention`): w is the
+          pipeline's task map (`task`, from its --maps; the scene's tagged objects with the
+          pipeline's foveal falloff) for task pipelines on scenes with tags, else the Itti-Koch
+          saliency of the reference as displayed.
+Speed-ups above 1 mean the pipeline is faster at equal error; "<" marks errors below uniform's
+best point (the speed-up is then at least the figure shown).
+
+Prints markdown tables; writes images, maps and selective_table.json to --out. Never in CI.
 """
 import json
+import math
 import os
+import subprocess
 import sys
 
-from crex_tool import ROOT, SCENES, arguments, crex, gold_time_at
+from crex_tool import ROOT, crex
 
-PIPELINES = ["sel_rp", "osd", "sel_edge", "cbr", "sel_st", "prog_rp", "prog_all", "tc_rp", "apict"]
-
-
-
-
-def render(exe, pipe, scene, size, out, extra=()):
-    args = ["run", os.path.join(ROOT, "stdlib/pipelines", pipe + ".pipe"), "--scene", scene, "--size", size,
-            "-o", out, "--format", "json", "-q", "--seed", "1"] + list(extra)
-    return json.loads(crex(exe, args))
+DEFAULT_PIPELINES = ["adaptive", "prog_dis_all", "prog_all", "prog_rp", "sel_rp", "sel_edge", "sel_st", "osd", "cbr", "apict",
+                     "tpict"]
+SCENES = {"cornell": ("builtin:cornell", 1.0), "corridor": (os.path.join(ROOT, "examples/scenes/corridor/scene.json"), 0.75),
+          "room": (os.path.join(ROOT, "examples/scenes/room/scene.json"), 0.75)}
+UNIFORM_SPP = [1, 2, 4, 8, 16, 32, 64]
 
 
-def compare(exe, test, ref):
-    return json.loads(crex(exe, ["compare", test, ref, "--format", "json"]))
+def arguments():
+    import argparse
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
+    ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--reference-spp", type=int, default=4096)
+    ap.add_argument("--pipelines", default=",".join(DEFAULT_PIPELINES))
+    ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--seed", type=int, default=1)
+    return ap.parse_args()
 
 
+def run(a, args):
+    return json.loads(crex(a.crex, ["run"] + args + ["--format", "json", "-q", "--seed", str(a.seed)]))
+
+
+def compare(a, test, ref, attention):
+    j = json.loads(crex(a.crex, ["compare", test, ref, "--format", "json", "--metric", "flip,perr", "--attention", attention]))
+    return {"flip": j["flip"], "perr": j["perr"], "aflip": j["aflip"]}
+
+
+def envelope(points):
+    """The lower envelope of (time, error) points: each kept point has less error than every
+    faster one."""
+    best, out = math.inf, []
+    for t, e in sorted(points):
+        if e < best:
+            out.append((t, e))
+            best = e
+    return out
+
+
+def time_at(points, err):
+    """Uniform's time for `err` on its envelope, log-log between the two points around it;
+    (time, below) with below=True when err is under the envelope's best (then the time of the
+    best point, a lower bound of the true one); None above its worst."""
+    env = envelope(points)
+    if not env or err > env[0][1]:
+        return None
+    for (t0, e0), (t1, e1) in zip(env, env[1:]):
+        if e1 <= err <= e0:
+            a = (math.log(err) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0))), False
+    return env[-1][0], err < env[-1][1]
 
 
 def main():
-    a = arguments(__doc__).parse_args()
+    a = arguments()
     os.makedirs(a.out, exist_ok=True)
     results = {}
-    for name, scene, size in SCENES:
-        ref = os.path.join(a.out, f"{name}_reference.exr")
-        print(f"[{name}] reference, gold at {a.reference_spp} spp ...", file=sys.stderr)
-        ref_run = render(a.crex, "gold", scene, size, ref, ["--spp", str(a.reference_spp)])
-        rows, curve = [], []
-        for spp in [1, 2, 4, 8, 16, 32]:
-            out = os.path.join(a.out, f"{name}_gold{spp}.exr")
-            profile = os.path.join(a.out, f"{name}_gold16.profile.json")
-            j = render(a.crex, "gold", scene, size, out, ["--spp", str(spp)] + (["--save-profile", profile] if spp == 16 else []))
-            c = compare(a.crex, out, ref)
-            curve.append((j["render_seconds"], c["flip"]))
-            if spp == 16:
-                gold16 = out
-                rows.append(("gold (16 spp)", j, c, None))
-        for p in PIPELINES:
-            out = os.path.join(a.out, f"{name}_{p}.exr")
+    for name in a.scenes.split(","):
+        scene, aspect = SCENES[name]
+        size = f"{a.width}x{int(round(a.width * aspect))}"
+        print(f"[{name}] reference at {a.reference_spp} spp ...", file=sys.stderr)
+        ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
+        out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
+        uniform = []
+        for ic in [False, True]:
+            for spp in UNIFORM_SPP:
+                img = out(f"uniform{spp}{'_ic' if ic else ''}.exr")
+                j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] + (["--ic"] if ic else []))
+                uniform.append({"spp": spp, "ic": ic, "seconds": j["render_seconds"], "image": img,
+                                **compare(a, img, ref, "saliency")})
+        rows = []
+        for p in a.pipelines.split(","):
             print(f"[{name}] {p} ...", file=sys.stderr)
-            j = render(a.crex, p, scene, size, out, ["--profile", profile])  # budgets in % are of gold 16
-            c = compare(a.crex, out, ref)
-            g = compare(a.crex, out, gold16)
-            rows.append((p, j, c, g))
-        results[name] = {"reference_seconds": ref_run["render_seconds"], "gold_curve": curve,
-                         "rows": [{"pipeline": r[0], "run": r[1], "vs_reference": r[2], "vs_gold16": r[3]} for r in rows]}
-        gold_t = rows[0][1]["render_seconds"]
-        print(f"\n### {name} ({size}; reference: gold at {a.reference_spp} spp, "
-              f"{ref_run['render_seconds']:.1f} s)\n")
-        print("| pipeline | time s | time / gold16 | preview % of time | RMSE vs ref | FLIP vs ref | perr % | RMSE vs gold16 | gold time at equal FLIP | speed-up at equal FLIP |")
-        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-        for label, j, c, g in rows:
-            t = j["render_seconds"]
-            eq = gold_time_at(curve, c["flip"])
-            pre = j.get("preview_percent_of_time")
-            pre_s = "" if pre is None or label.startswith("gold") else f"{pre:.0f}"
-            g_s = "" if g is None else f"{g['rmse']:.4f}"
-            eq_s = "outside the curve" if eq is None else f"{eq:.3f}"
-            up_s = "" if eq is None else f"{eq / t:.2f}x"
-            print(f"| {label} | {t:.3f} | {t / gold_t:.2f} | {pre_s} | {c['rmse']:.4f} | {c['flip']:.4f} | {c['perr']:.1f} | "
-                  f"{g_s} | {eq_s} | {up_s} |")
-        print("\ngold's curve (time s, FLIP): " + ", ".join(f"({t:.3f}, {f:.4f})" for t, f in curve))
+            pipe = os.path.join(ROOT, "stdlib/pipelines", p + ".pipe")
+            img, gold_img, maps = out(f"{p}.exr"), out(f"{p}_gold.exr"), out(f"{p}_maps")
+            j = run(a, [pipe, "--scene", scene, "--size", size, "-o", img, "--maps", maps])
+            g = run(a, [pipe, "--scene", scene, "--size", size, "-o", gold_img, "--uniform", "max"])
+            task = os.path.join(maps, "map_task.png")
+            # A task map that is zero everywhere (no tags in the scene) weighs nothing (compare
+            # exits 1): saliency then.
+            attention = task if os.path.exists(task) and succeeds(a, ["compare", img, ref, "--attention", task]) else "saliency"
+            c, cg = compare(a, img, ref, attention), compare(a, gold_img, ref, attention)
+            curve_a = uniform if attention == "saliency" else [
+                {**u, "aflip": compare(a, u["image"], ref, attention)["aflip"]} for u in uniform]
+            eq_flip = time_at([(u["seconds"], u["flip"]) for u in uniform], c["flip"])
+            eq_aflip = time_at([(u["seconds"], u["aflip"]) for u in curve_a], c["aflip"])
+            t, tg = j["render_seconds"], g["render_seconds"]
+            rows.append({"pipeline": p, "seconds": t, "gold_seconds": tg, "vs_reference": c, "gold_vs_reference": cg,
+                         "attention": "task map" if attention != "saliency" else "saliency",
+                         "uniform_seconds_at_flip": eq_flip, "uniform_seconds_at_aflip": eq_aflip})
+        results[name] = {"size": size, "reference": ref, "uniform": uniform, "rows": rows}
+        print_tables(name, size, a.reference_spp, uniform, rows)
     with open(os.path.join(a.out, "selective_table.json"), "w") as f:
         json.dump(results, f, indent=2)
+
+
+def succeeds(a, args):
+    return subprocess.run([a.crex] + args, capture_output=True).returncode == 0
+
+
+def speedup(eq, t):
+    if eq is None:
+        return "slower than uniform's worst"
+    tu, below = eq
+    return f"{'>' if below else ''}{tu / t:.2f}x"
+
+
+def print_tables(name, size, ref_spp, uniform, rows):
+    print(f"\n### {name} ({size}; reference: path traced, {ref_spp} spp)\n")
+    print("| pipeline | time s | thesis: gold s | thesis: gold/pipeline | perr % (gold's) | perr cost, points "
+          "| FLIP (gold's) | equal FLIP: uniform s | speed-up | aFLIP | weights | equal aFLIP: uniform s | speed-up |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|")
+    for r in rows:
+        c, cg, t = r["vs_reference"], r["gold_vs_reference"], r["seconds"]
+        ef, ea = r["uniform_seconds_at_flip"], r["uniform_seconds_at_aflip"]
+        print(f"| {r['pipeline']} | {t:.2f} | {r['gold_seconds']:.2f} | {r['gold_seconds'] / t:.2f}x | "
+              f"{c['perr']:.1f} ({cg['perr']:.1f}) | {c['perr'] - cg['perr']:+.1f} | {c['flip']:.4f} ({cg['flip']:.4f}) | "
+              f"{'' if ef is None else f'{ef[0]:.2f}'} | {speedup(ef, t)} | {c['aflip']:.4f} | {r['attention']} | "
+              f"{'' if ea is None else f'{ea[0]:.2f}'} | {speedup(ea, t)} |")
+    print("\nuniform (spp, cache, s, FLIP, aFLIP by saliency): " + ", ".join(
+        f"({u['spp']}{' ic' if u['ic'] else ''}, {u['seconds']:.2f}, {u['flip']:.4f}, {u['aflip']:.4f})" for u in uniform))
 
 
 if __name__ == "__main__":
