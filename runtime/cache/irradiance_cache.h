@@ -39,7 +39,7 @@ struct IcSettings {
     /// RADIANCE's -ar: records are never closer than the scene's extent / ar, which caps their
     /// density in corners and at deeper bounces (0: extent / 2000, nearly no cap).
     double resolution = 128;
-    double max_radius = 0;      ///< clamp of R; 0: 0.1 x the scene's extent
+    double max_radius = 0;      ///< clamp of R; 0: 0.25 x the scene's extent
     Vec3 ambient{0, 0, 0};      ///< av, radiance beyond the last bounce
     uint64_t seed = 0;
 };
