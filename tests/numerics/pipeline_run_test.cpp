@@ -207,5 +207,23 @@ TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
     EXPECT_NEAR(a, b, 0.05 * b);  // same light, answered more finely
 }
 
+// A cached pipeline's selective samples ask the cache for D like its preview does: no D ray is
+// path traced (path-traced D rays shade their hits with shadow rays; cache queries do not).
+TEST(PipelineRun, SelectiveSamplesQueryTheCacheForIndirectDiffuse) {
+    Scene scene = load("builtin:cornell_diffuse");
+    const std::string text =
+        "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(1) }\n"
+        " selective { vary ic_radius 0.3 .. 0.3 by c\n vary spp 4 .. 4 by c }\n}\n";
+    RunSettings o;
+    o.width = o.height = 16;
+    IcSettings ic;
+    ic.divisions = 64, ic.bounces = 2;
+    o.irradiance_cache = ic;
+    auto r = run_plan(scene, plan_for(text, scene), o);
+    EXPECT_EQ(r.stats.camera.rays, 4u * 16u * 16u);  // 3 of the 4 samples in the selective stage
+    EXPECT_GT(r.stats.components[static_cast<size_t>(Component::kD)].rays, 0u);
+    EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kD)].shadow_rays, 0u);
+}
+
 }  // namespace
 }  // namespace crex
