@@ -13,7 +13,7 @@ gold is stochastic, so a difference from gold itself would count gold's own nois
 
 Equal-error protocol (what a user feels): the pipeline's error against the converged reference
 (a path-traced `crex reference` at --reference-spp); the time plain uniform rendering
-(`crex run --spp k`, k = 1..64, with and without --ic) needs for the same error on its best
+(`crex run --spp k`, k = 1..128, with and without --ic) needs for the same error on its best
 curve (the lower envelope of both, interpolated log-log between its points), divided by the
 pipeline's time. Two errors:
   FLIP  - mean LDR-FLIP of the tone-mapped images (`crex compare`);
@@ -38,7 +38,7 @@ DEFAULT_PIPELINES = ["adaptive", "prog_dis_all", "prog_all", "prog_rp", "sel_rp"
                      "tpict"]
 SCENES = {"cornell": ("builtin:cornell", 1.0), "corridor": (os.path.join(ROOT, "examples/scenes/corridor/scene.json"), 0.75),
           "room": (os.path.join(ROOT, "examples/scenes/room/scene.json"), 0.75)}
-UNIFORM_SPP = [1, 2, 4, 8, 16, 32, 64]
+UNIFORM_SPP = [1, 2, 4, 8, 16, 32, 64, 128]
 
 
 def arguments():

@@ -1,5 +1,6 @@
 // `crex reference` and `crex run --reference/--report`: the cache, checkpoints, error curve
 // and report files (issue 8).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -111,11 +112,12 @@ TEST(CyclicReportCli, TheRoundsOfTheCyclicPipelineShowInThePlanAndTheErrorCurve)
     fs::path dir = fs::temp_directory_path() / ("crex_cyclic_report_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/adaptive.pipe";
+    const int rounds = 3;  // adaptive.pipe's `rounds 3`
     auto json = testing::crex_cli({"plan", pipe, "--format", "json"});
     ASSERT_EQ(json.exit_code, 0) << json.err;
-    EXPECT_EQ(nlohmann::json::parse(json.out)["settings"]["rounds"], 4);
+    EXPECT_EQ(nlohmann::json::parse(json.out)["settings"]["rounds"], rounds);
     auto dot = testing::crex_cli({"plan", pipe, "--format", "dot"});
-    EXPECT_NE(dot.out.find("rounds: 4"), std::string::npos) << dot.out;
+    EXPECT_NE(dot.out.find("rounds: " + std::to_string(rounds)), std::string::npos) << dot.out;
     // A reference of the same size, then the report: its checkpoints name every round.
     auto ref = testing::crex_cli({"run", "--size", "24x16", "--spp", "64", "-o", (dir / "ref.exr").string(), "-q"});
     ASSERT_EQ(ref.exit_code, 0) << ref.err;
@@ -126,8 +128,8 @@ TEST(CyclicReportCli, TheRoundsOfTheCyclicPipelineShowInThePlanAndTheErrorCurve)
     auto j = nlohmann::json::parse(in);
     std::string events;
     for (const auto& c : j["checkpoints"]) events += c["event"].get<std::string>() + "\n";
-    for (int round = 1; round <= 4; ++round)
-        EXPECT_NE(events.find("end of guidance (round " + std::to_string(round) + "/4)"), std::string::npos) << events;
+    for (int round = 1; round <= rounds; ++round)
+        EXPECT_NE(events.find(fmt::format("end of guidance (round {}/{})", round, rounds)), std::string::npos) << events;
     fs::remove_all(dir);
 }
 
