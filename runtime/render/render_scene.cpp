@@ -19,7 +19,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
         if (g.sphere) {
             Entry e;
             e.sphere = true;
-            e.a = g.center;
+            e.a = e.centre = g.center;
             e.b = {g.radius, 0, 0};
             e.radiance = m.color;
             e.area = 4 * kPi * g.radius * g.radius;
@@ -34,6 +34,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
             e.radiance = m.color;
             e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
             e.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
+            e.centre = (e.a + e.b + e.c) / 3.0;
             if (e.area > 0) entries_.push_back(e);
         }
     }
@@ -41,7 +42,8 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
     for (const auto& e : entries_) total += e.area * std::fmax(luminance(e.radiance), 1e-12);
     double acc = 0;
     for (auto& e : entries_) {
-        double p = e.area * std::fmax(luminance(e.radiance), 1e-12) / total;
+        e.power = e.area * std::fmax(luminance(e.radiance), 1e-12);
+        double p = e.power / total;
         e.pdf_area = p / e.area;
         acc += p;
         cdf_.push_back(acc);

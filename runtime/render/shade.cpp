@@ -67,7 +67,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     random.pair(RandomUse::kLight, r0, r1);
     rotated_halton(j, r0, r1, u, v);
     double pick = (j + random(RandomUse::kLightPick, j)) / n;
-    LightSample ls = scene.lights->sample(pick, u, v);
+    LightSample ls = scene.lights->sample(f.position, pick, u, v);
     Vec3 to = ls.position - f.position;
     double d2 = dot(to, to);
     if (!(d2 > 0) || !(ls.pdf_area > 0)) return false;

@@ -107,7 +107,9 @@ TEST(IrradianceCache, ConvergesToPathTracingWithTheSameBouncesAsAaFalls) {
         double se = 0;
         for (size_t i = 0; i < d.size(); ++i) se += (d[i] - g[i]) * (d[i] - g[i]);
         errors.push_back(std::sqrt(se / static_cast<double>(d.size())) / gm);
-        EXPECT_NEAR(mean_d(r), gm, 0.03 * gm) << "aa " << aa;  // the image mean within 3 %
+        // Interpolation's bias shrinks with aa: the image mean within 10 aa % (4 % at 0.4, 1 % at
+        // 0.1; measured +3.1, +0.85 and +0.26 %).
+        EXPECT_NEAR(mean_d(r), gm, 0.1 * aa * gm) << "aa " << aa;
     }
     EXPECT_LT(errors[2], errors[0]);  // finer accuracy, closer to the path-traced answer
     EXPECT_LT(errors[2], 0.10);       // relative RMSE per pixel under 10 % at aa = 0.1
