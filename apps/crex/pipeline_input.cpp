@@ -68,7 +68,10 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
         hash = census_hash_hex(census.hash);
     }
     in->plan = plan_pipeline(*in->resolved, spawnable, in->scene_spec, hash, sink);
-    if (in->plan) warn_scene_mismatches(*in->resolved, *in->plan, tags ? &*tags : nullptr, sink);
+    if (in->plan) {
+        warn_scene_mismatches(*in->resolved, *in->plan, tags ? &*tags : nullptr, sink);
+        warn_unreachable_modulated_steps(*in->resolved, *in->plan, sink);
+    }
     return in;
 }
 

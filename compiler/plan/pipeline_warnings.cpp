@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 #include "base/components.h"
@@ -21,7 +22,92 @@ void each_call(const pipeline::ast::Expr& e, const std::function<void(const pipe
     for (const auto& a : e.args) each_call(a.expr, f);
 }
 
+// The largest value a map can take, from its definition (1 when it cannot be told): constants,
+// thresholds, weighted importance and what they are built from. Maps are defined above their
+// use and chains are at most 256 long (E214), so the recursion ends.
+double upper_bound(const pipeline::ast::Expr& e, const pipeline::ResolvedPipeline& p, int depth = 0) {
+    using K = pipeline::ast::Expr::Kind;
+    if (depth > 300) return 1;
+    if (e.kind == K::kReference) {
+        for (const auto& [name, def] : p.maps)
+            if (name == e.name) return upper_bound(def, p, depth + 1);
+        return 1;  // preview, buffers: not maps
+    }
+    if (e.kind != K::kCall) return 1;
+    auto positional = [&](size_t i) -> const pipeline::ast::Expr* {
+        size_t k = 0;
+        for (const auto& a : e.args)
+            if (a.name.empty() && k++ == i) return &a.expr;
+        return nullptr;
+    };
+    auto named = [&](const std::string& n) -> const pipeline::ast::Value* {
+        for (const auto& a : e.args)
+            if (a.name == n) return &a.value;
+        return nullptr;
+    };
+    if (e.name == "constant") {
+        const auto* v = positional(0);
+        return v && v->kind == K::kLiteral ? std::clamp(v->literal.number, 0.0, 1.0) : 1;
+    }
+    if (e.name == "blur" || e.name == "normalise") {
+        const auto* m = positional(0);
+        double u = m ? upper_bound(*m, p, depth + 1) : 1;
+        return e.name == "normalise" && u > 0 ? 1 : u;
+    }
+    if (e.name == "threshold") {
+        const auto* m = positional(0);
+        const auto* at = named("at");
+        return m && upper_bound(*m, p, depth + 1) < (at ? at->number : 0.5) ? 0 : 1;
+    }
+    if (e.name == "importance") {
+        const auto* opv = named("op");
+        const std::string op = opv ? opv->text : "+";
+        double sum = 0, mx = 0, prod = 1;
+        bool any = false;
+        for (const auto& a : e.args) {
+            if (a.name == "op") continue;
+            pipeline::ast::Expr ref;
+            ref.name = a.name;
+            double u = a.name.empty() ? upper_bound(a.expr, p, depth + 1) : a.value.number * upper_bound(ref, p, depth + 1);
+            sum += u, mx = std::max(mx, u), prod *= u, any = true;
+        }
+        if (!any) return 0;
+        return std::clamp(op == "max" ? mx : op == "*" ? prod : sum, 0.0, 1.0);
+    }
+    return 1;
+}
+
+// Every executed component occurrence inside a `{ }` with its index at the first iteration.
+void modulated_steps(const sched::Node& node, const sched::Node* modulate, std::vector<std::pair<const sched::Node*, const sched::Node*>>& out) {
+    if (node.op == sched::Op::kModulate) modulate = &node;
+    if (node.op == sched::Op::kExec && modulate && node.first_index >= 0) out.push_back({modulate, &node});
+    for (const auto& c : node.children) modulated_steps(c, modulate, out);
+}
+
 }  // namespace
+
+void warn_unreachable_modulated_steps(const pipeline::ResolvedPipeline& p, const PipelinePlan& plan, DiagnosticSink& sink) {
+    if (!p.selective.crex_by) return;
+    const double u = upper_bound(*p.selective.crex_by, p);
+    if (!(u < 1)) return;
+    std::vector<std::pair<const sched::Node*, const sched::Node*>> steps;
+    modulated_steps(plan.program.selective, nullptr, steps);
+    std::string never;
+    double n = 0;
+    for (const auto& [mod, exec] : steps) {
+        // Occurrence i runs in pixel p only if i < ceil(I(p) n) (spec/crex.md §3).
+        if (exec->first_index >= std::ceil(u * mod->occurrences)) {
+            if (never.find(kComponentTable[static_cast<size_t>(exec->component)].letter) == std::string::npos)
+                never += kComponentTable[static_cast<size_t>(exec->component)].letter;
+            n = mod->occurrences;
+        }
+    }
+    if (never.empty()) return;
+    sink.report("W205", p.selective.crex_by->span,
+                fmt::format("this map is at most {:g}, so `{{ }}` runs only the first {:g} of its {:g} occurrences: {} never run{}", u,
+                            std::ceil(u * n), n, never, never.size() == 1 ? "s" : ""))
+        .help = "raise the map's weights (importance(..., op \"+\") of weights summing to 1 reaches 1) or move those letters earlier in the braces";
+}
 
 void warn_scene_mismatches(const pipeline::ResolvedPipeline& p, const PipelinePlan& plan, const std::vector<std::string>* scene_tags,
                            DiagnosticSink& sink) {

@@ -261,6 +261,34 @@ TEST(PipelineAgainstScene, AComponentBufferThePreviewNeverFillsIsW204AtTheCall) 
     EXPECT_TRUE(filled.diagnostics.empty());
 }
 
+// The case: `{TTMRSGD}2` by an importance that is at most 0.5 never runs S, G, D
+// (occurrence i needs i < ceil(0.5 * 7) = 4). Said at the `by` map, with the letters.
+TEST(PipelineAgainstScene, BracesThatTheirMapCanNeverReachAreW205AtTheMap) {
+    std::vector<std::string> tags = {"exit_sign"};
+    auto text = [](const std::string& weights) {
+        return "pipeline p {\n  preselective { crex \"TTD\" }\n  guidance {\n    sal  = saliency(preview)\n"
+               "    task = task_map(tagged(\"exit_sign\"), fovea 2 deg)\n    imp  = importance(" + weights + ")\n  }\n"
+               "  selective { crex \"{TTMRSGD}2\" by imp }\n}\n";
+    };
+    auto r = testing::plan_text("p.pipe", text("task 0.5, sal 0, op \"+\""), std::nullopt, "", "", &tags);
+    ASSERT_TRUE(r.plan);
+    ASSERT_EQ(r.diagnostics.size(), 1u);
+    const Diagnostic& d = r.diagnostics[0];
+    EXPECT_EQ(d.code, "W205");
+    EXPECT_EQ(d.severity, Severity::kWarning);
+    EXPECT_EQ(r.file->position(d.span.begin).line, 8u);
+    EXPECT_EQ(r.file->position(d.span.begin).col, 36u);
+    EXPECT_NE(d.message.find("at most 0.5"), std::string::npos) << d.message;
+    EXPECT_NE(d.message.find("SGD never run"), std::string::npos) << d.message;
+    // Weights that can reach 1, or "max" of two maps each able to reach 1: nothing to say.
+    for (const char* ok : {"task 0.5, sal 0.5, op \"+\"", "task 1, sal 1, op \"max\""})
+        EXPECT_TRUE(testing::plan_text("p.pipe", text(ok), std::nullopt, "", "", &tags).diagnostics.empty()) << ok;
+    // A product of two maps each at most 0.9 is at most 0.81: ceil(0.81 * 7) = 6, so only D.
+    auto prod = testing::plan_text("p.pipe", text("task 0.9, sal 0.9, op \"*\""), std::nullopt, "", "", &tags);
+    ASSERT_EQ(prod.diagnostics.size(), 1u);
+    EXPECT_NE(prod.diagnostics[0].message.find(": D never runs"), std::string::npos) << prod.diagnostics[0].message;
+}
+
 }  // namespace
 }  // namespace crex
 

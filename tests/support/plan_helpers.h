@@ -31,7 +31,7 @@ struct PlannedPipeline {
 };
 
 /// `name` is how the file is called in positions (keep it relative: plans are goldens).
-/// `tags` given: also the scene-aware warnings (W203, W204) for a scene with those tags.
+/// `tags` given: also the scene-aware warnings (W203, W204) for a scene with those tags, and W205.
 inline PlannedPipeline plan_text(const std::string& name, const std::string& text, const std::optional<BinSet>& spawnable,
                                  const std::string& scene = "", const std::string& hash = "",
                                  const std::vector<std::string>* tags = nullptr) {
@@ -42,8 +42,10 @@ inline PlannedPipeline plan_text(const std::string& name, const std::string& tex
     if (ast) pipeline::check_pipeline_file(*ast, sink);
     if (ast && !sink.has_errors())
         if (auto resolved = pipeline::resolve_pipeline(*ast, "", sink))
-            if ((r.plan = plan_pipeline(*resolved, spawnable, scene, hash, sink)) && tags)
+            if ((r.plan = plan_pipeline(*resolved, spawnable, scene, hash, sink)) && tags) {
                 warn_scene_mismatches(*resolved, *r.plan, tags, sink);
+                warn_unreachable_modulated_steps(*resolved, *r.plan, sink);
+            }
     r.diagnostics = sink.sorted();
     return r;
 }
