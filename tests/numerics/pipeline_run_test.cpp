@@ -207,6 +207,26 @@ TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
     EXPECT_NEAR(a, b, 0.05 * b);  // same light, answered more finely
 }
 
+// --uniform max is the pipeline's own gold: the same image as the pipeline whose every map is
+// constant(1) (the thesis protocol's denominator is exactly that pipeline, not another renderer).
+TEST(PipelineRun, UniformMaxIsThePipelineWithEveryMapAtOne) {
+    Scene scene = load("builtin:cornell");
+    auto text = [](const std::string& sal, const std::string& dl) {
+        return "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance {\n sal = " + sal + "\n dl = " + dl +
+               "\n }\n selective {\n vary spp 1 .. 4 by sal\n vary shadow_rays 1 .. 3 by dl\n }\n}\n";
+    };
+    RunSettings o;
+    o.width = o.height = 16;
+    RunSettings gold = o;
+    gold.uniform = UniformQuality::kMax;
+    auto a = run_plan(scene, plan_for(text("saliency(preview)", "edges(direct)"), scene), gold);
+    auto b = run_plan(scene, plan_for(text("constant(1)", "constant(1)"), scene), o);
+    auto c = run_plan(scene, plan_for(text("saliency(preview)", "edges(direct)"), scene), o);
+    EXPECT_EQ(a.image(), b.image());
+    EXPECT_EQ(a.stats.camera.rays, 4u * 16u * 16u);
+    EXPECT_NE(a.image(), c.image());  // the maps do matter without --uniform
+}
+
 // A cached pipeline's selective samples ask the cache for D like its preview does: no D ray is
 // path traced (path-traced D rays shade their hits with shadow rays; cache queries do not).
 TEST(PipelineRun, SelectiveSamplesQueryTheCacheForIndirectDiffuse) {
