@@ -101,6 +101,7 @@ private:
     std::optional<IrradianceCache> cache_;
     std::vector<IcAnswer> preview_answers_;
     double base_aa_ = 0;
+    double seconds_per_sample_ = 0;  // measured under a budget: camera sample and its rays
     // Progress within the running stage.
     RunProgress progress_;
     uint64_t stage_samples_ = 0, stage_samples_done_ = 0;
@@ -236,6 +237,11 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, 
     limits.bytes = pass_bytes(held);
     limits.bytes_per_sample = kBytesPerSample;
     limits.max_samples = s_.pass_samples;
+    // Under a budget, camera samples are scheduled work (issue 15): one sample index per pass,
+    // each admitted on the cost per sample measured so far, the last one cut to the rows that
+    // fit. The first sample of the render always runs: there is always an image.
+    const bool budgeted = s_.executor.budget_seconds > 0;
+    if (budgeted) limits.max_samples = 1;
     std::vector<SamplePass> passes = plan_sample_passes(s_.width, s_.height, ranges, limits);
     for (const SamplePass& p : passes) CREX_CHECK(p.first < p.end && p.row_begin < p.row_end && p.samples > 0);
     progress_ = {};
@@ -244,14 +250,37 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, 
     stage_samples_ = 0, stage_samples_done_ = 0;
     stage_start_ = Clock::now();
     for (const auto& p : passes) stage_samples_ += p.samples;
-    for (size_t i = 0; i < passes.size(); ++i) {
-        progress_.pass = i + 1;
-        report_progress("camera rays");
-        trace_camera_rays(passes[i], ranges);
-        after_camera_rays();
-        stage_samples_done_ += passes[i].samples;
-        ++out_.passes;
+    bool out_of_time = false;
+    for (size_t i = 0; i < passes.size() && !out_of_time; ++i) {
+        // Under a budget a pass may run as several bands of rows: each admitted on the cost
+        // measured so far, so the last decision lands within a band's error of the budget.
+        for (int row = passes[i].row_begin; row < passes[i].row_end;) {
+            SamplePass pass = passes[i];
+            pass.row_begin = row;
+            pass.samples = row == passes[i].row_begin ? pass.samples : samples_in(pass, ranges, s_.width);
+            if (budgeted && (out_.passes > 0 || pass.first > 0)) {
+                auto fits = pass_within(pass, ranges, s_.width, seconds_per_sample_, s_.executor.budget_seconds - now());
+                if (!fits) {
+                    out_of_time = true;
+                    break;
+                }
+                pass = *fits;
+            }
+            progress_.pass = i + 1;
+            report_progress("camera rays");
+            const double t = now();
+            trace_camera_rays(pass, ranges);
+            after_camera_rays();
+            // What a camera sample and all its rays cost, smoothed over passes (the thesis's
+            // continuous profiling): the next pass or band is admitted on it.
+            const double measured = (now() - t) / static_cast<double>(pass.samples);
+            seconds_per_sample_ = seconds_per_sample_ > 0 ? 0.5 * seconds_per_sample_ + 0.5 * measured : measured;
+            stage_samples_done_ += pass.samples;
+            ++out_.passes;
+            row = pass.row_end;
+        }
     }
+    if (out_of_time) out_.budget_stopped_samples += stage_samples_ - stage_samples_done_;
     report_progress("");
 }
 

@@ -102,6 +102,7 @@ struct RunResult {
     double render_seconds = 0;     ///< from the first camera ray
     std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end of passes, per bin
     size_t passes = 0;             ///< sample passes over all stages
+    uint64_t budget_stopped_samples = 0;  ///< camera samples the budget left out
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
     IcStats ic_stats;
     size_t ic_loaded = 0;          ///< records read from `ic_file`

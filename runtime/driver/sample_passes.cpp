@@ -1,6 +1,7 @@
 #include "runtime/driver/sample_passes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace crex {
@@ -62,6 +63,33 @@ std::vector<SamplePass> plan_sample_passes(int width, int height, const SampleRa
         ++k;
     }
     return passes;
+}
+
+uint64_t samples_in(const SamplePass& pass, const SampleRanges& ranges, int width) {
+    uint64_t n = 0;
+    const size_t p0 = static_cast<size_t>(pass.row_begin) * static_cast<size_t>(width);
+    const size_t p1 = static_cast<size_t>(pass.row_end) * static_cast<size_t>(width);
+    for (size_t p = p0; p < p1; ++p) {
+        uint32_t first = std::max(ranges.start(p), pass.first), end = std::min(pass.end, ranges.stop(p));
+        n += end > first ? end - first : 0;
+    }
+    return n;
+}
+
+std::optional<SamplePass> pass_within(const SamplePass& pass, const SampleRanges& ranges, int width, double seconds_per_sample,
+                                      double remaining) {
+    if (!(remaining > 0)) return std::nullopt;
+    const double predicted = seconds_per_sample * static_cast<double>(pass.samples);
+    if (!(predicted > remaining)) return pass;
+    const int rows = pass.row_end - pass.row_begin;
+    // Rows hold about the same number of samples: the share of them that fits.
+    const int fit = static_cast<int>(std::floor(remaining / predicted * rows));
+    if (fit < 1) return std::nullopt;
+    SamplePass band = pass;
+    band.row_end = pass.row_begin + std::min(fit, rows);
+    band.samples = samples_in(band, ranges, width);
+    if (band.samples == 0) return std::nullopt;
+    return band;
 }
 
 }  // namespace crex

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace crex {
@@ -37,5 +38,14 @@ struct SampleRanges {
 /// pass as fit; when even one sample index of every pixel does not fit, a pass covers a band
 /// of rows instead. The passes cover every requested sample exactly once; none is empty.
 std::vector<SamplePass> plan_sample_passes(int width, int height, const SampleRanges& ranges, const PassLimits& limits);
+
+/// The camera samples `pass` traces for `ranges` (its rows, its sample indices).
+uint64_t samples_in(const SamplePass& pass, const SampleRanges& ranges, int width);
+
+/// Under a time budget, camera samples are scheduled work (issue 15): the part of `pass` whose
+/// predicted time fits in `remaining` seconds at `seconds_per_sample`: the whole pass, the band
+/// of its first rows that fits (`samples` recounted), or nullopt when not one row fits.
+std::optional<SamplePass> pass_within(const SamplePass& pass, const SampleRanges& ranges, int width, double seconds_per_sample,
+                                      double remaining);
 
 }  // namespace crex
