@@ -92,6 +92,11 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
         ->allow_extra_args(false);
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
+    cmd->add_option("--policy", opt->policy,
+                    "How a budget is spent: tasks (whole components, thesis 5.4), batches (rays by pixel importance, 5.5), "
+                    "queues (8.3; runs as batches for now), progressive (whole passes); default: the pipeline's, else tasks for a "
+                    "pipeline without vary, queues with, progressive for a plain crex")
+        ->check(CLI::IsMember({"tasks", "batches", "queues", "progressive"}));
     cmd->add_option("--profile", opt->profile_in, "Profile (cost per ray per component) to predict from");
     cmd->add_option("--save-profile", opt->profile_out, "Write the measured profile (and this render's time) to FILE");
     cmd->add_option("--format", opt->format, "Summary as text or json (stdout)")->check(CLI::IsMember({"text", "json"}));

@@ -39,6 +39,7 @@ struct RunOptions {
     bool quiet = false;
     std::string budget;
     bool no_budget = false;
+    std::string policy;  ///< "" : the pipeline's, else the default
     std::string profile_in;
     std::string profile_out;
     std::string maps_dir;

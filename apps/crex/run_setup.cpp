@@ -10,6 +10,7 @@
 
 #include "apps/crex/cli_values.h"
 #include "apps/crex/exit_codes.h"
+#include "compiler/pipeline/settings_table.h"
 #include "runtime/io/image_io.h"
 #include "runtime/report/reference_cache.h"
 
@@ -111,6 +112,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
         }
     }
     rs.executor.budget_seconds = setup.budget;
+    if (!opt.policy.empty()) rs.policy = pipeline::scheduling_policy_from_name(opt.policy);
 
     // The irradiance cache: --ic, --ic-file, or a pipeline that has one.
     bool wants_cache = opt.ic || !opt.ic_file.empty();

@@ -6,6 +6,7 @@
 #include <climits>
 #include <filesystem>
 
+#include "compiler/pipeline/settings_table.h"
 #include "compiler/sched/print.h"
 
 namespace crex::app {
@@ -75,6 +76,8 @@ nlohmann::json run_summary_json(const RunFacts& f) {
     if (f.budget > 0) {
         j["budget_seconds"] = f.budget;
         j["overshoot_percent"] = (r.render_seconds - f.budget) / f.budget * 100;
+        j["policy"] = std::string(pipeline::name_of(r.policy));
+        j["camera_samples_left_out"] = r.budget_stopped_samples;
         nlohmann::json skipped = nlohmann::json::array();
         for (const auto& sk : st.skipped)
             skipped.push_back({{"task", sk.what}, {"predicted_seconds", sk.predicted}, {"remaining_seconds", sk.remaining}});
@@ -123,9 +126,10 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
             row(std::string(1, kComponentTable[c].letter), st.components[c], std::to_string(st.components[c].executions),
                 r.rays_left[c]);
     if (f.budget > 0) {
-        out << fmt::format("  budget {:.3f} s, actual {:.3f} s, overshoot {:+.1f} %, {} task{} skipped\n", f.budget,
-                           r.render_seconds, (r.render_seconds - f.budget) / f.budget * 100, st.skipped.size(),
-                           st.skipped.size() == 1 ? "" : "s");
+        out << fmt::format("  budget {:.3f} s ({}), actual {:.3f} s, overshoot {:+.1f} %, {} task{} skipped, {} camera sample{} left out\n",
+                           f.budget, pipeline::name_of(r.policy), r.render_seconds, (r.render_seconds - f.budget) / f.budget * 100,
+                           st.skipped.size(), st.skipped.size() == 1 ? "" : "s", r.budget_stopped_samples,
+                           r.budget_stopped_samples == 1 ? "" : "s");
         for (const auto& sk : st.skipped)
             out << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
     }

@@ -283,10 +283,11 @@ private:
         case SettingShape::kPolicy: {
             std::vector<std::string> names(scheduling_policy_names().begin(), scheduling_policy_names().end());
             if (!(s.values.size() == 1 && is(0, Value::Kind::kString)))
-                bad("a policy in double quotes: \"tasks\" or \"queues\"");
+                bad("a policy in double quotes: \"tasks\", \"batches\", \"queues\" or \"progressive\"");
             else if (!scheduling_policy_from_name(s.values[0].text))
                 sink_.report("E203", s.values[0].span, fmt::format("policy: unknown scheduling policy '{}': expected \"tasks\" "
-                                                                   "(whole tasks, thesis 5.4) or \"queues\" (per-variable queues, 8.3)",
+                                                                   "(whole tasks, thesis 5.4), \"batches\" (rays by pixel importance, "
+                                                                   "5.5), \"queues\" (per-variable queues, 8.3) or \"progressive\"",
                                                                    s.values[0].text))
                     .help = nearest(s.values[0].text, names);
             break;

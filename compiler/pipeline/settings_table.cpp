@@ -39,7 +39,8 @@ constexpr std::array kRules = {
 };
 
 constexpr std::array<std::string_view, 5> kSections = {"", "preselective", "guidance", "selective", "output"};
-constexpr std::array<std::string_view, 2> kPolicies = {"tasks", "queues"};
+// In SchedulingPolicy order.
+constexpr std::array<std::string_view, 4> kPolicies = {"tasks", "queues", "batches", "progressive"};
 
 }  // namespace
 

@@ -44,7 +44,14 @@ std::string setting_range_error(const SettingRule& rule, double v);
 std::string budget_range_error(double v, bool percent);
 
 /// Scheduling policies (spec/pipeline.md §7): whole tasks (thesis 5.4) or per-variable queues (8.3).
-enum class SchedulingPolicy { kTasks, kQueues };
+/// How a time budget is spent (spec/pipeline.md §7, issue 15). Every policy admits camera
+/// samples pass by pass and band by band on the measured cost; they differ inside a pass:
+///  tasks       whole components and [ ] groups, admitted on the profile (thesis 5.4);
+///  batches     a task that does not fit runs its rays in batches ordered by pixel importance
+///              while they fit (thesis 5.5, cbtcr);
+///  queues      per-variable queues by contribution over cost (thesis 8.3): not yet, runs as batches;
+///  progressive admitted passes run their crex whole (a plain crex run's default).
+enum class SchedulingPolicy { kTasks, kQueues, kBatches, kProgressive };
 std::span<const std::string_view> scheduling_policy_names();
 std::optional<SchedulingPolicy> scheduling_policy_from_name(std::string_view name);
 std::string_view name_of(SchedulingPolicy p);

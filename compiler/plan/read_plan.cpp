@@ -244,7 +244,7 @@ public:
             std::string name;
             if (!text(s, ptr, "policy", name, true)) return false;
             out.policy = pipeline::scheduling_policy_from_name(name);
-            if (!out.policy) return fail(ptr + "/policy", fmt::format("unknown scheduling policy '{}': expected \"tasks\" or \"queues\"", name));
+            if (!out.policy) return fail(ptr + "/policy", fmt::format("unknown scheduling policy '{}': expected \"tasks\", \"queues\", \"batches\" or \"progressive\"", name));
         }
         return text(s, ptr, "reference", out.reference, false);
     }

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <numeric>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -451,13 +452,36 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
         again.push_back({a.query.origin, normalize_or_zero(a.query.direction), sel.ic_accuracy[p], sel.ic_priority[p], a.query.path});
         from.push_back(&a);
     }
-    std::vector<Vec3> e;
-    cache_->irradiance(again, 0, e);
-    for (size_t i = 0; i < again.size(); ++i) {
-        Vec3 delta = from[i]->query.beta * (e[i] - from[i]->irradiance) / kPi;
-        if (is_finite(delta)) out_.film.add(aov_of(Component::kD), from[i]->query.pixel, delta, from[i]->query.flags & kRayOddSample);
+    // Under a budget, in batches of the most important pixels first, while time is left: a
+    // sample not answered again keeps its coarser (valid) answer. (Answered in one go, the new
+    // records of prog_tc's fine pixels took a 0.96 s budget to 1.46 s on the Cornell box.)
+    std::vector<size_t> order(again.size());
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return again[a].priority > again[b].priority; });
+    const bool budgeted = s_.executor.budget_seconds > 0;
+    // Batches start small and double, each predicted from the one before (its time per query):
+    // the first answers make most of the new records, so their cost is unknown until measured.
+    size_t batch = budgeted ? 64 : std::max<size_t>(1, again.size());
+    size_t done = 0;
+    double per_query = 0;
+    while (done < order.size() &&
+           !(budgeted && now() + per_query * static_cast<double>(std::min(batch, order.size() - done)) > s_.executor.budget_seconds)) {
+        const double t = now();
+        const size_t end = std::min(order.size(), done + batch);
+        std::vector<IcQuery> part;
+        for (size_t k = done; k < end; ++k) part.push_back(again[order[k]]);
+        std::vector<Vec3> e;
+        cache_->irradiance(part, 0, e);
+        for (size_t k = done; k < end; ++k) {
+            const IcAnswer& a = *from[order[k]];
+            Vec3 delta = a.query.beta * (e[k - done] - a.irradiance) / kPi;
+            if (is_finite(delta)) out_.film.add(aov_of(Component::kD), a.query.pixel, delta, a.query.flags & kRayOddSample);
+        }
+        per_query = (now() - t) / static_cast<double>(end - done);
+        done = end;
+        batch *= 2;
     }
-    out_.ic_reprocessed = again.size();
+    out_.ic_reprocessed = done;
     preview_answers_.clear();
     preview_answers_.shrink_to_fit();
 }
@@ -479,6 +503,16 @@ RunResult PlanRun::execute() {
     const auto t0 = Clock::now();
     CheckpointRecorder* rec = s_.recorder;
     ExecutorOptions eo = s_.executor;
+    out_.policy = s_.policy ? *s_.policy
+                  : plan_.settings.policy ? *plan_.settings.policy
+                  : plan_.name.empty()    ? pipeline::SchedulingPolicy::kProgressive
+                  : plan_.variables.empty() ? pipeline::SchedulingPolicy::kTasks
+                                            : pipeline::SchedulingPolicy::kQueues;
+    using P = pipeline::SchedulingPolicy;
+    using A = ExecutorOptions::TaskAdmission;
+    eo.task_admission = out_.policy == P::kTasks ? A::kWhole : out_.policy == P::kProgressive ? A::kNone : A::kBatches;
+    if (eo.budget_seconds > 0 && out_.policy == P::kQueues)
+        out_.notes.push_back("policy \"queues\" (thesis 8.3) is not implemented yet: it runs as \"batches\" (rays by pixel importance)");
     if (rec) {
         rec->start();
         clock_ = [rec] { return rec->now(); };

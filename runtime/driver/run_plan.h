@@ -80,6 +80,10 @@ struct RunSettings {
     uint32_t pass_samples = 0;  ///< samples per pixel per pass at most (0: as many as fit)
     UniformQuality uniform = UniformQuality::kOff;
     uint32_t rounds = 0;        ///< rounds of guidance and selective rendering (0: the plan's, else 1)
+    /// How a budget is spent (--policy); unset: the plan's, else the default of spec/pipeline.md
+    /// §7: whole tasks for a pipeline without `vary`, queues for one with, and progressive
+    /// passes for a plain crex (a plan with no name).
+    std::optional<pipeline::SchedulingPolicy> policy;
     std::function<void(const RunProgress&)> progress;
 };
 
@@ -103,6 +107,7 @@ struct RunResult {
     std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end of passes, per bin
     size_t passes = 0;             ///< sample passes over all stages
     uint64_t budget_stopped_samples = 0;  ///< camera samples the budget left out
+    pipeline::SchedulingPolicy policy = pipeline::SchedulingPolicy::kTasks;  ///< the one used under a budget
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
     IcStats ic_stats;
     size_t ic_loaded = 0;          ///< records read from `ic_file`

@@ -79,11 +79,14 @@ uint64_t samples_in(const SamplePass& pass, const SampleRanges& ranges, int widt
 std::optional<SamplePass> pass_within(const SamplePass& pass, const SampleRanges& ranges, int width, double seconds_per_sample,
                                       double remaining) {
     if (!(remaining > 0)) return std::nullopt;
+    // Nothing is admitted on more than three quarters of what is left: rows hold about the
+    // same number of samples but not the same work (a glass sphere's rows cost more), so the
+    // bands that follow, each measured anew, close in on the budget instead of one band
+    // overshooting it.
     const double predicted = seconds_per_sample * static_cast<double>(pass.samples);
-    if (!(predicted > remaining)) return pass;
+    if (!(predicted > 0.75 * remaining)) return pass;
     const int rows = pass.row_end - pass.row_begin;
-    // Rows hold about the same number of samples: the share of them that fits.
-    const int fit = static_cast<int>(std::floor(remaining / predicted * rows));
+    const int fit = static_cast<int>(std::floor(0.75 * remaining / predicted * rows));
     if (fit < 1) return std::nullopt;
     SamplePass band = pass;
     band.row_end = pass.row_begin + std::min(fit, rows);

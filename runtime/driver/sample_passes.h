@@ -44,7 +44,8 @@ uint64_t samples_in(const SamplePass& pass, const SampleRanges& ranges, int widt
 
 /// Under a time budget, camera samples are scheduled work (issue 15): the part of `pass` whose
 /// predicted time fits in `remaining` seconds at `seconds_per_sample`: the whole pass, the band
-/// of its first rows that fits (`samples` recounted), or nullopt when not one row fits.
+/// of its first rows predicted to take 3/4 of `remaining` (`samples` recounted; the caller
+/// admits the next band on a fresh measurement), or nullopt when not one row fits.
 std::optional<SamplePass> pass_within(const SamplePass& pass, const SampleRanges& ranges, int width, double seconds_per_sample,
                                       double remaining);
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "base/render_text.h"
 #include "compiler/sched/print.h"
@@ -137,6 +138,8 @@ bool Executor::exec(const sched::Node& node) {
             cost = options_.profile ? options_.profile->cost(node.component) : std::nullopt;
         }
         double predicted = static_cast<double>(take.size() - first) * cost.value_or(0);
+        if (predicted > remaining && options_.task_admission == ExecutorOptions::TaskAdmission::kBatches && cost.value_or(0) > 0)
+            return run_in_batches(take, first, *cost, bin, stats, letter, node) || first > 0;
         if (predicted > remaining) {
             stats_.skipped.push_back({letter + " at " + node.where.to_string(), predicted, remaining});
             put_back(take, first);
@@ -154,6 +157,41 @@ bool Executor::exec(const sched::Node& node) {
     stats_.steps.push_back({node.component, take.size()});
     execute_rays(take, false, aov_of(node.component), stats, letter, node.component);
     return true;
+}
+
+bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatch& bin, ComponentStats& stats,
+                              const std::string& letter, const sched::Node& node) {
+    // Thesis 5.5: the rays of the most important pixels first (stable, so ties keep their
+    // order and the choice is deterministic), in batches of about 1/32 of the task, each
+    // admitted on the cost per ray while it fits; the rest stay in the bin.
+    std::vector<uint32_t> order(take.size() - first);
+    std::iota(order.begin(), order.end(), static_cast<uint32_t>(first));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return importance(take.pixel[a]) > importance(take.pixel[b]); });
+    RayBatch sorted;
+    for (uint32_t i : order) sorted.push(take.get(i));
+    const size_t batch = std::max(chunk_rays(), (sorted.size() + 31) / 32);
+    size_t done = 0;
+    while (done < sorted.size()) {
+        const size_t n = std::min(batch, sorted.size() - done);
+        const double remaining = options_.budget_seconds - now();
+        if (static_cast<double>(n) * cost > remaining) break;
+        RayBatch b;
+        b.append(sorted, done, done + n);
+        ++stats.executions;
+        stats_.steps.push_back({node.component, n});
+        execute_rays(b, false, aov_of(node.component), stats, letter, node.component);
+        done += n;
+    }
+    if (done < sorted.size()) {
+        stats_.skipped.push_back({fmt::format("{} at {} ({} of {} rays)", letter, node.where.to_string(), sorted.size() - done, sorted.size()),
+                                  static_cast<double>(sorted.size() - done) * cost, options_.budget_seconds - now()});
+        RayBatch rest;
+        rest.append(sorted, done, sorted.size());
+        rest.append(bin);
+        bin = std::move(rest);
+    }
+    return done > 0;
 }
 
 namespace {

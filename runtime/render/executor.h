@@ -72,6 +72,10 @@ struct ExecutorOptions {
     const std::vector<float>* importance = nullptr;  ///< per pixel, row-major (clamped; NaN = 0)
     std::function<void(const std::string& what, uint64_t rays_done)> progress;
     double budget_seconds = 0;       ///< 0: no time budget
+    /// Under a budget, how a component task is admitted: whole on the profile's prediction
+    /// (thesis 5.4), or its rays in batches ordered by pixel importance while they fit (5.5);
+    /// kNone: the caller admits whole passes and every task of an admitted pass runs.
+    enum class TaskAdmission { kWhole, kBatches, kNone } task_admission = TaskAdmission::kWhole;
     Profile* profile = nullptr;      ///< costs per ray; measured into as the render goes
     /// Seconds since the first camera ray (default: a steady clock). Tests inject a clock;
     /// reports give one that pauses while they copy snapshots.
@@ -112,7 +116,11 @@ private:
     bool budgeted_group(const sched::Node& node, bool owns);
     bool run_deferred(const sched::Node& node, bool owns);
     double now() const;
-    bool budget_active() const { return options_.budget_seconds > 0 && !in_admitted_group_; }
+    bool budget_active() const {
+        return options_.budget_seconds > 0 && !in_admitted_group_ && options_.task_admission != ExecutorOptions::TaskAdmission::kNone;
+    }
+    bool run_in_batches(RayBatch& take, size_t first, double cost, RayBatch& bin, ComponentStats& stats, const std::string& letter,
+                        const sched::Node& node);
     size_t chunk_rays() const;
     void execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label,
                       std::optional<Component> profiled);

@@ -229,6 +229,7 @@ BudgetRun run_with_budget(const Scene& s, const std::string& crex, double budget
     double fake_now = 0;
     o.executor.profile = &profile;
     o.executor.budget_seconds = budget_rays * 1e-6;
+    o.policy = pipeline::SchedulingPolicy::kTasks;  // whole tasks (a plain crex's default is progressive passes)
     o.executor.clock = [&] { return fake_now; };
     o.executor.progress = [&](const std::string&, uint64_t rays) { fake_now = static_cast<double>(rays) * 1e-6; };
     RunResult r = render(s, testing::lower_or_die(crex), o);
@@ -301,6 +302,7 @@ TEST(BudgetScheduling, WithoutAProfileAPilotRunsAndIsKept) {
     Profile profile;
     o.executor.profile = &profile;
     o.executor.budget_seconds = 1e-9;  // nothing beyond the pilot fits
+    o.policy = pipeline::SchedulingPolicy::kTasks;
     RunResult r = render(s, testing::lower_or_die("D"), o);
     ASSERT_EQ(r.stats.steps.size(), 1u);
     EXPECT_EQ(r.stats.steps[0].rays, 10u);  // max(1 % of 400, one chunk of 10)

@@ -1,0 +1,104 @@
+// Time budgets with an injected clock (issue 15): time is the rays executed so far times 1 us,
+// so every decision is deterministic. Each policy must land close to the budget, leave out
+// camera samples rather than overrun, keep an image in every pixel, and (batches) spend what
+// it can on the most important pixels first.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "runtime/driver/run_plan.h"
+#include "runtime/render/profile.h"
+#include "runtime/scene/load_scene.h"
+#include "tests/support/test_scenes.h"
+
+namespace crex {
+namespace {
+
+using Policy = pipeline::SchedulingPolicy;
+
+struct FakeClock {
+    uint64_t rays = 0;
+    double now() const { return static_cast<double>(rays) * 1e-6; }
+};
+
+RunSettings settings(FakeClock& clock, Profile* profile) {
+    RunSettings o;
+    o.width = o.height = 32;
+    o.spp = 16;
+    o.executor.clock = [&clock] { return clock.now(); };
+    o.progress = [&clock](const RunProgress& p) { clock.rays = p.rays; };
+    o.executor.profile = profile;
+    return o;
+}
+
+struct Budgeted {
+    RunResult full, cut;
+    double budget = 0;
+};
+
+Budgeted run_with_budget(Policy policy, double share, const std::vector<float>* importance = nullptr) {
+    Scene s = *builtin_scene("cornell");
+    FakeClock c1, c2;
+    Profile profile;
+    RunSettings full = settings(c1, &profile);
+    full.executor.importance = importance;
+    Budgeted b{render(s, testing::lower_or_die("(TTMRSGD)*"), full), RunResult(32, 32), 0};
+    b.budget = share * b.full.render_seconds;
+    RunSettings cut = settings(c2, &profile);
+    cut.executor.importance = importance;
+    cut.executor.budget_seconds = b.budget;
+    cut.policy = policy;
+    b.cut = render(s, testing::lower_or_die("(TTMRSGD)*"), cut);
+    return b;
+}
+
+class BudgetPolicy : public ::testing::TestWithParam<Policy> {};
+
+TEST_P(BudgetPolicy, LandsWithinTwoPercentOfTheBudgetWithAnImageInEveryPixel) {
+    for (double share : {0.1, 0.25, 0.5}) {
+        Budgeted b = run_with_budget(GetParam(), share);
+        EXPECT_EQ(b.cut.policy, GetParam());
+        EXPECT_LE(b.cut.render_seconds, 1.02 * b.budget) << "share " << share;
+        EXPECT_GE(b.cut.render_seconds, 0.90 * b.budget) << "share " << share;
+        EXPECT_GT(b.cut.budget_stopped_samples, 0u) << "share " << share;  // camera samples are what a budget cuts
+        std::vector<float> img = b.cut.image();
+        for (uint32_t p = 0; p < b.cut.film.pixel_count(); ++p) {
+            ASSERT_GE(b.cut.film.samples(p), 1u) << "pixel " << p;  // the first sample always runs
+            for (int ch = 0; ch < 3; ++ch) ASSERT_TRUE(std::isfinite(img[3 * p + static_cast<size_t>(ch)]));
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryPolicy, BudgetPolicy, ::testing::Values(Policy::kTasks, Policy::kBatches, Policy::kProgressive),
+                         [](const auto& p) { return std::string(pipeline::name_of(p.param)); });
+
+TEST(BudgetPolicy, ProgressivePassesRunEveryTaskOfWhatTheyAdmit) {
+    Budgeted b = run_with_budget(Policy::kProgressive, 0.25);
+    EXPECT_TRUE(b.cut.stats.skipped.empty());
+    // Whole passes, then part of one: the samples traced are a quarter of the full render's,
+    // within what one band of rows and the smoothing of the cost can move.
+    double share = double(b.cut.stats.camera.rays) / double(b.full.stats.camera.rays);
+    EXPECT_NEAR(share, 0.25, 0.05);
+}
+
+TEST(BudgetPolicy, BatchesSpendWhatTheyCanOnTheMostImportantPixelsFirst) {
+    // Left half important, right half not: where the budget cuts a task, the left half keeps
+    // more of its indirect light than the right.
+    std::vector<float> importance(32 * 32);
+    for (size_t p = 0; p < importance.size(); ++p) importance[p] = (p % 32) < 16 ? 1.0f : 0.1f;
+    Budgeted b = run_with_budget(Policy::kBatches, 0.1, &importance);
+    std::vector<float> d = b.cut.film.aov_image(aov_of(Component::kD)), full = b.full.film.aov_image(aov_of(Component::kD));
+    double kept[2] = {0, 0}, all[2] = {0, 0};
+    for (size_t p = 0; p < importance.size(); ++p) {
+        size_t half = (p % 32) < 16 ? 0 : 1;
+        double n = b.cut.film.samples(static_cast<uint32_t>(p)), nf = b.full.film.samples(static_cast<uint32_t>(p));
+        kept[half] += (d[3 * p] + d[3 * p + 1] + d[3 * p + 2]) / n;  // per sample, so fewer samples do not count
+        all[half] += (full[3 * p] + full[3 * p + 1] + full[3 * p + 2]) / nf;
+    }
+    ASSERT_GT(all[0], 0);
+    ASSERT_GT(all[1], 0);
+    EXPECT_GT(kept[0] / all[0], kept[1] / all[1]);
+}
+
+}  // namespace
+}  // namespace crex
