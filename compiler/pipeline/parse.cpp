@@ -4,6 +4,9 @@
 
 #include <fmt/format.h>
 
+#include <map>
+#include <optional>
+
 #include "PipelineLexer.h"
 #include "PipelineParser.h"
 #include "antlr4-runtime.h"
@@ -14,11 +17,15 @@ namespace {
 
 using grammar::PipelineParser;
 
-// Syntax errors in crex's words: what was found, what was expected.
+// Syntax errors in crex's words: what was found, what was expected; the first one also
+// points at the bracket that was left open (found before parsing), and a lone '"' is named
+// as the unterminated string it is.
 class SyntaxErrors : public antlr4::BaseErrorListener {
 public:
     SyntaxErrors(const SourceFile& file, const detail::DecodedText& text, DiagnosticSink& sink)
         : file_(file), text_(text), sink_(sink) {}
+
+    std::optional<DiagnosticNote> bracket_note;
 
     void syntaxError(antlr4::Recognizer* recognizer, antlr4::Token* token, size_t line, size_t col, const std::string& msg,
                      std::exception_ptr) override {
@@ -30,20 +37,65 @@ public:
             end = text_.byte_offsets[token->getStopIndex() + 1];
         }
         std::string what = msg;
-        if (auto* p = dynamic_cast<antlr4::Parser*>(recognizer); p && token) {
+        if (token && token->getText() == "\"") {
+            what = "unterminated string: no closing '\"' before the end of the line";
+        } else if (auto* p = dynamic_cast<antlr4::Parser*>(recognizer); p && token) {
             auto expected = p->getExpectedTokens().toString(p->getVocabulary());
             what = fmt::format("unexpected {}; expected {}", found, expected);
         } else if (msg.rfind("token recognition error", 0) == 0) {
             what = fmt::format("unexpected character {}", msg.substr(msg.find("at: ") + 4));
         }
-        sink_.report("E201", {&file_, begin, std::max(end, begin)}, what);
+        Diagnostic& d = sink_.report("E201", {&file_, begin, std::max(end, begin)}, what);
+        if (bracket_note && !noted_) d.notes.push_back(*bracket_note);
+        noted_ = true;
     }
 
 private:
     const SourceFile& file_;
     const detail::DecodedText& text_;
     DiagnosticSink& sink_;
+    bool noted_ = false;
 };
+
+// The bracket a missing closer belongs to, for a note at the first syntax error. Brackets are
+// matched on the tokens (strings and comments are single tokens); when a '}' that starts its
+// line sits left of the line that opened the '{' it closes, that '{' is the likely culprit
+// (`guidance {` without its '}' makes the pipeline's last '}' close it instead).
+std::optional<DiagnosticNote> unclosed_bracket(const SourceFile& file, const detail::DecodedText& text,
+                                               antlr4::CommonTokenStream& tokens) {
+    struct Open {
+        std::string bracket;
+        uint32_t at;
+    };
+    std::vector<Open> stack;
+    std::optional<Open> suspect;
+    std::map<uint32_t, uint32_t> first_col_of_line;  // line -> column of its first token
+    for (antlr4::Token* t : tokens.getTokens()) {
+        if (t->getType() == antlr4::Token::EOF || t->getChannel() != antlr4::Token::DEFAULT_CHANNEL) continue;
+        uint32_t at = text.byte_offsets[t->getStartIndex()];
+        auto pos = file.position(at);
+        first_col_of_line.emplace(pos.line, pos.col);
+        const std::string s = t->getText();
+        if (s == "{" || s == "(" || s == "[") {
+            stack.push_back({s, at});
+        } else if (s == "}" || s == ")" || s == "]") {
+            const std::string want = s == "}" ? "{" : s == ")" ? "(" : "[";
+            if (stack.empty()) continue;
+            if (stack.back().bracket != want) {
+                return DiagnosticNote{{&file, stack.back().at, stack.back().at + 1},
+                                      fmt::format("this '{}' is not closed before the '{}'", stack.back().bracket, s)};
+            }
+            auto opener = file.position(stack.back().at);
+            if (s == "}" && !suspect && first_col_of_line[pos.line] == pos.col && pos.line > opener.line &&
+                pos.col < first_col_of_line[opener.line])
+                suspect = stack.back();
+            stack.pop_back();
+        }
+    }
+    if (stack.empty()) return std::nullopt;
+    const Open& o = suspect ? *suspect : stack.back();
+    return DiagnosticNote{{&file, o.at, o.at + 1}, fmt::format("this '{}' is never closed", o.bracket)};
+}
 
 class Builder {
 public:
@@ -220,6 +272,7 @@ std::optional<ast::File> parse_pipeline_file(const SourceFile& file, DiagnosticS
         lexer.removeErrorListeners();
         lexer.addErrorListener(&listener);
         if (!nesting_within_limit(file, text, tokens, sink)) return std::nullopt;
+        listener.bracket_note = unclosed_bracket(file, text, tokens);
         grammar::PipelineParser parser(&tokens);
         parser.removeErrorListeners();
         parser.addErrorListener(&listener);

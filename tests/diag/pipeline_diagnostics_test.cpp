@@ -261,6 +261,38 @@ TEST(PipelineAgainstScene, AComponentBufferThePreviewNeverFillsIsW204AtTheCall) 
     EXPECT_TRUE(filled.diagnostics.empty());
 }
 
+// A missing '}' is found at the end of the file, but the note points at the '{' left open
+// (guidance's, not the pipeline's, which the last '}' closed instead); a '(' closed by a '}' is
+// named; a lone '"' is an unterminated string.
+TEST(PipelineSyntax, UnclosedBracketsAndStringsAreNamedWhereTheyOpen) {
+    auto unclosed = testing::plan_text("p.pipe", "pipeline p {\n  guidance {\n    sal = saliency(preview)\n"
+                                                 "  selective { vary spp 1 .. 4 by sal }\n}\n", std::nullopt);
+    ASSERT_EQ(unclosed.diagnostics.size(), 1u);
+    ASSERT_EQ(unclosed.diagnostics[0].notes.size(), 1u);
+    const DiagnosticNote& n = unclosed.diagnostics[0].notes[0];
+    EXPECT_EQ(n.message, "this '{' is never closed");
+    EXPECT_EQ(unclosed.file->position(n.span.begin).line, 2u);
+    EXPECT_EQ(unclosed.file->position(n.span.begin).col, 12u);
+
+    auto paren = testing::plan_text("p.pipe", "pipeline p {\n  guidance {\n    sal = blur(saliency(preview), sigma 2\n  }\n}\n",
+                                    std::nullopt);
+    ASSERT_FALSE(paren.diagnostics.empty());
+    ASSERT_EQ(paren.diagnostics[0].notes.size(), 1u);
+    EXPECT_EQ(paren.diagnostics[0].notes[0].message, "this '(' is not closed before the '}'");
+    EXPECT_EQ(paren.file->position(paren.diagnostics[0].notes[0].span.begin).col, 15u);
+
+    auto str = testing::plan_text("p.pipe", "pipeline p {\n  preselective { crex \"TT  spp 1 }\n}\n", std::nullopt);
+    ASSERT_FALSE(str.diagnostics.empty());
+    EXPECT_EQ(str.diagnostics[0].code, "E201");
+    EXPECT_NE(str.diagnostics[0].message.find("unterminated string"), std::string::npos) << str.diagnostics[0].message;
+    EXPECT_EQ(str.file->position(str.diagnostics[0].span.begin).col, 23u);
+
+    // Balanced brackets: no note on an ordinary syntax error.
+    auto plain = testing::plan_text("p.pipe", "pipeline p {\n  guidance { sal = = saliency(preview) }\n}\n", std::nullopt);
+    ASSERT_FALSE(plain.diagnostics.empty());
+    EXPECT_TRUE(plain.diagnostics[0].notes.empty());
+}
+
 // The issue's case: `{TTMRSGD}2` by an importance that is at most 0.5 never runs S, G, D
 // (occurrence i needs i < ceil(0.5 * 7) = 4). Said at the `by` map, with the letters.
 TEST(PipelineAgainstScene, BracesThatTheirMapCanNeverReachAreW205AtTheMap) {
