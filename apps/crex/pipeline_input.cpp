@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "base/render_text.h"
 #include "apps/crex/input_files.h"
 #include "compiler/pipeline/check.h"
 #include "compiler/pipeline/parse.h"
@@ -49,16 +50,21 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
         return in;
     }
     in->scene_spec = scene_override;
+    std::optional<SourceSpan> scene_span;  // where the pipeline names its scene
     if (in->scene_spec.empty())
-        if (auto it = in->resolved->top.find("scene"); it != in->resolved->top.end() && !it->second.empty())
+        if (auto it = in->resolved->top.find("scene"); it != in->resolved->top.end() && !it->second.empty()) {
             in->scene_spec = resolve_scene_path(it->second[0].text, path);
+            scene_span = it->second[0].span;
+        }
     std::optional<BinSet> spawnable;
     std::optional<std::vector<std::string>> tags;
     std::string hash;
     if (!in->scene_spec.empty()) {
         in->scene = load_scene_input(in->scene_spec, sink);
         if (!in->scene->failure.empty()) {
-            in->failure = in->scene->failure;
+            // Said at the pipeline's `scene` line when the scene came from there.
+            in->failure = scene_span ? fmt::format("{}: {} (the pipeline's scene)", format_location(*scene_span), in->scene->failure)
+                                     : in->scene->failure;
             return in;
         }
         if (!in->scene->scene) return in;

@@ -55,6 +55,8 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
             return kExitFailure;
         }
         if (pipe->plan) {
+            if (auto it = pipe->resolved->top.find("budget"); opt.budget.empty() && it != pipe->resolved->top.end() && !it->second.empty())
+                opt.budget_origin = format_location(it->second[0].span);
             in.plan = *pipe->plan;
             in.pipeline = planned = true;
             in.scene_spec = pipe->scene_spec;

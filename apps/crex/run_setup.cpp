@@ -104,9 +104,12 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
         }
         if (percent) {
             if (!(setup.full_render_seconds > 0)) {
-                std::cerr << "crex run: error: a budget in % needs the time of a full render: render once without a "
-                             "budget with --save-profile FILE, then pass --profile FILE (or --no-budget)\n";
-                return kExitUsage;
+                // Said where the budget comes from: the pipeline's line, or the flag.
+                std::cerr << fmt::format("{}: error: {}a budget in % needs the time of a full render: render once without a "
+                                         "budget with --save-profile FILE, then pass --profile FILE (or --no-budget)\n",
+                                         opt.budget_origin.empty() ? "crex run" : opt.budget_origin,
+                                         opt.budget_origin.empty() ? "--budget " + opt.budget + ": " : "budget " + opt.budget + ": ");
+                return opt.budget_origin.empty() ? kExitUsage : kExitInputErrors;  // the flag's, or the file's
             }
             setup.budget = setup.budget / 100 * setup.full_render_seconds;
         }

@@ -2,6 +2,9 @@
 // wrong, the nearest right thing, the subcommand named, exit code 2.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -61,6 +64,31 @@ TEST(DriverCli, BudgetsNeedTheirUnitAndAmbientRejectsNan) {
     EXPECT_EQ(nan.exit_code, 2);
     EXPECT_NE(nan.err.find("--ambient 'nan'"), std::string::npos) << nan.err;
     EXPECT_FALSE(fs::exists("/tmp/crex_usage_never.exr"));
+}
+
+// A budget or scene that comes from a pipeline file is said at its line in the file (exit 1);
+// the same mistake on the command line names the flag (exit 2). --no-budget turns it off.
+TEST(DriverCli, ABudgetOrSceneFromAPipelineIsSaidAtItsLine) {
+    const std::string cbtcr = CREX_SOURCE_DIR "/stdlib/pipelines/cbtcr.pipe";
+    auto pipe = crex_cli({"run", cbtcr, "--size", "8x8", "-q", "-o", "/tmp/crex_usage_never.exr"});
+    EXPECT_EQ(pipe.exit_code, 1);
+    EXPECT_NE(pipe.err.find("cbtcr.pipe:3:10: error: budget 50%: a budget in % needs"), std::string::npos) << pipe.err;
+    auto flag = crex_cli({"run", "--size", "8x8", "--budget", "20%", "-q", "-o", "/tmp/crex_usage_never.exr"});
+    EXPECT_EQ(flag.exit_code, 2);
+    EXPECT_NE(flag.err.find("crex run: error: --budget 20%: a budget in % needs"), std::string::npos) << flag.err;
+    EXPECT_EQ(crex_cli({"run", cbtcr, "--size", "8x8", "-q", "--no-budget", "-o", "/tmp/crex_usage_budget_off.png"}).exit_code, 0);
+    std::remove("/tmp/crex_usage_budget_off.png");
+
+    const std::string dir = ::testing::TempDir();
+    const std::string noscene = dir + "/crex_noscene.pipe";
+    {
+        std::ofstream out(noscene);
+        out << "pipeline p {\n  scene \"nowhere/scene.json\"\n  preselective { crex \"TT\" }\n}\n";
+    }
+    auto scene = crex_cli({"run", noscene, "-q", "-o", "/tmp/crex_usage_never.exr"});
+    EXPECT_EQ(scene.exit_code, 3);
+    EXPECT_NE(scene.err.find("crex_noscene.pipe:2:9: cannot read scene"), std::string::npos) << scene.err;
+    std::remove(noscene.c_str());
 }
 
 TEST(DriverCli, AnEmptyCrexIsEmptyAsCheckAndPlanTakeIt) {
