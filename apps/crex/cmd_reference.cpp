@@ -87,7 +87,11 @@ int reference(const ReferenceOptions& opt) {
     progress.finish();
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-    std::string error = write_image(path, s.width, s.height, {{"", r->image()}});
+    ImageMetadata metadata = {{"Software", std::string("crex ") + CREX_VERSION}, {"crex:version", CREX_VERSION},
+                              {"crex:scene", opt.scene},  {"crex:crex", s.crex},
+                              {"crex:spp", std::to_string(s.spp)}, {"crex:seed", std::to_string(s.seed)},
+                              {"crex:render_seconds", fmt::format("{:.6g}", r->render_seconds)}, {"crex:reference", "true"}};
+    std::string error = write_image(path, s.width, s.height, {{"", r->image()}}, metadata);
     if (error.empty() && !opt.output.empty()) error = write_file_atomically(key_path, key + "\n");
     if (!error.empty()) {
         std::cerr << "crex reference: error: " << error << "\n";

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <climits>
 #include <filesystem>
 #include <iostream>
 
@@ -37,11 +39,26 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     std::vector<ImageLayer> layers = {{"", result.image()}};
     if (opt.components)
         for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.aov_image(a)});
+    // What made the image, in its header (EXR), so a file found later says how to make it again.
+    uint32_t min_spp = UINT32_MAX, max_spp = 0;
+    for (uint32_t p = 0; p < result.film.pixel_count(); ++p)
+        min_spp = std::min(min_spp, result.film.samples(p)), max_spp = std::max(max_spp, result.film.samples(p));
+    ImageMetadata metadata = {
+        {"Software", std::string("crex ") + CREX_VERSION},
+        {"crex:version", CREX_VERSION},
+        {"crex:scene", in.scene_spec},
+        {"crex:crex", sched::to_crex(in.plan.program)},
+        {"crex:spp", min_spp == max_spp ? std::to_string(max_spp) : fmt::format("{}..{}", min_spp, max_spp)},
+        {"crex:seed", std::to_string(rs.seed)},
+        {"crex:render_seconds", fmt::format("{:.6g}", result.render_seconds)},
+    };
+    if (in.pipeline) metadata.push_back({"crex:pipeline", in.plan.name + (opt.plan.empty() ? "" : " (" + opt.plan + ")")});
+    if (setup.budget > 0) metadata.push_back({"crex:budget_seconds", fmt::format("{:.6g}", setup.budget)});
     for (const auto& path : setup.outputs) {
         std::error_code ec;
         auto parent = std::filesystem::path(path).parent_path();
         if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-        std::string error = write_image(path, width, height, layers);
+        std::string error = write_image(path, width, height, layers, metadata);
         if (!error.empty()) {
             std::cerr << "crex run: error: " << error << "\n";
             return kExitFailure;

@@ -12,7 +12,7 @@
 namespace crex {
 namespace {
 
-using WriteFn = std::string (*)(const std::string&, int, int, const std::vector<ImageLayer>&);
+using WriteFn = std::string (*)(const std::string&, int, int, const std::vector<ImageLayer>&, const ImageMetadata&);
 using ReadFn = std::string (*)(const std::string&, int&, int&, std::vector<float>&, bool&);
 
 struct Plugin {
@@ -56,9 +56,10 @@ const Plugin& plugin() {
 
 }  // namespace
 
-std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers) {
+std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
+                        const ImageMetadata& metadata) {
     const Plugin& p = plugin();
-    return p.write ? p.write(path, width, height, layers) : p.error;
+    return p.write ? p.write(path, width, height, layers, metadata) : p.error;
 }
 
 std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool* display_referred) {

@@ -21,8 +21,13 @@ struct ImageLayer {
     bool display_referred = false;
 };
 
+/// Attributes stored in the file's header where the format keeps them (EXR: every one, as
+/// strings; "Software" goes where readers look for it): what made the image.
+using ImageMetadata = std::vector<std::pair<std::string, std::string>>;
+
 /// Returns "" on success, else why it failed (nothing is left behind on failure).
-std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers);
+std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
+                        const ImageMetadata& metadata = {});
 
 /// Tone map of spec/pipeline.md §7 to 8-bit sRGB (exposed for tests and reports).
 std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);

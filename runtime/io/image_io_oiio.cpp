@@ -31,7 +31,8 @@ std::string lower_ext(const std::string& path) {
 
 namespace crex::oiio {
 
-std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers) {
+std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
+                        const ImageMetadata& metadata) {
     using crex::write_atomically_via;
     std::string ext = lower_ext(path);
     bool exr = ext == ".exr", hdr = ext == ".hdr";
@@ -48,6 +49,7 @@ std::string write_image(const std::string& path, int width, int height, const st
         OIIO::ImageSpec spec(width, height, static_cast<int>(nc), exr || hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
         spec.channelnames = names;
         if (exr) spec.attribute("compression", "zip");
+        for (const auto& [key, value] : metadata) spec.attribute(key, value);
         if (!out->open(tmp, spec)) return "cannot write '" + path + "': " + out->geterror();
         bool ok;
         if (exr || hdr) {
@@ -117,9 +119,9 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
 
 // The entry points image_io.cpp resolves with dlsym.
 extern "C" {
-std::string crex_oiio_write_image(const std::string& path, int width, int height,
-                                  const std::vector<crex::ImageLayer>& layers) {
-    return crex::oiio::write_image(path, width, height, layers);
+std::string crex_oiio_write_image(const std::string& path, int width, int height, const std::vector<crex::ImageLayer>& layers,
+                                  const crex::ImageMetadata& metadata) {
+    return crex::oiio::write_image(path, width, height, layers, metadata);
 }
 std::string crex_oiio_read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb,
                                  bool& display_referred) {

@@ -1,6 +1,7 @@
 // `crex run` as a user runs it: outputs written atomically, EXR layers, exit codes.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -49,6 +50,25 @@ TEST_F(CrexRunCli, RendersTheDefaultSceneToEveryRequestedFormat) {
         EXPECT_GT(sum, 0) << f;
     }
     EXPECT_EQ(file_count(), 3u);  // no temporaries left behind
+}
+
+// An EXR says what made it: oiiotool --info -v, as a user would look, shows the scene, the
+// crex or pipeline, spp, seed, render time and version.
+TEST_F(CrexRunCli, ExrHeadersSayWhatMadeTheImage) {
+    if (std::system("oiiotool --help > /dev/null 2>&1") != 0) GTEST_SKIP() << "oiiotool (openimageio-tools) is not installed";
+    auto r = crex_cli({"run", "--size", "16x16", "--spp", "3", "--seed", "7", "-e", "(TTD)*", "-o", path("m.exr")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto oiiotool_info = [](const std::string& file) { return testing::run_command({"/bin/sh", "-c", "oiiotool --info -v '" + file + "'"}); };
+    auto info = oiiotool_info(path("m.exr"));
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    for (const char* want : {"crex:scene: \"builtin:cornell\"", "crex:crex: \"(TTD)*\"", "crex:spp: \"3\"", "crex:seed: \"7\"",
+                             "crex:render_seconds:", "crex:version:", "Software: \"crex "})
+        EXPECT_NE(info.out.find(want), std::string::npos) << want << "\n" << info.out;
+    auto pipe = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "16x16", "-o", path("p.exr"), "-q"});
+    ASSERT_EQ(pipe.exit_code, 0) << pipe.err;
+    auto pinfo = oiiotool_info(path("p.exr"));
+    EXPECT_NE(pinfo.out.find("crex:pipeline: \"sel_rp ("), std::string::npos) << pinfo.out;
+    EXPECT_NE(pinfo.out.find("..16\"\n"), std::string::npos) << pinfo.out;  // selective spp 1 .. 16: a range over the pixels
 }
 
 TEST_F(CrexRunCli, ComponentLayersSumToTheComposite) {
