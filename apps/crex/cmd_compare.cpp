@@ -1,6 +1,7 @@
 // `crex compare`: how far an image is from a reference, by the metrics of spec §7.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -49,6 +50,7 @@ struct CompareOptions {
     double ppd = 67.0206;
     std::string flip_out;
     std::string attention;  ///< "saliency" or a map file: weights of the attention-weighted FLIP
+    bool assume_display = false;  ///< compare a tone-mapped file with a linear one by tone-mapping the linear one
     std::string format = "text";
 };
 
@@ -86,7 +88,30 @@ int compare(const CompareOptions& opt) {
                                  opt.reference, ref.width, ref.height);
         return kExitInputErrors;
     }
-    // HDR if either image is: both are then seen through the reference's exposure.
+    // A tone-mapped picture (PNG) and linear radiance (EXR) hold different things: comparing
+    // them as they are tone-mapped the PNG a second time (perr 99.9 % for the same render).
+    std::string display_note;
+    if (test_ldr != ref_ldr) {
+        const std::string& ldr = test_ldr ? opt.test : opt.reference;
+        const std::string& hdr = test_ldr ? opt.reference : opt.test;
+        if (!opt.assume_display) {
+            std::cerr << fmt::format("crex compare: error: {} is display-referred (8-bit, already tone-mapped) but {} holds linear "
+                                     "radiance: their values mean different things\n  = help: compare two linear files (.exr), or "
+                                     "pass --assume-display to tone-map {} as crex writes PNGs and compare what a viewer sees\n",
+                                     ldr, hdr, hdr);
+            return kExitInputErrors;
+        }
+        // The linear one as crex would have written it as a PNG (its own exposure), kept as
+        // linearised sRGB like an 8-bit file read back; then both are compared as stored.
+        metrics::Image& lin = test_ldr ? ref : test;
+        for (float& v : lin.rgb = to_display(lin.rgb, display_exposure(lin.rgb))) {
+            double d = std::clamp(static_cast<double>(v), 0.0, 1.0);
+            v = static_cast<float>(d <= 0.04045 ? d / 12.92 : std::pow((d + 0.055) / 1.055, 2.4));
+        }
+        test_ldr = ref_ldr = true;
+        display_note = fmt::format("{} tone-mapped as crex writes PNGs (--assume-display), then both as stored (sRGB)", hdr);
+    }
+    // HDR if both images are: both are then seen through the reference's exposure.
     metrics::DisplayView view{!(test_ldr && ref_ldr), display_exposure(ref.rgb)};
     bool perceptual = false;
     for (const auto& m : wanted) perceptual |= m == "ssim" || m == "flip" || m == "perr";
@@ -100,7 +125,7 @@ int compare(const CompareOptions& opt) {
     j["test"] = opt.test;
     j["reference"] = opt.reference;
     j["size"] = {ref.width, ref.height};
-    j["display"] = view.describe();
+    j["display"] = display_note.empty() ? view.describe() : display_note;
     for (const auto& m : wanted) {
         if (m == "rmse") j["rmse"] = metrics::rmse(test, ref);
         if (m == "relmse") j["relmse"] = metrics::relmse(test, ref);
@@ -155,7 +180,7 @@ int compare(const CompareOptions& opt) {
     if (j.contains("aflip"))
         std::cout << fmt::format("  aflip   {:.6f}   (FLIP weighted by {})\n", j["aflip"].get<double>(),
                                  opt.attention == "saliency" ? "the reference's saliency" : opt.attention);
-    if (perceptual) std::cout << "  display: " << view.describe() << "\n";
+    if (perceptual) std::cout << "  display: " << j["display"].get<std::string>() << "\n";
     if (!opt.flip_out.empty()) std::cout << "  wrote " << opt.flip_out << "\n";
     return kExitOk;
 }
@@ -175,11 +200,15 @@ Runner add_compare_command(CLI::App& app) {
     cmd->add_option("--flip-map", opt->flip_out, "Write the per-pixel FLIP error as a picture (viridis, 0..1)");
     cmd->add_option("--attention", opt->attention,
                     "Also the attention-weighted FLIP (aflip): FLIP averaged with weights 'saliency' (of the reference) or from a map file (e.g. a task map)");
+    cmd->add_flag("--assume-display", opt->assume_display,
+                  "Compare a tone-mapped file (PNG) with a linear one (EXR) by tone-mapping the linear one as crex writes PNGs");
     cmd->add_option("--format", opt->format, "Output as text or json")->check(CLI::IsMember({"text", "json"}));
     cmd->footer(R"(
 RMSE and relMSE compare linear radiance. SSIM, FLIP and perr compare what a viewer sees:
-LDR files (PNG, JPEG) as stored; if either input is HDR (EXR, HDR), both go through the tone
-map of spec section 7 with the reference's exposure, and the output says so.
+LDR files (PNG, JPEG) as stored; HDR files (EXR, HDR) both through the tone map of spec
+section 7 with the reference's exposure, and the output says so. One of each is refused
+(exit 1): the PNG is already tone-mapped. --assume-display tone-maps the linear one as crex
+writes PNGs (its own exposure) and compares the two as displayed.
 
 Examples:
   crex compare out/sel_rp.exr out/gold.exr
@@ -187,7 +216,7 @@ Examples:
   crex compare a.exr ref.exr --format json
   crex compare a.exr ref.exr --attention saliency        FLIP where a viewer looks
 
-Exit status: 0 compared, 1 images of different sizes, 2 usage, 3 an image cannot be read or written.)");
+Exit status: 0 compared, 1 images of different sizes or kinds, 2 usage, 3 an image cannot be read or written.)");
     return [opt] { return compare(*opt); };
 }
 

@@ -73,6 +73,26 @@ TEST_F(CompareCli, AttentionWeightsTheFlipMap) {
     EXPECT_EQ(crex_cli({"compare", path("b.exr"), path("a.exr"), "--attention", path("small.exr")}).exit_code, 3);  // wrong size
 }
 
+// A PNG is already tone-mapped: against an EXR of the same render it is refused (exit 1, the
+// flag named); with --assume-display the EXR is tone-mapped as crex writes PNGs and the two
+// agree up to 8-bit rounding.
+TEST_F(CompareCli, APngAndAnExrAreComparedOnlyAsDisplayed) {
+    auto r = crex_cli({"run", "--size", "32x32", "--spp", "4", "-o", path("r.exr"), "-o", path("r.png"), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto refused = crex_cli({"compare", path("r.png"), path("r.exr")});
+    EXPECT_EQ(refused.exit_code, 1);
+    EXPECT_NE(refused.err.find("--assume-display"), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("r.png is display-referred"), std::string::npos) << refused.err;
+    auto shown = crex_cli({"compare", path("r.png"), path("r.exr"), "--assume-display", "--format", "json", "--metric", "flip,perr"});
+    ASSERT_EQ(shown.exit_code, 0) << shown.err;
+    auto j = nlohmann::json::parse(shown.out);
+    EXPECT_LT(j["flip"].get<double>(), 0.02);
+    EXPECT_EQ(j["perr"].get<double>(), 0.0);
+    EXPECT_NE(j["display"].get<std::string>().find("--assume-display"), std::string::npos);
+    // Either order.
+    EXPECT_EQ(crex_cli({"compare", path("r.exr"), path("r.png"), "--assume-display"}).exit_code, 0);
+}
+
 TEST_F(CompareCli, ExitCodesSayWhatWentWrong) {
     EXPECT_EQ(crex_cli({"compare", path("a.exr"), path("small.exr")}).exit_code, 1);  // sizes differ
     auto missing = crex_cli({"compare", path("a.exr"), path("nothing.exr")});
