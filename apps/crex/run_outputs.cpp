@@ -88,6 +88,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     facts.recorder = recorder;
     facts.ic = rs.irradiance_cache ? &*rs.irradiance_cache : nullptr;
     facts.ic_loaded = result.ic_loaded + rs.ic_records.size();
+    facts.ic_file = rs.ic_file;
     facts.maps_dir = setup.maps_dir;
     facts.pictures = &pictures;
     facts.report_dir = opt.report_dir;

@@ -133,6 +133,9 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
         for (const auto& sk : st.skipped)
             out << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
     }
+    if (!f.ic_file.empty())
+        out << fmt::format("  irradiance cache {}: {} records loaded, {} made, {} saved\n", f.ic_file, f.ic_loaded,
+                           r.ic_stats.records, r.ic_records.size());
     for (const auto& p : f.outputs) out << "  wrote " << p << "\n";
     if (f.curve && !f.curve->empty())
         out << fmt::format("  error against {}: RMSE {:.4g} -> {:.4g}, FLIP {:.4f} -> {:.4f} over {} checkpoints\n", f.reference,

@@ -31,6 +31,7 @@ struct RunFacts {
     const CheckpointRecorder* recorder = nullptr;
     const IcSettings* ic = nullptr;
     size_t ic_loaded = 0;
+    std::string ic_file;  ///< --ic-file: where the cache was loaded from and saved to
     std::string maps_dir;
     const PictureSummary* pictures = nullptr;
     const std::vector<CurvePoint>* curve = nullptr;

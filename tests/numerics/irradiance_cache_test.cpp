@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <unistd.h>
 
 #include "runtime/cache/irradiance_cache.h"
@@ -186,7 +188,27 @@ TEST(IrradianceCache, ASavedCacheIsReusedWithoutNewRecords) {
         IrradianceCache loaded(rs, set);
         ASSERT_EQ(loaded.load(path), "");
         ASSERT_EQ(loaded.records().size(), first.ic_records.size());
-        EXPECT_EQ(loaded.records()[3].irradiance, first.ic_records[3].irradiance);
+        // Stored as float32 (version 2, CBOR): equal to float precision.
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_EQ(static_cast<float>(loaded.records()[3].irradiance[c]), static_cast<float>(first.ic_records[3].irradiance[c]));
+            EXPECT_EQ(static_cast<float>(loaded.records()[3].position[c]), static_cast<float>(first.ic_records[3].position[c]));
+        }
+        EXPECT_EQ(loaded.records()[3].level, first.ic_records[3].level);
+        // 30 floats a record and a short header: a small fraction of the JSON of version 1.
+        EXPECT_LT(std::filesystem::file_size(path), first.ic_records.size() * 30 * 4 + 1024);
+        // A truncated file, or any other bytes, is an error that says so, never a crash.
+        std::string data;
+        {
+            std::ifstream in(path, std::ios::binary);
+            data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        }
+        for (size_t keep : {data.size() / 2, data.size() - 7, size_t{10}, size_t{0}}) {
+            std::ofstream(path + ".cut", std::ios::binary) << data.substr(0, keep);
+            IrradianceCache cut(rs, set);
+            EXPECT_NE(cut.load(path + ".cut"), "") << keep << " bytes";
+            EXPECT_TRUE(cut.records().empty()) << keep << " bytes";  // all or nothing
+        }
+        std::filesystem::remove(path + ".cut");
         IcSettings other = set;
         other.bounces = 3;
         IrradianceCache refuse(rs, other);
