@@ -30,6 +30,12 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // builtin:cornell peaked at 1.51 GB for 4.2 M samples (~360 bytes each); 512 leaves room for
 // the allocator's slack (at 400, 64 spp peaked at 1.10 GB under a 1 GiB limit; at 512, 0.87 GB).
 constexpr size_t kBytesPerSample = 512;
+// What a ray waiting in a bin costs with the step that made it (the bin it was taken from,
+// shading buffers) and the allocator's slack, from max RSS over the peak rays held: Cornell
+// 256x256 64 spp ~275 bytes (1.2 rays held a sample), the room ~345 (4.1 rays: trans and glass
+// split lobes). A scene that holds more than the model's 512 bytes a sample has its later
+// passes sized by this (the room at 128 spp went to 2.06 GB under a 1 GiB limit).
+constexpr size_t kBytesPerHeldRay = 400;
 // The process without any rays: code, Embree's and TBB's arenas, the images being written.
 constexpr size_t kBaselineBytes = size_t{96} << 20;
 // Film: 7 AOVs and the emission of doubles, sample and ray counts, component bits, the
@@ -243,7 +249,14 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, 
     // fit. The first sample of the render always runs: there is always an image.
     const bool budgeted = s_.executor.budget_seconds > 0;
     if (budgeted) limits.max_samples = 1;
+    // The model's bytes per sample hold for scenes like the Cornell box; where lobe splitting
+    // keeps many more rays in flight (the room's trans and glass: 2.9 GB under a 1 GiB limit)
+    // the first pass is an eighth of the budget, and the rest is planned again on the rays it
+    // actually held.
+    const size_t full_bytes = limits.bytes;
+    if (!budgeted && !s_.pass_samples) limits.bytes = std::max<size_t>(limits.bytes / 8, limits.bytes_per_sample);
     std::vector<SamplePass> passes = plan_sample_passes(s_.width, s_.height, ranges, limits);
+    ex_->reset_peak_rays_held();
     for (const SamplePass& p : passes) CREX_CHECK(p.first < p.end && p.row_begin < p.row_end && p.samples > 0);
     progress_ = {};
     progress_.stage = stage;
@@ -279,6 +292,28 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, 
             stage_samples_done_ += pass.samples;
             ++out_.passes;
             row = pass.row_end;
+        }
+        if (i == 0 && !budgeted && !s_.pass_samples && passes.size() > 1 && passes[0].row_begin == 0 && passes[0].row_end == s_.height) {
+            // Plan the rest on what the first pass held: its samples' rays in flight.
+            const size_t measured = ex_->peak_rays_held() * kBytesPerHeldRay / std::max<uint64_t>(1, passes[0].samples);
+            limits.bytes_per_sample = std::max(limits.bytes_per_sample, measured);
+            limits.bytes = full_bytes;
+            SampleRanges rest = ranges;
+            if (rest.start_of.empty() && rest.end_of.empty()) {
+                rest.first = std::max(rest.first, passes[0].end);
+            } else {
+                rest.start_of.resize(out_.film.pixel_count());
+                rest.end_of.resize(out_.film.pixel_count());
+                for (size_t p = 0; p < rest.start_of.size(); ++p) {
+                    rest.start_of[p] = std::max(ranges.start(p), passes[0].end);
+                    rest.end_of[p] = ranges.stop(p);
+                }
+            }
+            std::vector<SamplePass> later = plan_sample_passes(s_.width, s_.height, rest, limits);
+            passes.resize(1);
+            passes.insert(passes.end(), later.begin(), later.end());
+            progress_.passes = passes.size();
+            out_.bytes_per_sample = limits.bytes_per_sample;
         }
     }
     if (out_of_time) out_.budget_stopped_samples += stage_samples_ - stage_samples_done_;

@@ -107,6 +107,7 @@ struct RunResult {
     std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end of passes, per bin
     size_t passes = 0;             ///< sample passes over all stages
     uint64_t budget_stopped_samples = 0;  ///< camera samples the budget left out
+    size_t bytes_per_sample = 0;   ///< what the passes after the first were sized by (0: one pass)
     pipeline::SchedulingPolicy policy = pipeline::SchedulingPolicy::kTasks;  ///< the one used under a budget
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
     IcStats ic_stats;

@@ -75,8 +75,15 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
     }
 }
 
+void Executor::note_rays_held() {
+    size_t held = 0;
+    for (size_t c = 0; c < kComponentCount; ++c) held += bins_[c].size() + pending_[c].size();
+    peak_rays_held_ = std::max(peak_rays_held_, held);
+}
+
 void Executor::run_camera_rays(const RayBatch& camera_rays) {
     execute_rays(camera_rays, true, kCameraAov, stats_.camera, "camera rays", std::nullopt);
+    note_rays_held();
     if (options_.checkpoint) options_.checkpoint("camera rays", true);
 }
 
@@ -249,6 +256,7 @@ bool Executor::run(const sched::Node& node) {
     switch (node.op) {
     case Op::kExec: {
         bool work = exec(node);
+        note_rays_held();
         if (work && options_.checkpoint)
             options_.checkpoint(fmt::format("{} at {}", component_letter(node.component), node.where.to_string()), true);
         return work;

@@ -109,6 +109,10 @@ public:
     std::array<RayBatch, kComponentCount>& bins() { return bins_; }
     const ExecutorStats& stats() const { return stats_; }
     uint64_t rays_done() const { return rays_done_; }
+    /// The most rays waiting in the bins after any step since the last reset: what a pass of
+    /// camera samples holds in flight (its memory), measured rather than modelled.
+    size_t peak_rays_held() const { return peak_rays_held_; }
+    void reset_peak_rays_held() { peak_rays_held_ = 0; }
     const std::vector<std::string>& warnings() const { return warnings_; }
 
 private:
@@ -142,6 +146,8 @@ private:
     uint64_t rays_done_ = 0;
     ShadeOutput shade_;  // reused for every chunk
     bool in_admitted_group_ = false;
+    size_t peak_rays_held_ = 0;
+    void note_rays_held();
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 

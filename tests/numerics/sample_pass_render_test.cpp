@@ -11,6 +11,7 @@
 #include "runtime/driver/run_plan.h"
 #include "runtime/scene/census.h"
 #include "tests/support/plan_helpers.h"
+#include "tests/support/scene_helpers.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -162,6 +163,35 @@ TEST(NoiseEstimate, HalfBuffersShrinkLikeOneOverTheSquareRootOfTheSamples) {
     // sqrt(64 / 4) = 4 in expectation; the estimate is noisy itself.
     EXPECT_GT(few / many, 2.0);
     EXPECT_LT(few / many, 8.0);
+}
+
+}  // namespace
+}  // namespace crex
+
+namespace crex {
+namespace {
+
+// Passes are sized by a model (512 bytes a sample); the first pass is an eighth of the memory
+// and the rest is planned on the rays it held. The room (trans, glass, a mirror: lobe
+// splitting) holds more rays a sample than the model and gets more, smaller passes; the
+// Cornell box holds fewer and keeps the model; both images are what one pass gives.
+TEST(SamplePassRender, LaterPassesAreSizedByTheRaysTheFirstHeld) {
+    sched::Program p = testing::lower_or_die("(TTMRSGD)*");
+    auto run = [&](const Scene& s, size_t max_memory) {
+        RunSettings o;
+        o.width = 24, o.height = 16;
+        o.spp = 24;
+        o.max_memory = max_memory;
+        return render(s, p, o);
+    };
+    Scene room = *testing::load_path(CREX_SOURCE_DIR "/examples/scenes/room/scene.json").scene;
+    const size_t tight = (size_t{96} << 20) + (size_t{4} << 20);  // the baseline plus 4 MiB for rays
+    RunResult split = run(room, tight), whole = run(room, size_t{1} << 32);
+    EXPECT_GT(split.bytes_per_sample, 512u);
+    EXPECT_GT(split.passes, 2u);
+    expect_same_image(split.image(), whole.image(), 1e-5);
+    RunResult box = run(*builtin_scene("cornell"), tight);
+    EXPECT_EQ(box.bytes_per_sample, 512u);
 }
 
 }  // namespace
