@@ -57,10 +57,17 @@ run_tests() {
 }
 
 run_demo() {
-  log "check the thesis's crex expressions"
-  build/release/apps/crex/crex check stdlib/crex/thesis.crex
-  log "main job: render the built-in Cornell box"
-  build/release/apps/crex/crex run --scene builtin:cornell -o out/render.exr -o out/render.png
+  local crex=build/release/apps/crex/crex
+  log "check the thesis's crex expressions and the normative pipeline"
+  "$crex" check stdlib/crex/thesis.crex
+  "$crex" check examples/pipelines/cornell_prog.pipe
+  log "its execution plan, pruned for the corridor (out/cornell_prog.plan.svg)"
+  mkdir -p out
+  "$crex" plan examples/pipelines/cornell_prog.pipe --format dot -o out/cornell_prog.plan.dot
+  dot -Tsvg out/cornell_prog.plan.dot -o out/cornell_prog.plan.svg
+  log "main job: the normative pipeline - preview, guidance maps, selective rendering under its 10 s budget"
+  "$crex" run examples/pipelines/cornell_prog.pipe -o out/cornell_prog.exr -o out/cornell_prog.png
+  log "look at: out/cornell_prog.png, the maps in out/maps/, the report out/report/index.html"
 }
 
 run_fuzz() {
