@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <string>
 
 namespace crex {
 namespace {
@@ -42,6 +43,14 @@ const Plugin& plugin() {
             void* h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
             if (!h) {
                 tried += "\n  " + path + ": " + dlerror();
+                continue;
+            }
+            using AbiFn = int (*)();
+            auto abi = reinterpret_cast<AbiFn>(dlsym(h, "crex_oiio_abi_version"));
+            if (!abi || abi() != kImagePluginAbi) {
+                tried += "\n  " + path + ": an image plugin of another crex build (interface " + (abi ? std::to_string(abi()) : "1") +
+                         ", this crex needs " + std::to_string(kImagePluginAbi) + ")";
+                dlclose(h);
                 continue;
             }
             p.write = reinterpret_cast<WriteFn>(dlsym(h, "crex_oiio_write_image"));

@@ -21,6 +21,11 @@ struct ImageLayer {
     bool display_referred = false;
 };
 
+/// The interface version of the image plugin (libcrex_oiio.so): raised whenever the entry
+/// points change, so a plugin from another build is refused instead of called wrongly (an
+/// old binary that loaded a newer plugin crashed at the end of a 40-minute render).
+inline constexpr int kImagePluginAbi = 2;
+
 /// Attributes stored in the file's header where the format keeps them (EXR: every one, as
 /// strings; "Software" goes where readers look for it): what made the image.
 using ImageMetadata = std::vector<std::pair<std::string, std::string>>;

@@ -119,6 +119,7 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
 
 // The entry points image_io.cpp resolves with dlsym.
 extern "C" {
+int crex_oiio_abi_version() { return crex::kImagePluginAbi; }
 std::string crex_oiio_write_image(const std::string& path, int width, int height, const std::vector<crex::ImageLayer>& layers,
                                   const crex::ImageMetadata& metadata) {
     return crex::oiio::write_image(path, width, height, layers, metadata);
