@@ -180,17 +180,23 @@ INSTANTIATE_TEST_SUITE_P(OnCornellAndCorridor, StdlibPipelines, ::testing::Value
 namespace crex {
 namespace {
 
+// A small square render with a cheap irradiance cache (64 hemisphere rays, 2 bounces).
+RunSettings cached_settings(int size) {
+    RunSettings o;
+    o.width = o.height = size;
+    IcSettings ic;
+    ic.divisions = 64, ic.bounces = 2;
+    o.irradiance_cache = ic;
+    return o;
+}
+
 TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
     Scene scene = load("builtin:cornell_diffuse");
     auto text = [](const std::string& value) {
         return "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(" + value +
                ") }\n selective { vary ic_radius 0.5 .. 0.1 by c }\n}\n";
     };
-    RunSettings o;
-    o.width = o.height = 24;
-    IcSettings ic;
-    ic.divisions = 64, ic.bounces = 2;
-    o.irradiance_cache = ic;
+    RunSettings o = cached_settings(24);
     auto coarse = run_plan(scene, plan_for(text("0"), scene), o);
     auto fine = run_plan(scene, plan_for(text("1"), scene), o);
     // Map 0: nothing asks for more than the base radius: no sample answered again, no record made.
@@ -234,11 +240,7 @@ TEST(PipelineRun, SelectiveSamplesQueryTheCacheForIndirectDiffuse) {
     const std::string text =
         "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(1) }\n"
         " selective { vary ic_radius 0.3 .. 0.3 by c\n vary spp 4 .. 4 by c }\n}\n";
-    RunSettings o;
-    o.width = o.height = 16;
-    IcSettings ic;
-    ic.divisions = 64, ic.bounces = 2;
-    o.irradiance_cache = ic;
+    RunSettings o = cached_settings(16);
     auto r = run_plan(scene, plan_for(text, scene), o);
     EXPECT_EQ(r.stats.camera.rays, 4u * 16u * 16u);  // 3 of the 4 samples in the selective stage
     EXPECT_GT(r.stats.components[static_cast<size_t>(Component::kD)].rays, 0u);
