@@ -1,11 +1,18 @@
 #include "apps/crex/run_setup.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "apps/crex/cli_values.h"
@@ -52,6 +59,31 @@ std::optional<int> parse_ambient(RunOptions& opt) {
     }
     std::cerr << fmt::format("crex run: error: --ambient '{}': expected 'auto' or a radiance from 0 to 1e30\n", opt.ambient_text);
     return kExitUsage;
+}
+
+std::optional<OutputPathFailure> check_output_path(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    static const std::set<std::string> kFormats = {".exr", ".hdr", ".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".ppm", ".pfm"};
+    std::error_code ec;
+    if (fs::is_directory(path, ec))
+        return OutputPathFailure{fmt::format("-o {}: is a directory; give a file name such as {}/render.exr", path, path), kExitFailure};
+    if (!kFormats.count(ext))
+        return OutputPathFailure{fmt::format("-o {}: unknown image format '{}'; crex writes .exr (float), .hdr, .png, .jpg, .tif, .bmp, "
+                                             ".tga, .ppm or .pfm",
+                                             path, ext.empty() ? "(no extension)" : ext),
+                                 kExitFailure};
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    fs::create_directories(dir, ec);
+    // Writable: a file can be made (and is removed) where the image will go.
+    std::string probe = (dir / ".crex-write-check-XXXXXX").string();
+    int fd = ::mkstemp(probe.data());
+    if (fd < 0) return OutputPathFailure{fmt::format("-o {}: cannot write in {}: {}", path, dir.string(), std::strerror(errno)), kExitFailure};
+    ::close(fd);
+    ::unlink(probe.c_str());
+    return std::nullopt;
 }
 
 std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, RunSetup& setup) {
@@ -131,6 +163,13 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
 
     setup.outputs = opt.outputs;
     if (setup.outputs.empty()) setup.outputs = {"out/render.exr", "out/render.png"};
+    // Every output is checked before anything renders: a bad second -o used to be found after
+    // the render, with the first image already written.
+    for (const auto& path : setup.outputs)
+        if (auto failure = check_output_path(path)) {
+            std::cerr << "crex run: error: " << failure->message << "\n";
+            return failure->exit_code;
+        }
     setup.maps_dir = opt.maps_dir;
     if (setup.maps_dir.empty() && opt.maps_beside_output)
         setup.maps_dir = (std::filesystem::path(setup.outputs.front()).parent_path() / "maps").string();

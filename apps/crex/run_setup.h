@@ -28,6 +28,14 @@ struct RunSetup {
 
 /// Fills `setup` (which must not move afterwards: the settings point into it). Returns an exit
 /// code on failure (the error printed), std::nullopt when the run can go on.
+struct OutputPathFailure {
+    std::string message;
+    int exit_code;
+};
+/// Whether an image can be written to `path`: a known format, not a directory, a directory
+/// that exists (made if missing) and takes a new file. Checked before rendering.
+std::optional<OutputPathFailure> check_output_path(const std::string& path);
+
 std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, RunSetup& setup);
 
 /// --ambient: "auto" or a radiance (into opt.ambient / opt.ambient_auto). Returns an exit code

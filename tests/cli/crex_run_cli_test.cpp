@@ -114,6 +114,14 @@ TEST_F(CrexRunCli, UsageAndIoFailures) {
     auto unknown = crex_cli({"run", "--size", "4x4", "-o", path("x.unknownext")});
     EXPECT_EQ(unknown.exit_code, 3);
     EXPECT_NE(unknown.err.find("x.unknownext"), std::string::npos) << unknown.err;
+    // Every output is checked before rendering: a bad second -o leaves the first unwritten.
+    for (const std::string bad : {path("y.unknownext"), path("a_file/y.png"), dir_.string()}) {
+        auto two = crex_cli({"run", "--size", "4x4", "-o", path("first.exr"), "-o", bad});
+        EXPECT_EQ(two.exit_code, 3) << bad;
+        EXPECT_NE(two.err.find(bad), std::string::npos) << two.err;
+        EXPECT_FALSE(fs::exists(path("first.exr"))) << bad;
+        EXPECT_EQ(two.out.find("rendered"), std::string::npos) << bad;  // found before any ray
+    }
 }
 
 }  // namespace
