@@ -419,7 +419,14 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
     auto map_of = [&](const std::string& id) -> const guidance::Raster& {
         if (constant) return *constant;
         const guidance::Raster& r = graph->map(id);
-        if (id.rfind("map.", 0) != 0) out_.maps.push_back({id, r});  // an inline map: shown under its node id
+        if (id.rfind("map.", 0) != 0) {  // an inline map (`by edges(direct)`): shown as the user wrote it
+            std::string shown = id;
+            for (const PlanMap& m : plan_.maps)
+                if (m.id == id && !m.name.empty()) shown = m.name;
+            bool seen = false;
+            for (const auto& [name, raster] : out_.maps) seen |= name == shown;
+            if (!seen) out_.maps.push_back({shown, r});
+        }
         return r;
     };
 

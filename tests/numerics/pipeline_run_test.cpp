@@ -180,6 +180,19 @@ INSTANTIATE_TEST_SUITE_P(OnCornellAndCorridor, StdlibPipelines, ::testing::Value
 namespace crex {
 namespace {
 
+// A map written inline (`vary shadow_rays 1 .. 3 by edges(direct)`) is listed as the user
+// wrote it, not under the plan's node id (`op.vary.shadow_rays.0`).
+TEST(PipelineRun, InlineMapsAreNamedAsWritten) {
+    Scene scene = load("builtin:cornell");
+    const std::string text = "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n"
+                             " selective { vary shadow_rays 1 .. 3 by edges(direct) }\n}\n";
+    RunSettings o;
+    o.width = o.height = 16;
+    auto r = run_plan(scene, plan_for(text, scene), o);
+    ASSERT_EQ(r.maps.size(), 1u);
+    EXPECT_EQ(r.maps[0].first, "edges(direct)");
+}
+
 // A small square render with a cheap irradiance cache (64 hemisphere rays, 2 bounces).
 RunSettings cached_settings(int size) {
     RunSettings o;
