@@ -109,7 +109,12 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
         report.images.push_back({"final image", layers.front().rgb});
         if (guided) report.images.push_back({"preview", result.preview});
         if (setup.reference) report.images.push_back({"reference", setup.reference->rgb});
-        for (size_t a = 0; a < kAovCount; ++a) report.images.push_back({"component " + aov_name(a), result.aov_image(a)});
+        // Components no ray reached (a bin the scene or the crex never fills) would be black tiles.
+        for (size_t a = 0; a < kAovCount; ++a) {
+            std::vector<float> aov = result.aov_image(a);
+            if (std::any_of(aov.begin(), aov.end(), [](float v) { return v != 0; }))
+                report.images.push_back({"component " + aov_name(a), std::move(aov)});
+        }
         report.maps = result.maps;
         report.pictures = pictures.written;
         if (in.pipeline) {

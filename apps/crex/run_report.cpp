@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <sstream>
 
@@ -79,12 +80,18 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
     }
     if (!error.empty()) return error;
 
-    // Images.
+    // Images, all through one exposure (the reference's, else the final image's, the first
+    // image given): a component shows at its true share of the light, not auto-exposed to look
+    // as bright as the whole image.
     ReportPage page;
     page.title = r.title;
+    std::optional<double> exposure;
+    for (const auto& [title, rgb] : r.images)
+        if (title == "reference") exposure = display_exposure(rgb);
+    if (!exposure) exposure = r.images.empty() ? 1.0 : display_exposure(r.images.front().second);
     for (const auto& [title, rgb] : r.images) {
         std::string path = (fs::path(r.dir) / "images" / (safe_name(title) + ".png")).string();
-        if (std::string e = write_image(path, r.width, r.height, {{"", rgb}}); !e.empty()) return e;
+        if (std::string e = write_image(path, r.width, r.height, {{"", to_display(rgb, *exposure), true}}); !e.empty()) return e;
         page.images.push_back({title, path});
     }
     for (const auto& [name, map] : r.maps) {

@@ -37,6 +37,31 @@ window.addEventListener('load', () => {
   const plot = document.getElementById('error-plot');
   b.plotCurves = plot ? plot.querySelectorAll('polyline.curve').length : 0;
   b.plotWidth = plot ? Math.round(plot.getBoundingClientRect().width) : 0;
+  // A picture of one colour (a black component, an empty map) says nothing: count them.
+  let blank = 0;
+  for (const i of imgs) {
+    if (!i.complete || !i.naturalWidth) continue;
+    const c = document.createElement('canvas');
+    c.width = i.naturalWidth, c.height = i.naturalHeight;
+    const g = c.getContext('2d');
+    g.drawImage(i, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    let same = true;
+    for (let k = 4; k < d.length && same; k += 4) same = d[k] === d[0] && d[k + 1] === d[1] && d[k + 2] === d[2];
+    if (same) blank++;
+  }
+  b.imagesBlank = blank;
+  // Text that overlaps other text in the plot (tick and stage labels, the legend).
+  let overlaps = 0;
+  if (plot) {
+    const boxes = Array.from(plot.querySelectorAll('text')).map(t => t.getBoundingClientRect());
+    for (let m = 0; m < boxes.length; m++)
+      for (let n = m + 1; n < boxes.length; n++) {
+        const a = boxes[m], q = boxes[n];
+        if (a.left < q.right - 1 && q.left < a.right - 1 && a.top < q.bottom - 1 && q.top < a.bottom - 1) overlaps++;
+      }
+  }
+  b.plotOverlaps = overlaps;
   b.ready = 'yes';
 });
 </script>

@@ -8,72 +8,125 @@
 
 namespace crex {
 
-std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<double> budget) {
-    const double W = 720, H = 360, left = 60, right = 170, top = 20, bottom = 50;
-    const double pw = W - left - right, ph = H - top - bottom;
-    double tmax = 1e-9;
-    for (const auto& p : curve) tmax = std::max(tmax, p.seconds);
-    if (budget) tmax = std::max(tmax, *budget);
-    tmax *= 1.05;
-    auto x = [&](double t) { return left + pw * t / tmax; };
-    auto y = [&](double v) { return top + ph * (1 - std::clamp(v, 0.0, 1.0)); };
-    std::string svg = fmt::format(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"error-plot\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
-        "font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
-        W, H, W, H);
-    // Axes and ticks.
-    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"black\"/>\n", left, top, top + ph);
-    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"black\"/>\n", left, top + ph, left + pw);
-    for (int i = 0; i <= 5; ++i) {
-        double t = tmax * i / 5, v = i / 5.0;
-        svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{:.3g}</text>\n", x(t), top + ph + 16, t);
-        svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{:.1f}</text>\n", left - 6, y(v) + 4, v);
-        svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"#eee\"/>\n", left + 1, y(v), left + pw);
-    }
-    svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">render time (s)</text>\n", left + pw / 2, H - 12);
-    svg += fmt::format("<text x=\"14\" y=\"{}\" text-anchor=\"middle\" transform=\"rotate(-90 14 {})\">error / its largest value</text>\n",
-                       top + ph / 2, top + ph / 2);
-    // Stage boundaries, labelled with the stage that ended (staggered so close ones stay legible).
-    int boundary = 0;
-    for (const auto& p : curve)
-        if (p.event.rfind("end of ", 0) == 0 && p.event != "end of render") {
-            svg += fmt::format("<line class=\"stage\" x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"#888\" stroke-dasharray=\"4 3\"/>\n",
-                               x(p.seconds), top, top + ph);
-            svg += fmt::format("<text x=\"{}\" y=\"{}\" fill=\"#555\" font-size=\"10\">end of {}</text>\n", x(p.seconds) + 3,
-                               top + ph - 8 - 12 * (boundary++ % 3), p.stage);
+std::vector<double> nice_ticks(double max, int about) {
+    std::vector<double> out;
+    if (!(max > 0) || !std::isfinite(max) || about < 1) return {0};
+    // The step: 1, 2 or 5 times a power of ten, the largest giving about `about` intervals.
+    const double raw = max / about, decade = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = decade;
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * decade <= raw * 1.5) step = m * decade;
+    for (int k = 0; k * step <= max * (1 + 1e-9); ++k) out.push_back(k * step);
+    return out;
+}
+
+std::string tick_label(double v) {
+    if (v == 0) return "0";
+    std::string s = fmt::format("{:.6g}", v);
+    return s;
+}
+
+std::vector<StageLabel> stage_labels(const std::vector<std::pair<double, std::string>>& boundaries, double min_gap) {
+    std::vector<StageLabel> out;
+    for (const auto& [x, text] : boundaries) {
+        if (!out.empty() && x - out.back().x < min_gap) {
+            out.back().text += " / " + text;  // too close to draw apart: one label for both
+            continue;
         }
-    if (budget) {
-        svg += fmt::format("<line id=\"budget\" x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"#d93025\" stroke-width=\"2\"/>\n",
-                           x(*budget), top, top + ph);
-        svg += fmt::format("<text x=\"{}\" y=\"{}\" fill=\"#d93025\">budget {:.3g} s</text>\n", x(*budget) + 4, top + ph - 6, *budget);
+        out.push_back({x, text});
     }
+    return out;
+}
+
+std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<double> budget) {
+    const double W = 720, H = 380, left = 64, right = 190, top = 20, bottom = 50;
+    const double pw = W - left - right, ph = H - top - bottom;
+    // The x axis ends at the render's own time (a 0.1 s render under a 30 s budget was a
+    // squashed line against the axis); a budget beyond it is said in the legend.
+    double tend = 1e-9;
+    for (const auto& p : curve) tend = std::max(tend, p.seconds);
+    const bool budget_on_axis = budget && *budget <= tend * 1.25;
+    if (budget_on_axis) tend = std::max(tend, *budget);
+    const std::vector<double> xt = nice_ticks(tend, 5);
+    const double tmax = std::max(tend, xt.back());
+    auto x = [&](double t) { return left + pw * t / tmax; };
+
     struct Series {
         const char* name;
         const char* colour;
         std::function<double(const CurvePoint&)> value;
     };
+    // Absolute errors on one log axis: every metric here lies in (0, 1] (perr as a fraction).
     const Series series[] = {
         {"rmse", "#1a73e8", [](const CurvePoint& p) { return p.rmse; }},
         {"relmse", "#9334e6", [](const CurvePoint& p) { return p.relmse; }},
         {"flip", "#e37400", [](const CurvePoint& p) { return p.flip; }},
-        {"perr", "#188038", [](const CurvePoint& p) { return p.perr; }},
+        {"perr / 100", "#188038", [](const CurvePoint& p) { return p.perr / 100; }},
         {"1 - ssim", "#c5221f", [](const CurvePoint& p) { return p.ssim ? 1 - *p.ssim : NAN; }},
     };
+    double lo = 1, hi = 1e-9;
+    for (const auto& s : series)
+        for (const auto& p : curve)
+            if (double v = s.value(p); std::isfinite(v) && v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
+    const int d0 = static_cast<int>(std::floor(std::log10(std::max(lo, 1e-6)))), d1 = std::max(d0 + 1, static_cast<int>(std::ceil(std::log10(std::max(hi, 1e-6)))));
+    auto y = [&](double v) {
+        double l = std::log10(std::clamp(v, std::pow(10.0, d0), std::pow(10.0, d1)));
+        return top + ph * (1 - (l - d0) / (d1 - d0));
+    };
+
+    std::string svg = fmt::format(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"error-plot\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
+        "font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
+        W, H, W, H);
+    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"black\"/>\n", left, top, top + ph);
+    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"black\"/>\n", left, top + ph, left + pw);
+    for (double t : xt)
+        svg += fmt::format("<text class=\"xtick\" x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x(t), top + ph + 16, tick_label(t));
+    for (int d = d0; d <= d1; ++d) {
+        const double v = std::pow(10.0, d);
+        svg += fmt::format("<text class=\"ytick\" x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{}</text>\n", left - 6, y(v) + 4, tick_label(v));
+        svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"#ddd\"/>\n", left + 1, y(v), left + pw);
+        if (d < d1)
+            for (double m : {2.0, 5.0})
+                svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"#f3f3f3\"/>\n", left + 1, y(m * v), left + pw);
+    }
+    svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">render time (s)</text>\n", left + pw / 2, H - 12);
+    svg += fmt::format("<text x=\"16\" y=\"{}\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">error against the reference (log)</text>\n",
+                       top + ph / 2, top + ph / 2);
+    // Stage boundaries: dashed verticals, labelled upright along them; boundaries too close to
+    // label apart share one label.
+    std::vector<std::pair<double, std::string>> boundaries;
+    for (const auto& p : curve)
+        if (p.event.rfind("end of ", 0) == 0 && p.event != "end of render") boundaries.push_back({x(p.seconds), p.event.substr(7)});
+    for (const auto& [bx, text] : boundaries)
+        svg += fmt::format("<line class=\"stage\" x1=\"{0:.1f}\" y1=\"{1}\" x2=\"{0:.1f}\" y2=\"{2}\" stroke=\"#888\" stroke-dasharray=\"4 3\"/>\n",
+                           bx, top, top + ph);
+    for (const auto& l : stage_labels(boundaries, 13))
+        svg += fmt::format("<text class=\"stage-label\" x=\"{0:.1f}\" y=\"{1}\" fill=\"#555\" font-size=\"10\" "
+                           "transform=\"rotate(-90 {0:.1f} {1})\" text-anchor=\"end\">end of {2}</text>\n",
+                           l.x + 10, top + 4, l.text);
     int row = 0;
-    for (const auto& s : series) {
-        double mx = 0;
-        for (const auto& p : curve)
-            if (std::isfinite(s.value(p))) mx = std::max(mx, s.value(p));
-        if (!(mx > 0)) continue;
-        std::string pts;
-        for (const auto& p : curve)
-            if (std::isfinite(s.value(p))) pts += fmt::format("{:.2f},{:.2f} ", x(p.seconds), y(s.value(p) / mx));
-        svg += fmt::format("<polyline class=\"curve\" data-metric=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\" points=\"{}\"/>\n",
-                           s.name, s.colour, pts);
+    auto legend = [&](const std::string& colour, const std::string& text, const std::string& id) {
         double ly = top + 14 + 18 * row++;
         svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"{3}\" stroke-width=\"3\"/>\n", left + pw + 12, ly,
-                           left + pw + 32, s.colour);
-        svg += fmt::format("<text x=\"{}\" y=\"{}\">{} (max {:.3g})</text>\n", left + pw + 38, ly + 4, s.name, mx);
+                           left + pw + 32, colour);
+        svg += fmt::format("<text{} x=\"{}\" y=\"{}\">{}</text>\n", id.empty() ? "" : " id=\"" + id + "\"", left + pw + 38, ly + 4, text);
+    };
+    for (const auto& s : series) {
+        std::string pts;
+        double last = NAN;
+        for (const auto& p : curve)
+            if (double v = s.value(p); std::isfinite(v)) pts += fmt::format("{:.2f},{:.2f} ", x(p.seconds), y(v)), last = v;
+        if (pts.empty()) continue;
+        svg += fmt::format("<polyline class=\"curve\" data-metric=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\" points=\"{}\"/>\n",
+                           s.name, s.colour, pts);
+        legend(s.colour, fmt::format("{} (end {:.3g})", s.name, last), "");
+    }
+    if (budget) {
+        if (budget_on_axis)
+            svg += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1}\" x2=\"{0:.1f}\" y2=\"{2}\" stroke=\"#d93025\" stroke-width=\"2\"/>\n",
+                               x(*budget), top, top + ph);
+        legend("#d93025", fmt::format("budget {:g} s{}", *budget, budget_on_axis ? "" : " (beyond the axis)"), "budget");
     }
     svg += "</svg>\n";
     return svg;

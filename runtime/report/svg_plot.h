@@ -1,11 +1,14 @@
 /// \file svg_plot.h
-/// The error-against-time plot of a report, as a standalone SVG: one curve per metric (each
-/// scaled to its own largest value, 1 - SSIM for SSIM, so every curve is an error that should
-/// fall), stage boundaries as dashed verticals, the budget as a red vertical.
+/// The error-against-time plot of a report, as a standalone SVG: one curve per metric, absolute
+/// errors on one log axis (1 - SSIM for SSIM, perr as a fraction, so every curve is an error in
+/// (0, 1] that should fall), the time axis ending at the render's own time with 1-2-5 ticks,
+/// stage boundaries as dashed verticals with upright labels, the budget as a red vertical (or
+/// in the legend when it lies far beyond the render).
 #pragma once
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "runtime/report/error_curve.h"
@@ -13,5 +16,18 @@
 namespace crex {
 
 std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<double> budget_seconds);
+
+/// Round axis ticks from 0 past `max`: steps of 1, 2 or 5 times a power of ten, about `about`
+/// of them; and how a tick is written (no trailing zeros: 0.2, 1.5, 10).
+std::vector<double> nice_ticks(double max, int about);
+std::string tick_label(double v);
+
+/// Stage-boundary labels at x positions (pixels, increasing): boundaries closer than
+/// `min_gap` to the previous label share it ("guidance / selective"), so no two overlap.
+struct StageLabel {
+    double x;
+    std::string text;
+};
+std::vector<StageLabel> stage_labels(const std::vector<std::pair<double, std::string>>& boundaries, double min_gap);
 
 }  // namespace crex

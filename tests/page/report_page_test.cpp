@@ -38,8 +38,12 @@ TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
     ASSERT_EQ(page.exit_code, 0) << page.err;
     EXPECT_NE(page.out.find("data-ready=\"yes\""), std::string::npos) << page.out.substr(0, 400);
     int total = body_attribute(page.out, "data-images-total"), loaded = body_attribute(page.out, "data-images-loaded");
-    EXPECT_GE(total, 10);  // final, preview, reference, 7 components, the saliency map
+    // final, preview, reference, the 5 components that got rays (no G or S bin in the Cornell
+    // box: left out, not shown as black tiles), the saliency map.
+    EXPECT_EQ(total, 9);
     EXPECT_EQ(loaded, total);
+    EXPECT_EQ(body_attribute(page.out, "data-images-blank"), 0);  // no picture of one colour
+    EXPECT_EQ(body_attribute(page.out, "data-plot-overlaps"), 0);  // no label over another
     EXPECT_EQ(body_attribute(page.out, "data-plot-curves"), 5);
     EXPECT_GT(body_attribute(page.out, "data-plot-width"), 100);
     // The curve the plot draws falls: the last checkpoint's FLIP is well below the first.
