@@ -5,12 +5,14 @@
 #include <sys/wait.h>
 
 #include <filesystem>
-#include <optional>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "runtime/base/atomic_file.h"
+#include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
+#include "runtime/metrics/metrics.h"
 #include "runtime/report/html_report.h"
 #include "runtime/report/svg_plot.h"
 
@@ -93,6 +95,15 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
         std::string path = (fs::path(r.dir) / "images" / (safe_name(title) + ".png")).string();
         if (std::string e = write_image(path, r.width, r.height, {{"", to_display(rgb, *exposure), true}}); !e.empty()) return e;
         page.images.push_back({title, path});
+    }
+    // Where the final image differs from the reference, as a viewer sees it.
+    if (r.reference && !r.images.empty() && r.images.front().first == "final image") {
+        metrics::Image final_image{r.width, r.height, r.images.front().second};
+        std::vector<float> flip = metrics::flip_map(metrics::display_view(final_image, r.view), metrics::display_view(*r.reference, r.view));
+        std::vector<double> values(flip.begin(), flip.end());
+        std::string path = (fs::path(r.dir) / "images" / "flip_against_reference.png").string();
+        if (std::string e = write_image(path, r.width, r.height, {{"", heat_colours(values, 1.0), true}}); !e.empty()) return e;
+        page.images.push_back({"FLIP against the reference (viridis: 0 same .. 1 most different)", path});
     }
     for (const auto& [name, map] : r.maps) {
         std::vector<float> rgb(3 * map.pixels());

@@ -39,8 +39,9 @@ TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
     EXPECT_NE(page.out.find("data-ready=\"yes\""), std::string::npos) << page.out.substr(0, 400);
     int total = body_attribute(page.out, "data-images-total"), loaded = body_attribute(page.out, "data-images-loaded");
     // final, preview, reference, the 5 components that got rays (no G or S bin in the Cornell
-    // box: left out, not shown as black tiles), the saliency map.
-    EXPECT_EQ(total, 9);
+    // box: left out, not shown as black tiles), the FLIP map against the reference, the
+    // saliency map.
+    EXPECT_EQ(total, 10);
     EXPECT_EQ(loaded, total);
     EXPECT_EQ(body_attribute(page.out, "data-images-blank"), 0);  // no picture of one colour
     EXPECT_EQ(body_attribute(page.out, "data-plot-overlaps"), 0);  // no label over another
