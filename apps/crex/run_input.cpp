@@ -13,6 +13,7 @@
 #include "compiler/crex/compile.h"
 #include "compiler/plan/read_plan.h"
 #include "runtime/scene/census.h"
+#include "runtime/scene/radiance_view.h"
 
 namespace crex::app {
 namespace {
@@ -91,6 +92,17 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
     auto t_load = std::chrono::steady_clock::now();
     if (!in.scene) in.scene = load_scene_input(in.scene_spec, sink);
     in.load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+    // --view FILE.vf: RADIANCE's view options replace the scene's camera (rpict -vf).
+    if (!opt.view.empty() && in.scene->scene) {
+        std::string view_error;
+        auto text = read_input(opt.view, view_error);
+        if (!text) {
+            std::cerr << "crex run: error: --view: " << view_error << "\n";
+            return kExitFailure;
+        }
+        in.view_source = std::make_unique<SourceFile>(opt.view, std::move(*text));
+        apply_radiance_view(*in.view_source, view_file_words(*in.view_source), in.scene->scene->camera, true, sink);
+    }
     const std::optional<Scene>& scene = in.scene->scene;
     // A plan is only valid for a scene with the census it was made for (spec 5).
     if (scene && !expected_census.empty()) {

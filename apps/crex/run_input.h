@@ -21,6 +21,7 @@ struct RunInput {
     bool pipeline = false;               ///< a pipeline (file or plan), not a bare crex
     std::string scene_spec;
     std::unique_ptr<SceneInput> scene;
+    std::unique_ptr<SourceFile> view_source;  ///< --view FILE.vf (diagnostics point into it)
     double load_seconds = 0;
 };
 

@@ -40,6 +40,7 @@ struct RunOptions {
     std::string budget;
     bool no_budget = false;
     std::string policy;  ///< "" : the pipeline's, else the default
+    std::string view;    ///< --view FILE.vf
     std::string budget_origin;  ///< "file:line:col" of the pipeline's `budget` when the budget is the pipeline's
     std::string profile_in;
     std::string profile_out;

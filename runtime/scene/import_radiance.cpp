@@ -14,6 +14,7 @@
 
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
+#include "runtime/scene/radiance_view.h"
 
 namespace crex {
 namespace {
@@ -138,82 +139,15 @@ private:
     }
 
     void read_view_file(const SourceFile& vf) {
-        std::vector<Token> words;
-        const std::string& t = vf.text();
-        size_t i = 0;
-        while (i < t.size()) {
-            if (t[i] == '#') {
-                while (i < t.size() && t[i] != '\n') ++i;
-                continue;
-            }
-            if (std::isspace(static_cast<unsigned char>(t[i]))) {
-                ++i;
-                continue;
-            }
-            size_t b = i;
-            while (i < t.size() && !std::isspace(static_cast<unsigned char>(t[i]))) ++i;
-            words.push_back({t.substr(b, i - b), static_cast<uint32_t>(b), static_cast<uint32_t>(i)});
-        }
-        // A view file may start with the program name ("rview", "rpict").
-        if (!words.empty() && words[0].text.rfind("-", 0) != 0) words.erase(words.begin());
-        view_source_ = &vf;
-        read_view(words);
-        view_source_ = nullptr;
+        apply_radiance_view(vf, view_file_words(vf), scene_.camera, !view_seen_, sink_);
+        view_seen_ = true;
     }
 
-    // RADIANCE view options; defaults are RADIANCE's (-vp 0 0 0 -vd 0 1 0 -vu 0 0 1 -vh 45 -vv 45).
     void read_view(const std::vector<Token>& w) {
-        const SourceFile& f = view_source_ ? *view_source_ : file_;
-        Camera& cam = scene_.camera;
-        if (!view_seen_) {
-            cam.position = {0, 0, 0};
-            cam.direction = {0, 1, 0};
-            cam.up = {0, 0, 1};
-            cam.vfov_deg = 45;
-            cam.hfov_deg = 45;
-            view_seen_ = true;
-        }
-        auto number = [&](size_t k, double& out) {
-            if (k >= w.size()) {
-                sink_.report("E301", {&f, w.back().end, w.back().end}, fmt::format("view option '{}' needs more numbers", w.back().text));
-                return false;
-            }
-            char* end = nullptr;
-            out = std::strtod(w[k].text.c_str(), &end);
-            if (end != w[k].text.c_str() + w[k].text.size() || !std::isfinite(out)) {
-                sink_.report("E302", {&f, w[k].begin, w[k].end}, fmt::format("view: expected a finite number, got '{}'", w[k].text));
-                return false;
-            }
-            return true;
-        };
-        for (size_t k = 0; k < w.size(); ++k) {
-            const std::string& o = w[k].text;
-            Vec3* v = o == "-vp" ? &cam.position : o == "-vd" ? &cam.direction : o == "-vu" ? &cam.up : nullptr;
-            if (v) {
-                double x, y, z;
-                if (!number(k + 1, x) || !number(k + 2, y) || !number(k + 3, z)) return;
-                *v = {x, y, z};
-                k += 3;
-            } else if (o == "-vh" || o == "-vv") {
-                double a;
-                if (!number(k + 1, a)) return;
-                if (!(a > 0 && a < 180)) {
-                    sink_.report("E303", {&f, w[k + 1].begin, w[k + 1].end}, fmt::format("view {}: expected an angle in (0, 180) degrees, got {}", o, a));
-                    return;
-                }
-                (o == "-vh" ? cam.hfov_deg : cam.vfov_deg) = a;
-                ++k;
-            } else if (o == "-vtv") {
-                // perspective: the only projection we render
-            } else if (o.rfind("-vt", 0) == 0) {
-                sink_.report("E307", {&f, w[k].begin, w[k].end}, fmt::format("view type '{}' is not supported; only perspective (-vtv)", o));
-            } else {
-                sink_.report("W301", {&f, w[k].begin, w[k].end}, fmt::format("view option '{}' is ignored", o));
-            }
-        }
-        if (!(length(cross(cam.direction, cam.up)) > 0))
-            sink_.report("E306", {&f, w.empty() ? 0 : w.front().begin, w.empty() ? 0 : w.back().end},
-                         "view: the direction is zero or parallel to the up vector");
+        std::vector<ViewWord> words;
+        for (const auto& t : w) words.push_back({t.text, t.begin, t.end});
+        apply_radiance_view(file_, words, scene_.camera, !view_seen_, sink_);
+        view_seen_ = true;
     }
 
     const Token* next() { return pos_ < tokens_.size() ? &tokens_[pos_++] : nullptr; }
@@ -433,7 +367,6 @@ private:
     }
 
     const SourceFile& file_;
-    const SourceFile* view_source_ = nullptr;
     DiagnosticSink& sink_;
     size_t errors_before_;
     struct Directive {

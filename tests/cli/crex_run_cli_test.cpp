@@ -71,6 +71,35 @@ TEST_F(CrexRunCli, ExrHeadersSayWhatMadeTheImage) {
     EXPECT_NE(pinfo.out.find("..16\"\n"), std::string::npos) << pinfo.out;  // selective spp 1 .. 16: a range over the pixels
 }
 
+// --view FILE.vf replaces the scene's camera with RADIANCE's view options, as rpict -vf: the
+// scene's own view file gives the scene's image, another view another image, and a bad
+// option is said in the view file.
+TEST_F(CrexRunCli, AViewFileReplacesTheCamera) {
+    const std::string rad = CREX_SOURCE_DIR "/examples/scenes/cornell/scene.rad", vf = CREX_SOURCE_DIR "/examples/scenes/cornell/scene.vf";
+    auto run = [&](const std::vector<std::string>& extra, const std::string& out) {
+        std::vector<std::string> args = {"run", "--scene", rad, "--size", "16x16", "--spp", "2", "-q", "-o", path(out)};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return crex_cli(args);
+    };
+    ASSERT_EQ(run({}, "own.exr").exit_code, 0);
+    ASSERT_EQ(run({"--view", vf}, "vf.exr").exit_code, 0);
+    std::ofstream(path("away.vf")) << "rview -vp 0 0 3.4 -vd 0 0 1 -vu 0 1 0 -vh 40 -vv 40\n";  // facing out of the box
+    ASSERT_EQ(run({"--view", path("away.vf")}, "away.exr").exit_code, 0);
+    auto image = [&](const std::string& f) {
+        int w = 0, h = 0;
+        std::vector<float> rgb;
+        EXPECT_EQ(read_image(path(f), w, h, rgb), "");
+        return rgb;
+    };
+    EXPECT_EQ(image("own.exr"), image("vf.exr"));
+    EXPECT_NE(image("own.exr"), image("away.exr"));
+    std::ofstream(path("bad.vf")) << "rview -vp 0 0 3\n-vh 200\n";
+    auto bad = run({"--view", path("bad.vf")}, "bad.exr");
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_NE(bad.err.find("bad.vf:2:5: error[E303]"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(path("bad.exr")));
+}
+
 TEST_F(CrexRunCli, ComponentLayersSumToTheComposite) {
     auto r = crex_cli({"run", "--size", "16x16", "--spp", "2", "--components", "-o", path("c.exr")});
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -115,7 +144,7 @@ TEST_F(CrexRunCli, UsageAndIoFailures) {
     EXPECT_EQ(unknown.exit_code, 3);
     EXPECT_NE(unknown.err.find("x.unknownext"), std::string::npos) << unknown.err;
     // Every output is checked before rendering: a bad second -o leaves the first unwritten.
-    for (const std::string bad : {path("y.unknownext"), path("a_file/y.png"), dir_.string()}) {
+    for (const std::string& bad : {path("y.unknownext"), path("a_file/y.png"), dir_.string()}) {
         auto two = crex_cli({"run", "--size", "4x4", "-o", path("first.exr"), "-o", bad});
         EXPECT_EQ(two.exit_code, 3) << bad;
         EXPECT_NE(two.err.find(bad), std::string::npos) << two.err;
