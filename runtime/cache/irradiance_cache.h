@@ -34,7 +34,7 @@ struct IcSettings {
     double accuracy = 0.15;     ///< aa: default accuracy (smaller is finer)
     double max_accuracy = 0;    ///< the coarsest aa any query will use (0: `accuracy`); sizes the index
     uint32_t divisions = 256;   ///< ad: hemisphere rays of a level-0 record
-    uint32_t bounces = 4;       ///< ab; bounce k uses accuracy aa 2^k (capped at 1)
+    uint32_t bounces = 8;       ///< ab; bounce k uses accuracy aa 2^k (capped at 1)
     double min_radius = 0;      ///< clamp of R (scene units); 0: the scene's extent / `resolution`
     /// RADIANCE's -ar: records are never closer than the scene's extent / ar, which caps their
     /// density in corners and at deeper bounces (0: extent / 2000, nearly no cap).
