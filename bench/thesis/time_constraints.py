@@ -1,14 +1,17 @@
 #!/usr/bin/env python3
-"""Time-constraint accuracy (thesis 5.4, table of budget vs actual) and the cost of checkpoints.
+"""Time constraints (issue 15; thesis 5.4-5.6, 8.7-8.8): how close every policy lands to its
+budget, and the error it reaches, on every scene; then what taking checkpoints costs.
 
   python3 bench/thesis/time_constraints.py [--crex build/release/apps/crex/crex] [--out out/thesis]
+        [--spp 16] [--repeat 3] [--scenes cornell,corridor,room] [--no-checkpoints]
 
-For each scene: a full render of the component crex (TT[RS]GMD)* without a budget, saving its profile;
-then the same crex under budgets of 10, 25 and 50 % of that time (predicted from the profile):
-budget, actual time, overshoot %, tasks skipped, and the error (FLIP, perr) against a converged
-reference. Then the same full render with and without --reference (checkpoints every 0.1 s
-and at step boundaries), nine times each, alternating: the median slowdown is what taking
-checkpoints costs. Prints markdown tables. Not run in CI.
+For each scene: a full render of the component crex (TT[RS]GMD)* without a budget, saving its
+profile; then, for each policy (tasks 5.4, batches 5.5, progressive) and every budget of 5, 10,
+25, 50 and 100 % of that time (predicted from the profile) and 0.25, 1 and 5 s, --repeat runs:
+the budget, the actual time, the overshoot (median and worst of the runs), the camera samples
+left out, and the error (FLIP, perr) against a converged reference. Goal: |overshoot| <= 2 %
+everywhere the budget can be met (a budget below one sample per pixel cannot), error falling as
+the budget grows. Prints markdown tables. Not run in CI.
 """
 import json
 import os
@@ -23,10 +26,14 @@ CREX = "(TT[RS]GMD)*"  # gold's components, R and S as one [ ] task
 def main():
     ap = arguments(__doc__)
     ap.add_argument("--spp", type=int, default=16)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--scenes", default="cornell,corridor,room")
+    ap.add_argument("--no-checkpoints", action="store_true")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    env = dict(os.environ, CREX_CACHE=os.path.join(a.out, "cache"))
-    for name, scene, size in SCENES:
+    env = dict(os.environ)  # references from the user's crex cache (crex reference keeps them)
+    scenes = SCENES + [("room", os.path.join(ROOT, "examples/scenes/room/scene.json"), "128x96")]
+    for name, scene, size in [sc for sc in scenes if sc[0] in a.scenes.split(",")]:
         ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"], env).strip()
         profile = os.path.join(a.out, f"{name}_tc.profile.json")
         base = ["run", "-e", CREX, "--scene", scene, "--size", size, "--spp", str(a.spp), "--seed", "1", "--format", "json", "-q"]
@@ -37,12 +44,24 @@ def main():
               f"FLIP {fc['flip']:.4f}, perr {fc['perr']:.1f} %\n")
         print("| budget | budget s | actual s | overshoot % | of which camera rays s | tasks skipped | FLIP vs ref | perr % |")
         print("|---:|---:|---:|---:|---:|---:|---:|---:|")
-        for pct in (10, 25, 50):
-            img = os.path.join(a.out, f"{name}_tc_{pct}.exr")
-            j = json.loads(crex(a.crex, base + ["-o", img, "--profile", profile, "--budget", f"{pct}%"], env))
-            c = json.loads(crex(a.crex, ["compare", img, ref, "--format", "json"], env))
-            print(f"| {pct} % | {j['budget_seconds']:.3f} | {j['render_seconds']:.3f} | {j['overshoot_percent']:+.1f} | "
-                  f"{j['components']['camera']['seconds']:.3f} | {len(j['skipped_tasks'])} | {c['flip']:.4f} | {c['perr']:.1f} |")
+        print("| policy | budget | budget s | actual s (median) | overshoot % median | worst | camera samples left out | FLIP | perr % |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+        budgets = [f"{p}%" for p in (5, 10, 25, 50, 100)] + ["0.25s", "1s", "5s"]
+        for policy in ("tasks", "batches", "progressive"):
+            for b in budgets:
+                runs = []
+                for r in range(a.repeat):
+                    img = os.path.join(a.out, f"{name}_tc_{policy}_{b.replace('%', 'pc')}.exr")
+                    j = json.loads(crex(a.crex, base + ["-o", img, "--profile", profile, "--budget", b, "--policy", policy], env))
+                    runs.append(j)
+                c = json.loads(crex(a.crex, ["compare", img, ref, "--format", "json"], env))
+                over = [j["overshoot_percent"] for j in runs]
+                worst = max(over, key=abs)
+                print(f"| {policy} | {b} | {runs[0]['budget_seconds']:.3f} | {statistics.median(j['render_seconds'] for j in runs):.3f} | "
+                      f"{statistics.median(over):+.1f} | {worst:+.1f} | {runs[-1].get('camera_samples_left_out', 0)} | "
+                      f"{c['flip']:.4f} | {c['perr']:.1f} |")
+        if a.no_checkpoints:
+            continue
         # Checkpoint cost: alternate runs with and without a reference.
         plain, checked, paused, counts = [], [], [], []
         for _ in range(9):
