@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <optional>
 
@@ -29,7 +30,11 @@ public:
 
     void syntaxError(antlr4::Recognizer* recognizer, antlr4::Token* token, size_t line, size_t col, const std::string& msg,
                      std::exception_ptr) override {
-        uint32_t begin = file_.offset_of(static_cast<uint32_t>(line), static_cast<uint32_t>(col) + 1), end = begin + 1;
+        // At the end of the file there is no character to point at: an empty span there (a span
+        // one past the text was what the pipeline fuzzer's first crash found).
+        const uint32_t size = static_cast<uint32_t>(file_.text().size());
+        uint32_t begin = std::min(file_.offset_of(static_cast<uint32_t>(line), static_cast<uint32_t>(col) + 1), size);
+        uint32_t end = std::min(begin + 1, size);
         std::string found = "end of file";
         if (token && token->getType() != antlr4::Token::EOF && token->getStopIndex() + 1 < text_.byte_offsets.size()) {
             found = "'" + token->getText() + "'";

@@ -287,6 +287,16 @@ TEST(PipelineSyntax, UnclosedBracketsAndStringsAreNamedWhereTheyOpen) {
     EXPECT_NE(str.diagnostics[0].message.find("unterminated string"), std::string::npos) << str.diagnostics[0].message;
     EXPECT_EQ(str.file->position(str.diagnostics[0].span.begin).col, 23u);
 
+    // A file that ends before its '}' is reported at the end, with a span inside the text (it
+    // was one past the end: the pipeline fuzzer's first finding).
+    const std::string cut = "pipeline p {\n  guidance { sal = saliency(preview) }\n";
+    auto eof = testing::plan_text("p.pipe", cut, std::nullopt);
+    ASSERT_FALSE(eof.diagnostics.empty());
+    for (const auto& d : eof.diagnostics) {
+        EXPECT_LE(d.span.end, cut.size());
+        EXPECT_LE(d.span.begin, d.span.end);
+    }
+
     // Balanced brackets: no note on an ordinary syntax error.
     auto plain = testing::plan_text("p.pipe", "pipeline p {\n  guidance { sal = = saliency(preview) }\n}\n", std::nullopt);
     ASSERT_FALSE(plain.diagnostics.empty());
