@@ -76,9 +76,9 @@ run_fuzz() {
   log "configure + build (libFuzzer, clang-14)"
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
-  local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer)
+  local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer)
   cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan}
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
   for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad; do
@@ -86,8 +86,18 @@ run_fuzz() {
   done
   for f in stdlib/pipelines/*.pipe examples/pipelines/*.pipe; do cp "$f" "build/fuzz/corpus/pipeline/$(echo "$f" | tr '/' '_')"; done
   for f in tests/golden/plans/*.plan.json; do cp "$f" build/fuzz/corpus/plan/; done
-  local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan)
-  local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384)
+  # Irradiance cache seeds with the fuzzer's settings (--ad 16 --ab 1), when a crex is built.
+  if [ -x build/release/apps/crex/crex ]; then
+    for size in 2x2 4x4; do
+      build/release/apps/crex/crex run --size "$size" --spp 1 --ad 16 --ab 1 -q -o build/fuzz/corpus/seed.exr \
+          --ic-file "build/fuzz/corpus/ic/seed_$size"
+    done
+    rm -f build/fuzz/corpus/seed.exr
+  fi
+  local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan
+                   [ic_file_fuzzer]=ic)
+  local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384
+                    [ic_file_fuzzer]=65536)
   for t in "${targets[@]}"; do
     log "fuzzing ${t} for ${seconds}s"
     build/fuzz/tests/fuzz/"$t" -max_total_time="$seconds" -timeout=10 -max_len="${max_len[$t]}" \

@@ -15,6 +15,7 @@
 
 #include "runtime/base/atomic_file.h"
 #include "runtime/base/sampling.h"
+#include "runtime/cache/cbor_shape.h"
 #include "runtime/render/bsdf.h"
 #include "runtime/render/shade.h"
 #include "runtime/trace/trace_batch.h"
@@ -420,10 +421,21 @@ std::string IrradianceCache::load(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return "cannot read '" + path + "'";
     std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    // Version 2 is CBOR; version 1 was JSON text.
-    auto j = !data.empty() && data.front() == '{' ? nlohmann::json::parse(data, nullptr, false)
-                                                   : nlohmann::json::from_cbor(data, true, false);
-    if (j.is_discarded() || !j.is_object() || j.value("format", "") != "crex-irradiance-cache")
+    return load_bytes(data, path);
+}
+
+std::string IrradianceCache::load_bytes(const std::string& data, const std::string& path) {
+    // Version 2 is CBOR; version 1 was JSON text. nlohmann's CBOR reader recurses per nesting
+    // level and per chunk of an indefinite-length string: damaged bytes overflowed the stack
+    // (SIGSEGV) before cbor_shape.h checked them, without recursion, first.
+    const bool json_text = !data.empty() && data.front() == '{';
+    if (!json_text)
+        if (std::string shape = check_cbor_shape(std::vector<std::uint8_t>(data.begin(), data.end()), 8); !shape.empty())
+            return "'" + path + "' is not a crex irradiance cache or is damaged: " + shape;
+    auto j = json_text ? nlohmann::json::parse(data, nullptr, false) : nlohmann::json::from_cbor(data, true, false);
+    // Compared as JSON values: value("format", "") threw out of load() when "format" was not
+    // a string (found by tests/fuzz/ic_file_fuzzer.cpp).
+    if (j.is_discarded() || !j.is_object() || !j.contains("format") || j.at("format") != "crex-irradiance-cache")
         return "'" + path + "' is not a crex irradiance cache";
     try {
         const auto& s = j.at("settings");
@@ -435,7 +447,13 @@ std::string IrradianceCache::load(const std::string& path) {
         auto keep = [&](IrradianceRecord rec) -> bool {
             rec.normal = normalize_or_zero(rec.normal);
             rec.harmonic_distance = std::clamp(std::isfinite(rec.harmonic_distance) ? rec.harmonic_distance : r_max_, r_min_, r_max_);
-            if (!is_finite(rec.position) || rec.normal == Vec3{} || !is_finite(rec.irradiance) || !std::isfinite(rec.quality))
+            // Positions are local (recentred): a record far outside the scene sent insert()'s
+            // grid indices past int (undefined behaviour); levels past `bounces` are no cache's.
+            const double extent = scene_.embree->extent();
+            const bool inside = std::fabs(rec.position.x) <= extent && std::fabs(rec.position.y) <= extent &&
+                                std::fabs(rec.position.z) <= extent;
+            if (!is_finite(rec.position) || !inside || rec.normal == Vec3{} || !is_finite(rec.irradiance) ||
+                !std::isfinite(rec.quality) || rec.level > settings_.bounces)
                 return false;
             loaded.push_back(rec);
             return true;

@@ -71,10 +71,13 @@ public:
     double min_radius() const { return r_min_; }
     double max_radius() const { return r_max_; }
 
-    /// Persistence (reuse across frames and runs): JSON with the settings that shaped the
-    /// records; load() refuses a file made with other settings or another scene extent.
+    /// Persistence (reuse across frames and runs): CBOR (version 2; version 1 JSON is still
+    /// read) with the settings that shaped the records; load() refuses a file made with other
+    /// settings or another scene extent, and damaged bytes, without loading any record.
     std::string save(const std::string& path) const;
     std::string load(const std::string& path);
+    /// load() of a file's bytes already read; `name` is the file the messages name.
+    std::string load_bytes(const std::string& data, const std::string& name);
 
 private:
     std::vector<IrradianceRecord> compute(const std::vector<IcQuery>& sites, uint32_t level);

@@ -1,0 +1,28 @@
+// libFuzzer target (run with tools/dev.sh fuzz): any bytes as an irradiance cache file (`crex run --ic-file F`).
+// Invariants: no crash, sanitizer report or exception; a refused file loads nothing and its
+// message names the file; an accepted one holds only finite records with R > 0.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "runtime/cache/irradiance_cache.h"
+#include "runtime/render/render_scene.h"
+#include "runtime/scene/load_scene.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    using namespace crex;
+    static const Scene scene = *builtin_scene("cornell");
+    static const RenderScene rs(scene);
+    IcSettings settings;  // the seeds' settings (tools/dev.sh: --ad 16 --ab 1), so they pass the header check
+    settings.divisions = 16, settings.bounces = 1;
+    IrradianceCache cache(rs, settings);
+    std::string error = cache.load_bytes(std::string(reinterpret_cast<const char*>(data), size), "fuzz.ic");
+    if (!error.empty()) {
+        if (!cache.records().empty() || error.find("'fuzz.ic'") == std::string::npos) std::abort();
+        return 0;
+    }
+    for (const auto& r : cache.records())
+        if (!is_finite(r.position) || !is_finite(r.irradiance) || !(r.harmonic_distance > 0)) std::abort();
+    return 0;
+}
