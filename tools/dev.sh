@@ -76,9 +76,9 @@ run_fuzz() {
   log "configure + build (libFuzzer, clang-14)"
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
-  local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer)
+  local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer view_fuzzer obj_fuzzer profile_fuzzer)
   cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic}
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
   for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad; do
@@ -94,15 +94,29 @@ run_fuzz() {
     done
     rm -f build/fuzz/corpus/seed.exr
   fi
+  cp examples/scenes/cornell/scene.vf build/fuzz/corpus/view/
+  printf 'rpict -vtv -vp 1 2 3 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45 -vs 0 -vl 0\n' > build/fuzz/corpus/view/seed_options
+  printf 'mtllib fuzz.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nvn 0 0 1\nusemtl lamp\nf 1//1 2//1 3//1\nusemtl glass\nf 2 4 3\n#mtl\nnewmtl lamp\nKe 5 5 5\nnewmtl glass\nKd 0.9 0.9 0.9\nd 0.5\nNi 1.5\nillum 7\n' \
+    > build/fuzz/corpus/obj/seed_triangles
+  printf '{"format": "crex-profile", "version": 1, "full_render_seconds": 1.33, "seconds_per_ray": {"D": 3.5e-06, "T": 2.7e-06, "camera": 4.1e-07}}\n' \
+    > build/fuzz/corpus/profile/seed_profile
   local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan
-                   [ic_file_fuzzer]=ic)
+                   [ic_file_fuzzer]=ic [view_fuzzer]=view [obj_fuzzer]=obj [profile_fuzzer]=profile)
   local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384
-                    [ic_file_fuzzer]=65536)
+                    [ic_file_fuzzer]=65536 [view_fuzzer]=512 [obj_fuzzer]=4096 [profile_fuzzer]=2048)
+  # Every target runs even when one finds a crash (its input is written as crash-*); the
+  # script fails at the end if any did.
+  local failed=()
+  mkdir -p build/fuzz/artifacts
   for t in "${targets[@]}"; do
     log "fuzzing ${t} for ${seconds}s"
-    build/fuzz/tests/fuzz/"$t" -max_total_time="$seconds" -timeout=10 -max_len="${max_len[$t]}" \
-        -print_final_stats=1 "build/fuzz/corpus/${corpus[$t]}"
+    build/fuzz/tests/fuzz/"$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len="${max_len[$t]}" \
+        -artifact_prefix="build/fuzz/artifacts/${t}-" -print_final_stats=1 "build/fuzz/corpus/${corpus[$t]}" || failed+=("$t")
   done
+  if ((${#failed[@]})); then
+    log "found inputs that fail: ${failed[*]} (build/fuzz/artifacts/)"
+    return 1
+  fi
 }
 
 case "${1:-}" in
