@@ -321,6 +321,15 @@ TEST(BudgetScheduling, ProfileRoundTripsThroughJson) {
     EXPECT_FALSE(q.cost(Component::kD).has_value());
     Profile bad;
     EXPECT_NE(Profile::from_json_text("{\"format\": \"crex-profile\", \"version\": 1, \"seconds_per_ray\": {\"X\": 1}}", bad), "");
+    // Fields of another type are errors, not exceptions (profile_fuzzer's first finding: a
+    // numeric "format" threw out of the reader).
+    for (const char* text : {R"({"format": 1.33, "seconds_per_ray": {"D": 3.5e-06}})", R"({"format": "crex-profile", "version": "1"})",
+                             R"({"format": "crex-profile", "version": 1, "seconds_per_ray": 7})",
+                             R"({"format": "crex-profile", "version": 1, "seconds_per_ray": {"D": 1e999}})"}) {
+        std::string error;
+        EXPECT_NO_THROW(error = Profile::from_json_text(text, bad)) << text;
+        EXPECT_NE(error, "") << text;
+    }
 }
 
 }  // namespace
