@@ -82,6 +82,9 @@ Runner add_run_command(CLI::App& app) {
         ->check(CLI::Range(0.0, 1.0));
     CLI::Option* max_depth = cmd->add_option("--max-depth", opt->max_depth, "No ray is spawned beyond this depth")->capture_default_str()->check(CLI::Range(0u, 65535u));
     cmd->add_flag("--no-roulette", opt->no_roulette, "Drop rays below --lw instead of Russian roulette (biased)");
+    cmd->add_option("--clamp", opt->clamp, "Clamp every indirect contribution (a ray of D G S T R M, per camera sample) to at most L "
+                                           "in its largest channel, keeping its hue: fewer fireflies, but biased (darker); off by default")
+        ->check(CLI::Range(1e-6, 1e30));
     CLI::Option* ambient = cmd->add_option("--ambient", opt->ambient_text, "Ambient value av standing in for unexecuted D work "
                                                                            "(default 0), or 'auto': every unexecuted ray stands in "
                                                                            "with what its component's rays brought back on average "

@@ -30,6 +30,7 @@ struct RunOptions {
     double lw = 1e-3;
     uint32_t max_depth = 256;
     bool no_roulette = false;
+    double clamp = 0;          ///< --clamp L: indirect contributions at most L (0: off; biased)
     std::string ambient_text;  ///< --ambient: a radiance, or "auto"
     double ambient = 0;
     bool ambient_auto = false;

@@ -54,6 +54,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     };
     if (in.pipeline) metadata.push_back({"crex:pipeline", in.plan.name + (opt.plan.empty() ? "" : " (" + opt.plan + ")")});
     if (setup.budget > 0) metadata.push_back({"crex:budget_seconds", fmt::format("{:.6g}", setup.budget)});
+    if (opt.clamp > 0) metadata.push_back({"crex:clamp_indirect", fmt::format("{:.6g} (biased)", opt.clamp)});
     for (const auto& path : setup.outputs) {
         std::error_code ec;
         auto parent = std::filesystem::path(path).parent_path();
@@ -117,6 +118,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
         }
         report.maps = result.maps;
         report.pictures = pictures.written;
+        report.picture_scales = pictures.heat_scale;
         if (in.pipeline) {
             report.plan_dot = pipeline_plan_to_dot(in.plan);
         } else {

@@ -52,6 +52,8 @@ std::string write_run_pictures(const std::string& dir, const Film& film, const s
                                 std::pair{"components_per_pixel", &components}}) {
         double mx = std::string(name) == "components_per_pixel" ? double(kAovCount) : max_of(*values);
         if (auto e = put(std::string(name) + ".png", heat_colours(*values, mx), true); !e.empty()) return e;
+        const char* unit = std::string(name) == "samples_per_pixel" ? "samples" : std::string(name) == "rays_per_pixel" ? "rays" : "components";
+        summary.heat_scale[summary.written.back()] = {mx, unit};
         if (auto e = put(std::string(name) + ".exr", raw(*values), false); !e.empty()) return e;
     }
     return "";

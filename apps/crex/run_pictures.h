@@ -4,6 +4,7 @@
 /// how many components), as viridis heat maps with their raw counts in an EXR beside them.
 #pragma once
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,8 @@ namespace crex::app {
 
 struct PictureSummary {
     std::vector<std::string> written;
+    /// Heat pictures among `written`: path -> the value the ramp's end stands for, and its unit.
+    std::map<std::string, std::pair<double, std::string>> heat_scale;
     double max_rays_per_pixel = 0, mean_rays_per_pixel = 0;
 };
 

@@ -94,7 +94,7 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
     for (const auto& [title, rgb] : r.images) {
         std::string path = (fs::path(r.dir) / "images" / (safe_name(title) + ".png")).string();
         if (std::string e = write_image(path, r.width, r.height, {{"", to_display(rgb, *exposure), true}}); !e.empty()) return e;
-        page.images.push_back({title, path});
+        page.images.push_back({title, path, std::nullopt});
     }
     // Where the final image differs from the reference, as a viewer sees it.
     if (r.reference && !r.images.empty() && r.images.front().first == "final image") {
@@ -103,19 +103,22 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
         std::vector<double> values(flip.begin(), flip.end());
         std::string path = (fs::path(r.dir) / "images" / "flip_against_reference.png").string();
         if (std::string e = write_image(path, r.width, r.height, {{"", heat_colours(values, 1.0), true}}); !e.empty()) return e;
-        page.images.push_back({"FLIP against the reference (viridis: 0 same .. 1 most different)", path});
+        page.images.push_back({"FLIP against the reference (0 same .. 1 most different)", path, ColourScale{0, 1, heat_css_gradient(), ""}});
     }
     for (const auto& [name, map] : r.maps) {
         std::vector<float> rgb(3 * map.pixels());
         for (size_t p = 0; p < map.pixels(); ++p) rgb[3 * p] = rgb[3 * p + 1] = rgb[3 * p + 2] = map.v[p];
         std::string path = (fs::path(r.dir) / "images" / ("map_" + safe_name(name) + ".png")).string();
         if (std::string e = write_image(path, r.width, r.height, {{"", rgb, true}}); !e.empty()) return e;
-        page.images.push_back({"map " + name, path});
+        page.images.push_back({"map " + name, path, ColourScale{0, 1, "linear-gradient(to right, black, white)", ""}});
     }
     for (const auto& p : r.pictures)
         if (p.size() > 4 && p.substr(p.size() - 4) == ".png" && p.find("map_") == std::string::npos &&
             p.find("preview") == std::string::npos)
-            page.images.push_back({fs::path(p).stem().string(), p});
+            page.images.push_back({fs::path(p).stem().string(), p,
+                                   r.picture_scales.count(p) ? std::optional(ColourScale{0, r.picture_scales.at(p).first, heat_css_gradient(),
+                                                                                         r.picture_scales.at(p).second})
+                                                             : std::nullopt});
 
     // The plan, drawn by Graphviz when it is installed.
     page.plan_dot = r.plan_dot;

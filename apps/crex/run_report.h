@@ -5,6 +5,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -30,6 +31,7 @@ struct RunReport {
     std::vector<std::pair<std::string, std::vector<float>>> images;  ///< title, linear RGB (final first)
     std::vector<std::pair<std::string, guidance::Raster>> maps;
     std::vector<std::string> pictures;                               ///< PNGs already written (--maps)
+    std::map<std::string, std::pair<double, std::string>> picture_scales;  ///< heat pictures: path -> max, unit
     std::string plan_dot;
 };
 

@@ -103,6 +103,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     rs.executor.shade.weight_limit = opt.lw;
     rs.executor.shade.max_depth = opt.max_depth;
     rs.executor.shade.roulette = !opt.no_roulette;
+    rs.executor.clamp_indirect = opt.clamp;
     rs.executor.constant_importance = opt.importance;
     rs.executor.profile = &setup.profile;
     rs.max_memory = static_cast<size_t>(opt.max_memory_mib * double(1 << 20));

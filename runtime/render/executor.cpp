@@ -22,6 +22,14 @@ double Executor::importance(uint32_t pixel) const {
     return std::fmin(std::fmax(v, 0.0), 1.0);
 }
 
+namespace {
+// Scales c down so that its largest channel is at most `limit`, keeping its hue.
+Vec3 clamped(const Vec3& c, double limit) {
+    double m = std::max({c.x, c.y, c.z});
+    return m > limit ? c * (limit / m) : c;
+}
+}  // namespace
+
 double Executor::now() const {
     if (options_.clock) return options_.clock();
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -47,6 +55,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
             for (size_t i = begin; i < end; ++i) {
                 Vec3 beta{rays.br[i], rays.bg[i], rays.bb[i]};
                 Vec3 c = beta * e[i - begin] / kPi;
+                if (options_.clamp_indirect > 0) c = clamped(c, options_.clamp_indirect);
                 film_.add(aov, rays.pixel[i], is_finite(c) ? c : Vec3{}, rays.flags[i] & kRayOddSample);
                 film_.count_ray(aov, rays.pixel[i]);
             }
@@ -58,6 +67,8 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         }
         ShadeOutput& out = shade_;
         trace_and_shade(scene_, rays, begin, end, camera, options_.shade, out);
+        if (!camera && options_.clamp_indirect > 0)
+            for (Vec3& c : out.contribution) c = clamped(c, options_.clamp_indirect);
         film_.add_rays(aov, rays.pixel.data() + begin, rays.flags.data() + begin, out.contribution.data(),
                        camera ? out.emission.data() : nullptr, out.contribution.size());
         out.append_children_to(sink);

@@ -69,6 +69,9 @@ struct ExecutorOptions {
     /// Irradiance-cache queries handed over at once (the cache batches its new records).
     size_t query_chunk_rays = size_t{1} << 16;
     double constant_importance = 1.0;      ///< I(p) when no map is given
+    /// > 0: every contribution of a component ray (not of camera rays) is scaled down so that
+    /// its largest channel is at most this (crex run --clamp): fireflies traded for bias.
+    double clamp_indirect = 0;
     const std::vector<float>* importance = nullptr;  ///< per pixel, row-major (clamped; NaN = 0)
     std::function<void(const std::string& what, uint64_t rays_done)> progress;
     double budget_seconds = 0;       ///< 0: no time budget

@@ -1,5 +1,7 @@
 #include "runtime/report/html_report.h"
 
+#include "runtime/report/svg_plot.h"
+
 #include <fmt/format.h>
 
 #include <fstream>
@@ -62,6 +64,8 @@ window.addEventListener('load', () => {
       }
   }
   b.plotOverlaps = overlaps;
+  // Colour bars drawn wide enough to read (a heat map without one cannot be read).
+  b.colourBars = Array.from(document.querySelectorAll('.scale .ramp')).filter(r => r.getBoundingClientRect().width > 50).length;
   b.ready = 'yes';
 });
 </script>
@@ -96,6 +100,8 @@ h1 { font-size: 20px; } h2 { font-size: 16px; margin-top: 28px; }
 table { border-collapse: collapse; } td, th { border: 1px solid #ddd; padding: 4px 10px; text-align: left; }
 .images { display: flex; flex-wrap: wrap; gap: 16px; }
 figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
+.scale { display: flex; align-items: center; gap: 6px; font-size: 11px; color: #555; margin: 2px 0; }
+.ramp { flex: 1; height: 10px; border: 1px solid #ccc; }
 img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
 .plan svg { max-width: 100%; height: auto; }
 </style>
@@ -114,8 +120,13 @@ img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
             error = "cannot read " + img.png_path + " for the report";
             return "";
         }
-        html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\"><figcaption>{0}</figcaption></figure>\n",
-                            escape(img.title), base64(bytes.str()));
+        std::string bar;
+        if (img.scale)
+            bar = fmt::format("<div class=\"scale\"><span>{}</span><div class=\"ramp\" style=\"background: {}\"></div><span>{}{}</span></div>",
+                              tick_label(img.scale->lo), img.scale->gradient, tick_label(img.scale->hi),
+                              img.scale->unit.empty() ? "" : " " + escape(img.scale->unit));
+        html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\">{2}<figcaption>{0}</figcaption></figure>\n",
+                            escape(img.title), base64(bytes.str()), bar);
     }
     html += "</div>\n<h2>Plan</h2>\n<div class=\"plan\">\n";
     html += page.plan_svg.empty() ? "<pre>" + escape(page.plan_dot) + "</pre>\n" : inline_svg(page.plan_svg);

@@ -5,15 +5,24 @@
 /// headless-Chromium test reads back.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace crex {
 
+/// What a picture's colours mean: a bar under it from `lo` (left) to `hi` (right).
+struct ColourScale {
+    double lo = 0, hi = 1;
+    std::string gradient;  ///< CSS background of the bar (heat_css_gradient(), or black to white)
+    std::string unit;      ///< said after hi, e.g. "rays"
+};
+
 struct ReportImage {
     std::string title;
     std::string png_path;  ///< read and embedded
+    std::optional<ColourScale> scale;
 };
 
 struct ReportPage {

@@ -189,9 +189,9 @@ TEST(IrradianceCache, ASavedCacheIsReusedWithoutNewRecords) {
         ASSERT_EQ(loaded.load(path), "");
         ASSERT_EQ(loaded.records().size(), first.ic_records.size());
         // Stored as float32 (version 2, CBOR): equal to float precision.
-        for (int c = 0; c < 3; ++c) {
-            EXPECT_EQ(static_cast<float>(loaded.records()[3].irradiance[c]), static_cast<float>(first.ic_records[3].irradiance[c]));
-            EXPECT_EQ(static_cast<float>(loaded.records()[3].position[c]), static_cast<float>(first.ic_records[3].position[c]));
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(static_cast<float>(loaded.records()[3].irradiance[k]), static_cast<float>(first.ic_records[3].irradiance[k]));
+            EXPECT_EQ(static_cast<float>(loaded.records()[3].position[k]), static_cast<float>(first.ic_records[3].position[k]));
         }
         EXPECT_EQ(loaded.records()[3].level, first.ic_records[3].level);
         // 30 floats a record and a short header: a small fraction of the JSON of version 1.

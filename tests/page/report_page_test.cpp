@@ -29,7 +29,8 @@ TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
     ::setenv("CREX_CACHE", (dir / "cache").c_str(), 1);
     ASSERT_EQ(testing::crex_cli({"reference", "--size", "48x48", "--spp", "64", "-q"}).exit_code, 0);
     auto run = testing::crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "48x48", "-o",
-                                  (dir / "r.exr").string(), "--reference", "auto", "--report", (dir / "report").string(), "-q"});
+                                  (dir / "r.exr").string(), "--reference", "auto", "--report", (dir / "report").string(),
+                                  "--maps", (dir / "maps").string(), "-q"});
     ASSERT_EQ(run.exit_code, 0) << run.err;
     auto page = testing::run_command({"/usr/bin/chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                                       "--disable-background-networking", "--disable-component-update", "--disable-sync",
@@ -40,11 +41,13 @@ TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
     int total = body_attribute(page.out, "data-images-total"), loaded = body_attribute(page.out, "data-images-loaded");
     // final, preview, reference, the 5 components that got rays (no G or S bin in the Cornell
     // box: left out, not shown as black tiles), the FLIP map against the reference, the
-    // saliency map.
-    EXPECT_EQ(total, 10);
+    // saliency map, and the three heat pictures of --maps (samples, rays, components per pixel).
+    EXPECT_EQ(total, 13);
     EXPECT_EQ(loaded, total);
     EXPECT_EQ(body_attribute(page.out, "data-images-blank"), 0);  // no picture of one colour
     EXPECT_EQ(body_attribute(page.out, "data-plot-overlaps"), 0);  // no label over another
+    // A colour bar under every picture of numbers: the FLIP map, the map, the heat pictures.
+    EXPECT_EQ(body_attribute(page.out, "data-colour-bars"), 5);
     EXPECT_EQ(body_attribute(page.out, "data-plot-curves"), 5);
     EXPECT_GT(body_attribute(page.out, "data-plot-width"), 100);
     // The curve the plot draws falls: the last checkpoint's FLIP is well below the first.

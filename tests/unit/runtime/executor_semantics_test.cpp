@@ -2,6 +2,8 @@
 // (spec/crex.md §3).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
 #include "tests/support/test_scenes.h"
@@ -347,6 +349,23 @@ TEST(RepeatCounts, AHugeCountStopsAtTheFirstIterationWithoutWork) {
     EXPECT_EQ(image("D2147483647"), finite);
     EXPECT_EQ(image("(D*)2147483647"), image("(D*)1000"));
     EXPECT_EQ(image("[D]2147483647"), image("[D]1000"));
+}
+
+// --clamp L: with one camera sample and one D step, a pixel's D AOV holds one ray's
+// contribution, so every pixel of it is at most L; camera rays (direct light) are untouched.
+TEST(ExecutorSemantics, ClampBoundsIndirectContributionsOnly) {
+    Scene s = glossy_room();
+    RunSettings o;
+    o.width = o.height = 8;
+    o.spp = 1;
+    RunResult free = render(s, testing::lower_or_die("D"), o);
+    o.executor.clamp_indirect = 0.05;
+    RunResult clamped = render(s, testing::lower_or_die("D"), o);
+    std::vector<float> d_free = free.film.aov_image(aov_of(Component::kD));
+    std::vector<float> d = clamped.film.aov_image(aov_of(Component::kD));
+    ASSERT_GT(*std::max_element(d_free.begin(), d_free.end()), 0.05f) << "the test needs contributions above the clamp";
+    for (float v : d) EXPECT_LE(v, 0.05f + 1e-6f);
+    EXPECT_EQ(free.film.aov_image(kCameraAov), clamped.film.aov_image(kCameraAov));
 }
 
 }  // namespace
