@@ -82,7 +82,8 @@ private:
     void run_samples(const std::string& stage, const SampleRanges& ranges, const std::function<void()>& after_camera_rays);
     void trace_camera_rays(const SamplePass& pass, const SampleRanges& ranges);
     void flush_bins();  // rays left at the end of a pass: D stands in as ambient, the rest dropped
-    std::vector<float> snapshot() const;
+    std::vector<float> snapshot() const;       // the image a checkpoint records
+    std::vector<float> composite_now() const;  // film + what waiting rays stand in for
     size_t pass_bytes(size_t held_bytes) const;
     void report_progress(const std::string& step);
     void stage_end(const std::string& what, const std::string& next);
@@ -104,7 +105,13 @@ private:
     std::vector<double> ambient_;  // av of D rays dropped at the end of passes
     std::array<std::vector<float>, kComponentCount> leftover_beta_;  // ambient_auto: per pixel RGB
     void add_auto_ambient();
+    // What an unexecuted ray of component c brings back per unit throughput: what its
+    // executed rays did (`measured`), else `fallback`.
+    Vec3 ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const;
     std::array<RayBatch, kComponentCount> carried_;  // the preview's rays waiting for the selective crex
+    // With a report: the image and sample counts when the running pass began (see snapshot()).
+    std::vector<float> pass_start_image_;
+    std::vector<uint32_t> pass_start_samples_;
     std::optional<IrradianceCache> cache_;
     std::vector<IcAnswer> preview_answers_;
     double base_aa_ = 0;
@@ -159,8 +166,6 @@ void PlanRun::trace_camera_rays(const SamplePass& pass, const SampleRanges& rang
             }
         }
     });
-    for (size_t p = p0; p < p1; ++p)
-        if (uint32_t n = samples_of(p)) out_.film.add_samples(static_cast<uint32_t>(p), first_of(p), n);
     CREX_CHECK(rays.size() == pass.samples);
     ex_->run_camera_rays(rays);
 }
@@ -184,12 +189,59 @@ void PlanRun::flush_bins() {
 }
 
 std::vector<float> PlanRun::snapshot() const {
+    std::vector<float> rgb = composite_now();
+    if (pass_start_image_.empty()) return rgb;
+    // A pixel whose samples of the running pass still have rays waiting shows what it was when
+    // the pass began (if it had samples then): its new samples are not done yet, and standing
+    // their missing light in with a component's average made the error curve jump up at every
+    // pass of a selective round (issue 17).
+    std::vector<uint8_t> in_flight(out_.film.pixel_count(), 0);
+    ex_->for_each_waiting_ray([&](uint32_t p) { in_flight[p] = 1; });
+    for (size_t p = 0; p < in_flight.size(); ++p)
+        if (in_flight[p] && pass_start_samples_[p] > 0)
+            for (size_t k = 0; k < 3; ++k) rgb[3 * p + k] = pass_start_image_[3 * p + k];
+    return rgb;
+}
+
+std::vector<float> PlanRun::composite_now() const {
     std::vector<double> ambient = ambient_;
-    add_ambient(ex_->bins()[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
-    add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
+    if (s_.ambient_auto) {
+        // The image if the render stopped here: rays still waiting (this pass's, the preview's
+        // carried ones, those dropped at earlier passes' ends) stand in with what their
+        // component's rays brought back so far, as at the end of a render. Without this a
+        // checkpoint inside a pass counted its new samples with only their camera light and
+        // the error curve rose through every pass (issue 17).
+        for (size_t c = 0; c < kComponentCount; ++c) {
+            bool measured = false;
+            Vec3 av = ambient_per_throughput(c, ex_->stats(), Vec3{}, measured);
+            if (!measured) continue;
+            add_ambient(ex_->bins()[c], av, ambient);
+            add_ambient(carried_[c], av, ambient);
+            const std::vector<float>& left = leftover_beta_[c];
+            for (size_t i = 0; i < left.size(); ++i) ambient[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
+        }
+    } else {
+        add_ambient(ex_->bins()[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
+        add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
+    }
     std::vector<float> rgb = out_.film.composite(&ambient);
     if (out_.subsample) out_.subsample->fill(rgb);
     return rgb;
+}
+
+Vec3 PlanRun::ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const {
+    const Film& film = out_.film;
+    const double* beta = stats.components[c].beta;
+    measured = beta[0] + beta[1] + beta[2] > 0;
+    if (!measured) return fallback;
+    const size_t aov = aov_of(static_cast<Component>(c));
+    double found[3] = {0, 0, 0};
+    for (uint32_t p = 0; p < film.pixel_count(); ++p) {
+        Vec3 v = film.pixel_value(aov, p) * double(film.samples(p));
+        found[0] += v.x, found[1] += v.y, found[2] += v.z;
+    }
+    auto ratio = [](double a, double b) { return b > 0 && std::isfinite(a / b) ? std::max(0.0, a / b) : 0.0; };
+    return {ratio(found[0], beta[0]), ratio(found[1], beta[1]), ratio(found[2], beta[2])};
 }
 
 void PlanRun::add_auto_ambient() {
@@ -207,19 +259,8 @@ void PlanRun::add_auto_ambient() {
     }
     for (size_t c = 0; c < kComponentCount; ++c) {
         if (leftover_beta_[c].empty()) continue;
-        const size_t aov = aov_of(static_cast<Component>(c));
-        double found[3] = {0, 0, 0};
-        for (uint32_t p = 0; p < pixels; ++p) {
-            Vec3 v = film.pixel_value(aov, p) * double(film.samples(p));
-            found[0] += v.x, found[1] += v.y, found[2] += v.z;
-        }
-        const double* beta = out_.stats.components[c].beta;
-        const bool measured = beta[0] + beta[1] + beta[2] > 0;
-        Vec3 av = mean;
-        if (measured) {
-            auto ratio = [](double a, double b) { return b > 0 && std::isfinite(a / b) ? std::max(0.0, a / b) : 0.0; };
-            av = {ratio(found[0], beta[0]), ratio(found[1], beta[1]), ratio(found[2], beta[2])};
-        }
+        bool measured = false;
+        Vec3 av = ambient_per_throughput(c, out_.stats, mean, measured);
         out_.auto_ambient[c] = av;
         const std::vector<float>& left = leftover_beta_[c];
         for (size_t i = 0; i < 3 * pixels; ++i) ambient_[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
@@ -282,9 +323,16 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, 
             }
             progress_.pass = i + 1;
             report_progress("camera rays");
+            if (s_.recorder)
+                s_.recorder->paused([&] {
+                    pass_start_image_ = composite_now();
+                    pass_start_samples_.resize(out_.film.pixel_count());
+                    for (uint32_t p = 0; p < pass_start_samples_.size(); ++p) pass_start_samples_[p] = out_.film.samples(p);
+                });
             const double t = now();
             trace_camera_rays(pass, ranges);
             after_camera_rays();
+            pass_start_image_.clear();
             // What a camera sample and all its rays cost, smoothed over passes (the thesis's
             // continuous profiling): the next pass or band is admitted on it.
             const double measured = (now() - t) / static_cast<double>(pass.samples);

@@ -47,8 +47,14 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
     const bool queries = options_.irradiance && !camera && !rays.empty() && (rays.flags[0] & kRayIcQuery);
     const size_t chunk = queries ? std::max<size_t>(options_.query_chunk_rays, 1) : chunk_rays();
     for (size_t i = 0; i < rays.size(); ++i) stats.beta[0] += rays.br[i], stats.beta[1] += rays.bg[i], stats.beta[2] += rays.bb[i];
+    running_ = &rays;
+    struct NotRunning {
+        const RayBatch*& running;
+        ~NotRunning() { running = nullptr; }
+    } not_running{running_};
     for (size_t begin = 0; begin < rays.size(); begin += chunk) {
         size_t end = std::min(rays.size(), begin + chunk);
+        running_next_ = end;
         if (queries) {  // cached D: interpolate
             std::vector<Vec3> e;
             options_.irradiance(rays, begin, end, e);

@@ -109,6 +109,17 @@ public:
     }
 
     const std::array<RayBatch, kComponentCount>& bins() const { return bins_; }
+    /// Calls f(pixel) for every ray not executed yet: in a bin, held back by `< >`, or later
+    /// in the step now running (from a checkpoint callback).
+    template <typename F>
+    void for_each_waiting_ray(F&& f) const {
+        for (size_t c = 0; c < kComponentCount; ++c) {
+            for (uint32_t p : bins_[c].pixel) f(p);
+            for (uint32_t p : pending_[c].pixel) f(p);
+        }
+        if (running_)
+            for (size_t i = running_next_; i < running_->size(); ++i) f(running_->pixel[i]);
+    }
     std::array<RayBatch, kComponentCount>& bins() { return bins_; }
     const ExecutorStats& stats() const { return stats_; }
     uint64_t rays_done() const { return rays_done_; }
@@ -138,6 +149,8 @@ private:
     ExecutorOptions options_;
     std::array<RayBatch, kComponentCount> bins_;
     std::array<RayBatch, kComponentCount> pending_;
+    const RayBatch* running_ = nullptr;  // the rays execute_rays is running, from running_next_ on
+    size_t running_next_ = 0;
     RayBatch spare_;  // memory for the next step's bin (see exec())
     bool deferring_ = false;
     // Inside a Modulate: its n, and the (stride, iteration) of the repeats between it and the step.

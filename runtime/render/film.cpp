@@ -34,7 +34,7 @@ void Film::add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, con
             if (pixel[i] < lo || pixel[i] >= hi) continue;
             add(aov, pixel[i], value[i], flags[i] & kRayOddSample);
             count_ray(aov, pixel[i]);
-            if (emission) add_emission(pixel[i], emission[i]);
+            if (emission) add_emission(pixel[i], emission[i]), add_sample(pixel[i], flags[i] & kRayOddSample);
         }
     });
 }

@@ -40,13 +40,15 @@ public:
             q[0] += value.x, q[1] += value.y, q[2] += value.z;
         }
     }
-    /// Camera samples [first, first + n) of `pixel` were taken.
-    void add_samples(uint32_t pixel, uint32_t first, uint32_t n) {
-        samples_[pixel] += n;
-        odd_samples_[pixel] += (first + n) / 2 - first / 2;
+    /// One camera sample of `pixel` was taken (odd: an odd sample index).
+    void add_sample(uint32_t pixel, bool odd) {
+        ++samples_[pixel];
+        odd_samples_[pixel] += odd ? 1 : 0;
     }
     /// For each i < n: add(aov, pixel[i], value[i], flags[i] & kRayOddSample) and
-    /// count_ray(aov, pixel[i]); with `emission`, add_emission(pixel[i], emission[i]) too. In
+    /// count_ray(aov, pixel[i]). With `emission` the rays are camera rays, one per sample:
+    /// add_emission(pixel[i], emission[i]) and add_sample too, so that a sample counts only once
+    /// its camera ray is traced (a snapshot mid-pass sees no untraced, black samples). In
     /// parallel over pixel ranges, each pixel's values in ray order: the same sums at any
     /// thread count.
     void add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, const Vec3* value, const Vec3* emission, size_t n);

@@ -12,6 +12,12 @@ void CheckpointRecorder::start() {
 
 double CheckpointRecorder::now() const { return std::chrono::duration<double>(Clock::now() - start_).count() - paused_; }
 
+void CheckpointRecorder::paused(const std::function<void()>& work) {
+    auto start = Clock::now();
+    work();
+    paused_ += std::chrono::duration<double>(Clock::now() - start).count();
+}
+
 void CheckpointRecorder::event(const std::string& what, bool boundary, uint64_t rays, const std::function<std::vector<float>()>& snapshot,
                                bool force) {
     double t = now();

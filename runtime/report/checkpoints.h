@@ -34,6 +34,8 @@ public:
     double paused_seconds() const { return paused_; }
 
     void set_stage(const std::string& stage) { stage_ = stage; }
+    /// Runs `work` (report bookkeeping) with the clock paused.
+    void paused(const std::function<void()>& work);
     /// Records a checkpoint if due: always when `force` (stage ends), at step boundaries when
     /// at least a tenth of the interval has passed, otherwise when the interval has.
     void event(const std::string& what, bool boundary, uint64_t rays, const std::function<std::vector<float>()>& snapshot,
