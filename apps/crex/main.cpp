@@ -3,6 +3,8 @@
 #include <iostream>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <fmt/format.h>
 #include <regex>
 #include <map>
 #include <string>
@@ -20,12 +22,27 @@ std::string capitalised(std::string s) {
     return s;
 }
 
-// CLI11's "--spp: Value abc not in range 1 to 1048576" as "--spp: 'abc' is not in the range 1 to 1048576".
+// A range end as people write it: 1e+30, not 1000000000000000019884624838656.000000.
+std::string plain_number(const std::string& s) {
+    char* end = nullptr;
+    double v = std::strtod(s.c_str(), &end);
+    if (!end || *end != '\0' || s.empty()) return s;
+    return v == std::floor(v) && std::fabs(v) < 1e15 ? fmt::format("{:.0f}", v) : fmt::format("{:g}", v);
+}
+
+// CLI11's "--spp: Value abc not in range 1 to 1048576" as "--spp: 'abc' is not a number
+// (expected 1 to 1048576)", and for a number out of range "'0' is not in the range 1 to ...".
 std::string plain_range_error(const std::string& what) {
     static const std::regex range(R"(Value (.*) not in range (\S+) to (\S+))");
     std::smatch m;
     if (!std::regex_search(what, m, range)) return what;
-    return m.prefix().str() + "'" + m[1].str() + "' is not in the range " + m[2].str() + " to " + m[3].str() + m.suffix().str();
+    const std::string value = m[1].str(), lo = plain_number(m[2].str()), hi = plain_number(m[3].str());
+    char* end = nullptr;
+    std::strtod(value.c_str(), &end);
+    const bool number = !value.empty() && end && *end == '\0';
+    return m.prefix().str() + "'" + value + (number ? "' is not in the range " + lo + " to " + hi
+                                                    : "' is not a number (expected " + lo + " to " + hi + ")") +
+           m.suffix().str();
 }
 
 // git's manner: name what was wrong, suggest the nearest right thing, say where help is.

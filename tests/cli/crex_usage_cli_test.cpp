@@ -35,7 +35,14 @@ TEST(UsageCli, AMisspelledFlagGetsTheNearestFlagAndTheCommandsName) {
 TEST(UsageCli, RangeErrorsSayTheRange) {
     auto r = crex_cli({"run", "--spp=abc"});
     EXPECT_EQ(r.exit_code, 2);
-    EXPECT_NE(r.err.find("crex run: error: --spp: 'abc' is not in the range 1 to 1048576"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("crex run: error: --spp: 'abc' is not a number (expected 1 to 1048576)"), std::string::npos) << r.err;
+    auto zero = crex_cli({"run", "--spp", "0"});
+    EXPECT_EQ(zero.exit_code, 2);
+    EXPECT_NE(zero.err.find("crex run: error: --spp: '0' is not in the range 1 to 1048576"), std::string::npos) << zero.err;
+    // Range ends as people write them (not 1000000000000000019884624838656.000000).
+    auto clamp = crex_cli({"run", "--clamp", "0"});
+    EXPECT_EQ(clamp.exit_code, 2);
+    EXPECT_NE(clamp.err.find("--clamp: '0' is not in the range 1e-06 to 1e+30"), std::string::npos) << clamp.err;
     auto size = crex_cli({"run", "--size", "0x64", "-q"});
     EXPECT_EQ(size.exit_code, 2);
     EXPECT_NE(size.err.find("each 1 to 16384"), std::string::npos) << size.err;
