@@ -15,6 +15,7 @@
 #include "compiler/plan/plan_pipeline.h"
 #include "compiler/sched/print.h"
 #include "runtime/base/atomic_file.h"
+#include "runtime/base/output_set.h"
 #include "runtime/io/image_io.h"
 
 namespace crex::app {
@@ -26,12 +27,15 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     const bool guided = result.staged;
     for (const auto& note : result.notes) std::cerr << "crex run: note: " << note << "\n";
     for (const auto& w : result.warnings) std::cerr << w << "\n";
+    // All or none: every file goes to a staged name first and moves into place at the end, so
+    // a failure at the report leaves the images the user had (issue 16).
+    OutputSet files;
     if (!opt.profile_out.empty()) {
         auto j = nlohmann::json::parse(setup.profile.to_json_text());
         j["full_render_seconds"] = setup.budget > 0 ? setup.full_render_seconds : result.render_seconds;
-        std::string error = write_file_atomically(opt.profile_out, j.dump(2) + "\n");
+        std::string error = write_file_atomically(files.stage_file(opt.profile_out), j.dump(2) + "\n");
         if (!error.empty()) {
-            std::cerr << fmt::format("crex run: error: cannot write profile '{}': {}\n", opt.profile_out, error);
+            std::cerr << fmt::format("crex run: error: cannot write profile '{}': {}\n", opt.profile_out, files.in_user_terms(error));
             return kExitFailure;
         }
     }
@@ -56,23 +60,23 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     if (setup.budget > 0) metadata.push_back({"crex:budget_seconds", fmt::format("{:.6g}", setup.budget)});
     if (opt.clamp > 0) metadata.push_back({"crex:clamp_indirect", fmt::format("{:.6g} (biased)", opt.clamp)});
     for (const auto& path : setup.outputs) {
-        std::error_code ec;
-        auto parent = std::filesystem::path(path).parent_path();
-        if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-        std::string error = write_image(path, width, height, layers, metadata);
+        std::string error = write_image(files.stage_file(path), width, height, layers, metadata);
         if (!error.empty()) {
-            std::cerr << "crex run: error: " << error << "\n";
+            std::cerr << "crex run: error: " << files.in_user_terms(error) << "\n";
             return kExitFailure;
         }
     }
 
-    PictureSummary pictures;
+    PictureSummary staged_pictures, pictures;  // paths where they are written, and where they will be
     if (!setup.maps_dir.empty()) {
-        std::string error = write_run_pictures(setup.maps_dir, result.film, guided ? &result.preview : nullptr, result.maps, pictures);
+        std::string error = write_run_pictures(files.stage_dir(setup.maps_dir), result.film, guided ? &result.preview : nullptr,
+                                               result.maps, staged_pictures);
         if (!error.empty()) {
-            std::cerr << "crex run: error: " << error << "\n";
+            std::cerr << "crex run: error: " << files.in_user_terms(error) << "\n";
             return kExitFailure;
         }
+        pictures = staged_pictures;
+        for (std::string& p : pictures.written) p = files.destination_of(p);
     }
 
     RunFacts facts;
@@ -97,7 +101,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     std::vector<CurvePoint> curve;
     if (recorder) {
         RunReport report;
-        report.dir = opt.report_dir;
+        if (!opt.report_dir.empty()) report.dir = files.stage_dir(opt.report_dir);
         report.title = fmt::format("crex run: {} on {}", in.pipeline ? "pipeline " + in.plan.name : sched::to_crex(in.plan.program),
                                    in.scene->scene->source);
         report.width = width, report.height = height;
@@ -117,8 +121,8 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
                 report.images.push_back({"component " + aov_name(a), std::move(aov)});
         }
         report.maps = result.maps;
-        report.pictures = pictures.written;
-        report.picture_scales = pictures.heat_scale;
+        report.pictures = staged_pictures.written;
+        report.picture_scales = staged_pictures.heat_scale;
         if (in.pipeline) {
             report.plan_dot = pipeline_plan_to_dot(in.plan);
         } else {
@@ -130,7 +134,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
         if (opt.report_dir.empty()) {  // a reference without a report: the curve only, in the summary
             curve = error_curve(recorder->checkpoints(), *setup.reference, report.view);
         } else if (std::string error = write_run_report(report, curve); !error.empty()) {
-            std::cerr << "crex run: error: report: " << error << "\n";
+            std::cerr << "crex run: error: report: " << files.in_user_terms(error) << "\n";
             return kExitFailure;
         }
         if (!curve.empty()) {
@@ -138,6 +142,10 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
             j["reference"] = setup.reference_file;
         }
         if (!opt.report_dir.empty()) j["report"] = (std::filesystem::path(opt.report_dir) / "index.html").string();
+    }
+    if (std::string error = files.commit(); !error.empty()) {
+        std::cerr << "crex run: error: " << error << "\n";
+        return kExitFailure;
     }
     if (opt.format == "json") {
         std::cout << j.dump(2) << "\n";

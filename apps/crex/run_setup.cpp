@@ -174,6 +174,13 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     setup.maps_dir = opt.maps_dir;
     if (setup.maps_dir.empty() && opt.maps_beside_output)
         setup.maps_dir = (std::filesystem::path(setup.outputs.front()).parent_path() / "maps").string();
+    for (const auto& [flag, dir] : {std::pair{"--maps", setup.maps_dir}, std::pair{"--report", opt.report_dir}}) {
+        std::error_code ec;
+        if (!dir.empty() && std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+            std::cerr << fmt::format("crex run: error: {} {}: is a file; give a directory\n", flag, dir);
+            return kExitFailure;
+        }
+    }
 
     // The reference of the error curve: with --reference, or for a report.
     setup.reference_file = opt.reference;

@@ -230,5 +230,53 @@ TEST(RunOutputsCli, AShortWriteNeverReplacesTheOldImage) {
     fs::remove_all(dir);
 }
 
+// Several outputs: all or none. The second image cannot be written (a file-size limit lets
+// the small PNG through and stops the EXR): the first, already written, must not replace the
+// old one either. Then a report whose images/ is blocked by a file: found when the outputs
+// move into place, and again nothing is replaced. No staged file is left behind.
+TEST(RunOutputsCli, SeveralOutputsAreWrittenAllOrNone) {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("crex_all_or_none_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string png = (dir / "a.png").string(), exr = (dir / "a.exr").string();
+    auto first = testing::crex_cli({"run", "--size", "16x16", "--spp", "1", "-o", png, "-o", exr, "-q"});
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const std::string old_png = bytes(png), old_exr = bytes(exr);
+    ASSERT_LT(old_png.size(), 2048u) << "the test needs a PNG under the 2 KB limit";
+    ASSERT_GT(old_exr.size(), 2048u) << "and an EXR over it";
+    auto limited = testing::run_command({"/bin/sh", "-c", std::string("trap '' XFSZ; ulimit -f 4; exec ") + CREX_BINARY +
+                                                                " run --size 16x16 --spp 1 --seed 7 -o " + png + " -o " + exr + " -q"});
+    EXPECT_EQ(limited.exit_code, 3) << limited.err;
+    EXPECT_NE(limited.err.find("cannot write '" + exr + "'"), std::string::npos) << limited.err;
+    EXPECT_EQ(bytes(png), old_png);  // written (staged), but never moved over the old one
+    EXPECT_EQ(bytes(exr), old_exr);
+
+    fs::create_directories(dir / "report");
+    { std::ofstream(dir / "report" / "images") << "in the way"; }
+    auto blocked = testing::crex_cli({"run", "--size", "16x16", "--spp", "1", "--seed", "9", "-o", png, "--report",
+                                      (dir / "report").string(), "--reference", exr, "-q"});
+    EXPECT_EQ(blocked.exit_code, 3) << blocked.err;
+    EXPECT_NE(blocked.err.find("no output was written"), std::string::npos) << blocked.err;
+    EXPECT_EQ(bytes(png), old_png);
+    EXPECT_FALSE(fs::exists(dir / "report" / "index.html"));
+
+    auto ok = testing::crex_cli({"run", "--size", "16x16", "--spp", "1", "--seed", "9", "-o", png, "--maps", (dir / "maps").string(), "-q"});
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_NE(bytes(png), old_png);
+    EXPECT_TRUE(fs::exists(dir / "maps" / "rays_per_pixel.png"));
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().find(".crex-staged"), std::string::npos) << e.path();
+    // A file where --maps wants a directory: said before anything renders.
+    auto file_maps = testing::crex_cli({"run", "--size", "16x16", "--spp", "1", "-o", png, "--maps", png, "-q"});
+    EXPECT_EQ(file_maps.exit_code, 3);  // an output problem, as for -o
+    EXPECT_NE(file_maps.err.find("--maps " + png + ": is a file; give a directory"), std::string::npos) << file_maps.err;
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace crex
