@@ -98,7 +98,7 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
     cmd->add_option("--policy", opt->policy,
                     "How a budget is spent: tasks (whole components, thesis 5.4), batches (rays by pixel importance, 5.5), "
-                    "queues (8.3; runs as batches for now), progressive (whole passes); default: the pipeline's, else tasks for a "
+                    "queues (8.3: the next batch from the component whose rays bring the most light per second), progressive (whole passes); default: the pipeline's, else tasks for a "
                     "pipeline without vary, queues with, progressive for a plain crex")
         ->check(CLI::IsMember({"tasks", "batches", "queues", "progressive"}));
     cmd->add_option("--profile", opt->profile_in, "Profile (cost per ray per component) to predict from");

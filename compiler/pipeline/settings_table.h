@@ -49,7 +49,8 @@ std::string budget_range_error(double v, bool percent);
 ///  tasks       whole components and [ ] groups, admitted on the profile (thesis 5.4);
 ///  batches     a task that does not fit runs its rays in batches ordered by pixel importance
 ///              while they fit (thesis 5.5, cbtcr);
-///  queues      per-variable queues by contribution over cost (thesis 8.3): not yet, runs as batches;
+///  queues      one queue per component, most important pixels first; the next batch from the
+///              queue with the most luminance per second (thesis 8.3, prog_tc);
 ///  progressive admitted passes run their crex whole (a plain crex run's default).
 enum class SchedulingPolicy { kTasks, kQueues, kBatches, kProgressive };
 std::span<const std::string_view> scheduling_policy_names();

@@ -34,6 +34,8 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
+/// Rec. 709 luminance of a linear RGB value.
+inline double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 /// std::fmax and std::fmin (a NaN argument loses to a number), inline: without -ffast-math
 /// GCC calls libm for them, and shading calls them at every hit.

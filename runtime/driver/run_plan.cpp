@@ -600,9 +600,10 @@ RunResult PlanRun::execute() {
                                             : pipeline::SchedulingPolicy::kQueues;
     using P = pipeline::SchedulingPolicy;
     using A = ExecutorOptions::TaskAdmission;
-    eo.task_admission = out_.policy == P::kTasks ? A::kWhole : out_.policy == P::kProgressive ? A::kNone : A::kBatches;
-    if (eo.budget_seconds > 0 && out_.policy == P::kQueues)
-        out_.notes.push_back("policy \"queues\" (thesis 8.3) is not implemented yet: it runs as \"batches\" (rays by pixel importance)");
+    eo.task_admission = out_.policy == P::kTasks         ? A::kWhole
+                        : out_.policy == P::kProgressive ? A::kNone
+                        : out_.policy == P::kQueues      ? A::kQueues
+                                                         : A::kBatches;
     if (rec) {
         rec->start();
         clock_ = [rec] { return rec->now(); };
@@ -633,12 +634,12 @@ RunResult PlanRun::execute() {
         // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
         run_samples("render", {s_.first_sample, s_.first_sample + s_.spp, {}, {}}, [&] {
             if (rec) rec->set_stage("preselective");
-            ex_->run(program.preselective);
+            ex_->run_stage(program.preselective);
             if (rec) {
                 rec->event("end of the pre-selective crex", true, ex_->rays_done(), [this] { return snapshot(); }, true);
                 rec->set_stage("selective");
             }
-            ex_->run(program.selective);
+            ex_->run_stage(program.selective);
             flush_bins();
         });
         if (rec) {
@@ -648,7 +649,7 @@ RunResult PlanRun::execute() {
     } else {
         // 1. Pre-selective: the rays each pass leaves waiting are carried to the selective stage.
         run_samples("pre-selective", {0, s_.spp, {}, {}}, [&] {
-            ex_->run(program.preselective);
+            ex_->run_stage(program.preselective);
             for (size_t c = 0; c < kComponentCount; ++c) {
                 RayBatch& bin = ex_->bins()[c];
                 carried_[c].append(bin, 0, bin.size());
@@ -695,7 +696,7 @@ RunResult PlanRun::execute() {
             const std::vector<float>* modulation = sel.modulation.empty() ? base_importance : &sel.modulation;
             auto run_selective = [&] {
                 ex_->set_importance(modulation);
-                ex_->run(program.selective);
+                ex_->run_stage(program.selective);
                 ex_->set_importance(base_importance);
                 flush_bins();
             };
@@ -713,7 +714,7 @@ RunResult PlanRun::execute() {
                 ranges.end_of[p] = static_cast<uint32_t>(std::ceil(target - 1e-9));
             }
             run_samples("selective" + label, ranges, [&] {
-                ex_->run(program.preselective);
+                ex_->run_stage(program.preselective);
                 run_selective();
             });
             selective_seconds += seconds_since(t_selective);

@@ -62,6 +62,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
                 Vec3 beta{rays.br[i], rays.bg[i], rays.bb[i]};
                 Vec3 c = beta * e[i - begin] / kPi;
                 if (options_.clamp_indirect > 0) c = clamped(c, options_.clamp_indirect);
+                stats.luminance += is_finite(c) ? luminance(c) : 0.0;
                 film_.add(aov, rays.pixel[i], is_finite(c) ? c : Vec3{}, rays.flags[i] & kRayOddSample);
                 film_.count_ray(aov, rays.pixel[i]);
             }
@@ -75,6 +76,8 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         trace_and_shade(scene_, rays, begin, end, camera, options_.shade, out);
         if (!camera && options_.clamp_indirect > 0)
             for (Vec3& c : out.contribution) c = clamped(c, options_.clamp_indirect);
+        if (!camera)
+            for (const Vec3& c : out.contribution) stats.luminance += is_finite(c) ? luminance(c) : 0.0;
         film_.add_rays(aov, rays.pixel.data() + begin, rays.flags.data() + begin, out.contribution.data(),
                        camera ? out.emission.data() : nullptr, out.contribution.size());
         out.append_children_to(sink);
@@ -227,6 +230,86 @@ void components_read(const sched::Node& n, std::array<bool, kComponentCount>& ou
 }
 
 }  // namespace
+
+bool Executor::run_stage(const sched::Node& program) {
+    if (options_.task_admission == ExecutorOptions::TaskAdmission::kQueues && budget_active()) return run_queues(program);
+    return run(program);
+}
+
+bool Executor::run_queues(const sched::Node& program) {
+    // Thesis 8.3: one queue per component the crex reads, its rays ordered by pixel importance
+    // (stable: ties keep their order, so choices are deterministic). Each choice takes a batch
+    // (an eighth of the queue, at least a chunk) from the queue worth the most luminance per
+    // second as measured so far; a queue never measured goes first, as a pilot of one chunk.
+    // A batch that does not fit the time left shrinks to what does; below a small floor its
+    // queue is done, and the others are still considered.
+    std::array<bool, kComponentCount> reads{};
+    components_read(program, reads);
+    std::array<bool, kComponentCount> out_of_time{};
+    const size_t floor_rays = std::max<size_t>(64, chunk_rays() / 64);
+    bool work = false;
+    for (;;) {
+        QueueChoice choice{};
+        int best = -1;
+        double best_value = -1;
+        for (size_t c = 0; c < kComponentCount; ++c) {
+            choice.value[c] = NAN;
+            if (!reads[c] || bins_[c].empty() || out_of_time[c]) continue;
+            const ComponentStats& st = stats_.components[c];
+            std::optional<double> cost = options_.profile ? options_.profile->cost(static_cast<Component>(c)) : std::nullopt;
+            double value = !cost || st.rays == 0 || !(*cost > 0) ? INFINITY : st.luminance / static_cast<double>(st.rays) / *cost;
+            choice.value[c] = value;
+            if (value > best_value) best = static_cast<int>(c), best_value = value;
+        }
+        if (best < 0) break;
+        const auto component = static_cast<Component>(best);
+        RayBatch& bin = bins_[static_cast<size_t>(best)];
+        std::optional<double> cost = options_.profile ? options_.profile->cost(component) : std::nullopt;
+        size_t n = std::min(bin.size(), cost ? std::max(chunk_rays(), (bin.size() + 7) / 8) : chunk_rays());
+        const double remaining = options_.budget_seconds - now();
+        if (cost && static_cast<double>(n) * *cost > remaining) {
+            n = remaining > 0 ? static_cast<size_t>(remaining / *cost) : 0;
+            if (n < std::min(floor_rays, bin.size())) {
+                out_of_time[static_cast<size_t>(best)] = true;
+                continue;
+            }
+        }
+        // Children of a batch join their queue's end, so a queue is put in importance order
+        // again before a part of it is taken; a whole queue, or one of equal importance
+        // everywhere, moves as it is (sorting and copying every choice cost 30 % of the time).
+        RayBatch batch, rest;
+        if (n == bin.size()) {
+            batch = std::move(bin);
+        } else if (!options_.importance) {
+            batch.append(bin, 0, n);
+            rest.append(bin, n, bin.size());
+        } else {
+            std::vector<uint32_t> order(bin.size());
+            std::iota(order.begin(), order.end(), 0u);
+            std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return importance(bin.pixel[a]) > importance(bin.pixel[b]); });
+            for (size_t k = 0; k < order.size(); ++k) (k < n ? batch : rest).push(bin.get(order[k]));
+        }
+        bin = std::move(rest);
+        ComponentStats& stats = stats_.components[static_cast<size_t>(best)];
+        ++stats.executions;
+        stats_.steps.push_back({component, n});
+        choice.component = component;
+        choice.rays = n;
+        stats_.queue_choices.push_back(choice);
+        std::string letter(1, component_letter(component));
+        execute_rays(batch, false, aov_of(component), stats, letter, component);
+        note_rays_held();
+        if (options_.checkpoint) options_.checkpoint(letter + " (queue)", true);
+        work = true;
+    }
+    for (size_t c = 0; c < kComponentCount; ++c)
+        if (reads[c] && !bins_[c].empty()) {
+            std::optional<double> cost = options_.profile ? options_.profile->cost(static_cast<Component>(c)) : std::nullopt;
+            stats_.skipped.push_back({fmt::format("{} queue ({} rays)", component_letter(static_cast<Component>(c)), bins_[c].size()),
+                                      static_cast<double>(bins_[c].size()) * cost.value_or(0), options_.budget_seconds - now()});
+        }
+    return work;
+}
 
 bool Executor::run_deferred(const sched::Node& node, bool owns) {
     if (!owns || deferring_) {

@@ -39,6 +39,9 @@ struct ComponentStats {
     /// Throughput of the rays executed, summed: with the component's AOV it says what a ray of
     /// this component brings back on average (the driver's automatic ambient stand-in).
     double beta[3] = {0, 0, 0};
+    /// Luminance its rays brought to the image, summed (the queues policy's measure of what a
+    /// ray of the component is worth).
+    double luminance = 0;
 };
 
 /// One executed step, in execution order (for reports and semantics tests).
@@ -54,11 +57,21 @@ struct SkippedTask {
     double remaining = 0;   ///< seconds left when it was considered
 };
 
+/// A choice of the queues policy: the batch it took and what each queue was worth then.
+struct QueueChoice {
+    Component component;
+    uint64_t rays = 0;
+    /// Luminance per second of every queue with rays when the choice was made (+inf: not
+    /// measured yet, runs first); NaN: the queue was empty or not read by the crex.
+    std::array<double, kComponentCount> value{};
+};
+
 struct ExecutorStats {
     std::array<ComponentStats, kComponentCount> components{};
     ComponentStats camera;
     std::vector<StepRecord> steps;
     std::vector<SkippedTask> skipped;
+    std::vector<QueueChoice> queue_choices;
 };
 
 struct ExecutorOptions {
@@ -78,7 +91,10 @@ struct ExecutorOptions {
     /// Under a budget, how a component task is admitted: whole on the profile's prediction
     /// (thesis 5.4), or its rays in batches ordered by pixel importance while they fit (5.5);
     /// kNone: the caller admits whole passes and every task of an admitted pass runs.
-    enum class TaskAdmission { kWhole, kBatches, kNone } task_admission = TaskAdmission::kWhole;
+    /// kQueues (thesis 8.3): every component the crex reads is a queue of its rays, most
+    /// important pixels first; the next batch comes from the queue whose rays bring the most
+    /// luminance per second, while batches fit (the crex's order is not kept under a budget).
+    enum class TaskAdmission { kWhole, kBatches, kNone, kQueues } task_admission = TaskAdmission::kWhole;
     Profile* profile = nullptr;      ///< costs per ray; measured into as the render goes
     /// Seconds since the first camera ray (default: a steady clock). Tests inject a clock;
     /// reports give one that pauses while they copy snapshots.
@@ -100,6 +116,8 @@ public:
     void run_camera_rays(const RayBatch& camera_rays);
     /// Runs one stage's program over the current bins; returns true if any step had work.
     bool run(const sched::Node& node);
+    /// Runs a stage's whole program: as run(), or under a budget with kQueues as queues.
+    bool run_stage(const sched::Node& program);
 
     /// Between stages (spec/pipeline.md: the svt applies to the selective stage).
     void set_shade_params(const ShadeParams& shade) { options_.shade = shade; }
@@ -137,6 +155,7 @@ private:
     bool budget_active() const {
         return options_.budget_seconds > 0 && !in_admitted_group_ && options_.task_admission != ExecutorOptions::TaskAdmission::kNone;
     }
+    bool run_queues(const sched::Node& program);
     bool run_in_batches(RayBatch& take, size_t first, double cost, RayBatch& bin, ComponentStats& stats, const std::string& letter,
                         const sched::Node& node);
     size_t chunk_rays() const;

@@ -6,11 +6,6 @@
 #include "runtime/base/sampling.h"
 
 namespace crex {
-namespace {
-
-double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-
-}  // namespace
 
 LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
     for (const auto& g : embree.geometries()) {
