@@ -97,6 +97,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     facts.maps_dir = setup.maps_dir;
     facts.pictures = &pictures;
     facts.report_dir = opt.report_dir;
+    facts.predicted = setup.predicted ? &*setup.predicted : nullptr;
     nlohmann::json j = run_summary_json(facts);  // printed with --format json, and the report's
     std::vector<CurvePoint> curve;
     if (recorder) {

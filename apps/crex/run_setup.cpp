@@ -125,6 +125,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
             std::cerr << fmt::format("crex run: error: profile '{}': {}\n", opt.profile_in, error);
             return kExitInputErrors;
         }
+        setup.predicted = setup.profile;
         auto j = nlohmann::json::parse(text.str(), nullptr, false);
         if (j.is_object()) setup.full_render_seconds = j.value("full_render_seconds", 0.0);
     }

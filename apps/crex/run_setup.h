@@ -18,6 +18,7 @@ namespace crex::app {
 struct RunSetup {
     RunSettings settings;
     Profile profile;                 ///< read from --profile, measured into during the run
+    std::optional<Profile> predicted;  ///< --profile as read: what the budget predicted from
     double full_render_seconds = 0;  ///< the profile's, for budgets in %
     double budget = 0;               ///< seconds, 0: none
     std::optional<metrics::Image> reference;

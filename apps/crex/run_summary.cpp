@@ -83,7 +83,25 @@ nlohmann::json run_summary_json(const RunFacts& f) {
             skipped.push_back({{"task", sk.what}, {"predicted_seconds", sk.predicted}, {"remaining_seconds", sk.remaining}});
         j["skipped_tasks"] = skipped;
     }
+    if (f.predicted) {
+        nlohmann::json e = nlohmann::json::object();
+        for (const auto& [what, percent] : profile_errors(*f.predicted, st)) e[what] = percent;
+        j["profile_error_percent"] = e;
+    }
     return j;
+}
+
+std::vector<std::pair<std::string, double>> profile_errors(const Profile& predicted, const ExecutorStats& measured) {
+    std::vector<std::pair<std::string, double>> out;
+    auto add = [&](const std::string& what, std::optional<double> cost, const ComponentStats& s) {
+        if (!cost || s.rays == 0 || !(s.seconds > 0)) return;
+        const double actual = s.seconds / static_cast<double>(s.rays);
+        out.push_back({what, (*cost - actual) / actual * 100});
+    };
+    add("camera", predicted.camera_cost(), measured.camera);
+    for (size_t c = 0; c < kComponentCount; ++c)
+        add(std::string(1, kComponentTable[c].letter), predicted.cost(static_cast<Component>(c)), measured.components[c]);
+    return out;
 }
 
 void print_run_summary(const RunFacts& f, std::ostream& out) {
@@ -132,6 +150,11 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
                            r.budget_stopped_samples == 1 ? "" : "s");
         for (const auto& sk : st.skipped)
             out << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
+    }
+    if (f.predicted) {
+        std::string line;
+        for (const auto& [what, percent] : profile_errors(*f.predicted, st)) line += fmt::format("{}{} {:+.1f} %", line.empty() ? "" : ", ", what, percent);
+        if (!line.empty()) out << "  profile's cost per ray against this run's: " << line << "\n";
     }
     if (!f.ic_file.empty())
         out << fmt::format("  irradiance cache {}: {} records loaded, {} made, {} saved\n", f.ic_file, f.ic_loaded,

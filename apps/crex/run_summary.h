@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/crex/run_pictures.h"
+#include "runtime/render/profile.h"
 #include "compiler/plan/pipeline_plan.h"
 #include "runtime/driver/run_plan.h"
 #include "runtime/report/checkpoints.h"
@@ -37,7 +38,12 @@ struct RunFacts {
     const std::vector<CurvePoint>* curve = nullptr;
     std::string reference;
     std::string report_dir;
+    const Profile* predicted = nullptr;  ///< the --profile the run predicted from
 };
+
+/// Per component (and "camera"): how far the profile's cost per ray was from this run's
+/// measured cost, in % of the measured (thesis Table 5.4); only what both know.
+std::vector<std::pair<std::string, double>> profile_errors(const Profile& predicted, const ExecutorStats& measured);
 
 nlohmann::json run_summary_json(const RunFacts& f);
 void print_run_summary(const RunFacts& f, std::ostream& out);

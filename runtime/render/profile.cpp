@@ -11,7 +11,7 @@ std::string Profile::to_json_text() const {
     j["format"] = "crex-profile";
     j["version"] = 1;
     j["seconds_per_ray"] = nlohmann::json::object();
-    if (camera_) j["seconds_per_ray"]["camera"] = *camera_;
+    if (camera_.cost) j["seconds_per_ray"]["camera"] = *camera_.cost;
     for (const auto& row : kComponentTable)
         if (auto c = cost(row.component)) j["seconds_per_ray"][std::string(1, row.letter)] = *c;
     return j.dump(2) + "\n";
@@ -37,12 +37,12 @@ std::string Profile::from_json_text(const std::string& text, Profile& out) {
                 return "seconds_per_ray." + key + ": expected a finite number >= 0";
             double v = value.get<double>();
             if (key == "camera") {
-                p.camera_ = v;
+                load(p.camera_, v);
                 continue;
             }
             auto c = key.size() == 1 ? component_from_letter(key[0]) : std::nullopt;
             if (!c) return "seconds_per_ray: unknown component '" + key + "'";
-            p.cost_[static_cast<size_t>(*c)] = v;
+            load(p.cost_[static_cast<size_t>(*c)], v);
         }
     out = p;
     return "";

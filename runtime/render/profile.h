@@ -1,11 +1,14 @@
 /// \file profile.h
 /// The profiler of time-constrained rendering (thesis 5.4, spec/crex.md §3): measured cost per
-/// ray of each component (and of camera rays), kept as an exponentially weighted average so it
-/// follows changes during a render (e.g. while a cache fills). A profile can be saved and
+/// ray of each component (and of camera rays), kept as an average weighted by rays that decays
+/// with a half-life of kHalfLifeRays rays, so it follows changes during a render (e.g. while a
+/// cache fills) without letting the last small step of a loop (a few rays, mostly overhead)
+/// decide it: halving per measurement made a saved profile 2-8x too dear. A profile can be saved and
 /// loaded (a profile cache reused across frames of an animation and across runs).
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -16,8 +19,9 @@ namespace crex {
 class Profile {
 public:
     /// Seconds per ray of component c, if measured or loaded.
-    std::optional<double> cost(Component c) const { return cost_[static_cast<size_t>(c)]; }
-    std::optional<double> camera_cost() const { return camera_; }
+    std::optional<double> cost(Component c) const { return cost_[static_cast<size_t>(c)].cost; }
+    std::optional<double> camera_cost() const { return camera_.cost; }
+    static constexpr double kHalfLifeRays = 65536;
 
     /// Folds in a measurement of `rays` rays taking `seconds`.
     void record(Component c, uint64_t rays, double seconds) { fold(cost_[static_cast<size_t>(c)], rays, seconds); }
@@ -28,13 +32,21 @@ public:
     static std::string from_json_text(const std::string& text, Profile& out);
 
 private:
-    static void fold(std::optional<double>& slot, uint64_t rays, double seconds) {
+    struct Slot {
+        std::optional<double> cost;
+        double rays = 0;  ///< weight of `cost`: rays measured, decayed
+    };
+    static void fold(Slot& slot, uint64_t rays, double seconds) {
         if (rays == 0 || !(seconds >= 0)) return;
-        double c = seconds / static_cast<double>(rays);
-        slot = slot ? 0.5 * *slot + 0.5 * c : c;  // decay: the latest batches weigh most
+        const double n = static_cast<double>(rays);
+        const double kept = slot.cost ? slot.rays * std::exp2(-n / kHalfLifeRays) : 0.0;
+        slot.cost = ((slot.cost ? *slot.cost * kept : 0.0) + seconds) / (kept + n);
+        slot.rays = kept + n;
     }
-    std::array<std::optional<double>, kComponentCount> cost_{};
-    std::optional<double> camera_;
+    // A loaded cost weighs as one half-life of rays: a render's own measurements soon lead.
+    static void load(Slot& slot, double cost) { slot = {cost, kHalfLifeRays}; }
+    std::array<Slot, kComponentCount> cost_{};
+    Slot camera_;
 };
 
 }  // namespace crex

@@ -1,6 +1,7 @@
 // `crex run` as a user runs it: outputs written atomically, EXR layers, exit codes.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -275,6 +276,32 @@ TEST(RunOutputsCli, SeveralOutputsAreWrittenAllOrNone) {
     auto file_maps = testing::crex_cli({"run", "--size", "16x16", "--spp", "1", "-o", png, "--maps", png, "-q"});
     EXPECT_EQ(file_maps.exit_code, 3);  // an output problem, as for -o
     EXPECT_NE(file_maps.err.find("--maps " + png + ": is a file; give a directory"), std::string::npos) << file_maps.err;
+    fs::remove_all(dir);
+}
+
+// A budgeted run from a saved profile says, per component, how far the profile's cost per ray
+// was from what the run measured (thesis Table 5.4), in the JSON summary and the text.
+TEST(RunBudgetCli, TheProfilesErrorIsReportedPerComponent) {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("crex_profile_error_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string profile = (dir / "p.json").string();
+    auto full = testing::crex_cli({"run", "-e", "(TT[RS]GMD)*", "--size", "32x32", "--spp", "4", "-o", (dir / "f.exr").string(),
+                                   "--save-profile", profile, "-q"});
+    ASSERT_EQ(full.exit_code, 0) << full.err;
+    auto cut = testing::crex_cli({"run", "-e", "(TT[RS]GMD)*", "--size", "32x32", "--spp", "4", "-o", (dir / "c.exr").string(),
+                                  "--profile", profile, "--budget", "50%", "--policy", "queues", "--format", "json", "-q"});
+    ASSERT_EQ(cut.exit_code, 0) << cut.err;
+    auto j = nlohmann::json::parse(cut.out);
+    EXPECT_EQ(j["policy"], "queues");
+    const auto& e = j["profile_error_percent"];
+    ASSERT_TRUE(e.contains("camera")) << e.dump();
+    ASSERT_TRUE(e.contains("D")) << e.dump();
+    for (const auto& [what, percent] : e.items()) EXPECT_TRUE(std::isfinite(percent.get<double>())) << what;
+    auto text = testing::crex_cli({"run", "-e", "(TT[RS]GMD)*", "--size", "32x32", "--spp", "4", "-o", (dir / "c.exr").string(),
+                                   "--profile", profile, "--budget", "50%"});
+    ASSERT_EQ(text.exit_code, 0) << text.err;
+    EXPECT_NE(text.out.find("profile's cost per ray against this run's: camera "), std::string::npos) << text.out;
     fs::remove_all(dir);
 }
 

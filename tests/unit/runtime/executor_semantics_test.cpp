@@ -312,6 +312,18 @@ TEST(BudgetScheduling, WithoutAProfileAPilotRunsAndIsKept) {
     EXPECT_EQ(r.rays_left[static_cast<size_t>(Component::kD)], 390u + 10u);  // the rest waits; the pilot spawned 10
 }
 
+// The profile weighs measurements by their rays: the last step of a loop (a few rays, mostly
+// fixed overhead) no longer decides the cost (halving per measurement saved profiles 2-8x too
+// dear, and tasks that fit were skipped on them), yet a change in cost is followed.
+TEST(BudgetScheduling, ProfileWeighsMeasurementsByTheirRays) {
+    Profile p;
+    p.record(Component::kD, 100000, 0.1);  // 1 us per ray
+    p.record(Component::kD, 10, 0.001);    // 100 us per ray, ten rays
+    EXPECT_NEAR(*p.cost(Component::kD), 1e-6, 0.02e-6);
+    for (int k = 0; k < 8; ++k) p.record(Component::kD, 65536, 65536 * 2e-6);  // the cost doubles
+    EXPECT_NEAR(*p.cost(Component::kD), 2e-6, 0.02e-6);
+}
+
 TEST(BudgetScheduling, ProfileRoundTripsThroughJson) {
     Profile p;
     p.record(Component::kT, 1000, 0.002);
