@@ -28,6 +28,11 @@ int run(RunOptions opt) {
     std::unique_ptr<tbb::global_control> threads;
     if (opt.threads > 0)
         threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(opt.threads));
+    if (opt.compare_policies && (!(setup.budget > 0) || !setup.reference)) {
+        std::cerr << "crex run: error: --compare-policies needs a budget (--budget or the pipeline's) and a reference "
+                     "(--reference, or --report with a cached reference)\n";
+        return kExitUsage;
+    }
     std::optional<CheckpointRecorder> recorder;
     if (setup.reference || !opt.report_dir.empty()) {
         recorder.emplace(opt.checkpoint_interval);
@@ -51,7 +56,29 @@ int run(RunOptions opt) {
         return kExitFailure;
     }
     progress.finish();
-    return write_run_outputs(opt, in, setup, *result, recorder ? &*recorder : nullptr);
+    // The same render under every other policy, from the same profile, for the report's
+    // plot of all of them; nothing of theirs is written but their checkpoints.
+    std::vector<PolicyRun> others;
+    for (std::string_view name : pipeline::scheduling_policy_names()) {
+        if (!opt.compare_policies || name == pipeline::name_of(result->policy)) continue;
+        if (!opt.quiet && opt.format != "json") std::cerr << "crex run: rendering again under policy " << name << "\n";
+        RunSettings s = setup.settings;
+        s.policy = pipeline::scheduling_policy_from_name(name);
+        Profile profile = setup.predicted.value_or(Profile{});
+        s.executor.profile = &profile;
+        s.ic_file.clear();
+        CheckpointRecorder r(opt.checkpoint_interval);
+        s.recorder = &r;
+        s.progress = nullptr;
+        try {
+            run_plan(*in.scene->scene, in.plan, s);
+        } catch (const std::exception& e) {
+            std::cerr << "crex run: error: rendering under policy " << name << " failed: " << e.what() << "\n";
+            return kExitFailure;
+        }
+        others.push_back({std::string(name), r.checkpoints()});
+    }
+    return write_run_outputs(opt, in, setup, *result, recorder ? &*recorder : nullptr, others);
 }
 
 }  // namespace
@@ -96,6 +123,8 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
         ->allow_extra_args(false);
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
+    cmd->add_flag("--compare-policies", opt->compare_policies, "Under a budget with a reference: render again under every other "
+                                                               "--policy and plot all their errors against time in the report");
     cmd->add_option("--policy", opt->policy,
                     "How a budget is spent: tasks (whole components, thesis 5.4), batches (rays by pixel importance, 5.5), "
                     "queues (8.3: the next batch from the component whose rays bring the most light per second), progressive (whole passes); default: the pipeline's, else tasks for a "

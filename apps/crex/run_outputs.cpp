@@ -21,7 +21,7 @@
 namespace crex::app {
 
 int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup& setup, const RunResult& result,
-                      const CheckpointRecorder* recorder) {
+                      const CheckpointRecorder* recorder, const std::vector<PolicyRun>& other_policies) {
     const RunSettings& rs = setup.settings;
     const int width = rs.width, height = rs.height;
     const bool guided = result.staged;
@@ -107,6 +107,8 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
                                    in.scene->scene->source);
         report.width = width, report.height = height;
         report.checkpoints = &recorder->checkpoints();
+        report.policy = std::string(pipeline::name_of(result.policy));
+        for (const auto& [name, checkpoints] : other_policies) report.other_policies.push_back({name, &checkpoints});
         report.reference = setup.reference;
         report.reference_path = setup.reference_file;
         report.view = {true, setup.reference ? display_exposure(setup.reference->rgb) : 1.0};

@@ -11,8 +11,11 @@
 
 namespace crex::app {
 
+/// The checkpoints of the same render under another budget policy (--compare-policies).
+using PolicyRun = std::pair<std::string, std::vector<Checkpoint>>;
+
 /// Returns the exit code of the run.
 int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup& setup, const RunResult& result,
-                      const CheckpointRecorder* recorder);
+                      const CheckpointRecorder* recorder, const std::vector<PolicyRun>& other_policies = {});
 
 }  // namespace crex::app

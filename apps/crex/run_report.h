@@ -33,6 +33,9 @@ struct RunReport {
     std::vector<std::string> pictures;                               ///< PNGs already written (--maps)
     std::map<std::string, std::pair<double, std::string>> picture_scales;  ///< heat pictures: path -> max, unit
     std::string plan_dot;
+    std::string policy;  ///< the budget policy this run used
+    /// The same render under the other policies: drawn with this one on one plot.
+    std::vector<std::pair<std::string, const std::vector<Checkpoint>*>> other_policies;
 };
 
 /// Writes the report; returns "" or what failed. `curve` receives the error curve.

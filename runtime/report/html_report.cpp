@@ -111,6 +111,8 @@ img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
     for (const auto& [k, v] : page.summary) html += "<tr><th>" + escape(k) + "</th><td>" + escape(v) + "</td></tr>\n";
     html += "</table>\n";
     if (!page.plot_svg.empty()) html += "<h2>Error against time</h2>\n<div class=\"plot\">\n" + inline_svg(page.plot_svg) + "</div>\n";
+    if (!page.policy_plot_svg.empty())
+        html += "<h2>Every budget policy, same budget</h2>\n<div class=\"plot\">\n" + inline_svg(page.policy_plot_svg) + "</div>\n";
     html += "<h2>Images</h2>\n<div class=\"images\">\n";
     for (const auto& img : page.images) {
         std::ifstream in(img.png_path, std::ios::binary);

@@ -29,6 +29,7 @@ struct ReportPage {
     std::string title;
     std::vector<std::pair<std::string, std::string>> summary;  ///< rows of the summary table
     std::string plot_svg;
+    std::string policy_plot_svg;  ///< every budget policy's error against time, or ""
     std::string plan_svg;  ///< Graphviz's SVG of the plan, or "" to show plan_dot as text
     std::string plan_dot;
     std::vector<ReportImage> images;

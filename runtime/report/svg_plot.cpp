@@ -30,7 +30,8 @@ std::vector<StageLabel> stage_labels(const std::vector<std::pair<double, std::st
     std::vector<StageLabel> out;
     for (const auto& [x, text] : boundaries) {
         if (!out.empty() && x - out.back().x < min_gap) {
-            out.back().text += " / " + text;  // too close to draw apart: one label for both
+            // Too close to draw apart: one label for both (once, if they say the same).
+            if (out.back().text.find(text) == std::string::npos) out.back().text += " / " + text;
             continue;
         }
         out.push_back({x, text});
@@ -38,46 +39,44 @@ std::vector<StageLabel> stage_labels(const std::vector<std::pair<double, std::st
     return out;
 }
 
-std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<double> budget) {
+namespace {
+
+struct PlotLine {
+    std::string name, colour;
+    std::vector<std::pair<double, double>> points;  ///< (seconds, error); non-finite errors skipped
+};
+
+// Errors in (0, 1] against time: a log y axis over the decades the lines span, a time axis
+// ending at the lines' own end (a 0.1 s render under a 30 s budget was a squashed line against
+// the axis; a budget beyond it is said in the legend), dashed verticals with upright labels at
+// `stage_marks` (seconds, text), the budget as a red vertical.
+std::string log_plot_svg(const std::string& id, const std::string& y_label, const std::vector<PlotLine>& lines,
+                         std::optional<double> budget, const std::vector<std::pair<double, std::string>>& stage_marks) {
     const double W = 720, H = 380, left = 64, right = 190, top = 20, bottom = 50;
     const double pw = W - left - right, ph = H - top - bottom;
-    // The x axis ends at the render's own time (a 0.1 s render under a 30 s budget was a
-    // squashed line against the axis); a budget beyond it is said in the legend.
     double tend = 1e-9;
-    for (const auto& p : curve) tend = std::max(tend, p.seconds);
+    for (const auto& l : lines)
+        for (const auto& [t, v] : l.points) tend = std::max(tend, t);
     const bool budget_on_axis = budget && *budget <= tend * 1.25;
     if (budget_on_axis) tend = std::max(tend, *budget);
     const std::vector<double> xt = nice_ticks(tend, 5);
     const double tmax = std::max(tend, xt.back());
     auto x = [&](double t) { return left + pw * t / tmax; };
-
-    struct Series {
-        const char* name;
-        const char* colour;
-        std::function<double(const CurvePoint&)> value;
-    };
-    // Absolute errors on one log axis: every metric here lies in (0, 1] (perr as a fraction).
-    const Series series[] = {
-        {"rmse", "#1a73e8", [](const CurvePoint& p) { return p.rmse; }},
-        {"relmse", "#9334e6", [](const CurvePoint& p) { return p.relmse; }},
-        {"flip", "#e37400", [](const CurvePoint& p) { return p.flip; }},
-        {"perr / 100", "#188038", [](const CurvePoint& p) { return p.perr / 100; }},
-        {"1 - ssim", "#c5221f", [](const CurvePoint& p) { return p.ssim ? 1 - *p.ssim : NAN; }},
-    };
     double lo = 1, hi = 1e-9;
-    for (const auto& s : series)
-        for (const auto& p : curve)
-            if (double v = s.value(p); std::isfinite(v) && v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
-    const int d0 = static_cast<int>(std::floor(std::log10(std::max(lo, 1e-6)))), d1 = std::max(d0 + 1, static_cast<int>(std::ceil(std::log10(std::max(hi, 1e-6)))));
+    for (const auto& l : lines)
+        for (const auto& [t, v] : l.points)
+            if (std::isfinite(v) && v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
+    const int d0 = static_cast<int>(std::floor(std::log10(std::max(lo, 1e-6)))),
+              d1 = std::max(d0 + 1, static_cast<int>(std::ceil(std::log10(std::max(hi, 1e-6)))));
     auto y = [&](double v) {
         double l = std::log10(std::clamp(v, std::pow(10.0, d0), std::pow(10.0, d1)));
         return top + ph * (1 - (l - d0) / (d1 - d0));
     };
 
     std::string svg = fmt::format(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"error-plot\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"{}\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
         "font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
-        W, H, W, H);
+        id, W, H, W, H);
     svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"black\"/>\n", left, top, top + ph);
     svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"black\"/>\n", left, top + ph, left + pw);
     for (double t : xt)
@@ -91,13 +90,12 @@ std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<d
                 svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"#f3f3f3\"/>\n", left + 1, y(m * v), left + pw);
     }
     svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">render time (s)</text>\n", left + pw / 2, H - 12);
-    svg += fmt::format("<text x=\"16\" y=\"{}\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">error against the reference (log)</text>\n",
-                       top + ph / 2, top + ph / 2);
+    svg += fmt::format("<text x=\"16\" y=\"{}\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">{}</text>\n", top + ph / 2,
+                       top + ph / 2, y_label);
     // Stage boundaries: dashed verticals, labelled upright along them; boundaries too close to
     // label apart share one label.
     std::vector<std::pair<double, std::string>> boundaries;
-    for (const auto& p : curve)
-        if (p.event.rfind("end of ", 0) == 0 && p.event != "end of render") boundaries.push_back({x(p.seconds), p.event.substr(7)});
+    for (const auto& [t, text] : stage_marks) boundaries.push_back({x(t), text});
     for (const auto& [bx, text] : boundaries)
         svg += fmt::format("<line class=\"stage\" x1=\"{0:.1f}\" y1=\"{1}\" x2=\"{0:.1f}\" y2=\"{2}\" stroke=\"#888\" stroke-dasharray=\"4 3\"/>\n",
                            bx, top, top + ph);
@@ -106,21 +104,22 @@ std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<d
                            "transform=\"rotate(-90 {0:.1f} {1})\" text-anchor=\"end\">end of {2}</text>\n",
                            l.x + 10, top + 4, l.text);
     int row = 0;
-    auto legend = [&](const std::string& colour, const std::string& text, const std::string& id) {
+    auto legend = [&](const std::string& colour, const std::string& text, const std::string& legend_id) {
         double ly = top + 14 + 18 * row++;
         svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"{3}\" stroke-width=\"3\"/>\n", left + pw + 12, ly,
                            left + pw + 32, colour);
-        svg += fmt::format("<text{} x=\"{}\" y=\"{}\">{}</text>\n", id.empty() ? "" : " id=\"" + id + "\"", left + pw + 38, ly + 4, text);
+        svg += fmt::format("<text{} x=\"{}\" y=\"{}\">{}</text>\n", legend_id.empty() ? "" : " id=\"" + legend_id + "\"", left + pw + 38,
+                           ly + 4, text);
     };
-    for (const auto& s : series) {
+    for (const auto& l : lines) {
         std::string pts;
         double last = NAN;
-        for (const auto& p : curve)
-            if (double v = s.value(p); std::isfinite(v)) pts += fmt::format("{:.2f},{:.2f} ", x(p.seconds), y(v)), last = v;
+        for (const auto& [t, v] : l.points)
+            if (std::isfinite(v)) pts += fmt::format("{:.2f},{:.2f} ", x(t), y(v)), last = v;
         if (pts.empty()) continue;
         svg += fmt::format("<polyline class=\"curve\" data-metric=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\" points=\"{}\"/>\n",
-                           s.name, s.colour, pts);
-        legend(s.colour, fmt::format("{} (end {:.3g})", s.name, last), "");
+                           l.name, l.colour, pts);
+        legend(l.colour, fmt::format("{} (end {:.3g})", l.name, last), "");
     }
     if (budget) {
         if (budget_on_axis)
@@ -130,6 +129,45 @@ std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<d
     }
     svg += "</svg>\n";
     return svg;
+}
+
+}  // namespace
+
+std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<double> budget) {
+    struct Series {
+        const char* name;
+        const char* colour;
+        std::function<double(const CurvePoint&)> value;
+    };
+    // Absolute errors on one log axis: every metric here lies in (0, 1] (perr as a fraction).
+    const Series series[] = {
+        {"rmse", "#1a73e8", [](const CurvePoint& p) { return p.rmse; }},
+        {"relmse", "#9334e6", [](const CurvePoint& p) { return p.relmse; }},
+        {"flip", "#e37400", [](const CurvePoint& p) { return p.flip; }},
+        {"perr / 100", "#188038", [](const CurvePoint& p) { return p.perr / 100; }},
+        {"1 - ssim", "#c5221f", [](const CurvePoint& p) { return p.ssim ? 1 - *p.ssim : NAN; }},
+    };
+    std::vector<PlotLine> lines;
+    for (const auto& s : series) {
+        PlotLine l{s.name, s.colour, {}};
+        for (const auto& p : curve) l.points.push_back({p.seconds, s.value(p)});
+        lines.push_back(std::move(l));
+    }
+    std::vector<std::pair<double, std::string>> marks;
+    for (const auto& p : curve)
+        if (p.event.rfind("end of ", 0) == 0 && p.event != "end of render") marks.push_back({p.seconds, p.event.substr(7)});
+    return log_plot_svg("error-plot", "error against the reference (log)", lines, budget, marks);
+}
+
+std::string policy_plot_svg(const std::vector<std::pair<std::string, std::vector<CurvePoint>>>& runs, std::optional<double> budget) {
+    static const char* colours[] = {"#1a73e8", "#e37400", "#188038", "#9334e6", "#c5221f", "#5f6368"};
+    std::vector<PlotLine> lines;
+    for (size_t i = 0; i < runs.size(); ++i) {
+        PlotLine l{runs[i].first, colours[i % std::size(colours)], {}};
+        for (const auto& p : runs[i].second) l.points.push_back({p.seconds, p.flip});
+        lines.push_back(std::move(l));
+    }
+    return log_plot_svg("policy-plot", "FLIP against the reference (log)", lines, budget, {});
 }
 
 }  // namespace crex

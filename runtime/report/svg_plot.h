@@ -17,6 +17,10 @@ namespace crex {
 
 std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<double> budget_seconds);
 
+/// The same axes with one FLIP curve per run (policy name, its curve): every budget policy's
+/// error against time on one plot (crex run --compare-policies).
+std::string policy_plot_svg(const std::vector<std::pair<std::string, std::vector<CurvePoint>>>& runs, std::optional<double> budget_seconds);
+
 /// Round axis ticks from 0 past `max`: steps of 1, 2 or 5 times a power of ten, about `about`
 /// of them; and how a tick is written (no trailing zeros: 0.2, 1.5, 10).
 std::vector<double> nice_ticks(double max, int about);

@@ -177,5 +177,37 @@ TEST(ReferenceCli, AnExistingOutputIsReusedOnlyWhenItIsThisReference) {
     fs::remove_all(dir);
 }
 
+// A budgeted run's report with --compare-policies: the same render under every policy, all
+// their errors against time on one plot (issue 15).
+TEST(PolicyReportCli, EveryPolicyOnOnePlot) {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / ("crex_policy_report_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    auto ref = testing::crex_cli({"run", "--size", "24x16", "--spp", "64", "-o", (dir / "ref.exr").string(), "-q"});
+    ASSERT_EQ(ref.exit_code, 0) << ref.err;
+    auto r = testing::crex_cli({"run", "-e", "(TT[RS]GMD)*", "--size", "24x16", "--spp", "16", "--budget", "50ms", "--reference",
+                                (dir / "ref.exr").string(), "--report", (dir / "rep").string(), "--compare-policies", "-o",
+                                (dir / "a.exr").string(), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(dir / "rep" / "checkpoints.json");
+    auto j = nlohmann::json::parse(in);
+    ASSERT_TRUE(j.contains("policies")) << j.dump().substr(0, 300);
+    for (const char* policy : {"tasks", "batches", "queues", "progressive"}) {
+        ASSERT_TRUE(j["policies"].contains(policy)) << policy;
+        EXPECT_GE(j["policies"][policy].size(), 2u) << policy;
+    }
+    std::ifstream svg_in(dir / "rep" / "policies_plot.svg");
+    std::string svg((std::istreambuf_iterator<char>(svg_in)), {});
+    size_t curves = 0;
+    for (size_t at = svg.find("class=\"curve\""); at != std::string::npos; at = svg.find("class=\"curve\"", at + 1)) ++curves;
+    EXPECT_EQ(curves, 4u);
+    // Without a budget there is nothing to compare: a usage error.
+    auto no_budget = testing::crex_cli({"run", "--size", "24x16", "--reference", (dir / "ref.exr").string(), "--compare-policies",
+                                        "-o", (dir / "b.exr").string(), "-q"});
+    EXPECT_EQ(no_budget.exit_code, 2);
+    EXPECT_NE(no_budget.err.find("--compare-policies needs a budget"), std::string::npos) << no_budget.err;
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace crex

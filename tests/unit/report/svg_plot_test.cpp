@@ -37,6 +37,11 @@ TEST(ErrorPlot, StageLabelsCloserThanAGapShareOne) {
     EXPECT_EQ(l[0].text, "preview / guidance");
     EXPECT_EQ(l[1].text, "selective / guidance");
     for (size_t i = 1; i < l.size(); ++i) EXPECT_GE(l[i].x - l[i - 1].x, 13);
+    // The same boundary twice (a pass of a plain crex ends its pre-selective crex each time)
+    // is said once.
+    auto same = stage_labels({{100, "the pre-selective crex"}, {104, "the pre-selective crex"}}, 13);
+    ASSERT_EQ(same.size(), 1u);
+    EXPECT_EQ(same[0].text, "the pre-selective crex");
 }
 
 TEST(ErrorPlot, AxisEndsAtTheRenderAndABudgetFarBeyondIsInTheLegend) {
