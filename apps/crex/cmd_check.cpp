@@ -77,12 +77,12 @@ int run_check(const CheckOptions& opt) {
             if (file) pipeline::check_pipeline_file(*file, sink);
             if (file && sink.error_count() == errors && sources[i]->name() != "<stdin>") {
                 // Against its scene (the pipeline's, or --scene): the scene must load, and what
-                // the pipeline asks of it must be there (W203 tags, W204 buffers). The pipeline
+                // the pipeline asks of it must be there (W203 tags, W204 buffers, W403 a medium). The pipeline
                 // is read again for that; only what the scene adds is kept.
                 DiagnosticSink scene_sink;
                 auto in = load_pipeline_input(sources[i]->name(), "", opt.scene, scene_sink);
                 for (const auto& d : scene_sink.sorted())
-                    if (d.code == "W203" || d.code == "W204" || d.code == "W205" || d.code[1] == '3' || d.code == "E308") sink.add(d);
+                    if (d.code == "W203" || d.code == "W204" || d.code == "W205" || d.code == "W403" || d.code[1] == '3' || d.code == "E308") sink.add(d);
                 if (!in->failure.empty()) {
                     std::cerr << render_text(sink.sorted()) << "crex check: error: " << in->failure << "\n";
                     return kExitFailure;

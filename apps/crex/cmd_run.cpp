@@ -104,6 +104,10 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
     CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number (0 to 2^53)")->capture_default_str()->check(seed_value());
     cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit")->capture_default_str()->check(CLI::Range(1u, 1024u));
+    cmd->add_option("--media-samples", opt->media_samples, "Single-scatter samples along each camera ray, in a scene with a medium "
+                                                           "(a pipeline's media_samples varies it per pixel)")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 1024u));
     CLI::Option* lw = cmd->add_option("--lw", opt->lw, "Weight limit: rays below it face Russian roulette")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));

@@ -58,6 +58,7 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
         }
     std::optional<BinSet> spawnable;
     std::optional<std::vector<std::string>> tags;
+    bool has_medium = false;
     std::string hash;
     if (!in->scene_spec.empty()) {
         in->scene = load_scene_input(in->scene_spec, sink);
@@ -71,12 +72,14 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
         Census census = take_census(*in->scene->scene);
         spawnable = census.spawnable;
         tags = census.tags;
+        has_medium = census.has_medium;
         hash = census_hash_hex(census.hash);
     }
     in->plan = plan_pipeline(*in->resolved, spawnable, in->scene_spec, hash, sink);
     if (in->plan) {
         warn_scene_mismatches(*in->resolved, *in->plan, tags ? &*tags : nullptr, sink);
         warn_unreachable_modulated_steps(*in->resolved, *in->plan, sink);
+        if (tags) warn_media_without_medium(*in->resolved, has_medium, sink);
     }
     return in;
 }

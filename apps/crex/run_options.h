@@ -27,6 +27,7 @@ struct RunOptions {
     int threads = 0;
     uint64_t seed = 0;
     uint32_t shadow_rays = 1;
+    uint32_t media_samples = 1;  ///< single-scatter samples per camera ray (scenes with a medium)
     double lw = 1e-3;
     uint32_t max_depth = 256;
     bool no_roulette = false;

@@ -100,6 +100,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     // A pipeline never shows black for skipped work unless it asked for an av (spec §6).
     rs.ambient_auto = opt.ambient_auto || (in.pipeline && !opt.ambient_given);
     rs.executor.shade.shadow_rays = opt.shadow_rays;
+    rs.executor.shade.media_samples = opt.media_samples;
     rs.executor.shade.weight_limit = opt.lw;
     rs.executor.shade.max_depth = opt.max_depth;
     rs.executor.shade.roulette = !opt.no_roulette;

@@ -117,13 +117,6 @@ private:
         inherited_.clear();
         for (const auto& name : inherited) inherited_.insert(name);
         section("", p.body);
-        // Never silently: say which selective variables the runtime cannot execute yet.
-        for (const auto& sec : p.body)
-            for (const auto& inner : sec.body)
-                if (inner.kind == Statement::Kind::kVary && inner.key == "media_samples")
-                    sink_.report("W403", inner.key_span,
-                                 "'media_samples' does not execute yet (the renderer has no participating media): 'crex run' "
-                                 "renders as if it were not varied");
         for (const auto& [name, span] : maps_)
             if (!used_.count(name) && !overrides_.count(name))
                 sink_.report("W201", span, fmt::format("map '{}' is defined but no selective variable or crex uses it", name));

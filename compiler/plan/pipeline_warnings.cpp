@@ -142,4 +142,12 @@ void warn_scene_mismatches(const pipeline::ResolvedPipeline& p, const PipelinePl
         });
 }
 
+void warn_media_without_medium(const pipeline::ResolvedPipeline& p, bool scene_has_medium, DiagnosticSink& sink) {
+    if (scene_has_medium) return;
+    for (const auto& v : p.vary)
+        if (v.name == "media_samples")
+            sink.report("W403", v.lo.span, "'media_samples' has no effect: the scene has no participating medium")
+                .help = "give the scene a \"medium\" (docs/scene-format.md), or leave media_samples out";
+}
+
 }  // namespace crex

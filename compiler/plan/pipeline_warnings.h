@@ -19,6 +19,9 @@ namespace crex {
 void warn_scene_mismatches(const pipeline::ResolvedPipeline& pipeline, const PipelinePlan& plan,
                            const std::vector<std::string>* scene_tags, DiagnosticSink& sink);
 
+/// W403: `vary media_samples` on a scene without a participating medium does nothing.
+void warn_media_without_medium(const pipeline::ResolvedPipeline& pipeline, bool scene_has_medium, DiagnosticSink& sink);
+
 /// W205: occurrences inside the selective crex's `{ }` that no pixel can run, because its
 /// `by` map can never reach the importance they need (the map's largest value is bounded from
 /// its definition: constants, thresholds, weighted importance).

@@ -263,7 +263,9 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         s = RTCRay{};
         s.tnear = 1.0f, s.tfar = 0.0f, s.dir_z = 1, s.mask = 0xFFFFFFFFu;  // a hole unless filled below
         const RTCRayHit& h = last[i];
-        const Vec3 beta = throughput[i];
+        // In a medium, what the last segment reaches is seen through its transmittance (the
+        // segments before it, inside glass, are not attenuated: a simplification).
+        const Vec3 beta = scene_.medium ? throughput[i] * scene_.medium->transmittance(h.ray.tfar) : throughput[i];
         if (!(max_component(beta) > 0) || is_delta(h)) return;  // absorbed, or still inside glass
         if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             radiance[i] = beta * scene_.scene.background;

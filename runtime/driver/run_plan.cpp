@@ -64,6 +64,7 @@ struct SelectiveSetup {
     ShadeParams shade;
     std::vector<uint32_t> spp_end;  ///< per pixel: sample index to end at (<= preview spp: none added)
     std::vector<uint16_t> shadow_rays;
+    std::vector<uint16_t> media_samples;
     std::vector<float> specular_threshold;
     std::vector<float> ic_accuracy, ic_priority;
     std::vector<float> modulation;  ///< I(p) of `{ }`
@@ -518,9 +519,21 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
             sel.ic_priority = m;
             break;
         }
-        case V::kMediaSamples:
-            out_.notes.push_back("media_samples is not executed: the renderer has no participating media yet");
+        case V::kMediaSamples: {
+            if (!rs_->medium) {
+                out_.notes.push_back("media_samples is not executed: the scene has no participating medium");
+                break;
+            }
+            auto v = variable_values(var.from, var.to, var.modulation, m, true);
+            sel.media_samples.resize(pixels);
+            uint32_t mx = 1;
+            for (size_t p = 0; p < pixels; ++p) {
+                sel.media_samples[p] = static_cast<uint16_t>(std::clamp(v[p], 1.0, 1024.0));
+                mx = std::max<uint32_t>(mx, sel.media_samples[p]);
+            }
+            sel.shade.media_samples = mx;
             break;
+        }
         }
     }
     if (!plan_.modulation_map.empty()) sel.modulation = map_values(map_of(plan_.modulation_map), pixels);
@@ -686,6 +699,7 @@ RunResult PlanRun::execute() {
             auto t_selective = Clock::now();
             ShadeParams shade = sel.shade;
             if (!sel.shadow_rays.empty()) shade.shadow_rays_per_pixel = &sel.shadow_rays;
+            if (!sel.media_samples.empty()) shade.media_samples_per_pixel = &sel.media_samples;
             if (!sel.specular_threshold.empty()) shade.specular_threshold_per_pixel = &sel.specular_threshold;
             ex_->set_shade_params(shade);
             if (cache_) {

@@ -82,6 +82,7 @@ RenderScene::RenderScene(const Scene& s) : scene(s) {
     embree = std::make_unique<EmbreeScene>(s);
     lights = std::make_unique<LightSampler>(s, *embree);
     for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));
+    medium = medium_of(s);
 }
 
 }  // namespace crex

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "runtime/render/bsdf.h"
+#include "runtime/render/medium.h"
 #include "runtime/scene/scene.h"
 #include "runtime/trace/embree_scene.h"
 
@@ -123,6 +125,7 @@ struct RenderScene {
     std::unique_ptr<EmbreeScene> embree;
     std::unique_ptr<LightSampler> lights;
     std::vector<Bsdf> bsdfs;  ///< per material, prepared once
+    std::optional<MediumModel> medium;  ///< the scene's homogeneous medium, if any
 
     explicit RenderScene(const Scene& s);
     const Material& material_of(uint32_t geometry) const {

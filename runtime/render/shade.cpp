@@ -84,6 +84,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     }
     if (!(max_component(fr) > 0)) return false;
     value = beta * fr * ls.radiance * (cos_l / (d2 * ls.pdf_area * n));
+    if (scene.medium) value = value * scene.medium->transmittance(dist);
     if (!is_finite(value)) return false;
     double eps = scene.embree->ray_epsilon();
     shadow_origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
@@ -94,6 +95,41 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     // the silhouette, a square root of a difference in float): shadow rays to a sphere ended
     // on the sphere itself and a lamp much larger than eps lit 2.2 % too dark
     // (tests/numerics/sphere_light_test.cpp). Their margin scales with the distance.
+    shadow_tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
+    return shadow_tfar > 0;
+}
+
+bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, const Vec3& origin, const Vec3& dir, double tmax,
+                           const Vec3& beta, const HitRandom& random, uint32_t k, uint32_t n, Vec3& value, Vec3& shadow_origin,
+                           Vec3& shadow_dir, double& shadow_tfar) {
+    if (scene.lights->empty() || !(max_component(medium.sigma_s) > 0)) return false;
+    // The lamp by power alone (the point that matters moves along the ray), a point on it,
+    // then a distance along the ray by equiangular sampling toward that point; the n samples
+    // are stratified in the distance's angle.
+    double r0, r1, u, v;
+    random.pair(RandomUse::kMediumLight, r0, r1);
+    rotated_halton(k, r0, r1, u, v);
+    LightSample ls = scene.lights->sample((k + random(RandomUse::kMediumPick, k)) / n, u, v);
+    if (!(ls.pdf_area > 0)) return false;
+    DistanceSample ds = sample_equiangular(origin, dir, tmax, ls.position, (k + random(RandomUse::kMediumDistance, k)) / n);
+    if (!(ds.pdf > 0)) return false;
+    const Vec3 x = origin + dir * ds.t;
+    const Vec3 to = ls.position - x;
+    const double d2 = dot(to, to);
+    if (!(d2 > 0)) return false;
+    const double dist = std::sqrt(d2);
+    const Vec3 wi = to / dist;
+    const double cos_l = -dot(ls.normal, wi);
+    if (cos_l <= 0) return false;
+    // Light travels along -wi to x and on along -dir to the eye: the scattering angle's cosine
+    // is dot(-wi, -dir).
+    const double phase = henyey_greenstein(dot(wi, dir), medium.g);
+    value = beta * medium.transmittance(ds.t) * medium.sigma_s * ls.radiance * medium.transmittance(dist) *
+            (phase * cos_l / (d2 * ls.pdf_area * ds.pdf * n));
+    if (!is_finite(value) || !(max_component(value) > 0)) return false;
+    const double eps = scene.embree->ray_epsilon();
+    shadow_origin = x;
+    shadow_dir = wi;
     shadow_tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
     return shadow_tfar > 0;
 }
@@ -136,7 +172,11 @@ void ShadeOutput::append_children_to(std::array<RayBatch, kComponentCount>& bins
 void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begin, size_t end, bool camera,
                      const ShadeParams& params, ShadeOutput& out) {
     const size_t n = end - begin;
-    const uint32_t ns = params.shadow_rays;
+    const MediumModel* medium = scene.medium ? &*scene.medium : nullptr;
+    // Shadow-ray slots per ray: direct light at the hit, then (camera rays in a medium) the
+    // single-scatter samples along the ray.
+    const uint32_t nm = camera && medium ? params.media_samples : 0;
+    const uint32_t ns = params.shadow_rays + nm;
     const double eps = scene.embree->ray_epsilon();
     out.reset();
     ShadeScratch& scratch = out.scratch;
@@ -180,24 +220,54 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 const size_t r = begin + i;
                 const Vec3 beta{rays.br[r], rays.bg[r], rays.bb[r]};
                 const RTCRayHit& h = hits[i];
-                if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-                    out.contribution[i] = beta * background;
+                const bool miss = h.hit.geomID == RTC_INVALID_GEOMETRY_ID;
+                out.contribution[i] = {};
+                if (nm > 0) {
+                    const Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z}, d{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
+                    const uint32_t nmi = params.media_samples_per_pixel ? std::min<uint32_t>(nm, (*params.media_samples_per_pixel)[rays.pixel[r]]) : nm;
+                    const HitRandom random(rays.path[r], rays.depth[r]);
+                    for (uint32_t k = 0; k < nmi; ++k) {
+                        Vec3 value, so, sd;
+                        double tfar;
+                        if (!single_scatter_sample(scene, *medium, o, d, miss ? INFINITY : double(h.ray.tfar), beta, random, k, nmi, value, so,
+                                                   sd, tfar))
+                            continue;
+                        RTCRay& s = shadows[i * ns + params.shadow_rays + k];
+                        s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
+                        s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
+                        s.tnear = 0.0f;
+                        s.tfar = static_cast<float>(tfar);
+                        shadow_value[i * ns + params.shadow_rays + k] = value;
+                        ++block_shadow_rays;
+                    }
+                }
+                if (miss) {
+                    Vec3 c = beta * background * (medium ? medium->transmittance(INFINITY) : Vec3{1, 1, 1});
+                    out.contribution[i] = is_finite(c) ? c : Vec3{};
                     continue;
                 }
                 ++block_hits;
                 // Origin and direction from the hit record (in cache, unlike six of the bin's
                 // arrays); directions are unit already (sampled, reflected or normalised).
-                const RayRecord ray{{h.ray.org_x, h.ray.org_y, h.ray.org_z}, {h.ray.dir_x, h.ray.dir_y, h.ray.dir_z}, beta,
-                                    rays.pixel[r], rays.depth[r], rays.flags[r], rays.path[r]};
                 double t = h.ray.tfar;
+                // Through a medium, all the hit gives back is seen through the segment's
+                // transmittance: it scales the ray's throughput (emission, direct light, children).
+                const RayRecord ray{{h.ray.org_x, h.ray.org_y, h.ray.org_z},
+                                    {h.ray.dir_x, h.ray.dir_y, h.ray.dir_z},
+                                    medium ? beta * medium->transmittance(t) : beta,
+                                    rays.pixel[r],
+                                    rays.depth[r],
+                                    rays.flags[r],
+                                    rays.path[r]};
                 HitFrame f = hit_frame(*scene.embree, h.hit, ray.origin + ray.direction * t, ray.direction, t);
                 const Bsdf& b = scene.bsdf_of(h.hit.geomID);
                 const HitRandom random(ray.path, ray.depth);
                 Vec3 c = b.emits ? ray.beta * emitted(*b.material, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
                 out.contribution[i] = is_finite(c) ? c : Vec3{};
                 if (camera) out.emission[i] = out.contribution[i];
+                const uint32_t nd = params.shadow_rays;  // direct-light slots
                 if (lights && b.direct_response) {
-                    uint32_t nsi = params.shadow_rays_per_pixel ? std::min<uint32_t>(ns, (*params.shadow_rays_per_pixel)[ray.pixel]) : ns;
+                    uint32_t nsi = params.shadow_rays_per_pixel ? std::min<uint32_t>(nd, (*params.shadow_rays_per_pixel)[ray.pixel]) : nd;
                     for (uint32_t j = 0; j < nsi; ++j) {
                         Vec3 value, so, sd;
                         double tfar;

@@ -33,6 +33,10 @@ struct ShadeParams {
     /// With an irradiance cache, D "rays" are queries: origin at the hit, direction the normal
     /// on the side the light comes from (flag kRayIcQuery); the D step interpolates them.
     bool ic_queries = false;
+    /// With a medium: single-scatter samples along each camera ray (`media_samples`); with a
+    /// per-pixel table, its maximum.
+    uint32_t media_samples = 1;
+    const std::vector<uint16_t>* media_samples_per_pixel = nullptr;  ///< each <= media_samples
 };
 
 /// Rays are shaded in fixed blocks of this many; each block spawns into its own buffers,
@@ -78,6 +82,13 @@ struct ShadeOutput {
         return n;
     }
 };
+
+/// One single-scatter sample (k of n) along the ray origin + t dir, t in [0, tmax] (tmax
+/// infinite for a ray that leaves the scene): the light it gathers if the shadow ray from
+/// `shadow_origin` along `shadow_dir` to `shadow_tfar` is unoccluded. False: nothing to trace.
+bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, const Vec3& origin, const Vec3& dir, double tmax,
+                           const Vec3& beta, const HitRandom& random, uint32_t k, uint32_t n, Vec3& value, Vec3& shadow_origin,
+                           Vec3& shadow_dir, double& shadow_tfar);
 
 /// Shades rays [begin, end) of `rays`. `camera`: these are camera rays.
 void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begin, size_t end, bool camera,

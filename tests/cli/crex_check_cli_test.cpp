@@ -153,5 +153,17 @@ TEST(CrexCheckCli, APipelineAgainstItsSceneWarnsWhereItAsksForWhatIsNotThere) {
     std::filesystem::remove(path);
 }
 
+// media_samples needs a medium: W403 at the vary's range on the Cornell box, nothing on the
+// mist (the same box in a medium).
+TEST(CrexCheckCli, MediaSamplesOnASceneWithoutAMediumIsW403) {
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/prog_dis_media.pipe";
+    auto box = testing::crex_cli({"check", pipe, "--scene", "builtin:cornell"});
+    EXPECT_EQ(box.exit_code, 0) << box.err;
+    EXPECT_NE(box.err.find("prog_dis_media.pipe:9:24: warning[W403]: 'media_samples' has no effect"), std::string::npos) << box.err;
+    auto mist = testing::crex_cli({"check", pipe, "--scene", CREX_SOURCE_DIR "/examples/scenes/mist/scene.json"});
+    EXPECT_EQ(mist.exit_code, 0) << mist.err;
+    EXPECT_EQ(mist.err.find("W403"), std::string::npos) << mist.err;
+}
+
 }  // namespace
 }  // namespace crex

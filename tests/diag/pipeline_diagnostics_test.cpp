@@ -42,11 +42,9 @@ TEST(PipelineCheck, PipelinesThatExecuteFullyGetNoW403) {
     Result sel = check("pipeline p {\n  guidance { s = saliency(preview) }\n  selective { vary spp 1 .. 8 by s\n"
                        "    vary shadow_rays 1 .. 4 by s }\n}\n");
     EXPECT_TRUE(sel.diagnostics.empty()) << sel.diagnostics[0].message;
+    // media_samples executes now: without a scene nothing is said.
     Result media = check("pipeline p {\n  guidance { s = saliency(preview) }\n  selective { vary media_samples 1 .. 8 by s }\n}\n");
-    ASSERT_EQ(media.diagnostics.size(), 1u);
-    EXPECT_EQ(media.diagnostics[0].code, "W403");
-    EXPECT_EQ(media.file->position(media.diagnostics[0].span.begin).line, 3u);
-    EXPECT_EQ(media.file->position(media.diagnostics[0].span.begin).col, 20u);
+    EXPECT_TRUE(media.diagnostics.empty()) << media.diagnostics[0].message;
 }
 
 TEST(PipelineCheck, StdlibBasesAreInheritedAndNameOnlyOnesSaySo) {
