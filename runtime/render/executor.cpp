@@ -191,14 +191,20 @@ bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatc
     // Thesis 5.5: the rays of the most important pixels first (stable, so ties keep their
     // order and the choice is deterministic), in batches of about 1/32 of the task, each
     // admitted on the cost per ray while it fits; the rest stay in the bin.
-    std::vector<uint32_t> order(take.size() - first);
-    std::iota(order.begin(), order.end(), static_cast<uint32_t>(first));
-    std::stable_sort(order.begin(), order.end(),
-                     [&](uint32_t a, uint32_t b) { return importance(take.pixel[a]) > importance(take.pixel[b]); });
-    RayBatch sorted;
-    for (uint32_t i : order) sorted.push(take.get(i));
-    const size_t batch = std::max(chunk_rays(), (sorted.size() + 31) / 32);
-    size_t done = 0;
+    // Without an importance map every pixel ties: the rays keep their order and are not
+    // copied (sorting and copying a large task cost more than a batch, and overran budgets).
+    RayBatch reordered;
+    if (options_.importance) {
+        std::vector<uint32_t> order(take.size() - first);
+        std::iota(order.begin(), order.end(), static_cast<uint32_t>(first));
+        std::stable_sort(order.begin(), order.end(),
+                         [&](uint32_t a, uint32_t b) { return importance(take.pixel[a]) > importance(take.pixel[b]); });
+        for (uint32_t i : order) reordered.push(take.get(i));
+    }
+    const RayBatch& sorted = options_.importance ? reordered : take;
+    const size_t start = options_.importance ? 0 : first;
+    const size_t batch = std::max(chunk_rays(), (sorted.size() - start + 31) / 32);
+    size_t done = start;
     while (done < sorted.size()) {
         const size_t n = std::min(batch, sorted.size() - done);
         const double remaining = options_.budget_seconds - now();
@@ -211,14 +217,14 @@ bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatc
         done += n;
     }
     if (done < sorted.size()) {
-        stats_.skipped.push_back({fmt::format("{} at {} ({} of {} rays)", letter, node.where.to_string(), sorted.size() - done, sorted.size()),
+        stats_.skipped.push_back({fmt::format("{} at {} ({} of {} rays)", letter, node.where.to_string(), sorted.size() - done, sorted.size() - start),
                                   static_cast<double>(sorted.size() - done) * cost, options_.budget_seconds - now()});
         RayBatch rest;
         rest.append(sorted, done, sorted.size());
         rest.append(bin);
         bin = std::move(rest);
     }
-    return done > 0;
+    return done > start;
 }
 
 namespace {
