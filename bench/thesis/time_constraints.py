@@ -61,10 +61,15 @@ def main():
                     j = json.loads(crex(a.crex, base + ["-o", img, "--profile", profile, "--budget", b, "--policy", policy], env))
                     runs.append(j)
                 c = json.loads(crex(a.crex, ["compare", img, ref, "--format", "json"], env))
-                over = [j["overshoot_percent"] for j in runs]
-                worst = max(over, key=abs)
+                # A run that rendered everything before its budget has nothing to overshoot with:
+                # the median and worst are over the runs the budget cut.
+                over = [j["overshoot_percent"] for j in runs
+                        if not (j.get("camera_samples_left_out", 0) == 0 and j["overshoot_percent"] < 0)]
+                early = not over
+                worst = max(over, key=abs) if over else 0
                 print(f"| {policy} | {b} | {runs[0]['budget_seconds']:.3f} | {statistics.median(j['render_seconds'] for j in runs):.3f} | "
-                      f"{statistics.median(over):+.1f} | {worst:+.1f} | {runs[-1].get('camera_samples_left_out', 0)} | "
+                      + ("all rendered early | - | " if early else f"{statistics.median(over):+.1f} | {worst:+.1f} | ")
+                      + f"{runs[-1].get('camera_samples_left_out', 0)} | "
                       f"{c['flip']:.4f} | {c['perr']:.1f} | {profile_error(runs)} |")
         if a.no_checkpoints:
             continue
