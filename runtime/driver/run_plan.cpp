@@ -70,6 +70,18 @@ struct SelectiveSetup {
     std::vector<float> modulation;  ///< I(p) of `{ }`
 };
 
+// A per-pixel count of rays or samples (1..1024) from a variable's values; returns the largest,
+// which sizes the shading buffers.
+uint32_t per_pixel_counts(const std::vector<double>& values, std::vector<uint16_t>& counts) {
+    counts.resize(values.size());
+    uint32_t mx = 1;
+    for (size_t p = 0; p < values.size(); ++p) {
+        counts[p] = static_cast<uint16_t>(std::clamp(values[p], 1.0, 1024.0));
+        mx = std::max<uint32_t>(mx, counts[p]);
+    }
+    return mx;
+}
+
 class PlanRun {
 public:
     PlanRun(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings)
@@ -491,14 +503,7 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
             break;
         }
         case V::kShadowRays: {
-            auto v = variable_values(var.from, var.to, var.modulation, m, true);
-            sel.shadow_rays.resize(pixels);
-            uint32_t mx = 1;
-            for (size_t p = 0; p < pixels; ++p) {
-                sel.shadow_rays[p] = static_cast<uint16_t>(std::clamp(v[p], 1.0, 1024.0));
-                mx = std::max<uint32_t>(mx, sel.shadow_rays[p]);
-            }
-            sel.shade.shadow_rays = mx;
+            sel.shade.shadow_rays = per_pixel_counts(variable_values(var.from, var.to, var.modulation, m, true), sel.shadow_rays);
             break;
         }
         case V::kSpecularThreshold: {
@@ -524,14 +529,7 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
                 out_.notes.push_back("media_samples is not executed: the scene has no participating medium");
                 break;
             }
-            auto v = variable_values(var.from, var.to, var.modulation, m, true);
-            sel.media_samples.resize(pixels);
-            uint32_t mx = 1;
-            for (size_t p = 0; p < pixels; ++p) {
-                sel.media_samples[p] = static_cast<uint16_t>(std::clamp(v[p], 1.0, 1024.0));
-                mx = std::max<uint32_t>(mx, sel.media_samples[p]);
-            }
-            sel.shade.media_samples = mx;
+            sel.shade.media_samples = per_pixel_counts(variable_values(var.from, var.to, var.modulation, m, true), sel.media_samples);
             break;
         }
         }
