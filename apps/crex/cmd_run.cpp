@@ -1,6 +1,7 @@
 // `crex run`: execute a crex, a pipeline or a kept plan through the one render driver.
 // The flags are defined here; what they become is run_input.cpp (what to run, the pipeline's
 // settings), run_setup.cpp (the driver's settings, budget, reference) and run_outputs.cpp.
+#include <fmt/format.h>
 #include <tbb/global_control.h>
 
 #include <iostream>
@@ -8,6 +9,7 @@
 
 #include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
+#include "apps/crex/distributed.h"
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
 #include "apps/crex/run_input.h"
@@ -33,6 +35,21 @@ int run(RunOptions opt) {
                      "(--reference, or --report with a cached reference)\n";
         return kExitUsage;
     }
+    // Under mpirun: this rank's rows, the film's rows shared between the ranks; rank 0 writes.
+    const Distribution ranks = distribution();
+    if (ranks.active()) {
+        if (setup.reference || !opt.report_dir.empty() || opt.compare_policies || setup.budget > 0) {
+            if (ranks.rank == 0)
+                std::cerr << "crex run: error: under mpirun, --reference, --report, --compare-policies and budgets are not "
+                             "supported yet\n";
+            return kExitUsage;
+        }
+        setup.settings.row_begin = ranks.row_begin(setup.settings.height);
+        setup.settings.row_end = ranks.row_end(setup.settings.height);
+        setup.settings.share_rows = [ranks](Film& film, std::vector<double>& ambient) { share_rows(ranks, film, ambient); };
+        setup.settings.save_ic_file = ranks.rank == 0;
+        if (ranks.rank != 0) opt.quiet = true;
+    }
     std::optional<CheckpointRecorder> recorder;
     if (setup.reference || !opt.report_dir.empty()) {
         recorder.emplace(opt.checkpoint_interval);
@@ -56,6 +73,17 @@ int run(RunOptions opt) {
         return kExitFailure;
     }
     progress.finish();
+    if (ranks.active()) {
+        // Totals over the ranks (collective: every rank takes part before rank 1.. leave).
+        const double rays = sum_over_ranks(static_cast<double>(total_rays(result->stats)));
+        const double records = sum_over_ranks(static_cast<double>(result->ic_stats.records));
+        const double slowest = max_over_ranks(result->render_seconds);
+        if (ranks.rank != 0) return kExitOk;  // rank 0 writes the outputs
+        result->notes.push_back(fmt::format("rendered by {} ranks under mpirun in bands of rows: {:.0f} rays and {:.0f} irradiance "
+                                            "records over all ranks, the slowest rank {:.3f} s; the table below is rank 0's "
+                                            "(rows {}..{})",
+                                            ranks.size, rays, records, slowest, setup.settings.row_begin, setup.settings.row_end - 1));
+    }
     // The same render under every other policy, from the same profile, for the report's
     // plot of all of them; nothing of theirs is written but their checkpoints.
     std::vector<PolicyRun> others;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "apps/crex/commands.h"
+#include "apps/crex/distributed.h"
 #include "apps/crex/exit_codes.h"
 #include "base/check.h"
 #include "base/nearest_name.h"
@@ -81,6 +82,7 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
 
 int main(int argc, char** argv) {
     using namespace crex::app;
+    DistributedSession mpi(argc, argv);  // under mpirun: MPI for the run's ranks
     CLI::App app{"crex: compile and run selective-rendering pipelines", "crex"};
     app.set_version_flag("--version", std::string("crex ") + CREX_VERSION);
     app.require_subcommand(1);

@@ -291,7 +291,10 @@ void PlanRun::stage_end(const std::string& what, const std::string& next) {
     s_.recorder->set_stage(next);
 }
 
-void PlanRun::run_samples(const std::string& stage, const SampleRanges& ranges, const std::function<void()>& after_camera_rays) {
+void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows, const std::function<void()>& after_camera_rays) {
+    const bool some_rows = s_.row_end > s_.row_begin;
+    const SampleRanges restricted = some_rows ? only_rows(all_rows, s_.width, s_.height, s_.row_begin, s_.row_end) : SampleRanges{};
+    const SampleRanges& ranges = some_rows ? restricted : all_rows;
     PassLimits limits;
     size_t held = 0;
     for (const RayBatch& b : carried_) held += b.size() * kBytesPerSample / 2;
@@ -404,7 +407,7 @@ void PlanRun::setup_cache() {
 void PlanRun::save_cache() {
     out_.ic_records = cache_->records();
     out_.ic_stats = cache_->stats();
-    if (s_.ic_file.empty()) return;
+    if (s_.ic_file.empty() || !s_.save_ic_file) return;
     std::string error = cache_->save(s_.ic_file);
     if (!error.empty()) throw std::runtime_error("cannot save the irradiance cache: " + error);
 }
@@ -668,6 +671,7 @@ RunResult PlanRun::execute() {
             }
         });
         {
+            if (s_.share_rows) s_.share_rows(out_.film, ambient_);
             std::vector<double> preview_ambient = ambient_;
             add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
             out_.preview = out_.film.composite(&preview_ambient);
@@ -690,6 +694,7 @@ RunResult PlanRun::execute() {
             progress_ = {};
             progress_.stage = "guidance" + label;
             report_progress("maps");
+            if (round > 1 && s_.share_rows) s_.share_rows(out_.film, ambient_);  // the maps see every row as it is now
             SelectiveSetup sel = guidance(round > 1);
             out_.guidance_seconds += seconds_since(t_guidance);
             stage_end("end of guidance" + label, "selective");
@@ -740,6 +745,7 @@ RunResult PlanRun::execute() {
 
     out_.stats = ex_->stats();
     if (s_.ambient_auto) add_auto_ambient();
+    if (s_.share_rows) s_.share_rows(out_.film, ambient_);
     out_.ambient = std::move(ambient_);
     // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.
     std::set<std::string> said;

@@ -85,6 +85,13 @@ struct RunSettings {
     /// passes for a plain crex (a plan with no name).
     std::optional<pipeline::SchedulingPolicy> policy;
     std::function<void(const RunProgress&)> progress;
+    /// Distributed rendering (issue 19): this process traces the camera samples of rows
+    /// [row_begin, row_end) only (both 0: every row), and `share_rows` makes every process's
+    /// film (and ambient stand-ins) hold each row as its owner rendered it: after the preview,
+    /// before each round's guidance (maps see the whole image) and at the end.
+    int row_begin = 0, row_end = 0;
+    std::function<void(Film& film, std::vector<double>& ambient)> share_rows;
+    bool save_ic_file = true;  ///< false: load --ic-file but let another process save it
 };
 
 /// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot

@@ -95,4 +95,17 @@ std::optional<SamplePass> pass_within(const SamplePass& pass, const SampleRanges
     return band;
 }
 
+SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int row_begin, int row_end) {
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    SampleRanges out;
+    out.start_of.resize(pixels);
+    out.end_of.resize(pixels);
+    for (size_t p = 0; p < pixels; ++p) {
+        const int row = static_cast<int>(p / static_cast<size_t>(width));
+        out.start_of[p] = ranges.start(p);
+        out.end_of[p] = row >= row_begin && row < row_end ? ranges.stop(p) : ranges.start(p);
+    }
+    return out;
+}
+
 }  // namespace crex

@@ -34,6 +34,10 @@ struct SampleRanges {
     uint32_t stop(size_t p) const { return end_of.empty() ? end : end_of[p]; }
 };
 
+/// `ranges` with no samples outside rows [row_begin, row_end) (distributed rendering: the
+/// rows this process renders).
+SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int row_begin, int row_end);
+
 /// The passes for the samples `ranges` asks for. Passes go over sample indices, as many per
 /// pass as fit; when even one sample index of every pixel does not fit, a pass covers a band
 /// of rows instead. The passes cover every requested sample exactly once; none is empty.

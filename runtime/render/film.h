@@ -78,6 +78,19 @@ public:
     std::vector<float> composite(const std::vector<double>* ambient = nullptr) const;
     Vec3 pixel_value(size_t aov, uint32_t pixel) const;
 
+    /// Calls f(data, bytes per pixel) for every per-pixel buffer (row-major, so rows
+    /// [r0, r1) are bytes [r0 w b, r1 w b) of each): how distributed rendering shares rows.
+    template <typename F>
+    void for_each_buffer(F&& f) {
+        for (auto& s : sums_) f(static_cast<void*>(s.data()), 3 * sizeof(double));
+        f(static_cast<void*>(samples_.data()), sizeof(uint32_t));
+        f(static_cast<void*>(rays_.data()), sizeof(uint32_t));
+        f(static_cast<void*>(components_.data()), sizeof(uint8_t));
+        f(static_cast<void*>(emission_.data()), 3 * sizeof(double));
+        f(static_cast<void*>(odd_.data()), 3 * sizeof(double));
+        f(static_cast<void*>(odd_samples_.data()), sizeof(uint32_t));
+    }
+
 private:
     int width_, height_;
     std::array<std::vector<double>, kAovCount> sums_;

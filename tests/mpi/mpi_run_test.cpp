@@ -1,0 +1,90 @@
+// `mpirun -np N crex run ...` on this machine (issue 19): ranks render bands of rows and share
+// them, so without an irradiance cache the image is the single-process image, pixel for pixel,
+// at any rank count; a rank killed with SIGKILL ends the run with mpirun's error naming it,
+// no process left and no output half-written.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "runtime/io/image_io.h"
+#include "tests/support/crex_cli.h"
+
+namespace crex {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kMpirun = "/usr/bin/mpirun";
+
+testing::CommandResult mpirun(int ranks, const std::vector<std::string>& args) {
+    // As root Open MPI wants --allow-run-as-root; --oversubscribe: more ranks than cores.
+    std::vector<std::string> cmd = {kMpirun, "--allow-run-as-root", "--oversubscribe", "-np", std::to_string(ranks), CREX_BINARY};
+    cmd.insert(cmd.end(), args.begin(), args.end());
+    return testing::run_command(cmd);
+}
+
+std::vector<float> pixels(const std::string& path) {
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    EXPECT_EQ(read_image(path, w, h, rgb), "") << path;
+    return rgb;
+}
+
+class MpiRun : public ::testing::Test {
+protected:
+    void SetUp() override {
+        ASSERT_TRUE(fs::exists(kMpirun)) << "the mpi tests need Open MPI (openmpi-bin, tools/debian-packages.txt)";
+        dir_ = fs::temp_directory_path() / ("crex_mpi_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    fs::path dir_;
+};
+
+TEST_F(MpiRun, ACrexRendersTheSingleProcessImageAtAnyRankCount) {
+    const std::vector<std::string> args = {"run", "--size", "24x17", "--spp", "4", "-q"};
+    auto one = testing::crex_cli({"run", "--size", "24x17", "--spp", "4", "-q", "-o", path("one.exr")});
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    for (int ranks : {2, 3, 4}) {
+        std::vector<std::string> a = args;
+        a.insert(a.end(), {"-o", path("n.exr")});
+        auto n = mpirun(ranks, a);
+        ASSERT_EQ(n.exit_code, 0) << ranks << " ranks: " << n.err;
+        EXPECT_EQ(pixels(path("n.exr")), pixels(path("one.exr"))) << ranks << " ranks";
+    }
+}
+
+TEST_F(MpiRun, APipelineWithoutACacheRendersTheSingleProcessImage) {
+    // Guidance runs on the whole preview on every rank; the selective samples by bands.
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe";
+    auto one = testing::crex_cli({"run", pipe, "--size", "24x16", "-q", "-o", path("one.exr")});
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    auto two = mpirun(2, {"run", pipe, "--size", "24x16", "-q", "-o", path("two.exr")});
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+}
+
+TEST_F(MpiRun, AKilledRankEndsTheRunNamedWithNothingLeftBehind) {
+    // Rank 1 kills itself with SIGKILL once it renders (a shell loop finds it by Open MPI's
+    // environment); mpirun names it, no crex process is left, and no output appears.
+    const std::string out = path("killed.exr");
+    const std::string script = std::string(kMpirun) + " --allow-run-as-root --oversubscribe -np 2 " + CREX_BINARY +
+                               " run --size 512x512 --spp 1024 -q -o " + out +
+                               " & m=$!; for i in $(seq 1 100); do for p in $(pgrep -f 'crex run --size 512x512 --spp 1024'); do "
+                               "if tr '\\0' '\\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1; then kill -9 $p; "
+                               "wait $m; echo exit=$?; exit 0; fi; done; sleep 0.1; done; echo rank-not-found; kill $m";
+    auto r = testing::run_command({"/bin/sh", "-c", script});
+    EXPECT_NE(r.out.find("exit="), std::string::npos) << r.out << r.err;
+    EXPECT_EQ(r.out.find("exit=0"), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 512x512 --spp 1024' || true"});
+    EXPECT_EQ(left.out, "") << "processes left running";
+}
+
+}  // namespace
+}  // namespace crex
