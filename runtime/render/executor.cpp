@@ -190,7 +190,8 @@ bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatc
                               const std::string& letter, const sched::Node& node) {
     // Thesis 5.5: the rays of the most important pixels first (stable, so ties keep their
     // order and the choice is deterministic), in batches of about 1/32 of the task, each
-    // admitted on the cost per ray while it fits; the rest stay in the bin.
+    // admitted on the cost per ray while it fits (shrinking near the end); the rest stay in
+    // the bin.
     // Without an importance map every pixel ties: the rays keep their order and are not
     // copied (sorting and copying a large task cost more than a batch, and overran budgets).
     RayBatch reordered;
@@ -206,9 +207,13 @@ bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatc
     const size_t batch = std::max(chunk_rays(), (sorted.size() - start + 31) / 32);
     size_t done = start;
     while (done < sorted.size()) {
-        const size_t n = std::min(batch, sorted.size() - done);
+        size_t n = std::min(batch, sorted.size() - done);
         const double remaining = options_.budget_seconds - now();
-        if (static_cast<double>(n) * cost > remaining) break;
+        // Near the end a batch shrinks to half the time left (at least 256 rays), so the last
+        // decisions land close to the budget instead of a whole batch's error away from it.
+        const size_t fits = remaining > 0 ? static_cast<size_t>(0.5 * remaining / cost) : 0;
+        if (fits < std::min<size_t>(256, n)) break;
+        n = std::min(n, fits);
         RayBatch b;
         b.append(sorted, done, done + n);
         ++stats.executions;
