@@ -36,6 +36,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--scenes", default="cornell,corridor,room")
     ap.add_argument("--no-checkpoints", action="store_true")
+    ap.add_argument("--policies", default="tasks,batches,queues,progressive")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     env = dict(os.environ)  # references from the user's crex cache (crex reference keeps them)
@@ -53,7 +54,7 @@ def main():
               "| profile error % (median per component) |")
         print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
         budgets = [f"{p}%" for p in (5, 10, 25, 50, 100)] + ["0.25s", "1s", "5s"]
-        for policy in ("tasks", "batches", "queues", "progressive"):
+        for policy in a.policies.split(","):
             for b in budgets:
                 runs = []
                 for r in range(a.repeat):

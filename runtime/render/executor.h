@@ -122,6 +122,7 @@ public:
     /// Between stages (spec/pipeline.md: the svt applies to the selective stage).
     void set_shade_params(const ShadeParams& shade) { options_.shade = shade; }
     void set_importance(const std::vector<float>* importance) { options_.importance = importance; }
+    void set_task_admission(ExecutorOptions::TaskAdmission admission) { options_.task_admission = admission; }
     void set_irradiance(std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> hook) {
         options_.irradiance = std::move(hook);
     }
