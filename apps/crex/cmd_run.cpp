@@ -48,6 +48,10 @@ int run(RunOptions opt) {
         setup.settings.row_end = ranks.row_end(setup.settings.height);
         setup.settings.share_rows = [ranks](Film& film, std::vector<double>& ambient) { share_rows(ranks, film, ambient); };
         setup.settings.save_ic_file = ranks.rank == 0;
+        if (opt.ic_share == "broadcast") {
+            auto shared = std::make_shared<size_t>(0);
+            setup.settings.share_cache = [ranks, shared](IrradianceCache& cache) { share_cache_records(ranks, cache, *shared); };
+        }
         if (ranks.rank != 0) opt.quiet = true;
     }
     std::optional<CheckpointRecorder> recorder;
@@ -155,6 +159,11 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
         ->allow_extra_args(false);
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
+    cmd->add_option("--ic-share", opt->ic_share, "Under mpirun, how ranks share the irradiance cache: none (each its own), or "
+                                                 "broadcast (the records each made go to every rank after the preview and before each "
+                                                 "later round)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"none", "broadcast"}));
     cmd->add_flag("--compare-policies", opt->compare_policies, "Under a budget with a reference: render again under every other "
                                                                "--policy and plot all their errors against time in the report");
     cmd->add_option("--policy", opt->policy,

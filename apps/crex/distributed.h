@@ -5,13 +5,15 @@
 /// preview, before each round's guidance (the maps see the whole image) and at the end, so
 /// every pixel is the sum of exactly the samples one rank traced: without an irradiance
 /// cache, the image is the single-process image. Rank 0 alone writes outputs and prints.
-/// With a cache each rank keeps its own (`--ic-share none`, the only mode so far).
+/// With a cache, --ic-share: none (each rank its own) or broadcast (records exchanged where
+/// rows are).
 /// Without Open MPI at build time, or outside mpirun, crex runs as one process.
 #pragma once
 
 #include <functional>
 #include <vector>
 
+#include "runtime/cache/irradiance_cache.h"
 #include "runtime/render/film.h"
 
 namespace crex::app {
@@ -39,6 +41,11 @@ Distribution distribution();
 
 /// Every rank's film and ambient stand-ins take each band of rows from the rank that renders it.
 void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient);
+
+/// --ic-share broadcast: the records this rank made since the last call go to every rank, and
+/// every other rank's are inserted here, in rank order. `shared` counts the records this rank
+/// made that were already sent (start at 0). Collective.
+void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& shared);
 
 /// Sums `value` over the ranks, or its largest (every rank gets the result): statistics for
 /// rank 0's summary. Collective: every rank must call them, in the same order.

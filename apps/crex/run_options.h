@@ -41,7 +41,8 @@ struct RunOptions {
     bool quiet = false;
     std::string budget;
     bool no_budget = false;
-    bool compare_policies = false;  ///< --compare-policies: also render under every other policy
+    bool compare_policies = false;
+    std::string ic_share = "broadcast";  ///< under mpirun: none, or broadcast the records at stage ends  ///< --compare-policies: also render under every other policy
     std::string policy;  ///< "" : the pipeline's, else the default
     std::string view;    ///< --view FILE.vf
     std::string budget_origin;  ///< "file:line:col" of the pipeline's `budget` when the budget is the pipeline's

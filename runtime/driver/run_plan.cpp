@@ -680,6 +680,7 @@ RunResult PlanRun::execute() {
         });
         {
             if (s_.share_rows) s_.share_rows(out_.film, ambient_);
+            if (s_.share_cache && cache_) s_.share_cache(*cache_);
             std::vector<double> preview_ambient = ambient_;
             add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
             out_.preview = out_.film.composite(&preview_ambient);
@@ -703,6 +704,7 @@ RunResult PlanRun::execute() {
             progress_.stage = "guidance" + label;
             report_progress("maps");
             if (round > 1 && s_.share_rows) s_.share_rows(out_.film, ambient_);  // the maps see every row as it is now
+            if (round > 1 && s_.share_cache && cache_) s_.share_cache(*cache_);
             SelectiveSetup sel = guidance(round > 1);
             out_.guidance_seconds += seconds_since(t_guidance);
             stage_end("end of guidance" + label, "selective");

@@ -91,6 +91,9 @@ struct RunSettings {
     /// before each round's guidance (maps see the whole image) and at the end.
     int row_begin = 0, row_end = 0;
     std::function<void(Film& film, std::vector<double>& ambient)> share_rows;
+    /// With a cache, called where `share_rows` is called mid-render (after the preview, before
+    /// each later round): the processes exchange the records they made (--ic-share broadcast).
+    std::function<void(IrradianceCache& cache)> share_cache;
     bool save_ic_file = true;  ///< false: load --ic-file but let another process save it
 };
 

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -84,6 +85,23 @@ TEST_F(MpiRun, AKilledRankEndsTheRunNamedWithNothingLeftBehind) {
     EXPECT_FALSE(fs::exists(out));
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 512x512 --spp 1024' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
+}
+
+// --ic-share broadcast: the records each rank made go to every rank after the preview and
+// before each later round, so the ranks together make fewer than when each keeps its own.
+TEST_F(MpiRun, BroadcastSharingMakesFewerRecordsThanNone) {
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/adaptive.pipe";  // a cache, three rounds
+    auto records = [&](const std::string& mode) {
+        auto r = mpirun(2, {"run", pipe, "--size", "48x48", "-q", "--ic-share", mode, "-o", path(mode + ".exr")});
+        EXPECT_EQ(r.exit_code, 0) << mode << ": " << r.err;
+        std::smatch m;
+        EXPECT_TRUE(std::regex_search(r.err, m, std::regex("([0-9]+) irradiance records over all ranks"))) << r.err;
+        return m.size() > 1 ? std::stol(m[1]) : -1L;
+    };
+    const long none = records("none"), broadcast = records("broadcast");
+    EXPECT_GT(none, 0);
+    EXPECT_GT(broadcast, 0);
+    EXPECT_LT(broadcast, none);
 }
 
 }  // namespace
