@@ -10,8 +10,9 @@ For each scene and rank count (1 = a plain `crex run`): the wall time of the who
 rank fills its own cache, so records grow with the ranks: the thesis's measure of what sharing
 the cache saves), the slowest rank's render time, the idle share (1 - rank 0's render time / the slowest
 rank's: how long rank 0 waited at the last exchange), the speed-up over one process, and FLIP
-against the one-process image. Only --ic-share none exists so far; the central, broadcast and
-component-based modes of the thesis are rows to come. Note the machine's cores: ranks beyond
+against the one-process image. These are plain `--ic` runs, on which --ic-share broadcast (records
+exchanged after a pipeline's preview and rounds) and none do the same; the central and
+component-based modes and broadcast per pass are rows to come. Note the machine's cores: ranks beyond
 them share cores (--oversubscribe). Prints a markdown table. Not run in CI.
 """
 import json
@@ -44,7 +45,7 @@ def main():
     ap.add_argument("--size", default="256x256")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    print(f"machine: {os.cpu_count()} cores; {a.size}, {a.spp} spp, `--ic`, `--ic-share none`, median of {a.repeat}\n")
+    print(f"machine: {os.cpu_count()} cores; {a.size}, {a.spp} spp, `--ic`, no sharing mid-render, median of {a.repeat}\n")
     print("| scene | ranks | wall s | slowest rank s | idle % | records (all ranks) | speed-up | FLIP vs 1 process |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, scene, _ in SCENES:
