@@ -73,6 +73,19 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
         }
         j["checkpoints"].push_back(cj);
     }
+    // Every policy's FLIP against time on one plot, this run's first (--compare-policies).
+    std::string policies_plot;
+    if (!curve.empty() && !r.other_policies.empty() && r.reference) {
+        std::vector<std::pair<std::string, std::vector<CurvePoint>>> runs = {{r.policy, curve}};
+        for (const auto& [name, checkpoints] : r.other_policies) runs.push_back({name, error_curve(*checkpoints, *r.reference, r.view)});
+        nlohmann::json pj = nlohmann::json::object();
+        for (const auto& [name, c] : runs) {
+            pj[name] = nlohmann::json::array();
+            for (const auto& p : c) pj[name].push_back({{"seconds", p.seconds}, {"flip", p.flip}, {"perr", p.perr}});
+        }
+        j["policies"] = pj;
+        policies_plot = policy_plot_svg(runs, r.budget_seconds);
+    }
     std::string error = write_file_atomically((fs::path(r.dir) / "checkpoints.json").string(), j.dump(2) + "\n");
     if (error.empty() && !curve.empty()) error = write_file_atomically((fs::path(r.dir) / "checkpoints.csv").string(), curve_csv(curve));
     std::string plot;
@@ -80,21 +93,8 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
         plot = error_plot_svg(curve, r.budget_seconds);
         if (error.empty()) error = write_file_atomically((fs::path(r.dir) / "error_plot.svg").string(), plot);
     }
-    // Every policy's FLIP against time on one plot, this run's first.
-    std::string policies_plot;
-    if (!curve.empty() && !r.other_policies.empty() && r.reference) {
-        std::vector<std::pair<std::string, std::vector<CurvePoint>>> runs = {{r.policy, curve}};
-        nlohmann::json pj = nlohmann::json::object();
-        for (const auto& [name, checkpoints] : r.other_policies) runs.push_back({name, error_curve(*checkpoints, *r.reference, r.view)});
-        for (const auto& [name, c] : runs) {
-            pj[name] = nlohmann::json::array();
-            for (const auto& p : c) pj[name].push_back({{"seconds", p.seconds}, {"flip", p.flip}, {"perr", p.perr}});
-        }
-        j["policies"] = pj;
-        policies_plot = policy_plot_svg(runs, r.budget_seconds);
-        if (error.empty()) error = write_file_atomically((fs::path(r.dir) / "policies_plot.svg").string(), policies_plot);
-        if (error.empty()) error = write_file_atomically((fs::path(r.dir) / "checkpoints.json").string(), j.dump(2) + "\n");
-    }
+    if (error.empty() && !policies_plot.empty())
+        error = write_file_atomically((fs::path(r.dir) / "policies_plot.svg").string(), policies_plot);
     if (!error.empty()) return error;
 
     // Images, all through one exposure (the reference's, else the final image's, the first

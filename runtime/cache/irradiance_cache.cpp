@@ -281,10 +281,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             Vec3 value, so, sd;
             double tfar;
             if (direct_light_sample(scene_, b, f, beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1, value, so, sd, tfar)) {
-                s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
-                s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
-                s.tnear = 0.0f;
-                s.tfar = static_cast<float>(tfar);
+                aim_shadow_ray(s, so, sd, tfar);
                 shadow_value[i] = value;
             }
         }

@@ -82,6 +82,11 @@ uint32_t per_pixel_counts(const std::vector<double>& values, std::vector<uint16_
     return mx;
 }
 
+// ambient += av x the throughput left unexecuted per pixel (RGB).
+void add_stand_in(const std::vector<float>& left, const Vec3& av, std::vector<double>& ambient) {
+    for (size_t i = 0; i < left.size() && i < ambient.size(); ++i) ambient[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
+}
+
 class PlanRun {
 public:
     PlanRun(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings)
@@ -118,6 +123,11 @@ private:
     std::vector<double> ambient_;  // av of D rays dropped at the end of passes
     std::array<std::vector<float>, kComponentCount> leftover_beta_;  // ambient_auto: per pixel RGB
     void add_auto_ambient();
+    // Distributed rendering: rows (and the cache's records) exchanged with the other processes.
+    void share_with_other_processes() {
+        if (s_.share_rows) s_.share_rows(out_.film, ambient_);
+        if (s_.share_cache && cache_) s_.share_cache(*cache_);
+    }
     // What an unexecuted ray of component c brings back per unit throughput: what its
     // executed rays did (`measured`), else `fallback`.
     Vec3 ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const;
@@ -231,8 +241,7 @@ std::vector<float> PlanRun::composite_now() const {
             if (!measured) continue;
             add_ambient(ex_->bins()[c], av, ambient);
             add_ambient(carried_[c], av, ambient);
-            const std::vector<float>& left = leftover_beta_[c];
-            for (size_t i = 0; i < left.size(); ++i) ambient[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
+            add_stand_in(leftover_beta_[c], av, ambient);
         }
     } else {
         add_ambient(ex_->bins()[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
@@ -276,8 +285,7 @@ void PlanRun::add_auto_ambient() {
         bool measured = false;
         Vec3 av = ambient_per_throughput(c, out_.stats, mean, measured);
         out_.auto_ambient[c] = av;
-        const std::vector<float>& left = leftover_beta_[c];
-        for (size_t i = 0; i < 3 * pixels; ++i) ambient_[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
+        add_stand_in(leftover_beta_[c], av, ambient_);
         out_.notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), {}",
                                          kComponentTable[c].letter, av.x, av.y, av.z,
                                          measured ? "what its executed rays brought back per unit throughput"
@@ -679,8 +687,7 @@ RunResult PlanRun::execute() {
             }
         });
         {
-            if (s_.share_rows) s_.share_rows(out_.film, ambient_);
-            if (s_.share_cache && cache_) s_.share_cache(*cache_);
+            share_with_other_processes();
             std::vector<double> preview_ambient = ambient_;
             add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
             out_.preview = out_.film.composite(&preview_ambient);
@@ -703,8 +710,7 @@ RunResult PlanRun::execute() {
             progress_ = {};
             progress_.stage = "guidance" + label;
             report_progress("maps");
-            if (round > 1 && s_.share_rows) s_.share_rows(out_.film, ambient_);  // the maps see every row as it is now
-            if (round > 1 && s_.share_cache && cache_) s_.share_cache(*cache_);
+            if (round > 1) share_with_other_processes();  // the maps see every row as it is now
             SelectiveSetup sel = guidance(round > 1);
             out_.guidance_seconds += seconds_since(t_guidance);
             stage_end("end of guidance" + label, "selective");

@@ -186,6 +186,15 @@ bool Executor::exec(const sched::Node& node) {
     return true;
 }
 
+RayBatch Executor::by_importance(const RayBatch& rays, size_t first) const {
+    std::vector<uint32_t> order(rays.size() - first);
+    std::iota(order.begin(), order.end(), static_cast<uint32_t>(first));
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return importance(rays.pixel[a]) > importance(rays.pixel[b]); });
+    RayBatch out;
+    for (uint32_t i : order) out.push(rays.get(i));
+    return out;
+}
+
 bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatch& bin, ComponentStats& stats,
                               const std::string& letter, const sched::Node& node) {
     // Thesis 5.5: the rays of the most important pixels first (stable, so ties keep their
@@ -194,14 +203,7 @@ bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatc
     // the bin.
     // Without an importance map every pixel ties: the rays keep their order and are not
     // copied (sorting and copying a large task cost more than a batch, and overran budgets).
-    RayBatch reordered;
-    if (options_.importance) {
-        std::vector<uint32_t> order(take.size() - first);
-        std::iota(order.begin(), order.end(), static_cast<uint32_t>(first));
-        std::stable_sort(order.begin(), order.end(),
-                         [&](uint32_t a, uint32_t b) { return importance(take.pixel[a]) > importance(take.pixel[b]); });
-        for (uint32_t i : order) reordered.push(take.get(i));
-    }
+    const RayBatch reordered = options_.importance ? by_importance(take, first) : RayBatch{};
     const RayBatch& sorted = options_.importance ? reordered : take;
     const size_t start = options_.importance ? 0 : first;
     const size_t batch = std::max(chunk_rays(), (sorted.size() - start + 31) / 32);
@@ -295,10 +297,9 @@ bool Executor::run_queues(const sched::Node& program) {
             batch.append(bin, 0, n);
             rest.append(bin, n, bin.size());
         } else {
-            std::vector<uint32_t> order(bin.size());
-            std::iota(order.begin(), order.end(), 0u);
-            std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return importance(bin.pixel[a]) > importance(bin.pixel[b]); });
-            for (size_t k = 0; k < order.size(); ++k) (k < n ? batch : rest).push(bin.get(order[k]));
+            const RayBatch sorted = by_importance(bin, 0);
+            batch.append(sorted, 0, n);
+            rest.append(sorted, n, sorted.size());
         }
         bin = std::move(rest);
         ComponentStats& stats = stats_.components[static_cast<size_t>(best)];

@@ -157,6 +157,8 @@ private:
         return options_.budget_seconds > 0 && !in_admitted_group_ && options_.task_admission != ExecutorOptions::TaskAdmission::kNone;
     }
     bool run_queues(const sched::Node& program);
+    /// Rays [first, end) of `rays`, most important pixels first (stable: ties keep their order).
+    RayBatch by_importance(const RayBatch& rays, size_t first) const;
     bool run_in_batches(RayBatch& take, size_t first, double cost, RayBatch& bin, ComponentStats& stats, const std::string& letter,
                         const sched::Node& node);
     size_t chunk_rays() const;

@@ -233,10 +233,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                                                    sd, tfar))
                             continue;
                         RTCRay& s = shadows[i * ns + params.shadow_rays + k];
-                        s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
-                        s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
-                        s.tnear = 0.0f;
-                        s.tfar = static_cast<float>(tfar);
+                        aim_shadow_ray(s, so, sd, tfar);
                         shadow_value[i * ns + params.shadow_rays + k] = value;
                         ++block_shadow_rays;
                     }
@@ -273,10 +270,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                         double tfar;
                         if (!direct_light_sample(scene, b, f, ray.beta, random, j, nsi, value, so, sd, tfar)) continue;
                         RTCRay& s = shadows[i * ns + j];
-                        s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
-                        s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
-                        s.tnear = 0.0f;
-                        s.tfar = static_cast<float>(tfar);
+                        aim_shadow_ray(s, so, sd, tfar);
                         shadow_value[i * ns + j] = value;
                         ++block_shadow_rays;
                     }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "runtime/base/vec3.h"
 #include "runtime/trace/embree_scene.h"
 
 namespace crex {
@@ -24,6 +25,14 @@ inline void set_ray(RTCRayHit& h, float ox, float oy, float oz, float dx, float 
     h.ray.flags = 0;
     h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+/// Aims a shadow-ray slot (its mask, id and flags already set) from `o` along `d` over [0, tfar].
+inline void aim_shadow_ray(RTCRay& s, const Vec3& o, const Vec3& d, double tfar) {
+    s.org_x = static_cast<float>(o.x), s.org_y = static_cast<float>(o.y), s.org_z = static_cast<float>(o.z);
+    s.dir_x = static_cast<float>(d.x), s.dir_y = static_cast<float>(d.y), s.dir_z = static_cast<float>(d.z);
+    s.tnear = 0.0f;
+    s.tfar = static_cast<float>(tfar);
 }
 
 /// Closest hits. `coherent` for camera rays. Rays with tnear > tfar are holes (inactive).
