@@ -50,6 +50,8 @@ struct Statement {
     Value lo, hi;                 ///< kVary
     std::string using_fn;         ///< kVary: modulation function (`using ...`)
     SourceSpan using_span;
+    std::string component;        ///< kVary: the component of `vary subsample(D) ...`, else ""
+    SourceSpan component_span;
     SourceSpan span;
 };
 

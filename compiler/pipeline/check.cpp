@@ -126,7 +126,8 @@ private:
         std::map<std::string, SourceSpan> seen;
         for (const auto& s : body) {
             if (s.kind != Statement::Kind::kDefinition) {
-                std::string key = (s.kind == Statement::Kind::kVary ? "vary " : "") + s.key;
+                std::string key = (s.kind == Statement::Kind::kVary ? "vary " : "") + s.key +
+                                  (s.component.empty() ? "" : "(" + s.component + ")");
                 if (auto it = seen.find(key); it != seen.end()) {
                     Diagnostic& d = sink_.report("E211", s.key_span, fmt::format("'{}' is given twice here", s.key));
                     d.notes.push_back({it->second, "first given here"});
@@ -196,6 +197,13 @@ private:
             for (const auto& v : kSelectiveVariables) names.emplace_back(v.name);
             sink_.report("E207", s.key_span, fmt::format("unknown selective variable '{}'", s.key)).help = nearest(s.key, names);
         } else {
+            if (!s.component.empty() && !var->per_component) {
+                sink_.report("E207", s.component_span,
+                             fmt::format("'{}' applies to every component; only subsample takes one (`vary subsample(D) ...`)", s.key));
+            } else if (!s.component.empty() && (s.component.size() != 1 || !component_from_letter(s.component[0]))) {
+                sink_.report("E207", s.component_span,
+                             fmt::format("'{}' is not a component: expected one of D, G, S, T, R, M", s.component));
+            }
             for (const Value* v : {&s.lo, &s.hi}) {
                 if (v->kind != Value::Kind::kNumber || !v->unit.empty()) {
                     sink_.report("E208", v->span, fmt::format("{}: expected a plain number", s.key));

@@ -157,15 +157,19 @@ private:
             s.expr = expr(def->expr());
         } else if (auto* vary = dynamic_cast<PipelineParser::VaryContext*>(ctx)) {
             s.kind = ast::Statement::Kind::kVary;
-            s.key = vary->IDENT(0)->getText();
-            s.key_span = span(vary->IDENT(0)->getSymbol());
+            s.key = vary->name->getText();
+            s.key_span = span(vary->name);
+            if (vary->comp) {
+                s.component = vary->comp->getText();
+                s.component_span = span(vary->comp);
+            }
             s.lo = value(vary->lo);
             s.hi = value(vary->hi);
             s.expr = expr(vary->expr());
             s.has_by = true;
             if (vary->USING()) {
-                s.using_fn = vary->IDENT(1)->getText();
-                s.using_span = span(vary->IDENT(1)->getSymbol());
+                s.using_fn = vary->fn->getText();
+                s.using_span = span(vary->fn);
             }
         } else if (auto* set = dynamic_cast<PipelineParser::SettingContext*>(ctx)) {
             s.kind = ast::Statement::Kind::kSetting;

@@ -90,13 +90,16 @@ struct VariableSignature {
     std::string_view name;
     double lo, hi;     ///< allowed values of `vary V A .. B`
     bool integer;      ///< per-pixel values are rounded
+    /// May name one component (`vary subsample(D) ...`, capict, thesis ch. 7): the variable
+    /// then applies to that component's rays only.
+    bool per_component = false;
 };
 
 inline constexpr std::array<VariableSignature, kSelectiveVariableCount> kSelectiveVariables = {{
     {SelectiveVariable::kSpp, "spp", 1, 1 << 20, true},
     {SelectiveVariable::kShadowRays, "shadow_rays", 1, 1024, true},
     {SelectiveVariable::kIcRadius, "ic_radius", 1e-9, 1e9, false},
-    {SelectiveVariable::kSubsample, "subsample", 1, 1024, true},
+    {SelectiveVariable::kSubsample, "subsample", 1, 1024, true, true},
     {SelectiveVariable::kMediaSamples, "media_samples", 1, 1024, true},
     {SelectiveVariable::kSpecularThreshold, "specular_threshold", 0, 1, false},
 }};

@@ -65,10 +65,10 @@ void merge(ResolvedPipeline& r, const ast::Pipeline& p) {
                 } else if (inner.kind == K::kSetting && !inner.values.empty()) {
                     stage.settings[inner.key] = inner.values[0];
                 } else if (inner.kind == K::kVary) {
-                    ResolvedVariable v{inner.key, inner.lo, inner.hi, inner.expr, inner.using_fn};
+                    ResolvedVariable v{inner.key, inner.lo, inner.hi, inner.expr, inner.using_fn, inner.component};
                     bool replaced = false;
                     for (auto& old : r.vary)
-                        if (old.name == v.name) old = v, replaced = true;
+                        if (old.varied() == v.varied()) old = v, replaced = true;
                     if (!replaced) r.vary.push_back(v);
                 }
             } else if (s.key == "guidance" && inner.kind == K::kDefinition) {
@@ -119,7 +119,7 @@ std::optional<ResolvedPipeline> resolve_from(const ast::File& file, const ast::P
         chain.push_back(p);
         if (p->base.empty()) break;
         const ast::Pipeline* base = find_base(file, *p, sink);
-        if (!base) return std::nullopt;  // the checker reports unknown bases (E210) or W202
+        if (!base) return std::nullopt;  // the checker reports unknown bases (E210)
         p = base;
     }
     ResolvedPipeline r;

@@ -27,6 +27,9 @@ struct ResolvedVariable {
     ast::Value lo, hi;
     ast::Expr by;
     std::string using_fn;
+    std::string component;  ///< "D" of `vary subsample(D) ...`, else ""
+    /// "subsample(D)" or "subsample": what the pipeline varies, and what an extension replaces.
+    std::string varied() const { return component.empty() ? name : name + "(" + component + ")"; }
 };
 
 struct ResolvedPipeline {

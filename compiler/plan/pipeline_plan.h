@@ -53,6 +53,8 @@ struct PlanVariable {
     double from = 0, to = 0;
     pipeline::ModulationFunction modulation = pipeline::ModulationFunction::kLinear;
     std::string map;                         ///< id of the node giving the map
+    /// `vary subsample(D) ...` (capict): the one component the variable applies to.
+    std::optional<Component> component;
 };
 
 /// One argument of a guidance operator: the node giving it (the preview, a buffer, a map or a

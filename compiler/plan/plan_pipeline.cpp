@@ -213,6 +213,13 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             plan.pruned.push_back({"vary ic_radius", "", "no D step is left for this scene, so there is no irradiance cache"});
             continue;
         }
+        if (!v.component.empty()) {  // checked: one of D G S T R M
+            const Component c = *component_from_letter(v.component[0]);
+            if (!has_exec(plan.program.preselective, c) && !has_exec(plan.program.selective, c)) {
+                plan.pruned.push_back({"vary " + v.varied(), "", fmt::format("no {} step is left for this scene", v.component)});
+                continue;
+            }
+        }
         vary.push_back(&v);
     }
     // Maps consumed by something that survives (transitively through other maps).
@@ -273,13 +280,14 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         plan.modulation_map = from;
     }
     for (const auto* v : vary) {
-        std::string id = "vary." + v->name;
+        std::string id = "vary." + v->name + (v->component.empty() ? "" : "." + v->component);
         PlanVariable typed;
         typed.variable = *pipeline::selective_variable_from_name(v->name);  // checked
+        if (!v->component.empty()) typed.component = component_from_letter(v->component[0]);
         typed.from = v->lo.number;
         typed.to = v->hi.number;
         if (!v->using_fn.empty()) typed.modulation = *pipeline::modulation_function_from_name(v->using_fn);
-        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}{}", v->name, value_text(v->lo), value_text(v->hi),
+        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}{}", v->varied(), value_text(v->lo), value_text(v->hi),
                                                    v->using_fn.empty() ? "" : " using " + v->using_fn));
         int counter = 0;
         std::string from = g.source(v->by, id, counter, maps);
@@ -364,9 +372,12 @@ nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
     j["settings"] = plan_settings_to_json(plan.settings);
     j["outputs"] = plan_outputs_to_json(plan.outputs);
     j["variables"] = nlohmann::json::array();
-    for (const auto& v : plan.variables)
-        j["variables"].push_back({{"variable", pipeline::name_of(v.variable)}, {"from", v.from}, {"to", v.to},
-                                  {"modulation", pipeline::name_of(v.modulation)}, {"map", v.map}});
+    for (const auto& v : plan.variables) {
+        nlohmann::json var = {{"variable", pipeline::name_of(v.variable)}, {"from", v.from}, {"to", v.to},
+                              {"modulation", pipeline::name_of(v.modulation)}, {"map", v.map}};
+        if (v.component) var["component"] = std::string(1, component_letter(*v.component));
+        j["variables"].push_back(std::move(var));
+    }
     j["maps"] = nlohmann::json::array();
     for (const auto& m : plan.maps) j["maps"].push_back(plan_map_to_json(m));
     j["buffers"] = nlohmann::json::array();

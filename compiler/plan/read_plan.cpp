@@ -472,6 +472,14 @@ public:
             auto f = pipeline::modulation_function_from_name(modulation);
             if (!f) return fail(ptr + "/modulation", fmt::format("unknown modulation function '{}'", modulation));
             var.modulation = *f;
+            if (v.contains("component")) {
+                std::string letter;
+                if (!text(v, ptr, "component", letter, true)) return false;
+                auto c = letter.size() == 1 ? component_from_letter(letter[0]) : std::nullopt;
+                if (!c) return fail(ptr + "/component", fmt::format("'{}' is not a component: expected one of D, G, S, T, R, M", letter));
+                if (!sig.per_component) return fail(ptr + "/component", fmt::format("{} applies to every component; only subsample takes one", name));
+                var.component = c;
+            }
             if (!index.count(var.map)) return fail(ptr + "/map", fmt::format("no node '{}' in the plan", var.map));
             p.variables.push_back(var);
         }

@@ -87,6 +87,11 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"wrong_type", "  guidance { t = task_map(preview) }", "E206", 2, 27, "expected a set of tagged objects"},
         Case{"bad_op", "  guidance { a = saliency(preview)\n  i = importance(a 1, op \"-\") }", "E206", 3, 26, "op is"},
         Case{"unknown_variable", "  selective { vary spp_max 1 .. 2 by constant(1) }", "E207", 2, 20, "unknown selective variable"},
+        // capict's per-component variable: only subsample takes a component, and only D G S T R M.
+        Case{"component_of_spp", "  selective { vary spp(D) 1 .. 2 by constant(1) }", "E207", 2, 24, "only subsample takes one"},
+        Case{"not_a_component", "  selective { vary subsample(X) 8 .. 1 by constant(1) }", "E207", 2, 30, "'X' is not a component"},
+        Case{"component_varied_twice", "  selective { vary subsample(D) 8 .. 1 by constant(1)\n  vary subsample(D) 4 .. 1 by constant(0) }",
+             "E211", 3, 8, "given twice"},
         Case{"range", "  selective { vary spp 1 .. 2.5 by constant(1) }", "E208", 2, 29, "out of range"},
         Case{"budget_unit", "  budget 10 deg", "E209", 2, 10, "needs a unit"},
         // Settings out of the range of settings_table.cpp (the same as crex run's flags).

@@ -159,6 +159,8 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"unknown_setting", [](json& j) { j["settings"]["spp_max"] = 3; }, "3", "unknown setting 'spp_max'"},
         Case{"variable_out_of_range", [](json& j) { j["variables"][0]["to"] = 1e9; }, "1000000000", "in [1, 1048576] for spp"},
         Case{"variable_unknown", [](json& j) { j["variables"][0]["variable"] = "rays"; }, "\"rays\"", "unknown selective variable"},
+        Case{"variable_component_not_subsample", [](json& j) { j["variables"][0]["component"] = "D"; }, "\"D\"", "only subsample takes one"},
+        Case{"variable_component_unknown", [](json& j) { j["variables"][0]["component"] = "Q"; }, "\"Q\"", "'Q' is not a component"},
         Case{"modulation_unknown", [](json& j) { j["variables"][0]["modulation"] = "cubic"; }, "\"cubic\"", "unknown modulation function"},
         Case{"variable_map_dangling", [](json& j) { j["variables"][0]["map"] = "map.nosuch"; }, "\"map.nosuch\"", "no node 'map.nosuch'"},
         Case{"map_unknown_operator", [](json& j) { j["maps"][0]["operator"] = "salience"; }, "\"salience\"",
