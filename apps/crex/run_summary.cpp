@@ -55,6 +55,13 @@ nlohmann::json run_summary_json(const RunFacts& f) {
         j["maps"] = maps;
         j["notes"] = f.piped->notes;
         if (f.piped->subsample) j["subsampled_pixels_rendered"] = f.piped->subsample->rendered_count();
+        if (f.piped->component_subsample.any()) {  // capict: per component, the pixels its first bounces ran in
+            nlohmann::json corners = nlohmann::json::object();
+            for (size_t c = 0; c < kComponentCount; ++c)
+                if (const auto& g = f.piped->component_subsample.grid(static_cast<Component>(c)))
+                    corners[std::string(1, kComponentTable[c].letter)] = g->rendered_count();
+            j["component_subsampled_pixels_rendered"] = corners;
+        }
     }
     if (f.recorder) j["checkpoint_seconds"] = f.recorder->paused_seconds();
     if (f.ic) {

@@ -137,6 +137,8 @@ private:
     std::vector<uint32_t> pass_start_samples_;
     std::optional<IrradianceCache> cache_;
     std::vector<IcAnswer> preview_answers_;
+    std::optional<PixelProbe> surfaces_;      // capict: what each pixel centre sees
+    std::vector<uint8_t> first_bounce_runs_;  // capict: the executor's gate (bit c: c's first bounces run)
     double base_aa_ = 0;
     double seconds_per_sample_ = 0;  // measured under a budget: camera sample and its rays
     ExecutorOptions::TaskAdmission policy_admission_ = ExecutorOptions::TaskAdmission::kWhole;  // the policy's
@@ -246,6 +248,10 @@ std::vector<float> PlanRun::composite_now() const {
     } else {
         add_ambient(ex_->bins()[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
         add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
+    }
+    if (out_.component_subsample.any()) {
+        std::vector<double> interpolated = out_.component_subsample.stand_ins(out_.film);
+        for (size_t i = 0; i < ambient.size(); ++i) ambient[i] += interpolated[i];
     }
     std::vector<float> rgb = out_.film.composite(&ambient);
     if (out_.subsample) out_.subsample->fill(rgb);
@@ -530,7 +536,14 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
             break;
         }
         case V::kSubsample:
-            out_.subsample.emplace(w, h, variable_values(var.from, var.to, var.modulation, m, true));
+            if (var.component && !surfaces_) {
+                surfaces_ = probe_pixels(*rs_, w, h);
+                out_.component_subsample.set_surfaces(*surfaces_);
+            }
+            if (var.component)
+                out_.component_subsample.build(*var.component, w, h, variable_values(var.from, var.to, var.modulation, m, true), film);
+            else
+                out_.subsample.emplace(w, h, variable_values(var.from, var.to, var.modulation, m, true));
             break;
         case V::kIcRadius: {
             if (!cache_) {
@@ -594,7 +607,7 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
         for (size_t k = done; k < end; ++k) {
             const IcAnswer& a = *from[order[k]];
             Vec3 delta = a.query.beta * (e[k - done] - a.irradiance) / kPi;
-            if (is_finite(delta)) out_.film.add(aov_of(Component::kD), a.query.pixel, delta, a.query.flags & kRayOddSample);
+            if (is_finite(delta)) out_.film.add(aov_of(Component::kD), a.query.pixel, delta, a.query.flags);
         }
         per_query = (now() - t) / static_cast<double>(end - done);
         done = end;
@@ -654,6 +667,15 @@ RunResult PlanRun::execute() {
         eo.shade.ic_queries = true;
         eo.irradiance = executor_hook(*cache_, base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance,
                                       out_.staged ? &preview_answers_ : nullptr);
+    }
+    {
+        // capict: the branches of the components sub-sampled are tracked from the first
+        // camera ray, so the preview's samples count in the interpolation too.
+        uint8_t branches = 0;
+        for (const PlanVariable& v : plan_.variables)
+            if (v.variable == pipeline::SelectiveVariable::kSubsample && v.component)
+                branches = static_cast<uint8_t>(branches | (1u << static_cast<unsigned>(*v.component)));
+        if (branches) out_.film.track_branches(branches);
     }
     ex_.emplace(*rs_, out_.film, eo);
     policy_admission_ = eo.task_admission;
@@ -726,6 +748,10 @@ RunResult PlanRun::execute() {
                 ex_->set_irradiance(executor_hook(*cache_, base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
                                                   sel.ic_priority.empty() ? nullptr : &sel.ic_priority));
             }
+            if (out_.component_subsample.any()) {  // capict: this round's grids gate the new samples' first bounces
+                first_bounce_runs_ = out_.component_subsample.first_bounce_runs(pixels);
+                ex_->set_first_bounce_runs(&first_bounce_runs_);
+            }
             const std::vector<float>* modulation = sel.modulation.empty() ? base_importance : &sel.modulation;
             auto run_selective = [&] {
                 ex_->set_importance(modulation);
@@ -785,13 +811,32 @@ uint64_t total_rays(const ExecutorStats& stats) {
 }
 
 std::vector<float> RunResult::image() const {
-    std::vector<float> rgb = film.composite(&ambient);
+    std::vector<float> rgb;
+    if (component_subsample.any()) {
+        std::vector<double> with = component_subsample.stand_ins(film);
+        for (size_t i = 0; i < with.size() && i < ambient.size(); ++i) with[i] += ambient[i];
+        rgb = film.composite(&with);
+    } else {
+        rgb = film.composite(&ambient);
+    }
     if (subsample) subsample->fill(rgb);
     return rgb;
 }
 
 std::vector<float> RunResult::aov_image(size_t aov) const {
     std::vector<float> rgb = film.aov_image(aov);
+    // capict: a component's image takes its branch's interpolation (the whole branch, also what
+    // it found through other components' rays below the first bounce), so the images still add
+    // up to the final image.
+    if (aov != kCameraAov && component_subsample.grid(static_cast<Component>(aov - 1))) {
+        std::vector<double> delta = component_subsample.stand_ins(film, static_cast<Component>(aov - 1));
+        for (uint32_t p = 0; p < film.pixel_count(); ++p)
+            if (const double n = film.samples(p); n > 0)
+                for (size_t k = 0; k < 3; ++k) {
+                    const float v = static_cast<float>(rgb[3 * p + k] + delta[3 * p + k] / n);
+                    rgb[3 * p + k] = std::isfinite(v) ? v : 0.0f;
+                }
+    }
     if (subsample) subsample->fill(rgb);
     return rgb;
 }

@@ -19,7 +19,9 @@
 /// an irradiance cache, on the order records are made in).
 /// With an irradiance cache, D is interpolated; `ic_radius` varies its accuracy per pixel (the
 /// progressive selective cache, thesis 8.2). With `subsample` varied, only the corners of the
-/// adaptive grid get selective samples, and the other pixels are interpolated from them.
+/// adaptive grid get selective samples, and the other pixels are interpolated from them; with
+/// `subsample(X)` varied (capict), only component X's first-bounce rays are sub-sampled so, and
+/// its branch is interpolated in the other pixels (runtime/pipeline/component_subsample.h).
 #pragma once
 
 #include <array>
@@ -32,6 +34,7 @@
 
 #include "compiler/plan/pipeline_plan.h"
 #include "runtime/cache/irradiance_cache.h"
+#include "runtime/pipeline/component_subsample.h"
 #include "runtime/pipeline/subsample.h"
 #include "runtime/render/camera_samples.h"
 #include "runtime/render/executor.h"
@@ -128,6 +131,7 @@ struct RunResult {
     std::vector<float> preview;    ///< linear RGB at the end of the pre-selective stage
     std::vector<std::pair<std::string, guidance::Raster>> maps;  ///< name ("sal", or a node id), map
     std::optional<SubsampleGrid> subsample;
+    ComponentSubsampling component_subsample;  ///< capict's grids, one per component varied
     double preview_seconds = 0, guidance_seconds = 0, selective_seconds = 0;
     /// The progressive selective cache (thesis 8.2): records made in the preview, preview D
     /// samples answered again at a finer accuracy in the selective stage, records made then.

@@ -24,6 +24,7 @@ PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mir
     probe.shape.assign(n, -1);
     probe.detected.assign(n, -1);
     probe.distance.assign(n, std::numeric_limits<float>::infinity());
+    probe.normal.assign(n, Vec3{});
     CameraRays camera(scene.scene.camera, width, height, scene.embree->origin_offset());
     std::vector<Vec3> origin(n), dir(n);
     for (size_t p = 0; p < n; ++p) {
@@ -43,7 +44,11 @@ PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mir
             if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
             const GeometryInfo& g = scene.embree->geometries()[h.hit.geomID];
             int32_t shape = static_cast<int32_t>(g.shape);
-            if (bounce == 0) probe.shape[p] = shape, probe.distance[p] = h.ray.tfar;
+            if (bounce == 0) {
+                probe.shape[p] = shape, probe.distance[p] = h.ray.tfar;
+                const Vec3 ng = normalize_or_zero(Vec3{h.hit.Ng_x, h.hit.Ng_y, h.hit.Ng_z});
+                probe.normal[p] = dot(ng, dir[p]) > 0 ? -ng : ng;
+            }
             probe.detected[p] = shape;
             if (scene.material_of(h.hit.geomID).type != MaterialType::kMirror) continue;
             // Continue as the mirror's reflection.

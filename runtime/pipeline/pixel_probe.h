@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "runtime/base/vec3.h"
 #include "runtime/render/render_scene.h"
 
 namespace crex {
@@ -17,6 +18,7 @@ struct PixelProbe {
     std::vector<int32_t> detected;  ///< shape seen by the pixel's detectable ray: the camera ray,
                                     ///< continued through mirrors (the OSDM's specular rays)
     std::vector<float> distance;    ///< to the first hit; +inf for none
+    std::vector<Vec3> normal;       ///< geometric normal at the first hit, facing the camera; 0 for none
 };
 
 /// `mirror_bounces`: how many mirror reflections a detectable ray follows.

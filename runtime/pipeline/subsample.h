@@ -21,6 +21,10 @@ public:
     size_t rendered_count() const;
     /// Replaces every non-corner pixel of `rgb` (3 floats per pixel) by its interpolation.
     void fill(std::vector<float>& rgb) const;
+    /// x0, y0, x1, y1 of the final square `pixel` lies in (its corners are rendered).
+    std::array<uint16_t, 4> square(uint32_t pixel) const { return square_[pixel]; }
+    int width() const { return width_; }
+    int height() const { return height_; }
 
 private:
     void split(int x0, int y0, int size, const std::vector<double>& spacing);

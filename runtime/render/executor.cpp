@@ -63,7 +63,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
                 Vec3 c = beta * e[i - begin] / kPi;
                 if (options_.clamp_indirect > 0) c = clamped(c, options_.clamp_indirect);
                 stats.luminance += is_finite(c) ? luminance(c) : 0.0;
-                film_.add(aov, rays.pixel[i], is_finite(c) ? c : Vec3{}, rays.flags[i] & kRayOddSample);
+                film_.add(aov, rays.pixel[i], is_finite(c) ? c : Vec3{}, rays.flags[i]);
                 film_.count_ray(aov, rays.pixel[i]);
             }
             stats.rays += end - begin;
@@ -80,6 +80,7 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
             for (const Vec3& c : out.contribution) stats.luminance += is_finite(c) ? luminance(c) : 0.0;
         film_.add_rays(aov, rays.pixel.data() + begin, rays.flags.data() + begin, out.contribution.data(),
                        camera ? out.emission.data() : nullptr, out.contribution.size());
+        if (camera && film_.tracked_branches()) gate_first_bounce(out);
         out.append_children_to(sink);
         stats.rays += end - begin;
         stats.shadow_rays += out.shadow_rays;
@@ -93,6 +94,29 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         if (profiled) options_.profile->record(*profiled, rays.size(), seconds);
         else if (camera) options_.profile->record_camera(rays.size(), seconds);
     }
+}
+
+void Executor::gate_first_bounce(ShadeOutput& out) {
+    const uint8_t tracked = film_.tracked_branches();
+    const std::vector<uint8_t>* runs = options_.first_bounce_runs;
+    for (size_t b = 0; b < out.blocks; ++b)
+        for (size_t c = 0; c < kComponentCount; ++c) {
+            if (!(tracked >> c & 1u)) continue;
+            RayBatch& rays = out.block_children[b][c];
+            size_t kept = 0;
+            for (size_t i = 0; i < rays.size(); ++i) {
+                const uint32_t p = rays.pixel[i];
+                const bool run = !runs || ((*runs)[p] >> c & 1u);
+                film_.add_first_bounce(c, p, {rays.br[i], rays.bg[i], rays.bb[i]}, run);
+                if (!run) continue;
+                if (kept != i) {
+                    const RayRecord r = rays.get(i);
+                    rays.write(kept, &r, 1);
+                }
+                ++kept;
+            }
+            rays.resize(kept);
+        }
 }
 
 void Executor::note_rays_held() {

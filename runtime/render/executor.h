@@ -86,6 +86,10 @@ struct ExecutorOptions {
     /// its largest channel is at most this (crex run --clamp): fireflies traded for bias.
     double clamp_indirect = 0;
     const std::vector<float>* importance = nullptr;  ///< per pixel, row-major (clamped; NaN = 0)
+    /// capict: per pixel, bit c set if the rays a camera hit spawns into component c are
+    /// executed there (null: everywhere). Rays of components the film tracks branches of that
+    /// are not executed are dropped, their throughput kept for the interpolation.
+    const std::vector<uint8_t>* first_bounce_runs = nullptr;
     std::function<void(const std::string& what, uint64_t rays_done)> progress;
     double budget_seconds = 0;       ///< 0: no time budget
     /// Under a budget, how a component task is admitted: whole on the profile's prediction
@@ -122,6 +126,7 @@ public:
     /// Between stages (spec/pipeline.md: the svt applies to the selective stage).
     void set_shade_params(const ShadeParams& shade) { options_.shade = shade; }
     void set_importance(const std::vector<float>* importance) { options_.importance = importance; }
+    void set_first_bounce_runs(const std::vector<uint8_t>* runs) { options_.first_bounce_runs = runs; }
     void set_task_admission(ExecutorOptions::TaskAdmission admission) { options_.task_admission = admission; }
     void set_irradiance(std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> hook) {
         options_.irradiance = std::move(hook);
@@ -165,6 +170,7 @@ private:
     void execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label,
                       std::optional<Component> profiled);
     double importance(uint32_t pixel) const;
+    void gate_first_bounce(ShadeOutput& out);
 
     const RenderScene& scene_;
     Film& film_;

@@ -32,11 +32,19 @@ void Film::add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, con
         const size_t lo = pixels * part / parts, hi = pixels * (part + 1) / parts;
         for (size_t i = 0; i < n; ++i) {
             if (pixel[i] < lo || pixel[i] >= hi) continue;
-            add(aov, pixel[i], value[i], flags[i] & kRayOddSample);
+            add(aov, pixel[i], value[i], flags[i]);
             count_ray(aov, pixel[i]);
             if (emission) add_emission(pixel[i], emission[i]), add_sample(pixel[i], flags[i] & kRayOddSample);
         }
     });
+}
+
+void Film::track_branches(uint8_t mask) {
+    tracked_ = mask;
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        const size_t n = (mask >> c & 1u) ? 3 * pixel_count() : 0;
+        branch_[c].assign(n, 0.0), first_run_[c].assign(n, 0.0), first_all_[c].assign(n, 0.0);
+    }
 }
 
 Vec3 Film::pixel_value(size_t aov, uint32_t pixel) const {

@@ -28,18 +28,32 @@ public:
     int height() const { return height_; }
     size_t pixel_count() const { return static_cast<size_t>(width_) * static_cast<size_t>(height_); }
 
-    /// Adds a ray's contribution; `odd`: it descends from an odd camera sample, so it goes to
-    /// the odd half-buffer too (the noise estimate).
-    void add(size_t aov, uint32_t pixel, const Vec3& value, bool odd = false) {
-        double* p = &sums_[aov][3 * static_cast<size_t>(pixel)];
-        p[0] += value.x;
-        p[1] += value.y;
-        p[2] += value.z;
-        if (odd) {
-            double* q = &odd_[3 * static_cast<size_t>(pixel)];
-            q[0] += value.x, q[1] += value.y, q[2] += value.z;
-        }
+    /// Adds a ray's contribution; `flags` are the ray's: from an odd camera sample it goes to
+    /// the odd half-buffer too (the noise estimate), and to its branch's sum if that is tracked.
+    void add(size_t aov, uint32_t pixel, const Vec3& value, uint8_t flags = 0) {
+        add_to(sums_[aov], pixel, value);
+        if (flags & kRayOddSample) add_to(odd_, pixel, value);
+        if (const unsigned b = (flags & kRayBranchMask) >> kRayBranchShift; b && (tracked_ >> (b - 1) & 1u))
+            add_to(branch_[b - 1], pixel, value);
     }
+
+    /// capict (thesis 7.4): for the components in `mask` (bit c: Component c), keep what each
+    /// branch found (everything below a ray the camera hit spawned into that component) and
+    /// the throughput of those first-bounce rays, executed or not, so that a branch can be
+    /// interpolated between pixels without the material of the hit (branch / throughput).
+    void track_branches(uint8_t mask);
+    uint8_t tracked_branches() const { return tracked_; }
+    /// A first-bounce ray of component c with throughput `beta` was spawned at a camera hit of
+    /// `pixel`; `runs`: it goes on to be executed (else capict interpolates its branch).
+    void add_first_bounce(size_t c, uint32_t pixel, const Vec3& beta, bool runs) {
+        add_to(first_all_[c], pixel, beta);
+        if (runs) add_to(first_run_[c], pixel, beta);
+    }
+    /// Sums over the pixel's samples (not divided): what branch c found, the throughput of its
+    /// first-bounce rays that ran, and of all of them.
+    Vec3 branch_sum(size_t c, uint32_t pixel) const { return sum_at(branch_[c], pixel); }
+    Vec3 first_bounce_run(size_t c, uint32_t pixel) const { return sum_at(first_run_[c], pixel); }
+    Vec3 first_bounce_all(size_t c, uint32_t pixel) const { return sum_at(first_all_[c], pixel); }
     /// One camera sample of `pixel` was taken (odd: an odd sample index).
     void add_sample(uint32_t pixel, bool odd) {
         ++samples_[pixel];
@@ -89,9 +103,20 @@ public:
         f(static_cast<void*>(emission_.data()), 3 * sizeof(double));
         f(static_cast<void*>(odd_.data()), 3 * sizeof(double));
         f(static_cast<void*>(odd_samples_.data()), sizeof(uint32_t));
+        for (size_t c = 0; c < kComponentCount; ++c)
+            if (tracked_ >> c & 1u)
+                for (auto* v : {&branch_[c], &first_run_[c], &first_all_[c]}) f(static_cast<void*>(v->data()), 3 * sizeof(double));
     }
 
 private:
+    static void add_to(std::vector<double>& sums, uint32_t pixel, const Vec3& v) {
+        double* p = &sums[3 * static_cast<size_t>(pixel)];
+        p[0] += v.x, p[1] += v.y, p[2] += v.z;
+    }
+    static Vec3 sum_at(const std::vector<double>& sums, uint32_t pixel) {
+        const double* p = &sums[3 * static_cast<size_t>(pixel)];
+        return {p[0], p[1], p[2]};
+    }
     int width_, height_;
     std::array<std::vector<double>, kAovCount> sums_;
     std::vector<uint32_t> samples_;
@@ -100,6 +125,8 @@ private:
     std::vector<double> emission_;
     std::vector<double> odd_;            // every AOV's contributions of odd camera samples
     std::vector<uint32_t> odd_samples_;
+    uint8_t tracked_ = 0;  // capict's components (bit c); their buffers are empty otherwise
+    std::array<std::vector<double>, kComponentCount> branch_, first_run_, first_all_;
 };
 
 }  // namespace crex

@@ -18,7 +18,11 @@ enum RayFlags : uint8_t {
     kRayFromDeltaLobe = 1,  ///< spawned by S, T, R or M: sees sampled emitters (spec §1)
     kRayIcQuery = 2,        ///< a D irradiance-cache query: direction holds the normal
     kRayOddSample = 4,      ///< descends from an odd camera sample: the film's second half-buffer
+    /// Bits 3-5: 1 + the component of the ray spawned at the camera hit that this ray descends
+    /// from (its branch), 0 for camera rays: what capict interpolates is a branch (thesis 7.4).
+    kRayBranchMask = 0x38,
 };
+inline constexpr unsigned kRayBranchShift = 3;
 
 struct RayRecord {
     Vec3 origin, direction, beta;

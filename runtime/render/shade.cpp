@@ -39,15 +39,18 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
             beta = beta / q;
         }
         RayRecord& c = scratch.children[static_cast<size_t>(out)];
+        // A camera hit's children start a branch; deeper rays stay in their parent's.
+        const uint8_t branch = ray.depth == 0 ? static_cast<uint8_t>((1u + static_cast<unsigned>(lobe.component)) << kRayBranchShift)
+                                              : static_cast<uint8_t>(ray.flags & kRayBranchMask);
         bool query = params.ic_queries && lobe.component == Component::kD;
         if (query) {  // an irradiance-cache query: the hit and the normal on the lit side
             c.origin = f.position;
             c.direction = lobe.transmits ? -f.normal : f.normal;
-            c.flags = static_cast<uint8_t>(kRayIcQuery | (ray.flags & kRayOddSample));
+            c.flags = static_cast<uint8_t>(kRayIcQuery | (ray.flags & kRayOddSample) | branch);
         } else {
             c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
             c.direction = lobe.direction;
-            c.flags = static_cast<uint8_t>((lobe.delta ? kRayFromDeltaLobe : 0) | (ray.flags & kRayOddSample));
+            c.flags = static_cast<uint8_t>((lobe.delta ? kRayFromDeltaLobe : 0) | (ray.flags & kRayOddSample) | branch);
         }
         c.beta = beta;
         c.pixel = ray.pixel;

@@ -45,7 +45,8 @@ Read read(const std::string& text) {
 }
 
 TEST(PlanReader, EveryGoldenPipelinePlanReadsBackToTheSameJson) {
-    for (const char* name : {"prog_dis_all.cornell", "tc_rp.cornell", "sel_st.cornell_diffuse", "prog_tc.cornell", "sel_edge.cornell"}) {
+    for (const char* name :
+         {"prog_dis_all.cornell", "tc_rp.cornell", "sel_st.cornell_diffuse", "prog_tc.cornell", "sel_edge.cornell", "capict.cornell"}) {
         json j = golden(name);
         Read r = read(j.dump(2));
         ASSERT_TRUE(r.plan && r.plan->pipeline) << name << ": " << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);

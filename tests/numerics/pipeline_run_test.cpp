@@ -246,6 +246,61 @@ TEST(PipelineRun, UniformMaxIsThePipelineWithEveryMapAtOne) {
     EXPECT_NE(a.image(), c.image());  // the maps do matter without --uniform
 }
 
+// capict (issue 18): with every grid at spacing 1 (`--uniform max`) nothing is interpolated and
+// the pipeline is stratified sampling itself; at spacing 8 D's first bounces run at a few
+// corners only, and no pixel the preview lit goes black, nor does the image's light move.
+TEST(PipelineRun, CapictAtItsMaximumIsTheUniformRender) {
+    Scene scene = load("builtin:cornell");
+    auto capict = plan_for(testing::read_text(CREX_SOURCE_DIR "/stdlib/pipelines/capict.pipe"), scene);
+    auto uniform = plan_for("pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(1) }\n"
+                            " selective { vary spp 16 .. 16 by c }\n}\n",
+                            scene);
+    RunSettings o;
+    o.width = o.height = 16;
+    RunSettings gold = o;
+    gold.uniform = UniformQuality::kMax;
+    auto a = run_plan(scene, capict, gold);
+    auto b = run_plan(scene, uniform, o);
+    ASSERT_TRUE(a.component_subsample.any());
+    EXPECT_EQ(a.component_subsample.grid(Component::kD)->rendered_count(), 16u * 16u);
+    EXPECT_EQ(a.image(), b.image());
+    EXPECT_EQ(a.stats.components[0].rays, b.stats.components[0].rays);
+}
+
+TEST(PipelineRun, CapictInterpolatesWithoutBlackPixelsOrLostLight) {
+    Scene scene = load("builtin:cornell");
+    const std::string text =
+        "pipeline p extends capict {\n guidance { z = constant(0) }\n selective {\n vary subsample(D) 8 .. 1 by z\n"
+        " vary subsample(R) 4 .. 1 by z\n }\n}\n";
+    RunSettings o;
+    o.width = o.height = 32;
+    auto sub = run_plan(scene, plan_for(text, scene), o);
+    auto full = run_plan(scene, plan_for(text, scene), [&] { RunSettings g = o; g.uniform = UniformQuality::kMax; return g; }());
+    const size_t d = static_cast<size_t>(Component::kD);
+    // D's first bounces ran at the corners (and wherever a square had none on the pixel's surface).
+    const size_t corners = sub.component_subsample.grid(Component::kD)->rendered_count();
+    EXPECT_LT(corners, 32u * 32u / 4);
+    EXPECT_LT(sub.stats.components[d].rays, full.stats.components[d].rays / 2);
+    auto image = sub.image(), preview = sub.preview;
+    for (size_t p = 0; p < sub.film.pixel_count(); ++p) {
+        const double y = 0.2126 * image[3 * p] + 0.7152 * image[3 * p + 1] + 0.0722 * image[3 * p + 2];
+        ASSERT_TRUE(std::isfinite(y)) << p;
+        const double before = 0.2126 * preview[3 * p] + 0.7152 * preview[3 * p + 1] + 0.0722 * preview[3 * p + 2];
+        if (before > 0) EXPECT_GT(y, 0.0) << "pixel " << p << " went black";
+    }
+    // The interpolation moves light between pixels, it neither makes nor loses it: the image's
+    // mean is the full render's within 3 % (16 spp of 32x32: the means' own noise is ~1 %).
+    const double a = testing::mean_luminance(image), b = testing::mean_luminance(full.image());
+    EXPECT_NEAR(a, b, 0.03 * b);
+    // The D image carries the interpolation: the component images still add up to the image.
+    std::vector<float> sum(image.size(), 0.0f);
+    for (size_t aov = 0; aov < kAovCount; ++aov) {
+        auto part = sub.aov_image(aov);
+        for (size_t i = 0; i < sum.size(); ++i) sum[i] += part[i];
+    }
+    for (size_t i = 0; i < sum.size(); ++i) ASSERT_NEAR(sum[i], image[i], 1e-4 * std::max(1.0f, image[i])) << i;
+}
+
 // A cached pipeline's selective samples ask the cache for D like its preview does: no D ray is
 // path traced (path-traced D rays shade their hits with shadow rays; cache queries do not).
 TEST(PipelineRun, SelectiveSamplesQueryTheCacheForIndirectDiffuse) {
