@@ -1,7 +1,7 @@
 // The pipeline language (spec/pipeline.md; docs/pipeline-language.md). A file holds pipelines;
 // a pipeline is a block of statements: sections (`preselective { ... }`), definitions
 // (`sal = saliency(preview)`), selective variables (`vary spp 1 .. 25 by imp`, one component's:
-// `vary subsample(D) 8 .. 1 by dd`) and settings
+// `vary subsample(D) 8 .. 1 by dd refine 0.5`) and settings
 // (`image 512 x 512`, `budget 10 s`, `crex "TT" by imp`). Which sections, settings, operators
 // and variables exist is not decided here but by the checker's tables, so messages can name
 // what was expected and suggest the nearest name. Crex literals are parsed again by the crex
@@ -28,7 +28,8 @@ pipeline    : PIPELINE name=IDENT (EXTENDS base=IDENT)? block ;
 block       : LBRACE statement* RBRACE ;
 statement   : IDENT block                                            # section
             | IDENT ASSIGN expr                                      # definition
-            | VARY name=IDENT (LPAREN comp=IDENT RPAREN)? lo=value RANGE hi=value BY expr (USING fn=IDENT)?   # vary
+            | VARY name=IDENT (LPAREN comp=IDENT RPAREN)? lo=value RANGE hi=value BY expr (USING fn=IDENT)?
+              ({wordHere({"refine"})}? refineWord=IDENT refine=value)?   # vary
             | IDENT value* (BY expr)?                                # setting
             ;
 expr        : IDENT LPAREN (arg (COMMA arg)*)? RPAREN                # call

@@ -61,6 +61,7 @@ nlohmann::json run_summary_json(const RunFacts& f) {
                 if (const auto& g = f.piped->component_subsample.grid(static_cast<Component>(c)))
                     corners[std::string(1, kComponentTable[c].letter)] = g->rendered_count();
             j["component_subsampled_pixels_rendered"] = corners;
+            j["component_subsample_refinements"] = f.piped->refinements;
         }
     }
     if (f.recorder) j["checkpoint_seconds"] = f.recorder->paused_seconds();

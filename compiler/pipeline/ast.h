@@ -52,6 +52,8 @@ struct Statement {
     SourceSpan using_span;
     std::string component;        ///< kVary: the component of `vary subsample(D) ...`, else ""
     SourceSpan component_span;
+    bool has_refine = false;      ///< kVary: `refine T` (capict's corner-difference threshold)
+    Value refine;
     SourceSpan span;
 };
 

@@ -211,6 +211,12 @@ private:
                                                               fmt::format("{:.10g}", var->hi)));
             }
         }
+        if (s.has_refine) {
+            if (s.component.empty() || !var || !var->per_component)
+                sink_.report("E207", s.refine.span, "refine applies to one component's sub-sampling only (`vary subsample(D) 8 .. 1 by m refine 0.5`)");
+            else if (s.refine.kind != Value::Kind::kNumber || !s.refine.unit.empty() || !(s.refine.number > 0 && s.refine.number <= 100))
+                sink_.report("E208", s.refine.span, "refine: expected a plain number in (0, 100] (a share of the corners' mean light)");
+        }
         if (!s.using_fn.empty()) {
             const std::vector<std::string> functions(kModulationFunctionNames.begin(), kModulationFunctionNames.end());
             if (!modulation_function_from_name(s.using_fn))

@@ -171,6 +171,10 @@ private:
                 s.using_fn = vary->fn->getText();
                 s.using_span = span(vary->fn);
             }
+            if (vary->refine) {
+                s.has_refine = true;
+                s.refine = value(vary->refine);
+            }
         } else if (auto* set = dynamic_cast<PipelineParser::SettingContext*>(ctx)) {
             s.kind = ast::Statement::Kind::kSetting;
             s.key = set->IDENT()->getText();

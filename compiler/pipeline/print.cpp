@@ -24,8 +24,9 @@ void print_statement(const Statement& s, const std::string& indent, std::string&
         break;
     case Statement::Kind::kDefinition: out += fmt::format("{}{} = {}\n", indent, s.key, expr_text(s.expr)); break;
     case Statement::Kind::kVary:
-        out += fmt::format("{}vary {} {} .. {} by {}{}\n", indent, s.key + (s.component.empty() ? "" : "(" + s.component + ")"), value_text(s.lo), value_text(s.hi), expr_text(s.expr),
-                           s.using_fn.empty() ? "" : " using " + s.using_fn);
+        out += fmt::format("{}vary {} {} .. {} by {}{}{}\n", indent, s.key + (s.component.empty() ? "" : "(" + s.component + ")"),
+                           value_text(s.lo), value_text(s.hi), expr_text(s.expr), s.using_fn.empty() ? "" : " using " + s.using_fn,
+                           s.has_refine ? " refine " + value_text(s.refine) : "");
         break;
     case Statement::Kind::kSetting:
         out += fmt::format("{}{} {}{}\n", indent, s.key, values_text(s.values), s.has_by ? " by " + expr_text(s.expr) : "");
@@ -40,8 +41,8 @@ void print_stage(const char* name, const ResolvedStage& stage, const std::vector
     for (const auto& [key, v] : stage.settings) out += fmt::format("    {} {}\n", key, value_text(v));
     if (vary)
         for (const auto& v : *vary)
-            out += fmt::format("    vary {} {} .. {} by {}{}\n", v.varied(), value_text(v.lo), value_text(v.hi), expr_text(v.by),
-                               v.using_fn.empty() ? "" : " using " + v.using_fn);
+            out += fmt::format("    vary {} {} .. {} by {}{}{}\n", v.varied(), value_text(v.lo), value_text(v.hi), expr_text(v.by),
+                               v.using_fn.empty() ? "" : " using " + v.using_fn, v.refine ? fmt::format(" refine {:g}", *v.refine) : "");
     out += "  }\n";
 }
 

@@ -66,6 +66,7 @@ void merge(ResolvedPipeline& r, const ast::Pipeline& p) {
                     stage.settings[inner.key] = inner.values[0];
                 } else if (inner.kind == K::kVary) {
                     ResolvedVariable v{inner.key, inner.lo, inner.hi, inner.expr, inner.using_fn, inner.component};
+                    if (inner.has_refine) v.refine = inner.refine.number;
                     bool replaced = false;
                     for (auto& old : r.vary)
                         if (old.varied() == v.varied()) old = v, replaced = true;

@@ -28,6 +28,7 @@ struct ResolvedVariable {
     ast::Expr by;
     std::string using_fn;
     std::string component;  ///< "D" of `vary subsample(D) ...`, else ""
+    std::optional<double> refine;  ///< `refine T`
     /// "subsample(D)" or "subsample": what the pipeline varies, and what an extension replaces.
     std::string varied() const { return component.empty() ? name : name + "(" + component + ")"; }
 };

@@ -55,6 +55,9 @@ struct PlanVariable {
     std::string map;                         ///< id of the node giving the map
     /// `vary subsample(D) ...` (capict): the one component the variable applies to.
     std::optional<Component> component;
+    /// capict: split a square again while its corners' light differs by more than this times
+    /// their mean (`vary subsample(D) ... refine 0.5`).
+    std::optional<double> refine;
 };
 
 /// One argument of a guidance operator: the node giving it (the preview, a buffer, a map or a

@@ -284,11 +284,13 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         PlanVariable typed;
         typed.variable = *pipeline::selective_variable_from_name(v->name);  // checked
         if (!v->component.empty()) typed.component = component_from_letter(v->component[0]);
+        typed.refine = v->refine;
         typed.from = v->lo.number;
         typed.to = v->hi.number;
         if (!v->using_fn.empty()) typed.modulation = *pipeline::modulation_function_from_name(v->using_fn);
-        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}{}", v->varied(), value_text(v->lo), value_text(v->hi),
-                                                   v->using_fn.empty() ? "" : " using " + v->using_fn));
+        g.node(id, "svt", "selective", fmt::format("vary {} {} .. {}{}{}", v->varied(), value_text(v->lo), value_text(v->hi),
+                                                   v->using_fn.empty() ? "" : " using " + v->using_fn,
+                                                   v->refine ? fmt::format(" refine {:g}", *v->refine) : ""));
         int counter = 0;
         std::string from = g.source(v->by, id, counter, maps);
         if (!from.empty()) g.edge(from, id, "map");
@@ -376,6 +378,7 @@ nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
         nlohmann::json var = {{"variable", pipeline::name_of(v.variable)}, {"from", v.from}, {"to", v.to},
                               {"modulation", pipeline::name_of(v.modulation)}, {"map", v.map}};
         if (v.component) var["component"] = std::string(1, component_letter(*v.component));
+        if (v.refine) var["refine"] = *v.refine;
         j["variables"].push_back(std::move(var));
     }
     j["maps"] = nlohmann::json::array();

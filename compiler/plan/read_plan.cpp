@@ -480,6 +480,13 @@ public:
                 if (!sig.per_component) return fail(ptr + "/component", fmt::format("{} applies to every component; only subsample takes one", name));
                 var.component = c;
             }
+            if (v.contains("refine")) {
+                double t = 0;
+                if (!number(v, ptr, "refine", t)) return false;
+                if (!var.component) return fail(ptr + "/refine", "refine applies to one component's sub-sampling only");
+                if (!(t > 0 && t <= 100)) return fail(ptr + "/refine", "expected a number in (0, 100]");
+                var.refine = t;
+            }
             if (!index.count(var.map)) return fail(ptr + "/map", fmt::format("no node '{}' in the plan", var.map));
             p.variables.push_back(var);
         }

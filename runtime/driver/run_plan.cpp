@@ -111,6 +111,7 @@ private:
     void save_cache();
     SelectiveSetup guidance(bool from_current_image);
     void reanswer_preview_queries(const SelectiveSetup& sel);
+    void refine_components(const sched::Program& program);
 
     const Scene& scene_;
     const PipelinePlan& plan_;
@@ -618,6 +619,43 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     preview_answers_.shrink_to_fit();
 }
 
+void PlanRun::refine_components(const sched::Program& program) {
+    // capict's recursion (thesis 7.2): squares whose corners' light differs by more than the
+    // component's threshold split, and the new corners render the branch they skipped, by
+    // tracing their selective samples again with everything but that branch not counted.
+    // Each split halves a square, so a spacing of 2^k ends within k rounds.
+    const size_t pixels = out_.film.pixel_count();
+    for (int round = 0; round < 11; ++round) {
+        std::vector<uint8_t> runs(pixels, 0);
+        uint8_t replay = 0;
+        for (const PlanVariable& v : plan_.variables) {
+            if (v.variable != pipeline::SelectiveVariable::kSubsample || !v.component || !v.refine) continue;
+            std::vector<uint8_t> added = out_.component_subsample.refine(*v.component, *v.refine, out_.film);
+            if (added.empty()) continue;
+            const unsigned bit = 1u << static_cast<unsigned>(*v.component);
+            replay = static_cast<uint8_t>(replay | bit);
+            for (size_t p = 0; p < pixels; ++p)
+                if (added[p]) runs[p] = static_cast<uint8_t>(runs[p] | bit);
+        }
+        if (!replay) return;
+        SampleRanges ranges;
+        ranges.start_of.assign(pixels, 0);
+        ranges.end_of.assign(pixels, 0);
+        for (size_t p = 0; p < pixels; ++p)
+            if (runs[p]) ranges.start_of[p] = s_.spp, ranges.end_of[p] = out_.film.samples(static_cast<uint32_t>(p));
+        first_bounce_runs_ = std::move(runs);
+        ex_->set_first_bounce_runs(&first_bounce_runs_);
+        ex_->set_replay_branches(replay);
+        run_samples(fmt::format("refinement {}", round + 1), ranges, [&] {
+            ex_->run_stage(program.preselective);
+            ex_->run_stage(program.selective);
+            flush_bins();
+        });
+        ex_->set_replay_branches(0);
+        ++out_.refinements;
+    }
+}
+
 RunResult PlanRun::execute() {
     auto t_setup = Clock::now();
     rs_.emplace(scene_);
@@ -779,6 +817,7 @@ RunResult PlanRun::execute() {
             selective_seconds += seconds_since(t_selective);
             if (round < rounds) stage_end("end of selective rendering" + label, "guidance");
         }
+        if (out_.component_subsample.any() && s_.executor.budget_seconds <= 0) refine_components(program);
         out_.selective_seconds = selective_seconds;
         if (cache_) out_.ic_selective_records = cache_->records().size() - out_.ic_preview_records;
         out_.selective_rays = total_rays(ex_->stats()) - out_.preview_rays;

@@ -132,6 +132,7 @@ struct RunResult {
     std::vector<std::pair<std::string, guidance::Raster>> maps;  ///< name ("sal", or a node id), map
     std::optional<SubsampleGrid> subsample;
     ComponentSubsampling component_subsample;  ///< capict's grids, one per component varied
+    size_t refinements = 0;        ///< capict: rounds of splitting squares whose corners differ
     double preview_seconds = 0, guidance_seconds = 0, selective_seconds = 0;
     /// The progressive selective cache (thesis 8.2): records made in the preview, preview D
     /// samples answered again at a finer accuracy in the selective stage, records made then.

@@ -44,12 +44,57 @@ void ComponentSubsampling::build(Component c, int width, int height, std::vector
         }
         if (!split) {
             grids_[ci] = std::move(grid);
+            spacing_[ci] = std::move(spacing);
             mask_ = static_cast<uint8_t>(mask_ | (1u << ci));
             return;
         }
     }
-    grids_[ci] = SubsampleGrid(width, height, std::vector<double>(spacing.size(), 1.0));  // every pixel a corner
+    spacing_[ci].assign(spacing.size(), 1.0);  // every pixel a corner
+    grids_[ci] = SubsampleGrid(width, height, spacing_[ci]);
     mask_ = static_cast<uint8_t>(mask_ | (1u << ci));
+}
+
+std::vector<uint8_t> ComponentSubsampling::refine(Component c, double threshold, const Film& film) {
+    const size_t ci = static_cast<size_t>(c);
+    if (!grids_[ci]) return {};
+    const SubsampleGrid& grid = *grids_[ci];
+    const int w = grid.width(), h = grid.height();
+    std::vector<double> spacing = spacing_[ci];
+    bool split = false;
+    for (int y = 0; y + 1 < h; ++y)
+        for (int x = 0; x + 1 < w; ++x) {
+            // Each square once: through the pixel diagonally inside its top-left corner.
+            auto [x0, y0, x1, y1] = grid.square(static_cast<uint32_t>((y + 1) * w + (x + 1)));
+            if (x0 != x || y0 != y) continue;
+            const int size = std::max(x1 - x0, y1 - y0);
+            if (size < 2) continue;
+            double lo = 1e300, hi = 0, sum = 0;
+            int n = 0;
+            for (int qy : {int(y0), int(y1)})
+                for (int qx : {int(x0), int(x1)}) {
+                    const uint32_t q = static_cast<uint32_t>(qy * w + qx);
+                    const Vec3 run = film.first_bounce_run(ci, q);
+                    if (!some(run)) continue;
+                    const double l = luminance(per_throughput(film.branch_sum(ci, q), run));
+                    lo = std::min(lo, l), hi = std::max(hi, l), sum += l, ++n;
+                }
+            if (n < 2 || !(hi - lo > threshold * (sum / n))) continue;
+            // Its inside only: the edge pixels belong to the neighbouring squares too.
+            for (int py = y0 + 1; py < y1; ++py)
+                for (int px = x0 + 1; px < x1; ++px) {
+                    double& s = spacing[static_cast<size_t>(py * w + px)];
+                    s = std::min(s, std::max(1.0, size / 2.0));
+                }
+            split = true;
+        }
+    if (!split) return {};
+    const SubsampleGrid before = grid;
+    build(c, w, h, std::move(spacing), film);
+    std::vector<uint8_t> added(film.pixel_count(), 0);
+    bool any_added = false;
+    for (uint32_t p = 0; p < added.size(); ++p)
+        if (grids_[ci]->rendered(p) && !before.rendered(p)) added[p] = 1, any_added = true;
+    return any_added ? added : std::vector<uint8_t>{};
 }
 
 std::vector<uint8_t> ComponentSubsampling::first_bounce_runs(size_t pixels) const {

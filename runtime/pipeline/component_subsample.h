@@ -34,6 +34,11 @@ public:
     /// `film`) spawned rays into c but no corner of its square on its surface did has nothing
     /// to interpolate from: its square is split until the pixel is a corner.
     void build(Component c, int width, int height, std::vector<double> spacing, const Film& film);
+    /// The thesis's recursive step (7.2, 7.4): every square of c's grid whose corners' light
+    /// (per unit throughput, luminance) differs by more than `threshold` times their mean is
+    /// split once. Returns, per pixel, 1 where the split made a new corner (whose c branch must
+    /// now be rendered for the samples it skipped); empty when nothing was split.
+    std::vector<uint8_t> refine(Component c, double threshold, const Film& film);
     bool any() const { return mask_ != 0; }
     uint8_t components() const { return mask_; }  ///< bit c: component c is sub-sampled
     const std::optional<SubsampleGrid>& grid(Component c) const { return grids_[static_cast<size_t>(c)]; }
@@ -49,6 +54,7 @@ public:
 private:
     bool same_surface(uint32_t p, uint32_t q) const;
     std::array<std::optional<SubsampleGrid>, kComponentCount> grids_;
+    std::array<std::vector<double>, kComponentCount> spacing_;  // what each pixel asks for, after splits
     PixelProbe surfaces_;
     uint8_t mask_ = 0;
 };

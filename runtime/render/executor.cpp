@@ -78,8 +78,9 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
             for (Vec3& c : out.contribution) c = clamped(c, options_.clamp_indirect);
         if (!camera)
             for (const Vec3& c : out.contribution) stats.luminance += is_finite(c) ? luminance(c) : 0.0;
-        film_.add_rays(aov, rays.pixel.data() + begin, rays.flags.data() + begin, out.contribution.data(),
-                       camera ? out.emission.data() : nullptr, out.contribution.size());
+        if (!(camera && options_.replay_branches))
+            film_.add_rays(aov, rays.pixel.data() + begin, rays.flags.data() + begin, out.contribution.data(),
+                           camera ? out.emission.data() : nullptr, out.contribution.size());
         if (camera && film_.tracked_branches()) gate_first_bounce(out);
         out.append_children_to(sink);
         stats.rays += end - begin;
@@ -97,17 +98,21 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
 }
 
 void Executor::gate_first_bounce(ShadeOutput& out) {
-    const uint8_t tracked = film_.tracked_branches();
+    const uint8_t tracked = film_.tracked_branches(), replay = options_.replay_branches;
     const std::vector<uint8_t>* runs = options_.first_bounce_runs;
     for (size_t b = 0; b < out.blocks; ++b)
         for (size_t c = 0; c < kComponentCount; ++c) {
-            if (!(tracked >> c & 1u)) continue;
             RayBatch& rays = out.block_children[b][c];
+            if (replay && !(replay >> c & 1u)) {  // a replay runs its components' branches only
+                rays.reset();
+                continue;
+            }
+            if (!(tracked >> c & 1u)) continue;
             size_t kept = 0;
             for (size_t i = 0; i < rays.size(); ++i) {
                 const uint32_t p = rays.pixel[i];
                 const bool run = !runs || ((*runs)[p] >> c & 1u);
-                film_.add_first_bounce(c, p, {rays.br[i], rays.bg[i], rays.bb[i]}, run);
+                film_.add_first_bounce(c, p, {rays.br[i], rays.bg[i], rays.bb[i]}, run, replay != 0);
                 if (!run) continue;
                 if (kept != i) {
                     const RayRecord r = rays.get(i);

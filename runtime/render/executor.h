@@ -90,6 +90,10 @@ struct ExecutorOptions {
     /// executed there (null: everywhere). Rays of components the film tracks branches of that
     /// are not executed are dropped, their throughput kept for the interpolation.
     const std::vector<uint8_t>* first_bounce_runs = nullptr;
+    /// capict's refinement: camera samples traced again only to run the first bounces of these
+    /// components (bit c) where first_bounce_runs says so. Their camera contributions, their
+    /// samples and every other child are not counted again: the film already holds them.
+    uint8_t replay_branches = 0;
     std::function<void(const std::string& what, uint64_t rays_done)> progress;
     double budget_seconds = 0;       ///< 0: no time budget
     /// Under a budget, how a component task is admitted: whole on the profile's prediction
@@ -127,6 +131,7 @@ public:
     void set_shade_params(const ShadeParams& shade) { options_.shade = shade; }
     void set_importance(const std::vector<float>* importance) { options_.importance = importance; }
     void set_first_bounce_runs(const std::vector<uint8_t>* runs) { options_.first_bounce_runs = runs; }
+    void set_replay_branches(uint8_t components) { options_.replay_branches = components; }
     void set_task_admission(ExecutorOptions::TaskAdmission admission) { options_.task_admission = admission; }
     void set_irradiance(std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> hook) {
         options_.irradiance = std::move(hook);

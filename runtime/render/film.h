@@ -45,8 +45,9 @@ public:
     uint8_t tracked_branches() const { return tracked_; }
     /// A first-bounce ray of component c with throughput `beta` was spawned at a camera hit of
     /// `pixel`; `runs`: it goes on to be executed (else capict interpolates its branch).
-    void add_first_bounce(size_t c, uint32_t pixel, const Vec3& beta, bool runs) {
-        add_to(first_all_[c], pixel, beta);
+    /// `replayed`: a sample already counted spawned it again, to run it now (capict's refinement).
+    void add_first_bounce(size_t c, uint32_t pixel, const Vec3& beta, bool runs, bool replayed = false) {
+        if (!replayed) add_to(first_all_[c], pixel, beta);
         if (runs) add_to(first_run_[c], pixel, beta);
     }
     /// Sums over the pixel's samples (not divided): what branch c found, the throughput of its

@@ -88,6 +88,9 @@ INSTANTIATE_TEST_SUITE_P(
         // capict's per-component variable: only subsample takes a component, and only D G S T R M.
         Case{"component_of_spp", "  selective { vary spp(D) 1 .. 2 by constant(1) }", "E207", 2, 24, "only subsample takes one"},
         Case{"not_a_component", "  selective { vary subsample(X) 8 .. 1 by constant(1) }", "E207", 2, 30, "'X' is not a component"},
+        Case{"refine_without_component", "  selective { vary subsample 8 .. 1 by constant(1) refine 0.5 }", "E207", 2, 59,
+             "refine applies to one component"},
+        Case{"refine_range", "  selective { vary subsample(D) 8 .. 1 by constant(1) refine 0 }", "E208", 2, 62, "refine: expected"},
         Case{"component_varied_twice", "  selective { vary subsample(D) 8 .. 1 by constant(1)\n  vary subsample(D) 4 .. 1 by constant(0) }",
              "E211", 3, 8, "given twice"},
         Case{"range", "  selective { vary spp 1 .. 2.5 by constant(1) }", "E208", 2, 29, "out of range"},

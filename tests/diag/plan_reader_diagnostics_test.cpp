@@ -162,6 +162,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"variable_unknown", [](json& j) { j["variables"][0]["variable"] = "rays"; }, "\"rays\"", "unknown selective variable"},
         Case{"variable_component_not_subsample", [](json& j) { j["variables"][0]["component"] = "D"; }, "\"D\"", "only subsample takes one"},
         Case{"variable_component_unknown", [](json& j) { j["variables"][0]["component"] = "Q"; }, "\"Q\"", "'Q' is not a component"},
+        Case{"refine_without_component", [](json& j) { j["variables"][0]["refine"] = 0.5; }, "0.5", "refine applies to one component"},
         Case{"modulation_unknown", [](json& j) { j["variables"][0]["modulation"] = "cubic"; }, "\"cubic\"", "unknown modulation function"},
         Case{"variable_map_dangling", [](json& j) { j["variables"][0]["map"] = "map.nosuch"; }, "\"map.nosuch\"", "no node 'map.nosuch'"},
         Case{"map_unknown_operator", [](json& j) { j["maps"][0]["operator"] = "salience"; }, "\"salience\"",

@@ -301,6 +301,30 @@ TEST(PipelineRun, CapictInterpolatesWithoutBlackPixelsOrLostLight) {
     for (size_t i = 0; i < sum.size(); ++i) ASSERT_NEAR(sum[i], image[i], 1e-4 * std::max(1.0f, image[i])) << i;
 }
 
+// capict's refinement renders the branch a new corner skipped by tracing its samples again:
+// more corners and D rays than without it, and no sample or camera light counted twice.
+TEST(PipelineRun, CapictRefinementAddsCornersWithoutCountingSamplesTwice) {
+    Scene scene = load("builtin:cornell");
+    auto text = [](const std::string& refine) {
+        return "pipeline p extends capict {\n guidance { z = constant(0) }\n selective {\n vary subsample(D) 8 .. 1 by z" + refine +
+               "\n vary subsample(R) 4 .. 1 by z\n }\n}\n";
+    };
+    RunSettings o;
+    o.width = o.height = 32;
+    auto plain = run_plan(scene, plan_for(text(""), scene), o);
+    auto refined = run_plan(scene, plan_for(text(" refine 0.25"), scene), o);
+    EXPECT_EQ(plain.refinements, 0u);
+    EXPECT_GT(refined.refinements, 0u);
+    EXPECT_GT(refined.component_subsample.grid(Component::kD)->rendered_count(),
+              plain.component_subsample.grid(Component::kD)->rendered_count());
+    const size_t d = static_cast<size_t>(Component::kD);
+    EXPECT_GT(refined.stats.components[d].rays, plain.stats.components[d].rays);
+    EXPECT_GT(refined.stats.camera.rays, plain.stats.camera.rays);  // samples traced again
+    for (uint32_t p = 0; p < refined.film.pixel_count(); ++p) ASSERT_EQ(refined.film.samples(p), 16u) << p;
+    // What every pixel's camera rays found (direct light, emission) is counted once.
+    EXPECT_EQ(refined.film.aov_image(kCameraAov), plain.film.aov_image(kCameraAov));
+}
+
 // A cached pipeline's selective samples ask the cache for D like its preview does: no D ray is
 // path traced (path-traced D rays shade their hits with shadow rays; cache queries do not).
 TEST(PipelineRun, SelectiveSamplesQueryTheCacheForIndirectDiffuse) {

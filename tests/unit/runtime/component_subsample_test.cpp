@@ -113,5 +113,33 @@ TEST(ComponentSubsample, APixelWithNoCornerOnItsSurfaceBecomesACorner) {
     EXPECT_EQ(runs[at(1, 0)] | (1u << kR), 0x3f);
 }
 
+TEST(ComponentSubsample, RefinementSplitsTheSquaresWhoseCornersDiffer) {
+    // 17 pixels wide, spacing 8: two squares side by side. The left one's corners see the same
+    // light, the right one's differ by 3x: only the right square splits, once per call.
+    constexpr int w = 17, h = 9;
+    Film film(w, h);
+    film.track_branches(1u << kR);
+    auto light = [](int x) { return x >= 16 ? 3.0 : 1.0; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const uint32_t p = static_cast<uint32_t>(y * w + x);
+            film.add_sample(p, false);
+            const bool corner = x % 8 == 0 && y % 8 == 0;
+            film.add_first_bounce(kR, p, {1, 1, 1}, corner);
+            if (corner) film.add(aov_of(Component::kR), p, Vec3{1, 1, 1} * light(x), static_cast<uint8_t>((1 + kR) << kRayBranchShift));
+        }
+    ComponentSubsampling s;
+    s.build(Component::kR, w, h, std::vector<double>(w * h, 8.0), film);
+    ASSERT_EQ(s.grid(Component::kR)->rendered_count(), 6u);
+    EXPECT_TRUE(s.refine(Component::kR, 10.0, film).empty());  // 3x is within a threshold of 10 means
+    std::vector<uint8_t> added = s.refine(Component::kR, 0.5, film);
+    ASSERT_FALSE(added.empty());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool right_square_midpoint = x >= 8 && x % 4 == 0 && y % 4 == 0 && !(x % 8 == 0 && y % 8 == 0);
+            EXPECT_EQ(added[static_cast<size_t>(y * w + x)], right_square_midpoint ? 1 : 0) << x << "," << y;
+        }
+}
+
 }  // namespace
 }  // namespace crex
