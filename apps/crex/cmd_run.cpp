@@ -12,6 +12,7 @@
 #include "apps/crex/distributed.h"
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
+#include "apps/crex/rank_watchdog.h"
 #include "apps/crex/run_input.h"
 #include "apps/crex/run_options.h"
 #include "apps/crex/run_outputs.h"
@@ -37,6 +38,7 @@ int run(RunOptions opt) {
     }
     // Under mpirun: this rank's rows, the film's rows shared between the ranks; rank 0 writes.
     const Distribution ranks = distribution();
+    set_rank_timeout(opt.rank_timeout);
     if (ranks.active()) {
         if (setup.reference || !opt.report_dir.empty() || opt.compare_policies || setup.budget > 0) {
             if (ranks.rank == 0)
@@ -64,21 +66,26 @@ int run(RunOptions opt) {
     std::optional<RunResult> result;
     try {
         result.emplace(run_plan(*in.scene->scene, in.plan, setup.settings));
-    } catch (const InternalError&) {
+    } catch (const InternalError& e) {
         progress.finish();
+        // Under mpirun the other ranks would wait for this one at the next exchange: end them.
+        if (ranks.active()) abort_all_ranks(fmt::format("crex run: internal error on rank {}: {}\n", ranks.rank, e.what()), kExitFailure);
         throw;  // a bug, not a failed render: main says so
     } catch (const RunInputError& e) {
         progress.finish();
+        if (ranks.active()) abort_all_ranks(fmt::format("crex run: error: rank {}: {}\n", ranks.rank, e.what()), kExitInputErrors);
         std::cerr << "crex run: error: " << e.what() << "\n";
         return kExitInputErrors;
     } catch (const std::exception& e) {
         progress.finish();
+        if (ranks.active()) abort_all_ranks(fmt::format("crex run: error: rank {}: rendering failed: {}\n", ranks.rank, e.what()), kExitFailure);
         std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
         return kExitFailure;
     }
     progress.finish();
     if (ranks.active()) {
         // Totals over the ranks (collective: every rank takes part before rank 1.. leave).
+        all_ranks_arrive("the end of the render");
         const double rays = sum_over_ranks(static_cast<double>(total_rays(result->stats)));
         const double records = sum_over_ranks(static_cast<double>(result->ic_stats.records));
         const double slowest = max_over_ranks(result->render_seconds);
@@ -164,6 +171,10 @@ Runner add_run_command(CLI::App& app) {
                                                  "later round)")
         ->capture_default_str()
         ->check(CLI::IsMember({"none", "broadcast"}));
+    cmd->add_option("--rank-timeout", opt->rank_timeout, "Under mpirun: seconds a rank waits for another (at an exchange of rows "
+                                                         "or records, for irradiance answers) before the run is aborted naming it")
+        ->capture_default_str()
+        ->check(CLI::Range(0.1, 1e6));
     cmd->add_flag("--compare-policies", opt->compare_policies, "Under a budget with a reference: render again under every other "
                                                                "--policy and plot all their errors against time in the report");
     cmd->add_option("--policy", opt->policy,

@@ -1,11 +1,16 @@
 #include "apps/crex/distributed.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdlib>
+#include <iostream>
 #include <type_traits>
 
 #ifdef CREX_WITH_MPI
 #include <mpi.h>
+
+#include "apps/crex/rank_watchdog.h"
 #endif
 
 namespace crex::app {
@@ -20,6 +25,11 @@ bool launched_by_mpirun() {
 }
 
 bool g_started = false;
+// The ranks that render rows: all of them, or the PR ranks of --ic-share component.
+MPI_Comm g_rows = MPI_COMM_NULL;
+int g_row_exchanges = 0;  // names the sync point a late rank did not reach
+
+MPI_Comm rows_comm() { return g_rows == MPI_COMM_NULL ? MPI_COMM_WORLD : g_rows; }
 
 }  // namespace
 
@@ -30,7 +40,9 @@ DistributedSession::DistributedSession(int& argc, char**& argv) {
 }
 
 DistributedSession::~DistributedSession() {
-    if (g_started) MPI_Finalize();
+    if (!g_started) return;
+    if (g_rows != MPI_COMM_NULL) MPI_Comm_free(&g_rows);
+    MPI_Finalize();
 }
 
 Distribution distribution() {
@@ -38,26 +50,45 @@ Distribution distribution() {
     if (!g_started) return d;
     MPI_Comm_rank(MPI_COMM_WORLD, &d.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &d.size);
+    d.band = d.rank, d.bands = d.size;
+    return d;
+}
+
+Distribution render_rows_on_first(int renderers) {
+    Distribution d = distribution();
+    const bool renders = d.rank < renderers;
+    MPI_Comm_split(MPI_COMM_WORLD, renders ? 0 : MPI_UNDEFINED, d.rank, &g_rows);
+    d.band = renders ? d.rank : -1;
+    d.bands = renderers;
     return d;
 }
 
 void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient) {
     if (!d.active()) return;
+    stall_here_if_asked();
+    const std::string point = fmt::format("the exchange of rows no. {} (after the preview, before each round, at the end)", ++g_row_exchanges);
+    arrive(rows_comm(), point);
     const int width = film.width(), height = film.height();
-    // Each buffer in place: rank r's band of rows goes to every rank (MPI_IN_PLACE: a rank's
-    // own band is already where it belongs).
+    // Each buffer in place: band b's rows go to every rank (MPI_IN_PLACE: a rank's own band
+    // is already where it belongs). Non-blocking, so a rank stalling inside is caught too.
+    std::vector<MPI_Request> requests;
+    std::vector<std::vector<int>> counts, displs;
     auto gather = [&](void* data, size_t bytes_per_pixel) {
-        std::vector<int> counts(static_cast<size_t>(d.size)), displs(static_cast<size_t>(d.size));
-        for (int r = 0; r < d.size; ++r) {
-            Distribution other{r, d.size};
+        counts.emplace_back(static_cast<size_t>(d.bands)), displs.emplace_back(static_cast<size_t>(d.bands));
+        for (int b = 0; b < d.bands; ++b) {
+            Distribution other = d;
+            other.band = b;
             const size_t row_bytes = static_cast<size_t>(width) * bytes_per_pixel;
-            counts[static_cast<size_t>(r)] = static_cast<int>(static_cast<size_t>(other.row_end(height) - other.row_begin(height)) * row_bytes);
-            displs[static_cast<size_t>(r)] = static_cast<int>(static_cast<size_t>(other.row_begin(height)) * row_bytes);
+            counts.back()[static_cast<size_t>(b)] = static_cast<int>(static_cast<size_t>(other.row_end(height) - other.row_begin(height)) * row_bytes);
+            displs.back()[static_cast<size_t>(b)] = static_cast<int>(static_cast<size_t>(other.row_begin(height)) * row_bytes);
         }
-        MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, data, counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD);
+        requests.emplace_back();
+        MPI_Iallgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, data, counts.back().data(), displs.back().data(), MPI_BYTE, rows_comm(),
+                        &requests.back());
     };
     film.for_each_buffer(gather);
     if (ambient.size() == 3 * film.pixel_count()) gather(ambient.data(), 3 * sizeof(double));
+    wait_requests(requests, rank_timeout(), [&] { return "a rank stalled in " + point; });
 }
 
 void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& shared) {
@@ -69,20 +100,32 @@ void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& 
     const size_t made = static_cast<size_t>(cache.stats().records);
     const size_t mine = std::min(made - std::min(shared, made), all.size());
     const int bytes = static_cast<int>(mine * sizeof(IrradianceRecord));
-    std::vector<int> counts(static_cast<size_t>(d.size)), displs(static_cast<size_t>(d.size));
-    MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    const int ranks = d.bands;
+    std::vector<int> counts(static_cast<size_t>(ranks)), displs(static_cast<size_t>(ranks));
+    const std::string point = "the exchange of irradiance records (--ic-share broadcast)";
+    arrive(rows_comm(), point);
+    auto late = [&] { return "a rank stalled in " + point; };
+    std::vector<MPI_Request> request(1);
+    MPI_Iallgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, rows_comm(), &request[0]);
+    wait_requests(request, rank_timeout(), late);
     long long total = 0;
-    for (int r = 0; r < d.size; ++r) displs[static_cast<size_t>(r)] = static_cast<int>(total), total += counts[static_cast<size_t>(r)];
+    for (int r = 0; r < ranks; ++r) displs[static_cast<size_t>(r)] = static_cast<int>(total), total += counts[static_cast<size_t>(r)];
     std::vector<IrradianceRecord> received(static_cast<size_t>(total) / sizeof(IrradianceRecord));
     std::vector<IrradianceRecord> own(all.end() - static_cast<std::ptrdiff_t>(mine), all.end());
-    MPI_Allgatherv(own.data(), bytes, MPI_BYTE, received.data(), counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD);
-    for (int r = 0; r < d.size; ++r) {
-        if (r == d.rank) continue;
+    request.assign(1, MPI_REQUEST_NULL);
+    MPI_Iallgatherv(own.data(), bytes, MPI_BYTE, received.data(), counts.data(), displs.data(), MPI_BYTE, rows_comm(), &request[0]);
+    wait_requests(request, rank_timeout(), late);
+    for (int r = 0; r < ranks; ++r) {
+        if (r == d.band) continue;
         const size_t first = static_cast<size_t>(displs[static_cast<size_t>(r)]) / sizeof(IrradianceRecord);
         const size_t n = static_cast<size_t>(counts[static_cast<size_t>(r)]) / sizeof(IrradianceRecord);
         for (size_t k = 0; k < n; ++k) cache.insert(received[first + k]);
     }
     shared = made;
+}
+
+void all_ranks_arrive(const std::string& point) {
+    if (g_started) arrive(MPI_COMM_WORLD, point);
 }
 
 namespace {
@@ -96,16 +139,28 @@ double reduce(double value, MPI_Op op) {
 
 double sum_over_ranks(double value) { return reduce(value, MPI_SUM); }
 double max_over_ranks(double value) { return reduce(value, MPI_MAX); }
+double seconds_waiting_for_ranks() { return g_started ? seconds_waiting() : 0; }
+
+void abort_all_ranks(const std::string& message, int exit_code) {
+    std::cerr << message << std::flush;
+    if (!g_started) return;
+    MPI_Abort(MPI_COMM_WORLD, exit_code);
+    std::_Exit(exit_code);
+}
 
 #else
 
 DistributedSession::DistributedSession(int&, char**&) {}
 DistributedSession::~DistributedSession() = default;
 Distribution distribution() { return {}; }
+Distribution render_rows_on_first(int) { return {}; }
 void share_rows(const Distribution&, Film&, std::vector<double>&) {}
 void share_cache_records(const Distribution&, IrradianceCache&, size_t&) {}
+void all_ranks_arrive(const std::string&) {}
 double sum_over_ranks(double value) { return value; }
 double max_over_ranks(double value) { return value; }
+double seconds_waiting_for_ranks() { return 0; }
+void abort_all_ranks(const std::string& message, int) { std::cerr << message << std::flush; }
 
 #endif
 

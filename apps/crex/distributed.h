@@ -1,16 +1,19 @@
 /// \file distributed.h
 /// `mpirun -np N crex run ...` (issue 19, thesis chapter 6): the same command on N ranks. Each
-/// rank reads the same inputs and renders the camera samples of its own band of rows (rank r:
-/// rows [r H / N, (r + 1) H / N)); the film's rows are shared between the ranks after the
-/// preview, before each round's guidance (the maps see the whole image) and at the end, so
-/// every pixel is the sum of exactly the samples one rank traced: without an irradiance
-/// cache, the image is the single-process image. Rank 0 alone writes outputs and prints.
-/// With a cache, --ic-share: none (each rank its own) or broadcast (records exchanged where
-/// rows are).
+/// rank reads the same inputs; the ranks that render rows (all of them, but under
+/// --ic-share component only the PR ranks) each render the camera samples of their own band
+/// (band b of B: rows [b H / B, (b + 1) H / B)); the film's rows are shared between them after
+/// the preview, before each round's guidance (the maps see the whole image) and at the end, so
+/// every pixel is the sum of exactly the samples one rank traced: without an irradiance cache,
+/// the image is the single-process image. Rank 0 alone writes outputs and prints.
+/// How the ranks share an irradiance cache (--ic-share) is ic_share_central.h,
+/// ic_share_component.h and share_cache_records() below (broadcast); every wait for another
+/// rank is bounded (rank_watchdog.h).
 /// Without Open MPI at build time, or outside mpirun, crex runs as one process.
 #pragma once
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "runtime/cache/irradiance_cache.h"
@@ -19,11 +22,12 @@
 namespace crex::app {
 
 struct Distribution {
-    int rank = 0, size = 1;
+    int rank = 0, size = 1;   ///< among all ranks (MPI_COMM_WORLD)
+    int band = 0, bands = 1;  ///< this rank's band of rows among the ranks that render rows
     bool active() const { return size > 1; }
     /// The rows this rank renders of an image `height` rows high.
-    int row_begin(int height) const { return static_cast<int>(static_cast<long long>(height) * rank / size); }
-    int row_end(int height) const { return static_cast<int>(static_cast<long long>(height) * (rank + 1) / size); }
+    int row_begin(int height) const { return static_cast<int>(static_cast<long long>(height) * band / bands); }
+    int row_end(int height) const { return static_cast<int>(static_cast<long long>(height) * (band + 1) / bands); }
 };
 
 /// Starts MPI when this process was launched by mpirun (Open MPI's environment says so) and
@@ -36,20 +40,37 @@ public:
     DistributedSession& operator=(const DistributedSession&) = delete;
 };
 
-/// This process's place among the ranks (rank 0 of 1 when not distributed).
+/// This process's place among the ranks (rank 0 of 1 when not distributed); every rank
+/// renders rows.
 Distribution distribution();
 
-/// Every rank's film and ambient stand-ins take each band of rows from the rank that renders it.
+/// Only the first `renderers` ranks render rows from here on (the others answer irradiance
+/// queries, --ic-share component): their bands and the communicator rows are shared on.
+/// Collective over all ranks. A rank beyond them gets band -1.
+Distribution render_rows_on_first(int renderers);
+
+/// Every row-rendering rank's film and ambient stand-ins take each band of rows from the rank
+/// that renders it; waits are bounded (a late rank is named). Collective over those ranks.
 void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient);
 
-/// --ic-share broadcast: the records this rank made since the last call go to every rank, and
-/// every other rank's are inserted here, in rank order. `shared` counts the records this rank
-/// made that were already sent (start at 0). Collective.
+/// --ic-share broadcast: the records this rank made since the last call go to every
+/// row-rendering rank, and every other rank's are inserted here, in rank order. `shared`
+/// counts the records this rank made that were already sent (start at 0). Collective.
 void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& shared);
 
-/// Sums `value` over the ranks, or its largest (every rank gets the result): statistics for
+/// Every rank (of all) reached `point`, bounded like every wait: before the last collectives.
+void all_ranks_arrive(const std::string& point);
+
+/// Sums `value` over all ranks, or its largest (every rank gets the result): statistics for
 /// rank 0's summary. Collective: every rank must call them, in the same order.
 double sum_over_ranks(double value);
 double max_over_ranks(double value);
+
+/// Seconds this rank waited for others (0 when not distributed).
+double seconds_waiting_for_ranks();
+
+/// Ends every rank after `message` (printed by this rank): a failure on one rank must not
+/// leave the others waiting for it. Returns only when not distributed.
+void abort_all_ranks(const std::string& message, int exit_code);
 
 }  // namespace crex::app

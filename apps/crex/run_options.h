@@ -42,7 +42,9 @@ struct RunOptions {
     std::string budget;
     bool no_budget = false;
     bool compare_policies = false;
-    std::string ic_share = "broadcast";  ///< under mpirun: none, or broadcast the records at stage ends  ///< --compare-policies: also render under every other policy
+    std::string ic_share = "broadcast";  ///< under mpirun: none, or broadcast the records at stage ends
+    double rank_timeout = 600;  ///< under mpirun: seconds a rank waits for another before the run is aborted
+  ///< --compare-policies: also render under every other policy
     std::string policy;  ///< "" : the pipeline's, else the default
     std::string view;    ///< --view FILE.vf
     std::string budget_origin;  ///< "file:line:col" of the pipeline's `budget` when the budget is the pipeline's

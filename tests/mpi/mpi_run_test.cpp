@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -84,6 +85,27 @@ TEST_F(MpiRun, AKilledRankEndsTheRunNamedWithNothingLeftBehind) {
     EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 512x512 --spp 1024' || true"});
+    EXPECT_EQ(left.out, "") << "processes left running";
+}
+
+TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
+    // Rank 1 stops itself (SIGSTOP, the test hook of builds with tests) when it reaches the
+    // first exchange of rows: alive to Open MPI, silent to rank 0. Rank 0 waits --rank-timeout
+    // (2 s), names rank 1 and aborts; mpirun ends the stopped rank too (SIGKILL).
+    const std::string out = path("stalled.exr");
+    // `timeout`: without the watchdog the run would hang the test (exit 124 then).
+    const std::string script = "CREX_TEST_STALL_RANK=1 timeout -k 5 60 " + std::string(kMpirun) +
+                               " --allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + CREX_BINARY +
+                               " run --size 31x29 --spp 2 -q --rank-timeout 2 -o " + out;
+    const auto start = std::chrono::steady_clock::now();
+    auto r = testing::run_command({"/bin/sh", "-c", script});
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("crex run: error: rank 1 did not reach the exchange of rows no. 1"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("within 2 s"), std::string::npos) << r.err;
+    EXPECT_LT(seconds, 30.0) << "the timeout is 2 s; start-up and the abort take the rest";
+    EXPECT_FALSE(fs::exists(out));
+    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 31x29' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
 }
 

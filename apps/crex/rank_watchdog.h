@@ -1,0 +1,57 @@
+/// \file rank_watchdog.h
+/// Bounded waits between ranks under mpirun (issue 19): a rank that hangs (stopped, stuck in a
+/// loop, its machine gone quiet) must end the run within a bounded time with an error naming
+/// it, not leave the others blocked in MPI forever. Open MPI itself aborts the job when a rank
+/// dies, but a stopped rank is alive to it. So every wait for another rank here is a
+/// non-blocking operation polled against a deadline (--rank-timeout): on expiry the waiting
+/// rank prints `crex run: error: rank K did not reach <point> within S s` and calls MPI_Abort,
+/// and mpirun ends every rank (SIGTERM, then SIGKILL, which a stopped process cannot ignore).
+/// Polling with short sleeps has a second purpose: a rank blocked in MPI_Recv spins at 100 %
+/// of a core in Open MPI, which on a machine with fewer cores than ranks takes the core from
+/// the rank doing the work; a sleeping poll gives it back. The seconds spent waiting are the
+/// rank's idle time.
+#pragma once
+
+namespace crex::app {
+/// Seconds a rank waits for another before the run is aborted (--rank-timeout).
+void set_rank_timeout(double seconds);
+double rank_timeout();
+}  // namespace crex::app
+
+#ifdef CREX_WITH_MPI
+#include <mpi.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace crex::app {
+
+/// Seconds this process has waited for other ranks so far.
+double seconds_waiting();
+
+/// Polls `done` (a non-blocking MPI test) until it returns true. After `timeout` seconds
+/// `late()` names who was waited for and what they did not do (e.g. "rank 2 did not reach the
+/// end of the render"), which is printed with the timeout before MPI_Abort. `serve_while_waiting`,
+/// when set, runs between polls (rank 0 of --ic-share central forwards records meanwhile).
+void wait_until(const std::function<bool()>& done, double timeout, const std::function<std::string()>& late);
+
+/// Completes `requests` (wait_until on MPI_Testall).
+void wait_requests(std::vector<MPI_Request>& requests, double timeout, const std::function<std::string()>& late);
+
+/// Work to do while this rank waits for others (nullptr: none).
+void set_serve_while_waiting(std::function<void()> serve);
+
+/// Every rank of `comm` says it reached `point` (its name in the error); returns once all
+/// have, else aborts naming the ranks (of MPI_COMM_WORLD) that did not arrive in time. The
+/// collective that follows then finds every rank in it.
+void arrive(MPI_Comm comm, const std::string& point);
+
+/// Tests only: with CREX_TEST_HOOKS compiled in (builds with CREX_TESTS) and the environment
+/// variable CREX_TEST_STALL_RANK equal to this process's world rank, the first call stops
+/// the process (SIGSTOP), as a hung rank would be.
+void stall_here_if_asked();
+
+}  // namespace crex::app
+
+#endif
