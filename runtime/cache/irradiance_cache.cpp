@@ -501,7 +501,14 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
 std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
     IrradianceCache& cache, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
     std::vector<IcAnswer>* log) {
-    return [&cache, aa, aa_per_pixel, priority, log](const RayBatch& rays, size_t begin, size_t end, std::vector<Vec3>& e) {
+    return executor_hook([&cache](const std::vector<IcQuery>& q, std::vector<Vec3>& e) { cache.irradiance(q, 0, e); }, aa, aa_per_pixel,
+                         priority, log);
+}
+
+std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
+    IcAnswerFn answer, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
+    std::vector<IcAnswer>* log) {
+    return [answer = std::move(answer), aa, aa_per_pixel, priority, log](const RayBatch& rays, size_t begin, size_t end, std::vector<Vec3>& e) {
         std::vector<IcQuery> q(end - begin);
         for (size_t i = begin; i < end; ++i) {
             uint32_t p = rays.pixel[i];
@@ -512,7 +519,7 @@ std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executo
             x.priority = priority ? (*priority)[p] : 0.0f;
             x.key = rays.path[i];
         }
-        cache.irradiance(q, 0, e);
+        answer(q, e);
         if (log)
             for (size_t i = begin; i < end; ++i) log->push_back({rays.get(i), e[i - begin], q[i - begin].accuracy});
     };

@@ -111,4 +111,13 @@ std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executo
     IrradianceCache& cache, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
     std::vector<IcAnswer>* log = nullptr);
 
+/// E at a batch of queries (bounce level 0): IrradianceCache::irradiance, or another process
+/// answering them (distributed rendering, --ic-share component).
+using IcAnswerFn = std::function<void(const std::vector<IcQuery>& queries, std::vector<Vec3>& irradiance)>;
+
+/// The executor's D hook with the queries answered by `answer`.
+std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
+    IcAnswerFn answer, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
+    std::vector<IcAnswer>* log = nullptr);
+
 }  // namespace crex

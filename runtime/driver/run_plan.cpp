@@ -109,6 +109,13 @@ private:
 
     void setup_cache();
     void save_cache();
+    // A batch of D queries answered here, or as RunSettings::answer_ic_queries says.
+    IcAnswerFn answer_queries() {
+        return [this](const std::vector<IcQuery>& q, std::vector<Vec3>& e) {
+            if (s_.answer_ic_queries) s_.answer_ic_queries(*cache_, q, e);
+            else cache_->irradiance(q, 0, e);
+        };
+    }
     SelectiveSetup guidance(bool from_current_image);
     void reanswer_preview_queries(const SelectiveSetup& sel);
     void refine_components(const sched::Program& program);
@@ -407,15 +414,8 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
 }
 
 void PlanRun::setup_cache() {
-    IcSettings ics = *s_.irradiance_cache;
+    IcSettings ics = plan_cache_settings(plan_, *s_.irradiance_cache);
     base_aa_ = ics.accuracy;
-    for (const PlanVariable& v : plan_.variables)
-        if (v.variable == pipeline::SelectiveVariable::kIcRadius) {
-            // The preview uses the accuracy where the map is 0 (spec: `from`); the selective stage refines.
-            base_aa_ = v.from;
-            ics.accuracy = v.from;
-            ics.max_accuracy = std::max({v.from, v.to, ics.accuracy});
-        }
     cache_.emplace(*rs_, ics);
     for (const auto& r : s_.ic_records) cache_->insert(r);
     if (!s_.ic_file.empty() && std::filesystem::exists(s_.ic_file)) {
@@ -604,7 +604,7 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
         std::vector<IcQuery> part;
         for (size_t k = done; k < end; ++k) part.push_back(again[order[k]]);
         std::vector<Vec3> e;
-        cache_->irradiance(part, 0, e);
+        answer_queries()(part, e);
         for (size_t k = done; k < end; ++k) {
             const IcAnswer& a = *from[order[k]];
             Vec3 delta = a.query.beta * (e[k - done] - a.irradiance) / kPi;
@@ -703,7 +703,7 @@ RunResult PlanRun::execute() {
     if (s_.irradiance_cache) {
         setup_cache();
         eo.shade.ic_queries = true;
-        eo.irradiance = executor_hook(*cache_, base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance,
+        eo.irradiance = executor_hook(answer_queries(), base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance,
                                       out_.staged ? &preview_answers_ : nullptr);
     }
     {
@@ -783,7 +783,7 @@ RunResult PlanRun::execute() {
             ex_->set_shade_params(shade);
             if (cache_) {
                 if (round == 1) reanswer_preview_queries(sel);
-                ex_->set_irradiance(executor_hook(*cache_, base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
+                ex_->set_irradiance(executor_hook(answer_queries(), base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
                                                   sel.ic_priority.empty() ? nullptr : &sel.ic_priority));
             }
             if (out_.component_subsample.any()) {  // capict: this round's grids gate the new samples' first bounces
@@ -838,6 +838,16 @@ RunResult PlanRun::execute() {
 }
 
 }  // namespace
+
+IcSettings plan_cache_settings(const PipelinePlan& plan, IcSettings ics) {
+    for (const PlanVariable& v : plan.variables)
+        if (v.variable == pipeline::SelectiveVariable::kIcRadius) {
+            // The preview uses the accuracy where the map is 0 (spec: `from`); the selective stage refines.
+            ics.accuracy = v.from;
+            ics.max_accuracy = std::max({v.from, v.to, ics.accuracy});
+        }
+    return ics;
+}
 
 uint32_t plan_rounds(const PipelinePlan& plan) { return plan.settings.rounds.value_or(1); }
 

@@ -98,6 +98,10 @@ struct RunSettings {
     /// each later round): the processes exchange the records they made (--ic-share broadcast).
     std::function<void(IrradianceCache& cache)> share_cache;
     bool save_ic_file = true;  ///< false: load --ic-file but let another process save it
+    /// With a cache: how a batch of D queries is answered (unset: by `cache` here). Distributed
+    /// rendering answers them on another process (--ic-share component) or exchanges the
+    /// records made meanwhile (central).
+    std::function<void(IrradianceCache& cache, const std::vector<IcQuery>& queries, std::vector<Vec3>& irradiance)> answer_ic_queries;
 };
 
 /// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot
@@ -151,6 +155,10 @@ RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettin
 
 /// A plain crex run: the plan of `program` without guidance.
 RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings);
+
+/// The cache's settings for `plan`: a plan varying ic_radius starts at its `from` accuracy and
+/// sizes the index for the coarsest of its values.
+IcSettings plan_cache_settings(const PipelinePlan& plan, IcSettings settings);
 
 /// The plan's rounds of guidance and selective rendering (the cyclic process), at least 1.
 uint32_t plan_rounds(const PipelinePlan& plan);
