@@ -15,6 +15,7 @@
 #include "apps/crex/rank_watchdog.h"
 #include "apps/crex/run_input.h"
 #include "apps/crex/run_options.h"
+#include "apps/crex/run_distributed.h"
 #include "apps/crex/run_outputs.h"
 #include "apps/crex/run_setup.h"
 #include "base/check.h"
@@ -36,26 +37,13 @@ int run(RunOptions opt) {
                      "(--reference, or --report with a cached reference)\n";
         return kExitUsage;
     }
-    // Under mpirun: this rank's rows, the film's rows shared between the ranks; rank 0 writes.
-    const Distribution ranks = distribution();
+    // Under mpirun: this rank's rows, the cache shared as --ic-share says; rank 0 writes.
     set_rank_timeout(opt.rank_timeout);
-    if (ranks.active()) {
-        if (setup.reference || !opt.report_dir.empty() || opt.compare_policies || setup.budget > 0) {
-            if (ranks.rank == 0)
-                std::cerr << "crex run: error: under mpirun, --reference, --report, --compare-policies and budgets are not "
-                             "supported yet\n";
-            return kExitUsage;
-        }
-        setup.settings.row_begin = ranks.row_begin(setup.settings.height);
-        setup.settings.row_end = ranks.row_end(setup.settings.height);
-        setup.settings.share_rows = [ranks](Film& film, std::vector<double>& ambient) { share_rows(ranks, film, ambient); };
-        setup.settings.save_ic_file = ranks.rank == 0;
-        if (opt.ic_share == "broadcast") {
-            auto shared = std::make_shared<size_t>(0);
-            setup.settings.share_cache = [ranks, shared](IrradianceCache& cache) { share_cache_records(ranks, cache, *shared); };
-        }
-        if (ranks.rank != 0) opt.quiet = true;
-    }
+    DistributedRun distributed;
+    if (auto exit = distributed.configure(opt, in, setup)) return *exit;
+    const Distribution ranks = distribution();
+    if (distributed.answers_irradiance()) return distributed.serve(in, setup);
+    if (ranks.active() && ranks.rank != 0) opt.quiet = true;
     std::optional<CheckpointRecorder> recorder;
     if (setup.reference || !opt.report_dir.empty()) {
         recorder.emplace(opt.checkpoint_interval);
@@ -83,18 +71,7 @@ int run(RunOptions opt) {
         return kExitFailure;
     }
     progress.finish();
-    if (ranks.active()) {
-        // Totals over the ranks (collective: every rank takes part before rank 1.. leave).
-        all_ranks_arrive("the end of the render");
-        const double rays = sum_over_ranks(static_cast<double>(total_rays(result->stats)));
-        const double records = sum_over_ranks(static_cast<double>(result->ic_stats.records));
-        const double slowest = max_over_ranks(result->render_seconds);
-        if (ranks.rank != 0) return kExitOk;  // rank 0 writes the outputs
-        result->notes.push_back(fmt::format("rendered by {} ranks under mpirun in bands of rows: {:.0f} rays and {:.0f} irradiance "
-                                            "records over all ranks, the slowest rank {:.3f} s; the table below is rank 0's "
-                                            "(rows {}..{})",
-                                            ranks.size, rays, records, slowest, setup.settings.row_begin, setup.settings.row_end - 1));
-    }
+    if (ranks.active() && !distributed.finish(setup, *result)) return kExitOk;  // rank 0 writes the outputs
     // The same render under every other policy, from the same profile, for the report's
     // plot of all of them; nothing of theirs is written but their checkpoints.
     std::vector<PolicyRun> others;
@@ -166,11 +143,12 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
         ->allow_extra_args(false);
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
-    cmd->add_option("--ic-share", opt->ic_share, "Under mpirun, how ranks share the irradiance cache: none (each its own), or "
-                                                 "broadcast (the records each made go to every rank after the preview and before each "
-                                                 "later round)")
+    cmd->add_option("--ic-share", opt->ic_share, "Under mpirun with a cache, how ranks share it: none (each its own), central "
+                                                 "(records go through rank 0, also during the render), broadcast (records go to "
+                                                 "every rank after the preview and before each later round), component (the highest "
+                                                 "N/2 ranks answer all irradiance queries with one cache, the others render rows)")
         ->capture_default_str()
-        ->check(CLI::IsMember({"none", "broadcast"}));
+        ->check(CLI::IsMember({"none", "central", "broadcast", "component"}));
     cmd->add_option("--rank-timeout", opt->rank_timeout, "Under mpirun: seconds a rank waits for another (at an exchange of rows "
                                                          "or records, for irradiance answers) before the run is aborted naming it")
         ->capture_default_str()

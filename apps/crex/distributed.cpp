@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
-#include <type_traits>
 
 #ifdef CREX_WITH_MPI
 #include <mpi.h>
 
 #include "apps/crex/rank_watchdog.h"
+#include "apps/crex/record_exchange.h"
 #endif
 
 namespace crex::app {
@@ -92,36 +92,7 @@ void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient)
 }
 
 void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& shared) {
-    if (!d.active()) return;
-    static_assert(std::is_trivially_copyable_v<IrradianceRecord>);
-    // The records this rank made since the last exchange are the cache's last ones: loaded
-    // records came first, and others' are appended only here.
-    const std::vector<IrradianceRecord>& all = cache.records();
-    const size_t made = static_cast<size_t>(cache.stats().records);
-    const size_t mine = std::min(made - std::min(shared, made), all.size());
-    const int bytes = static_cast<int>(mine * sizeof(IrradianceRecord));
-    const int ranks = d.bands;
-    std::vector<int> counts(static_cast<size_t>(ranks)), displs(static_cast<size_t>(ranks));
-    const std::string point = "the exchange of irradiance records (--ic-share broadcast)";
-    arrive(rows_comm(), point);
-    auto late = [&] { return "a rank stalled in " + point; };
-    std::vector<MPI_Request> request(1);
-    MPI_Iallgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, rows_comm(), &request[0]);
-    wait_requests(request, rank_timeout(), late);
-    long long total = 0;
-    for (int r = 0; r < ranks; ++r) displs[static_cast<size_t>(r)] = static_cast<int>(total), total += counts[static_cast<size_t>(r)];
-    std::vector<IrradianceRecord> received(static_cast<size_t>(total) / sizeof(IrradianceRecord));
-    std::vector<IrradianceRecord> own(all.end() - static_cast<std::ptrdiff_t>(mine), all.end());
-    request.assign(1, MPI_REQUEST_NULL);
-    MPI_Iallgatherv(own.data(), bytes, MPI_BYTE, received.data(), counts.data(), displs.data(), MPI_BYTE, rows_comm(), &request[0]);
-    wait_requests(request, rank_timeout(), late);
-    for (int r = 0; r < ranks; ++r) {
-        if (r == d.band) continue;
-        const size_t first = static_cast<size_t>(displs[static_cast<size_t>(r)]) / sizeof(IrradianceRecord);
-        const size_t n = static_cast<size_t>(counts[static_cast<size_t>(r)]) / sizeof(IrradianceRecord);
-        for (size_t k = 0; k < n; ++k) cache.insert(received[first + k]);
-    }
-    shared = made;
+    if (d.active()) allgather_new_records(rows_comm(), cache, shared, "the exchange of irradiance records (--ic-share broadcast)");
 }
 
 void all_ranks_arrive(const std::string& point) {

@@ -42,7 +42,7 @@ struct RunOptions {
     std::string budget;
     bool no_budget = false;
     bool compare_policies = false;
-    std::string ic_share = "broadcast";  ///< under mpirun: none, or broadcast the records at stage ends
+    std::string ic_share = "component";  ///< under mpirun with a cache: none, central, broadcast or component (ic_share_*.h)
     double rank_timeout = 600;  ///< under mpirun: seconds a rank waits for another before the run is aborted
   ///< --compare-policies: also render under every other policy
     std::string policy;  ///< "" : the pipeline's, else the default

@@ -109,21 +109,82 @@ TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
     EXPECT_EQ(left.out, "") << "processes left running";
 }
 
-// --ic-share broadcast: the records each rank made go to every rank after the preview and
-// before each later round, so the ranks together make fewer than when each keeps its own.
-TEST_F(MpiRun, BroadcastSharingMakesFewerRecordsThanNone) {
+// The irradiance records made over all ranks, from rank 0's note.
+long records_over_ranks(const testing::CommandResult& r) {
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(r.err, m, std::regex("([0-9]+) irradiance records over all ranks"))) << r.err;
+    return m.size() > 1 ? std::stol(m[1]) : -1L;
+}
+
+// --ic-share broadcast and central: the records each rank made reach every rank at least
+// after the preview and before each later round, so the ranks together make fewer than when
+// each keeps its own. (Central's exchanges during the render depend on timing: only the
+// inequality is stable.)
+TEST_F(MpiRun, BroadcastAndCentralSharingMakeFewerRecordsThanNone) {
     const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/adaptive.pipe";  // a cache, three rounds
     auto records = [&](const std::string& mode) {
         auto r = mpirun(2, {"run", pipe, "--size", "48x48", "-q", "--ic-share", mode, "-o", path(mode + ".exr")});
         EXPECT_EQ(r.exit_code, 0) << mode << ": " << r.err;
-        std::smatch m;
-        EXPECT_TRUE(std::regex_search(r.err, m, std::regex("([0-9]+) irradiance records over all ranks"))) << r.err;
-        return m.size() > 1 ? std::stol(m[1]) : -1L;
+        EXPECT_NE(r.err.find("--ic-share " + mode), std::string::npos) << r.err;
+        return records_over_ranks(r);
     };
-    const long none = records("none"), broadcast = records("broadcast");
+    const long none = records("none"), broadcast = records("broadcast"), central = records("central");
     EXPECT_GT(none, 0);
     EXPECT_GT(broadcast, 0);
+    EXPECT_GT(central, 0);
     EXPECT_LT(broadcast, none);
+    EXPECT_LT(central, none);
+}
+
+// --ic-share component at N = 2: one PA answers every D batch of the one PR, which renders
+// every row in the single process's order, so the image is the single-process image.
+TEST_F(MpiRun, ComponentSharingOnTwoRanksRendersTheSingleProcessImage) {
+    const std::vector<std::string> args = {"run", "--size", "32x24", "--spp", "2", "--ic", "--ad", "64", "-q"};
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"-o", path("one.exr")});
+    auto one = testing::crex_cli(a);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    a = args;
+    a.insert(a.end(), {"-o", path("two.exr")});  // component is the default with a cache
+    auto two = mpirun(2, a);
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_NE(two.err.find("1 PA rank(s) answering irradiance queries, 1 PR rank(s)"), std::string::npos) << two.err;
+    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+}
+
+// At N = 3 the PA serves its two PRs in rank order, round-robin: the same image on every run
+// (it differs from one process's: the batches come in another order).
+TEST_F(MpiRun, ComponentSharingIsDeterministicForAFixedRankCount) {
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/adaptive.pipe";  // rounds: exchanges mid-render
+    long records[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        auto r = mpirun(3, {"run", pipe, "--size", "40x30", "-q", "--ic-share", "component", "-o", path(std::to_string(k) + ".exr")});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        records[k] = records_over_ranks(r);
+    }
+    EXPECT_GT(records[0], 0);
+    EXPECT_EQ(records[0], records[1]);
+    EXPECT_EQ(pixels(path("0.exr")), pixels(path("1.exr")));
+}
+
+TEST_F(MpiRun, AStoppedAnsweringRankIsNamedToo) {
+    // --ic-share component on 2 ranks: rank 1 is the PA and stops after its first answer;
+    // the PR waits twice --rank-timeout for it (the PA may be waiting that long for another PR).
+    const std::string script = "CREX_TEST_STALL_RANK=1 timeout -k 5 60 " + std::string(kMpirun) +
+                               " --allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + CREX_BINARY +
+                               " run --size 33x21 --spp 2 --ic --ad 32 -q --rank-timeout 1 -o " + path("pa.exr");
+    auto r = testing::run_command({"/bin/sh", "-c", script});
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("crex run: error: rank 1 did not answer irradiance queries within 2 s"), std::string::npos) << r.err;
+    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 33x21' || true"});
+    EXPECT_EQ(left.out, "") << "processes left running";
+}
+
+TEST_F(MpiRun, AnUnknownSharingModeIsAUsageError) {
+    auto r = testing::crex_cli({"run", "--size", "8x8", "--ic", "--ic-share", "gossip", "-q", "-o", path("x.exr")});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--ic-share"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
 }  // namespace

@@ -1,0 +1,146 @@
+#include "apps/crex/run_distributed.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+#include "apps/crex/exit_codes.h"
+#include "apps/crex/ic_share_central.h"
+#include "apps/crex/ic_share_component.h"
+#include "runtime/render/render_scene.h"
+
+namespace crex::app {
+
+struct DistributedRun::Modes {
+    std::string ic_share = "none";  // what is in effect: none without a cache
+    ComponentRoles roles;
+#ifdef CREX_WITH_MPI
+    std::shared_ptr<IrradianceClient> client;  // a PR of component
+    std::shared_ptr<CentralShare> central;
+#endif
+};
+
+DistributedRun::DistributedRun() : ranks_(distribution()), modes_(std::make_unique<Modes>()) {}
+DistributedRun::~DistributedRun() = default;
+
+bool DistributedRun::answers_irradiance() const { return modes_->ic_share == "component" && modes_->roles.answers; }
+
+std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInput&, RunSetup& setup) {
+    if (!ranks_.active()) return std::nullopt;
+    if (setup.reference || !opt.report_dir.empty() || opt.compare_policies || setup.budget > 0) {
+        if (ranks_.rank == 0)
+            std::cerr << "crex run: error: under mpirun, --reference, --report, --compare-policies and budgets are not "
+                         "supported yet\n";
+        return kExitUsage;
+    }
+    RunSettings& s = setup.settings;
+    // Sharing a cache means something only with one: without, every rank renders rows.
+    if (s.irradiance_cache) modes_->ic_share = opt.ic_share;
+#ifdef CREX_WITH_MPI
+    if (modes_->ic_share == "component") {
+        modes_->roles = component_roles(ranks_.size, ranks_.rank);
+        ranks_ = render_rows_on_first(modes_->roles.pr_count);
+        start_component_protocol(modes_->roles);
+        if (!modes_->roles.answers) {
+            auto client = std::make_shared<IrradianceClient>(modes_->roles.pa);
+            modes_->client = client;
+            s.answer_ic_queries = [client](IrradianceCache&, const std::vector<IcQuery>& q, std::vector<Vec3>& e) { client->answer(q, e); };
+            // The PA loads and saves the records; this rank's own cache stays empty.
+            s.ic_file.clear();
+            s.ic_records.clear();
+        }
+    } else if (modes_->ic_share == "central") {
+        auto central = std::make_shared<CentralShare>();
+        modes_->central = central;
+        s.answer_ic_queries = [central](IrradianceCache& cache, const std::vector<IcQuery>& q, std::vector<Vec3>& e) {
+            central->answer(cache, q, e);
+        };
+        s.share_cache = [central](IrradianceCache& cache) { central->exchange(cache); };
+    } else if (modes_->ic_share == "broadcast") {
+        auto shared = std::make_shared<size_t>(0);
+        const Distribution d = ranks_;
+        s.share_cache = [d, shared](IrradianceCache& cache) { share_cache_records(d, cache, *shared); };
+    }
+#endif
+    s.row_begin = ranks_.row_begin(s.height);
+    s.row_end = ranks_.row_end(s.height);
+    const Distribution d = ranks_;
+#ifdef CREX_WITH_MPI
+    auto client = modes_->client;
+    s.share_rows = [d, client](Film& film, std::vector<double>& ambient) {
+        if (client) client->at_exchange();  // the PA serves the other PRs while this one waits
+        share_rows(d, film, ambient);
+    };
+#else
+    s.share_rows = [d](Film& film, std::vector<double>& ambient) { share_rows(d, film, ambient); };
+#endif
+    s.save_ic_file = ranks_.rank == 0;
+    return std::nullopt;
+}
+
+namespace {
+
+struct RankTotals {
+    double rays = 0, records = 0, misses = 0, waiting = 0, slowest = 0;
+};
+
+RankTotals totals(double rays, const IcStats& ic, double render_seconds) {
+    all_ranks_arrive("the end of the render");
+    RankTotals t;
+    // Misses as the thesis counts them: lookups (at every bounce) not interpolated from records.
+    t.rays = sum_over_ranks(rays);
+    t.records = sum_over_ranks(static_cast<double>(ic.records));
+    t.misses = sum_over_ranks(static_cast<double>(ic.lookups - ic.interpolated));
+    t.waiting = sum_over_ranks(seconds_waiting_for_ranks());
+    t.slowest = max_over_ranks(render_seconds);
+    return t;
+}
+
+}  // namespace
+
+int DistributedRun::serve(const RunInput& in, const RunSetup& setup) {
+#ifdef CREX_WITH_MPI
+    const RunSettings& s = setup.settings;
+    RenderScene rs(*in.scene->scene);
+    IrradianceCache cache(rs, plan_cache_settings(in.plan, *s.irradiance_cache));
+    for (const auto& r : s.ic_records) cache.insert(r);
+    if (!s.ic_file.empty() && std::filesystem::exists(s.ic_file))
+        if (std::string error = cache.load(s.ic_file); !error.empty())
+            abort_all_ranks(fmt::format("crex run: error: rank {}: irradiance cache: {}\n", ranks_.rank, error), kExitInputErrors);
+    ServeResult served = serve_irradiance(modes_->roles, cache);
+    if (modes_->roles.pa_index == 0 && !s.ic_file.empty())
+        if (std::string error = cache.save(s.ic_file); !error.empty())
+            abort_all_ranks(fmt::format("crex run: error: rank {}: cannot save the irradiance cache: {}\n", ranks_.rank, error), kExitFailure);
+    totals(0, cache.stats(), served.seconds);
+    return kExitOk;
+#else
+    (void)in, (void)setup;
+    return kExitOk;
+#endif
+}
+
+bool DistributedRun::finish(const RunSetup& setup, RunResult& result) {
+#ifdef CREX_WITH_MPI
+    if (modes_->client) modes_->client->done();
+    if (modes_->central) modes_->central->finish();
+#endif
+    const RankTotals t = totals(static_cast<double>(total_rays(result.stats)), result.ic_stats, result.render_seconds);
+    if (ranks_.rank != 0) return false;
+    std::string how = "in bands of rows";
+    if (modes_->ic_share == "component")
+        how = fmt::format("--ic-share component: {} PA rank(s) answering irradiance queries, {} PR rank(s) rendering bands of rows",
+                          modes_->roles.pa_count, modes_->roles.pr_count);
+    else if (setup.settings.irradiance_cache)
+        how = fmt::format("in bands of rows, --ic-share {}", modes_->ic_share);
+    result.notes.push_back(fmt::format("rendered by {} ranks under mpirun {}: {:.0f} rays and {:.0f} irradiance records over all "
+                                       "ranks, the slowest rank {:.3f} s; {:.0f} cache misses over all ranks; idle {:.1f} % (time "
+                                       "ranks waited for others over ranks x slowest); the table below is rank 0's (rows {}..{})",
+                                       ranks_.size, how, t.rays, t.records, t.slowest, t.misses,
+                                       t.slowest > 0 ? 100 * t.waiting / (ranks_.size * t.slowest) : 0.0, setup.settings.row_begin,
+                                       setup.settings.row_end - 1));
+    return true;
+}
+
+}  // namespace crex::app

@@ -1,0 +1,42 @@
+/// \file run_distributed.h
+/// What `crex run` does differently under mpirun (issue 19): which rows this rank renders,
+/// how the irradiance cache is shared (--ic-share), the PA ranks' serve loop of the
+/// component-based cache, and the totals over the ranks in rank 0's notes.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "apps/crex/distributed.h"
+#include "apps/crex/run_input.h"
+#include "apps/crex/run_options.h"
+#include "apps/crex/run_setup.h"
+
+namespace crex::app {
+
+class DistributedRun {
+public:
+    DistributedRun();
+    ~DistributedRun();
+
+    /// Settings for this rank (its rows, the exchanges, the cache hooks). An exit code when the
+    /// run cannot go distributed (printed by rank 0). Collective under mpirun.
+    std::optional<int> configure(const RunOptions& opt, const RunInput& in, RunSetup& setup);
+    bool active() const { return ranks_.active(); }
+    int rank() const { return ranks_.rank; }
+    /// A PA rank of --ic-share component: it answers irradiance queries instead of rendering.
+    bool answers_irradiance() const;
+    /// A PA rank's whole run: serve until every PR is done, save --ic-file (the first PA: it
+    /// holds the records), then the totals. Returns the exit code.
+    int serve(const RunInput& in, const RunSetup& setup);
+    /// After this rank's render: the totals over all ranks; rank 0 gets them as a note.
+    /// Collective. Returns false on ranks other than 0 (they write nothing).
+    bool finish(const RunSetup& setup, RunResult& result);
+
+private:
+    struct Modes;
+    Distribution ranks_;
+    std::unique_ptr<Modes> modes_;
+};
+
+}  // namespace crex::app
