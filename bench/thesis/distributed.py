@@ -1,19 +1,28 @@
 #!/usr/bin/env python3
-"""Distributed rendering (issue 19; thesis chapter 6): `mpirun -np N crex run` against one
-process, on the Cornell box and the corridor with the irradiance cache on.
+"""Distributed rendering (issue 19; thesis chapter 6, figures 6.8-6.11): `mpirun -np N crex run`
+under each way of sharing the irradiance cache, against one process, on the Cornell box and the
+corridor with the cache on.
 
   python3 bench/thesis/distributed.py [--crex build/release/apps/crex/crex] [--out out/thesis]
-        [--ranks 1,2,4] [--spp 16] [--repeat 3] [--size 256x256]
+        [--ranks 1,2,4] [--modes none,central,broadcast,component] [--size 96x96]
+        [--pipeline stdlib/pipelines/adaptive.pipe | --pipeline none --spp 8] [--repeat 1]
 
-For each scene and rank count (1 = a plain `crex run`): the wall time of the whole command
-(median of --repeat), the irradiance records computed over all ranks (with --ic-share none each
-rank fills its own cache, so records grow with the ranks: the thesis's measure of what sharing
-the cache saves), the slowest rank's render time, the idle share (1 - rank 0's render time / the slowest
-rank's: how long rank 0 waited at the last exchange), the speed-up over one process, and FLIP
-against the one-process image. These are plain `--ic` runs, on which --ic-share broadcast (records
-exchanged after a pipeline's preview and rounds) and none do the same; the central and
-component-based modes and broadcast per pass are rows to come. Note the machine's cores: ranks beyond
-them share cores (--oversubscribe). Prints a markdown table. Not run in CI.
+The workload is a pipeline with a cache (default adaptive.pipe: a 2-spp preview, then three
+rounds of adaptive sampling with ic_radius varied), so broadcast and central have exchange
+points mid-render (after the preview, before each round); with --pipeline none it is a plain
+`crex run --ic --spp S`, where broadcast exchanges nothing before the end and equals none.
+One row per scene, rank count and mode (1 rank: one plain process, no mode):
+  wall s      the whole command (median of --repeat), mpirun's start-up included
+  render s    the slowest rank's render (a PA rank's: from its first message to the last done)
+  records     irradiance records computed over all ranks (loaded ones not counted)
+  misses      cache misses over all ranks: lookups (every bounce) not interpolated from
+              records at their first lookup, the thesis's measure (figure 6.10)
+  idle %      time ranks waited for other ranks in MPI over ranks x the slowest render
+  speed-up    one process's render s over this row's
+  FLIP        against the one-process image
+Ranks beyond the machine's cores share them (--oversubscribe): on 2 cores, 4 ranks cannot be
+faster than 2, and what the rows show is the work (records, misses) and the waiting.
+Prints a markdown table. Not run in CI.
 """
 import json
 import os
@@ -26,6 +35,8 @@ import time
 from crex_tool import ROOT, SCENES, arguments, crex
 
 MPIRUN = ["mpirun", "--allow-run-as-root", "--oversubscribe"]
+NOTE = re.compile(r"(\d+) rays and (\d+) irradiance records over all ranks, the slowest rank ([0-9.]+) s; "
+                  r"(\d+) cache misses over all ranks; idle ([0-9.]+) %")
 
 
 def run(cmd):
@@ -37,48 +48,49 @@ def run(cmd):
     return wall, r.stdout, r.stderr
 
 
+def measure(a, n, mode, args):
+    """(wall, render s, records, misses, idle %) of one run."""
+    if n == 1:
+        wall, out, _ = run([a.crex] + args)
+        j = json.loads(out)
+        ic = j["irradiance_cache"]
+        return wall, j["render_seconds"], ic["records_made"], ic["lookups"] - ic["interpolated_at_first_lookup"], 0.0
+    wall, _, err = run(MPIRUN + ["-np", str(n), a.crex] + args + ["--ic-share", mode])
+    m = NOTE.search(err)
+    if not m:
+        sys.exit(f"no distributed note in:\n{err}")
+    return wall, float(m.group(3)), int(m.group(2)), int(m.group(4)), float(m.group(5))
+
+
 def main():
     ap = arguments(__doc__)
     ap.add_argument("--ranks", default="1,2,4")
-    ap.add_argument("--spp", type=int, default=16)
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--size", default="256x256")
+    ap.add_argument("--modes", default="none,central,broadcast,component")
+    ap.add_argument("--pipeline", default=os.path.join(ROOT, "stdlib/pipelines/adaptive.pipe"))
+    ap.add_argument("--spp", type=int, default=8, help="camera samples of --pipeline none")
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--size", default="96x96")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    print(f"machine: {os.cpu_count()} cores; {a.size}, {a.spp} spp, `--ic`, no sharing mid-render, median of {a.repeat}\n")
-    print("| scene | ranks | wall s | slowest rank s | idle % | records (all ranks) | speed-up | FLIP vs 1 process |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    work = "plain `--ic --spp %d`" % a.spp if a.pipeline == "none" else os.path.relpath(a.pipeline, ROOT)
+    print(f"machine: {os.cpu_count()} cores; {a.size}, {work}, cache on, median of {a.repeat}\n")
+    print("| scene | ranks | --ic-share | wall s | render s | records | misses | idle % | speed-up | FLIP vs 1 process |")
+    print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, scene, _ in SCENES:
-        base_img = os.path.join(a.out, f"{name}_dist_1.exr")
-        base_wall = None
+        base = os.path.join(a.out, f"{name}_dist_1.exr")
+        base_render = None
         for n in [int(r) for r in a.ranks.split(",")]:
-            img = os.path.join(a.out, f"{name}_dist_{n}.exr")
-            args = ["run", "--scene", scene, "--size", a.size, "--spp", str(a.spp), "--ic", "-o", img, "--format", "json"]
-            walls, slowest, idle, records = [], [], [], []
-            for _ in range(a.repeat):
+            for mode in (["-"] if n == 1 else a.modes.split(",")):
+                img = base if n == 1 else os.path.join(a.out, f"{name}_dist_{n}_{mode}.exr")
+                args = ["run"] + ([] if a.pipeline == "none" else [a.pipeline]) + ["--scene", scene, "--size", a.size]
+                args += (["--ic", "--spp", str(a.spp)] if a.pipeline == "none" else []) + ["-o", img, "--format", "json"]
+                rows = [measure(a, n, mode, args) for _ in range(a.repeat)]
+                wall, render, records, misses, idle = (statistics.median(c) for c in zip(*rows))
                 if n == 1:
-                    wall, out, err = run([a.crex] + args)
-                    j = json.loads(out)
-                    walls.append(wall)
-                    slowest.append(j["render_seconds"])
-                    idle.append(0.0)
-                    records.append(j["irradiance_cache"]["records_made"])
-                    continue
-                wall, out, err = run(MPIRUN + ["-np", str(n), a.crex] + args)
-                m = re.search(r"(\d+) rays and (\d+) irradiance records over all ranks, the slowest rank ([0-9.]+) s", err)
-                if not m:
-                    sys.exit(f"no distributed note in:\n{err}")
-                j = json.loads(out)
-                walls.append(wall)
-                slowest.append(float(m.group(3)))
-                records.append(int(m.group(2)))
-                idle.append(100 * (1 - j["render_seconds"] / float(m.group(3))))  # rank 0 against the slowest
-            w = statistics.median(walls)
-            if n == 1:
-                base_wall = w
-            flip = json.loads(crex(a.crex, ["compare", img, base_img, "--format", "json"]))["flip"]
-            print(f"| {name} | {n} | {w:.2f} | {statistics.median(slowest):.2f} | {statistics.median(idle):.0f} | "
-                  f"{statistics.median(records):.0f} | {base_wall / w:.2f} | {flip:.4f} |")
+                    base_render = render
+                flip = json.loads(crex(a.crex, ["compare", img, base, "--format", "json"]))["flip"]
+                print(f"| {name} | {n} | {mode} | {wall:.2f} | {render:.2f} | {records:.0f} | {misses:.0f} | {idle:.0f} | "
+                      f"{base_render / render:.2f} | {flip:.4f} |", flush=True)
 
 
 if __name__ == "__main__":
