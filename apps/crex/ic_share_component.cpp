@@ -76,7 +76,9 @@ void IrradianceClient::done() {
 
 ServeResult serve_irradiance(const ComponentRoles& roles, IrradianceCache& cache) {
     ServeResult out;
-    const auto start = std::chrono::steady_clock::now();
+    // From the first message: the PRs' render time starts at their first camera ray, not at
+    // this rank's start (their scene and cache set-up come before).
+    std::chrono::steady_clock::time_point start;
     std::vector<int> live = roles.prs;
     std::set<int> at_exchange;
     size_t shared = 0;  // records this PA sent the other PAs
@@ -92,6 +94,7 @@ ServeResult serve_irradiance(const ComponentRoles& roles, IrradianceCache& cache
             int flag = 0;
             wait_until([&] { return MPI_Iprobe(pr, MPI_ANY_TAG, g_protocol, &flag, &status), flag != 0; }, rank_timeout(),
                        [&] { return fmt::format("rank {} did not send irradiance queries or reach an exchange of rows", pr); });
+            if (out.batches == 0 && status.MPI_TAG == kQueries) start = std::chrono::steady_clock::now();
             if (status.MPI_TAG == kQueries) {
                 int n = 0;
                 MPI_Get_count(&status, g_query, &n);
@@ -120,7 +123,7 @@ ServeResult serve_irradiance(const ComponentRoles& roles, IrradianceCache& cache
                                   fmt::format("the PAs' exchange of irradiance records no. {} (--ic-share component)", ++exchanges));
         }
     }
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (out.batches > 0) out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
 

@@ -51,7 +51,7 @@ void wait_until(const std::function<bool()>& done, double timeout, const std::fu
     const auto start = Clock::now();
     // Short sleeps that grow to 1 ms: a message answered within microseconds costs little
     // latency, and a long wait costs no core.
-    std::chrono::microseconds nap(20);
+    std::chrono::microseconds nap(5);
     while (!done()) {
         const double waited = std::chrono::duration<double>(Clock::now() - start).count();
         if (waited > timeout) {
@@ -68,7 +68,7 @@ void wait_until(const std::function<bool()>& done, double timeout, const std::fu
             g_serving = false;
         }
         std::this_thread::sleep_for(nap);
-        nap = std::min(nap * 2, std::chrono::microseconds(1000));
+        nap = std::min(nap * 2, std::chrono::microseconds(200));
     }
     g_waiting += std::chrono::duration<double>(Clock::now() - start).count();
 }
