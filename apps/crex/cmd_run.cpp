@@ -42,7 +42,14 @@ int run(RunOptions opt) {
     DistributedRun distributed;
     if (auto exit = distributed.configure(opt, in, setup)) return *exit;
     const Distribution ranks = distribution();
-    if (distributed.answers_irradiance()) return distributed.serve(in, setup);
+    if (distributed.answers_irradiance()) {
+        try {
+            return distributed.serve(in, setup);
+        } catch (const std::exception& e) {  // the PRs would wait for their answers: end them
+            abort_all_ranks(fmt::format("crex run: error: rank {}: answering irradiance queries failed: {}\n", ranks.rank, e.what()),
+                            kExitFailure);
+        }
+    }
     if (ranks.active() && ranks.rank != 0) opt.quiet = true;
     std::optional<CheckpointRecorder> recorder;
     if (setup.reference || !opt.report_dir.empty()) {
