@@ -35,6 +35,9 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
                          "supported yet\n";
         return kExitUsage;
     }
+    // The modes below start with blocking collectives (communicators): a rank stuck reading
+    // its inputs is named here instead of blocking them.
+    all_ranks_arrive("the start of the render (inputs read and checked)");
     RunSettings& s = setup.settings;
     // Sharing a cache means something only with one: without, every rank renders rows.
     if (s.irradiance_cache) modes_->ic_share = opt.ic_share;
