@@ -153,7 +153,8 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--ic-share", opt->ic_share, "Under mpirun with a cache, how ranks share it: none (each its own), central "
                                                  "(records go through rank 0, also during the render), broadcast (records go to "
                                                  "every rank after the preview and before each later round), component (the highest "
-                                                 "N/2 ranks answer all irradiance queries with one cache, the others render rows)")
+                                                 "max(1, N/4) ranks answer all irradiance queries with one cache, the others render "
+                                                 "rows; deterministic for a fixed N)")
         ->capture_default_str()
         ->check(CLI::IsMember({"none", "central", "broadcast", "component"}));
     cmd->add_option("--rank-timeout", opt->rank_timeout, "Under mpirun: seconds a rank waits for another (at an exchange of rows "
