@@ -114,8 +114,16 @@ void warn_scene_mismatches(const pipeline::ResolvedPipeline& p, const PipelinePl
     static const std::vector<std::string> none;
     const std::vector<std::string>& tags = scene_tags ? *scene_tags : none;
     std::vector<const pipeline::ast::Expr*> roots;
-    for (const auto& [name, e] : p.maps) roots.push_back(&e);
-    for (const auto& v : p.vary) roots.push_back(&v.by);
+    // A map the planner pruned (its only consumer was, e.g. `vary subsample(G)` on a scene
+    // without glossy materials) is listed as pruned with its reason; a warning about what it
+    // reads would only repeat that (capict.pipe warned twice on every Cornell run).
+    auto pruned = [&](const std::string& what) {
+        return std::any_of(plan.pruned.begin(), plan.pruned.end(), [&](const PlanRemoval& x) { return x.what == what; });
+    };
+    for (const auto& [name, e] : p.maps)
+        if (!pruned("map " + name)) roots.push_back(&e);
+    for (const auto& v : p.vary)
+        if (!pruned("vary " + v.varied())) roots.push_back(&v.by);
     if (p.selective.crex_by) roots.push_back(&*p.selective.crex_by);
     for (const auto* root : roots)
         each_call(*root, [&](const pipeline::ast::Expr& call) {

@@ -146,6 +146,7 @@ private:
     std::optional<IrradianceCache> cache_;
     std::vector<IcAnswer> preview_answers_;
     std::optional<PixelProbe> surfaces_;      // capict: what each pixel centre sees
+    std::vector<float> replay_start_image_;   // capict, reports: the image before the refinement round running
     std::vector<uint8_t> first_bounce_runs_;  // capict: the executor's gate (bit c: c's first bounces run)
     double base_aa_ = 0;
     double seconds_per_sample_ = 0;  // measured under a budget: camera sample and its rays
@@ -234,6 +235,11 @@ std::vector<float> PlanRun::snapshot() const {
     for (size_t p = 0; p < in_flight.size(); ++p)
         if (in_flight[p] && pass_start_samples_[p] > 0)
             for (size_t k = 0; k < 3; ++k) rgb[3 * p + k] = pass_start_image_[3 * p + k];
+    // capict's refinement: the image is the one before the round until the round ends. A new
+    // corner's first bounces count as run when they are spawned, before their light arrives,
+    // so mid-round it and every pixel interpolating from it looked too dark (the error curve
+    // jumped at every round).
+    if (!replay_start_image_.empty()) rgb = replay_start_image_;
     return rgb;
 }
 
@@ -626,6 +632,8 @@ void PlanRun::refine_components(const sched::Program& program) {
     // Each split halves a square, so a spacing of 2^k ends within k rounds.
     const size_t pixels = out_.film.pixel_count();
     for (int round = 0; round < 11; ++round) {
+        std::vector<float> before;
+        if (s_.recorder) s_.recorder->paused([&] { before = composite_now(); });
         std::vector<uint8_t> runs(pixels, 0);
         uint8_t replay = 0;
         for (const PlanVariable& v : plan_.variables) {
@@ -643,6 +651,7 @@ void PlanRun::refine_components(const sched::Program& program) {
         ranges.end_of.assign(pixels, 0);
         for (size_t p = 0; p < pixels; ++p)
             if (runs[p]) ranges.start_of[p] = s_.spp, ranges.end_of[p] = out_.film.samples(static_cast<uint32_t>(p));
+        replay_start_image_ = std::move(before);
         first_bounce_runs_ = std::move(runs);
         ex_->set_first_bounce_runs(&first_bounce_runs_);
         ex_->set_replay_branches(replay);
@@ -652,6 +661,7 @@ void PlanRun::refine_components(const sched::Program& program) {
             flush_bins();
         });
         ex_->set_replay_branches(0);
+        replay_start_image_.clear();
         ++out_.refinements;
     }
 }

@@ -116,13 +116,17 @@ std::vector<double> ComponentSubsampling::stand_ins(const Film& film, std::optio
         if (grid.width() != w || grid.height() != h) continue;
         // Each corner's radiance per unit throughput, once; where no corner and not the pixel
         // itself ever ran c, the image's average stands in.
+        // has: the pixel ran c; complete: in all its samples, so it may lend its light to
+        // others (a corner being rendered again by refinement has only a few samples done).
         std::vector<Vec3> radiance(pixels);
-        std::vector<uint8_t> has(pixels, 0);
+        std::vector<uint8_t> has(pixels, 0), complete(pixels, 0);
         Vec3 found_all, run_all;
         for (uint32_t p = 0; p < pixels; ++p) {
             const Vec3 run = film.first_bounce_run(c, p), found = film.branch_sum(c, p);
             found_all = found_all + found, run_all = run_all + run;
             if (some(run)) radiance[p] = per_throughput(found, run), has[p] = 1;
+            const Vec3 all = film.first_bounce_all(c, p);
+            complete[p] = has[p] && !(luminance(all - run) > 1e-9 * luminance(all));
         }
         const Vec3 mean = per_throughput(found_all, run_all);
         // Indirect diffuse light is smooth (what an irradiance cache relies on): where the grid
@@ -135,9 +139,18 @@ std::vector<double> ComponentSubsampling::stand_ins(const Film& film, std::optio
         for (uint32_t p = 0; p < pixels; ++p) {
             auto [x0, y0, x1, y1] = grid.square(p);
             const int size = std::max({1, x1 - x0, y1 - y0});
-            if (grid.rendered(p) && !(diffuse && size > 1)) continue;
             const Vec3 all = film.first_bounce_all(c, p);
             if (!some(all)) continue;
+            if (grid.rendered(p) && !(diffuse && size > 1)) {
+                // A corner keeps its own light; while its skipped samples are still being
+                // rendered again (refinement) the ones done stand in for all of them, so a
+                // report's snapshot does not see it darken.
+                const Vec3 run = film.first_bounce_run(c, p);
+                if (!has[p] || complete[p]) continue;
+                const Vec3 delta = all * radiance[p] - film.branch_sum(c, p);
+                if (is_finite(delta)) out[3 * p] += delta.x, out[3 * p + 1] += delta.y, out[3 * p + 2] += delta.z;
+                continue;
+            }
             // A tent over the corners around the pixel, as wide as its square: the bilinear
             // interpolation of the square's corners where they all see the pixel's surface,
             // and finer corners next to it count too. Squares wider than 16 pixels take their
@@ -148,7 +161,7 @@ std::vector<double> ComponentSubsampling::stand_ins(const Film& film, std::optio
             double weight = 0;
             auto take = [&](int qx, int qy) {
                 const uint32_t q = static_cast<uint32_t>(qy * w + qx);
-                if (!grid.rendered(q) || !has[q] || !same_surface(p, q)) return;  // p itself if a corner
+                if (!grid.rendered(q) || !complete[q] || !same_surface(p, q)) return;  // p itself if a corner
                 const double wq = (1.0 - std::abs(qx - x) / double(r)) * (1.0 - std::abs(qy - y) / double(r));
                 if (!(wq > 0)) return;
                 sum = sum + radiance[q] * wq;
