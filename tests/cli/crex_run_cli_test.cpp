@@ -160,6 +160,24 @@ TEST_F(CrexRunCli, UsageAndIoFailures) {
 namespace crex {
 namespace {
 
+// capict's summary says how many pixels each sub-sampled component ran in, out of all, and
+// how many refinement rounds there were; components the scene cannot produce are not listed.
+TEST_F(CrexRunCli, CapictSaysWhereEachComponentRan) {
+    auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/capict.pipe", "--scene", "builtin:cornell", "--size", "32x32", "-o",
+                       path("capict.exr"), "--format", "json", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("W204"), std::string::npos) << r.err;  // its G and S maps are pruned on this scene, not warned about
+    auto j = nlohmann::json::parse(r.out);
+    const auto& corners = j["component_subsampled_pixels_rendered"];
+    ASSERT_TRUE(corners.contains("D") && corners.contains("R")) << corners.dump();
+    EXPECT_FALSE(corners.contains("G"));
+    for (const char* c : {"D", "R"}) {
+        EXPECT_GT(corners[c].get<int>(), 0) << c;
+        EXPECT_LT(corners[c].get<int>(), 32 * 32) << c;
+    }
+    EXPECT_GE(j["component_subsample_refinements"].get<int>(), 0);
+}
+
 TEST_F(CrexRunCli, APipelineWritesItsMapsAndPerPixelPictures) {
     auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_st.pipe", "--scene",
                        CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json", "--size", "32x24", "-o", path("sel_st.exr"),
