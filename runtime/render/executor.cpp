@@ -112,7 +112,7 @@ void Executor::gate_first_bounce(ShadeOutput& out) {
             for (size_t i = 0; i < rays.size(); ++i) {
                 const uint32_t p = rays.pixel[i];
                 const bool run = !runs || ((*runs)[p] >> c & 1u);
-                film_.add_first_bounce(c, p, {rays.br[i], rays.bg[i], rays.bb[i]}, run, replay != 0);
+                film_.add_first_bounce(c, p, {rays.br[i], rays.bg[i], rays.bb[i]}, run, replay != 0, rays.flags[i] & kRayOddSample);
                 if (!run) continue;
                 if (kept != i) {
                     const RayRecord r = rays.get(i);

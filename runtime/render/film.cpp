@@ -43,7 +43,7 @@ void Film::track_branches(uint8_t mask) {
     tracked_ = mask;
     for (size_t c = 0; c < kComponentCount; ++c) {
         const size_t n = (mask >> c & 1u) ? 3 * pixel_count() : 0;
-        branch_[c].assign(n, 0.0), first_run_[c].assign(n, 0.0), first_all_[c].assign(n, 0.0);
+        for (auto* v : {&branch_[c], &first_run_[c], &first_all_[c], &branch_odd_[c], &first_run_odd_[c]}) v->assign(n, 0.0);
     }
 }
 

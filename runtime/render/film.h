@@ -33,8 +33,10 @@ public:
     void add(size_t aov, uint32_t pixel, const Vec3& value, uint8_t flags = 0) {
         add_to(sums_[aov], pixel, value);
         if (flags & kRayOddSample) add_to(odd_, pixel, value);
-        if (const unsigned b = (flags & kRayBranchMask) >> kRayBranchShift; b && (tracked_ >> (b - 1) & 1u))
+        if (const unsigned b = (flags & kRayBranchMask) >> kRayBranchShift; b && (tracked_ >> (b - 1) & 1u)) {
             add_to(branch_[b - 1], pixel, value);
+            if (flags & kRayOddSample) add_to(branch_odd_[b - 1], pixel, value);
+        }
     }
 
     /// capict (thesis 7.4): for the components in `mask` (bit c: Component c), keep what each
@@ -46,15 +48,21 @@ public:
     /// A first-bounce ray of component c with throughput `beta` was spawned at a camera hit of
     /// `pixel`; `runs`: it goes on to be executed (else capict interpolates its branch).
     /// `replayed`: a sample already counted spawned it again, to run it now (capict's refinement).
-    void add_first_bounce(size_t c, uint32_t pixel, const Vec3& beta, bool runs, bool replayed = false) {
+    /// `odd`: it descends from an odd camera sample (the half-buffers of the branch's noise).
+    void add_first_bounce(size_t c, uint32_t pixel, const Vec3& beta, bool runs, bool replayed = false, bool odd = false) {
         if (!replayed) add_to(first_all_[c], pixel, beta);
         if (runs) add_to(first_run_[c], pixel, beta);
+        if (runs && odd) add_to(first_run_odd_[c], pixel, beta);
     }
     /// Sums over the pixel's samples (not divided): what branch c found, the throughput of its
     /// first-bounce rays that ran, and of all of them.
     Vec3 branch_sum(size_t c, uint32_t pixel) const { return sum_at(branch_[c], pixel); }
     Vec3 first_bounce_run(size_t c, uint32_t pixel) const { return sum_at(first_run_[c], pixel); }
     Vec3 first_bounce_all(size_t c, uint32_t pixel) const { return sum_at(first_all_[c], pixel); }
+    /// The same over the odd camera samples only: with the sums above, the two halves of what
+    /// the branch found, so how far its light at a pixel is from certain.
+    Vec3 branch_odd_sum(size_t c, uint32_t pixel) const { return sum_at(branch_odd_[c], pixel); }
+    Vec3 first_bounce_run_odd(size_t c, uint32_t pixel) const { return sum_at(first_run_odd_[c], pixel); }
     /// One camera sample of `pixel` was taken (odd: an odd sample index).
     void add_sample(uint32_t pixel, bool odd) {
         ++samples_[pixel];
@@ -106,7 +114,8 @@ public:
         f(static_cast<void*>(odd_samples_.data()), sizeof(uint32_t));
         for (size_t c = 0; c < kComponentCount; ++c)
             if (tracked_ >> c & 1u)
-                for (auto* v : {&branch_[c], &first_run_[c], &first_all_[c]}) f(static_cast<void*>(v->data()), 3 * sizeof(double));
+                for (auto* v : {&branch_[c], &first_run_[c], &first_all_[c], &branch_odd_[c], &first_run_odd_[c]})
+                    f(static_cast<void*>(v->data()), 3 * sizeof(double));
     }
 
 private:
@@ -127,7 +136,7 @@ private:
     std::vector<double> odd_;            // every AOV's contributions of odd camera samples
     std::vector<uint32_t> odd_samples_;
     uint8_t tracked_ = 0;  // capict's components (bit c); their buffers are empty otherwise
-    std::array<std::vector<double>, kComponentCount> branch_, first_run_, first_all_;
+    std::array<std::vector<double>, kComponentCount> branch_, first_run_, first_all_, branch_odd_, first_run_odd_;
 };
 
 }  // namespace crex

@@ -141,5 +141,32 @@ TEST(ComponentSubsample, RefinementSplitsTheSquaresWhoseCornersDiffer) {
         }
 }
 
+TEST(ComponentSubsample, CornersThatDifferOnlyByTheirNoiseDoNotSplit) {
+    // Two corners of light 1 and 3 each from two samples: when each corner's two samples agree
+    // the difference is light and the square splits; when each corner's samples are 0 and twice
+    // its light (standard error = its light) the difference is within their noise.
+    for (bool noisy : {false, true}) {
+        constexpr int w = 9, h = 9;
+        Film film(w, h);
+        film.track_branches(1u << kR);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const uint32_t p = static_cast<uint32_t>(y * w + x);
+                const bool corner = (x == 0 || x == w - 1) && (y == 0 || y == h - 1);
+                const double light = x == 0 ? 1.0 : 3.0;
+                for (bool odd : {false, true}) {
+                    film.add_sample(p, odd);
+                    film.add_first_bounce(kR, p, {1, 1, 1}, corner, false, odd);
+                    const double found = noisy ? (odd ? 2 * light : 0.0) : light;
+                    const uint8_t flags = static_cast<uint8_t>(((1 + kR) << kRayBranchShift) | (odd ? kRayOddSample : 0));
+                    if (corner) film.add(aov_of(Component::kR), p, Vec3{1, 1, 1} * found, flags);
+                }
+            }
+        ComponentSubsampling s;
+        s.build(Component::kR, w, h, std::vector<double>(w * h, 8.0), film);
+        EXPECT_EQ(s.refine(Component::kR, 0.1, film).empty(), noisy) << (noisy ? "noisy" : "certain");
+    }
+}
+
 }  // namespace
 }  // namespace crex
