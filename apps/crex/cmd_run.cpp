@@ -10,6 +10,7 @@
 #include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
 #include "apps/crex/distributed.h"
+#include "apps/crex/distributed_input.h"
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
 #include "apps/crex/rank_watchdog.h"
@@ -25,10 +26,11 @@ namespace {
 
 int run(RunOptions opt) {
     if (auto exit = parse_ambient(opt)) return *exit;
+    set_rank_timeout(opt.rank_timeout);  // bounds the wait for rank 0's inputs too
+    // Under mpirun rank 0 alone reads, checks and plans; the others get it as data.
     RunInput in;
-    if (auto exit = read_run_input(opt, in)) return *exit;
     RunSetup setup;
-    if (auto exit = make_run_setup(opt, in, setup)) return *exit;
+    if (auto exit = read_run_input_on_rank0(opt, in, setup)) return *exit;
     std::unique_ptr<tbb::global_control> threads;
     if (opt.threads > 0)
         threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(opt.threads));
@@ -38,7 +40,6 @@ int run(RunOptions opt) {
         return kExitUsage;
     }
     // Under mpirun: this rank's rows, the cache shared as --ic-share says; rank 0 writes.
-    set_rank_timeout(opt.rank_timeout);
     DistributedRun distributed;
     if (auto exit = distributed.configure(opt, in, setup)) return *exit;
     const Distribution ranks = distribution();

@@ -99,6 +99,27 @@ void all_ranks_arrive(const std::string& point) {
     if (g_started) arrive(MPI_COMM_WORLD, point);
 }
 
+std::string share_from_rank0(std::string text, const std::string& what) {
+    if (!g_started) return text;
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    // Non-blocking, so that a rank 0 stuck reading its inputs is named, not waited for forever.
+    auto late = [&] { return rank == 0 ? "a rank did not take " + what : "rank 0 did not send " + what; };
+    unsigned long long size = text.size();
+    std::vector<MPI_Request> request(1);
+    MPI_Ibcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD, &request[0]);
+    wait_requests(request, rank_timeout(), late);
+    text.resize(static_cast<size_t>(size));
+    // In pieces: MPI counts are ints, and a scene's meshes can pass 2 GiB.
+    constexpr size_t kPiece = size_t{1} << 30;
+    for (size_t at = 0; at < text.size(); at += kPiece) {
+        request.assign(1, MPI_REQUEST_NULL);
+        MPI_Ibcast(text.data() + at, static_cast<int>(std::min(kPiece, text.size() - at)), MPI_CHAR, 0, MPI_COMM_WORLD, &request[0]);
+        wait_requests(request, rank_timeout(), late);
+    }
+    return text;
+}
+
 namespace {
 double reduce(double value, MPI_Op op) {
     if (!g_started) return value;
@@ -128,6 +149,7 @@ Distribution render_rows_on_first(int) { return {}; }
 void share_rows(const Distribution&, Film&, std::vector<double>&) {}
 void share_cache_records(const Distribution&, IrradianceCache&, size_t&) {}
 void all_ranks_arrive(const std::string&) {}
+std::string share_from_rank0(std::string text, const std::string&) { return text; }
 double sum_over_ranks(double value) { return value; }
 double max_over_ranks(double value) { return value; }
 double seconds_waiting_for_ranks() { return 0; }

@@ -5,7 +5,8 @@
 /// (band b of B: rows [b H / B, (b + 1) H / B)); the film's rows are shared between them after
 /// the preview, before each round's guidance (the maps see the whole image) and at the end, so
 /// every pixel is the sum of exactly the samples one rank traced: without an irradiance cache,
-/// the image is the single-process image. Rank 0 alone writes outputs and prints.
+/// the image is the single-process image. Rank 0 alone reads the inputs (distributed_input.h),
+/// writes outputs and prints.
 /// How the ranks share an irradiance cache (--ic-share) is ic_share_central.h,
 /// ic_share_component.h and share_cache_records() below (broadcast); every wait for another
 /// rank is bounded (rank_watchdog.h).
@@ -57,6 +58,11 @@ void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient)
 /// row-rendering rank, and every other rank's are inserted here, in rank order. `shared`
 /// counts the records this rank made that were already sent (start at 0). Collective.
 void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& shared);
+
+/// Rank 0's `text` on every rank (rank 0 gets its own back): the inputs rank 0 read, as
+/// data. Collective; bounded (the others wait --rank-timeout for rank 0 to read and plan).
+/// `what` names the data in a timeout's error.
+std::string share_from_rank0(std::string text, const std::string& what);
 
 /// Every rank (of all) reached `point`, bounded like every wait: before the last collectives.
 void all_ranks_arrive(const std::string& point);

@@ -29,14 +29,9 @@ bool DistributedRun::answers_irradiance() const { return modes_->ic_share == "co
 
 std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInput&, RunSetup& setup) {
     if (!ranks_.active()) return std::nullopt;
-    if (setup.reference || !opt.report_dir.empty() || opt.compare_policies || setup.budget > 0) {
-        if (ranks_.rank == 0)
-            std::cerr << "crex run: error: under mpirun, --reference, --report, --compare-policies and budgets are not "
-                         "supported yet\n";
-        return kExitUsage;
-    }
-    // The modes below start with blocking collectives (communicators): a rank stuck reading
-    // its inputs is named here instead of blocking them.
+    // What a distributed run cannot do yet was refused by rank 0 (distributed_input.cpp).
+    // The modes below start with blocking collectives (communicators): a rank stuck setting
+    // up is named here instead of blocking them.
     all_ranks_arrive("the start of the render (inputs read and checked)");
     RunSettings& s = setup.settings;
     // Sharing a cache means something only with one: without, every rank renders rows.
@@ -52,6 +47,7 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
             s.answer_ic_queries = [client](IrradianceCache&, const std::vector<IcQuery>& q, std::vector<Vec3>& e) { client->answer(q, e); };
             // The PA loads and saves the records; this rank's own cache stays empty.
             s.ic_file.clear();
+            s.ic_file_bytes.reset();
             s.ic_records.clear();
         }
     } else if (modes_->ic_share == "central") {
@@ -109,8 +105,8 @@ int DistributedRun::serve(const RunInput& in, const RunSetup& setup) {
     RenderScene rs(*in.scene->scene);
     IrradianceCache cache(rs, plan_cache_settings(in.plan, *s.irradiance_cache));
     for (const auto& r : s.ic_records) cache.insert(r);
-    if (!s.ic_file.empty() && std::filesystem::exists(s.ic_file))
-        if (std::string error = cache.load(s.ic_file); !error.empty())
+    if (s.ic_file_bytes)  // the file as rank 0 read it: it may exist on rank 0's machine only
+        if (std::string error = cache.load_bytes(*s.ic_file_bytes, s.ic_file); !error.empty())
             abort_all_ranks(fmt::format("crex run: error: rank {}: irradiance cache: {}\n", ranks_.rank, error), kExitInputErrors);
     ServeResult served = serve_irradiance(modes_->roles, cache);
     if (modes_->roles.pa_index == 0 && !s.ic_file.empty())

@@ -125,4 +125,22 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
     return std::nullopt;
 }
 
+std::optional<int> read_run_input_from_rank0(RunOptions& opt, RunInput& in, const std::string& plan_json,
+                                             std::unique_ptr<SceneInput> scene, const std::string& scene_spec) {
+    DiagnosticSink sink;
+    in.source = std::make_unique<SourceFile>("<the plan from rank 0>", plan_json);
+    auto kept = read_plan(*in.source, sink);
+    if (!kept) {
+        std::cerr << render_text(sink.sorted()) << "crex run: internal error: the plan rank 0 sent cannot be read\n";
+        return kExitFailure;
+    }
+    in.plan.program = kept->program;
+    if (kept->pipeline) in.plan = std::move(*kept->pipeline), in.pipeline = true;
+    // Rank 0 checked the plan against the scene (its census); this is the scene it loaded.
+    in.scene_spec = scene_spec;
+    in.scene = std::move(scene);
+    if (in.pipeline) apply_settings(in.plan, opt);
+    return std::nullopt;
+}
+
 }  // namespace crex::app

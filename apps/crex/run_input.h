@@ -29,4 +29,11 @@ struct RunInput {
 /// std::nullopt when the run can go on.
 std::optional<int> read_run_input(RunOptions& opt, RunInput& in);
 
+/// Under mpirun, on ranks other than 0: what rank 0 read, as data: its plan as JSON (as
+/// `crex plan --format json` writes it, checked again by the plan reader) and its scene
+/// already loaded; the pipeline's settings applied as read_run_input() does. Returns an exit
+/// code when the plan cannot be read (a bug: rank 0 wrote it; printed).
+std::optional<int> read_run_input_from_rank0(RunOptions& opt, RunInput& in, const std::string& plan_json,
+                                             std::unique_ptr<SceneInput> scene, const std::string& scene_spec);
+
 }  // namespace crex::app

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,12 @@ struct RunOptions {
     std::string view;    ///< --view FILE.vf
     std::string budget_origin;  ///< "file:line:col" of the pipeline's `budget` when the budget is the pipeline's
     std::string profile_in;
+    /// Under mpirun, on ranks other than 0: the --profile as rank 0 read it (the file may exist
+    /// on rank 0's machine only); used instead of reading profile_in.
+    std::optional<std::string> profile_text;
+    /// False on ranks other than 0 under mpirun: they write no file, so their -o, --maps and
+    /// --report paths are not checked (nor their directories made) on their machines.
+    bool writes_outputs = true;
     std::string profile_out;
     std::string maps_dir;
     bool maps_beside_output = false;  ///< a pipeline's `output { maps true }`: DIR is maps/ beside the image

@@ -114,12 +114,16 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
 
     // The budget and the profile it is predicted from.
     if (!opt.profile_in.empty()) {
-        std::ifstream file(opt.profile_in);
         std::stringstream text;
-        text << file.rdbuf();
-        if (!file) {
-            std::cerr << fmt::format("crex run: error: cannot read profile '{}'\n", opt.profile_in);
-            return kExitFailure;
+        if (opt.profile_text) {
+            text << *opt.profile_text;
+        } else {
+            std::ifstream file(opt.profile_in);
+            text << file.rdbuf();
+            if (!file) {
+                std::cerr << fmt::format("crex run: error: cannot read profile '{}'\n", opt.profile_in);
+                return kExitFailure;
+            }
         }
         std::string error = Profile::from_json_text(text.str(), setup.profile);
         if (!error.empty()) {
@@ -169,7 +173,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     // Every output is checked before anything renders: a bad second -o used to be found after
     // the render, with the first image already written.
     for (const auto& path : setup.outputs)
-        if (auto failure = check_output_path(path)) {
+        if (auto failure = opt.writes_outputs ? check_output_path(path) : std::nullopt) {
             std::cerr << "crex run: error: " << failure->message << "\n";
             return failure->exit_code;
         }
@@ -178,7 +182,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
         setup.maps_dir = (std::filesystem::path(setup.outputs.front()).parent_path() / "maps").string();
     for (const auto& [flag, dir] : {std::pair{"--maps", setup.maps_dir}, std::pair{"--report", opt.report_dir}}) {
         std::error_code ec;
-        if (!dir.empty() && std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+        if (opt.writes_outputs && !dir.empty() && std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
             std::cerr << fmt::format("crex run: error: {} {}: is a file; give a directory\n", flag, dir);
             return kExitFailure;
         }

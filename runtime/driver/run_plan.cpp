@@ -424,9 +424,10 @@ void PlanRun::setup_cache() {
     base_aa_ = ics.accuracy;
     cache_.emplace(*rs_, ics);
     for (const auto& r : s_.ic_records) cache_->insert(r);
-    if (!s_.ic_file.empty() && std::filesystem::exists(s_.ic_file)) {
+    if (s_.ic_file_bytes || (!s_.ic_file.empty() && std::filesystem::exists(s_.ic_file))) {
         size_t before = cache_->records().size();
-        std::string error = cache_->load(s_.ic_file);  // records are validated against the scene's extent
+        // Records are validated against the scene's extent either way.
+        std::string error = s_.ic_file_bytes ? cache_->load_bytes(*s_.ic_file_bytes, s_.ic_file) : cache_->load(s_.ic_file);
         if (!error.empty()) throw RunInputError("irradiance cache: " + error);
         out_.ic_loaded = cache_->records().size() - before;
     }

@@ -79,6 +79,9 @@ struct RunSettings {
     std::optional<IcSettings> irradiance_cache;  ///< D through a Ward irradiance cache
     std::vector<IrradianceRecord> ic_records;    ///< records to start from
     std::string ic_file;        ///< with a cache: load records from it if it exists, save them there at the end
+    /// The bytes of `ic_file` read already (distributed runs: by rank 0, the one process that
+    /// has the file); loaded instead of reading `ic_file`, which is still where they are saved.
+    std::optional<std::string> ic_file_bytes;
     size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
     uint32_t pass_samples = 0;  ///< samples per pixel per pass at most (0: as many as fit)
     UniformQuality uniform = UniformQuality::kOff;

@@ -1,4 +1,6 @@
-// `mpirun -np N crex run ...` on this machine (issue 19): ranks render bands of rows and share
+// `mpirun -np N crex run ...` on this machine (issue 19): rank 0 alone reads, checks and plans
+// (rank 1 given inputs that do not exist still renders; an input error is said once); ranks
+// render bands of rows and share
 // them, so without an irradiance cache the image is the single-process image, pixel for pixel,
 // at any rank count. With a cache: component is the single-process image at N = 2 and the same
 // image on every run at a fixed N (one PA and two; two PAs at N = 8), broadcast and central
@@ -10,6 +12,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
@@ -29,6 +32,22 @@ testing::CommandResult mpirun(int ranks, const std::vector<std::string>& args) {
     std::vector<std::string> cmd = {kMpirun, "--allow-run-as-root", "--oversubscribe", "-np", std::to_string(ranks), CREX_BINARY};
     cmd.insert(cmd.end(), args.begin(), args.end());
     return testing::run_command(cmd);
+}
+
+// Multiple program, multiple data: rank 0 runs `rank0` and rank 1 `rank1`. Rank 1 given
+// paths that do not exist stands for a cluster where only rank 0's machine has the inputs.
+testing::CommandResult mpirun_each(const std::vector<std::string>& rank0, const std::vector<std::string>& rank1) {
+    std::vector<std::string> cmd = {kMpirun, "--allow-run-as-root", "--oversubscribe", "-np", "1", CREX_BINARY};
+    cmd.insert(cmd.end(), rank0.begin(), rank0.end());
+    cmd.insert(cmd.end(), {":", "-np", "1", CREX_BINARY});
+    cmd.insert(cmd.end(), rank1.begin(), rank1.end());
+    return testing::run_command(cmd);
+}
+
+size_t count(const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
 }
 
 std::vector<float> pixels(const std::string& path) {
@@ -71,6 +90,73 @@ TEST_F(MpiRun, APipelineWithoutACacheRendersTheSingleProcessImage) {
     auto two = mpirun(2, {"run", pipe, "--size", "24x16", "-q", "-o", path("two.exr")});
     ASSERT_EQ(two.exit_code, 0) << two.err;
     EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+}
+
+// Rank 0 alone reads, checks and plans; the other ranks get the plan, the scene and the
+// settings as data: rank 1 is given a pipeline and a scene that do not exist, and still
+// renders its rows of the single-process image.
+TEST_F(MpiRun, OnlyRankZeroReadsThePipelineAndTheScene) {
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe";
+    const std::string scene = CREX_SOURCE_DIR "/examples/scenes/cornell_diffuse/scene.json";
+    const std::vector<std::string> args = {"--scene", scene, "--size", "24x16", "-q"};
+    std::vector<std::string> a = {"run", pipe};
+    a.insert(a.end(), args.begin(), args.end());
+    a.insert(a.end(), {"-o", path("one.exr")});
+    auto one = testing::crex_cli(a);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    auto two = mpirun_each({"run", pipe, "--scene", scene, "--size", "24x16", "-q", "-o", path("two.exr")},
+                           {"run", path("missing.pipe"), "--scene", path("missing.json"), "--size", "24x16", "-q", "-o", path("two.exr")});
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+}
+
+// A kept plan (JSON) and a RADIANCE scene with a view file, read by rank 0 only: the plan goes
+// as its JSON, the scene (its camera from the view file) as the scene's JSON.
+TEST_F(MpiRun, AKeptPlanAndARadianceSceneWithAViewRenderTheSingleProcessImage) {
+    const std::string rad = CREX_SOURCE_DIR "/examples/scenes/cornell/scene.rad";
+    const std::string vf = CREX_SOURCE_DIR "/examples/scenes/cornell/scene.vf";
+    auto plan = testing::crex_cli({"plan", "-e", "(TTMRSGD)*", "--scene", rad, "--format", "json", "-o", path("plan.json")});
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    auto one = testing::crex_cli({"run", path("plan.json"), "--scene", rad, "--view", vf, "--size", "20x18", "--spp", "2", "-q", "-o", path("one.exr")});
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    auto two = mpirun_each({"run", path("plan.json"), "--scene", rad, "--view", vf, "--size", "20x18", "--spp", "2", "-q", "-o", path("two.exr")},
+                           {"run", path("no-plan.json"), "--scene", path("no.rad"), "--view", path("no.vf"), "--size", "20x18", "--spp", "2", "-q",
+                            "-o", path("two.exr")});
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+}
+
+// A scene of a JSON file with an OBJ mesh (and its .mtl), and the OBJ itself: rank 0 loads
+// them, the mesh goes inline in the scene's JSON.
+TEST_F(MpiRun, AnObjMeshSceneIsSentInline) {
+    std::ofstream(path("m.mtl")) << "newmtl wall\nKd 0.6 0.5 0.4\nnewmtl lamp\nKd 0 0 0\nKe 5 5 4\n";
+    std::ofstream(path("m.obj")) << "mtllib m.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 0 1\n"
+                                    "usemtl wall\nf 1 2 3 4\nusemtl lamp\nf 1 2 5\n";
+    std::ofstream(path("s.json")) << R"({"materials": [{"name": "l", "type": "light", "color": [4, 4, 4]}],
+      "shapes": [{"type": "mesh", "file": "m.obj"}, {"type": "sphere", "material": "l", "center": [0, 0, 3], "radius": 0.5}]})";
+    for (const std::string& scene : {path("s.json"), path("m.obj")}) {
+        auto one = testing::crex_cli({"run", "--scene", scene, "--size", "16x12", "--spp", "2", "-q", "-o", path("one.exr")});
+        ASSERT_EQ(one.exit_code, 0) << scene << ": " << one.err;
+        auto two = mpirun_each({"run", "--scene", scene, "--size", "16x12", "--spp", "2", "-q", "-o", path("two.exr")},
+                               {"run", "--scene", path("none.json"), "--size", "16x12", "--spp", "2", "-q", "-o", path("two.exr")});
+        ASSERT_EQ(two.exit_code, 0) << scene << ": " << two.err;
+        EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr"))) << scene;
+        fs::remove(path("two.exr"));
+    }
+}
+
+// An error in the input is rank 0's to say, once, with its location; every rank exits 1.
+TEST_F(MpiRun, AnInputErrorIsSaidOnceAndEveryRankExitsOne) {
+    std::ofstream(path("bad.pipe")) << "pipeline bad {\n  preselective { crex \"(TTMRSGD)*\" spp }\n}\n";
+    auto r = mpirun(3, {"run", path("bad.pipe"), "--size", "8x8", "-q", "-o", path("bad.exr")});
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(count(r.err, path("bad.pipe") + ":2:"), 1u) << r.err;
+    EXPECT_EQ(count(r.err, "nothing rendered"), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(path("bad.exr")));
+    // A missing file is an I/O failure (3), said once too.
+    auto missing = mpirun(2, {"run", path("none.pipe"), "--size", "8x8", "-q", "-o", path("bad.exr")});
+    EXPECT_EQ(missing.exit_code, 3) << missing.err;
+    EXPECT_EQ(count(missing.err, "cannot read '" + path("none.pipe") + "'"), 1u) << missing.err;
 }
 
 TEST_F(MpiRun, AKilledRankEndsTheRunNamedWithNothingLeftBehind) {
