@@ -66,6 +66,7 @@ Distribution render_rows_on_first(int renderers) {
 void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient) {
     if (!d.active()) return;
     stall_here_if_asked();
+    fail_here_if_asked();
     const std::string point = fmt::format("the exchange of rows no. {} (after the preview, before each round, at the end)", ++g_row_exchanges);
     arrive(rows_comm(), point);
     const int width = film.width(), height = film.height();
@@ -134,10 +135,11 @@ double max_over_ranks(double value) { return reduce(value, MPI_MAX); }
 double seconds_waiting_for_ranks() { return g_started ? seconds_waiting() : 0; }
 
 void abort_all_ranks(const std::string& message, int exit_code) {
-    std::cerr << message << std::flush;
-    if (!g_started) return;
-    MPI_Abort(MPI_COMM_WORLD, exit_code);
-    std::_Exit(exit_code);
+    if (!g_started) {
+        std::cerr << message << std::flush;
+        return;
+    }
+    end_all_ranks(message, exit_code);  // rank 0 writes its finished rows first
 }
 
 #else

@@ -76,7 +76,8 @@ double max_over_ranks(double value);
 double seconds_waiting_for_ranks();
 
 /// Ends every rank after `message` (printed by this rank): a failure on one rank must not
-/// leave the others waiting for it. Returns only when not distributed.
+/// leave the others waiting for it. Rank 0 first writes the rows it finished
+/// (distributed_partial.h; end_all_ranks in rank_watchdog.h). Returns only when not distributed.
 void abort_all_ranks(const std::string& message, int exit_code);
 
 }  // namespace crex::app

@@ -12,11 +12,14 @@ double rank_timeout() { return g_timeout; }
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "apps/crex/exit_codes.h"
 
@@ -30,6 +33,42 @@ std::function<void()> g_serve;
 bool g_serving = false;  // serve_while_waiting does not run inside itself
 
 constexpr int kArriveTag = 7301;
+constexpr int kFaultTag = 7302;  // a rank's fault reported to rank 0 (its exit code), MPI_COMM_WORLD
+
+std::function<void()> g_fault_writer;
+
+int world_rank() {
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    return rank;
+}
+
+// Rank 0: write what is finished (once), then abort the job. MPI_Abort makes mpirun end
+// every rank (SIGTERM, then SIGKILL), stopped ones too.
+[[noreturn]] void write_then_abort(int exit_code) {
+    if (auto writer = std::exchange(g_fault_writer, nullptr)) {
+        try {
+            writer();
+        } catch (const std::exception& e) {  // the abort must happen whatever the writer did
+            std::cerr << "crex run: error: writing the finished rows failed: " << e.what() << "\n";
+        }
+    }
+    std::cerr << std::flush;
+    MPI_Abort(MPI_COMM_WORLD, exit_code);
+    std::_Exit(exit_code);  // MPI_Abort does not return; should it, nothing may carry on
+}
+
+// Rank 0, in every wait: another rank reported a fault (end_all_ranks), whose message it
+// printed itself.
+void take_fault_reports() {
+    int flag = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kFaultTag, MPI_COMM_WORLD, &flag, &status);
+    if (!flag) return;
+    int exit_code = kExitFailure;
+    MPI_Recv(&exit_code, 1, MPI_INT, status.MPI_SOURCE, kFaultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    write_then_abort(exit_code);
+}
 
 int world_rank_of(MPI_Comm comm, int rank) {
     MPI_Group group, world;
@@ -45,6 +84,27 @@ int world_rank_of(MPI_Comm comm, int rank) {
 }  // namespace
 
 double seconds_waiting() { return g_waiting; }
+void set_fault_writer(std::function<void()> writer) { g_fault_writer = std::move(writer); }
+
+void end_all_ranks(const std::string& message, int exit_code) {
+    std::cerr << message << std::flush;
+    if (world_rank() == 0) write_then_abort(exit_code);
+    // Rank 0 ends the job once it takes the report, in its next wait: at once when it is
+    // waiting for this rank or another. It has finished rows only then (its band complete, or
+    // after the last exchange), so a bounded grace loses nothing it could write; the grace
+    // is long enough for it to write them (this rank's abort would kill it mid-write, leaving
+    // a staged file), short enough not to matter beside --rank-timeout.
+    MPI_Request request;
+    MPI_Isend(&exit_code, 1, MPI_INT, 0, kFaultTag, MPI_COMM_WORLD, &request);
+    const double grace = 10;
+    std::this_thread::sleep_for(std::chrono::duration<double>(grace));
+    std::cerr << fmt::format("crex run: rank 0, which holds the image, did not end the run within {:g} s of rank {}'s fault (it "
+                             "hung, died or was still rendering its rows): no finished rows were written\n",
+                             grace, world_rank())
+              << std::flush;
+    MPI_Abort(MPI_COMM_WORLD, exit_code);
+    std::_Exit(exit_code);
+}
 void set_serve_while_waiting(std::function<void()> serve) { g_serve = std::move(serve); }
 
 void wait_until(const std::function<bool()>& done, double timeout, const std::function<std::string()>& late) {
@@ -52,16 +112,13 @@ void wait_until(const std::function<bool()>& done, double timeout, const std::fu
     // Short sleeps that grow to 1 ms: a message answered within microseconds costs little
     // latency, and a long wait costs no core.
     std::chrono::microseconds nap(5);
+    const bool rank0 = world_rank() == 0;
     while (!done()) {
+        if (rank0) take_fault_reports();
         const double waited = std::chrono::duration<double>(Clock::now() - start).count();
-        if (waited > timeout) {
-            int rank = 0;
-            MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-            std::cerr << fmt::format("crex run: error: {} within {:g} s (rank {} waited; --rank-timeout)\n", late(), timeout, rank)
-                      << std::flush;
-            MPI_Abort(MPI_COMM_WORLD, kExitFailure);
-            std::_Exit(kExitFailure);  // MPI_Abort does not return; should it, nothing may carry on
-        }
+        if (waited > timeout)
+            end_all_ranks(fmt::format("crex run: error: {} within {:g} s (rank {} waited; --rank-timeout)\n", late(), timeout, world_rank()),
+                          kExitFailure);
         if (g_serve && !g_serving) {
             g_serving = true;
             g_serve();
@@ -115,6 +172,13 @@ void arrive(MPI_Comm comm, const std::string& point) {
     };
     wait_requests(recv, rank_timeout(), late);
     wait_requests(send, rank_timeout(), [&] { return fmt::format("a rank took no token at {}", point); });
+}
+
+void fail_here_if_asked() {
+#ifdef CREX_TEST_HOOKS
+    const char* env = std::getenv("CREX_TEST_FAIL_RANK");
+    if (env && std::atoi(env) == world_rank()) throw std::runtime_error("test hook: this rank fails (CREX_TEST_FAIL_RANK)");
+#endif
 }
 
 void stall_here_if_asked() {

@@ -10,6 +10,10 @@
 /// of a core in Open MPI, which on a machine with fewer cores than ranks takes the core from
 /// the rank doing the work; a sleeping poll gives it back. The seconds spent waiting are the
 /// rank's idle time.
+/// A fault found on any rank ends the run through end_all_ranks(): before the job is aborted,
+/// rank 0 (which holds the image) writes the rows it finished (distributed_partial.h). A rank
+/// other than 0 therefore reports its fault to rank 0 first and gives it a moment to do so;
+/// rank 0 picks such reports up in every wait here.
 #pragma once
 
 namespace crex::app {
@@ -42,6 +46,16 @@ void wait_requests(std::vector<MPI_Request>& requests, double timeout, const std
 /// Work to do while this rank waits for others (nullptr: none).
 void set_serve_while_waiting(std::function<void()> serve);
 
+/// Prints `message` and ends every rank with `exit_code`, rank 0 writing the rows it finished
+/// first (set_fault_writer). On a rank other than 0: reports to rank 0 and waits a bounded
+/// time for rank 0 to end the job (it polls in its waits); if it does not (it hung, died or is
+/// still rendering), says that nothing was written and aborts itself. Does not return.
+[[noreturn]] void end_all_ranks(const std::string& message, int exit_code);
+
+/// Rank 0: what to do before the job is aborted on a fault (write the finished rows); it
+/// says on stderr what it wrote. Runs at most once.
+void set_fault_writer(std::function<void()> writer);
+
 /// Every rank of `comm` says it reached `point` (its name in the error); returns once all
 /// have, else aborts naming the ranks (of MPI_COMM_WORLD) that did not arrive in time. The
 /// collective that follows then finds every rank in it.
@@ -51,6 +65,8 @@ void arrive(MPI_Comm comm, const std::string& point);
 /// variable CREX_TEST_STALL_RANK equal to this process's world rank, the first call stops
 /// the process (SIGSTOP), as a hung rank would be.
 void stall_here_if_asked();
+/// Tests only, likewise: CREX_TEST_FAIL_RANK equal to this rank throws (a render that fails).
+void fail_here_if_asked();
 
 }  // namespace crex::app
 

@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <iostream>
 
+#include "apps/crex/distributed_partial.h"
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/ic_share_central.h"
 #include "apps/crex/ic_share_component.h"
+#include "compiler/sched/print.h"
 #include "runtime/render/render_scene.h"
 
 namespace crex::app {
@@ -25,10 +27,28 @@ struct DistributedRun::Modes {
 DistributedRun::DistributedRun() : ranks_(distribution()), modes_(std::make_unique<Modes>()) {}
 DistributedRun::~DistributedRun() = default;
 
+namespace {
+// Rank 0 at the last exchange of rows: its own band is final before it, every band after it
+// (what a fault writes, distributed_partial.h). Earlier exchanges carry rows still to change.
+void keep_if_final(const Distribution& d, const Film& film, const std::vector<double>& ambient, bool last, bool exchanged) {
+    if (!last || d.rank != 0) return;
+    if (exchanged) keep_finished_rows(film, ambient, 0, film.height());
+    else keep_finished_rows(film, ambient, d.row_begin(film.height()), d.row_end(film.height()));
+}
+}  // namespace
+
 bool DistributedRun::answers_irradiance() const { return modes_->ic_share == "component" && modes_->roles.answers; }
 
-std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInput&, RunSetup& setup) {
+std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInput& in, RunSetup& setup) {
     if (!ranks_.active()) return std::nullopt;
+    // From here a fault writes the rows rank 0 finished beside each -o (distributed_partial.h).
+    if (ranks_.rank == 0)
+        arm_partial_outputs(setup.outputs, setup.settings.width, setup.settings.height,
+                            {{"Software", std::string("crex ") + CREX_VERSION},
+                             {"crex:version", CREX_VERSION},
+                             {"crex:scene", in.scene_spec},
+                             {"crex:crex", sched::to_crex(in.plan.program)},
+                             {"crex:seed", std::to_string(setup.settings.seed)}});
     // What a distributed run cannot do yet was refused by rank 0 (distributed_input.cpp).
     // The modes below start with blocking collectives (communicators): a rank stuck setting
     // up is named here instead of blocking them.
@@ -68,12 +88,18 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
     const Distribution d = ranks_;
 #ifdef CREX_WITH_MPI
     auto client = modes_->client;
-    s.share_rows = [d, client](Film& film, std::vector<double>& ambient) {
+    s.share_rows = [d, client](Film& film, std::vector<double>& ambient, bool last) {
+        keep_if_final(d, film, ambient, last, false);  // before any wait that may time out
         if (client) client->at_exchange();  // the PA serves the other PRs while this one waits
         share_rows(d, film, ambient);
+        keep_if_final(d, film, ambient, last, true);
     };
 #else
-    s.share_rows = [d](Film& film, std::vector<double>& ambient) { share_rows(d, film, ambient); };
+    s.share_rows = [d](Film& film, std::vector<double>& ambient, bool last) {
+        keep_if_final(d, film, ambient, last, false);
+        share_rows(d, film, ambient);
+        keep_if_final(d, film, ambient, last, true);
+    };
 #endif
     s.save_ic_file = ranks_.rank == 0;
     return std::nullopt;
@@ -127,6 +153,7 @@ bool DistributedRun::finish(const RunSetup& setup, RunResult& result) {
 #endif
     const RankTotals t = totals(static_cast<double>(total_rays(result.stats)), result.ic_stats, result.render_seconds);
     if (ranks_.rank != 0) return false;
+    disarm_partial_outputs();  // every rank is past its last wait: the outputs themselves follow
     std::string how = "in bands of rows";
     if (modes_->ic_share == "component")
         how = fmt::format("--ic-share component: {} PA rank(s) answering irradiance queries, {} PR rank(s) rendering bands of rows",

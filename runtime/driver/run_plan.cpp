@@ -133,7 +133,7 @@ private:
     void add_auto_ambient();
     // Distributed rendering: rows (and the cache's records) exchanged with the other processes.
     void share_with_other_processes() {
-        if (s_.share_rows) s_.share_rows(out_.film, ambient_);
+        if (s_.share_rows) s_.share_rows(out_.film, ambient_, false);
         if (s_.share_cache && cache_) s_.share_cache(*cache_);
     }
     // What an unexecuted ray of component c brings back per unit throughput: what its
@@ -837,7 +837,7 @@ RunResult PlanRun::execute() {
 
     out_.stats = ex_->stats();
     if (s_.ambient_auto) add_auto_ambient();
-    if (s_.share_rows) s_.share_rows(out_.film, ambient_);
+    if (s_.share_rows) s_.share_rows(out_.film, ambient_, true);
     out_.ambient = std::move(ambient_);
     // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.
     std::set<std::string> said;

@@ -94,9 +94,10 @@ struct RunSettings {
     /// Distributed rendering (issue 19): this process traces the camera samples of rows
     /// [row_begin, row_end) only (both 0: every row), and `share_rows` makes every process's
     /// film (and ambient stand-ins) hold each row as its owner rendered it: after the preview,
-    /// before each round's guidance (maps see the whole image) and at the end.
+    /// before each round's guidance (maps see the whole image) and at the end. `last` is true at
+    /// the end: this process's rows are then final (what is written should the run fail).
     int row_begin = 0, row_end = 0;
-    std::function<void(Film& film, std::vector<double>& ambient)> share_rows;
+    std::function<void(Film& film, std::vector<double>& ambient, bool last)> share_rows;
     /// With a cache, called where `share_rows` is called mid-render (after the preview, before
     /// each later round): the processes exchange the records they made (--ic-share broadcast).
     std::function<void(IrradianceCache& cache)> share_cache;

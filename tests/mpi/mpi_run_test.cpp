@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -193,8 +194,62 @@ TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
     EXPECT_NE(r.err.find("crex run: error: rank 1 did not reach the exchange of rows no. 1"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("within 2 s"), std::string::npos) << r.err;
     EXPECT_LT(seconds, 30.0) << "the timeout is 2 s; start-up and the abort take the rest";
-    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(out)) << "the requested output is never written by a failed run";
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 31x29' || true"});
+    EXPECT_EQ(left.out, "") << "processes left running";
+    // Rank 0 had rendered its band, rows 0..13 of 29, before it waited: they are written to
+    // stalled.partial.exr, as the single-process image has them; the other rows are black.
+    const std::string partial = path("stalled.partial.exr");
+    EXPECT_NE(r.err.find("rows 0..13 of 29 finished, written to " + partial), std::string::npos) << r.err;
+    auto one = testing::crex_cli({"run", "--size", "31x29", "--spp", "2", "-q", "-o", path("one.exr")});
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    int w = 0, h = 0;
+    std::vector<float> got, want = pixels(path("one.exr"));
+    ASSERT_EQ(read_image(partial, w, h, got), "");
+    ASSERT_EQ(w, 31);
+    ASSERT_EQ(h, 29);
+    const size_t split = 3 * 31 * 14;
+    EXPECT_TRUE(std::equal(got.begin(), got.begin() + split, want.begin())) << "rank 0's finished rows";
+    EXPECT_TRUE(std::all_of(got.begin() + split, got.end(), [](float v) { return v == 0; })) << "the unfinished rows are black";
+    EXPECT_TRUE(std::any_of(want.begin() + split, want.end(), [](float v) { return v > 0; })) << "the test would show nothing";
+}
+
+// A rank that fails (an exception; the test hook throws in rank 1's first exchange of rows)
+// reports to rank 0, which is waiting there with its band finished: it writes that band and
+// ends the run with the failing rank's exit code.
+TEST_F(MpiRun, AFailingRankHasRankZeroWriteItsFinishedRows) {
+    const std::string out = path("failed.exr");
+    const std::string script = "CREX_TEST_FAIL_RANK=1 timeout -k 5 60 " + std::string(kMpirun) +
+                               " --allow-run-as-root --oversubscribe -x CREX_TEST_FAIL_RANK -np 2 " + CREX_BINARY +
+                               " run --size 30x20 --spp 2 -q --rank-timeout 20 -o " + out + " -o " + path("failed.png");
+    const auto start = std::chrono::steady_clock::now();
+    auto r = testing::run_command({"/bin/sh", "-c", script});
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("crex run: error: rank 1: rendering failed: test hook"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("rows 0..9 of 20 finished, written to " + path("failed.partial.exr") + ", " + path("failed.partial.png")),
+              std::string::npos)
+        << r.err;
+    EXPECT_LT(seconds, 15.0) << "rank 0 takes the report at once, not after --rank-timeout";
+    EXPECT_TRUE(fs::exists(path("failed.partial.exr")));
+    EXPECT_TRUE(fs::exists(path("failed.partial.png")));
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(path("failed.png")));
+}
+
+// Rank 0 itself stopped: it holds the image, so nothing can be written, and rank 1 says so.
+TEST_F(MpiRun, AStoppedRankZeroLeavesNothingWritten) {
+    const std::string script = "CREX_TEST_STALL_RANK=0 timeout -k 5 60 " + std::string(kMpirun) +
+                               " --allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + CREX_BINARY +
+                               " run --size 27x19 --spp 2 -q --rank-timeout 1 -o " + path("r0.exr");
+    auto r = testing::run_command({"/bin/sh", "-c", script});
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("crex run: error: rank 0 did not reach the exchange of rows no. 1"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("rank 0, which holds the image, did not end the run"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("no finished rows were written"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("r0.exr")));
+    EXPECT_FALSE(fs::exists(path("r0.partial.exr")));
+    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 27x19' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
 }
 
@@ -277,6 +332,9 @@ TEST_F(MpiRun, AStoppedAnsweringRankIsNamedToo) {
     auto r = testing::run_command({"/bin/sh", "-c", script});
     EXPECT_EQ(r.exit_code, 3) << r.err;
     EXPECT_NE(r.err.find("crex run: error: rank 1 did not answer irradiance queries within 2 s"), std::string::npos) << r.err;
+    // Rank 0 was still rendering its band (waiting for answers): no row was final.
+    EXPECT_NE(r.err.find("rank 0 had no finished row (no band was complete): nothing written"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("pa.partial.exr")));
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 33x21' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
 }

@@ -1,0 +1,119 @@
+#include "apps/crex/distributed_partial.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "runtime/base/output_set.h"
+
+#ifdef CREX_WITH_MPI
+#include "apps/crex/rank_watchdog.h"
+#endif
+
+namespace crex::app {
+namespace {
+
+struct Partial {
+    std::vector<std::string> outputs;
+    int width = 0, height = 0;
+    ImageMetadata metadata;
+    std::vector<float> rgb;     // black until a row is kept
+    std::vector<char> finished;  // per row
+};
+std::optional<Partial> g_partial;
+
+// "0..47" or "0..47, 60..95": the finished rows as ranges.
+std::string row_ranges(const std::vector<char>& finished) {
+    std::string out;
+    for (size_t r = 0; r < finished.size();) {
+        if (!finished[r]) {
+            ++r;
+            continue;
+        }
+        size_t end = r;
+        while (end < finished.size() && finished[end]) ++end;
+        out += fmt::format("{}{}..{}", out.empty() ? "" : ", ", r, end - 1);
+        r = end;
+    }
+    return out;
+}
+
+// On a fault, rank 0 (rank_watchdog.cpp calls it just before the abort).
+void write_finished_rows() {
+    if (!g_partial) return;
+    const Partial& p = *g_partial;
+    const std::string rows = row_ranges(p.finished);
+    if (rows.empty()) {
+        std::cerr << "crex run: rank 0 had no finished row (no band was complete): nothing written\n";
+        return;
+    }
+    const std::string what = fmt::format("rows {} of {} finished", rows, p.height);
+    ImageMetadata metadata = p.metadata;
+    metadata.push_back({"crex:partial", what + "; the other rows are black (the run failed)"});
+    // Staged and committed together: a fault during the write leaves no half-written file.
+    OutputSet files;
+    std::vector<std::string> written;
+    for (const auto& out : p.outputs) {
+        const std::string path = partial_path(out);
+        std::string error = write_image(files.stage_file(path), p.width, p.height, {{"", p.rgb}}, metadata);
+        if (!error.empty()) {
+            std::cerr << "crex run: error: writing the finished rows: " << files.in_user_terms(error) << "\n";
+            return;
+        }
+        written.push_back(path);
+    }
+    if (std::string error = files.commit(); !error.empty()) {
+        std::cerr << "crex run: error: writing the finished rows: " << error << "\n";
+        return;
+    }
+    std::string list;
+    for (const auto& w : written) list += (list.empty() ? "" : ", ") + w;
+    std::cerr << fmt::format("crex run: {}, written to {} (the other rows black); the requested output{} not written\n", what, list,
+                             p.outputs.size() == 1 ? " was" : "s were");
+}
+
+}  // namespace
+
+std::string partial_path(const std::string& output) {
+    std::filesystem::path p(output);
+    const std::string ext = p.extension().string();
+    return (p.parent_path() / (p.stem().string() + ".partial" + ext)).string();
+}
+
+void arm_partial_outputs(const std::vector<std::string>& outputs, int width, int height, ImageMetadata metadata) {
+    Partial p;
+    p.outputs = outputs;
+    p.width = width, p.height = height;
+    p.metadata = std::move(metadata);
+    p.rgb.assign(3 * static_cast<size_t>(width) * static_cast<size_t>(height), 0.0f);
+    p.finished.assign(static_cast<size_t>(height), 0);
+    g_partial = std::move(p);
+#ifdef CREX_WITH_MPI
+    set_fault_writer(write_finished_rows);
+#endif
+}
+
+void keep_finished_rows(const Film& film, const std::vector<double>& ambient, int row_begin, int row_end) {
+    if (!g_partial || film.width() != g_partial->width || film.height() != g_partial->height) return;
+    // The composite as RunResult::image() makes it (without capict's stand-ins).
+    const std::vector<float> rgb = film.composite(&ambient);
+    const size_t row = 3 * static_cast<size_t>(film.width());
+    row_begin = std::max(row_begin, 0), row_end = std::min(row_end, film.height());
+    for (int r = row_begin; r < row_end; ++r) {
+        const auto at = static_cast<std::ptrdiff_t>(static_cast<size_t>(r) * row);
+        std::copy_n(rgb.begin() + at, row, g_partial->rgb.begin() + at);
+        g_partial->finished[static_cast<size_t>(r)] = 1;
+    }
+}
+
+void disarm_partial_outputs() {
+    g_partial.reset();
+#ifdef CREX_WITH_MPI
+    set_fault_writer(nullptr);
+#endif
+}
+
+}  // namespace crex::app
