@@ -108,10 +108,11 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
 namespace {
 
 struct RankTotals {
-    double rays = 0, records = 0, misses = 0, waiting = 0, slowest = 0;
+    double rays = 0, records = 0, misses = 0, waiting = 0, slowest = 0, left_out = 0;
 };
 
-RankTotals totals(double rays, const IcStats& ic, double render_seconds) {
+// `left_out`: camera samples this rank's budget left out of its band.
+RankTotals totals(double rays, const IcStats& ic, double render_seconds, double left_out) {
     all_ranks_arrive("the end of the render");
     RankTotals t;
     // Misses as the thesis counts them: lookups (at every bounce) not interpolated from records.
@@ -120,6 +121,7 @@ RankTotals totals(double rays, const IcStats& ic, double render_seconds) {
     t.misses = sum_over_ranks(static_cast<double>(ic.lookups - ic.interpolated));
     t.waiting = sum_over_ranks(seconds_waiting_for_ranks());
     t.slowest = max_over_ranks(render_seconds);
+    t.left_out = sum_over_ranks(left_out);
     return t;
 }
 
@@ -138,7 +140,7 @@ int DistributedRun::serve(const RunInput& in, const RunSetup& setup) {
     if (modes_->roles.pa_index == 0 && !s.ic_file.empty())
         if (std::string error = cache.save(s.ic_file); !error.empty())
             abort_all_ranks(fmt::format("crex run: error: rank {}: cannot save the irradiance cache: {}\n", ranks_.rank, error), kExitFailure);
-    totals(0, cache.stats(), served.seconds);
+    totals(0, cache.stats(), served.seconds, 0);
     return kExitOk;
 #else
     (void)in, (void)setup;
@@ -151,7 +153,8 @@ bool DistributedRun::finish(const RunSetup& setup, RunResult& result) {
     if (modes_->client) modes_->client->done();
     if (modes_->central) modes_->central->finish();
 #endif
-    const RankTotals t = totals(static_cast<double>(total_rays(result.stats)), result.ic_stats, result.render_seconds);
+    const RankTotals t = totals(static_cast<double>(total_rays(result.stats)), result.ic_stats, result.render_seconds,
+                                static_cast<double>(result.budget_stopped_samples));
     if (ranks_.rank != 0) return false;
     disarm_partial_outputs();  // every rank is past its last wait: the outputs themselves follow
     std::string how = "in bands of rows";
@@ -166,6 +169,12 @@ bool DistributedRun::finish(const RunSetup& setup, RunResult& result) {
                                        ranks_.size, how, t.rays, t.records, t.slowest, t.misses,
                                        t.slowest > 0 ? 100 * t.waiting / (ranks_.size * t.slowest) : 0.0, setup.settings.row_begin,
                                        setup.settings.row_end - 1));
+    // Each rank spends the whole budget on its own band (its own clock, its own passes): the
+    // run takes about the budget, as one process does, and covers N bands in it.
+    if (setup.budget > 0)
+        result.notes.push_back(fmt::format("under mpirun each rank spends the whole budget ({:g} s) on its own band of rows, deciding "
+                                           "its passes alone: {:.0f} camera samples left out over all ranks",
+                                           setup.budget, t.left_out));
     return true;
 }
 

@@ -339,6 +339,34 @@ TEST_F(MpiRun, AStoppedAnsweringRankIsNamedToo) {
     EXPECT_EQ(left.out, "") << "processes left running";
 }
 
+// A budget under mpirun: each rank spends all of it on its own band, so the run ends after
+// about the budget (a render the budget cuts far short) and both bands have light in them.
+TEST_F(MpiRun, EachRankSpendsTheBudgetOnItsOwnBand) {
+    const auto start = std::chrono::steady_clock::now();
+    auto r = mpirun(2, {"run", "--size", "40x30", "--spp", "100000", "--budget", "1s", "-o", path("b.exr")});
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_LT(seconds, 20.0) << "the budget is 1 s; without it the render takes hours";
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.err, m, std::regex("each rank spends the whole budget \\(1 s\\) on its own band of rows, deciding "
+                                                       "its passes alone: ([0-9]+) camera samples left out over all ranks")))
+        << r.err;
+    EXPECT_GT(std::stod(m[1]), 0.0);
+    const std::vector<float> rgb = pixels(path("b.exr"));
+    ASSERT_EQ(rgb.size(), 3u * 40 * 30);
+    const size_t half = rgb.size() / 2;
+    EXPECT_TRUE(std::any_of(rgb.begin(), rgb.begin() + half, [](float v) { return v > 0; })) << "rank 0's band";
+    EXPECT_TRUE(std::any_of(rgb.begin() + half, rgb.end(), [](float v) { return v > 0; })) << "rank 1's band";
+}
+
+// Still refused under mpirun: a report's error curve needs the whole image during the render.
+TEST_F(MpiRun, AReportIsRefusedOnceWithExitTwo) {
+    auto r = mpirun(2, {"run", "--size", "8x8", "-q", "--report", path("rep"), "-o", path("x.exr")});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(count(r.err, "not supported yet"), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
 TEST_F(MpiRun, AnUnknownSharingModeIsAUsageError) {
     auto r = testing::crex_cli({"run", "--size", "8x8", "--ic", "--ic-share", "gossip", "-q", "-o", path("x.exr")});
     EXPECT_EQ(r.exit_code, 2) << r.err;
