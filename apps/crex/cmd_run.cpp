@@ -79,7 +79,8 @@ int run(RunOptions opt) {
         return kExitFailure;
     }
     progress.finish();
-    if (ranks.active() && !distributed.finish(setup, *result)) return kExitOk;  // rank 0 writes the outputs
+    if (ranks.active())
+        if (auto exit = distributed.finish(setup, *result)) return *exit;  // rank 0 goes on to write the outputs
     // The same render under every other policy, from the same profile, for the report's
     // plot of all of them; nothing of theirs is written but their checkpoints.
     std::vector<PolicyRun> others;

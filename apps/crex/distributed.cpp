@@ -100,6 +100,39 @@ void all_ranks_arrive(const std::string& point) {
     if (g_started) arrive(MPI_COMM_WORLD, point);
 }
 
+namespace {
+constexpr int kBytesTag = 7304;                // send_bytes on MPI_COMM_WORLD
+constexpr size_t kBytesPiece = size_t{1} << 30;  // MPI counts are ints
+}  // namespace
+
+void send_bytes(int to, const std::string& bytes, const std::string& what) {
+    unsigned long long size = bytes.size();
+    std::vector<MPI_Request> requests(1);
+    MPI_Isend(&size, 1, MPI_UNSIGNED_LONG_LONG, to, kBytesTag, MPI_COMM_WORLD, &requests[0]);
+    for (size_t at = 0; at < bytes.size(); at += kBytesPiece) {
+        requests.emplace_back();
+        MPI_Isend(bytes.data() + at, static_cast<int>(std::min(kBytesPiece, bytes.size() - at)), MPI_CHAR, to, kBytesTag, MPI_COMM_WORLD,
+                  &requests.back());
+    }
+    wait_requests(requests, rank_timeout(), [&] { return fmt::format("rank {} did not take {}", to, what); });
+}
+
+std::string receive_bytes(int from, const std::string& what) {
+    auto late = [&] { return fmt::format("rank {} did not send {}", from, what); };
+    unsigned long long size = 0;
+    std::vector<MPI_Request> request(1);
+    MPI_Irecv(&size, 1, MPI_UNSIGNED_LONG_LONG, from, kBytesTag, MPI_COMM_WORLD, &request[0]);
+    wait_requests(request, rank_timeout(), late);
+    std::string bytes(static_cast<size_t>(size), '\0');
+    for (size_t at = 0; at < bytes.size(); at += kBytesPiece) {  // in order: same source and tag
+        request.assign(1, MPI_REQUEST_NULL);
+        MPI_Irecv(bytes.data() + at, static_cast<int>(std::min(kBytesPiece, bytes.size() - at)), MPI_CHAR, from, kBytesTag,
+                  MPI_COMM_WORLD, &request[0]);
+        wait_requests(request, rank_timeout(), late);
+    }
+    return bytes;
+}
+
 std::string share_from_rank0(std::string text, const std::string& what) {
     if (!g_started) return text;
     int rank = 0;
@@ -152,6 +185,8 @@ void share_rows(const Distribution&, Film&, std::vector<double>&) {}
 void share_cache_records(const Distribution&, IrradianceCache&, size_t&) {}
 void all_ranks_arrive(const std::string&) {}
 std::string share_from_rank0(std::string text, const std::string&) { return text; }
+void send_bytes(int, const std::string&, const std::string&) {}
+std::string receive_bytes(int, const std::string&) { return {}; }
 double sum_over_ranks(double value) { return value; }
 double max_over_ranks(double value) { return value; }
 double seconds_waiting_for_ranks() { return 0; }

@@ -64,6 +64,11 @@ void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& 
 /// `what` names the data in a timeout's error.
 std::string share_from_rank0(std::string text, const std::string& what);
 
+/// `bytes` from this rank to world rank `to`, and their receipt there (point to point, any
+/// size, bounded; `what` names them in a timeout's error).
+void send_bytes(int to, const std::string& bytes, const std::string& what);
+std::string receive_bytes(int from, const std::string& what);
+
 /// Every rank (of all) reached `point`, bounded like every wait: before the last collectives.
 void all_ranks_arrive(const std::string& point);
 

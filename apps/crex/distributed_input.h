@@ -5,9 +5,8 @@
 /// format, which the plan reader checks again), the scene as its native JSON (meshes of OBJ
 /// files inline; --view already applied to its camera), the --profile's contents and the
 /// --ic-file's bytes. Command-line options are parsed by every rank alike and stay as they are.
-/// Files only rank 0 touches: the outputs (-o, --maps, --save-profile) and --ic-file when saved
-/// by rank 0; under --ic-share component the first PA rank saves --ic-file (it holds the
-/// records), on its machine.
+/// Rank 0 alone writes files: the outputs (-o, --maps, --save-profile) and --ic-file (under
+/// --ic-share component the first PA rank, which holds the records, sends them to rank 0).
 #pragma once
 
 #include <optional>

@@ -42,7 +42,7 @@ struct ComponentRoles {
     bool answers = false;  ///< this rank is a PA
     int pa = -1;           ///< a PR's PA (world rank)
     std::vector<int> prs;  ///< a PA's PRs (world ranks), in rank order
-    int pa_index = -1;     ///< a PA's index among the PAs (0: the one that saves --ic-file)
+    int pa_index = -1;     ///< a PA's index among the PAs (0: the one that sends rank 0 the records for --ic-file)
 };
 
 /// The roles of `size` ranks, as above (size >= 2).

@@ -11,6 +11,7 @@
 #include "apps/crex/ic_share_central.h"
 #include "apps/crex/ic_share_component.h"
 #include "compiler/sched/print.h"
+#include "runtime/base/atomic_file.h"
 #include "runtime/render/render_scene.h"
 
 namespace crex::app {
@@ -18,6 +19,7 @@ namespace crex::app {
 struct DistributedRun::Modes {
     std::string ic_share = "none";  // what is in effect: none without a cache
     ComponentRoles roles;
+    std::string ic_file;  // --ic-file under component: the first PA sends its records, rank 0 saves
 #ifdef CREX_WITH_MPI
     std::shared_ptr<IrradianceClient> client;  // a PR of component
     std::shared_ptr<CentralShare> central;
@@ -65,7 +67,9 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
             auto client = std::make_shared<IrradianceClient>(modes_->roles.pa);
             modes_->client = client;
             s.answer_ic_queries = [client](IrradianceCache&, const std::vector<IcQuery>& q, std::vector<Vec3>& e) { client->answer(q, e); };
-            // The PA loads and saves the records; this rank's own cache stays empty.
+            // The PA loads the records (the bytes rank 0 read) and holds them; this rank's own
+            // cache stays empty. Rank 0 saves the first PA's, on its own machine (finish()).
+            if (ranks_.rank == 0) modes_->ic_file = s.ic_file;
             s.ic_file.clear();
             s.ic_file_bytes.reset();
             s.ic_records.clear();
@@ -137,9 +141,8 @@ int DistributedRun::serve(const RunInput& in, const RunSetup& setup) {
         if (std::string error = cache.load_bytes(*s.ic_file_bytes, s.ic_file); !error.empty())
             abort_all_ranks(fmt::format("crex run: error: rank {}: irradiance cache: {}\n", ranks_.rank, error), kExitInputErrors);
     ServeResult served = serve_irradiance(modes_->roles, cache);
-    if (modes_->roles.pa_index == 0 && !s.ic_file.empty())
-        if (std::string error = cache.save(s.ic_file); !error.empty())
-            abort_all_ranks(fmt::format("crex run: error: rank {}: cannot save the irradiance cache: {}\n", ranks_.rank, error), kExitFailure);
+    // Rank 0 writes --ic-file, as every output: the file is on its machine, not this one's.
+    if (modes_->roles.pa_index == 0 && !s.ic_file.empty()) send_bytes(0, cache.to_bytes(), "the irradiance cache for --ic-file");
     totals(0, cache.stats(), served.seconds, 0);
     return kExitOk;
 #else
@@ -148,14 +151,19 @@ int DistributedRun::serve(const RunInput& in, const RunSetup& setup) {
 #endif
 }
 
-bool DistributedRun::finish(const RunSetup& setup, RunResult& result) {
+std::optional<int> DistributedRun::finish(const RunSetup& setup, RunResult& result) {
 #ifdef CREX_WITH_MPI
     if (modes_->client) modes_->client->done();
+    if (!modes_->ic_file.empty()) {  // rank 0 under component: the first PA's records
+        const std::string bytes = receive_bytes(modes_->roles.pa, "the irradiance cache for --ic-file");
+        if (std::string error = write_file_atomically(modes_->ic_file, bytes); !error.empty())
+            abort_all_ranks(fmt::format("crex run: error: cannot save the irradiance cache: {}\n", error), kExitFailure);
+    }
     if (modes_->central) modes_->central->finish();
 #endif
     const RankTotals t = totals(static_cast<double>(total_rays(result.stats)), result.ic_stats, result.render_seconds,
                                 static_cast<double>(result.budget_stopped_samples));
-    if (ranks_.rank != 0) return false;
+    if (ranks_.rank != 0) return kExitOk;
     disarm_partial_outputs();  // every rank is past its last wait: the outputs themselves follow
     std::string how = "in bands of rows";
     if (modes_->ic_share == "component")
@@ -175,7 +183,7 @@ bool DistributedRun::finish(const RunSetup& setup, RunResult& result) {
         result.notes.push_back(fmt::format("under mpirun each rank spends the whole budget ({:g} s) on its own band of rows, deciding "
                                            "its passes alone: {:.0f} camera samples left out over all ranks",
                                            setup.budget, t.left_out));
-    return true;
+    return std::nullopt;
 }
 
 }  // namespace crex::app

@@ -26,12 +26,13 @@ public:
     int rank() const { return ranks_.rank; }
     /// A PA rank of --ic-share component: it answers irradiance queries instead of rendering.
     bool answers_irradiance() const;
-    /// A PA rank's whole run: serve until every PR is done, save --ic-file (the first PA: it
-    /// holds the records), then the totals. Returns the exit code.
+    /// A PA rank's whole run: serve until every PR is done, send rank 0 the records for
+    /// --ic-file (the first PA: it holds them), then the totals. Returns the exit code.
     int serve(const RunInput& in, const RunSetup& setup);
-    /// After this rank's render: the totals over all ranks; rank 0 gets them as a note.
-    /// Collective. Returns false on ranks other than 0 (they write nothing).
-    bool finish(const RunSetup& setup, RunResult& result);
+    /// After this rank's render: the totals over all ranks; rank 0 gets them as a note (and
+    /// saves --ic-file under component, from the first PA). Collective. Returns the exit code
+    /// on ranks other than 0 (they write nothing); none on rank 0, which writes the outputs.
+    std::optional<int> finish(const RunSetup& setup, RunResult& result);
 
 private:
     struct Modes;

@@ -394,7 +394,9 @@ void put_floats(std::vector<std::uint8_t>& out, std::initializer_list<double> va
 }
 }  // namespace
 
-std::string IrradianceCache::save(const std::string& path) const {
+std::string IrradianceCache::save(const std::string& path) const { return write_file_atomically(path, to_bytes()); }
+
+std::string IrradianceCache::to_bytes() const {
     nlohmann::json j;
     j["format"] = "crex-irradiance-cache";
     j["version"] = 2;
@@ -413,7 +415,7 @@ std::string IrradianceCache::save(const std::string& path) const {
     }
     j["records"] = nlohmann::json::binary(std::move(bytes));
     std::vector<std::uint8_t> cbor = nlohmann::json::to_cbor(j);
-    return write_file_atomically(path, std::string(cbor.begin(), cbor.end()));
+    return std::string(cbor.begin(), cbor.end());
 }
 
 std::string IrradianceCache::load(const std::string& path) {

@@ -75,6 +75,8 @@ public:
     /// read) with the settings that shaped the records; load() refuses a file made with other
     /// settings or another scene extent, and damaged bytes, without loading any record.
     std::string save(const std::string& path) const;
+    /// What save() writes, as bytes (distributed runs: sent to the process that writes it).
+    std::string to_bytes() const;
     std::string load(const std::string& path);
     /// load() of a file's bytes already read; `name` is the file the messages name.
     std::string load_bytes(const std::string& data, const std::string& name);

@@ -296,6 +296,29 @@ TEST_F(MpiRun, ComponentSharingOnTwoRanksRendersTheSingleProcessImage) {
     EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
 }
 
+// --ic-file under component: rank 0 reads it and the PA loads the bytes rank 0 sent; at the
+// end the PA sends its records back and rank 0 writes the file. Rank 1 (the PA) is given a
+// path in a directory that does not exist: it never touches the file.
+TEST_F(MpiRun, RankZeroReadsAndWritesTheCacheFileOfAnAnsweringRank) {
+    const std::string ic = path("cache.ic");
+    const std::vector<std::string> args = {"run", "--size", "32x24", "--spp", "2", "--ad", "64", "-q"};
+    auto run = [&](const std::string& out) {
+        std::vector<std::string> a0 = args, a1 = args;
+        a0.insert(a0.end(), {"--ic-file", ic, "-o", path(out)});
+        a1.insert(a1.end(), {"--ic-file", path("nowhere/cache.ic"), "-o", path(out)});
+        return mpirun_each(a0, a1);
+    };
+    auto first = run("first.exr");
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    ASSERT_TRUE(fs::exists(ic)) << first.err;
+    EXPECT_FALSE(fs::exists(path("nowhere")));
+    auto second = run("second.exr");
+    ASSERT_EQ(second.exit_code, 0) << second.err;
+    const long made_first = records_over_ranks(first), made_second = records_over_ranks(second);
+    EXPECT_GT(made_first, 0);
+    EXPECT_LT(made_second, made_first) << "the records loaded from the file are used";
+}
+
 // At N = 3 the PA serves its two PRs in rank order, round-robin: the same image on every run
 // (it differs from one process's: the batches come in another order).
 TEST_F(MpiRun, ComponentSharingIsDeterministicForAFixedRankCount) {
