@@ -159,8 +159,10 @@ Runner add_run_command(CLI::App& app) {
                                                  "rows; deterministic for a fixed N)")
         ->capture_default_str()
         ->check(CLI::IsMember({"none", "central", "broadcast", "component"}));
-    cmd->add_option("--rank-timeout", opt->rank_timeout, "Under mpirun: seconds a rank waits for another (at an exchange of rows "
-                                                         "or records, for irradiance answers) before the run is aborted naming it")
+    cmd->add_option("--rank-timeout", opt->rank_timeout, "Under mpirun: seconds a rank waits for another (for rank 0's inputs, "
+                                                         "at an exchange of rows or records, for irradiance answers) before the run "
+                                                         "is aborted naming it; rank 0 first writes the rows it finished to "
+                                                         "NAME.partial.EXT beside each -o")
         ->capture_default_str()
         ->check(CLI::Range(0.1, 1e6));
     cmd->add_flag("--compare-policies", opt->compare_policies, "Under a budget with a reference: render again under every other "

@@ -1,6 +1,6 @@
 /// \file distributed.h
-/// `mpirun -np N crex run ...` (issue 19, thesis chapter 6): the same command on N ranks. Each
-/// rank reads the same inputs; the ranks that render rows (all of them, but under
+/// `mpirun -np N crex run ...` (issue 19, thesis chapter 6): the same command on N ranks. Rank
+/// 0 reads the inputs and sends them (distributed_input.h); the ranks that render rows (all of them, but under
 /// --ic-share component only the PR ranks) each render the camera samples of their own band
 /// (band b of B: rows [b H / B, (b + 1) H / B)); the film's rows are shared between them after
 /// the preview, before each round's guidance (the maps see the whole image) and at the end, so

@@ -4,8 +4,8 @@
 /// it, not leave the others blocked in MPI forever. Open MPI itself aborts the job when a rank
 /// dies, but a stopped rank is alive to it. So every wait for another rank here is a
 /// non-blocking operation polled against a deadline (--rank-timeout): on expiry the waiting
-/// rank prints `crex run: error: rank K did not reach <point> within S s` and calls MPI_Abort,
-/// and mpirun ends every rank (SIGTERM, then SIGKILL, which a stopped process cannot ignore).
+/// rank prints `crex run: error: rank K did not reach <point> within S s` and ends the run
+/// (end_all_ranks below: rank 0 writes its finished rows, then MPI_Abort), and mpirun ends every rank (SIGTERM, then SIGKILL, which a stopped process cannot ignore).
 /// Polling with short sleeps has a second purpose: a rank blocked in MPI_Recv spins at 100 %
 /// of a core in Open MPI, which on a machine with fewer cores than ranks takes the core from
 /// the rank doing the work; a sleeping poll gives it back. The seconds spent waiting are the
