@@ -53,7 +53,10 @@ int run(RunOptions opt) {
     }
     if (ranks.active() && ranks.rank != 0) opt.quiet = true;
     std::optional<CheckpointRecorder> recorder;
-    if (setup.reference || !opt.report_dir.empty()) {
+    // Under mpirun rank 0's film holds only its own band until the last exchange of rows, so
+    // snapshots during the render would measure rows no rank had sent yet: the error curve
+    // gets one point, the end, with every rank's rows (after finish() below).
+    if ((setup.reference || !opt.report_dir.empty()) && !ranks.active()) {
         recorder.emplace(opt.checkpoint_interval);
         setup.settings.recorder = &*recorder;
     }
@@ -79,8 +82,14 @@ int run(RunOptions opt) {
         return kExitFailure;
     }
     progress.finish();
-    if (ranks.active())
+    if (ranks.active()) {
         if (auto exit = distributed.finish(setup, *result)) return *exit;  // rank 0 goes on to write the outputs
+        if (setup.reference || !opt.report_dir.empty()) {
+            recorder.emplace(opt.checkpoint_interval);
+            recorder->add({distributed.slowest_render_seconds(), "end", "end of render (the rows of every rank)",
+                           static_cast<uint64_t>(distributed.rays_over_ranks()), result->image()});
+        }
+    }
     // The same render under every other policy, from the same profile, for the report's
     // plot of all of them; nothing of theirs is written but their checkpoints.
     std::vector<PolicyRun> others;

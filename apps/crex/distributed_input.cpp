@@ -19,9 +19,9 @@ namespace crex::app {
 namespace {
 
 // Said by rank 0 before anything is sent, so every rank exits with its code.
-std::optional<int> unsupported_under_mpirun(const RunOptions& opt, const RunSetup& setup) {
-    if (setup.reference || !opt.report_dir.empty() || opt.compare_policies) {
-        std::cerr << "crex run: error: under mpirun, --reference, --report and --compare-policies are not supported yet\n";
+std::optional<int> unsupported_under_mpirun(const RunOptions& opt) {
+    if (opt.compare_policies) {
+        std::cerr << "crex run: error: under mpirun, --compare-policies is not supported yet\n";
         return kExitUsage;
     }
     return std::nullopt;
@@ -32,7 +32,7 @@ std::optional<int> unsupported_under_mpirun(const RunOptions& opt, const RunSetu
 std::optional<int> read_as_rank0(RunOptions& opt, RunInput& in, RunSetup& setup, nlohmann::json& data, std::string& ic_bytes) {
     if (auto exit = read_run_input(opt, in)) return exit;
     if (auto exit = make_run_setup(opt, in, setup)) return exit;
-    if (auto exit = unsupported_under_mpirun(opt, setup)) return exit;
+    if (auto exit = unsupported_under_mpirun(opt)) return exit;
     if (in.pipeline) {
         data["plan"] = pipeline_plan_to_json(in.plan).dump();
     } else {  // a crex (-e, or a kept crex plan): its program, as `crex plan` keeps it

@@ -163,6 +163,7 @@ std::optional<int> DistributedRun::finish(const RunSetup& setup, RunResult& resu
 #endif
     const RankTotals t = totals(static_cast<double>(total_rays(result.stats)), result.ic_stats, result.render_seconds,
                                 static_cast<double>(result.budget_stopped_samples));
+    rays_ = t.rays, slowest_ = t.slowest;
     if (ranks_.rank != 0) return kExitOk;
     disarm_partial_outputs();  // every rank is past its last wait: the outputs themselves follow
     std::string how = "in bands of rows";

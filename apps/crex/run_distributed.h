@@ -33,11 +33,15 @@ public:
     /// saves --ic-file under component, from the first PA). Collective. Returns the exit code
     /// on ranks other than 0 (they write nothing); none on rank 0, which writes the outputs.
     std::optional<int> finish(const RunSetup& setup, RunResult& result);
+    /// After finish(): the rays over all ranks, and the slowest rank's render time.
+    double rays_over_ranks() const { return rays_; }
+    double slowest_render_seconds() const { return slowest_; }
 
 private:
     struct Modes;
     Distribution ranks_;
     std::unique_ptr<Modes> modes_;
+    double rays_ = 0, slowest_ = 0;
 };
 
 }  // namespace crex::app

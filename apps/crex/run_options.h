@@ -53,8 +53,9 @@ struct RunOptions {
     /// Under mpirun, on ranks other than 0: the --profile as rank 0 read it (the file may exist
     /// on rank 0's machine only); used instead of reading profile_in.
     std::optional<std::string> profile_text;
-    /// False on ranks other than 0 under mpirun: they write no file, so their -o, --maps and
-    /// --report paths are not checked (nor their directories made) on their machines.
+    /// False on ranks other than 0 under mpirun: they write no file and measure no error, so
+    /// their -o, --maps and --report paths are not checked (nor their directories made) on
+    /// their machines, and no --reference is read there.
     bool writes_outputs = true;
     std::string profile_out;
     std::string maps_dir;

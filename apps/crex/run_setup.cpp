@@ -190,7 +190,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
 
     // The reference of the error curve: with --reference, or for a report.
     setup.reference_file = opt.reference;
-    if (!opt.reference.empty() || !opt.report_dir.empty()) {
+    if (opt.writes_outputs && (!opt.reference.empty() || !opt.report_dir.empty())) {
         bool automatic = opt.reference.empty() || opt.reference == "auto";
         if (automatic) {
             ReferenceSettings ref;

@@ -41,6 +41,13 @@ public:
     void event(const std::string& what, bool boundary, uint64_t rays, const std::function<std::vector<float>()>& snapshot,
                bool force = false);
 
+    /// A checkpoint made elsewhere (distributed runs: the image of every rank's rows at the
+    /// end, which no single process's film holds before then).
+    void add(Checkpoint c) {
+        bytes_ += c.image.size() * sizeof(float);
+        checkpoints_.push_back(std::move(c));
+    }
+
     const std::vector<Checkpoint>& checkpoints() const { return checkpoints_; }
 
 private:

@@ -8,6 +8,7 @@
 // error naming it; a stopped rank (renderer or PA) is named by --rank-timeout; neither leaves
 // a process or a half-written output.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <algorithm>
@@ -382,11 +383,39 @@ TEST_F(MpiRun, EachRankSpendsTheBudgetOnItsOwnBand) {
     EXPECT_TRUE(std::any_of(rgb.begin() + half, rgb.end(), [](float v) { return v > 0; })) << "rank 1's band";
 }
 
-// Still refused under mpirun: a report's error curve needs the whole image during the render.
-TEST_F(MpiRun, AReportIsRefusedOnceWithExitTwo) {
-    auto r = mpirun(2, {"run", "--size", "8x8", "-q", "--report", path("rep"), "-o", path("x.exr")});
+// --report and --reference under mpirun: rank 0 writes the report from the shared film; the
+// error curve has one point, the end (before it rank 0's film holds only its own band). The
+// reference here is the single-process image, which the 2-rank image equals: error 0.
+TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
+    const std::vector<std::string> args = {"run", "--size", "24x18", "--spp", "2"};
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"-q", "-o", path("one.exr")});
+    auto one = testing::crex_cli(a);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    a = args;
+    a.insert(a.end(), {"--reference", path("one.exr"), "--report", path("report"), "--format", "json", "-o", path("two.exr")});
+    auto two = mpirun(2, a);
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    EXPECT_TRUE(fs::exists(path("report/index.html")));
+    const auto j = nlohmann::json::parse(two.out, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << two.out;
+    ASSERT_EQ(j["error_curve"].size(), 1u) << two.out;
+    EXPECT_EQ(j["error_curve"][0]["stage"], "end");
+    EXPECT_EQ(j["error_curve"][0]["rmse"].get<double>(), 0.0);
+    std::ifstream in(path("report/checkpoints.json"));
+    const auto cj = nlohmann::json::parse(in, nullptr, false);
+    ASSERT_TRUE(cj.is_object());
+    EXPECT_EQ(cj["checkpoints"].size(), 1u);
+}
+
+// Still refused under mpirun (once, exit 2): each rank would render the whole image again.
+TEST_F(MpiRun, ComparingPoliciesIsRefusedOnceWithExitTwo) {
+    auto ref = testing::crex_cli({"run", "--size", "8x8", "-q", "-o", path("ref.exr")});
+    ASSERT_EQ(ref.exit_code, 0) << ref.err;
+    auto r = mpirun(2, {"run", "--size", "8x8", "-q", "--budget", "1s", "--reference", path("ref.exr"), "--compare-policies", "-o", path("x.exr")});
     EXPECT_EQ(r.exit_code, 2) << r.err;
-    EXPECT_EQ(count(r.err, "not supported yet"), 1u) << r.err;
+    EXPECT_EQ(count(r.err, "--compare-policies is not supported yet"), 1u) << r.err;
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
