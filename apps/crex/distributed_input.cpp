@@ -18,6 +18,11 @@
 namespace crex::app {
 namespace {
 
+// JSON text of `j`. A name read from a file may hold bytes that are not UTF-8 (a RADIANCE
+// identifier in Latin-1), which dump() refuses by default: they become U+FFFD, the same bytes
+// alike, so a shape still names its material.
+std::string text_of(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
+
 // Said by rank 0 before anything is sent, so every rank exits with its code.
 std::optional<int> unsupported_under_mpirun(const RunOptions& opt) {
     if (opt.compare_policies) {
@@ -34,21 +39,21 @@ std::optional<int> read_as_rank0(RunOptions& opt, RunInput& in, RunSetup& setup,
     if (auto exit = make_run_setup(opt, in, setup)) return exit;
     if (auto exit = unsupported_under_mpirun(opt)) return exit;
     if (in.pipeline) {
-        data["plan"] = pipeline_plan_to_json(in.plan).dump();
+        data["plan"] = text_of(pipeline_plan_to_json(in.plan));
     } else {  // a crex (-e, or a kept crex plan): its program, as `crex plan` keeps it
         CrexPlan plan;
         plan.source = sched::to_crex(in.plan.program);
         plan.program = in.plan.program;
-        data["plan"] = plan_to_json(plan).dump();
+        data["plan"] = text_of(plan_to_json(plan));
     }
-    data["scene"] = scene_to_json(*in.scene->scene).dump();
+    data["scene"] = text_of(scene_to_json(*in.scene->scene));
     data["scene_spec"] = in.scene_spec;
     data["scene_source"] = in.scene->scene->source;
     if (!opt.profile_in.empty()) {
         // As read (the profile's own JSON with the full render's time): the others parse it alike.
         auto profile = nlohmann::json::parse(setup.profile.to_json_text());
         profile["full_render_seconds"] = setup.full_render_seconds;
-        data["profile"] = profile.dump();
+        data["profile"] = text_of(profile);
     }
     RunSettings& s = setup.settings;
     std::error_code ec;
@@ -109,7 +114,7 @@ std::optional<int> read_run_input_on_rank0(RunOptions& opt, RunInput& in, RunSet
             throw;
         }
         if (exit) data = {{"exit", *exit}};
-        share_from_rank0(data.dump(), what);
+        share_from_rank0(text_of(data), what);
         if (!exit) share_from_rank0(std::move(ic_bytes), "the --ic-file records");
         return exit;
     }

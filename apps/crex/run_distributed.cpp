@@ -106,6 +106,7 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
     };
 #endif
     s.save_ic_file = ranks_.rank == 0;
+    waited_before_ = seconds_waiting_for_ranks();
     return std::nullopt;
 }
 
@@ -116,14 +117,16 @@ struct RankTotals {
 };
 
 // `left_out`: camera samples this rank's budget left out of its band.
-RankTotals totals(double rays, const IcStats& ic, double render_seconds, double left_out) {
+// `waited_before`: seconds this rank waited before the render (for rank 0's inputs, for the
+// others to set up), which the idle share of the render leaves out.
+RankTotals totals(double rays, const IcStats& ic, double render_seconds, double left_out, double waited_before) {
     all_ranks_arrive("the end of the render");
     RankTotals t;
     // Misses as the thesis counts them: lookups (at every bounce) not interpolated from records.
     t.rays = sum_over_ranks(rays);
     t.records = sum_over_ranks(static_cast<double>(ic.records));
     t.misses = sum_over_ranks(static_cast<double>(ic.lookups - ic.interpolated));
-    t.waiting = sum_over_ranks(seconds_waiting_for_ranks());
+    t.waiting = sum_over_ranks(seconds_waiting_for_ranks() - waited_before);
     t.slowest = max_over_ranks(render_seconds);
     t.left_out = sum_over_ranks(left_out);
     return t;
@@ -143,7 +146,7 @@ int DistributedRun::serve(const RunInput& in, const RunSetup& setup) {
     ServeResult served = serve_irradiance(modes_->roles, cache);
     // Rank 0 writes --ic-file, as every output: the file is on its machine, not this one's.
     if (modes_->roles.pa_index == 0 && !s.ic_file.empty()) send_bytes(0, cache.to_bytes(), "the irradiance cache for --ic-file");
-    totals(0, cache.stats(), served.seconds, 0);
+    totals(0, cache.stats(), served.seconds, 0, waited_before_);
     return kExitOk;
 #else
     (void)in, (void)setup;
@@ -162,7 +165,7 @@ std::optional<int> DistributedRun::finish(const RunSetup& setup, RunResult& resu
     if (modes_->central) modes_->central->finish();
 #endif
     const RankTotals t = totals(static_cast<double>(total_rays(result.stats)), result.ic_stats, result.render_seconds,
-                                static_cast<double>(result.budget_stopped_samples));
+                                static_cast<double>(result.budget_stopped_samples), waited_before_);
     rays_ = t.rays, slowest_ = t.slowest;
     if (ranks_.rank != 0) return kExitOk;
     disarm_partial_outputs();  // every rank is past its last wait: the outputs themselves follow

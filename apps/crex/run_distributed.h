@@ -42,6 +42,7 @@ private:
     Distribution ranks_;
     std::unique_ptr<Modes> modes_;
     double rays_ = 0, slowest_ = 0;
+    double waited_before_ = 0;  // seconds waited for other ranks before the render
 };
 
 }  // namespace crex::app
