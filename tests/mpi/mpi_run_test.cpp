@@ -147,6 +147,22 @@ TEST_F(MpiRun, AnObjMeshSceneIsSentInline) {
     }
 }
 
+// A RADIANCE identifier in Latin-1 (not UTF-8) goes through the scene's JSON to rank 1.
+TEST_F(MpiRun, ANameThatIsNotUtf8StillReachesTheOtherRanks) {
+    std::ofstream(path("l1.rad")) << "void light lamp\n0\n0\n3 10 10 10\n\nvoid plastic gr\xe9y\n0\n0\n5 .5 .5 .5 0 0\n\n"
+                                     "lamp sphere s1\n0\n0\n4 0 2 0 .5\n\ngr\xe9y sphere s2\n0\n0\n4 0 0 0 1\n";
+    const std::vector<std::string> args = {"run", "--scene", path("l1.rad"), "--size", "16x12", "--spp", "2", "-q", "-o"};
+    std::vector<std::string> a = args;
+    a.push_back(path("one.exr"));
+    auto one = testing::crex_cli(a);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    a = args;
+    a.push_back(path("two.exr"));
+    auto two = mpirun(2, a);
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+}
+
 // An error in the input is rank 0's to say, once, with its location; every rank exits 1.
 TEST_F(MpiRun, AnInputErrorIsSaidOnceAndEveryRankExitsOne) {
     std::ofstream(path("bad.pipe")) << "pipeline bad {\n  preselective { crex \"(TTMRSGD)*\" spp }\n}\n";
