@@ -25,7 +25,7 @@ namespace crex::app {
 namespace {
 
 int run(RunOptions opt) {
-    if (auto exit = parse_ambient(opt)) return *exit;
+    if (auto exit = parse_ambient(opt, distribution().rank == 0)) return *exit;  // said once under mpirun
     set_rank_timeout(opt.rank_timeout);  // bounds the wait for rank 0's inputs too
     // Under mpirun rank 0 alone reads, checks and plans; the others get it as data.
     RunInput in;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <regex>
+#include <sstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -96,16 +97,20 @@ int main(int argc, char** argv) {
     runners["compare"] = add_compare_command(app);
     runners["reference"] = add_reference_command(app);
 
+    // Under mpirun every rank parses the same command line: rank 0 alone says what is wrong
+    // (or prints the help), and every rank exits with the same code.
+    const bool speaks = distribution().rank == 0;
+    std::ostringstream silent;
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
+        return speaks ? app.exit(e) : app.exit(e, silent, silent);
     } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
+        return speaks ? app.exit(e) : app.exit(e, silent, silent);
     } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
+        return speaks ? app.exit(e) : app.exit(e, silent, silent);
     } catch (const CLI::ParseError& e) {
-        return usage_error(app, e, argc, argv);
+        return speaks ? usage_error(app, e, argc, argv) : kExitUsage;
     }
     try {
         for (auto* sub : app.get_subcommands()) return runners.at(sub->get_name())();

@@ -44,7 +44,7 @@ bool parse_budget(const std::string& text, double& value, bool& percent) {
 
 }  // namespace
 
-std::optional<int> parse_ambient(RunOptions& opt) {
+std::optional<int> parse_ambient(RunOptions& opt, bool say) {
     if (opt.ambient_text.empty()) return std::nullopt;
     if (opt.ambient_text == "auto") {
         opt.ambient_auto = true;
@@ -57,7 +57,7 @@ std::optional<int> parse_ambient(RunOptions& opt) {
             return std::nullopt;
     } catch (const std::exception&) {
     }
-    std::cerr << fmt::format("crex run: error: --ambient '{}': expected 'auto' or a radiance from 0 to 1e30\n", opt.ambient_text);
+    if (say) std::cerr << fmt::format("crex run: error: --ambient '{}': expected 'auto' or a radiance from 0 to 1e30\n", opt.ambient_text);
     return kExitUsage;
 }
 

@@ -40,7 +40,7 @@ std::optional<OutputPathFailure> check_output_path(const std::string& path);
 std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, RunSetup& setup);
 
 /// --ambient: "auto" or a radiance (into opt.ambient / opt.ambient_auto). Returns an exit code
-/// on a malformed value (the error printed).
-std::optional<int> parse_ambient(RunOptions& opt);
+/// on a malformed value (the error printed if `say`: under mpirun by rank 0 only).
+std::optional<int> parse_ambient(RunOptions& opt, bool say = true);
 
 }  // namespace crex::app

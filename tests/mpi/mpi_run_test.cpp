@@ -171,6 +171,14 @@ TEST_F(MpiRun, AnInputErrorIsSaidOnceAndEveryRankExitsOne) {
     EXPECT_EQ(count(r.err, path("bad.pipe") + ":2:"), 1u) << r.err;
     EXPECT_EQ(count(r.err, "nothing rendered"), 1u) << r.err;
     EXPECT_FALSE(fs::exists(path("bad.exr")));
+    // Usage errors too, of the flags (every rank parses them) and of their values.
+    for (const std::vector<std::string>& flags : {std::vector<std::string>{"--spp", "0"}, {"--ambient", "bogus"}, {"--bogus"}}) {
+        std::vector<std::string> a = {"run", "--size", "8x8", "-q", "-o", path("bad.exr")};
+        a.insert(a.end(), flags.begin(), flags.end());
+        auto usage = mpirun(3, a);
+        EXPECT_EQ(usage.exit_code, 2) << usage.err;
+        EXPECT_EQ(count(usage.err, "crex run: error:"), 1u) << flags[0] << ": " << usage.err;
+    }
     // A missing file is an I/O failure (3), said once too.
     auto missing = mpirun(2, {"run", path("none.pipe"), "--size", "8x8", "-q", "-o", path("bad.exr")});
     EXPECT_EQ(missing.exit_code, 3) << missing.err;
