@@ -286,7 +286,9 @@ TEST(PipelineRun, CapictInterpolatesWithoutBlackPixelsOrLostLight) {
         const double y = 0.2126 * image[3 * p] + 0.7152 * image[3 * p + 1] + 0.0722 * image[3 * p + 2];
         ASSERT_TRUE(std::isfinite(y)) << p;
         const double before = 0.2126 * preview[3 * p] + 0.7152 * preview[3 * p + 1] + 0.0722 * preview[3 * p + 2];
-        if (before > 0) EXPECT_GT(y, 0.0) << "pixel " << p << " went black";
+        if (before > 0) {
+            EXPECT_GT(y, 0.0) << "pixel " << p << " went black";
+        }
     }
     // The interpolation moves light between pixels, it neither makes nor loses it: the image's
     // mean is the full render's within 3 % (16 spp of 32x32: the means' own noise is ~1 %).
