@@ -42,6 +42,12 @@ inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinit
 inline double max_of(double a, double b) { return a >= b || b != b ? a : b; }
 inline double min_of(double a, double b) { return a <= b || b != b ? a : b; }
 inline double max_component(const Vec3& v) { return max_of(v.x, max_of(v.y, v.z)); }
+/// Light per unit of throughput, channel by channel (a / b): 0 where b is not positive or the
+/// ratio is not finite, never negative. What a ray brought back per unit weight.
+inline Vec3 per_unit(const Vec3& a, const Vec3& b) {
+    auto r = [](double x, double y) { return y > 0 && std::isfinite(x / y) ? max_of(0.0, x / y) : 0.0; };
+    return {r(a.x, b.x), r(a.y, b.y), r(a.z, b.z)};
+}
 inline double min_component(const Vec3& v) { return min_of(v.x, min_of(v.y, v.z)); }
 inline Vec3 vmin(const Vec3& a, const Vec3& b) { return {min_of(a.x, b.x), min_of(a.y, b.y), min_of(a.z, b.z)}; }
 inline Vec3 vmax(const Vec3& a, const Vec3& b) { return {max_of(a.x, b.x), max_of(a.y, b.y), max_of(a.z, b.z)}; }

@@ -263,10 +263,7 @@ std::vector<float> PlanRun::composite_now() const {
         add_ambient(ex_->bins()[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
         add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, ambient);
     }
-    if (out_.component_subsample.any()) {
-        std::vector<double> interpolated = out_.component_subsample.stand_ins(out_.film);
-        for (size_t i = 0; i < ambient.size(); ++i) ambient[i] += interpolated[i];
-    }
+    out_.component_subsample.add_stand_ins(out_.film, ambient);
     std::vector<float> rgb = out_.film.composite(&ambient);
     if (out_.subsample) out_.subsample->fill(rgb);
     return rgb;
@@ -283,8 +280,7 @@ Vec3 PlanRun::ambient_per_throughput(size_t c, const ExecutorStats& stats, const
         Vec3 v = film.pixel_value(aov, p) * double(film.samples(p));
         found[0] += v.x, found[1] += v.y, found[2] += v.z;
     }
-    auto ratio = [](double a, double b) { return b > 0 && std::isfinite(a / b) ? std::max(0.0, a / b) : 0.0; };
-    return {ratio(found[0], beta[0]), ratio(found[1], beta[1]), ratio(found[2], beta[2])};
+    return per_unit({found[0], found[1], found[2]}, {beta[0], beta[1], beta[2]});
 }
 
 void PlanRun::add_auto_ambient() {
@@ -544,14 +540,15 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
             break;
         }
         case V::kSubsample:
-            if (var.component && !surfaces_) {
+            if (!var.component) {
+                out_.subsample.emplace(w, h, variable_values(var.from, var.to, var.modulation, m, true));
+                break;
+            }
+            if (!surfaces_) {  // capict: which corners see a pixel's surface, probed once
                 surfaces_ = probe_pixels(*rs_, w, h);
                 out_.component_subsample.set_surfaces(*surfaces_);
             }
-            if (var.component)
-                out_.component_subsample.build(*var.component, w, h, variable_values(var.from, var.to, var.modulation, m, true), film);
-            else
-                out_.subsample.emplace(w, h, variable_values(var.from, var.to, var.modulation, m, true));
+            out_.component_subsample.build(*var.component, w, h, variable_values(var.from, var.to, var.modulation, m, true), film);
             break;
         case V::kIcRadius: {
             if (!cache_) {
@@ -871,14 +868,9 @@ uint64_t total_rays(const ExecutorStats& stats) {
 }
 
 std::vector<float> RunResult::image() const {
-    std::vector<float> rgb;
-    if (component_subsample.any()) {
-        std::vector<double> with = component_subsample.stand_ins(film);
-        for (size_t i = 0; i < with.size() && i < ambient.size(); ++i) with[i] += ambient[i];
-        rgb = film.composite(&with);
-    } else {
-        rgb = film.composite(&ambient);
-    }
+    std::vector<double> stand_in = ambient;
+    component_subsample.add_stand_ins(film, stand_in);
+    std::vector<float> rgb = film.composite(&stand_in);
     if (subsample) subsample->fill(rgb);
     return rgb;
 }

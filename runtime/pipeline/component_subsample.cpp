@@ -6,13 +6,7 @@
 namespace crex {
 namespace {
 
-bool some(const Vec3& v) { return v.x > 0 || v.y > 0 || v.z > 0; }
-
-// Radiance per unit throughput, channel by channel; a channel no ray carried gives 0.
-Vec3 per_throughput(const Vec3& found, const Vec3& throughput) {
-    auto r = [](double f, double t) { return t > 0 && std::isfinite(f / t) ? std::max(0.0, f / t) : 0.0; };
-    return {r(found.x, throughput.x), r(found.y, throughput.y), r(found.z, throughput.z)};
-}
+bool some(const Vec3& v) { return max_component(v) > 0; }
 
 // The standard error of the luminance of branch c's light at a pixel, from its two halves
 // (even and odd camera samples): |mean(even) - mean(odd)| / 2, as Film::noise_image. 0 when a
@@ -22,7 +16,7 @@ double standard_error(const Film& film, size_t c, uint32_t p) {
     const Vec3 found = film.branch_sum(c, p), found_odd = film.branch_odd_sum(c, p);
     const Vec3 run_even = run - run_odd;
     if (!some(run_odd) || !some(run_even)) return 0;
-    const double odd = luminance(per_throughput(found_odd, run_odd)), even = luminance(per_throughput(found - found_odd, run_even));
+    const double odd = luminance(per_unit(found_odd, run_odd)), even = luminance(per_unit(found - found_odd, run_even));
     return std::isfinite(odd - even) ? std::fabs(odd - even) / 2 : 0;
 }
 
@@ -87,7 +81,7 @@ std::vector<uint8_t> ComponentSubsampling::refine(Component c, double threshold,
                     const uint32_t q = static_cast<uint32_t>(qy * w + qx);
                     const Vec3 run = film.first_bounce_run(ci, q);
                     if (!some(run)) continue;
-                    const double l = luminance(per_throughput(film.branch_sum(ci, q), run));
+                    const double l = luminance(per_unit(film.branch_sum(ci, q), run));
                     const double e = standard_error(film, ci, q);
                     if (l < lo) lo = l, se_lo = e;
                     if (l > hi) hi = l, se_hi = e;
@@ -114,6 +108,12 @@ std::vector<uint8_t> ComponentSubsampling::refine(Component c, double threshold,
     for (uint32_t p = 0; p < added.size(); ++p)
         if (grids_[ci]->rendered(p) && !before.rendered(p)) added[p] = 1, any_added = true;
     return any_added ? added : std::vector<uint8_t>{};
+}
+
+void ComponentSubsampling::add_stand_ins(const Film& film, std::vector<double>& sums) const {
+    if (!any()) return;
+    const std::vector<double> add = stand_ins(film);
+    for (size_t i = 0; i < sums.size() && i < add.size(); ++i) sums[i] += add[i];
 }
 
 std::vector<uint8_t> ComponentSubsampling::first_bounce_runs(size_t pixels) const {
@@ -143,11 +143,16 @@ std::vector<double> ComponentSubsampling::stand_ins(const Film& film, std::optio
         for (uint32_t p = 0; p < pixels; ++p) {
             const Vec3 run = film.first_bounce_run(c, p), found = film.branch_sum(c, p);
             found_all = found_all + found, run_all = run_all + run;
-            if (some(run)) radiance[p] = per_throughput(found, run), has[p] = 1;
+            if (some(run)) radiance[p] = per_unit(found, run), has[p] = 1;
             const Vec3 all = film.first_bounce_all(c, p);
             complete[p] = has[p] && !(luminance(all - run) > 1e-9 * luminance(all));
         }
-        const Vec3 mean = per_throughput(found_all, run_all);
+        const Vec3 mean = per_unit(found_all, run_all);
+        // The pixel's branch becomes `estimate`: what changes is estimate - what the film holds.
+        auto add = [&](uint32_t p, const Vec3& estimate) {
+            const Vec3 delta = estimate - film.branch_sum(c, p);
+            if (is_finite(delta)) out[3 * p] += delta.x, out[3 * p + 1] += delta.y, out[3 * p + 2] += delta.z;
+        };
         // Indirect diffuse light is smooth (what an irradiance cache relies on): where the grid
         // is coarser than a pixel its tent is twice as wide and covers the corners too, so no
         // corner keeps the noise of its own few paths (Cornell 128x128, spacing 8: FLIP 0.185
@@ -164,10 +169,7 @@ std::vector<double> ComponentSubsampling::stand_ins(const Film& film, std::optio
                 // A corner keeps its own light; while its skipped samples are still being
                 // rendered again (refinement) the ones done stand in for all of them, so a
                 // report's snapshot does not see it darken.
-                const Vec3 run = film.first_bounce_run(c, p);
-                if (!has[p] || complete[p]) continue;
-                const Vec3 delta = all * radiance[p] - film.branch_sum(c, p);
-                if (is_finite(delta)) out[3 * p] += delta.x, out[3 * p + 1] += delta.y, out[3 * p + 2] += delta.z;
+                if (has[p] && !complete[p]) add(p, all * radiance[p]);
                 continue;
             }
             // A tent over the corners around the pixel, as wide as its square: the bilinear
@@ -193,10 +195,7 @@ std::vector<double> ComponentSubsampling::stand_ins(const Film& film, std::optio
                 for (int qy : {int(y0), int(y1)})
                     for (int qx : {int(x0), int(x1)}) take(qx, qy);
             }
-            const Vec3 light = weight > 0 ? sum / weight : has[p] ? radiance[p] : mean;
-            const Vec3 delta = all * light - film.branch_sum(c, p);
-            if (!is_finite(delta)) continue;
-            out[3 * p] += delta.x, out[3 * p + 1] += delta.y, out[3 * p + 2] += delta.z;
+            add(p, all * (weight > 0 ? sum / weight : has[p] ? radiance[p] : mean));
         }
     }
     return out;

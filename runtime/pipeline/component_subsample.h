@@ -50,6 +50,8 @@ public:
     /// film's sums: for every sub-sampled component (or only `only`), the interpolated branch
     /// minus what the film holds of it, in the pixels that are not corners of its grid.
     std::vector<double> stand_ins(const Film& film, std::optional<Component> only = std::nullopt) const;
+    /// sums += stand_ins(film), when any component is sub-sampled (the driver's ambient buffer).
+    void add_stand_ins(const Film& film, std::vector<double>& sums) const;
 
 private:
     bool same_surface(uint32_t p, uint32_t q) const;
