@@ -65,8 +65,8 @@ void merge(ResolvedPipeline& r, const ast::Pipeline& p) {
                 } else if (inner.kind == K::kSetting && !inner.values.empty()) {
                     stage.settings[inner.key] = inner.values[0];
                 } else if (inner.kind == K::kVary) {
-                    ResolvedVariable v{inner.key, inner.lo, inner.hi, inner.expr, inner.using_fn, inner.component};
-                    if (inner.has_refine) v.refine = inner.refine.number;
+                    const std::optional<double> refine = inner.has_refine ? std::optional(inner.refine.number) : std::nullopt;
+                    ResolvedVariable v{inner.key, inner.lo, inner.hi, inner.expr, inner.using_fn, inner.component, refine};
                     bool replaced = false;
                     for (auto& old : r.vary)
                         if (old.varied() == v.varied()) old = v, replaced = true;
