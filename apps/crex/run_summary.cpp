@@ -54,6 +54,9 @@ nlohmann::json run_summary_json(const RunFacts& f) {
         for (const auto& m : f.piped->maps) maps.push_back(m.first);
         j["maps"] = maps;
         j["notes"] = f.piped->notes;
+        if (f.piped->direct_light_redone)  // progressive direct light: preview samples given their pixel's shadow_rays
+            j["preview_direct_light_redone"] = {{"samples", f.piped->direct_light_redone},
+                                                {"shadow_rays", f.piped->direct_light_redone_shadow_rays}};
         if (f.piped->subsample) j["subsampled_pixels_rendered"] = f.piped->subsample->rendered_count();
         if (f.piped->component_subsample.any()) {  // capict: per component, the pixels its first bounces ran in
             nlohmann::json corners = nlohmann::json::object();

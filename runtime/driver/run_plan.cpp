@@ -118,6 +118,7 @@ private:
     }
     SelectiveSetup guidance(bool from_current_image);
     void reanswer_preview_queries(const SelectiveSetup& sel);
+    void redo_preview_direct_light(const SelectiveSetup& sel);
     void refine_components(const sched::Program& program);
 
     const Scene& scene_;
@@ -145,6 +146,7 @@ private:
     std::vector<uint32_t> pass_start_samples_;
     std::optional<IrradianceCache> cache_;
     std::vector<IcAnswer> preview_answers_;
+    uint32_t preview_shadow_rays_ = 1;  ///< the base quality the preview's hits were shaded at
     std::optional<PixelProbe> surfaces_;      // capict: what each pixel centre sees
     std::vector<float> replay_start_image_;   // capict, reports: the image before the refinement round running
     std::vector<uint8_t> first_bounce_runs_;  // capict: the executor's gate (bit c: c's first bounces run)
@@ -623,6 +625,31 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     preview_answers_.shrink_to_fit();
 }
 
+void PlanRun::redo_preview_direct_light(const SelectiveSetup& sel) {
+    // The preview's samples are kept (spec: its work is never thrown away), so a pixel that
+    // asks for more shadow rays than the preview's base would otherwise keep a base-quality
+    // direct light in them: with few samples per pixel, most of its image (thesis 8.2's
+    // progressive direct lighting re-estimates it too).
+    if (sel.shadow_rays.empty()) return;
+    if (s_.executor.budget_seconds > 0 && now() >= s_.executor.budget_seconds) return;  // the budget is spent
+    const size_t w = static_cast<size_t>(s_.width);
+    const bool some_rows = s_.row_end > s_.row_begin;
+    const size_t p0 = some_rows ? static_cast<size_t>(s_.row_begin) * w : 0;
+    const size_t p1 = some_rows ? static_cast<size_t>(s_.row_end) * w : out_.film.pixel_count();
+    RayBatch rays;
+    for (size_t p = p0; p < p1; ++p) {
+        if (sel.shadow_rays[p] <= preview_shadow_rays_) continue;
+        const uint32_t kept = std::min(s_.spp, out_.film.samples(static_cast<uint32_t>(p)));
+        append_camera_rays(*camera_, s_.seed, s_.width, static_cast<uint32_t>(p), 0, kept, rays, s_.filter);
+    }
+    if (rays.empty()) return;
+    std::vector<Vec3> delta;
+    out_.direct_light_redone_shadow_rays += redo_camera_direct_light(*rs_, rays, preview_shadow_rays_, sel.shadow_rays, delta);
+    for (size_t i = 0; i < rays.size(); ++i)
+        if (is_finite(delta[i])) out_.film.add(kCameraAov, rays.pixel[i], delta[i], rays.flags[i]);
+    out_.direct_light_redone += rays.size();
+}
+
 void PlanRun::refine_components(const sched::Program& program) {
     // capict's recursion (thesis 7.2): squares whose corners' light differs by more than the
     // component's threshold split, and the new corners render the branch they skipped, by
@@ -681,6 +708,7 @@ RunResult PlanRun::execute() {
     const auto t0 = Clock::now();
     CheckpointRecorder* rec = s_.recorder;
     ExecutorOptions eo = s_.executor;
+    preview_shadow_rays_ = eo.shade.shadow_rays;
     out_.policy = s_.policy ? *s_.policy
                   : plan_.settings.policy ? *plan_.settings.policy
                   : plan_.name.empty()    ? pipeline::SchedulingPolicy::kProgressive
@@ -789,6 +817,7 @@ RunResult PlanRun::execute() {
             if (!sel.media_samples.empty()) shade.media_samples_per_pixel = &sel.media_samples;
             if (!sel.specular_threshold.empty()) shade.specular_threshold_per_pixel = &sel.specular_threshold;
             ex_->set_shade_params(shade);
+            if (round == 1) redo_preview_direct_light(sel);
             if (cache_) {
                 if (round == 1) reanswer_preview_queries(sel);
                 ex_->set_irradiance(executor_hook(answer_queries(), base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,

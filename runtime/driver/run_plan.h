@@ -145,6 +145,10 @@ struct RunResult {
     /// The progressive selective cache (thesis 8.2): records made in the preview, preview D
     /// samples answered again at a finer accuracy in the selective stage, records made then.
     size_t ic_preview_records = 0, ic_reprocessed = 0, ic_selective_records = 0;
+    /// Progressive direct light (thesis 8.2): preview samples whose camera-hit direct light was
+    /// estimated again with their pixel's shadow_rays, and the shadow rays that took.
+    size_t direct_light_redone = 0;
+    uint64_t direct_light_redone_shadow_rays = 0;
     uint64_t preview_rays = 0, selective_rays = 0;
 
     /// The final image: the composite plus the ambient stand-in, sub-sampled pixels interpolated.

@@ -305,4 +305,71 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     });
 }
 
+uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays, uint32_t base,
+                                  const std::vector<uint16_t>& shadow_rays_per_pixel, std::vector<Vec3>& delta) {
+    delta.assign(rays.size(), Vec3{});
+    if (scene.lights->empty() || rays.empty()) return 0;
+    const MediumModel* medium = scene.medium ? &*scene.medium : nullptr;
+    // Slots per ray: the preview's `base` estimates (taken back out), then the new ones. Chunks
+    // hold at most ~1 M slots, so memory stays bounded whatever the image size.
+    auto wanted = [&](size_t r) { return std::max<uint32_t>(base, shadow_rays_per_pixel[rays.pixel[r]]); };
+    constexpr size_t kMaxSlots = size_t{1} << 20;
+    std::vector<RTCRayHit> hits;
+    std::vector<RTCRay> shadows;
+    std::vector<Vec3> values;
+    std::vector<size_t> first;
+    uint64_t traced = 0;
+    for (size_t begin = 0; begin < rays.size();) {
+        first.assign(1, 0);
+        size_t end = begin;
+        while (end < rays.size() && (end == begin || first.back() + base + wanted(end) <= kMaxSlots))
+            first.push_back(first.back() + base + wanted(end)), ++end;
+        const size_t n = end - begin;
+        hits.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            const size_t r = begin + i;
+            set_ray(hits[i], rays.ox[r], rays.oy[r], rays.oz[r], rays.dx[r], rays.dy[r], rays.dz[r], static_cast<unsigned>(i));
+        }
+        intersect_batch(*scene.embree, hits.data(), n, true);
+        shadows.resize(first.back());
+        values.assign(first.back(), Vec3{});
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kShadeBlock), [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t i = range.begin(); i < range.end(); ++i) {
+                for (size_t s = first[i]; s < first[i + 1]; ++s) make_hole(shadows[s], static_cast<unsigned>(i));
+                const RTCRayHit& h = hits[i];
+                if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                const Bsdf& b = scene.bsdf_of(h.hit.geomID);
+                if (!b.direct_response) continue;
+                // As trace_and_shade() shades a camera hit: the same frame, throughput and random numbers.
+                const size_t r = begin + i;
+                const double t = h.ray.tfar;
+                const Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z}, dir{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
+                Vec3 beta{rays.br[r], rays.bg[r], rays.bb[r]};
+                if (medium) beta = beta * medium->transmittance(t);
+                const HitFrame f = hit_frame(*scene.embree, h.hit, origin + dir * t, dir, t);
+                const HitRandom random(rays.path[r], rays.depth[r]);
+                const uint32_t k = wanted(r);
+                auto sample = [&](uint32_t j, uint32_t of, size_t slot, double sign) {
+                    Vec3 value, so, sd;
+                    double tfar;
+                    if (!direct_light_sample(scene, b, f, beta, random, j, of, value, so, sd, tfar)) return;
+                    aim_shadow_ray(shadows[slot], so, sd, tfar);
+                    values[slot] = value * sign;
+                };
+                for (uint32_t j = 0; j < base; ++j) sample(j, base, first[i] + j, -1.0);
+                for (uint32_t j = 0; j < k; ++j) sample(j, k, first[i] + base + j, 1.0);
+            }
+        });
+        occluded_batch(*scene.embree, shadows.data(), shadows.size());
+        for (size_t i = 0; i < n; ++i)
+            for (size_t s = first[i]; s < first[i + 1]; ++s)
+                if (!is_hole(shadows[s])) {
+                    ++traced;
+                    if (shadows[s].tfar != -INFINITY) delta[begin + i] += values[s];
+                }
+        begin = end;
+    }
+    return traced;
+}
+
 }  // namespace crex

@@ -94,6 +94,14 @@ bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, 
 void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begin, size_t end, bool camera,
                      const ShadeParams& params, ShadeOutput& out);
 
+/// Progressive direct light (thesis 8.2): the preview shaded its camera samples with `base`
+/// shadow rays per hit; where a pixel's shadow_rays is now larger, each such sample's camera-hit
+/// direct light is estimated again with that many rays, in place of the old estimate. The same
+/// camera rays are traced again (same hits, same random numbers), so delta[i] = the new estimate
+/// minus exactly what the preview added for ray i. Returns the shadow rays traced.
+uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& camera_rays, uint32_t base,
+                                  const std::vector<uint16_t>& shadow_rays_per_pixel, std::vector<Vec3>& delta);
+
 /// The path id of the child spawned through lobe `index` (shared with the oracle).
 inline uint64_t child_path(uint64_t parent, int lobe_index, Component c) {
     return (parent ^ (0x9e3779b97f4a7c15ull * (static_cast<uint64_t>(lobe_index) + 1))) * 0xff51afd7ed558ccdull +

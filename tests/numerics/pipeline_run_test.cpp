@@ -71,7 +71,7 @@ TEST(PipelineRun, EachPixelGetsTheSppItsMapAsksFor) {
     EXPECT_GT(differing, 100u);  // selective: most pixels get fewer than the maximum
 }
 
-TEST(PipelineRun, ShadowRaysPerPixelApplyToTheSelectiveSamplesOnly) {
+TEST(PipelineRun, SelectiveHitsCastTheirPixelsShadowRays) {
     Scene scene = load("builtin:cornell_diffuse");
     auto text = [](const std::string& vary) {
         return "pipeline p {\n preselective { spp 1 }\n guidance { c = constant(1) }\n selective { " + vary + " }\n}\n";
@@ -85,6 +85,39 @@ TEST(PipelineRun, ShadowRaysPerPixelApplyToTheSelectiveSamplesOnly) {
     // or on its edge casts none, which with a different sample count can change for a few hits.
     double expect = static_cast<double>(c + 4 * (a - c)), got = static_cast<double>(four.stats.camera.shadow_rays);
     EXPECT_NEAR(got, expect, 0.01 * 4 * static_cast<double>(a - c));
+}
+
+TEST(PipelineRun, ThePreviewsSamplesGetTheirPixelsShadowRaysToo) {
+    // Progressive direct light (thesis 8.2): the preview's kept samples have their camera-hit
+    // direct light estimated again with the pixel's shadow_rays. With no new sample, the camera
+    // AOV (emission and direct light at camera hits) is then that of a render with 8 shadow rays.
+    Scene scene = load("builtin:cornell");
+    auto text = [](const std::string& value) {
+        return "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 2 }\n guidance { c = constant(" + value +
+               ") }\n selective { vary shadow_rays 1 .. 8 by c }\n}\n";
+    };
+    auto eight = run(scene, plan_for(text("1"), scene), 20, 16, 2);
+    auto one = run(scene, plan_for(text("0"), scene), 20, 16, 2);
+    RunSettings ro;
+    ro.width = 20, ro.height = 16, ro.spp = 2;
+    const sched::Program program = plan_for(text("1"), scene).program;
+    auto plain = render(scene, program, ro);
+    ro.executor.shade.shadow_rays = 8;
+    auto plain8 = render(scene, program, ro);
+    EXPECT_EQ(one.direct_light_redone, 0u);  // nobody asked for more than the preview's one
+    EXPECT_EQ(eight.direct_light_redone, 2u * 20 * 16);
+    EXPECT_GT(eight.direct_light_redone_shadow_rays, 2u * 20 * 16);
+    auto near_all = [](const std::vector<float>& a, const std::vector<float>& b) {
+        ASSERT_EQ(a.size(), b.size());
+        for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], b[i], 1e-4 * std::max(1.0f, std::fabs(b[i]))) << i;
+    };
+    near_all(one.film.aov_image(kCameraAov), plain.film.aov_image(kCameraAov));
+    near_all(eight.film.aov_image(kCameraAov), plain8.film.aov_image(kCameraAov));
+    // And it changed something: the one-ray and eight-ray direct light differ.
+    EXPECT_NE(one.film.aov_image(kCameraAov), eight.film.aov_image(kCameraAov));
+    // Every other AOV (the paths beyond the camera hit) is the preview's, untouched.
+    for (size_t c = 0; c < kComponentCount; ++c)
+        EXPECT_EQ(one.film.aov_image(aov_of(static_cast<Component>(c))), eight.film.aov_image(aov_of(static_cast<Component>(c))));
 }
 
 TEST(PipelineRun, SpecularThresholdOneStopsSelectiveSpecularRays) {
