@@ -163,7 +163,7 @@ TEST(CrexPlanCli, DumpAfterEachPass) {
     auto parse = crex_cli({"plan", pipe, "--dump-after", "parse"});
     EXPECT_EQ(parse.exit_code, 0);
     EXPECT_NE(parse.out.find("pipeline prog_dis_all {"), std::string::npos) << parse.out;
-    EXPECT_NE(parse.out.find("    ic = edges(component(D))"), std::string::npos) << parse.out;
+    EXPECT_NE(parse.out.find("    ic = threshold(edges(component(D)), at 0.5)"), std::string::npos) << parse.out;
     auto compile = crex_cli({"plan", pipe, "--dump-after", "compile"});
     EXPECT_EQ(compile.exit_code, 0);
     EXPECT_NE(compile.out.find("preselective: (TTMRSGD)*"), std::string::npos) << compile.out;
