@@ -34,7 +34,7 @@ import sys
 
 from crex_tool import ROOT, crex
 
-DEFAULT_PIPELINES = ["adaptive", "prog_dis_all", "prog_all", "prog_rp", "sel_rp", "sel_edge", "sel_st", "osd", "cbr", "apict", "capict",
+DEFAULT_PIPELINES = ["adaptive", "prog_dis_all", "prog_all", "prog_rp", "sel_rp", "sel_edge", "sel_st", "sel_task", "osd", "cbr", "apict", "capict",
                      "tpict"]
 SCENES = {"cornell": ("builtin:cornell", 1.0), "corridor": (os.path.join(ROOT, "examples/scenes/corridor/scene.json"), 0.75),
           "room": (os.path.join(ROOT, "examples/scenes/room/scene.json"), 0.75),
