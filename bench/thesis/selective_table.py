@@ -3,7 +3,7 @@
 and the furnished room, under the two protocols of issue 14, side by side in one run.
 
   python3 bench/thesis/selective_table.py [--crex build/release/apps/crex/crex] [--width 128]
-        [--reference-spp 4096] [--pipelines adaptive,prog_dis_all,...] [--scenes cornell,room]
+        [--reference-spp 4096] [--pipelines adaptive,prog_dis_all,...] [--scenes cornell,room] [--repeat 3]
         [--out out/thesis]
 
 Thesis protocol: the pipeline against its own gold, `crex run P --uniform max` (every selective
@@ -29,6 +29,7 @@ Prints markdown tables; writes images, maps and selective_table.json to --out. N
 import json
 import math
 import os
+import statistics
 import subprocess
 import sys
 
@@ -53,11 +54,18 @@ def arguments():
     ap.add_argument("--pipelines", default=",".join(DEFAULT_PIPELINES))
     ap.add_argument("--scenes", default="cornell,corridor,room")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="renders per point; the median render time is kept (the image is the same: fixed seed)")
     return ap.parse_args()
 
 
 def run(a, args):
-    return json.loads(crex(a.crex, ["run"] + args + ["--format", "json", "-q", "--seed", str(a.seed)]))
+    """One render, `--repeat` times: the last run's summary with the median render time."""
+    runs = [json.loads(crex(a.crex, ["run"] + args + ["--format", "json", "-q", "--seed", str(a.seed)]))
+            for _ in range(max(1, a.repeat))]
+    j = runs[-1]
+    j["render_seconds"] = statistics.median(r["render_seconds"] for r in runs)
+    return j
 
 
 def compare(a, test, ref, attention):
