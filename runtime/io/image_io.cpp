@@ -65,6 +65,8 @@ const Plugin& plugin() {
 
 }  // namespace
 
+std::string load_image_plugin() { return plugin().error; }
+
 std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
                         const ImageMetadata& metadata) {
     const Plugin& p = plugin();

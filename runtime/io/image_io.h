@@ -34,6 +34,11 @@ using ImageMetadata = std::vector<std::pair<std::string, std::string>>;
 std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
                         const ImageMetadata& metadata = {});
 
+/// Loads the image plugin now rather than at the first read or write (0.3 s or more: it
+/// relocates OpenImageIO's libraries), for a write that must be quick when it comes: rank 0's
+/// finished rows, in the second mpirun gives it between SIGTERM and SIGKILL. "" when loaded.
+std::string load_image_plugin();
+
 /// Tone map of spec/pipeline.md §7 to 8-bit sRGB (exposed for tests and reports).
 std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
 /// The same tone map in two halves, so guidance operators and metrics can see several
