@@ -9,8 +9,10 @@
 #ifdef CREX_WITH_MPI
 #include <mpi.h>
 
+#include "apps/crex/distributed_partial.h"
 #include "apps/crex/rank_watchdog.h"
 #include "apps/crex/record_exchange.h"
+#include "apps/crex/stop_signals.h"
 #endif
 
 namespace crex::app {
@@ -35,6 +37,10 @@ MPI_Comm rows_comm() { return g_rows == MPI_COMM_NULL ? MPI_COMM_WORLD : g_rows;
 
 DistributedSession::DistributedSession(int& argc, char**& argv) {
     if (!launched_by_mpirun()) return;
+    // Before MPI_Init starts its threads (and before TBB starts any): mpirun's SIGTERM, when
+    // another rank dies, lets rank 0 write the rows it finished. A single process keeps the
+    // signals' default actions (its outputs are atomic: an interrupted run writes nothing).
+    take_stop_signals(write_finished_rows_on_stop);
     MPI_Init(&argc, &argv);
     g_started = true;
 }

@@ -3,10 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <mutex>
 #include <optional>
 
+#include "apps/crex/exit_codes.h"
 #include "runtime/base/output_set.h"
 
 #ifdef CREX_WITH_MPI
@@ -23,7 +27,18 @@ struct Partial {
     std::vector<float> rgb;     // black until a row is kept
     std::vector<char> finished;  // per row
 };
-std::optional<Partial> g_partial;
+
+// The rows are kept by the render's thread and written by a fault (that thread too) or by
+// the thread that takes a stop signal (stop_signals.h): under one mutex, so that a buffer
+// half-updated is never written. Never destroyed: a signal may come while the process exits.
+struct Kept {
+    std::mutex mutex;
+    std::optional<Partial> partial;  // armed
+};
+Kept& kept() {
+    static auto* k = new Kept;
+    return *k;
+}
 
 // "0..47" or "0..47, 60..95": the finished rows as ranges.
 std::string row_ranges(const std::vector<char>& finished) {
@@ -41,10 +56,11 @@ std::string row_ranges(const std::vector<char>& finished) {
     return out;
 }
 
-// On a fault, rank 0 (rank_watchdog.cpp calls it just before the abort).
-void write_finished_rows() {
-    if (!g_partial) return;
-    const Partial& p = *g_partial;
+// Writes the kept rows and disarms (at most once); `lock` holds kept().mutex.
+void write_kept_rows(const std::lock_guard<std::mutex>&) {
+    if (!kept().partial) return;
+    const Partial p = std::move(*kept().partial);
+    kept().partial.reset();
     const std::string rows = row_ranges(p.finished);
     if (rows.empty()) {
         std::cerr << "crex run: rank 0 had no finished row (no band was complete): nothing written\n";
@@ -75,6 +91,21 @@ void write_finished_rows() {
                              p.outputs.size() == 1 ? " was" : "s were");
 }
 
+// On a fault, rank 0 (rank_watchdog.cpp calls it just before the abort).
+void write_finished_rows() {
+    const std::lock_guard<std::mutex> lock(kept().mutex);
+    write_kept_rows(lock);
+}
+
+const char* signal_name(int signal) {
+    switch (signal) {
+        case SIGTERM: return "SIGTERM";
+        case SIGINT: return "SIGINT";
+        case SIGHUP: return "SIGHUP";
+        default: return "a signal";
+    }
+}
+
 }  // namespace
 
 std::string partial_path(const std::string& output) {
@@ -90,30 +121,58 @@ void arm_partial_outputs(const std::vector<std::string>& outputs, int width, int
     p.metadata = std::move(metadata);
     p.rgb.assign(3 * static_cast<size_t>(width) * static_cast<size_t>(height), 0.0f);
     p.finished.assign(static_cast<size_t>(height), 0);
-    g_partial = std::move(p);
+    // Now, not when a fault comes: after mpirun's SIGTERM the write has a second (an error
+    // loading it is said by the write, as by any other).
+    load_image_plugin();
+    {
+        const std::lock_guard<std::mutex> lock(kept().mutex);
+        kept().partial = std::move(p);
+    }
 #ifdef CREX_WITH_MPI
     set_fault_writer(write_finished_rows);
 #endif
 }
 
 void keep_finished_rows(const Film& film, const std::vector<double>& ambient, int row_begin, int row_end) {
-    if (!g_partial || film.width() != g_partial->width || film.height() != g_partial->height) return;
-    // The composite as RunResult::image() makes it (without capict's stand-ins).
+    {
+        const std::lock_guard<std::mutex> lock(kept().mutex);
+        if (!kept().partial || film.width() != kept().partial->width || film.height() != kept().partial->height) return;
+    }
+    // The composite as RunResult::image() makes it (without capict's stand-ins); the film is
+    // this thread's, only the copy into the kept rows needs the lock.
     const std::vector<float> rgb = film.composite(&ambient);
     const size_t row = 3 * static_cast<size_t>(film.width());
     row_begin = std::max(row_begin, 0), row_end = std::min(row_end, film.height());
+    const std::lock_guard<std::mutex> lock(kept().mutex);
+    if (!kept().partial) return;  // written by a stop signal meanwhile
+    Partial& p = *kept().partial;
     for (int r = row_begin; r < row_end; ++r) {
         const auto at = static_cast<std::ptrdiff_t>(static_cast<size_t>(r) * row);
-        std::copy_n(rgb.begin() + at, row, g_partial->rgb.begin() + at);
-        g_partial->finished[static_cast<size_t>(r)] = 1;
+        std::copy_n(rgb.begin() + at, row, p.rgb.begin() + at);
+        p.finished[static_cast<size_t>(r)] = 1;
     }
 }
 
 void disarm_partial_outputs() {
-    g_partial.reset();
+    {
+        const std::lock_guard<std::mutex> lock(kept().mutex);  // waits for a write under way
+        kept().partial.reset();
+    }
 #ifdef CREX_WITH_MPI
     set_fault_writer(nullptr);
 #endif
+}
+
+void write_finished_rows_on_stop(int signal) {
+    const std::lock_guard<std::mutex> lock(kept().mutex);
+    if (!kept().partial) return;  // nothing armed (or already written): the signal's default action
+    std::cerr << fmt::format("crex run: error: the run was ended from outside ({} to rank 0): mpirun does so when a rank dies, "
+                             "and names it, or when it is interrupted\n",
+                             signal_name(signal));
+    write_kept_rows(lock);
+    std::cerr << std::flush;
+    // Within mpirun's second before SIGKILL; no exit handlers (other threads still render).
+    std::_Exit(kExitFailure);
 }
 
 }  // namespace crex::app

@@ -5,6 +5,9 @@
 /// beside it (never the requested name, which is left as it was), atomically, holding the rows
 /// that were final: its own band once it had rendered it, every band once the last exchange of
 /// rows was done; the other rows are black, and the image's header says which rows are final.
+/// mpirun ending the job from outside (SIGTERM to every rank when another rank died, e.g.
+/// was SIGKILLed, or when mpirun was interrupted) writes them too: write_finished_rows_on_stop.
+/// Rank 0 killed outright (SIGKILL, a crash) writes nothing: it holds the image.
 /// A finished row is exactly that row of the image the run would have written, except under
 /// a pipeline's component subsampling (capict), whose stand-ins are made only at the end.
 #pragma once
@@ -31,5 +34,12 @@ void keep_finished_rows(const Film& film, const std::vector<double>& ambient, in
 /// Rank 0, once every rank is past its last exchange: the outputs themselves follow, and a
 /// failure from here on is an ordinary one (nothing partial is written).
 void disarm_partial_outputs();
+
+/// The thread that takes SIGTERM, SIGINT and SIGHUP (stop_signals.h): while outputs are armed,
+/// says on stderr that the run was ended from outside, writes the finished rows as a fault
+/// does (never while keep_finished_rows is copying them) and ends the process with exit 3
+/// (mpirun sends SIGKILL a second after SIGTERM; an image of finished rows takes
+/// milliseconds). Otherwise returns: the signal then ends the process as it would have.
+void write_finished_rows_on_stop(int signal);
 
 }  // namespace crex::app

@@ -83,7 +83,7 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
 
 int main(int argc, char** argv) {
     using namespace crex::app;
-    DistributedSession mpi(argc, argv);  // under mpirun: MPI for the run's ranks
+    DistributedSession mpi(argc, argv);  // under mpirun: MPI for the run's ranks; first, before any thread
     CLI::App app{"crex: compile and run selective-rendering pipelines", "crex"};
     app.set_version_flag("--version", std::string("crex ") + CREX_VERSION);
     app.require_subcommand(1);

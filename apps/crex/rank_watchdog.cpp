@@ -99,8 +99,9 @@ void end_all_ranks(const std::string& message, int exit_code) {
     const double grace = 10;
     std::this_thread::sleep_for(std::chrono::duration<double>(grace));
     std::cerr << fmt::format("crex run: rank 0, which holds the image, did not end the run within {:g} s of rank {}'s fault (it "
-                             "hung, died or was still rendering its rows): no finished rows were written\n",
-                             grace, world_rank())
+                             "hung, died or was still rendering its rows): rank {} ends it; rank 0 writes the rows it finished "
+                             "only if it is alive to take mpirun's SIGTERM\n",
+                             grace, world_rank(), world_rank())
               << std::flush;
     MPI_Abort(MPI_COMM_WORLD, exit_code);
     std::_Exit(exit_code);

@@ -5,7 +5,10 @@
 /// dies, but a stopped rank is alive to it. So every wait for another rank here is a
 /// non-blocking operation polled against a deadline (--rank-timeout): on expiry the waiting
 /// rank prints `crex run: error: rank K did not reach <point> within S s` and ends the run
-/// (end_all_ranks below: rank 0 writes its finished rows, then MPI_Abort), and mpirun ends every rank (SIGTERM, then SIGKILL, which a stopped process cannot ignore).
+/// (end_all_ranks below: rank 0 writes its finished rows, then MPI_Abort), and mpirun ends every
+/// rank (SIGCONT and, a second later, SIGTERM, then SIGKILL, which a stopped process cannot
+/// ignore). A rank that dies is seen by mpirun itself, which ends the others the same way:
+/// rank 0 writes its finished rows on that SIGTERM (stop_signals.h).
 /// Polling with short sleeps has a second purpose: a rank blocked in MPI_Recv spins at 100 %
 /// of a core in Open MPI, which on a machine with fewer cores than ranks takes the core from
 /// the rank doing the work; a sleeping poll gives it back. The seconds spent waiting are the
@@ -49,7 +52,9 @@ void set_serve_while_waiting(std::function<void()> serve);
 /// Prints `message` and ends every rank with `exit_code`, rank 0 writing the rows it finished
 /// first (set_fault_writer). On a rank other than 0: reports to rank 0 and waits a bounded
 /// time for rank 0 to end the job (it polls in its waits); if it does not (it hung, died or is
-/// still rendering), says that nothing was written and aborts itself. Does not return.
+/// still rendering), says so and aborts itself; mpirun then continues a stopped rank 0 and
+/// sends it SIGTERM, on which it still writes its finished rows (distributed_partial.h), unless
+/// it is dead. Does not return.
 [[noreturn]] void end_all_ranks(const std::string& message, int exit_code);
 
 /// Rank 0: what to do before the job is aborted on a fault (write the finished rows); it

@@ -5,8 +5,8 @@
 // at any rank count. With a cache: component is the single-process image at N = 2 and the same
 // image on every run at a fixed N (one PA and two; two PAs at N = 8), broadcast and central
 // make fewer records than none. Faults: a rank killed with SIGKILL ends the run with mpirun's
-// error naming it; a stopped rank (renderer or PA) is named by --rank-timeout; neither leaves
-// a process or a half-written output.
+// error naming it, and rank 0 writes the rows it finished (mpirun's SIGTERM); a stopped rank
+// (renderer or PA) is named by --rank-timeout; none leaves a process or a half-written output.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -185,22 +185,96 @@ TEST_F(MpiRun, AnInputErrorIsSaidOnceAndEveryRankExitsOne) {
     EXPECT_EQ(count(missing.err, "cannot read '" + path("none.pipe") + "'"), 1u) << missing.err;
 }
 
-TEST_F(MpiRun, AKilledRankEndsTheRunNamedWithNothingLeftBehind) {
-    // Rank 1 kills itself with SIGKILL once it renders (a shell loop finds it by Open MPI's
-    // environment); mpirun names it, no crex process is left, and no output appears.
+// `partial` holds the first `finished` rows of `crex run --size WxH --spp 2` in one process,
+// pixel for pixel, and black below them.
+void expect_finished_rows_of_one_process(const std::string& partial, int width, int height, int finished, const std::string& one) {
+    auto r = testing::crex_cli({"run", "--size", std::to_string(width) + "x" + std::to_string(height), "--spp", "2", "-q", "-o", one});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    int w = 0, h = 0;
+    std::vector<float> got, want = pixels(one);
+    ASSERT_EQ(read_image(partial, w, h, got), "") << partial;
+    ASSERT_EQ(w, width);
+    ASSERT_EQ(h, height);
+    const size_t split = 3 * static_cast<size_t>(width) * static_cast<size_t>(finished);
+    EXPECT_TRUE(std::equal(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(split), want.begin())) << "rank 0's finished rows";
+    EXPECT_TRUE(std::all_of(got.begin() + static_cast<std::ptrdiff_t>(split), got.end(), [](float v) { return v == 0; }))
+        << "the unfinished rows are black";
+    EXPECT_TRUE(std::any_of(want.begin() + static_cast<std::ptrdiff_t>(split), want.end(), [](float v) { return v > 0; }))
+        << "the test would show nothing";
+}
+
+// A shell script that starts `mpirun ... crex run --size SIZE ...` (`mpirun_args`), finds
+// `rank` by Open MPI's environment once it is `state` (R: any; T: stopped), waits `settle`
+// seconds, kills it with SIGKILL and prints `exit=<mpirun's code> seconds=<from the kill to
+// mpirun's end>`, or `rank-not-found`.
+std::string kill_rank(int rank, const std::string& mpirun_args, const std::string& size, const std::string& state, double settle) {
+    const std::string find = "pgrep -f 'crex run --size " + size + "'";
+    const std::string is_state = state == "T" ? " && [ \"$(cut -d' ' -f3 /proc/$p/stat)\" = T ]" : "";
+    return std::string(kMpirun) + " " + mpirun_args + " & m=$!; for i in $(seq 1 400); do for p in $(" + find +
+           "); do if tr '\\0' '\\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=" + std::to_string(rank) + is_state + "; then sleep " +
+           std::to_string(settle) + "; t0=$(date +%s.%N); kill -9 $p; wait $m; e=$?; t1=$(date +%s.%N); echo exit=$e seconds=$(echo \"$t1 - $t0\" | bc); "
+           "exit 0; fi; done; sleep 0.1; done; echo rank-not-found; kill $m";
+}
+
+double seconds_after_kill(const std::string& out) {
+    std::smatch m;
+    if (!std::regex_search(out, m, std::regex("seconds=([0-9.]+)"))) return -1;
+    return std::stod(m[1]);
+}
+
+// Nothing but `names` in the test's directory: no staged file (.NAME.crex-staged-PID.EXT).
+void expect_only(const fs::path& dir, std::vector<std::string> names) {
+    std::vector<std::string> found;
+    for (const auto& e : fs::directory_iterator(dir)) found.push_back(e.path().filename().string());
+    std::sort(found.begin(), found.end());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(found, names);
+}
+
+TEST_F(MpiRun, ARankKilledMidRenderEndsTheRunNamedWithNothingLeftBehind) {
+    // Rank 1 is killed (SIGKILL) as soon as it runs, while both ranks render a band far too
+    // large to finish; mpirun names it and ends rank 0, which has no finished row: no output,
+    // no partial, no staged file, no crex process left.
     const std::string out = path("killed.exr");
-    const std::string script = std::string(kMpirun) + " --allow-run-as-root --oversubscribe -np 2 " + CREX_BINARY +
-                               " run --size 512x512 --spp 1024 -q -o " + out +
-                               " & m=$!; for i in $(seq 1 100); do for p in $(pgrep -f 'crex run --size 512x512 --spp 1024'); do "
-                               "if tr '\\0' '\\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1; then kill -9 $p; "
-                               "wait $m; echo exit=$?; exit 0; fi; done; sleep 0.1; done; echo rank-not-found; kill $m";
-    auto r = testing::run_command({"/bin/sh", "-c", script});
+    auto r = testing::run_command(
+        {"/bin/sh", "-c",
+         kill_rank(1, "--allow-run-as-root --oversubscribe -np 2 " + std::string(CREX_BINARY) + " run --size 512x512 --spp 1024 -q -o " + out,
+                       "512x512 --spp 1024", "R", 0)});
     EXPECT_NE(r.out.find("exit="), std::string::npos) << r.out << r.err;
     EXPECT_EQ(r.out.find("exit=0"), std::string::npos) << r.out;
     EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(out));
+    EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
+    expect_only(dir_, {});
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 512x512 --spp 1024' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
+}
+
+TEST_F(MpiRun, AKilledRankHasRankZeroWriteItsFinishedRows) {
+    // Rank 1 stops itself at the first (and last) exchange of rows, whose wait --rank-timeout
+    // would end only after 60 s; rank 0 has rendered its band, rows 0..11 of 25, and waits
+    // there. Then rank 1 is killed with SIGKILL: mpirun names it and ends rank 0 with SIGTERM,
+    // then SIGKILL a second later; in that second rank 0 writes its rows to killed.partial.exr.
+    const std::string out = path("killed.exr"), partial = path("killed.partial.exr");
+    auto r = testing::run_command(
+        {"/bin/sh", "-c",
+         "CREX_TEST_STALL_RANK=1 timeout -k 5 60 " +
+             kill_rank(1, "--allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + std::string(CREX_BINARY) +
+                               " run --size 33x25 --spp 2 -q --rank-timeout 60 -o " + out,
+                           "33x25", "T", 2)});
+    EXPECT_NE(r.out.find("exit="), std::string::npos) << r.out << r.err;
+    EXPECT_EQ(r.out.find("exit=0"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("exit=124"), std::string::npos) << "the run hung until timeout(1) ended it: " << r.out;
+    const double seconds = seconds_after_kill(r.out);
+    EXPECT_GT(seconds, 0) << r.out;
+    EXPECT_LT(seconds, 10.0) << "mpirun ends the run about 1 s after the kill";
+    EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("crex run: error: the run was ended from outside (SIGTERM to rank 0)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("rows 0..11 of 25 finished, written to " + partial), std::string::npos) << r.err;
+    expect_only(dir_, {"killed.partial.exr"});  // not the requested output, no staged file
+    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 33x25' || true"});
+    EXPECT_EQ(left.out, "") << "processes left running";
+    expect_finished_rows_of_one_process(partial, 33, 25, 12, path("one.exr"));
 }
 
 TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
@@ -226,17 +300,7 @@ TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
     // stalled.partial.exr, as the single-process image has them; the other rows are black.
     const std::string partial = path("stalled.partial.exr");
     EXPECT_NE(r.err.find("rows 0..13 of 29 finished, written to " + partial), std::string::npos) << r.err;
-    auto one = testing::crex_cli({"run", "--size", "31x29", "--spp", "2", "-q", "-o", path("one.exr")});
-    ASSERT_EQ(one.exit_code, 0) << one.err;
-    int w = 0, h = 0;
-    std::vector<float> got, want = pixels(path("one.exr"));
-    ASSERT_EQ(read_image(partial, w, h, got), "");
-    ASSERT_EQ(w, 31);
-    ASSERT_EQ(h, 29);
-    const size_t split = 3 * 31 * 14;
-    EXPECT_TRUE(std::equal(got.begin(), got.begin() + split, want.begin())) << "rank 0's finished rows";
-    EXPECT_TRUE(std::all_of(got.begin() + split, got.end(), [](float v) { return v == 0; })) << "the unfinished rows are black";
-    EXPECT_TRUE(std::any_of(want.begin() + split, want.end(), [](float v) { return v > 0; })) << "the test would show nothing";
+    expect_finished_rows_of_one_process(partial, 31, 29, 14, path("one.exr"));
 }
 
 // A rank that fails (an exception; the test hook throws in rank 1's first exchange of rows)
@@ -262,19 +326,40 @@ TEST_F(MpiRun, AFailingRankHasRankZeroWriteItsFinishedRows) {
     EXPECT_FALSE(fs::exists(path("failed.png")));
 }
 
-// Rank 0 itself stopped: it holds the image, so nothing can be written, and rank 1 says so.
-TEST_F(MpiRun, AStoppedRankZeroLeavesNothingWritten) {
+// Rank 0 itself stopped: rank 1 names it, and after its grace of 10 s ends the run. mpirun
+// continues rank 0 (SIGCONT) before ending it, so rank 0 still writes the rows it finished.
+TEST_F(MpiRun, AStoppedRankZeroIsNamedAndWritesItsRowsWhenMpirunEndsIt) {
     const std::string script = "CREX_TEST_STALL_RANK=0 timeout -k 5 60 " + std::string(kMpirun) +
                                " --allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + CREX_BINARY +
                                " run --size 27x19 --spp 2 -q --rank-timeout 1 -o " + path("r0.exr");
     auto r = testing::run_command({"/bin/sh", "-c", script});
     EXPECT_EQ(r.exit_code, 3) << r.err;
     EXPECT_NE(r.err.find("crex run: error: rank 0 did not reach the exchange of rows no. 1"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("rank 0, which holds the image, did not end the run"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("no finished rows were written"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(path("r0.exr")));
-    EXPECT_FALSE(fs::exists(path("r0.partial.exr")));
+    EXPECT_NE(r.err.find("rank 0, which holds the image, did not end the run within 10 s"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("rows 0..8 of 19 finished, written to " + path("r0.partial.exr")), std::string::npos) << r.err;
+    expect_only(dir_, {"r0.partial.exr"});
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 27x19' || true"});
+    EXPECT_EQ(left.out, "") << "processes left running";
+    expect_finished_rows_of_one_process(path("r0.partial.exr"), 27, 19, 9, path("one.exr"));
+}
+
+// Rank 0 killed (SIGKILL) with its band finished: it holds the image, so nothing can be
+// written; mpirun names it and ends rank 1.
+TEST_F(MpiRun, AKilledRankZeroLeavesNothingWritten) {
+    auto r = testing::run_command(
+        {"/bin/sh", "-c",
+         "CREX_TEST_STALL_RANK=0 timeout -k 5 60 " +
+             kill_rank(0, "--allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + std::string(CREX_BINARY) +
+                              " run --size 29x21 --spp 2 -q --rank-timeout 60 -o " + path("r0.exr"),
+                       "29x21", "T", 0.5)});
+    EXPECT_NE(r.out.find("exit="), std::string::npos) << r.out << r.err;
+    EXPECT_EQ(r.out.find("exit=0"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("exit=124"), std::string::npos) << "the run hung until timeout(1) ended it: " << r.out;
+    EXPECT_LT(seconds_after_kill(r.out), 10.0) << r.out;
+    EXPECT_NE(r.err.find("rank 0"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
+    expect_only(dir_, {});
+    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 29x21' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
 }
 
