@@ -15,10 +15,12 @@ namespace {
 
 using WriteFn = std::string (*)(const std::string&, int, int, const std::vector<ImageLayer>&, const ImageMetadata&);
 using ReadFn = std::string (*)(const std::string&, int&, int&, std::vector<float>&, bool&);
+using ReadMetadataFn = std::string (*)(const std::string&, int&, int&, ImageMetadata&);
 
 struct Plugin {
     WriteFn write = nullptr;
     ReadFn read = nullptr;
+    ReadMetadataFn read_metadata = nullptr;
     std::string error;
 };
 
@@ -55,7 +57,8 @@ const Plugin& plugin() {
             }
             p.write = reinterpret_cast<WriteFn>(dlsym(h, "crex_oiio_write_image"));
             p.read = reinterpret_cast<ReadFn>(dlsym(h, "crex_oiio_read_image"));
-            if (p.write && p.read) return;
+            p.read_metadata = reinterpret_cast<ReadMetadataFn>(dlsym(h, "crex_oiio_read_image_metadata"));
+            if (p.write && p.read && p.read_metadata) return;
             tried += "\n  " + path + ": not a crex image plugin";
         }
         p.error = "cannot load the image plugin libcrex_oiio.so (OpenImageIO); tried:" + tried;
@@ -71,6 +74,11 @@ std::string write_image(const std::string& path, int width, int height, const st
                         const ImageMetadata& metadata) {
     const Plugin& p = plugin();
     return p.write ? p.write(path, width, height, layers, metadata) : p.error;
+}
+
+std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
+    const Plugin& p = plugin();
+    return p.read_metadata ? p.read_metadata(path, width, height, metadata) : p.error;
 }
 
 std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool* display_referred) {

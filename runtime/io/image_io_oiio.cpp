@@ -115,6 +115,17 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
     return "";
 }
 
+std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return "cannot read '" + path + "': " + OIIO::geterror();
+    const OIIO::ImageSpec& spec = in->spec();
+    width = spec.width, height = spec.height;
+    metadata.clear();
+    for (const OIIO::ParamValue& p : spec.extra_attribs)
+        if (p.type() == OIIO::TypeDesc::STRING) metadata.push_back({p.name().string(), p.get_string()});
+    return "";
+}
+
 }  // namespace crex::oiio
 
 // The entry points image_io.cpp resolves with dlsym.
@@ -127,5 +138,8 @@ std::string crex_oiio_write_image(const std::string& path, int width, int height
 std::string crex_oiio_read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb,
                                  bool& display_referred) {
     return crex::oiio::read_image(path, width, height, rgb, display_referred);
+}
+std::string crex_oiio_read_image_metadata(const std::string& path, int& width, int& height, crex::ImageMetadata& metadata) {
+    return crex::oiio::read_image_metadata(path, width, height, metadata);
 }
 }
