@@ -152,6 +152,7 @@ private:
     std::vector<uint8_t> first_bounce_runs_;  // capict: the executor's gate (bit c: c's first bounces run)
     double base_aa_ = 0;
     double seconds_per_sample_ = 0;  // measured under a budget: camera sample and its rays
+    bool last_stage_ = false;  // the render's last camera samples: not traced in RunSettings::final_rows
     ExecutorOptions::TaskAdmission policy_admission_ = ExecutorOptions::TaskAdmission::kWhole;  // the policy's
     // Progress within the running stage.
     RunProgress progress_;
@@ -319,9 +320,11 @@ void PlanRun::stage_end(const std::string& what, const std::string& next) {
 }
 
 void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows, const std::function<void()>& after_camera_rays) {
-    const bool some_rows = s_.row_end > s_.row_begin;
-    const SampleRanges restricted = some_rows ? only_rows(all_rows, s_.width, s_.height, s_.row_begin, s_.row_end) : SampleRanges{};
-    const SampleRanges& ranges = some_rows ? restricted : all_rows;
+    const bool some_rows = s_.row_end > s_.row_begin, resumed = last_stage_ && !s_.final_rows.empty();
+    const SampleRanges unfinished = resumed ? without_rows(all_rows, s_.width, s_.height, s_.final_rows) : SampleRanges{};
+    const SampleRanges& wanted = resumed ? unfinished : all_rows;
+    const SampleRanges restricted = some_rows ? only_rows(wanted, s_.width, s_.height, s_.row_begin, s_.row_end) : SampleRanges{};
+    const SampleRanges& ranges = some_rows ? restricted : wanted;
     PassLimits limits;
     size_t held = 0;
     for (const RayBatch& b : carried_) held += b.size() * kBytesPerSample / 2;
@@ -758,6 +761,7 @@ RunResult PlanRun::execute() {
 
     if (!out_.staged) {
         // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
+        last_stage_ = true;
         run_samples("render", {s_.first_sample, s_.first_sample + s_.spp, {}, {}}, [&] {
             if (rec) rec->set_stage("preselective");
             ex_->run_stage(program.preselective);
@@ -847,10 +851,12 @@ RunResult PlanRun::execute() {
                 double target = sel.spp_end[p] <= s_.spp ? 0 : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
                 ranges.end_of[p] = static_cast<uint32_t>(std::ceil(target - 1e-9));
             }
+            last_stage_ = round == rounds;
             run_samples("selective" + label, ranges, [&] {
                 ex_->run_stage(program.preselective);
                 run_selective();
             });
+            last_stage_ = false;
             selective_seconds += seconds_since(t_selective);
             if (round < rounds) stage_end("end of selective rendering" + label, "guidance");
         }

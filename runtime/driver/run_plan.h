@@ -98,6 +98,11 @@ struct RunSettings {
     /// the end: this process's rows are then final (what is written should the run fail).
     int row_begin = 0, row_end = 0;
     std::function<void(Film& film, std::vector<double>& ambient, bool last)> share_rows;
+    /// --resume (issue 19): rows already final, taken from a partial image; the camera samples of
+    /// the render's last stage are not traced there (a plain crex: none at all; a pipeline: its
+    /// last round's selective samples; the preview and earlier rounds are rendered whole, since
+    /// guidance sees the whole image). Those rows of the result are the caller's to replace.
+    std::vector<char> final_rows;
     /// With a cache, called where `share_rows` is called mid-render (after the preview, before
     /// each later round): the processes exchange the records they made (--ic-share broadcast).
     std::function<void(IrradianceCache& cache)> share_cache;

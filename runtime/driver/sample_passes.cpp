@@ -95,7 +95,10 @@ std::optional<SamplePass> pass_within(const SamplePass& pass, const SampleRanges
     return band;
 }
 
-SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int row_begin, int row_end) {
+namespace {
+// `ranges` with samples only in the rows `renders` says.
+template <typename Renders>
+SampleRanges rows_where(const SampleRanges& ranges, int width, int height, Renders renders) {
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
     SampleRanges out;
     out.start_of.resize(pixels);
@@ -103,9 +106,18 @@ SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int ro
     for (size_t p = 0; p < pixels; ++p) {
         const int row = static_cast<int>(p / static_cast<size_t>(width));
         out.start_of[p] = ranges.start(p);
-        out.end_of[p] = row >= row_begin && row < row_end ? ranges.stop(p) : ranges.start(p);
+        out.end_of[p] = renders(row) ? ranges.stop(p) : ranges.start(p);
     }
     return out;
+}
+}  // namespace
+
+SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int row_begin, int row_end) {
+    return rows_where(ranges, width, height, [&](int row) { return row >= row_begin && row < row_end; });
+}
+
+SampleRanges without_rows(const SampleRanges& ranges, int width, int height, const std::vector<char>& skip) {
+    return rows_where(ranges, width, height, [&](int row) { return static_cast<size_t>(row) >= skip.size() || !skip[static_cast<size_t>(row)]; });
 }
 
 }  // namespace crex

@@ -37,6 +37,8 @@ struct SampleRanges {
 /// `ranges` with no samples outside rows [row_begin, row_end) (distributed rendering: the
 /// rows this process renders).
 SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int row_begin, int row_end);
+/// `ranges` with no samples in the rows `skip` marks (non-zero; --resume: rows already final).
+SampleRanges without_rows(const SampleRanges& ranges, int width, int height, const std::vector<char>& skip);
 
 /// The passes for the samples `ranges` asks for. Passes go over sample indices, as many per
 /// pass as fit; when even one sample index of every pixel does not fit, a pass covers a band

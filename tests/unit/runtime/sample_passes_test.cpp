@@ -111,5 +111,28 @@ TEST(SamplePasses, PerPixelStartsAsInALaterRound) {
     }
 }
 
+// --resume: the rows a partial image holds get no samples, the others all they asked for;
+// only_rows and without_rows of complementary rows add up to the whole.
+TEST(SamplePasses, WithoutRowsLeavesOutExactlyTheFinalRows) {
+    const int w = 5, h = 6;
+    const SampleRanges all{2, 7, {}, {}};
+    const std::vector<char> final_rows = {1, 1, 0, 1, 0, 0};
+    const SampleRanges rest = without_rows(all, w, h, final_rows);
+    uint64_t samples = 0;
+    for (size_t p = 0; p < static_cast<size_t>(w * h); ++p) {
+        const bool final_row = final_rows[p / w] != 0;
+        EXPECT_EQ(rest.start(p), 2u);
+        EXPECT_EQ(rest.stop(p), final_row ? 2u : 7u) << p;
+        samples += rest.stop(p) - rest.start(p);
+    }
+    EXPECT_EQ(samples, 3u * w * 5);
+    const SampleRanges band = only_rows(all, w, h, 2, 3);
+    for (size_t p = 0; p < static_cast<size_t>(w * h); ++p) EXPECT_EQ(band.stop(p) > band.start(p), p / w == 2) << p;
+    auto passes = plan_sample_passes(w, h, rest, {0, 0, 0});
+    uint64_t planned = 0;
+    for (const auto& pass : passes) planned += pass.samples;
+    EXPECT_EQ(planned, samples);
+}
+
 }  // namespace
 }  // namespace crex
