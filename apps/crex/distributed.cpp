@@ -71,9 +71,10 @@ Distribution render_rows_on_first(int renderers) {
 
 void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient) {
     if (!d.active()) return;
-    stall_here_if_asked();
-    fail_here_if_asked();
-    const std::string point = fmt::format("the exchange of rows no. {} (after the preview, before each round, at the end)", ++g_row_exchanges);
+    const int exchange = ++g_row_exchanges;
+    stall_here_if_asked(exchange);
+    fail_here_if_asked(exchange);
+    const std::string point = fmt::format("the exchange of rows no. {} (after the preview, before each round, at the end)", exchange);
     arrive(rows_comm(), point);
     const int width = film.width(), height = film.height();
     // Each buffer in place: band b's rows go to every rank (MPI_IN_PLACE: a rank's own band

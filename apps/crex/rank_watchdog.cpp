@@ -175,23 +175,34 @@ void arrive(MPI_Comm comm, const std::string& point) {
     wait_requests(send, rank_timeout(), [&] { return fmt::format("a rank took no token at {}", point); });
 }
 
-void fail_here_if_asked() {
 #ifdef CREX_TEST_HOOKS
-    const char* env = std::getenv("CREX_TEST_FAIL_RANK");
-    if (env && std::atoi(env) == world_rank()) throw std::runtime_error("test hook: this rank fails (CREX_TEST_FAIL_RANK)");
+namespace {
+// The test hook named by `variable` is for this rank, at this exchange of rows.
+bool hook_here(const char* variable, int exchange) {
+    const char* rank = std::getenv(variable);
+    if (!rank || std::atoi(rank) != world_rank()) return false;
+    const char* at = std::getenv("CREX_TEST_FAULT_EXCHANGE");
+    return exchange == (at ? std::atoi(at) : 1);
+}
+}  // namespace
+#endif
+
+void fail_here_if_asked(int exchange) {
+#ifdef CREX_TEST_HOOKS
+    if (hook_here("CREX_TEST_FAIL_RANK", exchange)) throw std::runtime_error("test hook: this rank fails (CREX_TEST_FAIL_RANK)");
+#else
+    (void)exchange;
 #endif
 }
 
-void stall_here_if_asked() {
+void stall_here_if_asked(int exchange) {
 #ifdef CREX_TEST_HOOKS
     static bool stalled = false;
-    const char* env = std::getenv("CREX_TEST_STALL_RANK");
-    if (stalled || !env) return;
-    int rank = 0;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    if (std::atoi(env) != rank) return;
+    if (stalled || !hook_here("CREX_TEST_STALL_RANK", exchange)) return;
     stalled = true;
     std::raise(SIGSTOP);
+#else
+    (void)exchange;
 #endif
 }
 

@@ -67,11 +67,12 @@ void set_fault_writer(std::function<void()> writer);
 void arrive(MPI_Comm comm, const std::string& point);
 
 /// Tests only: with CREX_TEST_HOOKS compiled in (builds with CREX_TESTS) and the environment
-/// variable CREX_TEST_STALL_RANK equal to this process's world rank, the first call stops
+/// variable CREX_TEST_STALL_RANK equal to this process's world rank, the first call at
+/// exchange no. CREX_TEST_FAULT_EXCHANGE (default 1; `exchange` is the caller's count) stops
 /// the process (SIGSTOP), as a hung rank would be.
-void stall_here_if_asked();
+void stall_here_if_asked(int exchange = 1);
 /// Tests only, likewise: CREX_TEST_FAIL_RANK equal to this rank throws (a render that fails).
-void fail_here_if_asked();
+void fail_here_if_asked(int exchange = 1);
 
 }  // namespace crex::app
 
