@@ -18,6 +18,7 @@
 #include "apps/crex/run_options.h"
 #include "apps/crex/run_distributed.h"
 #include "apps/crex/run_outputs.h"
+#include "apps/crex/run_resume.h"
 #include "apps/crex/run_setup.h"
 #include "base/check.h"
 
@@ -31,6 +32,8 @@ int run(RunOptions opt) {
     RunInput in;
     RunSetup setup;
     if (auto exit = read_run_input_on_rank0(opt, in, setup)) return *exit;
+    if (!opt.resume.empty())  // one process only (refused under mpirun by rank 0)
+        if (auto exit = load_resume(opt, in, setup)) return *exit;
     std::unique_ptr<tbb::global_control> threads;
     if (opt.threads > 0)
         threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(opt.threads));
@@ -171,9 +174,13 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--rank-timeout", opt->rank_timeout, "Under mpirun: seconds a rank waits for another (for rank 0's inputs, "
                                                          "at an exchange of rows or records, for irradiance answers) before the run "
                                                          "is aborted naming it; rank 0 first writes the rows it finished to "
-                                                         "NAME.partial.EXT beside each -o")
+                                                         "NAME.partial.EXT beside each -o (--resume finishes them)")
         ->capture_default_str()
         ->check(CLI::Range(0.1, 1e6));
+    cmd->add_option("--resume", opt->resume, "Finish a run that failed under mpirun: NAME.partial.exr (the rows rank 0 finished) "
+                                             "with the same inputs and options; only the other rows are rendered and -o gets the "
+                                             "whole image (one process; not with a cache, a budget or subsample)")
+        ->allow_extra_args(false);
     cmd->add_flag("--compare-policies", opt->compare_policies, "Under a budget with a reference: render again under every other "
                                                                "--policy and plot all their errors against time in the report");
     cmd->add_option("--policy", opt->policy,
@@ -242,6 +249,7 @@ Examples:
   crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
   crex run stdlib/pipelines/sel_rp.pipe --maps out/maps      saliency-driven rays per pixel, with its maps
   crex run examples/pipelines/cornell_prog.pipe --size 128x128 --format json
+  crex run --size 512x512 --resume out/render.partial.exr   finish a run that failed under mpirun
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
     return [opt, crex, size, spp, seed, lw, max_depth, ambient, aa, ab] {

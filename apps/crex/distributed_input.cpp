@@ -29,6 +29,11 @@ std::optional<int> unsupported_under_mpirun(const RunOptions& opt) {
         std::cerr << "crex run: error: under mpirun, --compare-policies is not supported yet\n";
         return kExitUsage;
     }
+    if (!opt.resume.empty()) {
+        std::cerr << "crex run: error: under mpirun, --resume is not supported yet: resume in one process (the same command "
+                     "without mpirun)\n";
+        return kExitUsage;
+    }
     return std::nullopt;
 }
 

@@ -68,7 +68,8 @@ void write_kept_rows(const std::lock_guard<std::mutex>&) {
     }
     const std::string what = fmt::format("rows {} of {} finished", rows, p.height);
     ImageMetadata metadata = p.metadata;
-    metadata.push_back({"crex:partial", what + "; the other rows are black (the run failed)"});
+    metadata.push_back({"crex:partial", what + "; the other rows are black (the run failed; crex run ... --resume this file finishes it)"});
+    metadata.push_back({"crex:finished_rows", rows});  // what --resume reads (run_resume.h)
     // Staged and committed together: a fault during the write leaves no half-written file.
     OutputSet files;
     std::vector<std::string> written;

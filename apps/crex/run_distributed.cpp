@@ -10,6 +10,7 @@
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/ic_share_central.h"
 #include "apps/crex/ic_share_component.h"
+#include "apps/crex/run_resume.h"
 #include "compiler/sched/print.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/render/render_scene.h"
@@ -45,12 +46,7 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
     if (!ranks_.active()) return std::nullopt;
     // From here a fault writes the rows rank 0 finished beside each -o (distributed_partial.h).
     if (ranks_.rank == 0)
-        arm_partial_outputs(setup.outputs, setup.settings.width, setup.settings.height,
-                            {{"Software", std::string("crex ") + CREX_VERSION},
-                             {"crex:version", CREX_VERSION},
-                             {"crex:scene", in.scene_spec},
-                             {"crex:crex", sched::to_crex(in.plan.program)},
-                             {"crex:seed", std::to_string(setup.settings.seed)}});
+        arm_partial_outputs(setup.outputs, setup.settings.width, setup.settings.height, partial_identity(in, setup));
     // What a distributed run cannot do yet was refused by rank 0 (distributed_input.cpp).
     // The modes below start with blocking collectives (communicators): a rank stuck setting
     // up is named here instead of blocking them.

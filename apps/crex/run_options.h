@@ -45,6 +45,7 @@ struct RunOptions {
     bool compare_policies = false;
     std::string ic_share = "component";  ///< under mpirun with a cache: none, central, broadcast or component (ic_share_*.h)
     double rank_timeout = 600;  ///< under mpirun: seconds a rank waits for another before the run is aborted
+    std::string resume;  ///< --resume NAME.partial.exr: render only the rows that file does not hold
   ///< --compare-policies: also render under every other policy
     std::string policy;  ///< "" : the pipeline's, else the default
     std::string view;    ///< --view FILE.vf

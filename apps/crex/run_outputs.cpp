@@ -10,6 +10,7 @@
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/run_pictures.h"
 #include "apps/crex/run_report.h"
+#include "apps/crex/run_resume.h"
 #include "apps/crex/run_summary.h"
 #include "compiler/plan/emit_plan.h"
 #include "compiler/plan/plan_pipeline.h"
@@ -26,6 +27,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     const int width = rs.width, height = rs.height;
     const bool guided = result.staged;
     for (const auto& note : result.notes) std::cerr << "crex run: note: " << note << "\n";
+    if (setup.resume) say_resumed(*setup.resume, rs, result, std::cerr);
     for (const auto& w : result.warnings) std::cerr << w << "\n";
     // All or none: every file goes to a staged name first and moves into place at the end, so
     // a failure at the report leaves the images the user had (issue 16).
@@ -41,12 +43,14 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     }
 
     std::vector<ImageLayer> layers = {{"", result.image()}};
+    if (setup.resume) take_resumed_rows(*setup.resume, layers.front().rgb, width);
     if (opt.components)
         for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.aov_image(a)});
     // What made the image, in its header (EXR), so a file found later says how to make it again.
     uint32_t min_spp = UINT32_MAX, max_spp = 0;
     for (uint32_t p = 0; p < result.film.pixel_count(); ++p)
-        min_spp = std::min(min_spp, result.film.samples(p)), max_spp = std::max(max_spp, result.film.samples(p));
+        if (!setup.resume || !setup.resume->final_rows[p / static_cast<uint32_t>(width)])  // those rows' samples are not in this film
+            min_spp = std::min(min_spp, result.film.samples(p)), max_spp = std::max(max_spp, result.film.samples(p));
     ImageMetadata metadata = {
         {"Software", std::string("crex ") + CREX_VERSION},
         {"crex:version", CREX_VERSION},
@@ -58,6 +62,7 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     };
     if (in.pipeline) metadata.push_back({"crex:pipeline", in.plan.name + (opt.plan.empty() ? "" : " (" + opt.plan + ")")});
     if (setup.budget > 0) metadata.push_back({"crex:budget_seconds", fmt::format("{:.6g}", setup.budget)});
+    if (setup.resume) metadata.push_back({"crex:resumed", fmt::format("rows {} from {}", setup.resume->rows, setup.resume->path)});
     if (opt.clamp > 0) metadata.push_back({"crex:clamp_indirect", fmt::format("{:.6g} (biased)", opt.clamp)});
     for (const auto& path : setup.outputs) {
         std::string error = write_image(files.stage_file(path), width, height, layers, metadata);

@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "apps/crex/run_input.h"
 #include "apps/crex/run_options.h"
@@ -14,6 +15,14 @@
 #include "runtime/render/profile.h"
 
 namespace crex::app {
+
+/// --resume: the rows a failed distributed run finished (run_resume.h).
+struct ResumedRows {
+    std::string path;
+    std::vector<float> rgb;        ///< the partial image; rows not final are black
+    std::vector<char> final_rows;  ///< per row
+    std::string rows;              ///< "0..11" as the header says
+};
 
 struct RunSetup {
     RunSettings settings;
@@ -25,6 +34,7 @@ struct RunSetup {
     std::string reference_file;
     std::vector<std::string> outputs;
     std::string maps_dir;
+    std::optional<ResumedRows> resume;
 };
 
 /// Fills `setup` (which must not move afterwards: the settings point into it). Returns an exit

@@ -15,7 +15,9 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -361,6 +363,104 @@ TEST_F(MpiRun, AKilledRankZeroLeavesNothingWritten) {
     expect_only(dir_, {});
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 29x21' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
+}
+
+// A run whose rank 1 fails at exchange of rows no. `exchange` (the hook throws there), so
+// rank 0 writes the rows it finished to NAME.partial.exr; `args` follow `crex run`.
+testing::CommandResult fail_rank_one_at(int exchange, const std::string& args) {
+    return testing::run_command({"/bin/sh", "-c",
+                                 "CREX_TEST_FAIL_RANK=1 CREX_TEST_FAULT_EXCHANGE=" + std::to_string(exchange) + " timeout -k 5 60 " +
+                                     std::string(kMpirun) +
+                                     " --allow-run-as-root --oversubscribe -x CREX_TEST_FAIL_RANK -x CREX_TEST_FAULT_EXCHANGE -np 2 " +
+                                     CREX_BINARY + " run " + args});
+}
+
+long rays_of(const testing::CommandResult& r) {
+    const auto j = nlohmann::json::parse(r.out, nullptr, false);
+    return j.is_object() && j.contains("rays") ? j["rays"].get<long>() : -1L;
+}
+
+// --resume: the same command, in one process, renders only the rows the partial image does not
+// hold and writes the whole image, which is the uninterrupted single-process image exactly.
+// A plain crex renders the other rows alone (about half the rays); a pipeline (guidance over
+// the whole image, two rounds) renders the preview and its first round whole and skips the
+// final rows only in the last round.
+TEST_F(MpiRun, AResumedRunFinishesThePartialAsOneUninterruptedProcess) {
+    struct Case {
+        std::string name, args;
+        int exchange;  // the last exchange of rows: rank 0's band is final before it
+        std::string rows;
+    };
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe";
+    for (const Case& c : {Case{"crex", "--size 30x20 --spp 2", 1, "rows 0..9 of 20"},
+                          Case{"pipeline", pipe + " --size 40x30 --rounds 2", 3, "rows 0..14 of 30"}}) {
+        SCOPED_TRACE(c.name);
+        const std::string out = path(c.name + ".exr"), partial = path(c.name + ".partial.exr");
+        auto failed = fail_rank_one_at(c.exchange, c.args + " -q -o " + out);
+        ASSERT_EQ(failed.exit_code, 3) << failed.err;
+        ASSERT_NE(failed.err.find(c.rows + " finished, written to " + partial), std::string::npos) << failed.err;
+        auto args = [&](const std::string& more) {
+            std::vector<std::string> a = {"run"};
+            std::istringstream words(c.args + " --format json " + more);
+            for (std::string w; words >> w;) a.push_back(w);
+            return a;
+        };
+        auto resumed = testing::crex_cli(args("--resume " + partial + " -o " + out));
+        ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+        EXPECT_NE(resumed.err.find("crex run: note: " + c.rows + " taken from " + partial), std::string::npos) << resumed.err;
+        auto one = testing::crex_cli(args("-o " + path(c.name + "-one.exr")));
+        ASSERT_EQ(one.exit_code, 0) << one.err;
+        const std::vector<float> want = pixels(path(c.name + "-one.exr")), got = pixels(out);
+        ASSERT_EQ(got.size(), want.size());
+        EXPECT_TRUE(got == want) << "the resumed image is the uninterrupted one";
+        EXPECT_TRUE(std::any_of(want.begin(), want.end(), [](float v) { return v > 0; }));
+        EXPECT_TRUE(std::none_of(got.begin(), got.end(), [](float v) { return std::isnan(v); }));
+        const long rays_resumed = rays_of(resumed), rays_one = rays_of(one);
+        EXPECT_GT(rays_resumed, 0) << resumed.out;
+        EXPECT_LT(rays_resumed, rays_one) << "the final rows' last samples were not traced again";
+        if (c.name == "crex") {
+            EXPECT_LT(rays_resumed, 0.7 * static_cast<double>(rays_one)) << "half the rows: about half the rays";
+        }
+    }
+}
+
+// --resume refuses (exit 2, the requested output not written) a partial of another run (the
+// setting that differs named), an image that is not a partial, a run it cannot resume exactly
+// (an irradiance cache), and mpirun (said once).
+TEST_F(MpiRun, ResumingRefusesWhatItCannotFinishExactly) {
+    const std::string partial = path("p.partial.exr");
+    auto failed = fail_rank_one_at(1, "--size 26x18 --spp 2 -q -o " + path("p.exr"));
+    ASSERT_EQ(failed.exit_code, 3) << failed.err;
+    ASSERT_TRUE(fs::exists(partial)) << failed.err;
+    struct Case {
+        std::vector<std::string> args;  // besides -q -o; --size 26x18 and --spp 2 unless given
+        std::string error;
+    };
+    auto resume = [&](const Case& c) {
+        std::vector<std::string> a = {"run", "-q", "-o", path("r.exr")};
+        auto given = [&](const std::string& flag) { return std::find(c.args.begin(), c.args.end(), flag) != c.args.end(); };
+        if (!given("--size")) a.insert(a.end(), {"--size", "26x18"});
+        if (!given("--spp")) a.insert(a.end(), {"--spp", "2"});
+        a.insert(a.end(), c.args.begin(), c.args.end());
+        return testing::crex_cli(a);
+    };
+    auto one = testing::crex_cli({"run", "--size", "26x18", "--spp", "2", "-q", "-o", path("one.exr")});
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    for (const Case& c : {Case{{"--seed", "3", "--resume", partial}, "it was rendered with seed '0', this run's '3'"},
+                          Case{{"--spp", "4", "--resume", partial}, "it was rendered with spp 2, this run has spp 4"},
+                          Case{{"--size", "26x19", "--resume", partial}, "it was rendered with size 26x18, this run has size 26x19"},
+                          Case{{"--resume", path("one.exr")}, "not a partial image of crex run"},
+                          Case{{"--ic", "--resume", partial}, "cannot resume a run with an irradiance cache"}}) {
+        auto r = resume(c);
+        EXPECT_EQ(r.exit_code, 2) << r.err;
+        EXPECT_NE(r.err.find("crex run: error: --resume "), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(c.error), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(path("r.exr")));
+    }
+    auto under_mpirun = mpirun(2, {"run", "--size", "26x18", "--spp", "2", "-q", "--resume", partial, "-o", path("r.exr")});
+    EXPECT_EQ(under_mpirun.exit_code, 2) << under_mpirun.err;
+    EXPECT_EQ(count(under_mpirun.err, "--resume is not supported yet"), 1u) << under_mpirun.err;
+    EXPECT_FALSE(fs::exists(path("r.exr")));
 }
 
 // The irradiance records made over all ranks, from rank 0's note.
