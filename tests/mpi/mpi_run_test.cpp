@@ -7,6 +7,7 @@
 // make fewer records than none. Faults: a rank killed with SIGKILL ends the run with mpirun's
 // error naming it, and rank 0 writes the rows it finished (mpirun's SIGTERM); a stopped rank
 // (renderer or PA) is named by --rank-timeout; none leaves a process or a half-written output.
+// --resume finishes a partial image in one process: the uninterrupted image, exactly.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -255,7 +256,8 @@ TEST_F(MpiRun, AKilledRankHasRankZeroWriteItsFinishedRows) {
     // Rank 1 stops itself at the first (and last) exchange of rows, whose wait --rank-timeout
     // would end only after 60 s; rank 0 has rendered its band, rows 0..11 of 25, and waits
     // there. Then rank 1 is killed with SIGKILL: mpirun names it and ends rank 0 with SIGTERM,
-    // then SIGKILL a second later; in that second rank 0 writes its rows to killed.partial.exr.
+    // then SIGKILL a second later; in that second rank 0 writes its rows to killed.partial.exr,
+    // which --resume then finishes.
     const std::string out = path("killed.exr"), partial = path("killed.partial.exr");
     auto r = testing::run_command(
         {"/bin/sh", "-c",
@@ -277,6 +279,10 @@ TEST_F(MpiRun, AKilledRankHasRankZeroWriteItsFinishedRows) {
     auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 33x25' || true"});
     EXPECT_EQ(left.out, "") << "processes left running";
     expect_finished_rows_of_one_process(partial, 33, 25, 12, path("one.exr"));
+    // And resumable: the same command with --resume renders rows 12..24 and writes the whole.
+    auto resumed = testing::crex_cli({"run", "--size", "33x25", "--spp", "2", "-q", "--resume", partial, "-o", out});
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    EXPECT_EQ(pixels(out), pixels(path("one.exr")));
 }
 
 TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
