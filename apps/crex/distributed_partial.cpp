@@ -63,7 +63,7 @@ void write_kept_rows(const std::lock_guard<std::mutex>&) {
     kept().partial.reset();
     const std::string rows = row_ranges(p.finished);
     if (rows.empty()) {
-        std::cerr << "crex run: rank 0 had no finished row (no band was complete): nothing written\n";
+        std::cerr << "crex run: rank 0 had no finished row (rows are final from the last exchange of rows on): nothing written\n";
         return;
     }
     const std::string what = fmt::format("rows {} of {} finished", rows, p.height);
@@ -139,14 +139,17 @@ void keep_finished_rows(const Film& film, const std::vector<double>& ambient, in
         const std::lock_guard<std::mutex> lock(kept().mutex);
         if (!kept().partial || film.width() != kept().partial->width || film.height() != kept().partial->height) return;
     }
-    // The composite as RunResult::image() makes it (without capict's stand-ins); the film is
-    // this thread's, only the copy into the kept rows needs the lock.
-    const std::vector<float> rgb = film.composite(&ambient);
-    const size_t row = 3 * static_cast<size_t>(film.width());
-    row_begin = std::max(row_begin, 0), row_end = std::min(row_end, film.height());
+    // The composite as RunResult::image() makes it for a plan without subsample variables; the
+    // film is this thread's, only the copy into the kept rows needs the lock.
+    keep_finished_rows(film.composite(&ambient), film.width(), row_begin, row_end);
+}
+
+void keep_finished_rows(const std::vector<float>& rgb, int width, int row_begin, int row_end) {
     const std::lock_guard<std::mutex> lock(kept().mutex);
-    if (!kept().partial) return;  // written by a stop signal meanwhile
+    if (!kept().partial || width != kept().partial->width || rgb.size() != kept().partial->rgb.size()) return;  // or written meanwhile
     Partial& p = *kept().partial;
+    const size_t row = 3 * static_cast<size_t>(width);
+    row_begin = std::max(row_begin, 0), row_end = std::min(row_end, p.height);
     for (int r = row_begin; r < row_end; ++r) {
         const auto at = static_cast<std::ptrdiff_t>(static_cast<size_t>(r) * row);
         std::copy_n(rgb.begin() + at, row, p.rgb.begin() + at);

@@ -8,8 +8,9 @@
 /// mpirun ending the job from outside (SIGTERM to every rank when another rank died, e.g.
 /// was SIGKILLed, or when mpirun was interrupted) writes them too: write_finished_rows_on_stop.
 /// Rank 0 killed outright (SIGKILL, a crash) writes nothing: it holds the image.
-/// A finished row is exactly that row of the image the run would have written, except under
-/// a pipeline's component subsampling (capict), whose stand-ins are made only at the end.
+/// A finished row is exactly that row of the image the run would have written. A pipeline
+/// that varies subsample (apict, capict) interpolates across rows at the end: its rows are
+/// final only once every band is in (a fault before then writes none).
 #pragma once
 
 #include <string>
@@ -28,8 +29,10 @@ std::string partial_path(const std::string& output);
 void arm_partial_outputs(const std::vector<std::string>& outputs, int width, int height, ImageMetadata metadata);
 
 /// Rank 0: rows [row_begin, row_end) of `film` (with its ambient stand-ins) are final; they
-/// are kept as the image will show them.
+/// are kept as the image will show them (a plan without subsample variables).
 void keep_finished_rows(const Film& film, const std::vector<double>& ambient, int row_begin, int row_end);
+/// Rank 0: rows [row_begin, row_end) of the final image `rgb` (`width` pixels a row) are final.
+void keep_finished_rows(const std::vector<float>& rgb, int width, int row_begin, int row_end);
 
 /// Rank 0, once every rank is past its last exchange: the outputs themselves follow, and a
 /// failure from here on is an ordinary one (nothing partial is written).

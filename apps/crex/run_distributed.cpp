@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -31,12 +32,18 @@ DistributedRun::DistributedRun() : ranks_(distribution()), modes_(std::make_uniq
 DistributedRun::~DistributedRun() = default;
 
 namespace {
-// Rank 0 at the last exchange of rows: its own band is final before it, every band after it
-// (what a fault writes, distributed_partial.h). Earlier exchanges carry rows still to change.
-void keep_if_final(const Distribution& d, const Film& film, const std::vector<double>& ambient, bool last, bool exchanged) {
-    if (!last || d.rank != 0) return;
-    if (exchanged) keep_finished_rows(film, ambient, 0, film.height());
-    else keep_finished_rows(film, ambient, d.row_begin(film.height()), d.row_end(film.height()));
+// Rank 0 before the last exchange of rows: its own band is final (what a fault writes,
+// distributed_partial.h), unless the plan's image is made from more than each row's film: a
+// subsample variable interpolates pixels from corners in other rows, capict adds stand-ins
+// across rows, both at the end. Earlier exchanges carry rows still to change; after the last
+// one, RunSettings::final_image keeps every row.
+void keep_band_if_final(const Distribution& d, bool band_final, const Film& film, const std::vector<double>& ambient, bool last) {
+    if (last && band_final && d.rank == 0) keep_finished_rows(film, ambient, d.row_begin(film.height()), d.row_end(film.height()));
+}
+
+bool interpolates_across_rows(const PipelinePlan& plan) {
+    return std::any_of(plan.variables.begin(), plan.variables.end(),
+                       [](const PlanVariable& v) { return v.variable == pipeline::SelectiveVariable::kSubsample; });
 }
 }  // namespace
 
@@ -86,21 +93,24 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
     s.row_begin = ranks_.row_begin(s.height);
     s.row_end = ranks_.row_end(s.height);
     const Distribution d = ranks_;
+    const bool band_final = !interpolates_across_rows(in.plan);
 #ifdef CREX_WITH_MPI
     auto client = modes_->client;
-    s.share_rows = [d, client](Film& film, std::vector<double>& ambient, bool last) {
-        keep_if_final(d, film, ambient, last, false);  // before any wait that may time out
+    s.share_rows = [d, band_final, client](Film& film, std::vector<double>& ambient, bool last) {
+        keep_band_if_final(d, band_final, film, ambient, last);  // before any wait that may time out
         if (client) client->at_exchange();  // the PA serves the other PRs while this one waits
         share_rows(d, film, ambient);
-        keep_if_final(d, film, ambient, last, true);
     };
 #else
-    s.share_rows = [d](Film& film, std::vector<double>& ambient, bool last) {
-        keep_if_final(d, film, ambient, last, false);
+    s.share_rows = [d, band_final](Film& film, std::vector<double>& ambient, bool last) {
+        keep_band_if_final(d, band_final, film, ambient, last);
         share_rows(d, film, ambient);
-        keep_if_final(d, film, ambient, last, true);
     };
 #endif
+    if (ranks_.rank == 0)  // every row, as the image will be written
+        s.final_image = [](const std::vector<float>& rgb, int width) {
+            keep_finished_rows(rgb, width, 0, static_cast<int>(rgb.size() / (3 * static_cast<size_t>(width))));
+        };
     s.save_ic_file = ranks_.rank == 0;
     waited_before_ = seconds_waiting_for_ranks();
     return std::nullopt;

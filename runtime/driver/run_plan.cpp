@@ -871,6 +871,7 @@ RunResult PlanRun::execute() {
     if (s_.ambient_auto) add_auto_ambient();
     if (s_.share_rows) s_.share_rows(out_.film, ambient_, true);
     out_.ambient = std::move(ambient_);
+    if (s_.final_image) s_.final_image(out_.image(), s_.width);
     // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.
     std::set<std::string> said;
     for (const auto& w : ex_->warnings())

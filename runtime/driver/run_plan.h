@@ -98,6 +98,10 @@ struct RunSettings {
     /// the end: this process's rows are then final (what is written should the run fail).
     int row_begin = 0, row_end = 0;
     std::function<void(Film& film, std::vector<double>& ambient, bool last)> share_rows;
+    /// Distributed rendering, rank 0: the final image (RunResult::image(), `width` pixels a row)
+    /// right after the last share_rows, every row final: what is written should the run fail
+    /// from there on.
+    std::function<void(const std::vector<float>& rgb, int width)> final_image;
     /// --resume (issue 19): rows already final, taken from a partial image; the camera samples of
     /// the render's last stage are not traced there (a plain crex: none at all; a pipeline: its
     /// last round's selective samples; the preview and earlier rounds are rendered whole, since
