@@ -66,8 +66,8 @@ std::string refused(const RunOptions& opt, const RunInput& in, const RunSetup& s
     if (setup.budget > 0) return "a budget: what a run renders depends on the time it had (--no-budget renders everything)";
     for (const PlanVariable& v : in.plan.variables)
         if (v.variable == pipeline::SelectiveVariable::kSubsample)
-            return "a pipeline that varies subsample: its pixels are interpolated across rows at the end, which the partial "
-                   "image does not hold";
+            return "a pipeline that varies subsample: its pixels are interpolated across rows at the end, so rows cannot be "
+                   "rendered apart (its partial image holds no row or every row: then it is the whole image already)";
     if (opt.components) return "--components: the partial image holds the final rows' composite only";
     if (!setup.maps_dir.empty())
         return "--maps (or the pipeline's output { maps true }): the partial image holds the final rows' composite only, not "

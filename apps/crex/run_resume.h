@@ -13,8 +13,8 @@
 /// Refused (exit 2), because the rows rendered again would not be the ones the run would have
 /// made: an irradiance cache (its records, made by every row's queries in order, decide each
 /// pixel's light), a budget (what is rendered depends on the time), a `subsample` variable
-/// (interpolation across rows; the partial does not hold its fill), and outputs the partial
-/// has no rows for (--components, --maps, --report, --reference). Under mpirun: not yet.
+/// (pixels interpolated across rows: its partial holds no row or every row), and outputs the
+/// partial has no rows for (--components, --maps, --report, --reference). Under mpirun: not yet.
 /// Warned: `--ambient auto` (a pipeline's default) when rays were left unexecuted, since their
 /// stand-in is an average over every row's rays.
 /// The partial must come from the same run: its header records the crex version, scene, crex,
