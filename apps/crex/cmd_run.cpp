@@ -89,6 +89,7 @@ int run(RunOptions opt) {
         if (auto exit = distributed.finish(setup, *result)) return *exit;  // rank 0 goes on to write the outputs
         if (setup.reference || !opt.report_dir.empty()) {
             recorder.emplace(opt.checkpoint_interval);
+            for (Checkpoint& c : distributed.exchange_checkpoints()) recorder->add(std::move(c));
             recorder->add({distributed.slowest_render_seconds(), "end", "end of render (the rows of every rank)",
                            static_cast<uint64_t>(distributed.rays_over_ranks()), result->image()});
         }

@@ -22,6 +22,7 @@ struct DistributedRun::Modes {
     std::string ic_share = "none";  // what is in effect: none without a cache
     ComponentRoles roles;
     std::string ic_file;  // --ic-file under component: the first PA sends its records, rank 0 saves
+    std::shared_ptr<std::vector<Checkpoint>> exchanges;  // rank 0 with a report: the image at each exchange
 #ifdef CREX_WITH_MPI
     std::shared_ptr<IrradianceClient> client;  // a PR of component
     std::shared_ptr<CentralShare> central;
@@ -46,6 +47,10 @@ bool interpolates_across_rows(const PipelinePlan& plan) {
                        [](const PlanVariable& v) { return v.variable == pipeline::SelectiveVariable::kSubsample; });
 }
 }  // namespace
+
+std::vector<Checkpoint> DistributedRun::exchange_checkpoints() const {
+    return modes_->exchanges ? *modes_->exchanges : std::vector<Checkpoint>{};
+}
 
 bool DistributedRun::answers_irradiance() const { return modes_->ic_share == "component" && modes_->roles.answers; }
 
@@ -94,17 +99,34 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
     s.row_end = ranks_.row_end(s.height);
     const Distribution d = ranks_;
     const bool band_final = !interpolates_across_rows(in.plan);
+    // After an exchange rank 0's film holds every row as it is then: a point of the report's
+    // error curve (before it, only rank 0's own band is current).
+    if (ranks_.rank == 0 && (setup.reference || !opt.report_dir.empty()))
+        modes_->exchanges = std::make_shared<std::vector<Checkpoint>>();
+    auto exchanges = modes_->exchanges;
+    const auto start = std::chrono::steady_clock::now();
+    auto note_exchange = [exchanges, start](const Film& film, const std::vector<double>& ambient, bool last) {
+        if (!exchanges || last) return;  // the end is added by cmd_run from the written image
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const bool first = exchanges->empty();
+        exchanges->push_back({seconds, first ? "preselective" : "selective",
+                              first ? std::string("the preview, rows of every rank")
+                                    : fmt::format("round {} done, rows of every rank", exchanges->size()),
+                              0, film.composite(&ambient)});
+    };
 #ifdef CREX_WITH_MPI
     auto client = modes_->client;
-    s.share_rows = [d, band_final, client](Film& film, std::vector<double>& ambient, bool last) {
+    s.share_rows = [d, band_final, client, note_exchange](Film& film, std::vector<double>& ambient, bool last) {
         keep_band_if_final(d, band_final, film, ambient, last);  // before any wait that may time out
         if (client) client->at_exchange();  // the PA serves the other PRs while this one waits
         share_rows(d, film, ambient);
+        note_exchange(film, ambient, last);
     };
 #else
-    s.share_rows = [d, band_final](Film& film, std::vector<double>& ambient, bool last) {
+    s.share_rows = [d, band_final, note_exchange](Film& film, std::vector<double>& ambient, bool last) {
         keep_band_if_final(d, band_final, film, ambient, last);
         share_rows(d, film, ambient);
+        note_exchange(film, ambient, last);
     };
 #endif
     if (ranks_.rank == 0)  // every row, as the image will be written

@@ -6,11 +6,13 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "apps/crex/distributed.h"
 #include "apps/crex/run_input.h"
 #include "apps/crex/run_options.h"
 #include "apps/crex/run_setup.h"
+#include "runtime/report/checkpoints.h"
 
 namespace crex::app {
 
@@ -36,6 +38,10 @@ public:
     /// After finish(): the rays over all ranks, and the slowest rank's render time.
     double rays_over_ranks() const { return rays_; }
     double slowest_render_seconds() const { return slowest_; }
+    /// Rank 0, with a report or a reference: the image after each exchange of rows but the
+    /// last, when its film holds every rank's rows (rank 0's clock; rays not counted), for the
+    /// error curve's points before the end.
+    std::vector<Checkpoint> exchange_checkpoints() const;
 
 private:
     struct Modes;

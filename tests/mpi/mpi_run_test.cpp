@@ -611,9 +611,10 @@ TEST_F(MpiRun, EachRankSpendsTheBudgetOnItsOwnBand) {
     EXPECT_TRUE(std::any_of(rgb.begin() + half, rgb.end(), [](float v) { return v > 0; })) << "rank 1's band";
 }
 
-// --report and --reference under mpirun: rank 0 writes the report from the shared film; the
-// error curve has one point, the end (before it rank 0's film holds only its own band). The
-// reference here is the single-process image, which the 2-rank image equals: error 0.
+// --report and --reference under mpirun: rank 0 writes the report from the shared film. A plain
+// crex exchanges rows only at the end, so its error curve has one point, the end (before it
+// rank 0's film holds only its own band). The reference here is the single-process image,
+// which the 2-rank image equals: error 0.
 TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
     const std::vector<std::string> args = {"run", "--size", "24x18", "--spp", "2"};
     std::vector<std::string> a = args;
@@ -635,6 +636,35 @@ TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
     const auto cj = nlohmann::json::parse(in, nullptr, false);
     ASSERT_TRUE(cj.is_object());
     EXPECT_EQ(cj["checkpoints"].size(), 1u);
+}
+
+// A pipeline exchanges rows after its preview and after each round but the last: there rank
+// 0's film holds every rank's rows, and each exchange is a point of the error curve before
+// the end. sel_rp in 2 rounds: the preview, round 1, the end, with the error falling to 0
+// (the reference is the single-process image).
+TEST_F(MpiRun, RankZeroReportsTheErrorAtEveryExchangeOfRows) {
+    const std::vector<std::string> args = {"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "24x18", "--rounds", "2"};
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"-q", "-o", path("one.exr")});
+    auto one = testing::crex_cli(a);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    a = args;
+    a.insert(a.end(), {"--reference", path("one.exr"), "--report", path("report"), "--format", "json", "-o", path("two.exr")});
+    auto two = mpirun(2, a);
+    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    const auto j = nlohmann::json::parse(two.out, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << two.out;
+    const auto& curve = j["error_curve"];
+    ASSERT_EQ(curve.size(), 3u) << two.out;
+    EXPECT_EQ(curve[0]["stage"], "preselective");
+    EXPECT_EQ(curve[1]["stage"], "selective");
+    EXPECT_EQ(curve[2]["stage"], "end");
+    // The preview is far from the final image, round 1 nearer, the end is it.
+    EXPECT_GT(curve[0]["rmse"].get<double>(), curve[1]["rmse"].get<double>()) << two.out;
+    EXPECT_GT(curve[1]["rmse"].get<double>(), 0.0);
+    EXPECT_EQ(curve[2]["rmse"].get<double>(), 0.0);
+    EXPECT_LE(curve[0]["seconds"].get<double>(), curve[1]["seconds"].get<double>());
 }
 
 // Still refused under mpirun (once, exit 2): each rank would render the whole image again.
