@@ -71,6 +71,7 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    nlohmann::json reported_against_one_process(const std::vector<std::string>& args);
     fs::path dir_;
 };
 
@@ -615,21 +616,26 @@ TEST_F(MpiRun, EachRankSpendsTheBudgetOnItsOwnBand) {
 // crex exchanges rows only at the end, so its error curve has one point, the end (before it
 // rank 0's film holds only its own band). The reference here is the single-process image,
 // which the 2-rank image equals: error 0.
-TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
-    const std::vector<std::string> args = {"run", "--size", "24x18", "--spp", "2"};
+// `args` once in one process (one.exr), then on 2 ranks with that image as the reference and
+// a report (two.exr, report/): the 2-rank run's JSON summary, after checking it is the same image.
+nlohmann::json MpiRun::reported_against_one_process(const std::vector<std::string>& args) {
     std::vector<std::string> a = args;
     a.insert(a.end(), {"-q", "-o", path("one.exr")});
     auto one = testing::crex_cli(a);
-    ASSERT_EQ(one.exit_code, 0) << one.err;
+    EXPECT_EQ(one.exit_code, 0) << one.err;
     a = args;
     a.insert(a.end(), {"--reference", path("one.exr"), "--report", path("report"), "--format", "json", "-o", path("two.exr")});
     auto two = mpirun(2, a);
-    ASSERT_EQ(two.exit_code, 0) << two.err;
+    EXPECT_EQ(two.exit_code, 0) << two.err;
     EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
     EXPECT_TRUE(fs::exists(path("report/index.html")));
-    const auto j = nlohmann::json::parse(two.out, nullptr, false);
-    ASSERT_TRUE(j.is_object()) << two.out;
-    ASSERT_EQ(j["error_curve"].size(), 1u) << two.out;
+    return nlohmann::json::parse(two.out, nullptr, false);
+}
+
+TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
+    const auto j = reported_against_one_process({"run", "--size", "24x18", "--spp", "2"});
+    ASSERT_TRUE(j.is_object());
+    ASSERT_EQ(j["error_curve"].size(), 1u) << j.dump();
     EXPECT_EQ(j["error_curve"][0]["stage"], "end");
     EXPECT_EQ(j["error_curve"][0]["rmse"].get<double>(), 0.0);
     std::ifstream in(path("report/checkpoints.json"));
@@ -643,25 +649,15 @@ TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
 // the end. sel_rp in 2 rounds: the preview, round 1, the end, with the error falling to 0
 // (the reference is the single-process image).
 TEST_F(MpiRun, RankZeroReportsTheErrorAtEveryExchangeOfRows) {
-    const std::vector<std::string> args = {"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "24x18", "--rounds", "2"};
-    std::vector<std::string> a = args;
-    a.insert(a.end(), {"-q", "-o", path("one.exr")});
-    auto one = testing::crex_cli(a);
-    ASSERT_EQ(one.exit_code, 0) << one.err;
-    a = args;
-    a.insert(a.end(), {"--reference", path("one.exr"), "--report", path("report"), "--format", "json", "-o", path("two.exr")});
-    auto two = mpirun(2, a);
-    ASSERT_EQ(two.exit_code, 0) << two.err;
-    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
-    const auto j = nlohmann::json::parse(two.out, nullptr, false);
-    ASSERT_TRUE(j.is_object()) << two.out;
+    const auto j = reported_against_one_process({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "24x18", "--rounds", "2"});
+    ASSERT_TRUE(j.is_object());
     const auto& curve = j["error_curve"];
-    ASSERT_EQ(curve.size(), 3u) << two.out;
+    ASSERT_EQ(curve.size(), 3u) << j.dump();
     EXPECT_EQ(curve[0]["stage"], "preselective");
     EXPECT_EQ(curve[1]["stage"], "selective");
     EXPECT_EQ(curve[2]["stage"], "end");
     // The preview is far from the final image, round 1 nearer, the end is it.
-    EXPECT_GT(curve[0]["rmse"].get<double>(), curve[1]["rmse"].get<double>()) << two.out;
+    EXPECT_GT(curve[0]["rmse"].get<double>(), curve[1]["rmse"].get<double>()) << j.dump();
     EXPECT_GT(curve[1]["rmse"].get<double>(), 0.0);
     EXPECT_EQ(curve[2]["rmse"].get<double>(), 0.0);
     EXPECT_LE(curve[0]["seconds"].get<double>(), curve[1]["seconds"].get<double>());
