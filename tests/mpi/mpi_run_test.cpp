@@ -62,6 +62,22 @@ std::vector<float> pixels(const std::string& path) {
     return rgb;
 }
 
+// The shell command of `crex run ARGS` on 2 ranks with the test hooks `env` ("NAME=value ...",
+// each passed to every rank with -x), under timeout(1): a run that hangs ends the test (exit
+// 124) instead of CI.
+std::string hooked_run(const std::string& env, const std::string& args) {
+    std::string exports;
+    std::istringstream words(env);
+    for (std::string word; words >> word;) exports += " -x " + word.substr(0, word.find('='));
+    return env + " timeout -k 5 60 " + kMpirun + " --allow-run-as-root --oversubscribe" + exports + " -np 2 " + CREX_BINARY +
+           " run " + args;
+}
+
+// The crex processes still running a `crex run --size SIZE ...` (none once a run has ended).
+std::string crex_left(const std::string& size) {
+    return testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size " + size + "' || true"}).out;
+}
+
 class MpiRun : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -249,8 +265,7 @@ TEST_F(MpiRun, ARankKilledMidRenderEndsTheRunNamedWithNothingLeftBehind) {
     EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
     expect_only(dir_, {});
-    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 512x512 --spp 1024' || true"});
-    EXPECT_EQ(left.out, "") << "processes left running";
+    EXPECT_EQ(crex_left("512x512 --spp 1024"), "") << "processes left running";
 }
 
 TEST_F(MpiRun, AKilledRankHasRankZeroWriteItsFinishedRows) {
@@ -277,8 +292,7 @@ TEST_F(MpiRun, AKilledRankHasRankZeroWriteItsFinishedRows) {
     EXPECT_NE(r.err.find("crex run: error: the run was ended from outside (SIGTERM to rank 0)"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("rows 0..11 of 25 finished, written to " + partial), std::string::npos) << r.err;
     expect_only(dir_, {"killed.partial.exr"});  // not the requested output, no staged file
-    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 33x25' || true"});
-    EXPECT_EQ(left.out, "") << "processes left running";
+    EXPECT_EQ(crex_left("33x25"), "") << "processes left running";
     expect_finished_rows_of_one_process(partial, 33, 25, 12, path("one.exr"));
     // And resumable: the same command with --resume renders rows 12..24 and writes the whole.
     auto resumed = testing::crex_cli({"run", "--size", "33x25", "--spp", "2", "-q", "--resume", partial, "-o", out});
@@ -292,9 +306,7 @@ TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
     // (2 s), names rank 1 and aborts; mpirun ends the stopped rank too (SIGKILL).
     const std::string out = path("stalled.exr");
     // `timeout`: without the watchdog the run would hang the test (exit 124 then).
-    const std::string script = "CREX_TEST_STALL_RANK=1 timeout -k 5 60 " + std::string(kMpirun) +
-                               " --allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + CREX_BINARY +
-                               " run --size 31x29 --spp 2 -q --rank-timeout 2 -o " + out;
+    const std::string script = hooked_run("CREX_TEST_STALL_RANK=1", "--size 31x29 --spp 2 -q --rank-timeout 2 -o " + out);
     const auto start = std::chrono::steady_clock::now();
     auto r = testing::run_command({"/bin/sh", "-c", script});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -303,8 +315,7 @@ TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
     EXPECT_NE(r.err.find("within 2 s"), std::string::npos) << r.err;
     EXPECT_LT(seconds, 30.0) << "the timeout is 2 s; start-up and the abort take the rest";
     EXPECT_FALSE(fs::exists(out)) << "the requested output is never written by a failed run";
-    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 31x29' || true"});
-    EXPECT_EQ(left.out, "") << "processes left running";
+    EXPECT_EQ(crex_left("31x29"), "") << "processes left running";
     // Rank 0 had rendered its band, rows 0..13 of 29, before it waited: they are written to
     // stalled.partial.exr, as the single-process image has them; the other rows are black.
     const std::string partial = path("stalled.partial.exr");
@@ -317,9 +328,8 @@ TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
 // ends the run with the failing rank's exit code.
 TEST_F(MpiRun, AFailingRankHasRankZeroWriteItsFinishedRows) {
     const std::string out = path("failed.exr");
-    const std::string script = "CREX_TEST_FAIL_RANK=1 timeout -k 5 60 " + std::string(kMpirun) +
-                               " --allow-run-as-root --oversubscribe -x CREX_TEST_FAIL_RANK -np 2 " + CREX_BINARY +
-                               " run --size 30x20 --spp 2 -q --rank-timeout 20 -o " + out + " -o " + path("failed.png");
+    const std::string script =
+        hooked_run("CREX_TEST_FAIL_RANK=1", "--size 30x20 --spp 2 -q --rank-timeout 20 -o " + out + " -o " + path("failed.png"));
     const auto start = std::chrono::steady_clock::now();
     auto r = testing::run_command({"/bin/sh", "-c", script});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -338,17 +348,14 @@ TEST_F(MpiRun, AFailingRankHasRankZeroWriteItsFinishedRows) {
 // Rank 0 itself stopped: rank 1 names it, and after its grace of 10 s ends the run. mpirun
 // continues rank 0 (SIGCONT) before ending it, so rank 0 still writes the rows it finished.
 TEST_F(MpiRun, AStoppedRankZeroIsNamedAndWritesItsRowsWhenMpirunEndsIt) {
-    const std::string script = "CREX_TEST_STALL_RANK=0 timeout -k 5 60 " + std::string(kMpirun) +
-                               " --allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + CREX_BINARY +
-                               " run --size 27x19 --spp 2 -q --rank-timeout 1 -o " + path("r0.exr");
+    const std::string script = hooked_run("CREX_TEST_STALL_RANK=0", "--size 27x19 --spp 2 -q --rank-timeout 1 -o " + path("r0.exr"));
     auto r = testing::run_command({"/bin/sh", "-c", script});
     EXPECT_EQ(r.exit_code, 3) << r.err;
     EXPECT_NE(r.err.find("crex run: error: rank 0 did not reach the exchange of rows no. 1"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("rank 0, which holds the image, did not end the run within 10 s"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("rows 0..8 of 19 finished, written to " + path("r0.partial.exr")), std::string::npos) << r.err;
     expect_only(dir_, {"r0.partial.exr"});
-    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 27x19' || true"});
-    EXPECT_EQ(left.out, "") << "processes left running";
+    EXPECT_EQ(crex_left("27x19"), "") << "processes left running";
     expect_finished_rows_of_one_process(path("r0.partial.exr"), 27, 19, 9, path("one.exr"));
 }
 
@@ -368,18 +375,14 @@ TEST_F(MpiRun, AKilledRankZeroLeavesNothingWritten) {
     EXPECT_NE(r.err.find("rank 0"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
     expect_only(dir_, {});
-    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 29x21' || true"});
-    EXPECT_EQ(left.out, "") << "processes left running";
+    EXPECT_EQ(crex_left("29x21"), "") << "processes left running";
 }
 
 // A run whose rank 1 fails at exchange of rows no. `exchange` (the hook throws there), so
 // rank 0 writes the rows it finished to NAME.partial.exr; `args` follow `crex run`.
 testing::CommandResult fail_rank_one_at(int exchange, const std::string& args) {
-    return testing::run_command({"/bin/sh", "-c",
-                                 "CREX_TEST_FAIL_RANK=1 CREX_TEST_FAULT_EXCHANGE=" + std::to_string(exchange) + " timeout -k 5 60 " +
-                                     std::string(kMpirun) +
-                                     " --allow-run-as-root --oversubscribe -x CREX_TEST_FAIL_RANK -x CREX_TEST_FAULT_EXCHANGE -np 2 " +
-                                     CREX_BINARY + " run " + args});
+    return testing::run_command(
+        {"/bin/sh", "-c", hooked_run("CREX_TEST_FAIL_RANK=1 CREX_TEST_FAULT_EXCHANGE=" + std::to_string(exchange), args)});
 }
 
 long rays_of(const testing::CommandResult& r) {
@@ -579,17 +582,15 @@ TEST_F(MpiRun, TwoAnsweringRanksExchangeRecordsDeterministically) {
 TEST_F(MpiRun, AStoppedAnsweringRankIsNamedToo) {
     // --ic-share component on 2 ranks: rank 1 is the PA and stops after its first answer;
     // the PR waits twice --rank-timeout for it (the PA may be waiting that long for another PR).
-    const std::string script = "CREX_TEST_STALL_RANK=1 timeout -k 5 60 " + std::string(kMpirun) +
-                               " --allow-run-as-root --oversubscribe -x CREX_TEST_STALL_RANK -np 2 " + CREX_BINARY +
-                               " run --size 33x21 --spp 2 --ic --ad 32 -q --rank-timeout 1 -o " + path("pa.exr");
+    const std::string script =
+        hooked_run("CREX_TEST_STALL_RANK=1", "--size 33x21 --spp 2 --ic --ad 32 -q --rank-timeout 1 -o " + path("pa.exr"));
     auto r = testing::run_command({"/bin/sh", "-c", script});
     EXPECT_EQ(r.exit_code, 3) << r.err;
     EXPECT_NE(r.err.find("crex run: error: rank 1 did not answer irradiance queries within 2 s"), std::string::npos) << r.err;
     // Rank 0 was still rendering its band (waiting for answers): no row was final.
     EXPECT_NE(r.err.find("rank 0 had no finished row (rows are final from the last exchange of rows on): nothing written"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("pa.partial.exr")));
-    auto left = testing::run_command({"/bin/sh", "-c", "pgrep -f '[c]rex run --size 33x21' || true"});
-    EXPECT_EQ(left.out, "") << "processes left running";
+    EXPECT_EQ(crex_left("33x21"), "") << "processes left running";
 }
 
 // A budget under mpirun: each rank spends all of it on its own band, so the run ends after
