@@ -208,7 +208,7 @@ Runner add_run_command(CLI::App& app) {
     CLI::Option* aa = cmd->add_option("--aa", opt->aa, "Irradiance cache accuracy (smaller is finer; a pipeline's ic_radius varies it per pixel)")
         ->capture_default_str()
         ->check(CLI::Range(1e-3, 1.0));
-    cmd->add_option("--ad", opt->ad, "Hemisphere rays per irradiance record (later bounces use ad/2^k, at least 16)")
+    CLI::Option* ad = cmd->add_option("--ad", opt->ad, "Hemisphere rays per irradiance record (later bounces use ad/2^k, at least 16)")
         ->capture_default_str()
         ->check(CLI::Range(1u, 65536u));
     CLI::Option* ab = cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(CLI::Range(1u, 64u));
@@ -253,11 +253,12 @@ Examples:
   crex run --size 512x512 --resume out/render.partial.exr   finish a run that failed under mpirun
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
-    return [opt, crex, size, spp, seed, lw, max_depth, ambient, aa, ab] {
+    return [opt, crex, size, spp, seed, lw, max_depth, ambient, aa, ab, ad] {
         RunOptions o = *opt;
         o.crex_given = crex->count() > 0;
         o.aa_given = aa->count() > 0;
         o.ab_given = ab->count() > 0;
+        o.ad_given = ad->count() > 0;
         o.seed_given = seed->count() > 0;
         o.lw_given = lw->count() > 0;
         o.max_depth_given = max_depth->count() > 0;

@@ -34,6 +34,7 @@ void apply_settings(const PipelinePlan& plan, RunOptions& opt) {
     if (!opt.max_depth_given && s.max_depth) opt.max_depth = *s.max_depth;
     if (!opt.aa_given && s.aa) opt.aa = *s.aa;
     if (!opt.ab_given && s.ab) opt.ab = *s.ab;
+    if (!opt.ad_given && s.ad) opt.ad = *s.ad;
     if (!opt.ambient_given && s.av) opt.ambient = *s.av, opt.ambient_given = true;
 }
 

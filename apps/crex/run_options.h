@@ -76,7 +76,7 @@ struct RunOptions {
     uint32_t rounds = 0;
     // Which flags were given (they override the pipeline's settings).
     bool size_given = false, spp_given = false, seed_given = false, lw_given = false, max_depth_given = false,
-         ambient_given = false, aa_given = false, ab_given = false;
+         ambient_given = false, aa_given = false, ab_given = false, ad_given = false;
 };
 
 }  // namespace crex::app

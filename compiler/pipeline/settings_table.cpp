@@ -24,6 +24,7 @@ constexpr std::array kRules = {
     SettingRule{"", "lw", S::kNumber, 0, 1},                 // crex run --lw
     SettingRule{"", "max_depth", S::kInteger, 0, 65535},     // --max-depth
     SettingRule{"", "ab", S::kInteger, 1, 64},               // --ab
+    SettingRule{"", "ad", S::kInteger, 1, 65536},            // --ad
     SettingRule{"", "av", S::kNumber, 0, 1e30},              // --ambient
     SettingRule{"", "aa", S::kNumber, 1e-3, 1},              // --aa
     SettingRule{"", "reference", S::kString},

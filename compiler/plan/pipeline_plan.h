@@ -34,7 +34,7 @@ struct PlanSettings {
     std::optional<uint32_t> rounds;          ///< `selective { rounds N }`: guidance and selective N times
     std::optional<uint64_t> seed;
     std::optional<double> lw, av, aa;
-    std::optional<uint32_t> max_depth, ab;
+    std::optional<uint32_t> max_depth, ab, ad;
     std::optional<PlanBudget> budget;
     std::optional<pipeline::SchedulingPolicy> policy;
     std::string reference;                   ///< "" when none

@@ -70,6 +70,7 @@ PlanSettings typed_settings(const pipeline::ResolvedPipeline& p) {
     s.aa = number("aa");
     if (auto v = number("max_depth")) s.max_depth = static_cast<uint32_t>(*v);
     if (auto v = number("ab")) s.ab = static_cast<uint32_t>(*v);
+    if (auto v = number("ad")) s.ad = static_cast<uint32_t>(*v);
     if (auto it = p.top.find("budget"); it != p.top.end() && it->second.size() == 1) {
         const Value& b = it->second[0];
         s.budget = PlanBudget{b.unit == "ms" ? b.number / 1000 : b.number, b.unit == "%"};
@@ -334,6 +335,7 @@ nlohmann::json plan_settings_to_json(const PlanSettings& s) {
     if (s.aa) j["aa"] = *s.aa;
     if (s.max_depth) j["max_depth"] = *s.max_depth;
     if (s.ab) j["ab"] = *s.ab;
+    if (s.ad) j["ad"] = *s.ad;
     if (s.budget) j["budget"] = {{s.budget->percent ? "percent" : "seconds", s.budget->amount}};
     if (s.policy) j["policy"] = pipeline::name_of(*s.policy);
     if (!s.reference.empty()) j["reference"] = s.reference;

@@ -192,7 +192,7 @@ public:
         const std::string ptr = "/settings";
         if (!s.is_object()) return fail(ptr, "expected an object of settings");
         static const std::set<std::string> known = {"image", "spp", "selective_spp", "rounds", "seed", "lw", "av", "aa",
-                                                    "max_depth", "ab", "budget", "policy", "reference"};
+                                                    "max_depth", "ab", "ad", "budget", "policy", "reference"};
         for (const auto& [key, _] : s.items())
             if (!known.count(key)) return fail(ptr + "/" + escape_pointer_token(key), fmt::format("unknown setting '{}'", key));
         double v = 0;
@@ -225,7 +225,7 @@ public:
                 if (!ranged(s, ptr, key, "", key, v)) return false;
                 *field = v;
             }
-        for (auto [key, field] : {std::pair{"max_depth", &out.max_depth}, std::pair{"ab", &out.ab}})
+        for (auto [key, field] : {std::pair{"max_depth", &out.max_depth}, std::pair{"ab", &out.ab}, std::pair{"ad", &out.ad}})
             if (s.contains(key)) {
                 if (!ranged(s, ptr, key, "", key, v)) return false;
                 *field = static_cast<uint32_t>(v);

@@ -218,6 +218,22 @@ TEST_F(CrexRunCli, IcRadiusRunsTheProgressiveIrradianceCache) {
     EXPECT_EQ(ic["records"].get<int>(), ic["preview_records"].get<int>() + ic["selective_records"].get<int>());
 }
 
+TEST_F(CrexRunCli, APipelinesAdSetsTheRecordsHemisphereRaysUnlessTheCommandLineDoes) {
+    std::ofstream(path("ad.pipe")) << "pipeline ad_set {\n  ad 32\n  preselective { crex \"(TTMRSGD)*\" spp 1 }\n"
+                                      "  guidance { m = constant(1) }\n  selective { vary ic_radius 0.5 .. 0.3 by m }\n}\n";
+    auto hemisphere_rays_per_record = [&](std::vector<std::string> extra) {
+        std::vector<std::string> args = {"run", path("ad.pipe"), "--size", "16x16", "-o", path("ad.exr"), "--format", "json", "-q"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        auto r = crex_cli(args);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        const auto j = nlohmann::json::parse(r.out)["irradiance_cache"];
+        EXPECT_GT(j["records"].get<int>(), 0);
+        return j["ad"].get<int>();
+    };
+    EXPECT_EQ(hemisphere_rays_per_record({}), 32);
+    EXPECT_EQ(hemisphere_rays_per_record({"--ad", "48"}), 48);
+}
+
 }  // namespace
 }  // namespace crex
 

@@ -149,7 +149,7 @@ TEST(PipelineCheck, UnknownModulationFunctionIsE206AtItsName) {
 
 TEST(PipelineCheck, SettingsAtTheEdgesOfTheirRangesAreAccepted) {
     Result r = check("pipeline p {\n  image 1 x 16384\n  seed 0\n  budget 1000000 s\n  policy \"queues\"\n  lw 0\n  max_depth 65535\n"
-                     "  ab 64\n  av 0\n  aa 0.001\n  preselective { spp 1048576 }\n  selective { spp 1 }\n}\n");
+                     "  ab 64\n  ad 65536\n  av 0\n  aa 0.001\n  preselective { spp 1048576 }\n  selective { spp 1 }\n}\n");
     EXPECT_EQ(r.errors, 0u) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
     Result percent = check("pipeline p {\n  budget 100 %\n  policy \"tasks\"\n}\n");
     EXPECT_EQ(percent.errors, 0u) << (percent.diagnostics.empty() ? "" : percent.diagnostics[0].message);

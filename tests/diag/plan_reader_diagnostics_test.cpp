@@ -154,6 +154,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"crex_param_not_text", [](json& j) { j["nodes"][1]["params"]["crex"] = 7; }, "7", "expected the stage's crex"},
         Case{"spp_zero", [](json& j) { j["settings"]["spp"] = 0; }, "0", "whole number in [1, 1048576]"},
         Case{"lw_above_one", [](json& j) { j["settings"]["lw"] = 2; }, "2", "a number in [0, 1]"},
+        Case{"ad_zero", [](json& j) { j["settings"]["ad"] = 0; }, "0", "whole number in [1, 65536]"},
         Case{"image_fraction", [](json& j) { j["settings"]["image"] = {{"width", 32.5}, {"height", 32}}; }, "32.5", "whole number"},
         Case{"budget_huge", [](json& j) { j["settings"]["budget"] = {{"seconds", 1e300}}; }, "1e+300", "a time in (0, 1e+06] s"},
         Case{"unknown_policy", [](json& j) { j["settings"]["policy"] = "nosuch"; }, "\"nosuch\"", "unknown scheduling policy"},
