@@ -11,6 +11,7 @@
 #include <set>
 
 #include "base/check.h"
+#include "runtime/base/memory.h"
 #include "runtime/base/sampling.h"
 #include "runtime/driver/sample_passes.h"
 #include "runtime/pipeline/guidance_graph.h"
@@ -38,15 +39,50 @@ constexpr size_t kBytesPerSample = 512;
 constexpr size_t kBytesPerHeldRay = 400;
 // The process without any rays: code, Embree's and TBB's arenas, the images being written.
 constexpr size_t kBaselineBytes = size_t{96} << 20;
-// Film: 7 AOVs and the emission of doubles, sample and ray counts, component bits, the
-// ambient buffer.
-constexpr size_t kFilmBytesPerPixel = 8 * 3 * 8 + 4 + 4 + 1 + 3 * 8;
+// Beside the film (Film::bytes_per_pixel): the ambient stand-ins, RGB in double.
+constexpr size_t kAmbientBytesPerPixel = 3 * 8;
 // The images made after the render (composite, layers, tone-mapped copies).
 constexpr size_t kOutputBytesPerPixel = 3 * 12;
 // A triangle: its vertices and normal here, Embree's copy and BVH nodes.
 constexpr size_t kBytesPerTriangle = 256;
 // Guidance: the preview, nine linear buffers, maps and their intermediates.
 constexpr size_t kGuidanceBytesPerPixel = 12 * 12 + 16 * 4;
+
+// What a render holds whatever its passes: the process's baseline, the film and its ambient
+// stand-ins, guidance's buffers while they are to come (`guidance`), the output images.
+size_t fixed_bytes(size_t pixels, uint8_t tracked_branches, bool guidance) {
+    const size_t per_pixel =
+        Film::bytes_per_pixel(tracked_branches) + kAmbientBytesPerPixel + kOutputBytesPerPixel + (guidance ? kGuidanceBytesPerPixel : 0);
+    return kBaselineBytes + pixels * per_pixel;
+}
+
+// capict: the components whose first-bounce branches the film tracks (their `subsample(X)`).
+uint8_t subsampled_components(const PipelinePlan& plan) {
+    uint8_t branches = 0;
+    for (const PlanVariable& v : plan.variables)
+        if (v.variable == pipeline::SelectiveVariable::kSubsample && v.component)
+            branches = static_cast<uint8_t>(branches | (1u << static_cast<unsigned>(*v.component)));
+    return branches;
+}
+
+// A render whose film and buffers alone need more than the machine has free is refused before
+// anything is allocated: otherwise the kernel's overcommit lets it start, and the out-of-memory
+// killer ends it (or another process) minutes later. A 16384x16384 Cornell box went past 15 GB
+// on a 24 GB machine before it was stopped.
+void refuse_what_cannot_fit(const PipelinePlan& plan, const RunSettings& s) {
+    const std::optional<size_t> available = memory_available_bytes();
+    if (!available) return;
+    const size_t pixels = static_cast<size_t>(s.width) * static_cast<size_t>(s.height);
+    const size_t needed = fixed_bytes(pixels, subsampled_components(plan), !plan.nodes.empty());
+    if (needed <= *available) return;
+    constexpr double kGB = 1e9;
+    throw std::runtime_error(fmt::format(
+        "a {}x{} render holds {:.1f} GB whatever its passes ({} bytes a pixel: the film's sums in double, the "
+        "ambient stand-ins, {}the output images), more than the {:.1f} GB of memory and swap this machine has "
+        "free; render it smaller (--size)",
+        s.width, s.height, static_cast<double>(needed) / kGB, (needed - kBaselineBytes) / std::max<size_t>(pixels, 1),
+        plan.nodes.empty() ? "" : "guidance's buffers, ", static_cast<double>(*available) / kGB));
+}
 
 bool needs_probe(const PipelinePlan& plan) {
     for (const PlanMap& m : plan.maps)
@@ -164,9 +200,7 @@ size_t PlanRun::pass_bytes(size_t held_bytes) const {
     // A model, not a measurement of the process, so that the passes (and so the order of the
     // film's sums) are the same on every run: what the process holds (scene, film, carried
     // rays) and what is still to come (guidance's buffers, the output images).
-    const size_t pixels = out_.film.pixel_count();
-    size_t used = kBaselineBytes + pixels * (kFilmBytesPerPixel + kOutputBytesPerPixel) + held_bytes;
-    if (out_.staged && out_.preview.empty()) used += pixels * kGuidanceBytesPerPixel;
+    size_t used = fixed_bytes(out_.film.pixel_count(), out_.film.tracked_branches(), out_.staged && out_.preview.empty()) + held_bytes;
     for (const auto& g : rs_->embree->geometries()) used += g.indices.size() * kBytesPerTriangle;
     // At least one row of samples, whatever the limit says: a pass cannot be smaller.
     size_t row = static_cast<size_t>(s_.width) * kBytesPerSample;
@@ -748,11 +782,7 @@ RunResult PlanRun::execute() {
     {
         // capict: the branches of the components sub-sampled are tracked from the first
         // camera ray, so the preview's samples count in the interpolation too.
-        uint8_t branches = 0;
-        for (const PlanVariable& v : plan_.variables)
-            if (v.variable == pipeline::SelectiveVariable::kSubsample && v.component)
-                branches = static_cast<uint8_t>(branches | (1u << static_cast<unsigned>(*v.component)));
-        if (branches) out_.film.track_branches(branches);
+        if (const uint8_t branches = subsampled_components(plan_)) out_.film.track_branches(branches);
     }
     ex_.emplace(*rs_, out_.film, eo);
     policy_admission_ = eo.task_admission;
@@ -930,6 +960,7 @@ std::vector<float> RunResult::aov_image(size_t aov) const {
 }
 
 RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings) {
+    refuse_what_cannot_fit(plan, settings);
     return PlanRun(scene, plan, settings).execute();
 }
 

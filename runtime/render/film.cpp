@@ -39,6 +39,16 @@ void Film::add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, con
     });
 }
 
+size_t Film::bytes_per_pixel(uint8_t tracked) {
+    constexpr size_t rgb = 3 * sizeof(double);
+    size_t branches = 0;
+    for (size_t c = 0; c < kComponentCount; ++c)
+        if (tracked >> c & 1u) branches += 5 * rgb;
+    // The AOVs' sums, emission, the odd half-buffer; sample, ray and odd-sample counts; the
+    // component bits.
+    return kAovCount * rgb + 2 * rgb + 3 * sizeof(uint32_t) + sizeof(uint8_t) + branches;
+}
+
 void Film::track_branches(uint8_t mask) {
     tracked_ = mask;
     for (size_t c = 0; c < kComponentCount; ++c) {

@@ -101,6 +101,9 @@ public:
     std::vector<float> composite(const std::vector<double>* ambient = nullptr) const;
     Vec3 pixel_value(size_t aov, uint32_t pixel) const;
 
+    /// Bytes a pixel of a film holds (every buffer below), with the branches of the components
+    /// in `tracked` (capict): what a render's memory model counts before the film exists.
+    static size_t bytes_per_pixel(uint8_t tracked = 0);
     /// Calls f(data, bytes per pixel) for every per-pixel buffer (row-major, so rows
     /// [r0, r1) are bytes [r0 w b, r1 w b) of each): how distributed rendering shares rows.
     template <typename F>

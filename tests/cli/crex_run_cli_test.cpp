@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "runtime/base/memory.h"
 #include "runtime/io/image_io.h"
 #include "tests/support/crex_cli.h"
 
@@ -216,6 +217,18 @@ TEST_F(CrexRunCli, IcRadiusRunsTheProgressiveIrradianceCache) {
     EXPECT_GT(ic["preview_records"].get<int>(), 0);
     EXPECT_GT(ic["reprocessed_preview_samples"].get<int>(), 0);  // salient pixels asked for a finer radius
     EXPECT_EQ(ic["records"].get<int>(), ic["preview_records"].get<int>() + ic["selective_records"].get<int>());
+}
+
+TEST_F(CrexRunCli, ARenderThatCannotFitInMemoryIsRefusedBeforeItStarts) {
+    // 16384x16384 holds about 78 GB of film and images: before this check the kernel let it
+    // start and it grew past 15 GB in 50 s on a 24 GB machine.
+    const auto available = memory_available_bytes();
+    if (!available || *available > size_t{70} * 1000 * 1000 * 1000) GTEST_SKIP() << "this machine could hold it";
+    auto r = crex_cli({"run", "--scene", "builtin:cornell", "--size", "16384x16384", "-o", path("big.exr")});
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("a 16384x16384 render holds"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("GB of memory and swap this machine has free"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("big.exr")));
 }
 
 TEST_F(CrexRunCli, APipelinesAdSetsTheRecordsHemisphereRaysUnlessTheCommandLineDoes) {
