@@ -157,6 +157,7 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
             std::vector<IcQuery> piece(sites.begin() + static_cast<std::ptrdiff_t>(begin),
                                        sites.begin() + static_cast<std::ptrdiff_t>(std::min(sites.size(), begin + per_piece)));
             for (const auto& r : compute(piece, level)) insert(r);
+            if (progress_) progress_(stats_);
         }
         pending = std::move(misses);
         if (round > 40) {  // cannot happen (a record covers its own site); never loop forever

@@ -65,6 +65,9 @@ public:
     bool lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const;
 
     void insert(const IrradianceRecord& r);
+    /// Called after each piece of records is made (from the thread that asked for them): a
+    /// fine accuracy makes records for minutes inside one D step, which a progress line must show.
+    void set_progress(std::function<void(const IcStats&)> progress) { progress_ = std::move(progress); }
     const std::vector<IrradianceRecord>& records() const { return records_; }
     const IcSettings& settings() const { return settings_; }
     const IcStats& stats() const { return stats_; }
@@ -97,6 +100,7 @@ private:
     using Grid = std::unordered_map<uint64_t, std::vector<uint32_t>>;
     std::vector<std::vector<Grid>> grids_;
     IcStats stats_;
+    std::function<void(const IcStats&)> progress_;
 };
 
 /// A D query as it was answered (for the progressive cache: the same samples are answered

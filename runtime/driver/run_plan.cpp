@@ -458,6 +458,9 @@ void PlanRun::setup_cache() {
     IcSettings ics = plan_cache_settings(plan_, *s_.irradiance_cache);
     base_aa_ = ics.accuracy;
     cache_.emplace(*rs_, ics);
+    cache_->set_progress([this](const IcStats& st) {
+        report_progress(fmt::format("D: irradiance cache, {} records, {:.1f} M hemisphere rays", st.records, st.hemisphere_rays / 1e6));
+    });
     for (const auto& r : s_.ic_records) cache_->insert(r);
     if (s_.ic_file_bytes || (!s_.ic_file.empty() && std::filesystem::exists(s_.ic_file))) {
         size_t before = cache_->records().size();

@@ -2,6 +2,8 @@
 // the answer is known, converges to path tracing with the same bounces as aa falls, does not
 // depend on the thread count, and survives a save and load.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <tbb/global_control.h>
 
 #include <cmath>
@@ -61,6 +63,26 @@ TEST(IrradianceCache, RecordsInCornersNeverHaveZeroRadius) {
         EXPECT_TRUE(is_finite(r.irradiance));
     }
     for (const Vec3& v : e) EXPECT_TRUE(is_finite(v));
+}
+
+// A fine accuracy makes records for minutes inside one D step: the progress line hears of
+// every piece of them, with counts that only grow and end at the cache's own.
+TEST(IrradianceCache, ReportsItsRecordsAsItMakesThem) {
+    Scene s = testing::furnace_box(0.5, 1.0);
+    RenderScene rs(s);
+    IcSettings set;
+    set.divisions = 64, set.bounces = 3;
+    IrradianceCache cache(rs, set);
+    std::vector<uint64_t> seen;
+    cache.set_progress([&](const IcStats& st) { seen.push_back(st.records); });
+    std::vector<IcQuery> q;
+    for (int i = 0; i < 50; ++i)
+        q.push_back({{-0.9 + 0.036 * i, 0.3, -1 + 1e-9}, {0, 0, 1}, 0.02f, 0, static_cast<uint64_t>(i + 1)});
+    std::vector<Vec3> e;
+    cache.irradiance(q, 0, e);
+    ASSERT_GE(seen.size(), 3u);  // at least one piece per bounce level
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    EXPECT_EQ(seen.back(), cache.stats().records);
 }
 
 RunResult render_ic(const Scene& s, int size, uint32_t spp, double aa, uint32_t bounces, uint32_t ad = 128) {
