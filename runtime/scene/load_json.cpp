@@ -48,6 +48,7 @@ const Range kAny{};
 const Range kUnit{0, 1};
 const Range kNonNegative{0, INFINITY};
 const Range kPositive{0, INFINITY, true};
+const Range kRadiance{0, kMaxRadiance};
 
 // Typed access to one JSON object, reporting at the field's own position.
 class ObjectReader {
@@ -226,7 +227,7 @@ public:
         if (top.integer("version", version, 1, 1000) && version != 1)
             sink_.report("E303", top.span("version"), fmt::format("version: this crex reads version 1, the file is version {}", version));
         if (top.has("camera")) read_camera(top, scene.camera);
-        top.vec3("background", scene.background, kNonNegative);
+        top.vec3("background", scene.background, kRadiance);
         if (top.has("medium")) read_medium(top, scene);
         read_array(top, "materials", [&](ObjectReader& r) { read_material(r, scene); });
         read_array(top, "shapes", [&](ObjectReader& r) { read_shape(r, scene); });
@@ -317,8 +318,8 @@ private:
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
                         "ior", "glow_radius", "emission"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow;
-        // Reflectances above 1 create energy; radiances may be anything non-negative.
-        r.vec3("color", m.color, emitter ? kNonNegative : kUnit);
+        // Reflectances above 1 create energy; radiances may be anything the image can hold.
+        r.vec3("color", m.color, emitter ? kRadiance : kUnit);
         r.number("specularity", m.specularity, kUnit);
         r.number("roughness", m.roughness, kUnit);
         r.number("transmissivity", m.transmissivity, kUnit);
@@ -326,7 +327,7 @@ private:
         r.number("ior", m.ior, kPositive);
         r.number("glow_radius", m.glow_radius, kNonNegative);
         Vec3 e;
-        if (r.vec3("emission", e, kNonNegative)) m.emission = e;
+        if (r.vec3("emission", e, kRadiance)) m.emission = e;
         if (m.name.empty()) return;
         if (!material_names_.insert(m.name).second) {
             sink_.report("E305", r.span("name"), fmt::format("{}: a material named '{}' is already defined", r.path("name"), m.name));

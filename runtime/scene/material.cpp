@@ -60,10 +60,12 @@ ComponentSet spawned_components(const Material& m) {
     return s;
 }
 
-bool is_emissive(const Material& m) {
-    if (m.type == MaterialType::kLight || m.type == MaterialType::kGlow) return max_component(m.color) > 0;
-    return m.emission && max_component(*m.emission) > 0;
+Vec3 emitted_radiance(const Material& m) {
+    if (m.type == MaterialType::kLight || m.type == MaterialType::kGlow) return m.color;
+    return m.emission ? *m.emission : Vec3{};
 }
+
+bool is_emissive(const Material& m) { return max_component(emitted_radiance(m)) > 0; }
 
 std::string component_set_letters(const ComponentSet& set) {
     std::string out;

@@ -26,6 +26,15 @@ inline bool is_sampled_emitter(const Material& m) { return m.type == MaterialTyp
 /// True when a hit adds emission (sampled or not).
 bool is_emissive(const Material& m);
 
+/// The largest radiance a scene may give (emitters, `emission`, the background), as `av`'s
+/// range: weighted by throughputs and pdfs it must stay within the image's floats (3.4e38).
+/// A lamp of 1e100 overflowed to infinity, every such sample was dropped as non-finite, and
+/// the image came out black without a word.
+inline constexpr double kMaxRadiance = 1e30;
+
+/// The emitted radiance of `m` (its colour for lights and glows, else its `emission`).
+Vec3 emitted_radiance(const Material& m);
+
 /// "D T R" for a set.
 std::string component_set_letters(const ComponentSet& set);
 

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <set>
 
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
@@ -19,6 +20,7 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
     for (const auto& s : scene.shapes) expand_bounds(s, lo, hi);
     size_t lights = 0;
+    std::set<std::string> over_bright;  // said once a material
     for (size_t i = 0; i < scene.shapes.size(); ++i) {
         const Shape& s = scene.shapes[i];
         const Material* m = scene.find_material(s.material);
@@ -42,7 +44,17 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
                                                            s.name.empty() ? "" : " '" + s.name + "'", dropped, s.triangles.size()));
         }
         if (is_sampled_emitter(*m) && is_emissive(*m)) ++lights;
+        // Every format's emitters (a JSON scene's were refused where they are written).
+        if (const double e = max_component(emitted_radiance(*m)); !(e <= kMaxRadiance) && !over_bright.count(m->name)) {
+            over_bright.insert(m->name);
+            sink.report("E303", locate(i), fmt::format("material '{}': radiance {:g} is beyond the {:g} crex can render (weighted "
+                                                       "by a path, it would overflow the image's floats and come out black)",
+                                                       m->name, e, kMaxRadiance));
+        }
     }
+    if (!(max_component(scene.background) <= kMaxRadiance))
+        sink.report("E303", locate(SIZE_MAX), fmt::format("background: radiance {:g} is beyond the {:g} crex can render",
+                                                          max_component(scene.background), kMaxRadiance));
     const Camera& c = scene.camera;
     if (!is_finite(c.position) || !is_finite(c.direction) || !is_finite(c.up))
         sink.report("E303", locate(SIZE_MAX), "camera: non-finite position, direction or up vector");

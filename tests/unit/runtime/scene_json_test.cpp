@@ -135,6 +135,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "materials[0].roughness: expected a number in [0, 1], got -0.3"},
         BadJson{"reflectance_above_one", with_shapes("[]", R"([{"name": "w", "type": "plastic", "color": [0.5, 1.5, 0]}])"),
                 "E303", 2, 0, "materials[0].color[1]"},
+        // A lamp of 1e100 overflowed the image's floats: every sample dropped, a black image.
+        BadJson{"radiance_beyond_floats", with_shapes("[]", R"([{"name": "w", "type": "light", "color": [1, 1e100, 1]}])"),
+                "E303", 2, 0, "materials[0].color[1]: expected a number in [0, 1e+30], got 1e+100"},
+        BadJson{"background_beyond_floats", "{\"background\": [1e31, 0, 0], \"shapes\": []}", "E303", 1, 0, "background[0]"},
         BadJson{"missing_field", with_shapes(R"([{"type": "sphere", "material": "w", "center": [0,0,0]}])"), "E304", 3, 12,
                 "missing required field 'radius'"},
         BadJson{"unknown_material", with_shapes(R"([{"type": "sphere", "material": "wite", "center": [0,0,0], "radius": 1}])"),

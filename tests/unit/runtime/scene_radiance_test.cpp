@@ -164,6 +164,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadRad{"inf", "void light l 0 0 3 1 1 inf\n", "E303", 1, 24, "finite"},
         BadRad{"wrong_arity", "void plastic p 0 0 3 1 1 1\n", "E303", 1, 22, "takes 5 real arguments, got 3"},
         BadRad{"reflectance_range", "void plastic p 0 0 5 1 2 1 0 0\n", "E303", 1, 24, "reflectance must be in [0, 1]"},
+        BadRad{"radiance_beyond_floats", "void light l 0 0 3 1 1e100 1\nl sphere s 0 0 4 0 0 0 1\n", "E303", 2, 3,
+               "material 'l': radiance 1e+100 is beyond the 1e+30"},
         BadRad{"undefined_modifier", "void light l 0 0 3 1 1 1\nwhite sphere s 0 0 4 0 0 0 1\n", "E305", 2, 1,
                "modifier 'white', which is not defined"},
         BadRad{"degenerate_ring_normal", "void light l 0 0 3 1 1 1\nl ring r 0 0 8 0 0 0 0 0 0 0 1\n", "E306", 2, 3,
