@@ -231,6 +231,18 @@ TEST_F(CrexRunCli, ARenderThatCannotFitInMemoryIsRefusedBeforeItStarts) {
     EXPECT_FALSE(fs::exists(path("big.exr")));
 }
 
+TEST_F(CrexRunCli, ANoteEveryRoundRepeatsIsSaidOnce) {
+    std::ofstream(path("zero.pipe")) << "pipeline zero {\n  preselective { spp 1 }\n  guidance { m = constant(0) }\n"
+                                        "  selective { vary spp 1 .. 4 by m\n  rounds 3 }\n}\n";
+    auto r = crex_cli({"run", path("zero.pipe"), "--size", "8x8", "-o", path("zero.exr"), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string note = "note: map 'm = constant(0)' is 0 everywhere";
+    const size_t at = r.err.find(note);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(note, at + 1), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(3 times)", at), std::string::npos) << r.err;
+}
+
 TEST_F(CrexRunCli, APipelinesAdSetsTheRecordsHemisphereRaysUnlessTheCommandLineDoes) {
     std::ofstream(path("ad.pipe")) << "pipeline ad_set {\n  ad 32\n  preselective { crex \"(TTMRSGD)*\" spp 1 }\n"
                                       "  guidance { m = constant(1) }\n  selective { vary ic_radius 0.5 .. 0.3 by m }\n}\n";
