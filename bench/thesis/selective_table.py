@@ -13,8 +13,10 @@ gold is stochastic, so a difference from gold itself would count gold's own nois
 
 Equal-error protocol (what a user feels): the pipeline's error against the converged reference
 (a path-traced `crex reference` at --reference-spp); the time plain uniform rendering
-(`crex run --spp k`, k = 1..128, with and without --ic) needs for the same error on its best
-curve (the lower envelope of both, interpolated log-log between its points), divided by the
+(`crex run --spp k`: k = 1..512 without the cache, 1..128 with --ic at the default 256
+hemisphere rays per record and at every other `ad` a listed pipeline sets, so a pipeline's
+quieter records are uniform rendering's too) needs for the same error on its best curve (the
+lower envelope of all of them, interpolated log-log between its points), divided by the
 pipeline's time. Two errors:
   FLIP  - mean LDR-FLIP of the tone-mapped images (`crex compare`);
   aFLIP - attention-weighted FLIP, sum(w FLIP) / sum(w) (`crex compare --attention`): w is the
@@ -42,6 +44,10 @@ SCENES = {"cornell": ("builtin:cornell", 1.0), "corridor": (os.path.join(ROOT, "
           # The thesis's Mist Cornell (issue 18): run with --scenes mist --pipelines prog_dis_all,prog_dis_media.
           "mist": (os.path.join(ROOT, "examples/scenes/mist/scene.json"), 1.0)}
 UNIFORM_SPP = [1, 2, 4, 8, 16, 32, 64, 128]
+# Path tracing goes on where the cache's bias flattens its curve: a pipeline below uniform's
+# 128-spp error is then measured, not bounded.
+UNCACHED_EXTRA_SPP = [256, 512]
+DEFAULT_AD = 256
 
 
 def arguments():
@@ -102,6 +108,7 @@ def main():
     a = arguments()
     os.makedirs(a.out, exist_ok=True)
     results = {}
+    pipelines = a.pipelines.split(",")
     for name in a.scenes.split(","):
         scene, aspect = SCENES[name]
         size = f"{a.width}x{int(round(a.width * aspect))}"
@@ -109,14 +116,17 @@ def main():
         ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
         uniform = []
-        for ic in [False, True]:
-            for spp in UNIFORM_SPP:
-                img = out(f"uniform{spp}{'_ic' if ic else ''}.exr")
-                j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] + (["--ic"] if ic else []))
-                uniform.append({"spp": spp, "ic": ic, "seconds": j["render_seconds"], "image": img,
-                                **compare(a, img, ref, "saliency")})
+        curves = [(spp, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP] + [
+            (spp, ad) for ad in cache_divisions(a, pipelines) for spp in UNIFORM_SPP]
+        for spp, ad in curves:
+            tag = "" if ad is None else "_ic" if ad == DEFAULT_AD else f"_ic_ad{ad}"
+            img = out(f"uniform{spp}{tag}.exr")
+            j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] +
+                    ([] if ad is None else ["--ic", "--ad", str(ad)]))
+            uniform.append({"spp": spp, "ic": ad is not None, "ad": ad, "seconds": j["render_seconds"], "image": img,
+                            **compare(a, img, ref, "saliency")})
         rows = []
-        for p in a.pipelines.split(","):
+        for p in pipelines:
             print(f"[{name}] {p} ...", file=sys.stderr)
             pipe = os.path.join(ROOT, "stdlib/pipelines", p + ".pipe")
             img, gold_img, maps = out(f"{p}.exr"), out(f"{p}_gold.exr"), out(f"{p}_maps")
@@ -139,6 +149,16 @@ def main():
         print_tables(name, size, a.reference_spp, uniform, rows)
     with open(os.path.join(a.out, "selective_table.json"), "w") as f:
         json.dump(results, f, indent=2)
+
+
+def cache_divisions(a, pipelines):
+    """The cache's hemisphere rays per record uniform rendering is run at: the default and
+    every `ad` one of the pipelines sets."""
+    ads = {DEFAULT_AD}
+    for p in pipelines:
+        plan = json.loads(crex(a.crex, ["plan", os.path.join(ROOT, "stdlib/pipelines", p + ".pipe"), "--format", "json"]))
+        ads.add(plan.get("settings", {}).get("ad", DEFAULT_AD))
+    return sorted(ads)
 
 
 def succeeds(a, args):
@@ -165,7 +185,13 @@ def print_tables(name, size, ref_spp, uniform, rows):
               f"{'' if ef is None else f'{ef[0]:.2f}'} | {speedup(ef, t)} | {c['aflip']:.4f} | {r['attention']} | "
               f"{'' if ea is None else f'{ea[0]:.2f}'} | {speedup(ea, t)} |")
     print("\nuniform (spp, cache, s, FLIP, aFLIP by saliency): " + ", ".join(
-        f"({u['spp']}{' ic' if u['ic'] else ''}, {u['seconds']:.2f}, {u['flip']:.4f}, {u['aflip']:.4f})" for u in uniform))
+        f"({u['spp']}{uniform_tag(u)}, {u['seconds']:.2f}, {u['flip']:.4f}, {u['aflip']:.4f})" for u in uniform))
+
+
+def uniform_tag(u):
+    if not u["ic"]:
+        return ""
+    return " ic" if u["ad"] == DEFAULT_AD else f" ic ad {u['ad']}"
 
 
 if __name__ == "__main__":
