@@ -13,6 +13,7 @@
 #include "apps/crex/rank_watchdog.h"
 #include "apps/crex/record_exchange.h"
 #include "apps/crex/stop_signals.h"
+#include "base/check.h"
 #endif
 
 namespace crex::app {
@@ -69,33 +70,45 @@ Distribution render_rows_on_first(int renderers) {
     return d;
 }
 
-void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient) {
+namespace {
+// The same on every rank that computed the same split (FNV-1a of the bounds).
+int fingerprint(const std::vector<int>& bounds) {
+    uint32_t h = 2166136261u;
+    for (int b : bounds) h = (h ^ static_cast<uint32_t>(b)) * 16777619u;
+    return static_cast<int>(h & 0x7fffffffu);
+}
+}  // namespace
+
+void share_rows(const Distribution& d, SharedRows& rows) {
     if (!d.active()) return;
+    Film& film = rows.film;
+    const std::vector<int>& bounds = rows.bounds;
     const int exchange = ++g_row_exchanges;
-    stall_here_if_asked(exchange);
-    fail_here_if_asked(exchange);
+    stall_here_if_asked(exchange, rows.why == RowExchange::kEnd);
+    fail_here_if_asked(exchange, rows.why == RowExchange::kEnd);
     const std::string point = fmt::format("the exchange of rows no. {} (after the preview, before each round, at the end)", exchange);
-    arrive(rows_comm(), point);
-    const int width = film.width(), height = film.height();
+    // The ranks' tokens carry their splits: counts that differ would make MPI write past the
+    // buffers, so a rank that split the rows otherwise (a bug) ends the run here instead.
+    arrive(rows_comm(), point, fingerprint(bounds));
+    CREX_CHECK(bounds.size() == static_cast<size_t>(d.bands) + 1 && bounds.front() == 0 && bounds.back() == film.height());
+    const int width = film.width();
     // Each buffer in place: band b's rows go to every rank (MPI_IN_PLACE: a rank's own band
     // is already where it belongs). Non-blocking, so a rank stalling inside is caught too.
     std::vector<MPI_Request> requests;
     std::vector<std::vector<int>> counts, displs;
     auto gather = [&](void* data, size_t bytes_per_pixel) {
         counts.emplace_back(static_cast<size_t>(d.bands)), displs.emplace_back(static_cast<size_t>(d.bands));
-        for (int b = 0; b < d.bands; ++b) {
-            Distribution other = d;
-            other.band = b;
-            const size_t row_bytes = static_cast<size_t>(width) * bytes_per_pixel;
-            counts.back()[static_cast<size_t>(b)] = static_cast<int>(static_cast<size_t>(other.row_end(height) - other.row_begin(height)) * row_bytes);
-            displs.back()[static_cast<size_t>(b)] = static_cast<int>(static_cast<size_t>(other.row_begin(height)) * row_bytes);
+        const size_t row_bytes = static_cast<size_t>(width) * bytes_per_pixel;
+        for (size_t b = 0; b < static_cast<size_t>(d.bands); ++b) {
+            counts.back()[b] = static_cast<int>(static_cast<size_t>(bounds[b + 1] - bounds[b]) * row_bytes);
+            displs.back()[b] = static_cast<int>(static_cast<size_t>(bounds[b]) * row_bytes);
         }
         requests.emplace_back();
         MPI_Iallgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, data, counts.back().data(), displs.back().data(), MPI_BYTE, rows_comm(),
                         &requests.back());
     };
     film.for_each_buffer(gather);
-    if (ambient.size() == 3 * film.pixel_count()) gather(ambient.data(), 3 * sizeof(double));
+    if (rows.ambient.size() == 3 * film.pixel_count()) gather(rows.ambient.data(), 3 * sizeof(double));
     wait_requests(requests, rank_timeout(), [&] { return "a rank stalled in " + point; });
 }
 
@@ -188,7 +201,7 @@ DistributedSession::DistributedSession(int&, char**&) {}
 DistributedSession::~DistributedSession() = default;
 Distribution distribution() { return {}; }
 Distribution render_rows_on_first(int) { return {}; }
-void share_rows(const Distribution&, Film&, std::vector<double>&) {}
+void share_rows(const Distribution&, SharedRows&) {}
 void share_cache_records(const Distribution&, IrradianceCache&, size_t&) {}
 void all_ranks_arrive(const std::string&) {}
 std::string share_from_rank0(std::string text, const std::string&) { return text; }

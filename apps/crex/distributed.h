@@ -1,12 +1,13 @@
 /// \file distributed.h
 /// `mpirun -np N crex run ...` (issue 19, thesis chapter 6): the same command on N ranks. Rank
 /// 0 reads the inputs and sends them (distributed_input.h); the ranks that render rows (all of them, but under
-/// --ic-share component only the PR ranks) each render the camera samples of their own band
-/// (band b of B: rows [b H / B, (b + 1) H / B)); the film's rows are shared between them after
-/// the preview, before each round's guidance (the maps see the whole image) and at the end, so
-/// every pixel is the sum of exactly the samples one rank traced: without an irradiance cache,
-/// the image is the single-process image. Rank 0 alone reads the inputs (distributed_input.h),
-/// writes outputs and prints.
+/// --ic-share component only the PR ranks) each render the camera samples of their own band of
+/// rows (runtime/driver/row_bands.h: equal bands, band b starting at row b H / B to the
+/// nearest). The film's rows are shared between them after the preview, before each round's
+/// guidance (the maps see the whole image) and at the end, so every pixel is the sum of
+/// exactly the samples one rank traced: without an irradiance cache, the image is the
+/// single-process image. Rank 0 alone reads the inputs (distributed_input.h), writes outputs
+/// and prints.
 /// How the ranks share an irradiance cache (--ic-share) is ic_share_central.h,
 /// ic_share_component.h and share_cache_records() below (broadcast); every wait for another
 /// rank is bounded (rank_watchdog.h).
@@ -18,7 +19,7 @@
 #include <vector>
 
 #include "runtime/cache/irradiance_cache.h"
-#include "runtime/render/film.h"
+#include "runtime/driver/run_plan.h"
 
 namespace crex::app {
 
@@ -26,9 +27,6 @@ struct Distribution {
     int rank = 0, size = 1;   ///< among all ranks (MPI_COMM_WORLD)
     int band = 0, bands = 1;  ///< this rank's band of rows among the ranks that render rows
     bool active() const { return size > 1; }
-    /// The rows this rank renders of an image `height` rows high.
-    int row_begin(int height) const { return static_cast<int>(static_cast<long long>(height) * band / bands); }
-    int row_end(int height) const { return static_cast<int>(static_cast<long long>(height) * (band + 1) / bands); }
 };
 
 /// Starts MPI when this process was launched by mpirun (Open MPI's environment says so) and
@@ -50,9 +48,12 @@ Distribution distribution();
 /// Collective over all ranks. A rank beyond them gets band -1.
 Distribution render_rows_on_first(int renderers);
 
-/// Every row-rendering rank's film and ambient stand-ins take each band of rows from the rank
-/// that renders it; waits are bounded (a late rank is named). Collective over those ranks.
-void share_rows(const Distribution& d, Film& film, std::vector<double>& ambient);
+/// Every row-rendering rank's per-pixel buffers (`rows`: the film and its ambient stand-ins)
+/// take each band of rows from the rank that rendered it, band b being rows
+/// [rows.bounds[b], rows.bounds[b + 1]) (the split of the work since the last exchange, which
+/// every rank computed alike: a rank with another split ends the run as an internal error);
+/// waits are bounded (a late rank is named). Collective over those ranks.
+void share_rows(const Distribution& d, SharedRows& rows);
 
 /// --ic-share broadcast: the records this rank made since the last call go to every
 /// row-rendering rank, and every other rank's are inserted here, in rank order. `shared`

@@ -142,16 +142,14 @@ void wait_requests(std::vector<MPI_Request>& requests, double timeout, const std
         timeout, late);
 }
 
-void arrive(MPI_Comm comm, const std::string& point) {
+void arrive(MPI_Comm comm, const std::string& point, int agreed) {
     int rank = 0, size = 1;
     MPI_Comm_rank(comm, &rank);
     MPI_Comm_size(comm, &size);
     if (size < 2) return;
     // A token to and from every other rank: N^2 messages of 4 bytes at a handful of points a
-    // render, and unlike MPI_Ibarrier it tells who is missing.
-    static int sequence = 0;
-    ++sequence;
-    std::vector<int> got(static_cast<size_t>(size), 0);
+    // render, and unlike MPI_Ibarrier it tells who is missing. The token is `agreed`.
+    std::vector<int> got(static_cast<size_t>(size), agreed);
     std::vector<MPI_Request> recv, send;
     std::vector<int> from;
     for (int r = 0; r < size; ++r) {
@@ -160,7 +158,7 @@ void arrive(MPI_Comm comm, const std::string& point) {
         send.emplace_back();
         from.push_back(r);
         MPI_Irecv(&got[static_cast<size_t>(r)], 1, MPI_INT, r, kArriveTag, comm, &recv.back());
-        MPI_Isend(&sequence, 1, MPI_INT, r, kArriveTag, comm, &send.back());
+        MPI_Isend(&agreed, 1, MPI_INT, r, kArriveTag, comm, &send.back());
     }
     auto late = [&] {
         std::string who;
@@ -173,36 +171,44 @@ void arrive(MPI_Comm comm, const std::string& point) {
     };
     wait_requests(recv, rank_timeout(), late);
     wait_requests(send, rank_timeout(), [&] { return fmt::format("a rank took no token at {}", point); });
+    for (int r = 0; r < size; ++r)
+        if (got[static_cast<size_t>(r)] != agreed)
+            end_all_ranks(fmt::format("crex run: internal error: ranks {} and {} computed different data for {} (a bug in crex: "
+                                      "please report it with the command that caused it)\n",
+                                      world_rank(), world_rank_of(comm, r), point),
+                          kExitFailure);
 }
 
 #ifdef CREX_TEST_HOOKS
 namespace {
-// The test hook named by `variable` is for this rank, at this exchange of rows.
-bool hook_here(const char* variable, int exchange) {
+// The test hook named by `variable` is for this rank, at this exchange of rows (a number, or
+// `end`: the last, however many came before it).
+bool hook_here(const char* variable, int exchange, bool last) {
     const char* rank = std::getenv(variable);
     if (!rank || std::atoi(rank) != world_rank()) return false;
     const char* at = std::getenv("CREX_TEST_FAULT_EXCHANGE");
+    if (at && std::string(at) == "end") return last;
     return exchange == (at ? std::atoi(at) : 1);
 }
 }  // namespace
 #endif
 
-void fail_here_if_asked(int exchange) {
+void fail_here_if_asked(int exchange, bool last) {
 #ifdef CREX_TEST_HOOKS
-    if (hook_here("CREX_TEST_FAIL_RANK", exchange)) throw std::runtime_error("test hook: this rank fails (CREX_TEST_FAIL_RANK)");
+    if (hook_here("CREX_TEST_FAIL_RANK", exchange, last)) throw std::runtime_error("test hook: this rank fails (CREX_TEST_FAIL_RANK)");
 #else
-    (void)exchange;
+    (void)exchange, (void)last;
 #endif
 }
 
-void stall_here_if_asked(int exchange) {
+void stall_here_if_asked(int exchange, bool last) {
 #ifdef CREX_TEST_HOOKS
     static bool stalled = false;
-    if (stalled || !hook_here("CREX_TEST_STALL_RANK", exchange)) return;
+    if (stalled || !hook_here("CREX_TEST_STALL_RANK", exchange, last)) return;
     stalled = true;
     std::raise(SIGSTOP);
 #else
-    (void)exchange;
+    (void)exchange, (void)last;
 #endif
 }
 

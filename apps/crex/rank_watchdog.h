@@ -63,16 +63,18 @@ void set_fault_writer(std::function<void()> writer);
 
 /// Every rank of `comm` says it reached `point` (its name in the error); returns once all
 /// have, else aborts naming the ranks (of MPI_COMM_WORLD) that did not arrive in time. The
-/// collective that follows then finds every rank in it.
-void arrive(MPI_Comm comm, const std::string& point);
+/// collective that follows then finds every rank in it. `agreed`: what every rank must bring
+/// (data each computed alike, e.g. a fingerprint of the bands of rows the collective's counts
+/// come from); a rank that brings another ends the run as an internal error.
+void arrive(MPI_Comm comm, const std::string& point, int agreed = 0);
 
 /// Tests only: with CREX_TEST_HOOKS compiled in (builds with CREX_TESTS) and the environment
 /// variable CREX_TEST_STALL_RANK equal to this process's world rank, the first call at
-/// exchange no. CREX_TEST_FAULT_EXCHANGE (default 1; `exchange` is the caller's count) stops
-/// the process (SIGSTOP), as a hung rank would be.
-void stall_here_if_asked(int exchange = 1);
+/// exchange no. CREX_TEST_FAULT_EXCHANGE (default 1; `exchange` is the caller's count; `end`:
+/// the call whose `last` is true) stops the process (SIGSTOP), as a hung rank would be.
+void stall_here_if_asked(int exchange = 1, bool last = false);
 /// Tests only, likewise: CREX_TEST_FAIL_RANK equal to this rank throws (a render that fails).
-void fail_here_if_asked(int exchange = 1);
+void fail_here_if_asked(int exchange = 1, bool last = false);
 
 }  // namespace crex::app
 

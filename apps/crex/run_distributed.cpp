@@ -1,6 +1,7 @@
 #include "apps/crex/run_distributed.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -33,13 +34,14 @@ DistributedRun::DistributedRun() : ranks_(distribution()), modes_(std::make_uniq
 DistributedRun::~DistributedRun() = default;
 
 namespace {
-// Rank 0 before the last exchange of rows: its own band is final (what a fault writes,
-// distributed_partial.h), unless the plan's image is made from more than each row's film: a
-// subsample variable interpolates pixels from corners in other rows, capict adds stand-ins
-// across rows, both at the end. Earlier exchanges carry rows still to change; after the last
-// one, RunSettings::final_image keeps every row.
-void keep_band_if_final(const Distribution& d, bool band_final, const Film& film, const std::vector<double>& ambient, bool last) {
-    if (last && band_final && d.rank == 0) keep_finished_rows(film, ambient, d.row_begin(film.height()), d.row_end(film.height()));
+// Rank 0 before the last exchange of rows: its own band of the last stage is final (what a
+// fault writes, distributed_partial.h), unless the plan's image is made from more than each
+// row's film: a subsample variable interpolates pixels from corners in other rows, capict adds
+// stand-ins across rows, both at the end. Earlier exchanges carry rows still to change; after
+// the last one, RunSettings::final_image keeps every row.
+void keep_band_if_final(const Distribution& d, bool band_final, const SharedRows& rows) {
+    if (rows.why == RowExchange::kEnd && band_final && d.rank == 0)
+        keep_finished_rows(rows.film, rows.ambient, rows.bounds[static_cast<size_t>(d.band)], rows.bounds[static_cast<size_t>(d.band) + 1]);
 }
 
 bool interpolates_across_rows(const PipelinePlan& plan) {
@@ -95,8 +97,8 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
         s.share_cache = [d, shared](IrradianceCache& cache) { share_cache_records(d, cache, *shared); };
     }
 #endif
-    s.row_begin = ranks_.row_begin(s.height);
-    s.row_end = ranks_.row_end(s.height);
+    s.band = ranks_.band;
+    s.bands = ranks_.bands;
     const Distribution d = ranks_;
     const bool band_final = !interpolates_across_rows(in.plan);
     // After an exchange rank 0's film holds every row as it is then: a point of the report's
@@ -105,28 +107,28 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
         modes_->exchanges = std::make_shared<std::vector<Checkpoint>>();
     auto exchanges = modes_->exchanges;
     const auto start = std::chrono::steady_clock::now();
-    auto note_exchange = [exchanges, start](const Film& film, const std::vector<double>& ambient, bool last) {
-        if (!exchanges || last) return;  // the end is added by cmd_run from the written image
+    auto note_exchange = [exchanges, start](const SharedRows& rows) {
+        if (!exchanges || rows.why == RowExchange::kEnd) return;  // the end is added by cmd_run from the written image
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const bool first = exchanges->empty();
-        exchanges->push_back({seconds, first ? "preselective" : "selective",
-                              first ? std::string("the preview, rows of every rank")
-                                    : fmt::format("round {} done, rows of every rank", exchanges->size()),
-                              0, film.composite(&ambient)});
+        const bool preview = rows.why == RowExchange::kPreview;
+        exchanges->push_back({seconds, preview ? "preselective" : "selective",
+                              preview ? std::string("the preview, rows of every rank")
+                                      : fmt::format("round {} done, rows of every rank", exchanges->size()),
+                              0, rows.film.composite(&rows.ambient)});
     };
 #ifdef CREX_WITH_MPI
     auto client = modes_->client;
-    s.share_rows = [d, band_final, client, note_exchange](Film& film, std::vector<double>& ambient, bool last) {
-        keep_band_if_final(d, band_final, film, ambient, last);  // before any wait that may time out
+    s.share_rows = [d, band_final, client, note_exchange](SharedRows& rows) {
+        keep_band_if_final(d, band_final, rows);  // before any wait that may time out
         if (client) client->at_exchange();  // the PA serves the other PRs while this one waits
-        share_rows(d, film, ambient);
-        note_exchange(film, ambient, last);
+        share_rows(d, rows);
+        note_exchange(rows);
     };
 #else
-    s.share_rows = [d, band_final, note_exchange](Film& film, std::vector<double>& ambient, bool last) {
-        keep_band_if_final(d, band_final, film, ambient, last);
-        share_rows(d, film, ambient);
-        note_exchange(film, ambient, last);
+    s.share_rows = [d, band_final, note_exchange](SharedRows& rows) {
+        keep_band_if_final(d, band_final, rows);
+        share_rows(d, rows);
+        note_exchange(rows);
     };
 #endif
     if (ranks_.rank == 0)  // every row, as the image will be written
@@ -203,12 +205,17 @@ std::optional<int> DistributedRun::finish(const RunSetup& setup, RunResult& resu
                           modes_->roles.pa_count, modes_->roles.pr_count);
     else if (setup.settings.irradiance_cache)
         how = fmt::format("in bands of rows, --ic-share {}", modes_->ic_share);
+    // The bands change per stage: rank 0's rows here are those of the last stage's band.
+    const std::vector<int>& bounds = result.row_bands;
+    std::vector<int> rows;
+    for (size_t b = 0; b + 1 < bounds.size(); ++b) rows.push_back(bounds[b + 1] - bounds[b]);
     result.notes.push_back(fmt::format("rendered by {} ranks under mpirun {}: {:.0f} rays and {:.0f} irradiance records over all "
                                        "ranks, the slowest rank {:.3f} s; {:.0f} cache misses over all ranks; idle {:.1f} % (time "
-                                       "ranks waited for others over ranks x slowest); the table below is rank 0's (rows {}..{})",
+                                       "ranks waited for others over ranks x slowest); the table below is rank 0's (rows {}..{} "
+                                       "in the last stage; its bands hold {} rows)",
                                        ranks_.size, how, t.rays, t.records, t.slowest, t.misses,
-                                       t.slowest > 0 ? 100 * t.waiting / (ranks_.size * t.slowest) : 0.0, setup.settings.row_begin,
-                                       setup.settings.row_end - 1));
+                                       t.slowest > 0 ? 100 * t.waiting / (ranks_.size * t.slowest) : 0.0, bounds.at(0), bounds.at(1) - 1,
+                                       fmt::join(rows, ", ")));
     // Each rank spends the whole budget on its own band (its own clock, its own passes): the
     // run takes about the budget, as one process does, and covers N bands in it.
     if (setup.budget > 0)

@@ -13,6 +13,7 @@
 #include "base/check.h"
 #include "runtime/base/memory.h"
 #include "runtime/base/sampling.h"
+#include "runtime/driver/row_bands.h"
 #include "runtime/driver/sample_passes.h"
 #include "runtime/pipeline/guidance_graph.h"
 #include "runtime/pipeline/pixel_probe.h"
@@ -168,11 +169,22 @@ private:
     std::vector<double> ambient_;  // av of D rays dropped at the end of passes
     std::array<std::vector<float>, kComponentCount> leftover_beta_;  // ambient_auto: per pixel RGB
     void add_auto_ambient();
-    // Distributed rendering: rows (and the cache's records) exchanged with the other processes.
-    void share_with_other_processes() {
-        if (s_.share_rows) s_.share_rows(out_.film, ambient_, false);
+    // Distributed rendering: rows (and the cache's records) exchanged with the other processes,
+    // the work since the last exchange done in the bands of `bands_`; `ambient`: the stand-ins
+    // that go with the film.
+    void share_rows(RowExchange why, std::vector<double>& ambient) {
+        if (!s_.share_rows) return;
+        SharedRows rows{out_.film, ambient, bands_, why};
+        s_.share_rows(rows);
+    }
+    void share_with_other_processes(RowExchange why, std::vector<double>& ambient) {
+        share_rows(why, ambient);
         if (s_.share_cache && cache_) s_.share_cache(*cache_);
     }
+    // The rows this process renders: of its band, or all of them.
+    int first_row() const { return bands_.empty() ? 0 : bands_[static_cast<size_t>(s_.band)]; }
+    int end_row() const { return bands_.empty() ? s_.height : bands_[static_cast<size_t>(s_.band) + 1]; }
+    std::vector<int> bands_;  // distributed rendering: the split of the stage running (row_bands.h)
     // What an unexecuted ray of component c brings back per unit throughput: what its
     // executed rays did (`measured`), else `fallback`.
     Vec3 ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const;
@@ -354,10 +366,10 @@ void PlanRun::stage_end(const std::string& what, const std::string& next) {
 }
 
 void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows, const std::function<void()>& after_camera_rays) {
-    const bool some_rows = s_.row_end > s_.row_begin, resumed = last_stage_ && !s_.final_rows.empty();
+    const bool some_rows = !bands_.empty(), resumed = last_stage_ && !s_.final_rows.empty();
     const SampleRanges unfinished = resumed ? without_rows(all_rows, s_.width, s_.height, s_.final_rows) : SampleRanges{};
     const SampleRanges& wanted = resumed ? unfinished : all_rows;
-    const SampleRanges restricted = some_rows ? only_rows(wanted, s_.width, s_.height, s_.row_begin, s_.row_end) : SampleRanges{};
+    const SampleRanges restricted = some_rows ? only_rows(wanted, s_.width, s_.height, first_row(), end_row()) : SampleRanges{};
     const SampleRanges& ranges = some_rows ? restricted : wanted;
     PassLimits limits;
     size_t held = 0;
@@ -673,9 +685,7 @@ void PlanRun::redo_preview_direct_light(const SelectiveSetup& sel) {
     if (sel.shadow_rays.empty()) return;
     if (s_.executor.budget_seconds > 0 && now() >= s_.executor.budget_seconds) return;  // the budget is spent
     const size_t w = static_cast<size_t>(s_.width);
-    const bool some_rows = s_.row_end > s_.row_begin;
-    const size_t p0 = some_rows ? static_cast<size_t>(s_.row_begin) * w : 0;
-    const size_t p1 = some_rows ? static_cast<size_t>(s_.row_end) * w : out_.film.pixel_count();
+    const size_t p0 = static_cast<size_t>(first_row()) * w, p1 = static_cast<size_t>(end_row()) * w;
     RayBatch rays;
     for (size_t p = p0; p < p1; ++p) {
         if (sel.shadow_rays[p] <= preview_shadow_rays_) continue;
@@ -791,6 +801,8 @@ RunResult PlanRun::execute() {
     policy_admission_ = eo.task_admission;
     camera_.emplace(scene_.camera, s_.width, s_.height, rs_->embree->origin_offset());
     const sched::Program& program = plan_.program;
+    // Distributed: the rows this process renders.
+    if (s_.bands > 0) bands_ = equal_row_bands(s_.height, s_.bands);
 
     if (!out_.staged) {
         // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
@@ -820,7 +832,7 @@ RunResult PlanRun::execute() {
             }
         });
         {
-            share_with_other_processes();
+            share_with_other_processes(RowExchange::kPreview, ambient_);
             std::vector<double> preview_ambient = ambient_;
             add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
             out_.preview = out_.film.composite(&preview_ambient);
@@ -843,7 +855,7 @@ RunResult PlanRun::execute() {
             progress_ = {};
             progress_.stage = "guidance" + label;
             report_progress("maps");
-            if (round > 1) share_with_other_processes();  // the maps see every row as it is now
+            if (round > 1) share_with_other_processes(RowExchange::kRound, ambient_);  // the maps see every row as it is now
             SelectiveSetup sel = guidance(round > 1);
             out_.guidance_seconds += seconds_since(t_guidance);
             stage_end("end of guidance" + label, "selective");
@@ -902,7 +914,8 @@ RunResult PlanRun::execute() {
 
     out_.stats = ex_->stats();
     if (s_.ambient_auto) add_auto_ambient();
-    if (s_.share_rows) s_.share_rows(out_.film, ambient_, true);
+    share_rows(RowExchange::kEnd, ambient_);
+    out_.row_bands = bands_;
     out_.ambient = std::move(ambient_);
     if (s_.final_image) s_.final_image(out_.image(), s_.width);
     // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.

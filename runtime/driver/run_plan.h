@@ -61,6 +61,22 @@ struct RunProgress {
 
 inline constexpr size_t kDefaultMaxMemory = size_t{1} << 30;
 
+/// Why the processes of a distributed render exchange rows.
+enum class RowExchange {
+    kPreview,  ///< after the preview: guidance sees the whole image
+    kRound,    ///< before a later round's guidance
+    kEnd,      ///< at the end: every row is final (what is written should the run fail)
+};
+
+/// What an exchange of rows shares (distributed rendering): every per-pixel buffer of the
+/// render, each row as the process whose band held it left it.
+struct SharedRows {
+    Film& film;
+    std::vector<double>& ambient;  ///< the stand-ins the composite adds (per pixel RGB)
+    const std::vector<int>& bounds;  ///< the split of the work since the last exchange (row_bands.h)
+    RowExchange why;
+};
+
 struct RunSettings {
     int width = 128, height = 128;
     /// Camera samples per pixel: of a plain crex run all of them, of a pipeline the preview's.
@@ -91,13 +107,12 @@ struct RunSettings {
     /// passes for a plain crex (a plan with no name).
     std::optional<pipeline::SchedulingPolicy> policy;
     std::function<void(const RunProgress&)> progress;
-    /// Distributed rendering (issue 19): this process traces the camera samples of rows
-    /// [row_begin, row_end) only (both 0: every row), and `share_rows` makes every process's
-    /// film (and ambient stand-ins) hold each row as its owner rendered it: after the preview,
-    /// before each round's guidance (maps see the whole image) and at the end. `last` is true at
-    /// the end: this process's rows are then final (what is written should the run fail).
-    int row_begin = 0, row_end = 0;
-    std::function<void(Film& film, std::vector<double>& ambient, bool last)> share_rows;
+    /// Distributed rendering (issue 19): `bands` processes render rows (0: this one renders
+    /// every row), this one band `band` of each stage's split (row_bands.h): equal bands.
+    /// `share_rows` makes every process's film (and ambient stand-ins) hold each row as the
+    /// process whose band held it rendered it.
+    int band = 0, bands = 0;
+    std::function<void(SharedRows& rows)> share_rows;
     /// Distributed rendering, rank 0: the final image (RunResult::image(), `width` pixels a row)
     /// right after the last share_rows, every row final: what is written should the run fail
     /// from there on.
@@ -142,6 +157,8 @@ struct RunResult {
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
     IcStats ic_stats;
     size_t ic_loaded = 0;          ///< records read from `ic_file`
+    /// Distributed rendering: the split of the render's last stage (row_bands.h); empty in one process.
+    std::vector<int> row_bands;
 
     // Pipelines: they run in stages.
     bool staged = false;
