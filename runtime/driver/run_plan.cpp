@@ -185,6 +185,7 @@ private:
     int first_row() const { return bands_.empty() ? 0 : bands_[static_cast<size_t>(s_.band)]; }
     int end_row() const { return bands_.empty() ? s_.height : bands_[static_cast<size_t>(s_.band) + 1]; }
     std::vector<int> bands_;  // distributed rendering: the split of the stage running (row_bands.h)
+    std::vector<double> preview_ambient_;  // the preview's stand-ins: for the D rays it carries
     // What an unexecuted ray of component c brings back per unit throughput: what its
     // executed rays did (`measured`), else `fallback`.
     Vec3 ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const;
@@ -515,8 +516,9 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
         r.v.assign(pixels, s_.uniform == UniformQuality::kMax ? 1.0f : 0.0f);
         constant = std::move(r);
     } else {
-        std::vector<double> preview_ambient = ambient_;
-        add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
+        // The stand-ins of the image the maps see: the preview's (its carried D rays', shared
+        // with its rows), or, in a later round, once the carried rays have run, the film's own.
+        const std::vector<double>& preview_ambient = from_current_image ? ambient_ : preview_ambient_;
         GuidanceInputs in;
         in.width = w, in.height = h;
         in.preview = from_current_image ? film.composite(&preview_ambient) : out_.preview;
@@ -832,10 +834,15 @@ RunResult PlanRun::execute() {
             }
         });
         {
-            share_with_other_processes(RowExchange::kPreview, ambient_);
-            std::vector<double> preview_ambient = ambient_;
-            add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient);
-            out_.preview = out_.film.composite(&preview_ambient);
+            // The preview's image: the rays it carries to the selective stage stand in as av
+            // (D's) until they run. The stand-ins are shared with the film's rows, so that
+            // guidance sees the same preview on every process (ambient_ is still zero: the
+            // preview drops no ray, it carries them).
+            CREX_CHECK(std::all_of(ambient_.begin(), ambient_.end(), [](double a) { return a == 0; }));
+            preview_ambient_ = ambient_;
+            add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient_);
+            share_with_other_processes(RowExchange::kPreview, preview_ambient_);
+            out_.preview = out_.film.composite(&preview_ambient_);
         }
         out_.preview_seconds = seconds_since(t0);
         out_.preview_rays = total_rays(ex_->stats());
@@ -857,6 +864,7 @@ RunResult PlanRun::execute() {
             report_progress("maps");
             if (round > 1) share_with_other_processes(RowExchange::kRound, ambient_);  // the maps see every row as it is now
             SelectiveSetup sel = guidance(round > 1);
+            if (round == 1) preview_ambient_ = {};  // the maps have seen the preview
             out_.guidance_seconds += seconds_since(t_guidance);
             stage_end("end of guidance" + label, "selective");
 
