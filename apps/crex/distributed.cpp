@@ -112,6 +112,13 @@ void share_rows(const Distribution& d, SharedRows& rows) {
     wait_requests(requests, rank_timeout(), [&] { return "a rank stalled in " + point; });
 }
 
+void sum_over_row_ranks(const Distribution& d, std::vector<double>& values) {
+    if (!d.active()) return;
+    std::vector<MPI_Request> request(1);
+    MPI_Iallreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, rows_comm(), &request[0]);
+    wait_requests(request, rank_timeout(), [] { return std::string("a rank did not reach the sums for --ambient auto's stand-ins"); });
+}
+
 void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& shared) {
     if (d.active()) allgather_new_records(rows_comm(), cache, shared, "the exchange of irradiance records (--ic-share broadcast)");
 }
@@ -202,6 +209,7 @@ DistributedSession::~DistributedSession() = default;
 Distribution distribution() { return {}; }
 Distribution render_rows_on_first(int) { return {}; }
 void share_rows(const Distribution&, SharedRows&) {}
+void sum_over_row_ranks(const Distribution&, std::vector<double>&) {}
 void share_cache_records(const Distribution&, IrradianceCache&, size_t&) {}
 void all_ranks_arrive(const std::string&) {}
 std::string share_from_rank0(std::string text, const std::string&) { return text; }

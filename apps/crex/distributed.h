@@ -55,6 +55,9 @@ Distribution render_rows_on_first(int renderers);
 /// waits are bounded (a late rank is named). Collective over those ranks.
 void share_rows(const Distribution& d, SharedRows& rows);
 
+/// `values` summed over the row-rendering ranks, on each (bounded). Collective over those ranks.
+void sum_over_row_ranks(const Distribution& d, std::vector<double>& values);
+
 /// --ic-share broadcast: the records this rank made since the last call go to every
 /// row-rendering rank, and every other rank's are inserted here, in rank order. `shared`
 /// counts the records this rank made that were already sent (start at 0). Collective.

@@ -124,12 +124,17 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
         share_rows(d, rows);
         note_exchange(rows);
     };
+    s.sum_over_processes = [d, client](std::vector<double>& values) {
+        if (client) client->at_exchange();  // as at an exchange of rows: the PA serves the others meanwhile
+        sum_over_row_ranks(d, values);
+    };
 #else
     s.share_rows = [d, band_final, note_exchange](SharedRows& rows) {
         keep_band_if_final(d, band_final, rows);
         share_rows(d, rows);
         note_exchange(rows);
     };
+    s.sum_over_processes = [d](std::vector<double>& values) { sum_over_row_ranks(d, values); };
 #endif
     if (ranks_.rank == 0)  // every row, as the image will be written
         s.final_image = [](const std::vector<float>& rgb, int width) {

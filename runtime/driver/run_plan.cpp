@@ -186,6 +186,8 @@ private:
     int end_row() const { return bands_.empty() ? s_.height : bands_[static_cast<size_t>(s_.band) + 1]; }
     std::vector<int> bands_;  // distributed rendering: the split of the stage running (row_bands.h)
     std::vector<double> preview_ambient_;  // the preview's stand-ins: for the D rays it carries
+    // What the executed rays of component c found in pixels [p0, p1) (sample-summed RGB).
+    Vec3 found_by(size_t c, size_t p0, size_t p1) const;
     // What an unexecuted ray of component c brings back per unit throughput: what its
     // executed rays did (`measured`), else `fallback`.
     Vec3 ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const;
@@ -319,37 +321,59 @@ std::vector<float> PlanRun::composite_now() const {
     return rgb;
 }
 
-Vec3 PlanRun::ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const {
+Vec3 PlanRun::found_by(size_t c, size_t p0, size_t p1) const {
     const Film& film = out_.film;
+    const size_t aov = aov_of(static_cast<Component>(c));
+    double found[3] = {0, 0, 0};
+    for (size_t p = p0; p < p1; ++p) {
+        Vec3 v = film.pixel_value(aov, static_cast<uint32_t>(p)) * double(film.samples(static_cast<uint32_t>(p)));
+        found[0] += v.x, found[1] += v.y, found[2] += v.z;
+    }
+    return {found[0], found[1], found[2]};
+}
+
+Vec3 PlanRun::ambient_per_throughput(size_t c, const ExecutorStats& stats, const Vec3& fallback, bool& measured) const {
     const double* beta = stats.components[c].beta;
     measured = beta[0] + beta[1] + beta[2] > 0;
     if (!measured) return fallback;
-    const size_t aov = aov_of(static_cast<Component>(c));
-    double found[3] = {0, 0, 0};
-    for (uint32_t p = 0; p < film.pixel_count(); ++p) {
-        Vec3 v = film.pixel_value(aov, p) * double(film.samples(p));
-        found[0] += v.x, found[1] += v.y, found[2] += v.z;
-    }
-    return per_unit({found[0], found[1], found[2]}, {beta[0], beta[1], beta[2]});
+    return per_unit(found_by(c, 0, out_.film.pixel_count()), {beta[0], beta[1], beta[2]});
 }
 
 void PlanRun::add_auto_ambient() {
     const Film& film = out_.film;
     const size_t pixels = film.pixel_count();
-    // Where no ray of a component ran, the mean radiance of the image stands in (RADIANCE's
-    // usual choice of -av): the preview's for a pipeline, else the composite so far.
-    Vec3 mean;
+    // Over this process's rows: distributed, each pixel is final in the band of the process
+    // that rendered the last stage there, so the sums over every process's rows are those of
+    // the whole image, and what every process's rays did stands in for every process's rays.
+    const size_t p0 = static_cast<size_t>(first_row()) * static_cast<size_t>(s_.width);
+    const size_t p1 = static_cast<size_t>(end_row()) * static_cast<size_t>(s_.width);
+    // sums: the image's radiance summed (3), then per component what its executed rays found
+    // (3) and their throughput (3).
+    std::vector<double> sums(3 + 6 * kComponentCount, 0.0);
     {
+        // Where no ray of a component ran, the mean radiance of the image stands in (RADIANCE's
+        // usual choice of -av): the preview's for a pipeline, else the composite so far.
         std::vector<float> rgb = out_.preview.empty() ? film.composite(&ambient_) : out_.preview;
-        double sum[3] = {0, 0, 0};
-        for (size_t p = 0; p < pixels; ++p)
-            for (int k = 0; k < 3; ++k) sum[k] += std::isfinite(rgb[3 * p + k]) ? rgb[3 * p + k] : 0.0f;
-        mean = Vec3{sum[0], sum[1], sum[2]} / double(std::max<size_t>(pixels, 1));
+        for (size_t p = p0; p < p1; ++p)
+            for (size_t k = 0; k < 3; ++k) sums[k] += std::isfinite(rgb[3 * p + k]) ? rgb[3 * p + k] : 0.0f;
     }
     for (size_t c = 0; c < kComponentCount; ++c) {
-        if (leftover_beta_[c].empty()) continue;
-        bool measured = false;
-        Vec3 av = ambient_per_throughput(c, out_.stats, mean, measured);
+        const Vec3 found = found_by(c, p0, p1);
+        const double* beta = out_.stats.components[c].beta;
+        double* at = &sums[3 + 6 * c];
+        at[0] = found.x, at[1] = found.y, at[2] = found.z, at[3] = beta[0], at[4] = beta[1], at[5] = beta[2];
+    }
+    if (s_.sum_over_processes) s_.sum_over_processes(sums);
+    const Vec3 mean = Vec3{sums[0], sums[1], sums[2]} / double(std::max<size_t>(pixels, 1));
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        std::vector<float>& left = leftover_beta_[c];
+        if (std::all_of(left.begin(), left.end(), [](float b) { return b == 0; })) {  // none left
+            left = {};
+            continue;
+        }
+        const double* at = &sums[3 + 6 * c];
+        const bool measured = at[3] + at[4] + at[5] > 0;
+        const Vec3 av = measured ? per_unit({at[0], at[1], at[2]}, {at[3], at[4], at[5]}) : mean;
         out_.auto_ambient[c] = av;
         add_stand_in(leftover_beta_[c], av, ambient_);
         out_.notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), {}",

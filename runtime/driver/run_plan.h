@@ -113,6 +113,9 @@ struct RunSettings {
     /// process whose band held it rendered it.
     int band = 0, bands = 0;
     std::function<void(SharedRows& rows)> share_rows;
+    /// Distributed rendering: `values` summed over the processes that render rows, on each
+    /// (all call it at the same point): --ambient auto's stand-ins from every process's rays.
+    std::function<void(std::vector<double>& values)> sum_over_processes;
     /// Distributed rendering, rank 0: the final image (RunResult::image(), `width` pixels a row)
     /// right after the last share_rows, every row final: what is written should the run fail
     /// from there on.
