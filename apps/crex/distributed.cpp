@@ -109,6 +109,8 @@ void share_rows(const Distribution& d, SharedRows& rows) {
     };
     film.for_each_buffer(gather);
     if (rows.ambient.size() == 3 * film.pixel_count()) gather(rows.ambient.data(), 3 * sizeof(double));
+    for (std::vector<float>* left : rows.throughput_left)  // kept alike on every rank, or by none
+        if (left->size() == 3 * film.pixel_count()) gather(left->data(), 3 * sizeof(float));
     wait_requests(requests, rank_timeout(), [&] { return "a rank stalled in " + point; });
 }
 

@@ -2,12 +2,14 @@
 /// `mpirun -np N crex run ...` (issue 19, thesis chapter 6): the same command on N ranks. Rank
 /// 0 reads the inputs and sends them (distributed_input.h); the ranks that render rows (all of them, but under
 /// --ic-share component only the PR ranks) each render the camera samples of their own band of
-/// rows (runtime/driver/row_bands.h: equal bands, band b starting at row b H / B to the
-/// nearest). The film's rows are shared between them after the preview, before each round's
-/// guidance (the maps see the whole image) and at the end, so every pixel is the sum of
-/// exactly the samples one rank traced: without an irradiance cache, the image is the
-/// single-process image. Rank 0 alone reads the inputs (distributed_input.h), writes outputs
-/// and prints.
+/// rows, chosen per stage (runtime/driver/row_bands.h): equal bands for the preview (or a plain
+/// crex), then for each round bands of about the same camera samples, which every rank
+/// computes alike from the film they all hold. The film's rows are shared between them after
+/// the preview, before each round's guidance (the maps see the whole image), before round 1's
+/// bands replace the preview's (the work on the preview's samples was done in those) and at the
+/// end, so every pixel is the sum of exactly the samples one rank traced, in the order one
+/// process traces them: without an irradiance cache, the image is the single-process image.
+/// Rank 0 alone reads the inputs (distributed_input.h), writes outputs and prints.
 /// How the ranks share an irradiance cache (--ic-share) is ic_share_central.h,
 /// ic_share_component.h and share_cache_records() below (broadcast); every wait for another
 /// rank is bounded (rank_watchdog.h).
@@ -48,11 +50,11 @@ Distribution distribution();
 /// Collective over all ranks. A rank beyond them gets band -1.
 Distribution render_rows_on_first(int renderers);
 
-/// Every row-rendering rank's per-pixel buffers (`rows`: the film and its ambient stand-ins)
-/// take each band of rows from the rank that rendered it, band b being rows
-/// [rows.bounds[b], rows.bounds[b + 1]) (the split of the work since the last exchange, which
-/// every rank computed alike: a rank with another split ends the run as an internal error);
-/// waits are bounded (a late rank is named). Collective over those ranks.
+/// Every row-rendering rank's per-pixel buffers (`rows`: the film, its ambient stand-ins, the
+/// throughput left for --ambient auto) take each band of rows from the rank that rendered it,
+/// band b being rows [rows.bounds[b], rows.bounds[b + 1]) (the split of the work since the
+/// last exchange, which every rank computed alike: a rank with another split ends the run as
+/// an internal error); waits are bounded (a late rank is named). Collective over those ranks.
 void share_rows(const Distribution& d, SharedRows& rows);
 
 /// `values` summed over the row-rendering ranks, on each (bounded). Collective over those ranks.

@@ -108,7 +108,9 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
     auto exchanges = modes_->exchanges;
     const auto start = std::chrono::steady_clock::now();
     auto note_exchange = [exchanges, start](const SharedRows& rows) {
-        if (!exchanges || rows.why == RowExchange::kEnd) return;  // the end is added by cmd_run from the written image
+        // The end is added by cmd_run from the written image; new bands follow the round's
+        // guidance, with nothing of the round rendered yet but the work on the preview's samples.
+        if (!exchanges || rows.why == RowExchange::kEnd || rows.why == RowExchange::kNewBands) return;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         const bool preview = rows.why == RowExchange::kPreview;
         exchanges->push_back({seconds, preview ? "preselective" : "selective",
@@ -217,7 +219,8 @@ std::optional<int> DistributedRun::finish(const RunSetup& setup, RunResult& resu
     result.notes.push_back(fmt::format("rendered by {} ranks under mpirun {}: {:.0f} rays and {:.0f} irradiance records over all "
                                        "ranks, the slowest rank {:.3f} s; {:.0f} cache misses over all ranks; idle {:.1f} % (time "
                                        "ranks waited for others over ranks x slowest); the table below is rank 0's (rows {}..{} "
-                                       "in the last stage; its bands hold {} rows)",
+                                       "in the last stage; each stage's bands of rows carry about the same camera samples, the last "
+                                       "stage's hold {} rows)",
                                        ranks_.size, how, t.rays, t.records, t.slowest, t.misses,
                                        t.slowest > 0 ? 100 * t.waiting / (ranks_.size * t.slowest) : 0.0, bounds.at(0), bounds.at(1) - 1,
                                        fmt::join(rows, ", ")));

@@ -174,7 +174,8 @@ private:
     // that go with the film.
     void share_rows(RowExchange why, std::vector<double>& ambient) {
         if (!s_.share_rows) return;
-        SharedRows rows{out_.film, ambient, bands_, why};
+        SharedRows rows{out_.film, ambient, {}, bands_, why};
+        for (auto& left : leftover_beta_) rows.throughput_left.push_back(&left);
         s_.share_rows(rows);
     }
     void share_with_other_processes(RowExchange why, std::vector<double>& ambient) {
@@ -184,6 +185,7 @@ private:
     // The rows this process renders: of its band, or all of them.
     int first_row() const { return bands_.empty() ? 0 : bands_[static_cast<size_t>(s_.band)]; }
     int end_row() const { return bands_.empty() ? s_.height : bands_[static_cast<size_t>(s_.band) + 1]; }
+    void balance_bands(const SampleRanges& all_rows, bool worked_since_exchange);
     std::vector<int> bands_;  // distributed rendering: the split of the stage running (row_bands.h)
     std::vector<double> preview_ambient_;  // the preview's stand-ins: for the D rays it carries
     // What the executed rays of component c found in pixels [p0, p1) (sample-summed RGB).
@@ -367,7 +369,7 @@ void PlanRun::add_auto_ambient() {
     const Vec3 mean = Vec3{sums[0], sums[1], sums[2]} / double(std::max<size_t>(pixels, 1));
     for (size_t c = 0; c < kComponentCount; ++c) {
         std::vector<float>& left = leftover_beta_[c];
-        if (std::all_of(left.begin(), left.end(), [](float b) { return b == 0; })) {  // none left
+        if (std::all_of(left.begin(), left.end(), [](float b) { return b == 0; })) {  // none left (distributed, all are kept)
             left = {};
             continue;
         }
@@ -489,6 +491,21 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
     }
     if (out_of_time) out_.budget_stopped_samples += stage_samples_ - stage_samples_done_;
     report_progress("");
+}
+
+void PlanRun::balance_bands(const SampleRanges& all_rows, bool worked_since_exchange) {
+    if (bands_.empty()) return;
+    // Every process computes the same split: the film's sample counts and the maps are the
+    // same everywhere after an exchange, and the work on the preview's samples in round 1 adds
+    // no camera sample. (--resume's final rows count for nothing, as in run_samples, though
+    // it runs in one process only.)
+    const bool resumed = last_stage_ && !s_.final_rows.empty();
+    std::vector<int> split = balanced_row_bands(resumed ? without_rows(all_rows, s_.width, s_.height, s_.final_rows) : all_rows,
+                                                s_.width, s_.height, static_cast<int>(bands_.size()) - 1);
+    if (split == bands_) return;
+    // Work done since the last exchange is in the old bands' rows: shared before they change.
+    if (worked_since_exchange) share_with_other_processes(RowExchange::kNewBands, ambient_);
+    bands_ = std::move(split);
 }
 
 void PlanRun::setup_cache() {
@@ -710,6 +727,7 @@ void PlanRun::redo_preview_direct_light(const SelectiveSetup& sel) {
     // progressive direct lighting re-estimates it too).
     if (sel.shadow_rays.empty()) return;
     if (s_.executor.budget_seconds > 0 && now() >= s_.executor.budget_seconds) return;  // the budget is spent
+    // Distributed: in the preview's bands, as the rest of round 1's work on the preview's samples.
     const size_t w = static_cast<size_t>(s_.width);
     const size_t p0 = static_cast<size_t>(first_row()) * w, p1 = static_cast<size_t>(end_row()) * w;
     RayBatch rays;
@@ -827,8 +845,14 @@ RunResult PlanRun::execute() {
     policy_admission_ = eo.task_admission;
     camera_.emplace(scene_.camera, s_.width, s_.height, rs_->embree->origin_offset());
     const sched::Program& program = plan_.program;
-    // Distributed: the rows this process renders.
-    if (s_.bands > 0) bands_ = equal_row_bands(s_.height, s_.bands);
+    // Distributed: nothing is known of the first stage's cost yet. With --ambient auto every
+    // process keeps every component's throughput left unexecuted, so that their rows are
+    // shared alike (a pixel's may have been left by the process whose band held it before).
+    if (s_.bands > 0) {
+        bands_ = equal_row_bands(s_.height, s_.bands);
+        if (s_.ambient_auto)
+            for (auto& left : leftover_beta_) left.assign(3 * pixels, 0.0f);
+    }
 
     if (!out_.staged) {
         // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
@@ -929,6 +953,10 @@ RunResult PlanRun::execute() {
                 ranges.end_of[p] = static_cast<uint32_t>(std::ceil(target - 1e-9));
             }
             last_stage_ = round == rounds;
+            // Distributed: bands of about the same camera samples for this round. In round 1 the
+            // work on the preview's samples above (carried rays, direct light redone, queries
+            // answered again) was done in the preview's bands.
+            balance_bands(ranges, round == 1);
             run_samples("selective" + label, ranges, [&] {
                 ex_->run_stage(program.preselective);
                 run_selective();
@@ -946,6 +974,7 @@ RunResult PlanRun::execute() {
 
     out_.stats = ex_->stats();
     if (s_.ambient_auto) add_auto_ambient();
+    // Distributed: capict's refinement above kept the last round's bands (no exchange since).
     share_rows(RowExchange::kEnd, ambient_);
     out_.row_bands = bands_;
     out_.ambient = std::move(ambient_);

@@ -63,9 +63,10 @@ inline constexpr size_t kDefaultMaxMemory = size_t{1} << 30;
 
 /// Why the processes of a distributed render exchange rows.
 enum class RowExchange {
-    kPreview,  ///< after the preview: guidance sees the whole image
-    kRound,    ///< before a later round's guidance
-    kEnd,      ///< at the end: every row is final (what is written should the run fail)
+    kPreview,   ///< after the preview: guidance sees the whole image
+    kNewBands,  ///< before round 1's bands replace the preview's, which held the work on the preview's samples
+    kRound,     ///< before a later round's guidance
+    kEnd,       ///< at the end: every row is final (what is written should the run fail)
 };
 
 /// What an exchange of rows shares (distributed rendering): every per-pixel buffer of the
@@ -73,6 +74,9 @@ enum class RowExchange {
 struct SharedRows {
     Film& film;
     std::vector<double>& ambient;  ///< the stand-ins the composite adds (per pixel RGB)
+    /// --ambient auto: per component, the throughput of its rays left unexecuted (per pixel
+    /// RGB), whose stand-ins are added at the end.
+    std::vector<std::vector<float>*> throughput_left;
     const std::vector<int>& bounds;  ///< the split of the work since the last exchange (row_bands.h)
     RowExchange why;
 };
@@ -108,9 +112,11 @@ struct RunSettings {
     std::optional<pipeline::SchedulingPolicy> policy;
     std::function<void(const RunProgress&)> progress;
     /// Distributed rendering (issue 19): `bands` processes render rows (0: this one renders
-    /// every row), this one band `band` of each stage's split (row_bands.h): equal bands.
-    /// `share_rows` makes every process's film (and ambient stand-ins) hold each row as the
-    /// process whose band held it rendered it.
+    /// every row), this one band `band` of each stage's split (row_bands.h): equal bands for the
+    /// first stage, then bands of about the same camera samples, which every process chooses
+    /// alike from the film they all hold after an exchange of rows. `share_rows` makes every
+    /// process's film (and ambient stand-ins) hold each row as the process whose band held it
+    /// rendered it.
     int band = 0, bands = 0;
     std::function<void(SharedRows& rows)> share_rows;
     /// Distributed rendering: `values` summed over the processes that render rows, on each

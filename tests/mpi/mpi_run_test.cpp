@@ -1,8 +1,7 @@
 // `mpirun -np N crex run ...` on this machine (issue 19): rank 0 alone reads, checks and plans
 // (rank 1 given inputs that do not exist still renders; an input error is said once); ranks
-// render bands of rows and share
-// them, so without an irradiance cache the image is the single-process image, pixel for pixel,
-// at any rank count. With a cache: component is the single-process image at N = 2 and the same
+// render bands of rows, balanced per stage by camera samples, and share them, so without an
+// irradiance cache the image is the single-process image, pixel for pixel, at any rank count. With a cache: component is the single-process image at N = 2 and the same
 // image on every run at a fixed N (one PA and two; two PAs at N = 8), broadcast and central
 // make fewer records than none. Faults: a rank killed with SIGKILL ends the run with mpirun's
 // error naming it, and rank 0 writes the rows it finished (mpirun's SIGTERM); a stopped rank
@@ -17,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <cmath>
+#include <numeric>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -114,13 +114,62 @@ TEST_F(MpiRun, APipelineWithoutACacheRendersTheSingleProcessImage) {
     EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
 }
 
+// The rows in each band of the last stage, from rank 0's note in the JSON summary.
+std::vector<int> last_stage_band_rows(const std::string& json) {
+    const auto j = nlohmann::json::parse(json, nullptr, false);
+    std::vector<int> rows;
+    if (!j.is_object() || !j.contains("notes")) return rows;
+    for (const auto& note : j["notes"]) {
+        std::smatch m;
+        const std::string text = note.get<std::string>();
+        if (!std::regex_search(text, m, std::regex("the last stage's hold ([0-9, ]+) rows"))) continue;
+        std::istringstream list(std::regex_replace(m[1].str(), std::regex(","), " "));
+        for (int n = 0; list >> n;) rows.push_back(n);
+    }
+    return rows;
+}
+
+// Each stage's bands carry about the same camera samples. Here every selective sample goes to
+// the edges of the ceiling light, in the top rows: the last stage's bands there are narrow,
+// the last band takes the rest of the image, and the image is still the single-process one
+// (each pixel's samples traced by one rank, in one process's order).
+TEST_F(MpiRun, BandsBalancedBySamplesRenderTheSingleProcessImage) {
+    const std::string pipe = path("light_edges.pipe");
+    std::ofstream(pipe) << "pipeline light_edges {\n"
+                           "  preselective { crex \"(TTMRSGD)*\"  spp 1 }\n"
+                           "  guidance { e = edges(emission) }\n"
+                           "  selective { vary spp 1 .. 32 by e }\n"
+                           "}\n";
+    const int height = 48;
+    const std::vector<std::string> args = {"run", pipe, "--size", "48x" + std::to_string(height), "--format", "json"};
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"-o", path("one.exr")});
+    auto one = testing::crex_cli(a);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    for (int ranks : {2, 4}) {
+        SCOPED_TRACE(std::to_string(ranks) + " ranks");
+        a = args;
+        a.insert(a.end(), {"-o", path("n.exr")});
+        auto n = mpirun(ranks, a);
+        ASSERT_EQ(n.exit_code, 0) << n.err;
+        EXPECT_EQ(pixels(path("n.exr")), pixels(path("one.exr")));
+        const std::vector<int> rows = last_stage_band_rows(n.out);
+        ASSERT_EQ(rows.size(), static_cast<size_t>(ranks)) << n.out;
+        EXPECT_EQ(std::accumulate(rows.begin(), rows.end(), 0), height);
+        EXPECT_LT(rows.front(), height / ranks) << "a narrow first band, where the light's edges are";
+        EXPECT_GT(rows.back(), height / ranks) << "the last band takes the rows that ask for no sample";
+        EXPECT_TRUE(std::all_of(rows.begin(), rows.end(), [](int r) { return r > 0; }));
+    }
+}
+
 // A pipeline whose preview carries rays to the selective stage (cbtcr_sel: a "TT" preview)
 // stands them in as av until they run, in the preview the maps see: shared with the rows, so
-// every rank computes the same maps. With --ambient 0.3 the image is the single-process image
-// (before, each rank's preview had only its own rows' stand-ins: RMSE 0.34 against one process
-// at 48x48 on 4 ranks). With --ambient auto (a pipeline's default) the rays its crex leaves
-// unexecuted stand in with what every rank's rays of their component brought back: the image
-// too, but for the order in which the ranks' sums are added.
+// every rank computes the same maps and bands. With --ambient 0.3 the image is the
+// single-process image (before, each rank's preview had only its own rows' stand-ins: RMSE 0.34
+// against one process at 48x48 on 4 ranks). With --ambient auto (a pipeline's default) the
+// rays its crex leaves unexecuted stand in with what every rank's rays of their component
+// brought back, wherever the bands moved them: the image too, but for the order in which the
+// ranks' sums are added.
 TEST_F(MpiRun, APipelineThatCarriesRaysRendersTheSingleProcessImage) {
     const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/cbtcr_sel.pipe";
     for (const std::string ambient : {"0.3", "auto"}) {
@@ -439,6 +488,7 @@ TEST_F(MpiRun, AResumedRunFinishesThePartialAsOneUninterruptedProcess) {
         std::string rows;  // rank 0's, when known beforehand
     };
     const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe";
+    // The pipeline's last round has bands balanced by its samples: rank 0's rows are its band's.
     for (const Case& c : {Case{"crex", "--size 30x20 --spp 2", "rows 0..9 of 20"}, Case{"pipeline", pipe + " --size 40x30 --rounds 2", ""}}) {
         SCOPED_TRACE(c.name);
         const std::string out = path(c.name + ".exr"), partial = path(c.name + ".partial.exr");
