@@ -45,12 +45,22 @@ TEST(WardWeight, TheSingularitiesStayFinite) {
     EXPECT_EQ(e.z, 3.0);
 }
 
+// A cache on a furnace box (albedo 0.5 walls, emission 1), `divisions` rays a record.
+struct FurnaceCache {
+    FurnaceCache(uint32_t divisions, uint32_t bounces) : scene(testing::furnace_box(0.5, 1.0)), rs(scene), cache(rs, settings(divisions, bounces)) {}
+    static IcSettings settings(uint32_t divisions, uint32_t bounces) {
+        IcSettings set;
+        set.divisions = divisions, set.bounces = bounces;
+        return set;
+    }
+    Scene scene;
+    RenderScene rs;
+    IrradianceCache cache;
+};
+
 TEST(IrradianceCache, RecordsInCornersNeverHaveZeroRadius) {
-    Scene s = testing::furnace_box(0.5, 1.0);
-    RenderScene rs(s);
-    IcSettings set;
-    set.divisions = 64, set.bounces = 1;
-    IrradianceCache cache(rs, set);
+    FurnaceCache f(64, 1);
+    IrradianceCache& cache = f.cache;
     std::vector<IcQuery> q;
     for (double t : {0.0, 1e-9, 1e-6, 1e-3})  // at and next to the corner (-1, -1, -1) of the box
         q.push_back({{-1 + t, -1 + t, -1 + 1e-9}, {0, 0, 1}, 0.15f, 0, static_cast<uint64_t>(q.size() + 1)});
@@ -68,11 +78,8 @@ TEST(IrradianceCache, RecordsInCornersNeverHaveZeroRadius) {
 // A fine accuracy makes records for minutes inside one D step: the progress line hears of
 // every piece of them, with counts that only grow and end at the cache's own.
 TEST(IrradianceCache, ReportsItsRecordsAsItMakesThem) {
-    Scene s = testing::furnace_box(0.5, 1.0);
-    RenderScene rs(s);
-    IcSettings set;
-    set.divisions = 64, set.bounces = 3;
-    IrradianceCache cache(rs, set);
+    FurnaceCache f(64, 3);
+    IrradianceCache& cache = f.cache;
     std::vector<uint64_t> seen;
     cache.set_progress([&](const IcStats& st) { seen.push_back(st.records); });
     std::vector<IcQuery> q;
