@@ -186,6 +186,12 @@ private:
     int first_row() const { return bands_.empty() ? 0 : bands_[static_cast<size_t>(s_.band)]; }
     int end_row() const { return bands_.empty() ? s_.height : bands_[static_cast<size_t>(s_.band) + 1]; }
     void balance_bands(const SampleRanges& all_rows, bool worked_since_exchange);
+    // Has any pixel an even and an odd sample (the two halves noise() compares)?
+    bool two_samples_somewhere() const {
+        for (uint32_t p = 0; p < out_.film.pixel_count(); ++p)
+            if (out_.film.samples(p) >= 2) return true;
+        return false;
+    }
     std::vector<int> bands_;  // distributed rendering: the split of the stage running (row_bands.h)
     std::vector<double> preview_ambient_;  // the preview's stand-ins: for the D rays it carries
     // What the executed rays of component c found in pixels [p0, p1) (sample-summed RGB).
@@ -599,7 +605,11 @@ SelectiveSetup PlanRun::guidance(bool from_current_image) {
                 const guidance::Raster& r = graph->map(m.id);
                 out_.maps.push_back({m.defines, r});
                 if (std::all_of(r.v.begin(), r.v.end(), [](float v) { return !(v > 0); }))
-                    out_.notes.push_back(fmt::format("map '{}' is 0 everywhere: what it drives stays at its base value", m.name));
+                    out_.notes.push_back(fmt::format("map '{}' is 0 everywhere: what it drives stays at its base value{}", m.name,
+                                                     m.op == pipeline::GuidanceOperator::kNoise && !two_samples_somewhere()
+                                                         ? " (noise() compares a pixel's even and odd samples, and no pixel has two "
+                                                           "yet: a budget cut the preview, or its spp is 1)"
+                                                         : ""));
             }
     }
     auto map_of = [&](const std::string& id) -> const guidance::Raster& {
