@@ -82,7 +82,7 @@ int run_check(const CheckOptions& opt) {
                 DiagnosticSink scene_sink;
                 auto in = load_pipeline_input(sources[i]->name(), "", opt.scene, scene_sink);
                 for (const auto& d : scene_sink.sorted())
-                    if (d.code == "W203" || d.code == "W204" || d.code == "W205" || d.code == "W403" || d.code[1] == '3' || d.code == "E308") sink.add(d);
+                    if (d.code == "W203" || d.code == "W204" || d.code == "W205" || d.code == "W206" || d.code == "W403" || d.code[1] == '3' || d.code == "E308") sink.add(d);
                 if (!in->failure.empty()) {
                     std::cerr << render_text(sink.sorted()) << "crex check: error: " << in->failure << "\n";
                     return kExitFailure;

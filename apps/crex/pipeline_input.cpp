@@ -79,6 +79,7 @@ std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, cons
     if (in->plan) {
         warn_scene_mismatches(*in->resolved, *in->plan, tags ? &*tags : nullptr, sink);
         warn_unreachable_modulated_steps(*in->resolved, *in->plan, sink);
+        warn_noise_of_one_sample(*in->resolved, *in->plan, sink);
         if (tags) warn_media_without_medium(*in->resolved, has_medium, sink);
     }
     return in;

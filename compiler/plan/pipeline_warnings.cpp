@@ -109,10 +109,9 @@ void warn_unreachable_modulated_steps(const pipeline::ResolvedPipeline& p, const
         .help = "raise the map's weights (importance(..., op \"+\") of weights summing to 1 reaches 1) or move those letters earlier in the braces";
 }
 
-void warn_scene_mismatches(const pipeline::ResolvedPipeline& p, const PipelinePlan& plan, const std::vector<std::string>* scene_tags,
-                           DiagnosticSink& sink) {
-    static const std::vector<std::string> none;
-    const std::vector<std::string>& tags = scene_tags ? *scene_tags : none;
+namespace {
+// The expressions guidance evaluates: every map and `by` the planner kept.
+std::vector<const pipeline::ast::Expr*> used_expressions(const pipeline::ResolvedPipeline& p, const PipelinePlan& plan) {
     std::vector<const pipeline::ast::Expr*> roots;
     // A map the planner pruned (its only consumer was, e.g. `vary subsample(G)` on a scene
     // without glossy materials) is listed as pruned with its reason; a warning about what it
@@ -125,7 +124,15 @@ void warn_scene_mismatches(const pipeline::ResolvedPipeline& p, const PipelinePl
     for (const auto& v : p.vary)
         if (!pruned("vary " + v.varied())) roots.push_back(&v.by);
     if (p.selective.crex_by) roots.push_back(&*p.selective.crex_by);
-    for (const auto* root : roots)
+    return roots;
+}
+}  // namespace
+
+void warn_scene_mismatches(const pipeline::ResolvedPipeline& p, const PipelinePlan& plan, const std::vector<std::string>* scene_tags,
+                           DiagnosticSink& sink) {
+    static const std::vector<std::string> none;
+    const std::vector<std::string>& tags = scene_tags ? *scene_tags : none;
+    for (const auto* root : used_expressions(p, plan))
         each_call(*root, [&](const pipeline::ast::Expr& call) {
             if (scene_tags && call.name == "tagged" && !call.args.empty() && call.args[0].expr.kind == pipeline::ast::Expr::Kind::kLiteral) {
                 const auto& tag = call.args[0].expr.literal;
@@ -147,6 +154,21 @@ void warn_scene_mismatches(const pipeline::ResolvedPipeline& p, const PipelinePl
                                             call.args[0].expr.name, call.args[0].expr.name))
                         .help = fmt::format("let the pre-selective crex execute {} (or the scene cannot produce it)", call.args[0].expr.name);
             }
+        });
+}
+
+void warn_noise_of_one_sample(const pipeline::ResolvedPipeline& p, const PipelinePlan& plan, DiagnosticSink& sink) {
+    // A pixel has two samples before guidance runs if the preview or the selective floor
+    // gives them (a later round sees what earlier rounds added, but with the map at 0 they
+    // added nothing).
+    if (plan.settings.spp >= 2 || plan.settings.selective_spp.value_or(1) >= 2) return;
+    for (const auto* root : used_expressions(p, plan))
+        each_call(*root, [&](const pipeline::ast::Expr& call) {
+            if (call.name != "noise") return;
+            sink.report("W206", call.span,
+                        "noise() compares each pixel's even and odd samples, but the preview takes 1 sample a pixel: the map is 0 "
+                        "everywhere")
+                .help = "give the pre-selective stage 'spp 2' or more (as adaptive.pipe does)";
         });
 }
 

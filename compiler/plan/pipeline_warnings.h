@@ -19,6 +19,10 @@ namespace crex {
 void warn_scene_mismatches(const pipeline::ResolvedPipeline& pipeline, const PipelinePlan& plan,
                            const std::vector<std::string>* scene_tags, DiagnosticSink& sink);
 
+/// W206: `noise(...)` while no pixel has two samples before guidance (a 1-spp preview and no
+/// selective floor): the even and odd halves it compares do not both exist, so it is 0.
+void warn_noise_of_one_sample(const pipeline::ResolvedPipeline& pipeline, const PipelinePlan& plan, DiagnosticSink& sink);
+
 /// W403: `vary media_samples` on a scene without a participating medium does nothing.
 void warn_media_without_medium(const pipeline::ResolvedPipeline& pipeline, bool scene_has_medium, DiagnosticSink& sink);
 

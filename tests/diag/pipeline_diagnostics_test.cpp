@@ -307,6 +307,36 @@ TEST(PipelineSyntax, UnclosedBracketsAndStringsAreNamedWhereTheyOpen) {
     EXPECT_TRUE(plain.diagnostics[0].notes.empty());
 }
 
+// The plan's one diagnostic, checked to be warning `code` at line:col (the plan exists).
+const Diagnostic& only_warning(const testing::PlannedPipeline& r, const std::string& code, size_t line, size_t col) {
+    static const Diagnostic none{};
+    EXPECT_TRUE(r.plan);
+    EXPECT_EQ(r.diagnostics.size(), 1u);
+    if (r.diagnostics.size() != 1) return none;
+    const Diagnostic& d = r.diagnostics[0];
+    EXPECT_EQ(d.code, code);
+    EXPECT_EQ(d.severity, Severity::kWarning);
+    EXPECT_EQ(r.file->position(d.span.begin).line, line);
+    EXPECT_EQ(r.file->position(d.span.begin).col, col);
+    return d;
+}
+
+// noise() compares a pixel's even and odd samples: with one sample a pixel before guidance
+// the map is 0 everywhere, which a run under a budget only said as a note. Said at the call.
+TEST(PipelineAgainstScene, NoiseOfAOneSamplePreviewIsW206AtTheCall) {
+    std::vector<std::string> tags;
+    auto text = [](const std::string& preselective, const std::string& selective) {
+        return "pipeline p {\n  preselective { " + preselective + " }\n  guidance { err = blur(noise(preview), sigma 1) }\n"
+               "  selective { " + selective + "vary spp 1 .. 8 by err }\n}\n";
+    };
+    auto r = testing::plan_text("p.pipe", text("spp 1", ""), std::nullopt, "", "", &tags);
+    const Diagnostic& d = only_warning(r, "W206", 3, 25);
+    EXPECT_NE(d.help.find("spp 2"), std::string::npos) << d.help;
+    // Two samples a pixel from the preview, or from the selective floor: nothing to say.
+    for (auto [pre, sel] : {std::pair{"spp 2", ""}, std::pair{"spp 1", "spp 2  "}})
+        EXPECT_TRUE(testing::plan_text("p.pipe", text(pre, sel), std::nullopt, "", "", &tags).diagnostics.empty()) << pre << sel;
+}
+
 // The case: `{TTMRSGD}2` by an importance that is at most 0.5 never runs S, G, D
 // (occurrence i needs i < ceil(0.5 * 7) = 4). Said at the `by` map, with the letters.
 TEST(PipelineAgainstScene, BracesThatTheirMapCanNeverReachAreW205AtTheMap) {
@@ -317,13 +347,7 @@ TEST(PipelineAgainstScene, BracesThatTheirMapCanNeverReachAreW205AtTheMap) {
                "  selective { crex \"{TTMRSGD}2\" by imp }\n}\n";
     };
     auto r = testing::plan_text("p.pipe", text("task 0.5, sal 0, op \"+\""), std::nullopt, "", "", &tags);
-    ASSERT_TRUE(r.plan);
-    ASSERT_EQ(r.diagnostics.size(), 1u);
-    const Diagnostic& d = r.diagnostics[0];
-    EXPECT_EQ(d.code, "W205");
-    EXPECT_EQ(d.severity, Severity::kWarning);
-    EXPECT_EQ(r.file->position(d.span.begin).line, 8u);
-    EXPECT_EQ(r.file->position(d.span.begin).col, 36u);
+    const Diagnostic& d = only_warning(r, "W205", 8, 36);
     EXPECT_NE(d.message.find("at most 0.5"), std::string::npos) << d.message;
     EXPECT_NE(d.message.find("SGD never run"), std::string::npos) << d.message;
     // Weights that can reach 1, or "max" of two maps each able to reach 1: nothing to say.

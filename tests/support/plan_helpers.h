@@ -31,7 +31,7 @@ struct PlannedPipeline {
 };
 
 /// `name` is how the file is called in positions (keep it relative: plans are goldens).
-/// `tags` given: also the scene-aware warnings (W203, W204) for a scene with those tags, and W205.
+/// `tags` given: also the scene-aware warnings (W203, W204) for a scene with those tags, W205 and W206.
 inline PlannedPipeline plan_text(const std::string& name, const std::string& text, const std::optional<BinSet>& spawnable,
                                  const std::string& scene = "", const std::string& hash = "",
                                  const std::vector<std::string>* tags = nullptr) {
@@ -45,6 +45,7 @@ inline PlannedPipeline plan_text(const std::string& name, const std::string& tex
             if ((r.plan = plan_pipeline(*resolved, spawnable, scene, hash, sink)) && tags) {
                 warn_scene_mismatches(*resolved, *r.plan, tags, sink);
                 warn_unreachable_modulated_steps(*resolved, *r.plan, sink);
+                warn_noise_of_one_sample(*resolved, *r.plan, sink);
             }
     r.diagnostics = sink.sorted();
     return r;
