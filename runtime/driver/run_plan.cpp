@@ -806,6 +806,11 @@ RunResult PlanRun::execute() {
     out_.staged = !plan_.nodes.empty();
     if (s_.uniform != UniformQuality::kOff && !has_guidance(plan_))
         out_.notes.push_back("--uniform has no effect: the plan varies nothing");
+    // What no pass size can shrink is over the limit: say so, rather than let the limit look kept.
+    if (const size_t fixed = fixed_bytes(pixels, subsampled_components(plan_), out_.staged); fixed > s_.max_memory)
+        out_.notes.push_back(fmt::format("the render's film, buffers and images alone hold {:.0f} MiB, more than --max-memory "
+                                         "{:.0f} MiB: its passes go one row at a time, and the process holds more than that limit",
+                                         static_cast<double>(fixed) / (1 << 20), static_cast<double>(s_.max_memory) / (1 << 20)));
 
     // One clock from the first camera ray for every stage (spec §7); reports pause it while
     // they copy snapshots.

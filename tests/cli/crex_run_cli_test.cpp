@@ -243,6 +243,16 @@ TEST_F(CrexRunCli, ANoteEveryRoundRepeatsIsSaidOnce) {
     EXPECT_NE(r.err.find("(3 times)", at), std::string::npos) << r.err;
 }
 
+TEST_F(CrexRunCli, AMemoryLimitBelowWhatTheFilmHoldsIsSaidNotPretended) {
+    // 64x64: about 97 MiB of film, images and the process baseline, over a 64 MiB limit.
+    auto r = crex_cli({"run", "--scene", "builtin:cornell", "--size", "64x64", "--max-memory", "64", "-o", path("m.exr"), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("more than --max-memory 64 MiB: its passes go one row at a time"), std::string::npos) << r.err;
+    auto fits = crex_cli({"run", "--scene", "builtin:cornell", "--size", "64x64", "--max-memory", "512", "-o", path("m.exr"), "-q"});
+    ASSERT_EQ(fits.exit_code, 0) << fits.err;
+    EXPECT_EQ(fits.err.find("--max-memory"), std::string::npos) << fits.err;
+}
+
 TEST_F(CrexRunCli, APipelinesAdSetsTheRecordsHemisphereRaysUnlessTheCommandLineDoes) {
     std::ofstream(path("ad.pipe")) << "pipeline ad_set {\n  ad 32\n  preselective { crex \"(TTMRSGD)*\" spp 1 }\n"
                                       "  guidance { m = constant(1) }\n  selective { vary ic_radius 0.5 .. 0.3 by m }\n}\n";

@@ -55,6 +55,9 @@ TEST(SamplePassRender, BandsOfRowsUnderATinyMemoryLimitGiveTheSameImage) {
     tiny.max_memory = 1;  // below anything: one row per pass
     RunResult banded = render(s, p, tiny);
     EXPECT_EQ(banded.passes, 3u * kSize);
+    // The limit cannot be kept, and the run says so.
+    EXPECT_TRUE(std::any_of(banded.notes.begin(), banded.notes.end(),
+                            [](const std::string& n) { return n.find("more than --max-memory") != std::string::npos; }));
     expect_same_image(render(s, p, settings(3, 0)).image(), banded.image(), 1e-6);
 }
 
