@@ -26,15 +26,15 @@ int write_run_outputs(const RunOptions& opt, const RunInput& in, const RunSetup&
     const RunSettings& rs = setup.settings;
     const int width = rs.width, height = rs.height;
     const bool guided = result.staged;
-    // Each note once, in order: every round of the cyclic process may say the same thing.
-    for (size_t i = 0; i < result.notes.size(); ++i) {
-        const auto& note = result.notes[i];
-        if (std::find(result.notes.begin(), result.notes.begin() + static_cast<std::ptrdiff_t>(i), note) !=
-            result.notes.begin() + static_cast<std::ptrdiff_t>(i))
-            continue;
-        const auto times = std::count(result.notes.begin() + static_cast<std::ptrdiff_t>(i), result.notes.end(), note);
-        std::cerr << "crex run: note: " << note << (times > 1 ? fmt::format(" ({} times)", times) : "") << "\n";
+    // Each note once, in first-said order: every round of the cyclic process may say the same thing.
+    std::vector<std::pair<std::string, int>> said;
+    for (const auto& note : result.notes) {
+        auto it = std::find_if(said.begin(), said.end(), [&](const auto& s) { return s.first == note; });
+        if (it == said.end()) said.emplace_back(note, 1);
+        else ++it->second;
     }
+    for (const auto& [note, times] : said)
+        std::cerr << "crex run: note: " << note << (times > 1 ? fmt::format(" ({} times)", times) : "") << "\n";
     if (setup.resume) say_resumed(*setup.resume, rs, result, std::cerr);
     for (const auto& w : result.warnings) std::cerr << w << "\n";
     // All or none: every file goes to a staged name first and moves into place at the end, so
