@@ -86,10 +86,11 @@ run_fuzz() {
   done
   for f in stdlib/pipelines/*.pipe examples/pipelines/*.pipe; do cp "$f" "build/fuzz/corpus/pipeline/$(echo "$f" | tr '/' '_')"; done
   for f in tests/golden/plans/*.plan.json; do cp "$f" build/fuzz/corpus/plan/; done
-  # Irradiance cache seeds with the fuzzer's settings (--ad 16 --ab 1), when a crex is built.
+  # Irradiance cache seeds with the fuzzer's settings (--ad 16 --ab 1, no caustic map), when a
+  # crex is built.
   if [ -x build/release/apps/crex/crex ]; then
     for size in 2x2 4x4; do
-      build/release/apps/crex/crex run --size "$size" --spp 1 --ad 16 --ab 1 -q -o build/fuzz/corpus/seed.exr \
+      build/release/apps/crex/crex run --size "$size" --spp 1 --ad 16 --ab 1 --caustic-photons 0 -q -o build/fuzz/corpus/seed.exr \
           --ic-file "build/fuzz/corpus/ic/seed_$size"
     done
     rm -f build/fuzz/corpus/seed.exr

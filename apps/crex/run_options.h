@@ -67,6 +67,7 @@ struct RunOptions {
     bool ic = false;
     double aa = 0.15;
     uint32_t ad = 256, ab = 8;  // ab 8: at 4, interiors lost their light beyond the 4th bounce (issue 14)
+    uint32_t caustic_photons = 200000;
     double ar = 128;
     std::string ic_file;
     std::string filter = "box";

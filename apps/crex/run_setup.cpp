@@ -164,6 +164,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
         ics.accuracy = opt.aa, ics.divisions = opt.ad, ics.bounces = opt.ab, ics.resolution = opt.ar;
         ics.ambient = rs.ambient;
         ics.seed = opt.seed;
+        ics.caustic_photons = opt.caustic_photons;
         rs.irradiance_cache = ics;
         rs.ic_file = opt.ic_file;
     }

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -36,7 +37,19 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
     double top = 2 * r_max_;
     for (double c = top; c >= 2 * 1e-3 * r_min_ && cell_size_.size() < 24; c /= 2) cell_size_.push_back(c);
+    if (settings.caustic_photons > 0) {
+        const auto start = std::chrono::steady_clock::now();
+        CausticPhotonSettings cs;
+        cs.photons = settings.caustic_photons;
+        cs.seed = settings.seed;
+        caustics_ = std::make_unique<CausticPhotons>(scene, cs);
+        if (caustics_->empty()) caustics_.reset();  // no delta shape or no emitter: nothing to add
+        else stats_.caustic_photons = caustics_->size();
+        stats_.caustic_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
 }
+
+IrradianceCache::~IrradianceCache() = default;
 
 double IrradianceCache::level_accuracy(double aa, uint32_t level) const {
     return clamp_accuracy(std::min(aa, max_aa_) * static_cast<double>(1u << std::min(level, 10u)));
@@ -165,6 +178,8 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
             break;
         }
     }
+    if (caustics_ && level == 0)
+        tbb::parallel_for(size_t{0}, queries.size(), [&](size_t q) { out[q] += caustics_->irradiance(queries[q].position, queries[q].normal); });
 }
 
 std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery>& sites, uint32_t level) {
@@ -276,7 +291,10 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z};
         HitFrame f = hit_frame(*scene_.embree, h.hit, origin + last_dir[i] * dist, last_dir[i], dist);
         const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
-        Vec3 l = emitted(*b.material, f, via_delta[i] != 0, false);  // through a mirror or glass, emitters are seen
+        // Through a mirror or glass, emitters are seen; a `light` emitter's caustic is the
+        // photon map's when there is one.
+        const bool caustic = caustics_ && via_delta[i] && b.type == MaterialType::kLight;
+        Vec3 l = caustic ? Vec3{} : emitted(*b.material, f, via_delta[i] != 0, false);
         uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
         if (!scene_.lights->empty() && b.direct_response) {
             Vec3 value, so, sd;
@@ -337,6 +355,9 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         rec.irradiance = sum * (kPi / static_cast<double>(per));
         double R = inv > 0 ? static_cast<double>(per) / inv : r_max_;
         rec.harmonic_distance = std::clamp(std::isfinite(R) ? R : r_max_, r_min_, r_max_);
+        // Deeper bounces take the caustic at the site (blurred by interpolation, as all of
+        // their light is); the camera's queries add it at their own point (irradiance()).
+        if (caustics_ && level > 0) rec.irradiance += caustics_->irradiance(site.position, site.normal);
         rec.quality = static_cast<float>(level_accuracy(site.accuracy, level));
         rec.level = static_cast<uint16_t>(level);
         // Rotation: (pi / MN) sum_k v_k sum_j (-tan theta_j) L_jk, v_k at phi_k + pi/2.
@@ -402,7 +423,7 @@ std::string IrradianceCache::to_bytes() const {
     j["format"] = "crex-irradiance-cache";
     j["version"] = 2;
     j["settings"] = {{"divisions", settings_.divisions}, {"bounces", settings_.bounces}, {"min_radius", r_min_}, {"max_radius", r_max_},
-                     {"extent", scene_.embree->extent()}};
+                     {"extent", scene_.embree->extent()}, {"caustic_photons", caustics_ ? settings_.caustic_photons : 0u}};
     j["layout"] = "float32 little-endian x 30: p n e r rot[3] tra[3] q level";
     j["count"] = records_.size();
     std::vector<std::uint8_t> bytes;
@@ -441,7 +462,10 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
         return "'" + path + "' is not a crex irradiance cache";
     try {
         const auto& s = j.at("settings");
+        // Records made with a caustic map leave caustics out (the map adds them), and records
+        // made without one hold them: the two cannot be mixed.
         if (s.at("divisions").get<uint32_t>() != settings_.divisions || s.at("bounces").get<uint32_t>() != settings_.bounces ||
+            s.value("caustic_photons", 0u) != (caustics_ ? settings_.caustic_photons : 0u) ||
             std::fabs(s.at("extent").get<double>() - scene_.embree->extent()) > 1e-6 * scene_.embree->extent())
             return "'" + path + "' was made with other cache settings or for another scene";
         auto v = [](const nlohmann::json& a) { return Vec3{a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>()}; };

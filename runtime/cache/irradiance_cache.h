@@ -15,15 +15,20 @@
 /// (made as needed) up to `bounces`; beyond, the ambient value av. Later levels use fewer
 /// hemisphere rays (ad / 2^k, at least 16), as pbrt's irradiance cache does. Hemisphere rays
 /// that reach a mirror, glass or a dielectric continue through it (one lobe by weight, up to
-/// 8 interfaces), so caustics reach E; plastic's and metal's ideal specular is not followed.
+/// 8 interfaces), so light reflected or refracted by them reaches E; plastic's and metal's
+/// ideal specular is not followed. Caustics proper - a `light` emitter seen through them - come
+/// from a caustic photon map instead (caustic_photons.h): at the query point for the camera's
+/// queries (sharp), at the record's site for deeper bounces.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "runtime/cache/caustic_photons.h"
 #include "runtime/cache/irradiance_record.h"
 #include "runtime/render/ray_batch.h"
 #include "runtime/render/render_scene.h"
@@ -42,6 +47,9 @@ struct IcSettings {
     double max_radius = 0;      ///< clamp of R; 0: 0.25 x the scene's extent
     Vec3 ambient{0, 0, 0};      ///< av, radiance beyond the last bounce
     uint64_t seed = 0;
+    /// Photons aimed at the delta shapes for the caustic map (0: caustics from the hemisphere
+    /// rays, a few of which happen to reach an emitter's image: noisy).
+    uint32_t caustic_photons = 200000;
 };
 
 struct IcQuery {
@@ -53,11 +61,14 @@ struct IcQuery {
 
 struct IcStats {
     uint64_t lookups = 0, interpolated = 0, records = 0, hemisphere_rays = 0, rounds = 0;
+    uint64_t caustic_photons = 0;  ///< stored in the caustic map
+    double caustic_seconds = 0;    ///< building it
 };
 
 class IrradianceCache {
 public:
     IrradianceCache(const RenderScene& scene, const IcSettings& settings);
+    ~IrradianceCache();
 
     /// E at every query of `level`, creating the records that are missing.
     void irradiance(const std::vector<IcQuery>& queries, uint32_t level, std::vector<Vec3>& out);
@@ -100,6 +111,7 @@ private:
     using Grid = std::unordered_map<uint64_t, std::vector<uint32_t>>;
     std::vector<std::vector<Grid>> grids_;
     IcStats stats_;
+    std::unique_ptr<CausticPhotons> caustics_;  ///< null when off or the scene has no caustics
     std::function<void(const IcStats&)> progress_;
 };
 
