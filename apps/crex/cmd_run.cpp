@@ -220,7 +220,7 @@ Runner add_run_command(CLI::App& app) {
                     "Photons aimed at mirrors, glass and dielectrics for the cache's caustics (0: the records' hemisphere rays "
                     "find them, noisily)")
         ->capture_default_str()
-        ->check(CLI::Range(0u, 100000000u));
+        ->check(CLI::Range(0u, 20000000u));
     cmd->add_option("--ic-file", opt->ic_file, "Load the irradiance cache from FILE if it exists, save it there after the render (implies --ic)");
     cmd->add_option("--uniform", opt->uniform, "Every selective variable of a pipeline at its base (min) or its maximum (max) in "
                                                "every pixel, guidance skipped: max is the pipeline's own gold")

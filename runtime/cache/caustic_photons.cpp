@@ -156,119 +156,125 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
     const std::vector<Target> targets = delta_targets(scene);
     if (targets.empty() || !scene.lights || scene.lights->empty() || settings.photons == 0) return;
 
-    const size_t n = settings.photons;
+    const size_t total_photons = settings.photons;
     const double eps = scene.embree->ray_epsilon();
     const uint64_t base = hash_combine(settings.seed, 0xca057ull);
-    std::vector<RTCRayHit> rays(n);
-    std::vector<Vec3> power(n), dir(n);
-    // Emission: a point on an emitter (by power), then a direction uniformly in the union of
-    // the cones towards the targets, chosen by solid angle: pdf(w) = (cones holding w) / sum of
-    // their solid angles, so overlapping cones are counted once each (one-sample MIS).
-    tbb::parallel_for(size_t{0}, n, [&](size_t j) {
-        RTCRayHit& r = rays[j];
-        r = RTCRayHit{};
-        r.ray.tnear = 1.0f, r.ray.tfar = 0.0f, r.ray.mask = 0xFFFFFFFFu;  // a hole unless aimed
-        r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        const uint64_t key = hash_combine(base, j);
-        HitRandom rnd(key, 0);
-        double u, v;
-        rnd.pair(RandomUse::kLight, u, v);
-        LightSample ls = scene.lights->sample(rnd(RandomUse::kLightPick), u, v);
-        if (!(ls.pdf_area > 0)) return;
-        std::array<Cone, 64> cones;
-        double total = 0;
-        for (size_t k = 0; k < targets.size(); ++k) total += (cones[k] = cone_to(ls.position, targets[k])).solid_angle;
-        double pick = rnd(RandomUse::kLobeD) * total, acc = 0;
-        size_t chosen = 0;
-        for (; chosen + 1 < targets.size(); ++chosen)
-            if (pick < (acc += cones[chosen].solid_angle)) break;
-        const Cone& c = cones[chosen];
-        double a, b;
-        rnd.pair(RandomUse::kLobeDT, a, b);
-        double cos_t = 1 - a * (1 - c.cos_half), sin_t = std::sqrt(std::fmax(0.0, 1 - cos_t * cos_t)), phi = 2 * kPi * b;
-        Vec3 t1, t2;
-        Vec3 axis = c.cos_half > -1 ? c.axis : Vec3{0, 0, 1};
-        orthonormal_basis(axis, t1, t2);
-        Vec3 w = t1 * (sin_t * std::cos(phi)) + t2 * (sin_t * std::sin(phi)) + axis * cos_t;
-        double cos_light = dot(w, ls.normal);
-        if (!(cos_light > 0)) return;  // emitters light their front side only
-        int holding = 0;
-        for (size_t k = 0; k < targets.size(); ++k) holding += cones[k].cos_half <= -1 || dot(w, cones[k].axis) >= cones[k].cos_half;
-        double pdf_w = std::max(holding, 1) / total;
-        power[j] = ls.radiance * (cos_light / (ls.pdf_area * pdf_w * static_cast<double>(n)));
-        if (!is_finite(power[j])) return;
-        dir[j] = w;
-        Vec3 o = ls.position + ls.normal * eps;
-        set_ray(r, static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(w.x), static_cast<float>(w.y),
-                static_cast<float>(w.z), static_cast<unsigned>(j));
-    });
-    intersect_batch(*scene.embree, rays.data(), n, false);
-    rays_ += n;
-
-    // Follow each photon through the delta shapes; keep it at the first surface with a diffuse
-    // lobe after at least one delta interface. A photon whose first hit is not a delta shape is
-    // light the irradiance records see by themselves.
-    std::vector<uint8_t> state(n, 0);  // 0 travelling, 1 stored, 2 dropped
-    std::vector<Photon> stored(n);
-    for (uint32_t bounce = 0; bounce <= 8; ++bounce) {
-        std::vector<size_t> go;
+    // In chunks of 1 Mi photons (about 170 MB of rays and state), so memory stays bounded
+    // whatever --caustic-photons asks; photon j's numbers depend on j alone.
+    constexpr size_t kChunk = size_t{1} << 20;
+    for (size_t first = 0; first < total_photons; first += kChunk) {
+        const size_t n = std::min(kChunk, total_photons - first);
+        std::vector<RTCRayHit> rays(n);
+        std::vector<Vec3> power(n), dir(n);
+        // Emission: a point on an emitter (by power), then a direction uniformly in the union of
+        // the cones towards the targets, chosen by solid angle: pdf(w) = (cones holding w) / sum of
+        // their solid angles, so overlapping cones are counted once each (one-sample MIS).
         tbb::parallel_for(size_t{0}, n, [&](size_t j) {
-            if (state[j] != 0) return;
-            const RTCRayHit& h = rays[j];
-            if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID || !(h.ray.tfar > h.ray.tnear)) {
-                state[j] = 2;
-                return;
-            }
-            if (scene.medium) power[j] = power[j] * scene.medium->transmittance(h.ray.tfar);
-            const Bsdf& b = scene.bsdf_of(h.hit.geomID);
-            const bool delta = is_delta_material(b.type);
-            if (!delta) {
-                state[j] = 2;
-                if (bounce == 0 || !(max_component(b.diffuse) > 0)) return;
-                Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
-                HitFrame f = hit_frame(*scene.embree, h.hit, o + dir[j] * static_cast<double>(h.ray.tfar), dir[j], h.ray.tfar);
-                put(stored[j].position, f.position), put(stored[j].normal, f.normal), put(stored[j].power, power[j]);
-                state[j] = 1;
-            }
-        });
-        for (size_t j = 0; j < n; ++j)
-            if (state[j] == 0) go.push_back(j);
-        if (go.empty()) break;
-        if (bounce == 8) break;  // still inside glass after 8 interfaces: dropped
-        tbb::parallel_for(size_t{0}, go.size(), [&](size_t g) {
-            const size_t j = go[g];
-            RTCRayHit& h = rays[j];
-            Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
-            double t = h.ray.tfar;
-            HitFrame f = hit_frame(*scene.embree, h.hit, o + dir[j] * t, dir[j], t);
-            const uint64_t key = hash_combine(base, j);
-            std::array<Lobe, kMaxLobes> lobes;
-            int nl = scatter(scene.bsdf_of(h.hit.geomID), f, HitRandom(key, bounce + 1), lobes);
+            RTCRayHit& r = rays[j];
+            r = RTCRayHit{};
+            r.ray.tnear = 1.0f, r.ray.tfar = 0.0f, r.ray.mask = 0xFFFFFFFFu;  // a hole unless aimed
+            r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            const uint64_t key = hash_combine(base, first + j);
+            HitRandom rnd(key, 0);
+            double u, v;
+            rnd.pair(RandomUse::kLight, u, v);
+            LightSample ls = scene.lights->sample(rnd(RandomUse::kLightPick), u, v);
+            if (!(ls.pdf_area > 0)) return;
+            std::array<Cone, 64> cones;
             double total = 0;
-            for (int l = 0; l < nl; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
-            h = RTCRayHit{};
-            h.ray.tnear = 1.0f, h.ray.tfar = 0.0f, h.ray.mask = 0xFFFFFFFFu;
-            h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            if (!(total > 0)) return;  // absorbed: found a hole next round
-            double u = random_at(key, bounce + 1, RandomUse::kIcLobe) * total;
-            int pick = 0;
-            for (double acc = 0; pick < nl - 1; ++pick)
-                if (u < (acc += max_component(lobes[static_cast<size_t>(pick)].weight))) break;
-            const Lobe& lobe = lobes[static_cast<size_t>(pick)];
-            power[j] = power[j] * lobe.weight * (total / max_component(lobe.weight));
-            dir[j] = lobe.direction;
-            Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
-            set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
-                    static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(j));
+            for (size_t k = 0; k < targets.size(); ++k) total += (cones[k] = cone_to(ls.position, targets[k])).solid_angle;
+            double pick = rnd(RandomUse::kLobeD) * total, acc = 0;
+            size_t chosen = 0;
+            for (; chosen + 1 < targets.size(); ++chosen)
+                if (pick < (acc += cones[chosen].solid_angle)) break;
+            const Cone& c = cones[chosen];
+            double a, b;
+            rnd.pair(RandomUse::kLobeDT, a, b);
+            double cos_t = 1 - a * (1 - c.cos_half), sin_t = std::sqrt(std::fmax(0.0, 1 - cos_t * cos_t)), phi = 2 * kPi * b;
+            Vec3 t1, t2;
+            Vec3 axis = c.cos_half > -1 ? c.axis : Vec3{0, 0, 1};
+            orthonormal_basis(axis, t1, t2);
+            Vec3 w = t1 * (sin_t * std::cos(phi)) + t2 * (sin_t * std::sin(phi)) + axis * cos_t;
+            double cos_light = dot(w, ls.normal);
+            if (!(cos_light > 0)) return;  // emitters light their front side only
+            int holding = 0;
+            for (size_t k = 0; k < targets.size(); ++k) holding += cones[k].cos_half <= -1 || dot(w, cones[k].axis) >= cones[k].cos_half;
+            double pdf_w = std::max(holding, 1) / total;
+            power[j] = ls.radiance * (cos_light / (ls.pdf_area * pdf_w * static_cast<double>(total_photons)));
+            if (!is_finite(power[j])) return;
+            dir[j] = w;
+            Vec3 o = ls.position + ls.normal * eps;
+            set_ray(r, static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(w.x), static_cast<float>(w.y),
+                    static_cast<float>(w.z), static_cast<unsigned>(j));
         });
-        std::vector<RTCRayHit> batch(go.size());
-        for (size_t g = 0; g < go.size(); ++g) batch[g] = rays[go[g]];
-        intersect_batch(*scene.embree, batch.data(), batch.size(), false);
-        for (size_t g = 0; g < go.size(); ++g) rays[go[g]] = batch[g];
-        rays_ += go.size();
+        intersect_batch(*scene.embree, rays.data(), n, false);
+        rays_ += n;
+
+        // Follow each photon through the delta shapes; keep it at the first surface with a diffuse
+        // lobe after at least one delta interface. A photon whose first hit is not a delta shape is
+        // light the irradiance records see by themselves.
+        std::vector<uint8_t> state(n, 0);  // 0 travelling, 1 stored, 2 dropped
+        std::vector<Photon> stored(n);
+        for (uint32_t bounce = 0; bounce <= 8; ++bounce) {
+            std::vector<size_t> go;
+            tbb::parallel_for(size_t{0}, n, [&](size_t j) {
+                if (state[j] != 0) return;
+                const RTCRayHit& h = rays[j];
+                if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID || !(h.ray.tfar > h.ray.tnear)) {
+                    state[j] = 2;
+                    return;
+                }
+                if (scene.medium) power[j] = power[j] * scene.medium->transmittance(h.ray.tfar);
+                const Bsdf& b = scene.bsdf_of(h.hit.geomID);
+                const bool delta = is_delta_material(b.type);
+                if (!delta) {
+                    state[j] = 2;
+                    if (bounce == 0 || !(max_component(b.diffuse) > 0)) return;
+                    Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
+                    HitFrame f = hit_frame(*scene.embree, h.hit, o + dir[j] * static_cast<double>(h.ray.tfar), dir[j], h.ray.tfar);
+                    put(stored[j].position, f.position), put(stored[j].normal, f.normal), put(stored[j].power, power[j]);
+                    state[j] = 1;
+                }
+            });
+            for (size_t j = 0; j < n; ++j)
+                if (state[j] == 0) go.push_back(j);
+            if (go.empty()) break;
+            if (bounce == 8) break;  // still inside glass after 8 interfaces: dropped
+            tbb::parallel_for(size_t{0}, go.size(), [&](size_t g) {
+                const size_t j = go[g];
+                RTCRayHit& h = rays[j];
+                Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
+                double t = h.ray.tfar;
+                HitFrame f = hit_frame(*scene.embree, h.hit, o + dir[j] * t, dir[j], t);
+                const uint64_t key = hash_combine(base, first + j);
+                std::array<Lobe, kMaxLobes> lobes;
+                int nl = scatter(scene.bsdf_of(h.hit.geomID), f, HitRandom(key, bounce + 1), lobes);
+                double total = 0;
+                for (int l = 0; l < nl; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
+                h = RTCRayHit{};
+                h.ray.tnear = 1.0f, h.ray.tfar = 0.0f, h.ray.mask = 0xFFFFFFFFu;
+                h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                if (!(total > 0)) return;  // absorbed: found a hole next round
+                double u = random_at(key, bounce + 1, RandomUse::kIcLobe) * total;
+                int pick = 0;
+                for (double acc = 0; pick < nl - 1; ++pick)
+                    if (u < (acc += max_component(lobes[static_cast<size_t>(pick)].weight))) break;
+                const Lobe& lobe = lobes[static_cast<size_t>(pick)];
+                power[j] = power[j] * lobe.weight * (total / max_component(lobe.weight));
+                dir[j] = lobe.direction;
+                Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
+                set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
+                        static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(j));
+            });
+            std::vector<RTCRayHit> batch(go.size());
+            for (size_t g = 0; g < go.size(); ++g) batch[g] = rays[go[g]];
+            intersect_batch(*scene.embree, batch.data(), batch.size(), false);
+            for (size_t g = 0; g < go.size(); ++g) rays[go[g]] = batch[g];
+            rays_ += go.size();
+        }
+        for (size_t j = 0; j < n; ++j)
+            if (state[j] == 1 && is_finite(to_vec(stored[j].power))) photons_.push_back(stored[j]);
     }
-    for (size_t j = 0; j < n; ++j)
-        if (state[j] == 1 && is_finite(to_vec(stored[j].power))) photons_.push_back(stored[j]);
     photons_.shrink_to_fit();
 
     if (photons_.empty()) return;
