@@ -15,8 +15,6 @@
 namespace crex {
 namespace {
 
-bool is_delta_material(MaterialType t) { return t == MaterialType::kMirror || t == MaterialType::kGlass || t == MaterialType::kDielectric; }
-
 /// A bounding sphere of one delta shape: what photons are aimed at.
 struct Target {
     Vec3 centre;
@@ -73,8 +71,6 @@ Vec3 to_vec(const float v[3]) { return {v[0], v[1], v[2]}; }
 void put(float out[3], const Vec3& v) {
     out[0] = static_cast<float>(v.x), out[1] = static_cast<float>(v.y), out[2] = static_cast<float>(v.z);
 }
-
-}  // namespace
 
 /// The k nearest as a max-heap on distance (nanoflann's KNNResultSet inserts in sorted order,
 /// O(k) a point: at k = 64 most of the map's build time). Unsorted; the farthest is first.
@@ -140,6 +136,8 @@ struct PointTree {
         return result.size();
     }
 };
+
+}  // namespace
 
 struct CausticPhotons::Tree {
     explicit Tree(const std::vector<Photon>& p) : photons(p) {}
@@ -249,18 +247,14 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 const uint64_t key = hash_combine(base, first + j);
                 std::array<Lobe, kMaxLobes> lobes;
                 int nl = scatter(scene.bsdf_of(h.hit.geomID), f, HitRandom(key, bounce + 1), lobes);
-                double total = 0;
-                for (int l = 0; l < nl; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
                 h = RTCRayHit{};
                 h.ray.tnear = 1.0f, h.ray.tfar = 0.0f, h.ray.mask = 0xFFFFFFFFu;
                 h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                if (!(total > 0)) return;  // absorbed: found a hole next round
-                double u = random_at(key, bounce + 1, RandomUse::kIcLobe) * total;
-                int pick = 0;
-                for (double acc = 0; pick < nl - 1; ++pick)
-                    if (u < (acc += max_component(lobes[static_cast<size_t>(pick)].weight))) break;
+                double prob = 0;
+                const int pick = choose_lobe(lobes, nl, random_at(key, bounce + 1, RandomUse::kIcLobe), prob);
+                if (pick < 0) return;  // absorbed: found a hole next round
                 const Lobe& lobe = lobes[static_cast<size_t>(pick)];
-                power[j] = power[j] * lobe.weight * (total / max_component(lobe.weight));
+                power[j] = power[j] * lobe.weight / prob;
                 dir[j] = lobe.direction;
                 Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
                 set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),

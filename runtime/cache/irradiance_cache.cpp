@@ -218,9 +218,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     std::vector<Vec3> throughput(n, Vec3{1, 1, 1}), last_dir = dirs;
     std::vector<uint8_t> via_delta(n, 0);
     auto is_delta = [&](const RTCRayHit& h) {
-        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-        MaterialType t = scene_.material_of(h.hit.geomID).type;
-        return t == MaterialType::kMirror || t == MaterialType::kGlass || t == MaterialType::kDielectric;
+        return h.hit.geomID != RTC_INVALID_GEOMETRY_ID && is_delta_material(scene_.material_of(h.hit.geomID).type);
     };
     for (uint32_t bounce = 0; bounce < 8; ++bounce) {
         std::vector<size_t> go;
@@ -237,25 +235,18 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
             std::array<Lobe, kMaxLobes> lobes;
             int nl = scatter(scene_.bsdf_of(h.hit.geomID), f, HitRandom(key, level * 16 + bounce + 1), lobes);
-            double total = 0;
-            for (int l = 0; l < nl; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
             RTCRayHit& r = batch[g];
             r = RTCRayHit{};
             r.ray.tnear = 1.0f, r.ray.tfar = 0.0f;  // a hole unless a lobe is chosen
             r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             r.ray.mask = 0xFFFFFFFFu;
-            if (!(total > 0)) {
+            double prob = 0;
+            const int pick = choose_lobe(lobes, nl, random_at(key, level * 16 + bounce, RandomUse::kIcLobe), prob);
+            if (pick < 0) {
                 throughput[i] = {};
                 return;
             }
-            double u = random_at(key, level * 16 + bounce, RandomUse::kIcLobe) * total;
-            int pick = 0;
-            for (double acc = 0; pick < nl - 1; ++pick) {
-                acc += max_component(lobes[static_cast<size_t>(pick)].weight);
-                if (u < acc) break;
-            }
             const Lobe& lobe = lobes[static_cast<size_t>(pick)];
-            double prob = max_component(lobe.weight) / total;
             throughput[i] = throughput[i] * lobe.weight / prob;
             via_delta[i] = 1;
             Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;

@@ -49,6 +49,18 @@ double fresnel_dielectric(double cos_i, double eta) {
     return 0.5 * (rs * rs + rp * rp);
 }
 
+int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, double& probability) {
+    double total = 0;
+    for (int l = 0; l < n; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
+    if (!(total > 0)) return -1;
+    const double x = u * total;
+    int pick = 0;
+    for (double acc = 0; pick < n - 1; ++pick)
+        if (x < (acc += max_component(lobes[static_cast<size_t>(pick)].weight))) break;
+    probability = max_component(lobes[static_cast<size_t>(pick)].weight) / total;
+    return pick;
+}
+
 int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out) {
     int n = 0;
     const Vec3& nrm = f.normal;

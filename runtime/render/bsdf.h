@@ -69,6 +69,18 @@ struct Bsdf {
 /// hit's own (`random`).
 int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out);
 
+/// Mirrors, glass and dielectrics: every lobe they spawn is delta, so a path is followed
+/// through them, never shaded there.
+inline bool is_delta_material(MaterialType t) {
+    return t == MaterialType::kMirror || t == MaterialType::kGlass || t == MaterialType::kDielectric;
+}
+
+/// The one lobe a single path follows (the irradiance cache's hemisphere rays, photons):
+/// among the first `n`, with probability proportional to the largest component of its
+/// weight, by u in [0, 1). Returns its index and sets `probability`; -1 when every weight is
+/// 0 (the path is absorbed).
+int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, double& probability);
+
 /// Sum over the non-delta lobes of BRDF x |cos| for light arriving from unit direction `wi`.
 Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi);
 
