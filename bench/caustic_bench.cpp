@@ -18,15 +18,23 @@
 namespace crex {
 namespace {
 
-void BM_CausticMapBuild(benchmark::State& state) {
-    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(state.range(0)));
+// The Cornell box and the map's settings from a benchmark's arguments (threads, photons).
+struct Setup {
+    explicit Setup(const benchmark::State& state)
+        : threads(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(state.range(0))), rs(scene) {
+        settings.photons = static_cast<uint32_t>(state.range(1));
+    }
+    tbb::global_control threads;
     Scene scene = *builtin_scene("cornell");
-    RenderScene rs(scene);
-    CausticPhotonSettings set;
-    set.photons = static_cast<uint32_t>(state.range(1));
+    RenderScene rs;
+    CausticPhotonSettings settings;
+};
+
+void BM_CausticMapBuild(benchmark::State& state) {
+    Setup s(state);
     size_t stored = 0;
     for (auto _ : state) {
-        CausticPhotons map(rs, set);
+        CausticPhotons map(s.rs, s.settings);
         stored = map.size();
         benchmark::DoNotOptimize(stored);
     }
@@ -36,16 +44,12 @@ void BM_CausticMapBuild(benchmark::State& state) {
 BENCHMARK(BM_CausticMapBuild)->ArgsProduct({{1, 2}, {50000, 200000, 800000}})->Unit(benchmark::kMillisecond);
 
 void BM_CausticMapQuery(benchmark::State& state) {
-    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(state.range(0)));
-    Scene scene = *builtin_scene("cornell");
-    RenderScene rs(scene);
-    CausticPhotonSettings set;
-    set.photons = static_cast<uint32_t>(state.range(1));
-    CausticPhotons map(rs, set);
+    Setup s(state);
+    CausticPhotons map(s.rs, s.settings);
     // A 128 x 128 grid on the floor (the glass ball's caustic) and one on the ceiling (the
     // mirror ball's), in local coordinates.
     std::vector<std::pair<Vec3, Vec3>> queries;
-    const Vec3 offset = rs.embree->origin_offset();
+    const Vec3 offset = s.rs.embree->origin_offset();
     for (double y : {-0.999, 0.997})
         for (int i = 0; i < 128; ++i)
             for (int j = 0; j < 128; ++j)
