@@ -80,6 +80,9 @@ std::optional<int> DistributedRun::configure(const RunOptions& opt, const RunInp
             // The PA loads the records (the bytes rank 0 read) and holds them; this rank's own
             // cache stays empty. Rank 0 saves the first PA's, on its own machine (finish()).
             if (ranks_.rank == 0) modes_->ic_file = s.ic_file;
+            // Nor does it answer a query: no caustic map to build (8 ranks built 8 maps, 6 of
+            // them unused, and starved a neighbouring test's rank of its 1 s to start).
+            s.irradiance_cache->caustic_photons = 0;
             s.ic_file.clear();
             s.ic_file_bytes.reset();
             s.ic_records.clear();
