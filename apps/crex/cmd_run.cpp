@@ -141,7 +141,7 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_flag("--components", opt->components, "EXR: add one layer per component AOV (camera, D, G, S, T, R, M)");
     cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
     CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number (0 to 2^53)")->capture_default_str()->check(seed_value());
-    cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit")->capture_default_str()->check(CLI::Range(1u, 1024u));
+    cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit on a surface the camera sees, directly or through mirrors and glass (deeper hits take one)")->capture_default_str()->check(CLI::Range(1u, 1024u));
     cmd->add_option("--media-samples", opt->media_samples, "Single-scatter samples along each camera ray, in a scene with a medium "
                                                            "(a pipeline's media_samples varies it per pixel)")
         ->capture_default_str()

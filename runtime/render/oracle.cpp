@@ -40,10 +40,11 @@ struct Oracle {
         Vec3 total = r.beta * emitted(*b.material, f, camera || (r.flags & kRayFromDeltaLobe), camera);
         if (!is_finite(total)) total = {};
         if (!scene.lights->empty() && b.direct_response) {
-            for (uint32_t j = 0; j < params.shadow_rays; ++j) {
+            const uint32_t ns = shadow_rays_at(params, r.pixel, camera ? uint8_t{kRaySeenByCamera} : r.flags);
+            for (uint32_t j = 0; j < ns; ++j) {
                 Vec3 value, so, sd;
                 double tfar;
-                if (!direct_light_sample(scene, b, f, r.beta, random, j, params.shadow_rays, value, so, sd, tfar)) continue;
+                if (!direct_light_sample(scene, b, f, r.beta, random, j, ns, value, so, sd, tfar)) continue;
                 RTCRay s{};
                 s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
                 s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);

@@ -21,6 +21,10 @@ enum RayFlags : uint8_t {
     /// Bits 3-5: 1 + the component of the ray spawned at the camera hit that this ray descends
     /// from (its branch), 0 for camera rays: what capict interpolates is a branch (thesis 7.4).
     kRayBranchMask = 0x38,
+    /// Its hit is a surface the camera sees: a camera ray, or a chain of S, T, R or M lobes
+    /// from one (a reflection in a mirror, the floor through glass). Direct light there takes
+    /// the pixel's shadow rays; deeper hits take one (shadow_rays_at).
+    kRaySeenByCamera = 0x40,
 };
 inline constexpr unsigned kRayBranchShift = 3;
 

@@ -50,7 +50,9 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         } else {
             c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
             c.direction = lobe.direction;
-            c.flags = static_cast<uint8_t>((lobe.delta ? kRayFromDeltaLobe : 0) | (ray.flags & kRayOddSample) | branch);
+            const bool seen = lobe.delta && (ray.depth == 0 || (ray.flags & kRaySeenByCamera));
+            c.flags = static_cast<uint8_t>((lobe.delta ? kRayFromDeltaLobe : 0) | (seen ? kRaySeenByCamera : 0) | (ray.flags & kRayOddSample) |
+                                           branch);
         }
         c.beta = beta;
         c.pixel = ray.pixel;
@@ -265,9 +267,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 Vec3 c = b.emits ? ray.beta * emitted(*b.material, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
                 out.contribution[i] = is_finite(c) ? c : Vec3{};
                 if (camera) out.emission[i] = out.contribution[i];
-                const uint32_t nd = params.shadow_rays;  // direct-light slots
                 if (lights && b.direct_response) {
-                    uint32_t nsi = params.shadow_rays_per_pixel ? std::min<uint32_t>(nd, (*params.shadow_rays_per_pixel)[ray.pixel]) : nd;
+                    const uint32_t nsi = shadow_rays_at(params, ray.pixel, camera ? uint8_t{kRaySeenByCamera} : ray.flags);
                     for (uint32_t j = 0; j < nsi; ++j) {
                         Vec3 value, so, sd;
                         double tfar;

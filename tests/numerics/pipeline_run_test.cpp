@@ -87,6 +87,28 @@ TEST(PipelineRun, SelectiveHitsCastTheirPixelsShadowRays) {
     EXPECT_NEAR(got, expect, 0.01 * 4 * static_cast<double>(a - c));
 }
 
+TEST(PipelineRun, OnlySurfacesTheCameraSeesCastThePixelsShadowRays) {
+    // The camera's hits and what it sees in the mirror ball take the pixel's 4 shadow rays;
+    // the hits of diffuse bounces take one, so they cast as many as at 1 (the paths are the
+    // same: scattering does not draw on the light samples' random numbers).
+    Scene scene = load("builtin:cornell");
+    const sched::Program program = plan_for("pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n}\n", scene).program;
+    RunSettings ro;
+    ro.width = 24, ro.height = 24, ro.spp = 2;
+    auto one = render(scene, program, ro);
+    ro.executor.shade.shadow_rays = 4;
+    auto four = render(scene, program, ro);
+    auto of = [](const RunResult& r, Component c) { return r.stats.components[static_cast<size_t>(c)].shadow_rays; };
+    const double camera1 = static_cast<double>(one.stats.camera.shadow_rays);
+    ASSERT_GT(camera1, 500);
+    EXPECT_NEAR(static_cast<double>(four.stats.camera.shadow_rays), 4 * camera1, 0.01 * 4 * camera1);
+    ASSERT_GT(of(one, Component::kD), 100u);
+    EXPECT_EQ(of(four, Component::kD), of(one, Component::kD));
+    // Mirror hits: those from a camera hit are seen (4), most come after a diffuse bounce (1).
+    EXPECT_GT(of(four, Component::kM), of(one, Component::kM) + 30);
+    EXPECT_LT(of(four, Component::kM), 4 * of(one, Component::kM));
+}
+
 TEST(PipelineRun, ThePreviewsSamplesGetTheirPixelsShadowRaysToo) {
     // Progressive direct light (thesis 8.2): the preview's kept samples have their camera-hit
     // direct light estimated again with the pixel's shadow_rays. With no new sample, the camera
