@@ -13,6 +13,7 @@
 #include <numbers>
 #include <numeric>
 #include <sstream>
+#include <unordered_map>
 
 #include "runtime/base/atomic_file.h"
 #include "runtime/base/sampling.h"
@@ -33,6 +34,9 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     r_min_ = settings.min_radius > 0 ? settings.min_radius : extent / (settings.resolution > 0 ? settings.resolution : 2000);
     r_max_ = settings.max_radius > 0 ? settings.max_radius : 0.25 * extent;
     r_max_ = std::max(r_max_, r_min_);
+    // Local coordinates lie within the extent: float positions are off by at most 6e-8 of it
+    // per coordinate, so a margin of 5e-7 of it keeps the float test conservative.
+    position_slack_ = static_cast<float>(5e-7 * extent);
     max_aa_ = clamp_accuracy(settings.max_accuracy > 0 ? std::max(settings.max_accuracy, settings.accuracy) : settings.accuracy);
     // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
     double top = 2 * r_max_;
@@ -76,7 +80,9 @@ void IrradianceCache::insert(const IrradianceRecord& r) {
             for (int z = z0; z <= z1; ++z) {
                 if (grids_.size() <= r.level) grids_.resize(r.level + 1u);
                 if (grids_[r.level].empty()) grids_[r.level].resize(cell_size_.size());
-                grids_[r.level][L][cell_key(x, y, z)].push_back(index);
+                grids_[r.level][L].at(cell_key(x, y, z))
+                    .push_back({static_cast<float>(r.position.x), static_cast<float>(r.position.y), static_cast<float>(r.position.z),
+                                static_cast<float>(r.harmonic_distance), r.quality, index});
             }
 }
 
@@ -86,17 +92,22 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
     double sum_w = 0;
     Vec3 sum{};
     if (level >= grids_.size()) return false;
-    const std::vector<Grid>& grids = grids_[level];
+    const std::vector<CellTable>& grids = grids_[level];
+    const float xf = static_cast<float>(x.x), yf = static_cast<float>(x.y), zf = static_cast<float>(x.z);
+    const float aa_f = static_cast<float>(aa) * 1.001f;
     for (size_t L = 0; L < grids.size(); ++L) {
         if (grids[L].empty()) continue;
         double cell = cell_size_[L];
-        auto it = grids[L].find(cell_key(static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)),
-                                         static_cast<int>(std::floor(x.z / cell))));
-        if (it == grids[L].end()) continue;
-        for (uint32_t i : it->second) {
-            const IrradianceRecord& r = records_[i];
-            if (r.quality > aa + 1e-6) continue;  // never from records of lower quality
-            // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test.
+        const std::vector<GridEntry>* entries = grids[L].find(cell_key(
+            static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)), static_cast<int>(std::floor(x.z / cell))));
+        if (!entries) continue;
+        for (const GridEntry& g : *entries) {
+            if (g.quality > aa + 1e-6) continue;  // never from records of lower quality
+            // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test, first
+            // on the entry (in float, with a margin), then exactly on the record.
+            const float dx = xf - g.x, dy = yf - g.y, dz = zf - g.z, reach = aa_f * g.radius + position_slack_;
+            if (!(dx * dx + dy * dy + dz * dz < reach * reach)) continue;
+            const IrradianceRecord& r = records_[g.index];
             Vec3 dv = x - r.position;
             if (!(dot(dv, dv) < aa2 * r.harmonic_distance * r.harmonic_distance)) continue;
             double w = ward_weight(r, x, n);

@@ -25,11 +25,11 @@
 #include <functional>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "runtime/cache/caustic_photons.h"
 #include "runtime/cache/irradiance_record.h"
+#include "runtime/cache/record_grid.h"
 #include "runtime/render/ray_batch.h"
 #include "runtime/render/render_scene.h"
 
@@ -103,13 +103,13 @@ private:
     const RenderScene& scene_;
     IcSettings settings_;
     double r_min_, r_max_, max_aa_;
+    float position_slack_;  ///< bounds the float rounding of GridEntry positions (local coordinates)
     std::vector<IrradianceRecord> records_;
     // A hierarchy of uniform grids: level L has cells of 2 rho_max / 2^L; a record sits in the
     // level whose cells are at least twice its largest validity radius (<= 8 cells of it).
     std::vector<double> cell_size_;
     // One hierarchy per bounce level: a lookup never scans another bounce's records.
-    using Grid = std::unordered_map<uint64_t, std::vector<uint32_t>>;
-    std::vector<std::vector<Grid>> grids_;
+    std::vector<std::vector<CellTable>> grids_;
     IcStats stats_;
     std::unique_ptr<CausticPhotons> caustics_;  ///< null when off or the scene has no caustics
     std::function<void(const IcStats&)> progress_;
