@@ -13,7 +13,8 @@ gold is stochastic, so a difference from gold itself would count gold's own nois
 
 Equal-error protocol (what a user feels): the pipeline's error against the converged reference
 (a path-traced `crex reference` at --reference-spp); the time plain uniform rendering
-(`crex run --spp k`: k = 1..512 without the cache, 1..128 with --ic at the default 256
+(`crex run --spp k`: k = 1, 2, 3, 4, 6, 8, ... 512 without the cache (--uncached-max-spp),
+1 .. 128 with --ic at the default 256
 hemisphere rays per record and at every other `ad` a listed pipeline sets, so a pipeline's
 quieter records are uniform rendering's too) needs for the same error on its best curve (the
 lower envelope of all of them, interpolated log-log between its points), divided by the
@@ -43,9 +44,11 @@ SCENES = {"cornell": ("builtin:cornell", 1.0), "corridor": (os.path.join(ROOT, "
           "room": (os.path.join(ROOT, "examples/scenes/room/scene.json"), 0.75),
           # The thesis's Mist Cornell (issue 18): run with --scenes mist --pipelines prog_dis_all,prog_dis_media.
           "mist": (os.path.join(ROOT, "examples/scenes/mist/scene.json"), 1.0)}
-UNIFORM_SPP = [1, 2, 4, 8, 16, 32, 64, 128]
+# Steps of about 1.4x, not 2x: between powers of two the log-log interpolation of a sparse
+# curve overstated uniform's time (capict on the corridor sat between 8 and 16 spp).
+UNIFORM_SPP = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 128]
 # Path tracing goes on where the cache's bias flattens its curve: a pipeline below uniform's
-# 128-spp error is then measured, not bounded.
+# 128-spp error is then measured, not bounded (--uncached-max-spp 128 leaves them out).
 UNCACHED_EXTRA_SPP = [256, 512]
 DEFAULT_AD = 256
 
@@ -60,6 +63,8 @@ def arguments():
     ap.add_argument("--pipelines", default=",".join(DEFAULT_PIPELINES))
     ap.add_argument("--scenes", default="cornell,corridor,room")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--uncached-max-spp", type=int, default=512,
+                    help="the largest spp of the path-traced curve (its points beyond 128 cost most of the run)")
     ap.add_argument("--repeat", type=int, default=1,
                     help="renders per point; the median render time is kept (the image is the same: fixed seed)")
     return ap.parse_args()
@@ -116,7 +121,7 @@ def main():
         ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
         uniform = []
-        curves = [(spp, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP] + [
+        curves = [(spp, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
             (spp, ad) for ad in cache_divisions(a, pipelines) for spp in UNIFORM_SPP]
         for spp, ad in curves:
             tag = "" if ad is None else "_ic" if ad == DEFAULT_AD else f"_ic_ad{ad}"
