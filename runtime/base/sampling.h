@@ -57,14 +57,14 @@ inline double random_at(uint64_t path_id, uint32_t depth, RandomUse use, uint32_
 }
 
 /// Van der Corput radical inverse in base 2 (bit reversal) and base 3.
-inline double radical_inverse_2(uint32_t k) {
+inline uint32_t reverse_bits_32(uint32_t k) {
     k = (k << 16) | (k >> 16);
     k = ((k & 0x00ff00ffu) << 8) | ((k & 0xff00ff00u) >> 8);
     k = ((k & 0x0f0f0f0fu) << 4) | ((k & 0xf0f0f0f0u) >> 4);
     k = ((k & 0x33333333u) << 2) | ((k & 0xccccccccu) >> 2);
-    k = ((k & 0x55555555u) << 1) | ((k & 0xaaaaaaaau) >> 1);
-    return static_cast<double>(k) * 0x1.0p-32;
+    return ((k & 0x55555555u) << 1) | ((k & 0xaaaaaaaau) >> 1);
 }
+inline double radical_inverse_2(uint32_t k) { return static_cast<double>(reverse_bits_32(k)) * 0x1.0p-32; }
 inline double radical_inverse_3(uint32_t k) {
     double inv = 1.0 / 3.0, f = inv, r = 0;
     while (k > 0) {
@@ -82,6 +82,35 @@ inline void rotated_halton(uint32_t k, double u0, double u1, double& x, double& 
     if (x >= 1) x -= 1;
     if (y >= 1) y -= 1;
 }
+
+
+/// Owen's nested uniform scramble of the bits of x, by hashing (Burley 2020, "Practical
+/// Hash-based Owen Scrambling", JCGT 9(4), after Laine and Karras): a different random
+/// permutation of every subinterval, so nets stay nets.
+inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
+    x = reverse_bits_32(x);
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return reverse_bits_32(x);
+}
+
+/// Point `index` of the first two dimensions of Sobol' (a (0,2)-sequence: every power-of-two
+/// prefix is stratified in both dimensions at once), shuffled and Owen-scrambled by `seed`
+/// (Burley 2020): the shuffle decorrelates it from other sequences driven by the same index
+/// (the camera's sub-pixel position), the scramble makes each point uniform.
+inline void owen_sobol_2d(uint32_t index, uint64_t seed, double& x, double& y) {
+    const uint32_t i = owen_scramble(index, static_cast<uint32_t>(seed));
+    uint32_t second = 0;  // dimension 2: the binary Pascal matrix
+    for (uint32_t v = 1u << 31, k = i; k; k >>= 1, v ^= v >> 1)
+        if (k & 1) second ^= v;
+    const uint64_t h = mix64(seed);
+    x = owen_scramble(reverse_bits_32(i), static_cast<uint32_t>(h)) * 0x1.0p-32;
+    y = owen_scramble(second, static_cast<uint32_t>(h >> 32)) * 0x1.0p-32;
+}
+
 
 /// An orthonormal frame around unit `n` (Duff et al. 2017).
 inline void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {

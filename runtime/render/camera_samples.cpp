@@ -10,7 +10,8 @@
 namespace crex {
 
 uint64_t camera_path_id(uint64_t seed, uint32_t pixel, uint32_t sample) {
-    return hash_combine(hash_combine(seed, pixel), 0x100000000ull + sample);
+    const uint64_t pixel_key = (mix64(seed) + pixel) & ((uint64_t{1} << 40) - 1);  // distinct for every pixel
+    return (pixel_key << 24) | (sample & 0xffffffu);
 }
 
 double gaussian_filter_offset(double u) {

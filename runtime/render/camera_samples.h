@@ -29,8 +29,13 @@ void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint
 /// waiting in bin D: what stands in for D work that was never executed (spec §3).
 void add_ambient(const RayBatch& d, const Vec3& av, std::vector<double>& ambient);
 
-/// Path id of camera sample k of pixel p (shared with the oracle).
+/// Path id of camera sample k of pixel p (shared with the oracle): the pixel's key (40 bits,
+/// from the seed and the pixel) above the sample index (24 bits), so that shading a camera
+/// hit can tell both (camera_pixel_key, camera_sample_index); everything drawn from a path id
+/// hashes it first.
 uint64_t camera_path_id(uint64_t seed, uint32_t pixel, uint32_t sample);
+inline uint64_t camera_pixel_key(uint64_t camera_path) { return camera_path >> 24; }
+inline uint32_t camera_sample_index(uint64_t camera_path) { return static_cast<uint32_t>(camera_path & 0xffffffu); }
 /// Position within pixel of camera sample k: Halton (2, 3) rotated per pixel; with the
 /// Gaussian filter the same points mapped through the filter's inverse distribution (so u, v
 /// then lie in [-1, 2)).

@@ -44,7 +44,9 @@ struct Oracle {
             for (uint32_t j = 0; j < ns; ++j) {
                 Vec3 value, so, sd;
                 double tfar;
-                if (!direct_light_sample(scene, b, f, r.beta, random, j, ns, value, so, sd, tfar)) continue;
+                if (!direct_light_sample(scene, b, f, r.beta, random, j, ns, value, so, sd, tfar,
+                                         camera ? LightSampling::camera_hit(r.path) : LightSampling{}))
+                    continue;
                 RTCRay s{};
                 s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
                 s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);

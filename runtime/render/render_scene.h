@@ -37,38 +37,24 @@ public:
 
     /// An emitter point for shading point x; pdf_area 0 when no emitter faces x.
     LightSample sample(const Vec3& x, double u_pick, double u, double v) const {
-        if (entries_.size() > kLocalChoiceMax) return sample(u_pick, u, v);
-        // In a corridor of three equal lamps, choosing by power alone spent two thirds of the
-        // shadow rays on far lamps: grain on every wall.
-        double w[kLocalChoiceMax];
-        double total = 0;
-        for (size_t i = 0; i < entries_.size(); ++i) total += w[i] = local_weight(entries_[i], x);
-        if (!(total > 0) || !std::isfinite(total)) return {};
-        const double target = u_pick * total;
-        double acc = 0;
-        size_t chosen = 0;
-        for (size_t i = 0; i < entries_.size(); ++i) {
-            if (!(w[i] > 0)) continue;
-            chosen = i, acc += w[i];
-            if (target < acc) break;
-        }
-        LightSample s = point_on(entries_[chosen], u, v);
-        s.pdf_area = w[chosen] / (total * entries_[chosen].area);
-        return s;
+        const Choice c = choose(x, u_pick);
+        return c.pdf_area > 0 ? at(c, u, v) : LightSample{};
+    }
+
+    /// The same choice of emitter made with u, whose position within the chosen emitter's
+    /// share, rescaled to [0, 1), is then the u of the point on it: a stratified 2-D set stays
+    /// stratified on each emitter. (With a separate pick, the points an emitter gets are a
+    /// random subset of the set, no longer stratified: pixel-stratified light samples were
+    /// noisier than independent ones on the Cornell box's two-triangle lamp.)
+    LightSample sample_reusing(const Vec3& x, double u, double v) const {
+        const Choice c = choose(x, u);
+        return c.pdf_area > 0 ? at(c, c.rescaled, v) : LightSample{};
     }
 
     /// An emitter point chosen by power alone (no shading point).
     LightSample sample(double u_pick, double u, double v) const {
-        // A linear scan for the few emitters of most scenes (lower_bound's branches cost more).
-        size_t i = 0;
-        if (cdf_.size() <= 16) {
-            while (i + 1 < cdf_.size() && cdf_[i] < u_pick) ++i;
-        } else {
-            i = std::min(static_cast<size_t>(std::lower_bound(cdf_.begin(), cdf_.end(), u_pick) - cdf_.begin()), entries_.size() - 1);
-        }
-        LightSample s = point_on(entries_[i], u, v);
-        s.pdf_area = entries_[i].pdf_area;
-        return s;
+        const Choice c = choose_by_power(u_pick);
+        return at(c, u, v);
     }
 
 private:
@@ -86,6 +72,49 @@ private:
         if (!e.sphere && !(dot(x - e.a, e.normal) > 0)) return 0;  // behind a planar emitter
         Vec3 d = x - e.centre;
         return e.power / std::fmax(dot(d, d), e.area);
+    }
+    /// An emitter, the probability of its area's points, and u_pick's place in its share.
+    struct Choice {
+        size_t index = 0;
+        double pdf_area = 0;
+        double rescaled = 0;
+    };
+    static double place(double u, double lo, double width) {
+        return width > 0 ? std::clamp((u - lo) / width, 0.0, 0x1.fffffffffffffp-1) : 0.5;
+    }
+    Choice choose_by_power(double u_pick) const {
+        // A linear scan for the few emitters of most scenes (lower_bound's branches cost more).
+        size_t i = 0;
+        if (cdf_.size() <= 16) {
+            while (i + 1 < cdf_.size() && cdf_[i] < u_pick) ++i;
+        } else {
+            i = std::min(static_cast<size_t>(std::lower_bound(cdf_.begin(), cdf_.end(), u_pick) - cdf_.begin()), entries_.size() - 1);
+        }
+        const double lo = i == 0 ? 0.0 : cdf_[i - 1];
+        return {i, entries_[i].pdf_area, place(u_pick, lo, cdf_[i] - lo)};
+    }
+    Choice choose(const Vec3& x, double u_pick) const {
+        if (entries_.size() > kLocalChoiceMax) return choose_by_power(u_pick);
+        // In a corridor of three equal lamps, choosing by power alone spent two thirds of the
+        // shadow rays on far lamps: grain on every wall.
+        double w[kLocalChoiceMax];
+        double total = 0;
+        for (size_t i = 0; i < entries_.size(); ++i) total += w[i] = local_weight(entries_[i], x);
+        if (!(total > 0) || !std::isfinite(total)) return {};
+        const double target = u_pick * total;
+        double acc = 0;
+        size_t chosen = 0;
+        for (size_t i = 0; i < entries_.size(); ++i) {
+            if (!(w[i] > 0)) continue;
+            chosen = i, acc += w[i];
+            if (target < acc) break;
+        }
+        return {chosen, w[chosen] / (total * entries_[chosen].area), place(target, acc - w[chosen], w[chosen])};
+    }
+    LightSample at(const Choice& c, double u, double v) const {
+        LightSample s = point_on(entries_[c.index], u, v);
+        s.pdf_area = c.pdf_area;
+        return s;
     }
     static LightSample point_on(const Entry& e, double u, double v) {
         LightSample s;

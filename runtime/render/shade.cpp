@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "runtime/base/sampling.h"
+#include "runtime/render/camera_samples.h"
 #include "runtime/trace/trace_batch.h"
 
 namespace crex {
@@ -64,15 +65,29 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
     return out;
 }
 
+LightSampling LightSampling::camera_hit(uint64_t camera_path) {
+    return {true, camera_sample_index(camera_path), camera_pixel_key(camera_path)};
+}
+
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
-                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar) {
-    // Low-discrepancy over the n samples of this hit: a rotated Halton set for the point on
-    // the emitter, stratified picks between emitters.
-    double u, v, r0, r1;
-    random.pair(RandomUse::kLight, r0, r1);
-    rotated_halton(j, r0, r1, u, v);
-    double pick = (j + random(RandomUse::kLightPick, j)) / n;
-    LightSample ls = scene.lights->sample(f.position, pick, u, v);
+                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar,
+                         const LightSampling& sampling) {
+    LightSample ls;
+    if (sampling.pixel_sequence) {
+        // Point sample * n + j of the pixel's scrambled (0,2)-sequence; its first coordinate
+        // also chooses the emitter (LightSampler::sample_reusing), so each emitter's share of
+        // the points is itself stratified.
+        double u, v;
+        owen_sobol_2d(sampling.sample * n + j, mix64(sampling.pixel_key ^ 0x5851f42d4c957f2dull), u, v);
+        ls = scene.lights->sample_reusing(f.position, u, v);
+    } else {
+        // Low-discrepancy over the n samples of this hit: a rotated Halton set for the point
+        // on the emitter, stratified picks between emitters.
+        double u, v, r0, r1;
+        random.pair(RandomUse::kLight, r0, r1);
+        rotated_halton(j, r0, r1, u, v);
+        ls = scene.lights->sample(f.position, (j + random(RandomUse::kLightPick, j)) / n, u, v);
+    }
     Vec3 to = ls.position - f.position;
     double d2 = dot(to, to);
     if (!(d2 > 0) || !(ls.pdf_area > 0)) return false;
@@ -269,10 +284,11 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 if (camera) out.emission[i] = out.contribution[i];
                 if (lights && b.direct_response) {
                     const uint32_t nsi = shadow_rays_at(params, ray.pixel, camera ? uint8_t{kRaySeenByCamera} : ray.flags);
+                    const LightSampling sampling = camera ? LightSampling::camera_hit(ray.path) : LightSampling{};
                     for (uint32_t j = 0; j < nsi; ++j) {
                         Vec3 value, so, sd;
                         double tfar;
-                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, nsi, value, so, sd, tfar)) continue;
+                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, nsi, value, so, sd, tfar, sampling)) continue;
                         RTCRay& s = shadows[i * ns + j];
                         aim_shadow_ray(s, so, sd, tfar);
                         shadow_value[i * ns + j] = value;
@@ -349,11 +365,12 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 if (medium) beta = beta * medium->transmittance(t);
                 const HitFrame f = hit_frame(*scene.embree, h.hit, origin + dir * t, dir, t);
                 const HitRandom random(rays.path[r], rays.depth[r]);
+                const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
                 const uint32_t k = wanted(r);
                 auto sample = [&](uint32_t j, uint32_t of, size_t slot, double sign) {
                     Vec3 value, so, sd;
                     double tfar;
-                    if (!direct_light_sample(scene, b, f, beta, random, j, of, value, so, sd, tfar)) return;
+                    if (!direct_light_sample(scene, b, f, beta, random, j, of, value, so, sd, tfar, sampling)) return;
                     aim_shadow_ray(shadows[slot], so, sd, tfar);
                     values[slot] = value * sign;
                 };

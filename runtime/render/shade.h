@@ -157,9 +157,22 @@ struct SpawnScratch {
 int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
                    const ShadeParams& params, SpawnScratch& out);
 
+/// Where a hit's light samples come from. Elsewhere: the hit's own n points (a Halton set
+/// rotated by the hit's random numbers). At a camera hit: point sample * n + j of its pixel's
+/// scrambled Sobol' sequence, so the light samples of all the pixel's camera samples are
+/// stratified together (16 samples of one shadow ray spread over the lamp as one sample's
+/// 16 rays would; independent ones left the direct light grainy at 16 spp).
+struct LightSampling {
+    bool pixel_sequence = false;
+    uint32_t sample = 0;     ///< the camera sample's index in its pixel
+    uint64_t pixel_key = 0;  ///< seeds the pixel's scramble
+    static LightSampling camera_hit(uint64_t camera_path);
+};
+
 /// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
 /// and the shadow ray to test; false if it contributes nothing.
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
-                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar);
+                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar,
+                         const LightSampling& sampling = {});
 
 }  // namespace crex
