@@ -19,7 +19,7 @@ import os
 import statistics
 
 from crex_tool import ROOT, crex
-from selective_table import SCENES, compare, time_at
+from selective_table import SCENES, compare, curve_of, time_at
 
 
 def arguments():
@@ -55,7 +55,8 @@ def main():
             args = ["run", "--scene", scene, "--size", size, "--spp", str(spp), "--ic", "--shadow-rays", str(a.shadow_rays),
                     "-o", img, "--format", "json", "-q", "--seed", str(a.seed)]
             seconds = statistics.median(json.loads(crex(a.crex, args))["render_seconds"] for _ in range(max(1, a.repeat)))
-            extra.append({"spp": spp, "seconds": seconds, "image": img, **compare(a, img, ref, "saliency")})
+            extra.append({"spp": spp, "ic": True, "ad": f"256 sr{a.shadow_rays}", "seconds": seconds, "image": img,
+                          **compare(a, img, ref, "saliency")})
         print(f"\n### {name} ({size}): uniform with `--ic --shadow-rays {a.shadow_rays}` added to the envelope\n")
         print("| pipeline | time s | FLIP | speed-up: issue's curve | with the new points | aFLIP | weights "
               "| speed-up: issue's curve | with the new points |")
@@ -70,10 +71,10 @@ def main():
                 extra_a = [{**u, "aflip": compare(a, u["image"], ref, task)["aflip"]} for u in extra]
                 base_a = [{**u, "aflip": compare(a, u["image"], ref, task)["aflip"]} for u in base]
             base_a = base if r["attention"] == "saliency" else base_a
-            f_issue = time_at([(u["seconds"], u["flip"]) for u in base], c["flip"])
-            f_all = time_at([(u["seconds"], u["flip"]) for u in base + extra], c["flip"])
-            a_issue = time_at([(u["seconds"], u["aflip"]) for u in base_a], c["aflip"])
-            a_all = time_at([(u["seconds"], u["aflip"]) for u in base_a + extra_a], c["aflip"])
+            flip = lambda us: [(u["seconds"], u["flip"], curve_of(u)) for u in us]  # noqa: E731
+            aflip = lambda us: [(u["seconds"], u["aflip"], curve_of(u)) for u in us]  # noqa: E731
+            f_issue, f_all = time_at(flip(base), c["flip"]), time_at(flip(base + extra), c["flip"])
+            a_issue, a_all = time_at(aflip(base_a), c["aflip"]), time_at(aflip(base_a + extra_a), c["aflip"])
             print(f"| {r['pipeline']} | {t:.2f} | {c['flip']:.4f} | {speedup(f_issue, t)} | {speedup(f_all, t)} | "
                   f"{c['aflip']:.4f} | {r['attention']} | {speedup(a_issue, t)} | {speedup(a_all, t)} |")
         print(f"\nuniform --ic --shadow-rays {a.shadow_rays} (spp, s, FLIP, aFLIP by saliency): " +
