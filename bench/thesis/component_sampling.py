@@ -24,7 +24,7 @@ import os
 import statistics
 import sys
 
-from crex_tool import ROOT, crex
+from crex_tool import ROOT, crex, parser
 from selective_table import time_at
 
 # name: (scene, aspect, reference spp: the converged references the other tables use)
@@ -35,9 +35,7 @@ RENDERERS = ["apict", "capict"]
 
 
 def arguments():
-    import argparse
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
+    ap = parser(__doc__)
     ap.add_argument("--out", default=os.path.join(ROOT, "out/component_sampling"))
     ap.add_argument("--scenes", default="cornell,room")
     ap.add_argument("--width", type=int, default=128)

@@ -34,10 +34,16 @@ def gold_time_at(curve, flip):
     return None
 
 
-def arguments(doc):
-    """The options every table script takes: --crex, --out, --reference-spp."""
+def parser(doc):
+    """A command line whose --help is the script's docstring, with --crex."""
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--crex", default=DEFAULT_CREX)
+    return ap
+
+
+def arguments(doc):
+    """The options every table script takes: --crex, --out, --reference-spp."""
+    ap = parser(doc)
     ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
     ap.add_argument("--reference-spp", type=int, default=256)
     return ap

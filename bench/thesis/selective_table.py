@@ -36,7 +36,7 @@ import statistics
 import subprocess
 import sys
 
-from crex_tool import ROOT, crex
+from crex_tool import ROOT, crex, parser
 
 DEFAULT_PIPELINES = ["adaptive", "prog_dis_all", "prog_all", "prog_rp", "sel_rp", "sel_edge", "sel_st", "sel_task", "osd", "cbr", "apict", "capict",
                      "tpict"]
@@ -54,9 +54,7 @@ DEFAULT_AD = 256
 
 
 def arguments():
-    import argparse
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
+    ap = parser(__doc__)
     ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
     ap.add_argument("--width", type=int, default=128)
     ap.add_argument("--reference-spp", type=int, default=4096)

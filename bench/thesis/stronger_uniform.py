@@ -13,18 +13,16 @@ lot. A pipeline that beats the issue's curve may only be beating that grain. Thi
 table's scenes and prints each pipeline's equal-FLIP and equal-aFLIP speed-up against the
 issue's curve and against the envelope with these points added. Never in CI.
 """
-import argparse
 import json
 import os
 import statistics
 
-from crex_tool import ROOT, crex
+from crex_tool import ROOT, crex, parser
 from selective_table import SCENES, compare, curve_of, time_at
 
 
 def arguments():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
+    ap = parser(__doc__)
     ap.add_argument("--table", default=os.path.join(ROOT, "out/thesis/selective_table.json"))
     ap.add_argument("--scenes", default="cornell")
     ap.add_argument("--shadow-rays", type=int, default=8)
