@@ -106,14 +106,12 @@ def time_at(points, err):
     curves = {}
     for p in points:
         curves.setdefault(p[2] if len(p) > 2 else None, []).append((p[0], p[1]))
-    candidates, best_point = [], None
-    for pts in curves.values():
-        env = envelope(pts)
-        if not env:
-            continue
-        if best_point is None or env[-1][1] < best_point[1]:
-            best_point = env[-1]
-        if err >= env[0][1]:
+    envs = [env for env in (envelope(pts) for pts in curves.values()) if env]
+    if not envs or err > max(env[0][1] for env in envs):
+        return None
+    candidates = []
+    for env in envs:
+        if err >= env[0][1]:  # this curve's cheapest point is already good enough
             candidates.append(env[0][0])
             continue
         for (t0, e0), (t1, e1) in zip(env, env[1:]):
@@ -122,9 +120,9 @@ def time_at(points, err):
                 candidates.append(math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0))))
                 break
     if candidates:
-        worst = max(envelope(pts)[0][1] for pts in curves.values() if pts)
-        return (min(candidates), False) if err <= worst else None
-    return (best_point[0], True) if best_point else None
+        return min(candidates), False
+    best = min((env[-1] for env in envs), key=lambda p: p[1])
+    return best[0], True
 
 
 def curve_of(u):

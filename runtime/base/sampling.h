@@ -83,7 +83,6 @@ inline void rotated_halton(uint32_t k, double u0, double u1, double& x, double& 
     if (y >= 1) y -= 1;
 }
 
-
 /// Owen's nested uniform scramble of the bits of x, by hashing (Burley 2020, "Practical
 /// Hash-based Owen Scrambling", JCGT 9(4), after Laine and Karras): a different random
 /// permutation of every subinterval, so nets stay nets.
@@ -110,7 +109,6 @@ inline void owen_sobol_2d(uint32_t index, uint64_t seed, double& x, double& y) {
     x = owen_scramble(reverse_bits_32(i), static_cast<uint32_t>(h)) * 0x1.0p-32;
     y = owen_scramble(second, static_cast<uint32_t>(h >> 32)) * 0x1.0p-32;
 }
-
 
 /// An orthonormal frame around unit `n` (Duff et al. 2017).
 inline void orthonormal_basis(const Vec3& n, Vec3& t, Vec3& b) {

@@ -40,12 +40,11 @@ struct Oracle {
         Vec3 total = r.beta * emitted(*b.material, f, camera || (r.flags & kRayFromDeltaLobe), camera);
         if (!is_finite(total)) total = {};
         if (!scene.lights->empty() && b.direct_response) {
-            const uint32_t ns = shadow_rays_at(params, r.pixel, camera ? uint8_t{kRaySeenByCamera} : r.flags);
-            for (uint32_t j = 0; j < ns; ++j) {
+            const HitLighting lighting = hit_lighting(params, r, camera);
+            for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
                 Vec3 value, so, sd;
                 double tfar;
-                if (!direct_light_sample(scene, b, f, r.beta, random, j, ns, value, so, sd, tfar,
-                                         camera ? LightSampling::camera_hit(r.path) : LightSampling{}))
+                if (!direct_light_sample(scene, b, f, r.beta, random, j, lighting.shadow_rays, value, so, sd, tfar, lighting.sampling))
                     continue;
                 RTCRay s{};
                 s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);

@@ -69,6 +69,11 @@ LightSampling LightSampling::camera_hit(uint64_t camera_path) {
     return {true, camera_sample_index(camera_path), camera_pixel_key(camera_path)};
 }
 
+HitLighting hit_lighting(const ShadeParams& params, const RayRecord& ray, bool camera) {
+    return {shadow_rays_at(params, ray.pixel, camera ? uint8_t{kRaySeenByCamera} : ray.flags),
+            camera ? LightSampling::camera_hit(ray.path) : LightSampling{}};
+}
+
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
                          uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar,
                          const LightSampling& sampling) {
@@ -283,12 +288,12 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 out.contribution[i] = is_finite(c) ? c : Vec3{};
                 if (camera) out.emission[i] = out.contribution[i];
                 if (lights && b.direct_response) {
-                    const uint32_t nsi = shadow_rays_at(params, ray.pixel, camera ? uint8_t{kRaySeenByCamera} : ray.flags);
-                    const LightSampling sampling = camera ? LightSampling::camera_hit(ray.path) : LightSampling{};
-                    for (uint32_t j = 0; j < nsi; ++j) {
+                    const HitLighting lighting = hit_lighting(params, ray, camera);
+                    for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
                         Vec3 value, so, sd;
                         double tfar;
-                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, nsi, value, so, sd, tfar, sampling)) continue;
+                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, lighting.shadow_rays, value, so, sd, tfar, lighting.sampling))
+                            continue;
                         RTCRay& s = shadows[i * ns + j];
                         aim_shadow_ray(s, so, sd, tfar);
                         shadow_value[i * ns + j] = value;

@@ -169,6 +169,15 @@ struct LightSampling {
     static LightSampling camera_hit(uint64_t camera_path);
 };
 
+/// How the direct light at a hit of `ray` is sampled (a camera ray when `camera`): with how
+/// many shadow rays (shadow_rays_at) and from which points (the pixel's sequence at a camera
+/// hit, else the hit's own). The bins and the oracle shade alike through it.
+struct HitLighting {
+    uint32_t shadow_rays = 1;
+    LightSampling sampling;
+};
+HitLighting hit_lighting(const ShadeParams& params, const RayRecord& ray, bool camera);
+
 /// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
 /// and the shadow ray to test; false if it contributes nothing.
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
