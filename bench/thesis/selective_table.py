@@ -67,6 +67,9 @@ def arguments():
                     help="print the tables of --out's selective_table.json again (no rendering)")
     ap.add_argument("--repeat", type=int, default=1,
                     help="renders per point; the median render time is kept (the image is the same: fixed seed)")
+    ap.add_argument("--thesis-only", action="store_true",
+                    help="the thesis protocol only (pipeline, gold, reference): no uniform curves, for sizes where "
+                         "they cost too much (512x512)")
     return ap.parse_args()
 
 
@@ -137,7 +140,7 @@ def reprint(a):
         results = json.load(f)
     for name, entry in results.items():
         uniform, rows = entry["uniform"], entry["rows"]
-        for r in rows:
+        for r in (rows if uniform else []):
             c = r["vs_reference"]
             curve_a = uniform
             if r["attention"] != "saliency":
@@ -145,7 +148,9 @@ def reprint(a):
                 curve_a = [{**u, "aflip": compare(a, u["image"], entry["reference"], task)["aflip"]} for u in uniform]
             r["uniform_seconds_at_flip"] = time_at([(u["seconds"], u["flip"], curve_of(u)) for u in uniform], c["flip"])
             r["uniform_seconds_at_aflip"] = time_at([(u["seconds"], u["aflip"], curve_of(u)) for u in curve_a], c["aflip"])
-        print_tables(name, entry["size"], a.reference_spp, uniform, rows)
+            r["uniform_seconds_at_gold_flip"] = time_at([(u["seconds"], u["flip"], curve_of(u)) for u in uniform],
+                                                        r["gold_vs_reference"]["flip"])
+        (print_tables if uniform else print_thesis_table)(name, entry["size"], a.reference_spp, uniform, rows)
 
 
 def main():
@@ -163,7 +168,7 @@ def main():
         ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
         uniform = []
-        curves = [(spp, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
+        curves = [] if a.thesis_only else [(spp, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
             (spp, ad) for ad in cache_divisions(a, pipelines) for spp in UNIFORM_SPP]
         for spp, ad in curves:
             tag = "" if ad is None else "_ic" if ad == DEFAULT_AD else f"_ic_ad{ad}"
@@ -186,14 +191,15 @@ def main():
             c, cg = compare(a, img, ref, attention), compare(a, gold_img, ref, attention)
             curve_a = uniform if attention == "saliency" else [
                 {**u, "aflip": compare(a, u["image"], ref, attention)["aflip"]} for u in uniform]
-            eq_flip = time_at([(u["seconds"], u["flip"], curve_of(u)) for u in uniform], c["flip"])
-            eq_aflip = time_at([(u["seconds"], u["aflip"], curve_of(u)) for u in curve_a], c["aflip"])
+            flip_curve = [(u["seconds"], u["flip"], curve_of(u)) for u in uniform]
             t, tg = j["render_seconds"], g["render_seconds"]
             rows.append({"pipeline": p, "seconds": t, "gold_seconds": tg, "vs_reference": c, "gold_vs_reference": cg,
-                         "attention": "task map" if attention != "saliency" else "saliency",
-                         "uniform_seconds_at_flip": eq_flip, "uniform_seconds_at_aflip": eq_aflip})
+                         "attention": "task map" if attention != "saliency" else "saliency", "stages": j["stages"],
+                         "uniform_seconds_at_flip": time_at(flip_curve, c["flip"]),
+                         "uniform_seconds_at_aflip": time_at([(u["seconds"], u["aflip"], curve_of(u)) for u in curve_a], c["aflip"]),
+                         "uniform_seconds_at_gold_flip": time_at(flip_curve, cg["flip"])})
         results[name] = {"size": size, "reference": ref, "uniform": uniform, "rows": rows}
-        print_tables(name, size, a.reference_spp, uniform, rows)
+        (print_thesis_table if a.thesis_only else print_tables)(name, size, a.reference_spp, uniform, rows)
     with open(os.path.join(a.out, "selective_table.json"), "w") as f:
         json.dump(results, f, indent=2)
 
@@ -222,17 +228,55 @@ def speedup(eq, t):
 def print_tables(name, size, ref_spp, uniform, rows):
     print(f"\n### {name} ({size}; reference: path traced, {ref_spp} spp)\n")
     print("| pipeline | time s | thesis: gold s | thesis: gold/pipeline | perr % (gold's) | perr cost, points "
-          "| FLIP (gold's) | equal FLIP: uniform s | speed-up | aFLIP | weights | equal aFLIP: uniform s | speed-up |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|")
+          "| FLIP (gold's) | equal FLIP: uniform s | speed-up | aFLIP | weights | equal aFLIP: uniform s | speed-up "
+          "| why below 1x (equal FLIP) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---|")
     for r in rows:
         c, cg, t = r["vs_reference"], r["gold_vs_reference"], r["seconds"]
         ef, ea = r["uniform_seconds_at_flip"], r["uniform_seconds_at_aflip"]
         print(f"| {r['pipeline']} | {t:.2f} | {r['gold_seconds']:.2f} | {r['gold_seconds'] / t:.2f}x | "
               f"{c['perr']:.1f} ({cg['perr']:.1f}) | {c['perr'] - cg['perr']:+.1f} | {c['flip']:.4f} ({cg['flip']:.4f}) | "
               f"{'' if ef is None else f'{ef[0]:.2f}'} | {speedup(ef, t)} | {c['aflip']:.4f} | {r['attention']} | "
-              f"{'' if ea is None else f'{ea[0]:.2f}'} | {speedup(ea, t)} |")
+              f"{'' if ea is None else f'{ea[0]:.2f}'} | {speedup(ea, t)} | {why_slower(r, uniform)} |")
     print("\nuniform (spp, cache, s, FLIP, aFLIP by saliency): " + ", ".join(
         f"({u['spp']}{uniform_tag(u)}, {u['seconds']:.2f}, {u['flip']:.4f}, {u['aflip']:.4f})" for u in uniform))
+
+
+def why_slower(r, uniform):
+    """Why a pipeline is slower than uniform rendering at its FLIP, from what was measured:
+    its renderer at full quality (gold) against uniform at gold's FLIP, and its preview's time
+    against uniform's whole render. Empty at 1x or above."""
+    eq, t, c = r["uniform_seconds_at_flip"], r["seconds"], r["vs_reference"]
+    if eq is not None and eq[0] / t >= 1:
+        return ""
+    if eq is None:
+        worst = max(u["flip"] for u in uniform)
+        return f"worse than uniform's cheapest render (FLIP {c['flip']:.3f} > {worst:.3f})"
+    reasons = []
+    eg, tg = r.get("uniform_seconds_at_gold_flip"), r["gold_seconds"]
+    if eg is not None and eg[0] < tg:
+        reasons.append(f"its renderer at full quality (gold) is already {tg / eg[0]:.1f}x slower than uniform at gold's FLIP")
+    preview = r.get("stages", {}).get("preview_seconds")
+    if preview is not None and preview >= 0.5 * eq[0]:
+        reasons.append(f"its preview alone takes {preview / eq[0]:.0%} of uniform's time at its FLIP")
+    if not reasons and preview is not None:
+        reasons.append(f"its selective pass ({t - preview:.2f} s) spends more than uniform's whole render "
+                       f"({eq[0]:.2f} s) less its preview ({preview:.2f} s)")
+    return "; ".join(reasons)
+
+
+def print_thesis_table(name, size, ref_spp, uniform, rows):
+    """The thesis protocol alone (--thesis-only): with the preview's share of gold's time, the
+    speed-up a free selective pass would reach."""
+    print(f"\n### {name} ({size}; thesis protocol only; reference: path traced, {ref_spp} spp)\n")
+    print("| pipeline | time s | preview s | gold s | gold/pipeline | bound: gold/preview | perr % (gold's) "
+          "| perr cost, points | FLIP (gold's) |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for r in rows:
+        c, cg, t, tg = r["vs_reference"], r["gold_vs_reference"], r["seconds"], r["gold_seconds"]
+        preview = r["stages"]["preview_seconds"]
+        print(f"| {r['pipeline']} | {t:.2f} | {preview:.2f} | {tg:.2f} | {tg / t:.2f}x | {tg / preview:.1f}x | "
+              f"{c['perr']:.1f} ({cg['perr']:.1f}) | {c['perr'] - cg['perr']:+.1f} | {c['flip']:.4f} ({cg['flip']:.4f}) |")
 
 
 def uniform_tag(u):
