@@ -27,6 +27,19 @@ namespace {
 
 double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-3, 1.0) : 1.0; }
 
+// How a hemisphere ray reached what it shades: through a delta shape (mirror, glass,
+// dielectric), through a trans surface's specular transmission, or both.
+constexpr uint8_t kViaDelta = 1, kViaTrans = 2;
+
+/// The probability that a hemisphere ray passes through a trans surface's specular
+/// transmission: that lobe's share of the surface's lobe weights (0 for other surfaces).
+double transmission_share(const Bsdf& b) {
+    const double t = max_component(b.specular_transmit);
+    if (!(t > 0)) return 0;
+    const double rest = max_component(b.diffuse) + max_component(b.diffuse_transmit) + (b.glossy || b.mirror_like ? max_component(b.specular) : 0);
+    return t / (t + rest);
+}
+
 }  // namespace
 
 IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings) : scene_(scene), settings_(settings) {
@@ -224,17 +237,36 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
 
     // Hemisphere rays that reach mirrors, glass or dielectrics continue through them (one lobe
     // chosen by its weight, up to 8 interfaces), so light arriving through them (caustics)
-    // is in E. The first hit's distance stays what the harmonic mean uses.
+    // is in E. A translucent (trans) surface passes a ray through its specular transmission
+    // with that lobe's share of the surface's weight, else the ray is shaded there, each
+    // divided by its probability: without it, what a frosted screen lets through was missing
+    // from E behind it. The first hit's distance stays what the harmonic mean uses.
     std::vector<RTCRayHit> last = rays;
     std::vector<Vec3> throughput(n, Vec3{1, 1, 1}), last_dir = dirs;
-    std::vector<uint8_t> via_delta(n, 0);
+    std::vector<uint8_t> via(n, 0), settled(n, 0);
     auto is_delta = [&](const RTCRayHit& h) {
         return h.hit.geomID != RTC_INVALID_GEOMETRY_ID && is_delta_material(scene_.material_of(h.hit.geomID).type);
     };
+    auto ray_key = [&](size_t i) { return hash_combine(sites[i / per].key, 0x1c0000ull + i % per); };
     for (uint32_t bounce = 0; bounce < 8; ++bounce) {
         std::vector<size_t> go;
-        for (size_t i = 0; i < n; ++i)
-            if (is_delta(last[i])) go.push_back(i);
+        std::vector<uint8_t> through_trans(n, 0);
+        for (size_t i = 0; i < n; ++i) {
+            if (settled[i] || last[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+            if (is_delta(last[i])) {
+                go.push_back(i);
+                continue;
+            }
+            const double pass = transmission_share(scene_.bsdf_of(last[i].hit.geomID));
+            if (!(pass > 0)) continue;
+            if (random_at(ray_key(i), level * 16 + bounce, RandomUse::kIcTrans) < pass) {
+                through_trans[i] = 1;
+                go.push_back(i);
+            } else {
+                throughput[i] = throughput[i] / (1 - pass);
+                settled[i] = 1;  // shaded here
+            }
+        }
         if (go.empty()) break;
         std::vector<RTCRayHit> batch(go.size());
         tbb::parallel_for(size_t{0}, go.size(), [&](size_t g) {
@@ -243,23 +275,31 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
             double t = h.ray.tfar;
             HitFrame f = hit_frame(*scene_.embree, h.hit, o + last_dir[i] * t, last_dir[i], t);
-            uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
-            std::array<Lobe, kMaxLobes> lobes;
-            int nl = scatter(scene_.bsdf_of(h.hit.geomID), f, HitRandom(key, level * 16 + bounce + 1), lobes);
             RTCRayHit& r = batch[g];
             r = RTCRayHit{};
             r.ray.tnear = 1.0f, r.ray.tfar = 0.0f;  // a hole unless a lobe is chosen
             r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             r.ray.mask = 0xFFFFFFFFu;
+            const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
+            Lobe lobe;
             double prob = 0;
-            const int pick = choose_lobe(lobes, nl, random_at(key, level * 16 + bounce, RandomUse::kIcLobe), prob);
-            if (pick < 0) {
-                throughput[i] = {};
-                return;
+            if (through_trans[i]) {
+                lobe = {Component::kT, last_dir[i], b.specular_transmit, true, true};
+                prob = transmission_share(b);
+                via[i] |= kViaTrans;
+            } else {
+                std::array<Lobe, kMaxLobes> lobes;
+                uint64_t key = ray_key(i);
+                int nl = scatter(b, f, HitRandom(key, level * 16 + bounce + 1), lobes);
+                const int pick = choose_lobe(lobes, nl, random_at(key, level * 16 + bounce, RandomUse::kIcLobe), prob);
+                if (pick < 0) {
+                    throughput[i] = {};
+                    return;
+                }
+                lobe = lobes[static_cast<size_t>(pick)];
+                via[i] |= kViaDelta;
             }
-            const Lobe& lobe = lobes[static_cast<size_t>(pick)];
             throughput[i] = throughput[i] * lobe.weight / prob;
-            via_delta[i] = 1;
             Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
             last_dir[i] = lobe.direction;
             set_ray(r, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
@@ -269,12 +309,14 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         for (size_t g = 0; g < go.size(); ++g) last[go[g]] = batch[g];
     }
 
-    // Radiance of every hemisphere ray: emission, one direct-light sample, the next bounce.
-    std::vector<Vec3> radiance(n), albedo(n);
+    // Radiance of every hemisphere ray: emission, one direct-light sample, the next bounce
+    // (on the side the ray arrived from, and through a trans surface's diffuse transmission
+    // on its other side).
+    std::vector<Vec3> radiance(n), albedo(n), albedo_far(n);
     std::vector<RTCRay> shadows(n);
     std::vector<Vec3> shadow_value(n);
-    std::vector<IcQuery> next(n);
-    std::vector<uint8_t> wants_next(n, 0);
+    std::vector<IcQuery> next(n), next_far(n);
+    std::vector<uint8_t> wants_next(n, 0), wants_far(n, 0);
     const bool deeper = level + 1 < settings_.bounces;
     tbb::parallel_for(size_t{0}, n, [&](size_t i) {
         RTCRay& s = shadows[i];
@@ -294,10 +336,10 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         HitFrame f = hit_frame(*scene_.embree, h.hit, origin + last_dir[i] * dist, last_dir[i], dist);
         const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
         // Through a mirror or glass, emitters are seen; a `light` emitter's caustic is the
-        // photon map's when there is one.
-        const bool caustic = caustics_ && via_delta[i] && b.type == MaterialType::kLight;
-        Vec3 l = caustic ? Vec3{} : emitted(*b.material, f, via_delta[i] != 0, false);
-        uint64_t key = hash_combine(sites[i / per].key, 0x1c0000ull + i % per);
+        // photon map's when there is one (photons stop at a trans surface: not through it).
+        const bool caustic = caustics_ && via[i] == kViaDelta && b.type == MaterialType::kLight;
+        Vec3 l = caustic ? Vec3{} : emitted(*b.material, f, via[i] != 0, false);
+        uint64_t key = ray_key(i);
         if (!scene_.lights->empty() && b.direct_response) {
             Vec3 value, so, sd;
             double tfar;
@@ -307,6 +349,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             }
         }
         albedo[i] = beta * b.diffuse;
+        albedo_far[i] = beta * b.diffuse_transmit;
         l = l * beta;
         if (max_component(albedo[i]) > 0) {
             if (deeper) {
@@ -314,6 +357,14 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
                 wants_next[i] = 1;
             } else {
                 l += albedo[i] * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
+            }
+        }
+        if (max_component(albedo_far[i]) > 0) {
+            if (deeper) {
+                next_far[i] = {f.position, -f.normal, sites[i / per].accuracy, sites[i / per].priority, hash_combine(key, 0xfa5ull)};
+                wants_far[i] = 1;
+            } else {
+                l += albedo_far[i] * settings_.ambient;
             }
         }
         radiance[i] = is_finite(l) ? l : Vec3{};
@@ -326,11 +377,14 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     if (deeper) {
         std::vector<IcQuery> q;
         std::vector<size_t> from;
-        for (size_t i = 0; i < n; ++i)
-            if (wants_next[i]) q.push_back(next[i]), from.push_back(i);
+        std::vector<Vec3> weight;
+        for (size_t i = 0; i < n; ++i) {
+            if (wants_next[i]) q.push_back(next[i]), from.push_back(i), weight.push_back(albedo[i]);
+            if (wants_far[i]) q.push_back(next_far[i]), from.push_back(i), weight.push_back(albedo_far[i]);
+        }
         std::vector<Vec3> e;
         irradiance(q, level + 1, e);
-        for (size_t k = 0; k < q.size(); ++k) radiance[from[k]] += albedo[from[k]] * e[k] / kPi;
+        for (size_t k = 0; k < q.size(); ++k) radiance[from[k]] += weight[k] * e[k] / kPi;
     }
 
     // Per site: E, harmonic mean distance, and the Ward-Heckbert gradients.

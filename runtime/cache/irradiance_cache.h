@@ -16,7 +16,9 @@
 /// hemisphere rays (ad / 2^k, at least 16), as pbrt's irradiance cache does. Hemisphere rays
 /// that reach a mirror, glass or a dielectric continue through it (one lobe by weight, up to
 /// 8 interfaces), so light reflected or refracted by them reaches E; plastic's and metal's
-/// ideal specular is not followed. Caustics proper - a `light` emitter seen through them - come
+/// ideal specular is not followed. A trans surface is seen through both its transmissions:
+/// through its specular one by that lobe's share, and its diffuse one from a record of the
+/// next bounce on its other side. Caustics proper - a `light` emitter seen through them - come
 /// from a caustic photon map instead (caustic_photons.h): at the query point for the camera's
 /// queries (sharp), at the record's site for deeper bounces.
 #pragma once
