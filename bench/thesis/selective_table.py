@@ -254,7 +254,7 @@ def why_slower(r, uniform):
         return f"worse than uniform's cheapest render (FLIP {c['flip']:.3f} > {worst:.3f})"
     reasons = []
     eg, tg = r.get("uniform_seconds_at_gold_flip"), r["gold_seconds"]
-    if eg is not None and eg[0] < tg:
+    if eg is not None and tg > 1.05 * eg[0]:
         reasons.append(f"its renderer at full quality (gold) is already {tg / eg[0]:.1f}x slower than uniform at gold's FLIP")
     preview = r.get("stages", {}).get("preview_seconds")
     if preview is not None and preview >= 0.5 * eq[0]:
