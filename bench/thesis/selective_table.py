@@ -15,8 +15,9 @@ Equal-error protocol (what a user feels): the pipeline's error against the conve
 (a path-traced `crex reference` at --reference-spp); the time plain uniform rendering
 (`crex run --spp k`: k = 1, 2, 3, 4, 6, 8, ... 512 without the cache (--uncached-max-spp),
 1 .. 128 with --ic at the default 256
-hemisphere rays per record and at every other `ad` a listed pipeline sets, so a pipeline's
-quieter records are uniform rendering's too) needs for the same error on its best curve (the
+hemisphere rays per record and at every other `ad` a listed pipeline sets, and at the default
+accuracy --aa 0.15 and the finest a listed pipeline's ic_radius reaches, so a pipeline's quieter
+and finer records are uniform rendering's too) needs for the same error on its best curve (the
 fastest of them at that error, each interpolated log-log between its own points), divided by the
 pipeline's time. Two errors:
   FLIP  - mean LDR-FLIP of the tone-mapped images (`crex compare`);
@@ -51,6 +52,7 @@ UNIFORM_SPP = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 128]
 # 128-spp error is then measured, not bounded (--uncached-max-spp 128 leaves them out).
 UNCACHED_EXTRA_SPP = [256, 512]
 DEFAULT_AD = 256
+DEFAULT_AA = 0.15
 
 
 def arguments():
@@ -129,8 +131,8 @@ def time_at(points, err):
 
 
 def curve_of(u):
-    """Which uniform curve a point is on: path traced, or the cache at its ad."""
-    return "pt" if not u["ic"] else f"ic{u['ad']}"
+    """Which uniform curve a point is on: path traced, or the cache at its ad and aa."""
+    return "pt" if not u["ic"] else f"ic{u['ad']}aa{u.get('aa', DEFAULT_AA)}"
 
 
 def reprint(a):
@@ -168,14 +170,14 @@ def main():
         ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
         uniform = []
-        curves = [] if a.thesis_only else [(spp, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
-            (spp, ad) for ad in cache_divisions(a, pipelines) for spp in UNIFORM_SPP]
-        for spp, ad in curves:
-            tag = "" if ad is None else "_ic" if ad == DEFAULT_AD else f"_ic_ad{ad}"
+        curves = [] if a.thesis_only else [(spp, None, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
+            (spp, ad, aa) for ad, aa in cache_settings(a, pipelines) for spp in UNIFORM_SPP]
+        for spp, ad, aa in curves:
+            tag = "" if ad is None else "_ic" + ("" if ad == DEFAULT_AD else f"_ad{ad}") + ("" if aa == DEFAULT_AA else f"_aa{aa}")
             img = out(f"uniform{spp}{tag}.exr")
             j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] +
-                    ([] if ad is None else ["--ic", "--ad", str(ad)]))
-            uniform.append({"spp": spp, "ic": ad is not None, "ad": ad, "seconds": j["render_seconds"], "image": img,
+                    ([] if ad is None else ["--ic", "--ad", str(ad), "--aa", str(aa)]))
+            uniform.append({"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "seconds": j["render_seconds"], "image": img,
                             **compare(a, img, ref, "saliency")})
         rows = []
         for p in pipelines:
@@ -204,14 +206,19 @@ def main():
         json.dump(results, f, indent=2)
 
 
-def cache_divisions(a, pipelines):
-    """The cache's hemisphere rays per record uniform rendering is run at: the default and
-    every `ad` one of the pipelines sets."""
-    ads = {DEFAULT_AD}
+def cache_settings(a, pipelines):
+    """The (ad, aa) uniform rendering with the cache is run at: the defaults, every `ad` one of
+    the pipelines sets, and the finest accuracy their ic_radius reaches (a pipeline whose
+    important pixels take aa 0.1 gets under the bias floor of uniform's default 0.15; uniform
+    rendering at that accuracy must be on the curve too)."""
+    ads, finest = {DEFAULT_AD}, DEFAULT_AA
     for p in pipelines:
         plan = json.loads(crex(a.crex, ["plan", os.path.join(ROOT, "stdlib/pipelines", p + ".pipe"), "--format", "json"]))
         ads.add(plan.get("settings", {}).get("ad", DEFAULT_AD))
-    return sorted(ads)
+        for v in plan.get("variables", []):
+            if v["variable"] == "ic_radius":
+                finest = min(finest, v["from"], v["to"])
+    return [(ad, DEFAULT_AA) for ad in sorted(ads)] + ([(DEFAULT_AD, finest)] if finest < DEFAULT_AA else [])
 
 
 def succeeds(a, args):
@@ -282,7 +289,8 @@ def print_thesis_table(name, size, ref_spp, uniform, rows):
 def uniform_tag(u):
     if not u["ic"]:
         return ""
-    return " ic" if u["ad"] == DEFAULT_AD else f" ic ad {u['ad']}"
+    aa = u.get("aa", DEFAULT_AA)
+    return " ic" + ("" if u["ad"] == DEFAULT_AD else f" ad {u['ad']}") + ("" if aa == DEFAULT_AA else f" aa {aa}")
 
 
 if __name__ == "__main__":
