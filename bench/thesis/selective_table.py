@@ -69,6 +69,8 @@ def arguments():
                     help="print the tables of --out's selective_table.json again (no rendering)")
     ap.add_argument("--repeat", type=int, default=1,
                     help="renders per point; the median render time is kept (the image is the same: fixed seed)")
+    ap.add_argument("--extend", action="store_true",
+                    help="render the uniform curves --out's selective_table.json lacks, then print the tables again")
     ap.add_argument("--thesis-only", action="store_true",
                     help="the thesis protocol only (pipeline, gold, reference): no uniform curves, for sizes where "
                          "they cost too much (512x512)")
@@ -155,10 +157,46 @@ def reprint(a):
         (print_tables if uniform else print_thesis_table)(name, entry["size"], a.reference_spp, uniform, rows)
 
 
+def uniform_curves(a, pipelines):
+    """(spp, ad, aa) of every uniform render: path traced (ad None), then the cache's curves."""
+    return [(spp, None, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
+        (spp, ad, aa) for ad, aa in cache_settings(a, pipelines) for spp in UNIFORM_SPP]
+
+
+def render_uniform(a, name, scene, size, ref, curve):
+    spp, ad, aa = curve
+    tag = "" if ad is None else "_ic" + ("" if ad == DEFAULT_AD else f"_ad{ad}") + ("" if aa == DEFAULT_AA else f"_aa{aa}")
+    img = os.path.join(a.out, f"{name}_uniform{spp}{tag}.exr")
+    j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] +
+            ([] if ad is None else ["--ic", "--ad", str(ad), "--aa", str(aa)]))
+    return {"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "seconds": j["render_seconds"], "image": img,
+            **compare(a, img, ref, "saliency")}
+
+
+def extend(a):
+    """Renders the uniform curves --out's selective_table.json lacks (the curve set grew since
+    it was made), adds them, then reprints: the pipelines are not rendered again."""
+    path = os.path.join(a.out, "selective_table.json")
+    with open(path) as f:
+        results = json.load(f)
+    for name, entry in results.items():
+        have = {(u["spp"], u["ad"], u.get("aa", DEFAULT_AA if u["ic"] else None)) for u in entry["uniform"]}
+        for c in uniform_curves(a, [r["pipeline"] for r in entry["rows"]]):
+            if c not in have:
+                print(f"[{name}] uniform {c} ...", file=sys.stderr)
+                entry["uniform"].append(render_uniform(a, name, SCENES[name][0], entry["size"], entry["reference"], c))
+    with open(path, "w") as f:
+        json.dump(results, f, indent=2)
+    reprint(a)
+
+
 def main():
     a = arguments()
     if a.reprint:
         reprint(a)
+        return
+    if a.extend:
+        extend(a)
         return
     os.makedirs(a.out, exist_ok=True)
     results = {}
@@ -169,16 +207,8 @@ def main():
         print(f"[{name}] reference at {a.reference_spp} spp ...", file=sys.stderr)
         ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
-        uniform = []
-        curves = [] if a.thesis_only else [(spp, None, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
-            (spp, ad, aa) for ad, aa in cache_settings(a, pipelines) for spp in UNIFORM_SPP]
-        for spp, ad, aa in curves:
-            tag = "" if ad is None else "_ic" + ("" if ad == DEFAULT_AD else f"_ad{ad}") + ("" if aa == DEFAULT_AA else f"_aa{aa}")
-            img = out(f"uniform{spp}{tag}.exr")
-            j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] +
-                    ([] if ad is None else ["--ic", "--ad", str(ad), "--aa", str(aa)]))
-            uniform.append({"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "seconds": j["render_seconds"], "image": img,
-                            **compare(a, img, ref, "saliency")})
+        curves = [] if a.thesis_only else uniform_curves(a, pipelines)
+        uniform = [render_uniform(a, name, scene, size, ref, c) for c in curves]
         rows = []
         for p in pipelines:
             print(f"[{name}] {p} ...", file=sys.stderr)
@@ -208,17 +238,19 @@ def main():
 
 def cache_settings(a, pipelines):
     """The (ad, aa) uniform rendering with the cache is run at: the defaults, every `ad` one of
-    the pipelines sets, and the finest accuracy their ic_radius reaches (a pipeline whose
-    important pixels take aa 0.1 gets under the bias floor of uniform's default 0.15; uniform
-    rendering at that accuracy must be on the curve too)."""
-    ads, finest = {DEFAULT_AD}, DEFAULT_AA
+    the pipelines sets, and every accuracy their ic_radius ranges end at. A pipeline whose
+    salient pixels take aa 0.1 gets under the bias floor of uniform's default 0.15, and one
+    whose other pixels take 0.5 shows what a coarse cache does for its time: uniform rendering
+    at those accuracies must be on the curve too (on the room, --aa 0.3 is both faster and
+    better than the default)."""
+    ads, accuracies = {DEFAULT_AD}, set()
     for p in pipelines:
         plan = json.loads(crex(a.crex, ["plan", os.path.join(ROOT, "stdlib/pipelines", p + ".pipe"), "--format", "json"]))
         ads.add(plan.get("settings", {}).get("ad", DEFAULT_AD))
         for v in plan.get("variables", []):
             if v["variable"] == "ic_radius":
-                finest = min(finest, v["from"], v["to"])
-    return [(ad, DEFAULT_AA) for ad in sorted(ads)] + ([(DEFAULT_AD, finest)] if finest < DEFAULT_AA else [])
+                accuracies.update((v["from"], v["to"]))
+    return [(ad, DEFAULT_AA) for ad in sorted(ads)] + [(DEFAULT_AD, aa) for aa in sorted(accuracies - {DEFAULT_AA})]
 
 
 def succeeds(a, args):
