@@ -18,7 +18,7 @@ import os
 import statistics
 
 from crex_tool import ROOT, crex, parser
-from selective_table import SCENES, compare, curve_of, time_at
+from selective_table import SCENES, compare, curve_of, speedup, time_at
 
 
 def arguments():
@@ -30,13 +30,6 @@ def arguments():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--repeat", type=int, default=3)
     return ap.parse_args()
-
-
-def speedup(eq, t):
-    if eq is None:
-        return "slower than uniform's worst"
-    tu, below = eq
-    return f"{'>' if below else ''}{tu / t:.2f}x"
 
 
 def main():
