@@ -15,7 +15,7 @@
 namespace crex {
 namespace {
 
-/// A bounding sphere of one delta shape: what photons are aimed at.
+/// A bounding sphere of one delta shape or trans surface: what photons are aimed at.
 struct Target {
     Vec3 centre;
     double radius = 0;
@@ -26,7 +26,8 @@ std::vector<Target> delta_targets(const RenderScene& scene) {
     const double pad = 1e-4 * scene.embree->extent();
     Vec3 all_lo{1e300, 1e300, 1e300}, all_hi{-1e300, -1e300, -1e300};
     for (const GeometryInfo& g : scene.embree->geometries()) {
-        if (!is_delta_material(scene.scene.materials[g.material].type)) continue;
+        const bool passes = is_delta_material(scene.scene.materials[g.material].type) || transmission_share(scene.bsdfs[g.material]) > 0;
+        if (!passes) continue;
         Target t;
         Vec3 lo, hi;
         if (g.sphere) {
@@ -208,15 +209,18 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
         intersect_batch(*scene.embree, rays.data(), n, false);
         rays_ += n;
 
-        // Follow each photon through the delta shapes; keep it at the first surface with a diffuse
-        // lobe after at least one delta interface. A photon whose first hit is not a delta shape is
-        // light the irradiance records see by themselves.
+        // Follow each photon through the delta shapes and through trans surfaces' specular
+        // transmission (the lobes the cache's hemisphere rays follow, chosen the same way);
+        // keep it at the first surface it is shaded at after at least one of them, if that has
+        // a diffuse lobe. A photon shaded at its first hit is light the records see by themselves.
         std::vector<uint8_t> state(n, 0);  // 0 travelling, 1 stored, 2 dropped
+        std::vector<uint8_t> through_trans(n, 0), passed(n, 0);
         std::vector<Photon> stored(n);
         for (uint32_t bounce = 0; bounce <= 8; ++bounce) {
             std::vector<size_t> go;
             tbb::parallel_for(size_t{0}, n, [&](size_t j) {
                 if (state[j] != 0) return;
+                through_trans[j] = 0;
                 const RTCRayHit& h = rays[j];
                 if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID || !(h.ray.tfar > h.ray.tnear)) {
                     state[j] = 2;
@@ -224,15 +228,19 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 }
                 if (scene.medium) power[j] = power[j] * scene.medium->transmittance(h.ray.tfar);
                 const Bsdf& b = scene.bsdf_of(h.hit.geomID);
-                const bool delta = is_delta_material(b.type);
-                if (!delta) {
-                    state[j] = 2;
-                    if (bounce == 0 || !(max_component(b.diffuse) > 0)) return;
-                    Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
-                    HitFrame f = hit_frame(*scene.embree, h.hit, o + dir[j] * static_cast<double>(h.ray.tfar), dir[j], h.ray.tfar);
-                    put(stored[j].position, f.position), put(stored[j].normal, f.normal), put(stored[j].power, power[j]);
-                    state[j] = 1;
+                if (is_delta_material(b.type)) return;
+                const double pass = transmission_share(b);
+                if (pass > 0 && random_at(hash_combine(base, first + j), bounce + 1, RandomUse::kIcTrans) < pass) {
+                    through_trans[j] = 1;
+                    power[j] = power[j] * b.specular_transmit / pass;
+                    return;
                 }
+                state[j] = 2;
+                if (!passed[j] || !(max_component(b.diffuse) > 0)) return;
+                Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z};
+                HitFrame f = hit_frame(*scene.embree, h.hit, o + dir[j] * static_cast<double>(h.ray.tfar), dir[j], h.ray.tfar);
+                put(stored[j].position, f.position), put(stored[j].normal, f.normal), put(stored[j].power, power[j] / (1 - pass));
+                state[j] = 1;
             });
             for (size_t j = 0; j < n; ++j)
                 if (state[j] == 0) go.push_back(j);
@@ -245,20 +253,25 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 double t = h.ray.tfar;
                 HitFrame f = hit_frame(*scene.embree, h.hit, o + dir[j] * t, dir[j], t);
                 const uint64_t key = hash_combine(base, first + j);
-                std::array<Lobe, kMaxLobes> lobes;
-                int nl = scatter(scene.bsdf_of(h.hit.geomID), f, HitRandom(key, bounce + 1), lobes);
+                const Bsdf& b = scene.bsdf_of(h.hit.geomID);
                 h = RTCRayHit{};
                 h.ray.tnear = 1.0f, h.ray.tfar = 0.0f, h.ray.mask = 0xFFFFFFFFu;
                 h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                double prob = 0;
-                const int pick = choose_lobe(lobes, nl, random_at(key, bounce + 1, RandomUse::kIcLobe), prob);
-                if (pick < 0) return;  // absorbed: found a hole next round
-                const Lobe& lobe = lobes[static_cast<size_t>(pick)];
-                power[j] = power[j] * lobe.weight / prob;
-                dir[j] = lobe.direction;
-                Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
-                set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
-                        static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(j));
+                passed[j] = 1;
+                Vec3 no = f.position - f.normal * eps;  // through a trans surface, undeviated
+                if (!through_trans[j]) {
+                    std::array<Lobe, kMaxLobes> lobes;
+                    int nl = scatter(b, f, HitRandom(key, bounce + 1), lobes);
+                    double prob = 0;
+                    const int pick = choose_lobe(lobes, nl, random_at(key, bounce + 1, RandomUse::kIcLobe), prob);
+                    if (pick < 0) return;  // absorbed: found a hole next round
+                    const Lobe& lobe = lobes[static_cast<size_t>(pick)];
+                    power[j] = power[j] * lobe.weight / prob;
+                    dir[j] = lobe.direction;
+                    no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
+                }
+                set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(dir[j].x), static_cast<float>(dir[j].y),
+                        static_cast<float>(dir[j].z), static_cast<unsigned>(j));
             });
             std::vector<RTCRayHit> batch(go.size());
             for (size_t g = 0; g < go.size(); ++g) batch[g] = rays[go[g]];

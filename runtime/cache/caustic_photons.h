@@ -1,12 +1,15 @@
 /// \file caustic_photons.h
 /// A caustic photon map (Jensen 1996) beside the irradiance cache: the light that reaches a
-/// diffuse surface from a `light` emitter through mirrors, glass or dielectrics (paths L S+ D).
+/// diffuse surface from a `light` emitter through mirrors, glass, dielectrics or a trans
+/// surface's specular transmission (paths L S+ D, T counting as S).
 /// A record's hemisphere rays find that light only when one of them happens to be sent onto a
 /// small emitter's image in a mirror or a lens; on the Cornell box those few rays were most of
 /// the cache's noise (two seeds' 64-spp `--ic` renders differed at perr 29.9 %, 0.3 % with
-/// those paths left out). Photons are aimed from the emitters at the bounding spheres of the
-/// delta shapes, followed through them (one lobe by its weight, up to 8 interfaces) and kept
-/// at the first surface with a diffuse lobe. Irradiance at a point is a k-nearest-neighbour
+/// those paths left out); a lamp seen through a frosted screen lit whole records' discs behind
+/// it. Photons are aimed from the emitters at the bounding spheres of the delta shapes and
+/// trans surfaces, followed through them (one lobe by its weight; through a trans surface with
+/// its T lobe's share, as the hemisphere rays are; up to 8 interfaces) and kept at the first
+/// surface they are shaded at, if it has a diffuse lobe. Irradiance at a point is a k-nearest-neighbour
 /// density estimate with an Epanechnikov kernel over the photons of its side of the surface,
 /// made at every 8th photon once and blended at the query (Christensen 1999).
 ///
@@ -24,7 +27,7 @@
 namespace crex {
 
 struct CausticPhotonSettings {
-    uint32_t photons = 200000;   ///< emitted towards the delta shapes (0: no map)
+    uint32_t photons = 200000;   ///< emitted towards the delta shapes and trans surfaces (0: no map)
     uint32_t neighbours = 32;    ///< k of the density estimate
     double max_radius = 0;       ///< of the density estimate; 0: the scene's extent / 16
     uint64_t seed = 0;
@@ -37,7 +40,8 @@ public:
     CausticPhotons(const CausticPhotons&) = delete;
     CausticPhotons& operator=(const CausticPhotons&) = delete;
 
-    /// True when the scene has no delta shape or no `light` emitter: there are no such paths.
+    /// True when the scene has no delta shape or trans surface, or no `light` emitter: there
+    /// are no such paths.
     bool empty() const { return photons_.empty(); }
     size_t size() const { return photons_.size(); }
     /// Rays traced to build the map.

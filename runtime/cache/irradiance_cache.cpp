@@ -31,15 +31,6 @@ double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-
 // dielectric), through a trans surface's specular transmission, or both.
 constexpr uint8_t kViaDelta = 1, kViaTrans = 2;
 
-/// The probability that a hemisphere ray passes through a trans surface's specular
-/// transmission: that lobe's share of the surface's lobe weights (0 for other surfaces).
-double transmission_share(const Bsdf& b) {
-    const double t = max_component(b.specular_transmit);
-    if (!(t > 0)) return 0;
-    const double rest = max_component(b.diffuse) + max_component(b.diffuse_transmit) + (b.glossy || b.mirror_like ? max_component(b.specular) : 0);
-    return t / (t + rest);
-}
-
 }  // namespace
 
 IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings) : scene_(scene), settings_(settings) {
@@ -335,9 +326,11 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z};
         HitFrame f = hit_frame(*scene_.embree, h.hit, origin + last_dir[i] * dist, last_dir[i], dist);
         const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
-        // Through a mirror or glass, emitters are seen; a `light` emitter's caustic is the
-        // photon map's when there is one (photons stop at a trans surface: not through it).
-        const bool caustic = caustics_ && via[i] == kViaDelta && b.type == MaterialType::kLight;
+        // Through a mirror, glass or a trans surface's specular transmission, emitters are
+        // seen; a `light` emitter's light along those paths is the photon map's when there is
+        // one (its photons follow the same lobes), else a rare ray onto a small bright lamp
+        // seen through a frosted screen lit a whole record's disc behind it.
+        const bool caustic = caustics_ && via[i] != 0 && b.type == MaterialType::kLight;
         Vec3 l = caustic ? Vec3{} : emitted(*b.material, f, via[i] != 0, false);
         uint64_t key = ray_key(i);
         if (!scene_.lights->empty() && b.direct_response) {

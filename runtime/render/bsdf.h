@@ -75,6 +75,16 @@ inline bool is_delta_material(MaterialType t) {
     return t == MaterialType::kMirror || t == MaterialType::kGlass || t == MaterialType::kDielectric;
 }
 
+/// The probability that a single path (a cache's hemisphere ray, a photon) meeting a trans
+/// surface passes through its specular transmission: that lobe's share of the surface's lobe
+/// weights (0 for other surfaces). The rest of the time the path ends there.
+inline double transmission_share(const Bsdf& b) {
+    const double t = max_component(b.specular_transmit);
+    if (!(t > 0)) return 0;
+    const double rest = max_component(b.diffuse) + max_component(b.diffuse_transmit) + (b.glossy || b.mirror_like ? max_component(b.specular) : 0);
+    return t / (t + rest);
+}
+
 /// The one lobe a single path follows (the irradiance cache's hemisphere rays, photons):
 /// among the first `n`, with probability proportional to the largest component of its
 /// weight, by u in [0, 1). Returns its index and sets `probability`; -1 when every weight is

@@ -81,6 +81,72 @@ TEST(CausticPhotons, AMirrorsCausticIsTheIrradianceOfTheLampsImage) {
     EXPECT_NEAR(all_got, all_expect, 0.04 * all_expect);
 }
 
+// A lamp (half side `half`, radiance L, facing up) at y = 0 under a frosted screen (trans) at
+// y = 1, under a diffuse ceiling at y = 3: the ceiling sees the lamp only through the screen.
+constexpr double kScreen = 1, kTransmissivity = 0.5, kTransmittedSpecular = 0.6;
+
+Scene lamp_under_screen(double half) {
+    Scene s;
+    Material screen = testing::make_material("screen", MaterialType::kTrans, {1, 1, 1});
+    screen.transmissivity = kTransmissivity;
+    screen.transmitted_specular = kTransmittedSpecular;
+    s.materials.push_back(screen);
+    s.materials.push_back(testing::make_material("lamp", MaterialType::kLight, {kL, kL, kL}));
+    s.materials.push_back(testing::make_material("ceiling", MaterialType::kPlastic, {0.5, 0.5, 0.5}));
+    const double w = 3;
+    s.shapes.push_back(build::quad("screen", {-w, kScreen, -w}, {w, kScreen, -w}, {w, kScreen, w}, {-w, kScreen, w}));
+    s.shapes.push_back(build::quad("lamp", {-half, 0, half}, {half, 0, half}, {half, 0, -half}, {-half, 0, -half}));
+    s.shapes.push_back(build::quad("ceiling", {-w, kCeiling, -w}, {w, kCeiling, -w}, {w, kCeiling, w}, {-w, kCeiling, w}));
+    s.camera.position = {0, 2, 5};
+    s.camera.direction = {0, 0, -1};
+    return s;
+}
+
+// Irradiance at ceiling point (x, kCeiling, z) from the lamp at y = 0 seen through the
+// screen's specular transmission (weight t (1 - s) ts with colour 1, undeviated).
+double through_screen_irradiance(double x, double z) {
+    const int n = 200;
+    const double h = kCeiling, cell = 2 * kHalf / n;
+    double e = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            double dx = x - (-kHalf + (i + 0.5) * cell), dz = z - (-kHalf + (j + 0.5) * cell);
+            double r2 = dx * dx + dz * dz + h * h;
+            e += kL * (h * h / r2) / r2 * cell * cell;
+        }
+    return kTransmissivity * kTransmittedSpecular * e;
+}
+
+TEST(CausticPhotons, ALampSeenThroughAFrostedScreenIsInTheMap) {
+    // The cache leaves a `light` emitter seen through a trans surface's specular transmission
+    // to the map (one hemisphere ray onto the room's small desk bulb through its screen lit a
+    // record's disc on the wall behind), so the map must hold exactly that light.
+    Scene s = lamp_under_screen(kHalf);
+    RenderScene rs(s);
+    CausticPhotonSettings set;
+    set.photons = 1000000;
+    CausticPhotons map(rs, set);
+    ASSERT_FALSE(map.empty());
+    const Vec3 down{0, -1, 0}, offset = rs.embree->origin_offset();
+    // As for the mirror's image; over map seeds 0-5 the worst of these places was 11.3 % off
+    // and the five together 5.5 % (mean +2.4 %, the k-NN estimate's own small excess).
+    double all_expect = 0, all_got = 0;
+    for (auto [x, z] : {std::pair{0.0, 0.0}, {1.0, 0.0}, {-1.0, 0.5}, {0.5, -1.0}, {1.5, 1.0}}) {
+        double expect = 0, got = 0;
+        for (int i = -3; i <= 3; ++i)
+            for (int j = -3; j <= 3; ++j) {
+                double px = x + 0.07 * i, pz = z + 0.07 * j;
+                expect += through_screen_irradiance(px, pz) / 49;
+                got += map.irradiance(Vec3{px, kCeiling, pz} - offset, down).x / 49;
+            }
+        EXPECT_NEAR(got, expect, 0.15 * expect) << x << ", " << z;
+        all_expect += expect, all_got += got;
+    }
+    EXPECT_NEAR(all_got, all_expect, 0.07 * all_expect);
+    // The lamp's own side of the screen is lit directly: no photon is kept there.
+    EXPECT_EQ(map.irradiance(Vec3{0.5, kScreen, 0.5} - offset, down).x, 0.0);
+}
+
 TEST(CausticPhotons, ASceneWithoutMirrorsOrGlassHasNone) {
     Scene s = *builtin_scene("cornell_diffuse");
     RenderScene rs(s);
@@ -143,6 +209,47 @@ TEST(IrradianceCache, CausticsFromThePhotonMapAreFarQuieterThanFromHemisphereRay
     RecordProperty("seed_to_seed_relative_rms_without", std::to_string(with_rays));
     EXPECT_LT(with_map, 0.5 * with_rays);
     // The same light, estimated two ways: the means agree.
+    EXPECT_NEAR(mean_map, mean_rays, 0.1 * mean_rays);
+}
+
+TEST(IrradianceCache, ALampThroughAFrostedScreenComesFromTheMapQuieterAndTheSame) {
+    // The ceiling above the frosted screen, lit by the lamp under it: through the screen's
+    // specular transmission (the map's, or the rare hemisphere ray's that finds the lamp) and
+    // its diffuse transmission and bounces (the records'). The lamp is large here (1 x 1) so
+    // that hemisphere rays find it often enough for a mean. Both ways give the same mean; the
+    // map's is far quieter from seed to seed (measured: relative RMS 0.19 against 0.53).
+    Scene s = lamp_under_screen(0.5);
+    RenderScene rs(s);
+    auto ceiling = [&](uint64_t seed, uint32_t photons) {
+        IcSettings set;
+        set.divisions = 256, set.bounces = 2, set.accuracy = 0.1, set.seed = seed, set.caustic_photons = photons;
+        IrradianceCache cache(rs, set);
+        std::vector<IcQuery> q;
+        for (int i = 0; i < 8; ++i)
+            for (int j = 0; j < 8; ++j)
+                q.push_back({Vec3{-1.75 + 0.5 * i, kCeiling, -1.75 + 0.5 * j} - rs.embree->origin_offset(), {0, -1, 0}, 0.1f, 0, seed * 1000 + q.size() + 1});
+        std::vector<Vec3> e;
+        cache.irradiance(q, 0, e);
+        std::vector<double> out;
+        for (const Vec3& v : e) out.push_back(luminance(v));
+        return out;
+    };
+    auto spread = [&](uint32_t photons, double& mean) {
+        double d2 = 0, m = 0;
+        size_t count = 0;
+        for (uint64_t seed : {1, 2, 3}) {
+            std::vector<double> a = ceiling(seed, photons), b = ceiling(seed + 10, photons);
+            for (size_t i = 0; i < a.size(); ++i) d2 += (a[i] - b[i]) * (a[i] - b[i]), m += a[i] + b[i];
+            count += a.size();
+        }
+        mean = m / (2.0 * static_cast<double>(count));
+        return std::sqrt(d2 / static_cast<double>(count)) / mean;
+    };
+    double mean_map = 0, mean_rays = 0;
+    double with_map = spread(200000, mean_map), with_rays = spread(0, mean_rays);
+    RecordProperty("seed_to_seed_relative_rms_with_map", std::to_string(with_map));
+    RecordProperty("seed_to_seed_relative_rms_without", std::to_string(with_rays));
+    EXPECT_LT(with_map, 0.5 * with_rays);
     EXPECT_NEAR(mean_map, mean_rays, 0.1 * mean_rays);
 }
 
