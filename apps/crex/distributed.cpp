@@ -85,11 +85,14 @@ void share_rows(const Distribution& d, SharedRows& rows) {
     const std::vector<int>& bounds = rows.bounds;
     const int exchange = ++g_row_exchanges;
     stall_here_if_asked(exchange, rows.why == RowExchange::kEnd);
-    fail_here_if_asked(exchange, rows.why == RowExchange::kEnd);
     const std::string point = fmt::format("the exchange of rows no. {} (after the preview, before each round, at the end)", exchange);
     // The ranks' tokens carry their splits: counts that differ would make MPI write past the
     // buffers, so a rank that split the rows otherwise (a bug) ends the run here instead.
     arrive(rows_comm(), point, fingerprint(bounds));
+    // After the arrival: the tests of a failing rank need rank 0 waiting here with its band
+    // finished. Before it, a rank that got here first under load failed while rank 0 still
+    // rendered (1 run in 3 with the MPI tests at -j2), and rank 0 had no final row to write.
+    fail_here_if_asked(exchange, rows.why == RowExchange::kEnd);
     CREX_CHECK(bounds.size() == static_cast<size_t>(d.bands) + 1 && bounds.front() == 0 && bounds.back() == film.height());
     const int width = film.width();
     // Each buffer in place: band b's rows go to every rank (MPI_IN_PLACE: a rank's own band

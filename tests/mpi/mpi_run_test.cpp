@@ -434,7 +434,9 @@ TEST_F(MpiRun, AFailingRankHasRankZeroWriteItsFinishedRows) {
 // (about 1 run in 3 here it does not): what is certain is the error, the end, no process left,
 // and that a partial, when there is one, holds exactly the single-process rows.
 TEST_F(MpiRun, AStoppedRankZeroIsNamedAndTheRunEnds) {
-    const std::string script = hooked_run("CREX_TEST_STALL_RANK=0", "--size 27x19 --spp 2 -q --rank-timeout 1 -o " + path("r0.exr"));
+    // A timeout of 4 s, not 1: under ctest -j2 rank 0 sometimes took over a second to read
+    // and check its inputs, and rank 1 named the start of the render instead.
+    const std::string script = hooked_run("CREX_TEST_STALL_RANK=0", "--size 27x19 --spp 2 -q --rank-timeout 4 -o " + path("r0.exr"));
     auto r = testing::run_command({"/bin/sh", "-c", script});
     EXPECT_EQ(r.exit_code, 3) << r.err;
     EXPECT_NE(r.err.find("crex run: error: rank 0 did not reach the exchange of rows no. 1"), std::string::npos) << r.err;
