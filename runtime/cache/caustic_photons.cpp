@@ -21,7 +21,7 @@ struct Target {
     double radius = 0;
 };
 
-std::vector<Target> delta_targets(const RenderScene& scene) {
+std::vector<Target> pass_through_targets(const RenderScene& scene) {
     std::vector<Target> out;
     const double pad = 1e-4 * scene.embree->extent();
     Vec3 all_lo{1e300, 1e300, 1e300}, all_hi{-1e300, -1e300, -1e300};
@@ -152,7 +152,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
     : neighbours_(std::clamp(settings.neighbours, 1u, 1024u)) {
     const double extent = scene.embree->extent();
     max_radius_ = settings.max_radius > 0 ? settings.max_radius : extent / 16;
-    const std::vector<Target> targets = delta_targets(scene);
+    const std::vector<Target> targets = pass_through_targets(scene);
     if (targets.empty() || !scene.lights || scene.lights->empty() || settings.photons == 0) return;
 
     const size_t total_photons = settings.photons;
@@ -232,7 +232,6 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 const double pass = transmission_share(b);
                 if (pass > 0 && random_at(hash_combine(base, first + j), bounce + 1, RandomUse::kIcTrans) < pass) {
                     through_trans[j] = 1;
-                    power[j] = power[j] * b.specular_transmit / pass;
                     return;
                 }
                 state[j] = 2;
@@ -257,21 +256,24 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 h = RTCRayHit{};
                 h.ray.tnear = 1.0f, h.ray.tfar = 0.0f, h.ray.mask = 0xFFFFFFFFu;
                 h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                passed[j] = 1;
-                Vec3 no = f.position - f.normal * eps;  // through a trans surface, undeviated
-                if (!through_trans[j]) {
+                Lobe lobe;
+                double prob = 0;
+                if (through_trans[j]) {
+                    lobe = {Component::kT, dir[j], b.specular_transmit, true, true};  // undeviated
+                    prob = transmission_share(b);
+                } else {
                     std::array<Lobe, kMaxLobes> lobes;
                     int nl = scatter(b, f, HitRandom(key, bounce + 1), lobes);
-                    double prob = 0;
                     const int pick = choose_lobe(lobes, nl, random_at(key, bounce + 1, RandomUse::kIcLobe), prob);
                     if (pick < 0) return;  // absorbed: found a hole next round
-                    const Lobe& lobe = lobes[static_cast<size_t>(pick)];
-                    power[j] = power[j] * lobe.weight / prob;
-                    dir[j] = lobe.direction;
-                    no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
+                    lobe = lobes[static_cast<size_t>(pick)];
                 }
-                set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(dir[j].x), static_cast<float>(dir[j].y),
-                        static_cast<float>(dir[j].z), static_cast<unsigned>(j));
+                power[j] = power[j] * lobe.weight / prob;
+                passed[j] = 1;
+                dir[j] = lobe.direction;
+                Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
+                set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
+                        static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(j));
             });
             std::vector<RTCRayHit> batch(go.size());
             for (size_t g = 0; g < go.size(); ++g) batch[g] = rays[go[g]];

@@ -27,10 +27,6 @@ namespace {
 
 double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-3, 1.0) : 1.0; }
 
-// How a hemisphere ray reached what it shades: through a delta shape (mirror, glass,
-// dielectric), through a trans surface's specular transmission, or both.
-constexpr uint8_t kViaDelta = 1, kViaTrans = 2;
-
 }  // namespace
 
 IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings) : scene_(scene), settings_(settings) {
@@ -234,7 +230,9 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     // from E behind it. The first hit's distance stays what the harmonic mean uses.
     std::vector<RTCRayHit> last = rays;
     std::vector<Vec3> throughput(n, Vec3{1, 1, 1}), last_dir = dirs;
-    std::vector<uint8_t> via(n, 0), settled(n, 0);
+    // passed: the ray reached what it shades through a delta shape or a trans surface's
+    // specular transmission (emitters are seen along it; `light` ones are the photon map's).
+    std::vector<uint8_t> passed(n, 0), settled(n, 0);
     auto is_delta = [&](const RTCRayHit& h) {
         return h.hit.geomID != RTC_INVALID_GEOMETRY_ID && is_delta_material(scene_.material_of(h.hit.geomID).type);
     };
@@ -277,7 +275,6 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             if (through_trans[i]) {
                 lobe = {Component::kT, last_dir[i], b.specular_transmit, true, true};
                 prob = transmission_share(b);
-                via[i] |= kViaTrans;
             } else {
                 std::array<Lobe, kMaxLobes> lobes;
                 uint64_t key = ray_key(i);
@@ -288,9 +285,9 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
                     return;
                 }
                 lobe = lobes[static_cast<size_t>(pick)];
-                via[i] |= kViaDelta;
             }
             throughput[i] = throughput[i] * lobe.weight / prob;
+            passed[i] = 1;
             Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
             last_dir[i] = lobe.direction;
             set_ray(r, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
@@ -330,8 +327,8 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         // seen; a `light` emitter's light along those paths is the photon map's when there is
         // one (its photons follow the same lobes), else a rare ray onto a small bright lamp
         // seen through a frosted screen lit a whole record's disc behind it.
-        const bool caustic = caustics_ && via[i] != 0 && b.type == MaterialType::kLight;
-        Vec3 l = caustic ? Vec3{} : emitted(*b.material, f, via[i] != 0, false);
+        const bool caustic = caustics_ && passed[i] && b.type == MaterialType::kLight;
+        Vec3 l = caustic ? Vec3{} : emitted(*b.material, f, passed[i] != 0, false);
         uint64_t key = ray_key(i);
         if (!scene_.lights->empty() && b.direct_response) {
             Vec3 value, so, sd;
