@@ -71,6 +71,9 @@ def arguments():
                     help="renders per point; the median render time is kept (the image is the same: fixed seed)")
     ap.add_argument("--extend", action="store_true",
                     help="render the uniform curves --out's selective_table.json lacks, then print the tables again")
+    ap.add_argument("--reference-file", action="append", default=[], metavar="SCENE=FILE",
+                    help="use FILE, a path-traced reference of --reference-spp samples made elsewhere (e.g. the mean "
+                         "of two seeds' `crex reference -o`), for SCENE instead of `crex reference`; repeatable")
     ap.add_argument("--thesis-only", action="store_true",
                     help="the thesis protocol only (pipeline, gold, reference): no uniform curves, for sizes where "
                          "they cost too much (512x512)")
@@ -205,7 +208,8 @@ def main():
         scene, aspect = SCENES[name]
         size = f"{a.width}x{int(round(a.width * aspect))}"
         print(f"[{name}] reference at {a.reference_spp} spp ...", file=sys.stderr)
-        ref = crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
+        given = dict(f.split("=", 1) for f in a.reference_file)
+        ref = given.get(name) or crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
         curves = [] if a.thesis_only else uniform_curves(a, pipelines)
         uniform = [render_uniform(a, name, scene, size, ref, c) for c in curves]
