@@ -77,7 +77,16 @@ def arguments():
     ap.add_argument("--thesis-only", action="store_true",
                     help="the thesis protocol only (pipeline, gold, reference): no uniform curves, for sizes where "
                          "they cost too much (512x512)")
-    return ap.parse_args()
+    a = ap.parse_args()
+    # SCENE=FILE pairs, checked once: a typo in the scene or a missing file is an error here,
+    # not a silently ignored option or a traceback after the first scene's renders.
+    a.reference_files = {}
+    for item in a.reference_file:
+        name, sep, path = item.partition("=")
+        if not sep or name not in SCENES or not os.path.isfile(path):
+            ap.error(f"--reference-file {item}: expected SCENE=FILE with SCENE one of {', '.join(SCENES)} and FILE an image")
+        a.reference_files[name] = path
+    return a
 
 
 def run(a, args):
@@ -208,8 +217,7 @@ def main():
         scene, aspect = SCENES[name]
         size = f"{a.width}x{int(round(a.width * aspect))}"
         print(f"[{name}] reference at {a.reference_spp} spp ...", file=sys.stderr)
-        given = dict(f.split("=", 1) for f in a.reference_file)
-        ref = given.get(name) or crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
+        ref = a.reference_files.get(name) or crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
         curves = [] if a.thesis_only else uniform_curves(a, pipelines)
         uniform = [render_uniform(a, name, scene, size, ref, c) for c in curves]
