@@ -1,19 +1,25 @@
 #include "apps/crex/cli_values.h"
 
-#include <cstdint>
 #include <string>
 
-namespace crex::app {
+#include "base/number_range.h"
 
-CLI::Validator seed_value() {
-    return CLI::Validator(
-        [](std::string& text) -> std::string {
-            bool digits = !text.empty() && text.size() <= 16 && text.find_first_not_of("0123456789") == std::string::npos;
-            if (digits && std::stoull(text) <= (uint64_t{1} << 53)) return "";
-            return "'" + text + "' is not a whole number from 0 to 9007199254740992";
-        },
-        "SEED");
+namespace crex::app {
+namespace {
+
+CLI::Validator ranged(NumberRange range) {
+    std::string what = describe(range);
+    return CLI::Validator([range](std::string& text) { return number_text_error(text, range); },
+                          what.substr(what.find(' ') + 1),  // "number from 0 to 1" after the option's type
+                          "number_in");
 }
+
+}  // namespace
+
+CLI::Validator number_in(double lo, double hi) { return ranged({lo, hi, false}); }
+CLI::Validator whole_number_in(double lo, double hi) { return ranged({lo, hi, true}); }
+
+CLI::Validator seed_value() { return ranged({0, 9007199254740992.0, true}); }
 
 bool parse_image_size(const std::string& text, int& width, int& height) {
     size_t x = text.find_first_of("xX");

@@ -8,6 +8,13 @@
 
 namespace crex::app {
 
+/// Every numeric flag's check (base/number_range.h): the whole text a number in [lo, hi];
+/// NaN and infinities refused by name with the range. CLI::Range let NaN through.
+CLI::Validator number_in(double lo, double hi);
+/// The same for whole numbers, read exactly (`--star-cap -1` is out of range, not "Could not
+/// convert"; 2^53 + 1 is not 2^53).
+CLI::Validator whole_number_in(double lo, double hi);
+
 /// A seed: a whole number from 0 to 2^53, as the pipeline language takes it (`--seed -1` and
 /// `--seed 1e23` both became 2^64 - 1).
 CLI::Validator seed_value();

@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
 #include "runtime/io/heat_map.h"
@@ -195,8 +196,8 @@ Runner add_compare_command(CLI::App& app) {
     cmd->add_option("--metric", opt->metrics, "Comma-separated metrics: rmse,relmse,ssim,flip,perr")->capture_default_str();
     cmd->add_option("--perr-threshold", opt->perr_threshold, "FLIP value from which a pixel counts as visibly different")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    cmd->add_option("--ppd", opt->ppd, "Pixels per degree of visual angle for FLIP")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+        ->check(number_in(0.0, 1.0));
+    cmd->add_option("--ppd", opt->ppd, "Pixels per degree of visual angle for FLIP")->capture_default_str()->check(number_in(1.0, 1000.0));
     cmd->add_option("--flip-map", opt->flip_out, "Write the per-pixel FLIP error as a picture (viridis, 0..1)");
     cmd->add_option("--attention", opt->attention,
                     "Also the attention-weighted FLIP (aflip): FLIP averaged with weights 'saliency' (of the reference) or from a map file (e.g. a task map)");

@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "base/number_range.h"
+
 namespace crex::pipeline {
 namespace {
 
@@ -54,11 +56,17 @@ const SettingRule* find_setting_rule(std::string_view section, std::string_view 
     return nullptr;
 }
 
-std::string setting_range_error(const SettingRule& rule, double v) {
-    bool whole = rule.shape == S::kInteger || rule.shape == S::kSize;
-    bool ok = std::isfinite(v) && v >= rule.lo && v <= rule.hi && (!whole || v == std::floor(v));
-    if (ok) return "";
-    return fmt::format("{} in [{:.16g}, {:.16g}]", whole ? "a whole number" : "a number", rule.lo, rule.hi);
+namespace {
+NumberRange range_of(const SettingRule& rule) { return {rule.lo, rule.hi, rule.shape == S::kInteger || rule.shape == S::kSize}; }
+}  // namespace
+
+std::string setting_range_error(const SettingRule& rule, double v) { return number_range_error(v, range_of(rule)); }
+
+std::string setting_literal_error(const SettingRule& rule, double v, std::string_view literal) {
+    if (std::string e = setting_range_error(rule, v); !e.empty()) return e;
+    const NumberRange range = range_of(rule);
+    const bool digits = !literal.empty() && literal.find_first_not_of("0123456789") == std::string_view::npos;
+    return range.whole && digits ? number_text_error(literal, range) : "";
 }
 
 std::string budget_range_error(double v, bool percent) {

@@ -37,9 +37,13 @@ const SettingRule* find_setting_rule(std::string_view section, std::string_view 
 /// The section names ("" first).
 std::span<const std::string_view> setting_sections();
 
-/// Empty when `v` fits `rule` (kInteger, kNumber, kSize: one side), else what was expected,
-/// e.g. "a whole number in [1, 1048576]". NaN and infinities never fit.
+/// Empty when `v` fits `rule` (kInteger, kNumber, kSize: one side), else what is wrong with
+/// the range, e.g. "0 is out of range: expected a whole number from 1 to 1048576"; NaN and
+/// infinities are named (base/number_range.h, the check of every number a user gives).
 std::string setting_range_error(const SettingRule& rule, double v);
+/// The same for a literal as written in a pipeline file: a whole number written in digits is
+/// compared exactly (`seed 9007199254740993` became 2^53 silently, which the CLI refuses).
+std::string setting_literal_error(const SettingRule& rule, double v, std::string_view literal);
 /// The same for a budget in seconds (`percent` false) or a share of a full render in % (true).
 std::string budget_range_error(double v, bool percent);
 

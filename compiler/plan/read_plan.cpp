@@ -9,6 +9,7 @@
 #include <set>
 
 #include "base/json_positions.h"
+#include "base/number_range.h"
 #include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/settings_table.h"
 
@@ -61,8 +62,7 @@ public:
         auto number = [&](const char* key, double lo, double hi, double& v, bool whole = false) {
             if (!j.contains(key) || !j[key].is_number()) return fail(ptr + "/" + key, "expected a number");
             v = j[key].get<double>();
-            if (!(v >= lo && v <= hi) || (whole && v != std::floor(v)))
-                return fail(ptr + "/" + key, fmt::format("expected {} in [{}, {}]", whole ? "a whole number" : "a number", lo, hi));
+            if (std::string e = number_range_error(v, {lo, hi, whole}); !e.empty()) return fail(ptr + "/" + key, e);
             return true;
         };
         if (j.contains("at") && !j["at"].is_string()) return fail(ptr + "/at", "expected \"file:line:col\"");
@@ -184,7 +184,7 @@ public:
     bool ranged(const json& o, const std::string& ptr, const char* key, std::string_view section, std::string_view name, double& out) {
         if (!number(o, ptr, key, out)) return false;
         const pipeline::SettingRule* rule = pipeline::find_setting_rule(section, name);
-        if (auto e = rule ? pipeline::setting_range_error(*rule, out) : ""; !e.empty()) return fail(ptr + "/" + key, "expected " + e);
+        if (auto e = rule ? pipeline::setting_range_error(*rule, out) : ""; !e.empty()) return fail(ptr + "/" + key, e);
         return true;
     }
 
