@@ -6,6 +6,7 @@
 
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
+#include "apps/crex/input_files.h"
 #include "apps/crex/scene_input.h"
 #include "base/render_text.h"
 #include "compiler/crex/compile.h"
@@ -106,7 +107,27 @@ int run_plan(const PlanOptions& opt) {
         std::cerr << "crex plan: --dump-after needs a pipeline file (a crex's lowered form: 'crex check --print-ir')\n";
         return kExitUsage;
     }
-    if (!opt.file.empty()) return plan_pipeline_file(opt);
+    if (!opt.file.empty()) {
+        // A plan, a scene, ...: said as such, not as "E201 unexpected '{'" of the pipeline parser.
+        const bool pipe = opt.file.size() > 5 && opt.file.substr(opt.file.size() - 5) == ".pipe";
+        std::string error;
+        if (auto text = pipe || opt.file == "-" ? std::nullopt : read_input(opt.file, error)) {
+            const std::string kind = input_kind(opt.file, *text);
+            if (kind == "a plan") {
+                std::cerr << fmt::format("crex plan: error: {} is a plan already (crex plan --format json made it): run it with "
+                                         "'crex run {}', or give crex plan a pipeline file (.pipe) or -e CREX\n",
+                                         opt.file, opt.file);
+                return kExitUsage;
+            }
+            if (!kind.empty()) {
+                std::cerr << fmt::format("crex plan: error: {} is {}, not a pipeline: plan a pipeline file (.pipe) or -e CREX for it "
+                                         "with --scene {}\n",
+                                         opt.file, kind, opt.file);
+                return kExitUsage;
+            }
+        }
+        return plan_pipeline_file(opt);
+    }
     SourceFile file("<expr>", opt.crex);
     DiagnosticSink sink;
     CompiledCrex compiled = compile_crex(file, sink);

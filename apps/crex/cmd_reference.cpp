@@ -9,6 +9,7 @@
 #include "apps/crex/commands.h"
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
+#include "apps/crex/run_setup.h"
 #include "apps/crex/scene_input.h"
 #include "base/render_text.h"
 #include "compiler/crex/compile.h"
@@ -47,6 +48,12 @@ int reference(const ReferenceOptions& opt) {
         return kExitFailure;
     }
     if (!in->scene) return kExitInputErrors;
+    // -o DIR said "no image writer for 'DIR'" after the whole render.
+    if (!opt.output.empty())
+        if (auto failure = check_output_path(opt.output)) {
+            std::cerr << "crex reference: error: " << failure->message << "\n";
+            return failure->exit_code;
+        }
     std::string path = opt.output.empty() ? reference_path(*in->scene, s) : opt.output;
     // An existing file counts as this reference only when it is one: the key file written
     // beside it names the same scene content and settings, and it reads as an image of the
@@ -111,7 +118,7 @@ Runner add_reference_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("reference", "Render a converged gold reference of a scene, cached by scene and settings");
     cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.obj or builtin:NAME")->capture_default_str();
     cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();
-    cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(CLI::Range(1u, 1u << 20));
+    cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(whole_number_in(1, 1 << 20));
     cmd->add_option("--seed", opt->seed, "Seed (0 to 2^53)")->capture_default_str()->check(seed_value());
     cmd->add_option("-o,--output", opt->output, "Write here instead of the cache");
     cmd->add_flag("--force", opt->force, "Render even if the cache has it");

@@ -1,36 +1,30 @@
 #include "apps/crex/input_files.h"
 
-#include <cerrno>
-#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <sstream>
+
+#include "base/input_file.h"
 
 namespace crex::app {
 
-std::optional<std::string> read_input(const std::string& path, std::string& error) {
-    std::ostringstream buffer;
-    if (path == "-") {
-        buffer << std::cin.rdbuf();
-        return buffer.str();
-    }
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
-        error = "cannot read '" + path + "': it is a directory";
-        return std::nullopt;
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        error = "cannot read '" + path + "': " + std::strerror(errno);
-        return std::nullopt;
-    }
-    buffer << in.rdbuf();
-    if (in.bad()) {
-        error = "cannot read '" + path + "': read failed";
-        return std::nullopt;
-    }
-    return buffer.str();
+std::optional<std::string> read_input(const std::string& path, std::string& error) { return read_input_file(path, error, kMaxTextInputBytes); }
+
+std::string input_kind(const std::string& path, const std::string& text) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".rad" || ext == ".obj" || ext == ".mtl") return "a scene";
+    if (ext == ".vf") return "a RADIANCE view file";
+    const size_t first = text.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos || text[first] != '{') return "";
+    const auto j = nlohmann::json::parse(text, nullptr, false);
+    if (!j.is_object()) return "";
+    if (j.contains("format") && j["format"] == "crex-plan") return "a plan";
+    if (j.contains("format") && j["format"] == "crex-profile") return "a profile";
+    if (j.contains("shapes") || j.contains("materials")) return "a scene";
+    return "";
 }
 
 }  // namespace crex::app

@@ -3,9 +3,8 @@
 #include <iostream>
 #include <algorithm>
 #include <cctype>
-#include <cmath>
+#include <csignal>
 #include <fmt/format.h>
-#include <regex>
 #include <sstream>
 #include <map>
 #include <string>
@@ -22,29 +21,6 @@ namespace {
 std::string capitalised(std::string s) {
     if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
     return s;
-}
-
-// A range end as people write it: 1e+30, not 1000000000000000019884624838656.000000.
-std::string plain_number(const std::string& s) {
-    char* end = nullptr;
-    double v = std::strtod(s.c_str(), &end);
-    if (!end || *end != '\0' || s.empty()) return s;
-    return v == std::floor(v) && std::fabs(v) < 1e15 ? fmt::format("{:.0f}", v) : fmt::format("{:g}", v);
-}
-
-// CLI11's "--spp: Value abc not in range 1 to 1048576" as "--spp: 'abc' is not a number
-// (expected 1 to 1048576)", and for a number out of range "'0' is not in the range 1 to ...".
-std::string plain_range_error(const std::string& what) {
-    static const std::regex range(R"(Value (.*) not in range (\S+) to (\S+))");
-    std::smatch m;
-    if (!std::regex_search(what, m, range)) return what;
-    const std::string value = m[1].str(), lo = plain_number(m[2].str()), hi = plain_number(m[3].str());
-    char* end = nullptr;
-    std::strtod(value.c_str(), &end);
-    const bool number = !value.empty() && end && *end == '\0';
-    return m.prefix().str() + "'" + value + (number ? "' is not in the range " + lo + " to " + hi
-                                                    : "' is not a number (expected " + lo + " to " + hi + ")") +
-           m.suffix().str();
 }
 
 // git's manner: name what was wrong, suggest the nearest right thing, say where help is.
@@ -75,7 +51,7 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
                   << " --help'.\n";
         return crex::app::kExitUsage;
     }
-    std::cerr << prefix << ": error: " << plain_range_error(what) << ". See '" << prefix << " --help'.\n";
+    std::cerr << prefix << ": error: " << what << ". See '" << prefix << " --help'.\n";
     return crex::app::kExitUsage;
 }
 
@@ -83,6 +59,10 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
 
 int main(int argc, char** argv) {
     using namespace crex::app;
+    // A file-size limit (ulimit -f) is a write failure like a full disk: write() fails with
+    // EFBIG, the writer says so and removes its staged file, crex exits 3. By default SIGXFSZ
+    // killed the process (exit 153) and left the staged file behind.
+    std::signal(SIGXFSZ, SIG_IGN);
     DistributedSession mpi(argc, argv);  // under mpirun: MPI for the run's ranks; first, before any thread
     CLI::App app{"crex: compile and run selective-rendering pipelines", "crex"};
     app.set_version_flag("--version", std::string("crex ") + CREX_VERSION);
@@ -116,6 +96,9 @@ int main(int argc, char** argv) {
         for (auto* sub : app.get_subcommands()) return runners.at(sub->get_name())();
     } catch (const crex::InternalError& e) {
         std::cerr << "crex: " << e.what() << "\n";
+        return kExitFailure;
+    } catch (const std::bad_alloc&) {  // inputs are bounded (base/input_file.h); this is a memory limit
+        std::cerr << "crex: error: out of memory (a memory limit such as ulimit -v, or an image or scene too large for this machine)\n";
         return kExitFailure;
     } catch (const std::exception& e) {
         std::cerr << "crex: internal error: " << e.what() << "\n";

@@ -1,6 +1,7 @@
 #include "runtime/base/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -20,6 +21,23 @@ std::string temp_path_for(const std::string& path) {
     return (p.parent_path() / name).string();
 }
 
+// A writer's error about the temporary file, said about `path`; and when the file stopped at
+// the process's file-size limit (ulimit -f: SIGXFSZ is ignored, so the write failed with
+// EFBIG, which image writers do not always pass on), that reason.
+std::string in_terms_of(std::string error, const std::string& tmp, const std::string& path) {
+    const std::string name = std::filesystem::path(tmp).filename().string();
+    for (size_t at = error.find(tmp); at != std::string::npos; at = error.find(tmp, at + path.size())) error.replace(at, tmp.size(), path);
+    for (size_t at = error.find(name); at != std::string::npos; at = error.find(name, at + path.size())) error.replace(at, name.size(), path);
+    struct rlimit limit {};
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(tmp, ec);
+    if (!ec && ::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY && size >= limit.rlim_cur &&
+        error.find("File too large") == std::string::npos)
+        error += " (File too large: it reached the file-size limit of " + std::to_string(static_cast<unsigned long long>(limit.rlim_cur)) +
+                 " bytes, ulimit -f)";
+    return error;
+}
+
 }  // namespace
 
 std::string write_atomically_via(const std::string& path, const std::function<std::string(const std::string&)>& write_to) {
@@ -27,7 +45,10 @@ std::string write_atomically_via(const std::string& path, const std::function<st
     std::string error = write_to(tmp);
     if (error.empty() && std::rename(tmp.c_str(), path.c_str()) != 0)
         error = "cannot rename into place: " + std::string(std::strerror(errno));
-    if (!error.empty()) std::filesystem::remove(tmp);
+    if (!error.empty()) {
+        error = in_terms_of(error, tmp, path);
+        std::filesystem::remove(tmp);
+    }
     return error;
 }
 

@@ -10,6 +10,8 @@
 #include <mutex>
 #include <string>
 
+#include "base/input_file.h"
+
 namespace crex {
 namespace {
 
@@ -77,11 +79,14 @@ std::string write_image(const std::string& path, int width, int height, const st
 }
 
 std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
+    // OpenImageIO opens what it is given: /dev/zero or a FIFO must not reach it.
+    if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
     const Plugin& p = plugin();
     return p.read_metadata ? p.read_metadata(path, width, height, metadata) : p.error;
 }
 
 std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool* display_referred) {
+    if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
     const Plugin& p = plugin();
     bool ldr = false;
     std::string error = p.read ? p.read(path, width, height, rgb, ldr) : p.error;

@@ -5,26 +5,17 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+
+#include "base/input_file.h"
 
 namespace crex {
 namespace {
 
+// A scene file, bounded (base/input_file.h): "cannot read scene 'X': it is a character device".
 std::optional<std::string> read_file(const std::string& path, std::string& error) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
-        error = fmt::format("cannot read scene '{}': it is a directory", path);
-        return std::nullopt;
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        error = fmt::format("cannot read scene '{}': {}", path, std::strerror(errno));
-        return std::nullopt;
-    }
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+    auto text = read_input_file(path, error, kMaxDataInputBytes);
+    if (!text && error.rfind("cannot read '", 0) == 0) error = "cannot read scene" + error.substr(std::string("cannot read").size());
+    return text;
 }
 
 std::string lower_extension(const std::string& path) {
@@ -85,6 +76,16 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
     }
     auto scene = import_radiance(file, view, sink);
     if (scene) scene->source = spec;
+    // Neither a view file nor a `#@crex view` line set the camera (a view sets RADIANCE's
+    // defaults first, so the camera is no longer crex's): say where it is (issue 37).
+    const Camera none;
+    if (scene && !view && scene->camera.position == none.position && scene->camera.direction == none.direction &&
+        scene->camera.up == none.up && scene->camera.hfov_deg == none.hfov_deg)
+        sink.report("W305", {&file, 0, 0},
+                    fmt::format("no view: '{}' does not exist and no '#@crex view' line gives one, so the camera is crex's default, "
+                                "at (0, 0, 5) looking along -z",
+                                vf.string()))
+            .help = fmt::format("write the view (rpict's -vp -vd -vu -vh -vv) into {}, or pass --view FILE.vf to crex run", vf.string());
     return scene;
 }
 
