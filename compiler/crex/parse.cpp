@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "CrexLexer.h"
 #include "CrexParser.h"
 #include "antlr4-runtime.h"
@@ -78,18 +81,44 @@ private:
 bool is_opener(char32_t c) { return c == '(' || c == '<' || c == '{' || c == '['; }
 bool is_closer(char32_t c) { return c == ')' || c == '>' || c == '}' || c == ']'; }
 
-// E010 before parsing: the parser and every pass after it recurse once per nesting level.
+// E010 before parsing: the parser and every pass after it recurse once per nesting level,
+// and lowering wraps an item once per repeat after it: `D` and 70,000 stacked '*' lowered to
+// a tree 70,000 deep and overflowed the stack (exit 139) in check, plan and run. So the depth
+// counted is that of the lowered tree: a group adds a level to the deepest item inside it,
+// each repeat a level to the item it follows.
 bool nesting_within_limit(const SourceFile& file, const DecodedText& text, DiagnosticSink& sink) {
-    uint32_t depth = 0;
+    struct Level {
+        uint32_t deepest = 0;  // of the items closed in this group so far
+        uint32_t last = 0;     // of the item repeats now apply to (0: none yet)
+    };
+    std::vector<Level> open(1);
+    auto too_deep = [&](size_t i, std::string what) {
+        sink.report("E010", {&file, text.byte_offsets[i], text.byte_offsets[i + 1]},
+                    fmt::format("{} nested more than {} deep", what, kMaxCrexNesting))
+            .help = "flatten the expression; deeper nesting is never needed, and a '*' after a '*' adds nothing";
+        return false;
+    };
     for (size_t i = 0; i < text.code_points.size(); ++i) {
-        char32_t c = text.code_points[i];
-        if (is_opener(c) && ++depth > kMaxCrexNesting) {
-            sink.report("E010", {&file, text.byte_offsets[i], text.byte_offsets[i + 1]},
-                        fmt::format("groups nested more than {} deep", kMaxCrexNesting))
-                .help = "flatten the expression; deeper nesting is never needed";
-            return false;
+        const char32_t c = text.code_points[i];
+        Level& here = open.back();
+        if (is_opener(c)) {
+            if (open.size() > kMaxCrexNesting) return too_deep(i, "groups");
+            open.push_back({});
+        } else if (is_closer(c)) {
+            if (open.size() == 1) continue;  // unmatched: E002 later
+            const uint32_t group = open.back().deepest + 1;
+            open.pop_back();
+            open.back().last = group;
+            open.back().deepest = std::max(open.back().deepest, group);
+        } else if (c == '*' || (c >= '0' && c <= '9')) {
+            if (c != '*' && i > 0 && text.code_points[i - 1] >= '0' && text.code_points[i - 1] <= '9') continue;  // one integer
+            if (here.last == 0) continue;  // a stray repeat: E008 later
+            here.deepest = std::max(here.deepest, ++here.last);
+            if (here.last + open.size() - 1 > kMaxCrexNesting) return too_deep(i, "groups and repeats");
+        } else if (c != ' ' && c != '\t' && c != '\r' && c != '\n' && c != '\f' && c != '\v') {
+            here.last = 1;  // a letter (or a bad character, E001 later): a leaf
+            here.deepest = std::max(here.deepest, uint32_t{1});
         }
-        if (is_closer(c) && depth > 0) --depth;
     }
     return true;
 }

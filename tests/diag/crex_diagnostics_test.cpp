@@ -68,6 +68,21 @@ TEST(CrexDiagnostic, NestingAtTheLimitIsAccepted) {
     EXPECT_EQ(r.errors, 0u);
 }
 
+// Lowering wraps an item once per repeat: `D` and 70,000 stacked '*' lowered to a tree 70,000
+// deep and overflowed the stack (issue 37). Repeats count toward the depth like groups do.
+TEST(CrexDiagnostic, StackedRepeatsAreE010NotACrash) {
+    auto r = testing::check("D" + std::string(70000, '*'));
+    ASSERT_TRUE(r.has_code("E010"));
+    EXPECT_EQ(r.file->position(r.diagnostics.front().span.begin).col, kMaxCrexNesting + 1);
+    EXPECT_NE(r.diagnostics.front().message.find("groups and repeats nested more than"), std::string::npos);
+    auto ten_groups_deep = testing::check(std::string(10, '(') + "D" + std::string(10, ')') + std::string(300, '*'));
+    EXPECT_TRUE(ten_groups_deep.has_code("E010"));  // 11 levels of groups and leaf, then 300 repeats of the outermost
+    auto at_limit = testing::check("D" + std::string(kMaxCrexNesting - 1, '*'));
+    EXPECT_FALSE(at_limit.has_code("E010"));
+    auto digits = testing::check("(D)" + std::string(kMaxCrexNesting, '2'));  // one integer repeat, however long
+    EXPECT_FALSE(digits.has_code("E010"));
+}
+
 TEST(CrexDiagnostic, AllErrorsAreReportedInOnePass) {
     auto r = testing::check("X{D*}[G*]{T{R}}*D0");
     for (const char* code : {"E001", "E003", "E004", "E005", "E006"}) EXPECT_TRUE(r.has_code(code)) << code;
