@@ -85,6 +85,41 @@ void BM_PlanNormativeExample(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanNormativeExample)->Unit(benchmark::kMicrosecond);
 
+// A pipeline of n maps, all used (one importance() of every map, so the planner keeps them) or
+// none used (W201 for each, the planner prunes them), through the whole front end: parse,
+// check, resolve, plan. Must stay linear in n (issue 37: 32,000 maps took 22.7 s, checking
+// scanned every map per map). Complexity() fits the exponent; compare the n = 25k and 100k rows.
+std::string pipeline_of_maps(int64_t n, bool used) {
+    std::string text = "pipeline many {\n  preselective { crex \"TT\" }\n  guidance {\n";
+    for (int64_t i = 0; i < n; ++i) text += "    m" + std::to_string(i) + " = saliency(preview)\n";
+    if (used) {
+        text += "    all = importance(";
+        for (int64_t i = 0; i < n; ++i) text += (i ? ", m" : "m") + std::to_string(i) + " 1";
+        text += ")\n";
+    }
+    text += std::string("  }\n  selective { vary spp 1 .. 4 by ") + (used ? "all" : "m0") + " }\n}\n";
+    return text;
+}
+
+void plan_maps(benchmark::State& state, bool used) {
+    const std::string text = pipeline_of_maps(state.range(0), used);
+    for (auto _ : state) {
+        crex::SourceFile file("many.pipe", text);
+        crex::DiagnosticSink sink;
+        auto ast = crex::pipeline::parse_pipeline_file(file, sink);
+        crex::pipeline::check_pipeline_file(*ast, sink);
+        auto resolved = crex::pipeline::resolve_pipeline(*ast, "", sink);
+        auto plan = crex::plan_pipeline(*resolved, std::nullopt, "", "", sink);
+        benchmark::DoNotOptimize(plan);
+        if (sink.has_errors()) state.SkipWithError("the pipeline does not plan");
+    }
+    state.SetComplexityN(state.range(0));
+}
+void BM_PlanUnusedMaps(benchmark::State& state) { plan_maps(state, false); }
+void BM_PlanUsedMaps(benchmark::State& state) { plan_maps(state, true); }
+BENCHMARK(BM_PlanUnusedMaps)->RangeMultiplier(2)->Range(25000, 100000)->Unit(benchmark::kMillisecond)->Complexity();
+BENCHMARK(BM_PlanUsedMaps)->RangeMultiplier(2)->Range(25000, 100000)->Unit(benchmark::kMillisecond)->Complexity();
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -12,8 +12,6 @@
 #include "apps/crex/pipeline_input.h"
 #include "apps/crex/scene_input.h"
 #include "compiler/crex/compile.h"
-#include "compiler/pipeline/check.h"
-#include "compiler/pipeline/parse.h"
 #include "compiler/plan/bin_occupancy.h"
 #include "runtime/scene/census.h"
 #include "compiler/sched/print.h"
@@ -61,6 +59,14 @@ int run_check(const CheckOptions& opt) {
             std::cerr << "crex check: error: " << error << "\n";
             return kExitFailure;
         }
+        const bool pipe = path.size() > 5 && path.substr(path.size() - 5) == ".pipe";
+        if (const std::string kind = pipe ? "" : input_kind(path, *text); !kind.empty()) {
+            std::cerr << fmt::format("crex check: error: {} is {}, not a crex or pipeline file: {}\n", path, kind,
+                                     kind == "a scene" ? fmt::format("check a crex against it with --scene {}", path)
+                                     : kind == "a plan" ? fmt::format("crex run {} reads it (and checks it)", path)
+                                                        : std::string("crex check reads crex files and pipeline files (.pipe)"));
+            return kExitUsage;
+        }
         sources.push_back(std::make_unique<SourceFile>(path == "-" ? "<stdin>" : path, std::move(*text)));
     }
 
@@ -71,27 +77,19 @@ int run_check(const CheckOptions& opt) {
         if (i < opt.expressions.size()) {
             compiled.push_back(compile_crex(*sources[i], sink));
         } else if (sources[i]->name().size() > 5 && sources[i]->name().substr(sources[i]->name().size() - 5) == ".pipe") {
-            // A pipeline file: its crex literals are compiled by the pipeline checker.
+            // A pipeline file: the front end's passes as `crex plan` runs them (parse, check with
+            // the stdlib bases it extends, resolve, plan against its scene or --scene), so that
+            // what check passes plan does too. Its crex literals are compiled by the checker.
             size_t errors = sink.error_count();
-            auto file = pipeline::parse_pipeline_file(*sources[i], sink);
-            if (file) pipeline::check_pipeline_file(*file, sink);
-            if (file && sink.error_count() == errors && sources[i]->name() != "<stdin>") {
-                // Against its scene (the pipeline's, or --scene): the scene must load, and what
-                // the pipeline asks of it must be there (W203 tags, W204 buffers, W403 a medium). The pipeline
-                // is read again for that; only what the scene adds is kept.
-                DiagnosticSink scene_sink;
-                auto in = load_pipeline_input(sources[i]->name(), "", opt.scene, scene_sink);
-                for (const auto& d : scene_sink.sorted())
-                    if (d.code == "W203" || d.code == "W204" || d.code == "W205" || d.code == "W206" || d.code == "W403" || d.code[1] == '3' || d.code == "E308") sink.add(d);
-                if (!in->failure.empty()) {
-                    std::cerr << render_text(sink.sorted()) << "crex check: error: " << in->failure << "\n";
-                    return kExitFailure;
-                }
-                kept_inputs.push_back(std::move(in));
+            auto in = load_pipeline_input(std::move(sources[i]), "", opt.scene, sink);
+            if (!in->failure.empty()) {
+                std::cerr << render_text(sink.sorted()) << "crex check: error: " << in->failure << "\n";
+                return kExitFailure;
             }
-            if (file && sink.error_count() == errors && !opt.quiet && opt.format == "text")
-                for (const auto& p : file->pipelines)
+            if (in->ast && sink.error_count() == errors && !opt.quiet && opt.format == "text")
+                for (const auto& p : in->ast->pipelines)
                     std::cout << fmt::format("{}: ok: pipeline {}\n", format_location(p.name_span), p.name);
+            kept_inputs.push_back(std::move(in));
         } else {
             for (auto& c : compile_crex_file(*sources[i], sink)) compiled.push_back(std::move(c));
         }

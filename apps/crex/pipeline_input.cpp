@@ -31,14 +31,21 @@ std::string resolve_scene_path(const std::string& scene, const std::string& pipe
 
 std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, const std::string& pipeline_name,
                                                    const std::string& scene_override, DiagnosticSink& sink) {
-    auto in = std::make_unique<PipelineInput>();
     std::string error;
     auto text = read_input(path, error);
     if (!text) {
+        auto in = std::make_unique<PipelineInput>();
         in->failure = error;
         return in;
     }
-    in->source = std::make_unique<SourceFile>(path, std::move(*text));
+    return load_pipeline_input(std::make_unique<SourceFile>(path, std::move(*text)), pipeline_name, scene_override, sink);
+}
+
+std::unique_ptr<PipelineInput> load_pipeline_input(std::unique_ptr<SourceFile> source, const std::string& pipeline_name,
+                                                   const std::string& scene_override, DiagnosticSink& sink) {
+    auto in = std::make_unique<PipelineInput>();
+    in->source = std::move(source);
+    const std::string& path = in->source->name();
     in->ast = pipeline::parse_pipeline_file(*in->source, sink);
     if (in->ast) pipeline::check_pipeline_file(*in->ast, sink);
     if (!in->ast || sink.has_errors()) return in;

@@ -25,5 +25,8 @@ struct PipelineInput {
 
 std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, const std::string& pipeline_name,
                                                    const std::string& scene_override, DiagnosticSink& sink);
+/// The same for a pipeline already read (`crex check` reads its files first, stdin too).
+std::unique_ptr<PipelineInput> load_pipeline_input(std::unique_ptr<SourceFile> source, const std::string& pipeline_name,
+                                                   const std::string& scene_override, DiagnosticSink& sink);
 
 }  // namespace crex::app

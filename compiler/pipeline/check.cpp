@@ -72,26 +72,64 @@ public:
             if (!p.base.empty() && base(f, p, earlier)) {
                 if (auto it = maps_of.find(p.base); it != maps_of.end()) {
                     inherited = it->second;
-                } else {  // a stdlib pipeline
-                    DiagnosticSink quiet;  // the base's own problems are reported where it is checked
-                    if (const ast::Pipeline* b = find_base(f, p, quiet))
-                        if (auto r = resolve_from(f, *b, quiet))
-                            for (const auto& [name, _] : r->maps) inherited.push_back(name);
+                } else if (auto r = stdlib_base(f, p)) {  // a stdlib pipeline, checked with its own bases
+                    for (const auto& [name, _] : r->maps) inherited.push_back(name);
                 }
             }
             pipeline(p, inherited);
             std::vector<std::string> all = inherited;
+            std::set<std::string> in_all(all.begin(), all.end());  // a set beside: n maps were n^2 finds
             for (const auto& sec : p.body)
                 if (sec.kind == Statement::Kind::kSection && sec.key == "guidance")
                     for (const auto& s : sec.body)
-                        if (s.kind == Statement::Kind::kDefinition && std::find(all.begin(), all.end(), s.key) == all.end())
-                            all.push_back(s.key);
+                        if (s.kind == Statement::Kind::kDefinition && in_all.insert(s.key).second) all.push_back(s.key);
             maps_of[p.name] = std::move(all);
             earlier.insert(p.name);
         }
     }
 
 private:
+    // A stdlib base (stdlib/pipelines/NAME.pipe) resolved with its chain of bases, its files
+    // checked as `crex plan` would use them: a base file with errors, or a chain that comes back
+    // to itself across files, is an error at the `extends` that reaches it (E210), with the
+    // base's own diagnostics beside it. `crex check` passed such a pipeline that plan refused.
+    std::optional<ResolvedPipeline> stdlib_base(const ast::File& f, const ast::Pipeline& p) {
+        DiagnosticSink chain;
+        std::optional<ResolvedPipeline> r;
+        if (const ast::Pipeline* b = find_base(f, p, chain)) r = resolve_from(f, *b, chain);
+        if (r)
+            for (const std::string& name : r->chain) check_stdlib_file(name, chain);
+        if (!chain.has_errors()) return r;
+        std::vector<Diagnostic> errors;
+        for (const auto& d : chain.sorted())
+            if (d.severity == Severity::kError) errors.push_back(d);
+        Diagnostic& d = sink_.report("E210", p.base_span, fmt::format("pipeline '{}' extends '{}', which cannot be used: {}", p.name, p.base,
+                                                                      errors.front().message));
+        for (const auto& e : errors) d.notes.push_back({e.span, fmt::format("error[{}]: {}", e.code, e.message)});
+        d.help = "fix the base's file, or extend another pipeline";
+        return std::nullopt;
+    }
+
+    // The errors of the stdlib file defining `name`, checked once per process (it may be read
+    // as the base of many pipelines); a file being checked is not checked again within itself,
+    // so files extending each other end (their cycle is resolve_from's E210).
+    static void check_stdlib_file(const std::string& name, DiagnosticSink& out) {
+        static thread_local std::map<std::string, std::vector<Diagnostic>> checked;
+        static thread_local std::set<std::string> checking;
+        auto it = checked.find(name);
+        if (it == checked.end()) {
+            if (!checking.insert(name).second) return;
+            DiagnosticSink sink;
+            if (const ast::File* file = stdlib_file(name, sink)) Checker(sink).file(*file);
+            std::vector<Diagnostic> errors;
+            for (const auto& d : sink.diagnostics())
+                if (d.severity == Severity::kError) errors.push_back(d);
+            checking.erase(name);
+            it = checked.emplace(name, std::move(errors)).first;
+        }
+        for (const auto& d : it->second) out.add(d);
+    }
+
     // True if the base exists (above in the file, or as a stdlib file).
     bool base(const ast::File& f, const ast::Pipeline& p, const std::set<std::string>& earlier) {
         if (earlier.count(p.base)) return true;
@@ -258,7 +296,8 @@ private:
         case SettingShape::kInteger:
         case SettingShape::kNumber:
             if (!(s.values.size() == 1 && plain_number(0))) bad(shape == SettingShape::kInteger ? "a whole number" : "a number");
-            else if (auto e = setting_range_error(*rule, s.values[0].number); !e.empty()) bad_at(s.values[0].span, e);
+            else if (auto e = setting_literal_error(*rule, s.values[0].number, s.values[0].span.text()); !e.empty())
+                sink_.report("E203", s.values[0].span, fmt::format("{}: {}", s.key, e));
             break;
         case SettingShape::kSize:
             if (!(s.values.size() == 3 && plain_number(0) && is(1, Value::Kind::kCross) && plain_number(2))) {
@@ -266,8 +305,8 @@ private:
                 break;
             }
             for (size_t i : {size_t{0}, size_t{2}})
-                if (auto e = setting_range_error(*rule, s.values[i].number); !e.empty())
-                    bad_at(s.values[i].span, fmt::format("{} in {}", i == 0 ? "a width" : "a height", e));
+                if (auto e = setting_literal_error(*rule, s.values[i].number, s.values[i].span.text()); !e.empty())
+                    sink_.report("E203", s.values[i].span, fmt::format("{}: {}: {}", s.key, i == 0 ? "width" : "height", e));
             break;
         case SettingShape::kBudget: {
             const Value* v = s.values.size() == 1 ? &s.values[0] : nullptr;
@@ -332,11 +371,16 @@ private:
             return Type::kMap;
         }
         if (inherited_.count(name)) return Type::kMap;
-        std::vector<std::string> names;
-        for (const auto& [n, _] : maps_) names.push_back(n);
-        for (const auto& [n, _] : builtin_names()) names.push_back(n);
-        sink_.report("E205", span, fmt::format("'{}' is not defined (maps must be defined above their use)", name)).help =
-            nearest(name, names);
+        Diagnostic& d = sink_.report("E205", span, fmt::format("'{}' is not defined (maps must be defined above their use)", name));
+        // A suggestion looks at every map: for the first few unknown names only, or n of them
+        // among n maps would take n^2.
+        if (suggestions_left_ > 0) {
+            --suggestions_left_;
+            std::vector<std::string> names;
+            for (const auto& [n, _] : maps_) names.push_back(n);
+            for (const auto& [n, _] : builtin_names()) names.push_back(n);
+            d.help = nearest(name, names);
+        }
         return std::nullopt;
     }
 
@@ -415,8 +459,8 @@ private:
             }
             if (op->weighted_maps) {  // `task 0.5`: the map `task` with weight 0.5
                 reference(a.name, a.name_span);
-                if (!(a.value.kind == Value::Kind::kNumber && a.value.unit.empty() && a.value.number >= 0))
-                    sink_.report("E206", a.value.span, fmt::format("importance(): the weight of '{}' must be a number >= 0", a.name));
+                if (!(a.value.kind == Value::Kind::kNumber && a.value.unit.empty() && a.value.number >= 0 && std::isfinite(a.value.number)))
+                    sink_.report("E206", a.value.span, fmt::format("importance(): the weight of '{}' must be a finite number >= 0", a.name));
                 continue;
             }
             std::vector<std::string> names;
@@ -436,6 +480,7 @@ private:
     static constexpr int kMaxMapChain = 256;
     std::map<std::string, int> map_depth_;  // 1 + the deepest map a definition reads
     int deepest_reference_ = 0;
+    int suggestions_left_ = 20;  // "did you mean" for unknown map names
     std::set<std::string> used_;
     std::set<std::string> inherited_;   // maps defined by the bases
     std::set<std::string> overrides_;   // maps redefined here that the bases use

@@ -4,12 +4,12 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <mutex>
 #include <set>
-#include <sstream>
+#include <unordered_map>
 
+#include "base/input_file.h"
 #include "compiler/pipeline/parse.h"
 
 namespace crex::pipeline {
@@ -19,9 +19,10 @@ namespace {
 struct StdlibEntry {
     std::unique_ptr<SourceFile> source;
     std::optional<ast::File> file;
+    std::vector<Diagnostic> parse_errors;  // said to every caller: a broken base is broken each time
 };
 
-const ast::Pipeline* stdlib_pipeline(const std::string& name, DiagnosticSink& sink) {
+const ast::File* stdlib_file_of(const std::string& name, DiagnosticSink& sink) {
     static std::map<std::string, StdlibEntry> cache;
     static std::mutex mutex;
     std::lock_guard<std::mutex> lock(mutex);
@@ -29,25 +30,33 @@ const ast::Pipeline* stdlib_pipeline(const std::string& name, DiagnosticSink& si
     if (it == cache.end()) {
         StdlibEntry e;
         std::filesystem::path path = std::filesystem::path(stdlib_dir()) / "pipelines" / fmt::format("{}.pipe", name);
-        std::ifstream in(path);
-        if (in) {
-            std::stringstream text;
-            text << in.rdbuf();
+        std::string error;
+        std::error_code ec;
+        // Bounded, and only a regular file ($CREX_STDLIB is the user's to set).
+        auto text = std::filesystem::exists(path, ec) ? read_input_file(path.string(), error, kMaxTextInputBytes) : std::nullopt;
+        if (text) {
             // Named relative to the stdlib's parent, so plans and messages carry no machine paths.
-            e.source = std::make_unique<SourceFile>(fmt::format("stdlib/pipelines/{}.pipe", name), text.str());
+            e.source = std::make_unique<SourceFile>(fmt::format("stdlib/pipelines/{}.pipe", name), std::move(*text));
             DiagnosticSink parse_sink;
             e.file = parse_pipeline_file(*e.source, parse_sink);
-            for (const auto& d : parse_sink.diagnostics()) sink.add(d);
+            e.parse_errors = parse_sink.diagnostics();
         }
         it = cache.emplace(name, std::move(e)).first;
     }
-    if (!it->second.file) return nullptr;
-    for (const auto& p : it->second.file->pipelines)
+    for (const auto& d : it->second.parse_errors) sink.add(d);
+    return it->second.file ? &*it->second.file : nullptr;
+}
+
+const ast::Pipeline* stdlib_pipeline(const std::string& name, DiagnosticSink& sink) {
+    const ast::File* file = stdlib_file_of(name, sink);
+    if (!file) return nullptr;
+    for (const auto& p : file->pipelines)
         if (p.name == name) return &p;
     return nullptr;
 }
 
-void merge(ResolvedPipeline& r, const ast::Pipeline& p) {
+// `map_at`: where each map of r.maps is (a pipeline of n maps merged in n^2 by scanning).
+void merge(ResolvedPipeline& r, const ast::Pipeline& p, std::unordered_map<std::string, size_t>& map_at) {
     for (const auto& s : p.body) {
         using K = ast::Statement::Kind;
         if (s.kind == K::kSetting) {
@@ -73,10 +82,8 @@ void merge(ResolvedPipeline& r, const ast::Pipeline& p) {
                     if (!replaced) r.vary.push_back(v);
                 }
             } else if (s.key == "guidance" && inner.kind == K::kDefinition) {
-                bool replaced = false;
-                for (auto& [name, expr] : r.maps)
-                    if (name == inner.key) expr = inner.expr, replaced = true;
-                if (!replaced) r.maps.emplace_back(inner.key, inner.expr);
+                if (auto [at, fresh] = map_at.try_emplace(inner.key, r.maps.size()); fresh) r.maps.emplace_back(inner.key, inner.expr);
+                else r.maps[at->second].second = inner.expr;
             } else if (s.key == "output" && inner.kind == K::kSetting && !inner.values.empty()) {
                 r.output[inner.key] = inner.values[0];
             }
@@ -85,6 +92,8 @@ void merge(ResolvedPipeline& r, const ast::Pipeline& p) {
 }
 
 }  // namespace
+
+const ast::File* stdlib_file(const std::string& name, DiagnosticSink& sink) { return stdlib_file_of(name, sink); }
 
 std::string stdlib_dir() {
     if (const char* env = std::getenv("CREX_STDLIB")) return env;
@@ -120,13 +129,18 @@ std::optional<ResolvedPipeline> resolve_from(const ast::File& file, const ast::P
         chain.push_back(p);
         if (p->base.empty()) break;
         const ast::Pipeline* base = find_base(file, *p, sink);
-        if (!base) return std::nullopt;  // the checker reports unknown bases (E210)
+        if (!base) {  // a base's own unknown base (a stdlib file's): plan said "the file holds no pipeline"
+            sink.report("E210", p->base_span, fmt::format("'{}' extends '{}', which is neither a stdlib pipeline nor defined above it",
+                                                          p->name, p->base));
+            return std::nullopt;
+        }
         p = base;
     }
     ResolvedPipeline r;
     r.name = top->name;
     for (const auto* p : chain) r.chain.push_back(p->name);
-    for (auto it = chain.rbegin(); it != chain.rend(); ++it) merge(r, **it);
+    std::unordered_map<std::string, size_t> map_at;
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) merge(r, **it, map_at);
     return r;
 }
 

@@ -46,6 +46,10 @@ struct ResolvedPipeline {
 /// Where `extends NAME` looks for stdlib pipelines: $CREX_STDLIB, else the source tree's stdlib/.
 std::string stdlib_dir();
 
+/// The stdlib file that defines pipeline `name` (stdlib/pipelines/NAME.pipe), parsed once per
+/// process; nullptr if there is none or it does not parse (its errors go to `sink`).
+const ast::File* stdlib_file(const std::string& name, DiagnosticSink& sink);
+
 /// The pipeline `child` extends: one above it in `file`, else a stdlib pipeline; nullptr if none.
 const ast::Pipeline* find_base(const ast::File& file, const ast::Pipeline& child, DiagnosticSink& sink);
 

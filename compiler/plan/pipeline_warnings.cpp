@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "base/components.h"
 
@@ -25,13 +27,23 @@ void each_call(const pipeline::ast::Expr& e, const std::function<void(const pipe
 // The largest value a map can take, from its definition (1 when it cannot be told): constants,
 // thresholds, weighted importance and what they are built from. Maps are defined above their
 // use and chains are at most 256 long (E214), so the recursion ends.
-double upper_bound(const pipeline::ast::Expr& e, const pipeline::ResolvedPipeline& p, int depth = 0) {
+// The maps by name, and the bound of each one already found: a map read twice by each of a
+// chain of maps would otherwise be bounded 2^256 times.
+struct MapIndex {
+    std::unordered_map<std::string, const pipeline::ast::Expr*> defs;
+    std::unordered_map<std::string, double> bound;
+};
+
+double upper_bound(const pipeline::ast::Expr& e, MapIndex& p, int depth = 0) {
     using K = pipeline::ast::Expr::Kind;
     if (depth > 300) return 1;
     if (e.kind == K::kReference) {
-        for (const auto& [name, def] : p.maps)
-            if (name == e.name) return upper_bound(def, p, depth + 1);
-        return 1;  // preview, buffers: not maps
+        if (auto b = p.bound.find(e.name); b != p.bound.end()) return b->second;
+        auto it = p.defs.find(e.name);
+        if (it == p.defs.end()) return 1;  // preview, buffers: not maps
+        const double u = upper_bound(*it->second, p, depth + 1);
+        p.bound[e.name] = u;
+        return u;
     }
     if (e.kind != K::kCall) return 1;
     auto positional = [&](size_t i) -> const pipeline::ast::Expr* {
@@ -88,7 +100,9 @@ void modulated_steps(const sched::Node& node, const sched::Node* modulate, std::
 
 void warn_unreachable_modulated_steps(const pipeline::ResolvedPipeline& p, const PipelinePlan& plan, DiagnosticSink& sink) {
     if (!p.selective.crex_by) return;
-    const double u = upper_bound(*p.selective.crex_by, p);
+    MapIndex maps;
+    for (const auto& [name, def] : p.maps) maps.defs[name] = &def;
+    const double u = upper_bound(*p.selective.crex_by, maps);
     if (!(u < 1)) return;
     std::vector<std::pair<const sched::Node*, const sched::Node*>> steps;
     modulated_steps(plan.program.selective, nullptr, steps);
@@ -115,10 +129,11 @@ std::vector<const pipeline::ast::Expr*> used_expressions(const pipeline::Resolve
     std::vector<const pipeline::ast::Expr*> roots;
     // A map the planner pruned (its only consumer was, e.g. `vary subsample(G)` on a scene
     // without glossy materials) is listed as pruned with its reason; a warning about what it
-    // reads would only repeat that (capict.pipe warned twice on every Cornell run).
-    auto pruned = [&](const std::string& what) {
-        return std::any_of(plan.pruned.begin(), plan.pruned.end(), [&](const PlanRemoval& x) { return x.what == what; });
-    };
+    // reads would only repeat that (capict.pipe warned twice on every Cornell run). A set:
+    // 50,000 unused maps are 50,000 removals.
+    std::unordered_set<std::string> removed;
+    for (const PlanRemoval& x : plan.pruned) removed.insert(x.what);
+    auto pruned = [&](const std::string& what) { return removed.count(what) > 0; };
     for (const auto& [name, e] : p.maps)
         if (!pruned("map " + name)) roots.push_back(&e);
     for (const auto& v : p.vary)

@@ -5,6 +5,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <unordered_map>
 
 #include "compiler/crex/compile.h"
 #include "compiler/pipeline/print.h"
@@ -90,7 +91,20 @@ public:
 
     void node(const std::string& id, const std::string& kind, const std::string& stage, const std::string& label,
               nlohmann::json params = nlohmann::json::object()) {
-        if (ids_.insert(id).second) plan_.nodes.push_back({id, kind, stage, label, std::move(params)});
+        if (node_at_.try_emplace(id, plan_.nodes.size()).second) plan_.nodes.push_back({id, kind, stage, label, std::move(params)});
+    }
+    void add_map(PlanMap def) {
+        map_at_.try_emplace(def.id, plan_.maps.size());
+        plan_.maps.push_back(std::move(def));
+    }
+    // By id, in constant time: looking them up by scanning made a pipeline of n maps take n^2.
+    PlanNode* find_node(const std::string& id) {
+        auto it = node_at_.find(id);
+        return it == node_at_.end() ? nullptr : &plan_.nodes[it->second];
+    }
+    PlanMap* find_map_by_id(const std::string& id) {
+        auto it = map_at_.find(id);
+        return it == map_at_.end() ? nullptr : &plan_.maps[it->second];
     }
     void edge(const std::string& from, const std::string& to, const std::string& kind, const std::string& label = "",
               std::optional<double> weight = std::nullopt) {
@@ -104,7 +118,7 @@ public:
         case Expr::Kind::kReference:
             if (maps.count(e.name)) return "map." + e.name;
             if (e.name == "preview") return "preview";
-            if (!ids_.count("buffer." + e.name)) plan_.buffers.push_back({"buffer." + e.name, e.name});
+            if (!node_at_.count("buffer." + e.name)) plan_.buffers.push_back({"buffer." + e.name, e.name});
             node("buffer." + e.name, "buffer", "preselective", e.name);
             edge("preselective", "buffer." + e.name, "buffer");
             return "buffer." + e.name;
@@ -120,7 +134,7 @@ public:
     void call_node(const std::string& id, const Expr& e, const std::string& owner, int& counter, const std::set<std::string>& maps) {
         if (e.name == "component" && e.args.size() == 1 && e.args[0].name.empty()) {  // a buffer, not an operator
             std::string letter = e.args[0].expr.name;
-            if (!ids_.count(id)) plan_.buffers.push_back({id, letter});
+            if (!node_at_.count(id)) plan_.buffers.push_back({id, letter});
             node(id, "buffer", "preselective", fmt::format("component({})", letter));
             edge("preselective", id, "buffer");
             return;
@@ -156,22 +170,20 @@ public:
         }
         def.inputs = std::move(inputs);
         def.params = std::move(params);
-        plan_.maps.push_back(std::move(def));
+        add_map(std::move(def));
     }
 
     std::string kind_of(const std::string& id) {
-        for (const auto& n : plan_.nodes) {
-            if (n.id != id) continue;
-            if (n.kind == "image" || n.kind == "buffer") return n.kind;
-            if (const PlanMap* m = find_map(plan_, id); m && m->op == pipeline::GuidanceOperator::kTagged) return "objects";
-            return "map";
-        }
+        const PlanNode* n = find_node(id);
+        if (!n) return "map";
+        if (n->kind == "image" || n->kind == "buffer") return n->kind;
+        if (const PlanMap* m = find_map_by_id(id); m && m->op == pipeline::GuidanceOperator::kTagged) return "objects";
         return "map";
     }
 
 private:
     PipelinePlan& plan_;
-    std::set<std::string> ids_;
+    std::unordered_map<std::string, size_t> node_at_, map_at_;  // id -> index in plan_.nodes, plan_.maps
 };
 
 }  // namespace
@@ -261,15 +273,13 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
             PlanMap alias;
             alias.id = id;
             if (!from.empty()) alias.inputs.push_back({from, std::nullopt});
-            plan.maps.push_back(std::move(alias));
+            g.add_map(std::move(alias));
         }
-        for (auto& n : plan.nodes)
-            if (n.id == id) n.label = name + " = " + expr_text(e);
-        for (auto& m : plan.maps)
-            if (m.id == id) {
-                m.defines = name;
-                m.name = name + " = " + expr_text(e);
-            }
+        if (PlanNode* n = g.find_node(id)) n->label = name + " = " + expr_text(e);
+        if (PlanMap* m = g.find_map_by_id(id)) {
+            m->defines = name;
+            m->name = name + " = " + expr_text(e);
+        }
     }
     nlohmann::json selective_params = {{"crex", sched::to_crex(plan.program.selective)}};
     g.node("selective", "crex", "selective", "selective crex", selective_params);
