@@ -54,6 +54,15 @@ void DiagnosticSink::add(Diagnostic d) {
     diagnostics_.push_back(std::move(d));
 }
 
+void DiagnosticSink::withdraw(std::string_view code) {
+    std::erase_if(diagnostics_, [&](const Diagnostic& d) {
+        if (d.code != code) return false;
+        if (d.severity == Severity::kError) --errors_;
+        if (d.severity == Severity::kWarning) --warnings_;
+        return true;
+    });
+}
+
 std::vector<Diagnostic> DiagnosticSink::sorted() const {
     std::vector<Diagnostic> out = diagnostics_;
     auto key = [](const Diagnostic& d) {

@@ -57,6 +57,10 @@ public:
     /// Number of diagnostics dropped because of the limit.
     size_t dropped() const { return dropped_; }
 
+    /// Takes back every kept diagnostic with `code`: a later input made it moot (W305, a
+    /// RADIANCE scene without a view, when `crex run --view` gives one).
+    void withdraw(std::string_view code);
+
     /// Diagnostics sorted by (file, position, code), duplicates removed.
     std::vector<Diagnostic> sorted() const;
     const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }

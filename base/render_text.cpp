@@ -62,27 +62,38 @@ void render_snippet(std::string& out, const SourceSpan& span) {
 
 }  // namespace
 
+std::string printable(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (char ch : text) {
+        const unsigned char c = static_cast<unsigned char>(ch);
+        if ((c < 0x20 && c != '\t') || c == 0x7F) out += fmt::format("\\x{:02X}", static_cast<unsigned>(c));
+        else out += ch;
+    }
+    return out;
+}
+
 std::string format_location(const SourceSpan& span) {
     if (!span.valid()) return "<unknown>";
     LineCol p = span.file->position(span.begin);
-    return fmt::format("{}:{}:{}", span.file->name(), p.line, p.col);
+    return fmt::format("{}:{}:{}", printable(span.file->name()), p.line, p.col);
 }
 
 std::string render_text(const Diagnostic& d) {
     std::string out;
     std::string head = d.code.empty() ? std::string(severity_name(d.severity))
                                       : fmt::format("{}[{}]", severity_name(d.severity), d.code);
-    out += fmt::format("{}: {}: {}\n", format_location(d.span), head, d.message);
+    out += fmt::format("{}: {}: {}\n", format_location(d.span), head, printable(d.message));
     render_snippet(out, d.span);
     for (const auto& note : d.notes) {
         if (!note.span.valid()) {  // a note about the whole diagnostic, not a place
-            out += fmt::format("      = note: {}\n", note.message);
+            out += fmt::format("      = note: {}\n", printable(note.message));
             continue;
         }
-        out += fmt::format("{}: note: {}\n", format_location(note.span), note.message);
+        out += fmt::format("{}: note: {}\n", format_location(note.span), printable(note.message));
         render_snippet(out, note.span);
     }
-    if (!d.help.empty()) out += fmt::format("      = help: {}\n", d.help);
+    if (!d.help.empty()) out += fmt::format("      = help: {}\n", printable(d.help));
     return out;
 }
 

@@ -22,4 +22,8 @@ std::string render_text(const std::vector<Diagnostic>& ds);
 /// "file:line:col" of the span's start ("<unknown>" without a file).
 std::string format_location(const SourceSpan& span);
 
+/// `text` safe for a terminal: control characters (ESC of a binary file quoted in a message
+/// would drive the terminal) as \xHH; tab, and UTF-8, as they are.
+std::string printable(std::string_view text);
+
 }  // namespace crex

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "apps/crex/exit_codes.h"
+#include "apps/crex/run_resume.h"
 #include "runtime/base/output_set.h"
 
 #ifdef CREX_WITH_MPI
@@ -70,6 +71,7 @@ void write_kept_rows(const std::lock_guard<std::mutex>&) {
     ImageMetadata metadata = p.metadata;
     metadata.push_back({"crex:partial", what + "; the other rows are black (the run failed; crex run ... --resume this file finishes it)"});
     metadata.push_back({"crex:finished_rows", rows});  // what --resume reads (run_resume.h)
+    metadata.push_back({"crex:finished_rows_digest", finished_rows_digest(p.rgb, p.width, p.finished)});
     // Staged and committed together: a fault during the write leaves no half-written file.
     OutputSet files;
     std::vector<std::string> written;

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <regex>
@@ -137,9 +139,37 @@ std::optional<int> load_resume(const RunOptions& opt, const RunInput& in, RunSet
     if (std::string error = read_image(path, w, h, r.rgb); !error.empty()) return fail(error, kExitFailure);
     if (w != width || h != height || r.rgb.size() != 3 * static_cast<size_t>(w) * static_cast<size_t>(h))
         return fail("its pixels do not match its header", kExitFailure);
+    // Its header against its pixels: the digest crex wrote of the finished rows, and every
+    // finished pixel finite (a header saying more than the file holds resumed into black rows).
+    const std::string digest = value_of(header, "crex:finished_rows_digest");
+    if (digest != finished_rows_digest(r.rgb, width, r.final_rows))
+        return fail(digest.empty() ? "its header has no crex:finished_rows_digest: it was not written by this crex's partial writer"
+                                   : fmt::format("its crex:finished_rows '{}' names rows its pixels do not hold (their digest differs "
+                                                 "from the header's): the file was changed after crex wrote it; render again without "
+                                                 "--resume",
+                                                 rows),
+                    kExitInputErrors);
+    for (size_t row = 0; row < r.final_rows.size(); ++row)
+        for (size_t i = 3 * row * static_cast<size_t>(width); r.final_rows[row] && i < 3 * (row + 1) * static_cast<size_t>(width); ++i)
+            if (!std::isfinite(r.rgb[i]) || r.rgb[i] < 0)
+                return fail(fmt::format("row {} is named finished but holds a non-finite or negative value", row), kExitInputErrors);
     setup.settings.final_rows = r.final_rows;
     setup.resume = std::move(r);
     return std::nullopt;
+}
+
+std::string finished_rows_digest(const std::vector<float>& rgb, int width, const std::vector<char>& rows) {
+    uint64_t h = 1469598103934665603ull;
+    const size_t row = 3 * static_cast<size_t>(width);
+    for (size_t r = 0; r < rows.size(); ++r) {
+        if (!rows[r] || (r + 1) * row > rgb.size()) continue;
+        for (size_t i = r * row; i < (r + 1) * row; ++i) {
+            uint32_t bits = 0;
+            std::memcpy(&bits, &rgb[i], sizeof bits);
+            for (int b = 0; b < 4; ++b) h = (h ^ ((bits >> (8 * b)) & 0xFFu)) * 1099511628211ull;
+        }
+    }
+    return fmt::format("{:016x}", h);
 }
 
 void take_resumed_rows(const ResumedRows& resume, std::vector<float>& rgb, int width) {

@@ -41,6 +41,11 @@ ImageMetadata partial_identity(const RunInput& in, const RunSetup& setup);
 /// keeps them in `setup.resume`. An exit code when it cannot resume (said on stderr).
 std::optional<int> load_resume(const RunOptions& opt, const RunInput& in, RunSetup& setup);
 
+/// A digest of the finished rows' pixels (FNV-1a over their float bits, as hex), written into a
+/// partial's header (crex:finished_rows_digest) and checked by --resume: a header that names
+/// rows its pixels do not hold (edited, or another image's) resumed into black rows.
+std::string finished_rows_digest(const std::vector<float>& rgb, int width, const std::vector<char>& rows);
+
 /// The final image of a resumed run: its final rows from the partial image.
 void take_resumed_rows(const ResumedRows& resume, std::vector<float>& rgb, int width);
 

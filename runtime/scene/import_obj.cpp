@@ -10,11 +10,11 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <sstream>
 
+#include "base/input_file.h"
 #include "runtime/scene/load_scene.h"
+#include "runtime/scene/obj_checks.h"
 #include "runtime/scene/shapes.h"
 
 namespace crex {
@@ -64,29 +64,38 @@ SourceSpan nth_line(const SourceFile& file, const std::string& prefix, size_t n)
 }  // namespace
 
 std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, SceneSources& sources) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    if (in) text << in.rdbuf();
-    const SourceFile& file = sources.add(path, text.str());
-    if (!in) {
-        sink.report("E308", {&file, 0, 0}, fmt::format("cannot open OBJ file '{}'", path));
+    std::string error;
+    auto text = read_input_file(path, error, kMaxDataInputBytes);  // a regular file, bounded
+    const SourceFile& file = sources.add(path, text ? std::move(*text) : std::string());
+    if (!text) {
+        sink.report("E308", {&file, 0, 0}, error);
         return std::nullopt;
     }
+    // Its text and its MTL files' values first (obj_checks.h): tinyobjloader reads them silently.
+    const size_t errors_first = sink.error_count();
+    check_obj_text(file, sink);
+    for (const auto& lib : material_libraries(file, std::filesystem::path(path).parent_path().string())) {
+        std::error_code ec;
+        if (!std::filesystem::exists(lib.path, ec)) continue;  // tinyobjloader warns (W301)
+        auto mtl = read_input_file(lib.path, error, kMaxDataInputBytes);
+        if (!mtl) {
+            sink.report("E308", lib.named_at, error);
+            continue;
+        }
+        check_mtl_text(sources.add(lib.path, std::move(*mtl)), sink);
+    }
+    if (sink.error_count() != errors_first) return std::nullopt;
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;
     config.mtl_search_path = std::filesystem::path(path).parent_path().string();
     tinyobj::ObjReader reader;
-    bool ok = reader.ParseFromFile(path, config);
-    if (!reader.Warning().empty()) {
-        std::string w = reader.Warning();
-        while (!w.empty() && w.back() == '\n') w.pop_back();
-        sink.report("W301", {&file, 0, 0}, fmt::format("OBJ: {}", w));
-    }
+    const bool ok = reader.ParseFromFile(path, config);
+    report_obj_messages(reader.Warning(), file, "W301", sink);
     if (!ok) {
-        std::string e = reader.Error();
-        while (!e.empty() && e.back() == '\n') e.pop_back();
-        sink.report("E308", {&file, 0, 0}, fmt::format("cannot read OBJ '{}': {}", path, e.empty() ? "malformed file" : e));
+        if (reader.Error().find_first_not_of(" \n") == std::string::npos)
+            sink.report("E308", {&file, 0, 0}, fmt::format("cannot read OBJ '{}': malformed file", path));
+        report_obj_messages(reader.Error(), file, "E308", sink);
         return std::nullopt;
     }
     const auto& attrib = reader.GetAttrib();

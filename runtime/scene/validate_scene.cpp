@@ -71,7 +71,10 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
                                                               length(c.position - centre), kMaxReach))
                 .help = "move the camera closer, or scale the scene down";
     }
-    if (lights == 0 && !scene.shapes.empty())
+    if (scene.shapes.empty())
+        sink.report("W302", locate(SIZE_MAX), "the scene has no shapes: the image will show the background only")
+            .help = "give the scene shapes and a 'light' material (a 0-byte file is an empty scene)";
+    else if (lights == 0)
         sink.report("W302", locate(SIZE_MAX), "no shape has a 'light' material: direct lighting will be black")
             .help = "give an emitter the material type 'light' so it is sampled";
 }

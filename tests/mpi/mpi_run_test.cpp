@@ -574,6 +574,25 @@ TEST_F(MpiRun, ResumingRefusesWhatItCannotFinishExactly) {
         EXPECT_NE(r.err.find(c.error), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(path("r.exr")));
     }
+    // A header that names rows its pixels do not hold (issue 37: it resumed into black rows):
+    // the same partial, its crex:finished_rows edited to claim every row.
+    {
+        int w = 0, h = 0;
+        ImageMetadata header;
+        std::vector<float> rgb;
+        ASSERT_EQ(read_image_metadata(partial, w, h, header), "");
+        ASSERT_EQ(read_image(partial, w, h, rgb), "");
+        for (auto& [key, value] : header)
+            if (key == "crex:finished_rows") value = "0..17";
+        ImageMetadata kept;
+        for (const auto& [key, value] : header)
+            if (key.rfind("crex:", 0) == 0) kept.push_back({key, value});
+        ASSERT_EQ(write_image(path("edited.partial.exr"), w, h, {{"", rgb}}, kept), "");
+        auto r = resume({{"--resume", path("edited.partial.exr")}, ""});
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_NE(r.err.find("its crex:finished_rows '0..17' names rows its pixels do not hold"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(path("r.exr")));
+    }
     auto under_mpirun = mpirun(2, {"run", "--size", "26x18", "--spp", "2", "-q", "--resume", partial, "-o", path("r.exr")});
     EXPECT_EQ(under_mpirun.exit_code, 2) << under_mpirun.err;
     EXPECT_EQ(count(under_mpirun.err, "--resume is not supported yet"), 1u) << under_mpirun.err;
