@@ -59,6 +59,11 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
         if (pipe->plan) {
             if (auto it = pipe->resolved->top.find("budget"); opt.budget.empty() && it != pipe->resolved->top.end() && !it->second.empty())
                 opt.budget_origin = format_location(it->second[0].span);
+            // Where the pipeline sets a limit, for W404 (a flag given overrides it: said as the flag's).
+            for (auto [key, given, origin] : {std::tuple{"max_depth", opt.max_depth_given, &opt.max_depth_origin},
+                                              std::tuple{"lw", opt.lw_given, &opt.lw_origin}, std::tuple{"ab", opt.ab_given, &opt.ab_origin}})
+                if (auto it = pipe->resolved->top.find(key); !given && it != pipe->resolved->top.end() && !it->second.empty())
+                    *origin = format_location(it->second[0].span);
             in.plan = *pipe->plan;
             in.pipeline = planned = true;
             in.scene_spec = pipe->scene_spec;
@@ -71,6 +76,14 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
         if (!text) {
             std::cerr << "crex run: error: " << read_error << "\n";
             return kExitFailure;
+        }
+        // A scene given as the plan (`crex run scene.rad`) was read as a plan: "E401 malformed JSON".
+        if (const std::string kind = input_kind(opt.plan, *text); !kind.empty() && kind != "a plan") {
+            std::cerr << fmt::format("crex run: error: {} is {}, not a plan or a pipeline: {}\n", opt.plan, kind,
+                                     kind == "a scene" ? fmt::format("render it with --scene {} (and -e CREX or a pipeline file)", opt.plan)
+                                     : kind == "a profile" ? fmt::format("pass it as --profile {}", opt.plan)
+                                                           : fmt::format("pass it as --view {}", opt.plan));
+            return kExitUsage;
         }
         in.source = std::make_unique<SourceFile>(opt.plan, std::move(*text));
         if (auto kept = read_plan(*in.source, sink)) {
@@ -102,6 +115,7 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
             return kExitFailure;
         }
         in.view_source = std::make_unique<SourceFile>(opt.view, std::move(*text));
+        sink.withdraw("W305");  // the scene's missing view: this one replaces it
         apply_radiance_view(*in.view_source, view_file_words(*in.view_source), in.scene->scene->camera, true, sink);
     }
     const std::optional<Scene>& scene = in.scene->scene;

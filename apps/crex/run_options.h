@@ -50,6 +50,8 @@ struct RunOptions {
     std::string policy;  ///< "" : the pipeline's, else the default
     std::string view;    ///< --view FILE.vf
     std::string budget_origin;  ///< "file:line:col" of the pipeline's `budget` when the budget is the pipeline's
+    /// The same for the limits whose light left out W404 names (run_summary.h).
+    std::string max_depth_origin, lw_origin, ab_origin;
     std::string profile_in;
     /// Under mpirun, on ranks other than 0: the --profile as rank 0 read it (the file may exist
     /// on rank 0's machine only); used instead of reading profile_in.

@@ -10,13 +10,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
+#include <map>
 #include <set>
-#include <sstream>
 
 #include "apps/crex/cli_values.h"
 #include "apps/crex/exit_codes.h"
+#include "base/input_file.h"
+#include "base/number_range.h"
 #include "compiler/pipeline/settings_table.h"
 #include "runtime/io/image_io.h"
 #include "runtime/report/reference_cache.h"
@@ -24,22 +25,70 @@
 namespace crex::app {
 namespace {
 
-// "10s", "500ms" or "25%" (of the full render time in the profile).
-bool parse_budget(const std::string& text, double& value, bool& percent) {
+// "10s", "500ms" or "25%" (of the full render time in the profile): "" or what is wrong,
+// in the pipeline language's ranges (settings_table.h).
+std::string parse_budget(const std::string& text, double& value, bool& percent) {
     std::string t = text;
     percent = false;
     double scale = 1;
     if (t.size() > 2 && t.substr(t.size() - 2) == "ms") t.resize(t.size() - 2), scale = 1e-3;
     else if (!t.empty() && t.back() == 's') t.pop_back();
     else if (!t.empty() && t.back() == '%') t.pop_back(), percent = true;
-    else return false;  // a unit is required, as in the pipeline language
-    try {
-        size_t used = 0;
-        value = std::stod(t, &used) * scale;
-        return used == t.size() && value > 0 && std::isfinite(value) && value <= 1e7 && (!percent || value <= 1000);
-    } catch (...) {
-        return false;
+    else return "expected a time with its unit, e.g. 10s, 500ms or 25%";  // as in the pipeline language
+    auto v = parse_number_text(t);
+    if (!v) return "expected a time with its unit, e.g. 10s, 500ms or 25%";
+    value = *v * scale;
+    if (std::string range = pipeline::budget_range_error(value, percent); !range.empty())
+        return fmt::format("{}: expected {}", std::isnan(value) ? "nan is not a number" : std::isinf(value) ? "it is infinite" : "out of range", range);
+    return "";
+}
+
+// --profile FILE (or, under mpirun off rank 0, its text as rank 0 read it): the costs and the
+// full render's time, every number checked (a string there was an internal error).
+std::optional<int> read_profile(const RunOptions& opt, RunSetup& setup) {
+    std::string text;
+    if (opt.profile_text) {
+        text = *opt.profile_text;
+    } else {
+        std::string error;
+        auto bytes = read_input_file(opt.profile_in, error, kMaxTextInputBytes);
+        if (!bytes) {
+            std::cerr << fmt::format("crex run: error: --profile: {}\n", error);
+            return kExitFailure;
+        }
+        text = std::move(*bytes);
     }
+    std::string error = Profile::from_json_text(text, setup.profile, &setup.full_render_seconds, opt.profile_in);
+    if (!error.empty()) {
+        std::cerr << fmt::format("crex run: error: profile {}\n", error);
+        return kExitInputErrors;
+    }
+    setup.predicted = setup.profile;
+    return std::nullopt;
+}
+
+// Two outputs named by one path (`-o X -o X`, `-o X --save-profile X`): the second replaced the
+// first and the commit then said "cannot move 'X' into place: No such file or directory" after
+// the old X was gone. Compared as absolute, normalised paths, before anything renders.
+std::string same_output_twice(const RunOptions& opt, const RunSetup& setup) {
+    std::vector<std::pair<std::string, std::string>> named;  // (flag, path)
+    for (const auto& o : setup.outputs) named.push_back({"-o", o});
+    if (!opt.profile_out.empty()) named.push_back({"--save-profile", opt.profile_out});
+    if (!opt.ic_file.empty()) named.push_back({"--ic-file", opt.ic_file});
+    if (!setup.maps_dir.empty()) named.push_back({"--maps", setup.maps_dir});
+    if (!opt.report_dir.empty()) named.push_back({"--report", opt.report_dir});
+    std::map<std::string, size_t> seen;
+    for (size_t i = 0; i < named.size(); ++i) {
+        std::error_code ec;
+        std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(named[i].second, ec), ec);
+        std::string key = (p.filename().empty() ? p.parent_path() : p).lexically_normal().string();
+        auto [it, fresh] = seen.try_emplace(key, i);
+        if (fresh) continue;
+        const auto& first = named[it->second];
+        return fmt::format("{} {} and {} {} name the same path: each output needs its own", first.first, first.second, named[i].first,
+                           named[i].second);
+    }
+    return "";
 }
 
 }  // namespace
@@ -113,42 +162,30 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     rs.uniform = opt.uniform == "max" ? UniformQuality::kMax : opt.uniform == "min" ? UniformQuality::kMin : UniformQuality::kOff;
 
     // The budget and the profile it is predicted from.
-    if (!opt.profile_in.empty()) {
-        std::stringstream text;
-        if (opt.profile_text) {
-            text << *opt.profile_text;
-        } else {
-            std::ifstream file(opt.profile_in);
-            text << file.rdbuf();
-            if (!file) {
-                std::cerr << fmt::format("crex run: error: cannot read profile '{}'\n", opt.profile_in);
-                return kExitFailure;
-            }
-        }
-        std::string error = Profile::from_json_text(text.str(), setup.profile);
-        if (!error.empty()) {
-            std::cerr << fmt::format("crex run: error: profile '{}': {}\n", opt.profile_in, error);
-            return kExitInputErrors;
-        }
-        setup.predicted = setup.profile;
-        auto j = nlohmann::json::parse(text.str(), nullptr, false);
-        if (j.is_object()) setup.full_render_seconds = j.value("full_render_seconds", 0.0);
-    }
+    if (!opt.profile_in.empty())
+        if (auto exit = read_profile(opt, setup)) return *exit;
     if (!opt.budget.empty() && !opt.no_budget) {
         bool percent = false;
-        if (!parse_budget(opt.budget, setup.budget, percent)) {
-            std::cerr << fmt::format("crex run: error: --budget '{}': expected a time with its unit, e.g. 10s, 500ms or 25%\n",
-                                     opt.budget);
-            return kExitUsage;
+        // Said where the budget comes from: the pipeline's line, or the flag.
+        const std::string where = opt.budget_origin.empty() ? "crex run" : opt.budget_origin;
+        const std::string what = opt.budget_origin.empty() ? "--budget " + opt.budget : "budget " + opt.budget;
+        const int exit_code = opt.budget_origin.empty() ? kExitUsage : kExitInputErrors;  // the flag's, or the file's
+        if (std::string error = parse_budget(opt.budget, setup.budget, percent); !error.empty()) {
+            std::cerr << fmt::format("{}: error: {}: {}\n", where, what, error);
+            return exit_code;
         }
         if (percent) {
             if (!(setup.full_render_seconds > 0)) {
-                // Said where the budget comes from: the pipeline's line, or the flag.
-                std::cerr << fmt::format("{}: error: {}a budget in % needs the time of a full render: render once without a "
-                                         "budget with --save-profile FILE, then pass --profile FILE (or --no-budget)\n",
-                                         opt.budget_origin.empty() ? "crex run" : opt.budget_origin,
-                                         opt.budget_origin.empty() ? "--budget " + opt.budget + ": " : "budget " + opt.budget + ": ");
-                return opt.budget_origin.empty() ? kExitUsage : kExitInputErrors;  // the flag's, or the file's
+                if (opt.profile_in.empty())
+                    std::cerr << fmt::format("{}: error: {}: a budget in % needs the time of a full render: render once without a "
+                                             "budget with --save-profile FILE, then pass --profile FILE (or --no-budget)\n",
+                                             where, what);
+                else
+                    std::cerr << fmt::format("{}: error: {}: the profile '{}' holds no full render time (\"full_render_seconds\" "
+                                             "above 0): save it again with --save-profile from a render without a budget, or give "
+                                             "the budget in seconds\n",
+                                             where, what, opt.profile_in);
+                return opt.profile_in.empty() ? exit_code : kExitInputErrors;
             }
             setup.budget = setup.budget / 100 * setup.full_render_seconds;
         }
@@ -156,6 +193,19 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
     rs.executor.budget_seconds = setup.budget;
     if (!opt.policy.empty()) rs.policy = pipeline::scheduling_policy_from_name(opt.policy);
 
+    // --ic-file names a file, read if it exists: a directory or a device there is said now, not
+    // as "basic_filebuf::underflow error reading the file" after the render.
+    if (!opt.ic_file.empty() && opt.writes_outputs) {
+        std::error_code ec;
+        if (std::filesystem::exists(opt.ic_file, ec))
+            if (std::string error = check_input_file(opt.ic_file, kMaxDataInputBytes); !error.empty()) {
+                std::cerr << fmt::format("crex run: error: --ic-file: {}{}\n", error,
+                                         std::filesystem::is_directory(opt.ic_file, ec)
+                                             ? fmt::format("; it names the cache's file (made if missing), e.g. {}/scene.ic", opt.ic_file)
+                                             : "");
+                return kExitFailure;
+            }
+    }
     // The irradiance cache: --ic, --ic-file, or a pipeline that has one.
     bool wants_cache = opt.ic || !opt.ic_file.empty();
     for (const auto& n : in.plan.nodes) wants_cache |= n.id == "irradiance_cache";
@@ -188,6 +238,11 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
             return kExitFailure;
         }
     }
+    if (opt.writes_outputs)
+        if (std::string clash = same_output_twice(opt, setup); !clash.empty()) {
+            std::cerr << "crex run: error: " << clash << "\n";
+            return kExitUsage;
+        }
 
     // The reference of the error curve: with --reference, or for a report.
     setup.reference_file = opt.reference;
@@ -204,6 +259,19 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
             if (!error.empty()) {
                 std::cerr << "crex run: error: reference: " << error << "\n";
                 return kExitFailure;
+            }
+            // NaN or Inf would make the error curve 'nan' and perr 100 % with exit 0, where
+            // `crex compare` refuses the same image.
+            size_t bad = 0;
+            for (float v : img.rgb) bad += !std::isfinite(v);
+            if (bad > 0) {
+                std::cerr << fmt::format("crex run: error: the reference {} holds {} non-finite value{} (NaN or Inf): no error can be "
+                                         "measured against it{}\n",
+                                         setup.reference_file, bad, bad == 1 ? "" : "s",
+                                         automatic ? fmt::format("; render it again with 'crex reference {} --size {}x{} --force'",
+                                                                 in.scene_spec, rs.width, rs.height)
+                                                   : "");
+                return kExitInputErrors;
             }
             if (img.width != rs.width || img.height != rs.height) {
                 std::cerr << fmt::format("crex run: error: the reference {} is {}x{} but the render is {}x{}\n", setup.reference_file,

@@ -27,9 +27,17 @@ public:
     void record(Component c, uint64_t rays, double seconds) { fold(cost_[static_cast<size_t>(c)], rays, seconds); }
     void record_camera(uint64_t rays, double seconds) { fold(camera_, rays, seconds); }
 
-    /// JSON text of the profile; `load` reads it back. Returns "" on success, else why not.
+    /// JSON text of the profile; from_json_text reads it back. Returns "" on success, else why
+    /// not, located ("p.json:3:26: ...") in a file named `name`. A saved profile may also hold
+    /// the time of the full render it came from (budgets in %): into `full_render_seconds`
+    /// (0 when it holds none).
     std::string to_json_text() const;
-    static std::string from_json_text(const std::string& text, Profile& out);
+    static std::string from_json_text(const std::string& text, Profile& out, double* full_render_seconds = nullptr,
+                                      const std::string& name = "<profile>");
+    /// The largest full_render_seconds a profile may hold (11.6 days, the longest budget).
+    static constexpr double kMaxFullRenderSeconds = 1e6;
+    /// Seconds per ray above this are no measurement (a ray of crex takes microseconds).
+    static constexpr double kMaxSecondsPerRay = 1e3;
 
 private:
     struct Slot {

@@ -346,6 +346,35 @@ TEST(BudgetScheduling, ProfileRoundTripsThroughJson) {
     }
 }
 
+// The full render's time of a saved profile: a string or null there was "internal error:
+// [json.exception.type_error.302]" (issue 37); every number is located and ranged.
+TEST(BudgetScheduling, ProfileNumbersAreCheckedWhereTheyAre) {
+    Profile p;
+    double full = -1;
+    ASSERT_EQ(Profile::from_json_text(R"({"format": "crex-profile", "version": 1, "full_render_seconds": 1.5})", p, &full), "");
+    EXPECT_EQ(full, 1.5);
+    struct Case {
+        const char* text;
+        const char* said;
+    };
+    for (const Case& c : {Case{"", "p.json:1:1: the file is empty"},
+                          Case{"  \n", "p.json:1:1: the file is empty"},
+                          Case{"[1]", "p.json:1:1: expected a crex profile"},
+                          Case{"{\"format\": \"crex-profile\", \"version\": 1,\n \"full_render_seconds\": \"x\"}",
+                               "p.json:2:25: full_render_seconds: expected a number from 0 to 1000000, but this is string"},
+                          Case{"{\"format\": \"crex-profile\", \"version\": 1, \"full_render_seconds\": null}",
+                               "full_render_seconds: expected a number from 0 to 1000000, but this is null"},
+                          Case{"{\"format\": \"crex-profile\", \"version\": 1, \"full_render_seconds\": -2}",
+                               "full_render_seconds: -2 is out of range: expected a number from 0 to 1000000"},
+                          Case{"{\"format\": \"crex-profile\", \"version\": 1, \"seconds_per_ray\": {\"D\": 1e9}}",
+                               "seconds_per_ray.D: 1000000000 is out of range: expected a number from 0 to 1000"},
+                          Case{"{\"format\": \"crex-profile\"", "p.json:1:"}}) {
+        std::string error;
+        EXPECT_NO_THROW(error = Profile::from_json_text(c.text, p, &full, "p.json")) << c.text;
+        EXPECT_NE(error.find(c.said), std::string::npos) << c.text << "\n" << error;
+    }
+}
+
 }  // namespace
 }  // namespace crex
 
