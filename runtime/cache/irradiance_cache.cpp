@@ -15,6 +15,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "base/input_file.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/base/sampling.h"
 #include "runtime/cache/cbor_shape.h"
@@ -54,6 +55,13 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
 }
 
 IrradianceCache::~IrradianceCache() = default;
+
+double IcStats::throughput_past_last_bounce() const {
+    if (albedo_rays.empty()) return 0;
+    double t = 1;
+    for (size_t l = 0; l < albedo_rays.size(); ++l) t *= albedo_rays[l] > 0 ? albedo_sum[l] / static_cast<double>(albedo_rays[l]) : 0.0;
+    return t;
+}
 
 double IrradianceCache::level_accuracy(double aa, uint32_t level) const {
     return clamp_accuracy(std::min(aa, max_aa_) * static_cast<double>(1u << std::min(level, 10u)));
@@ -359,6 +367,12 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         }
         radiance[i] = is_finite(l) ? l : Vec3{};
     });
+    // What the next level brings to this one, on average (IcStats): in order, so the same sum at
+    // any thread count.
+    if (stats_.albedo_sum.size() <= level) stats_.albedo_sum.resize(level + 1), stats_.albedo_rays.resize(level + 1);
+    for (size_t i = 0; i < n; ++i)
+        if (const Vec3 a = albedo[i] + albedo_far[i]; is_finite(a)) stats_.albedo_sum[level] += luminance(a);
+    stats_.albedo_rays[level] += n;
     occluded_batch(*scene_.embree, shadows.data(), n);
     for (size_t i = 0; i < n; ++i) {
         const RTCRay& s = shadows[i];
@@ -487,11 +501,55 @@ std::string IrradianceCache::to_bytes() const {
 }
 
 std::string IrradianceCache::load(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return "cannot read '" + path + "'";
-    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return load_bytes(data, path);
+    std::string error;
+    auto data = read_input_file(path, error, kMaxDataInputBytes);  // a regular file, bounded
+    return data ? load_bytes(*data, path) : error;
 }
+
+namespace {
+
+// The most irradiance this scene can give: every emitter, the background and the ambient value
+// at their brightest, seen from the whole hemisphere, raised by inter-reflections of albedo up
+// to 1 - 1e-6. A record beyond it (1e38 read from a damaged file) is not this scene's.
+double brightest_irradiance(const Scene& scene, const Vec3& ambient) {
+    double l = std::max(max_component(scene.background), max_component(ambient));
+    for (const auto& m : scene.materials) {
+        if (m.type == MaterialType::kLight || m.type == MaterialType::kGlow) l = std::max(l, max_component(m.color));
+        if (m.emission) l = std::max(l, max_component(*m.emission));
+    }
+    return std::numbers::pi * l * 1e6;
+}
+
+// Why a record read from a file cannot be this scene's ("" if it can): everything finite, the
+// position inside the scene, irradiance from 0 to what the scene can give, a positive radius.
+std::string broken_record(const IrradianceRecord& r, double extent, double max_irradiance, uint32_t bounces) {
+    if (!is_finite(r.position)) return "its position is not finite";
+    if (std::fabs(r.position.x) > extent || std::fabs(r.position.y) > extent || std::fabs(r.position.z) > extent)
+        return fmt::format("its position ({:g}, {:g}, {:g}) is outside the scene", r.position.x, r.position.y, r.position.z);
+    if (!is_finite(r.normal) || normalize_or_zero(r.normal) == Vec3{}) return "its normal is zero or not finite";
+    const Vec3& e = r.irradiance;
+    if (!is_finite(e)) return "its irradiance is not finite (NaN or Inf)";
+    if (std::min({e.x, e.y, e.z}) < 0) return fmt::format("its irradiance ({:g}, {:g}, {:g}) is negative", e.x, e.y, e.z);
+    if (max_component(e) > max_irradiance)
+        return fmt::format("its irradiance {:g} is beyond what this scene's emitters can give (at most {:g})", max_component(e), max_irradiance);
+    for (size_t c = 0; c < 3; ++c)
+        if (!is_finite(r.rotation[c]) || !is_finite(r.translation[c])) return "its gradients are not finite";
+    if (!(r.harmonic_distance > 0) || !std::isfinite(r.harmonic_distance)) return "its harmonic distance is not a positive number";
+    if (!(r.quality > 0 && r.quality <= 1)) return "its accuracy is not in (0, 1]";
+    if (r.level > bounces) return fmt::format("its bounce {} is past the cache's {} bounces", r.level, bounces);
+    return "";
+}
+
+// nlohmann's "[json.exception.type_error.302] type must be number, but is string" as
+// "type must be number, but is string".
+std::string plain_json_error(const std::exception& e) {
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0)
+        if (size_t at = what.find("] "); at != std::string::npos) what = what.substr(at + 2);
+    return what;
+}
+
+}  // namespace
 
 std::string IrradianceCache::load_bytes(const std::string& data, const std::string& path) {
     // Version 2 is CBOR; version 1 was JSON text. nlohmann's CBOR reader recurses per nesting
@@ -506,6 +564,7 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
     // a string (found by tests/fuzz/ic_file_fuzzer.cpp).
     if (j.is_discarded() || !j.is_object() || !j.contains("format") || j.at("format") != "crex-irradiance-cache")
         return "'" + path + "' is not a crex irradiance cache";
+    size_t records_in_file = 0;
     try {
         const auto& s = j.at("settings");
         // Records made with a caustic map leave caustics out (the map adds them), and records
@@ -516,17 +575,19 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
             return "'" + path + "' was made with other cache settings or for another scene";
         auto v = [](const nlohmann::json& a) { return Vec3{a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>()}; };
         std::vector<IrradianceRecord> loaded;
+        const double extent = scene_.embree->extent(), max_irradiance = brightest_irradiance(scene_.scene, settings_.ambient);
+        std::string broken;
         auto keep = [&](IrradianceRecord rec) -> bool {
-            rec.normal = normalize_or_zero(rec.normal);
-            rec.harmonic_distance = std::clamp(std::isfinite(rec.harmonic_distance) ? rec.harmonic_distance : r_max_, r_min_, r_max_);
             // Positions are local (recentred): a record far outside the scene sent insert()'s
-            // grid indices past int (undefined behaviour); levels past `bounces` are no cache's.
-            const double extent = scene_.embree->extent();
-            const bool inside = std::fabs(rec.position.x) <= extent && std::fabs(rec.position.y) <= extent &&
-                                std::fabs(rec.position.z) <= extent;
-            if (!is_finite(rec.position) || !inside || rec.normal == Vec3{} || !is_finite(rec.irradiance) ||
-                !std::isfinite(rec.quality) || rec.level > settings_.bounces)
+            // grid indices past int (undefined behaviour); levels past `bounces` are no cache's;
+            // an irradiance of 1e38 or -5 took the image's indirect light away (issue 37).
+            if (std::string why = broken_record(rec, extent, max_irradiance, settings_.bounces); !why.empty()) {
+                broken = fmt::format("'{}' holds a broken record: record {} of {}: {}; delete the file (crex makes the cache again)", path,
+                                     loaded.size() + 1, records_in_file, why);
                 return false;
+            }
+            rec.normal = normalize_or_zero(rec.normal);
+            rec.harmonic_distance = std::clamp(rec.harmonic_distance, r_min_, r_max_);
             loaded.push_back(rec);
             return true;
         };
@@ -534,7 +595,9 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
         if (version == 2) {
             const auto& bin = j.at("records").get_binary();
             const size_t count = j.at("count").get<size_t>();
-            if (bin.size() != count * kRecordFloats * 4) return fmt::format("'{}' is truncated: {} bytes of records for {}", path, bin.size(), count);
+            records_in_file = count;
+            if (bin.size() / (kRecordFloats * 4) != count || bin.size() % (kRecordFloats * 4) != 0)
+                return fmt::format("'{}' is truncated: {} bytes of records for {}", path, bin.size(), count);
             std::vector<float> f(count * kRecordFloats);
             if (!f.empty()) std::memcpy(f.data(), bin.data(), bin.size());
             for (size_t i = 0; i < count; ++i) {
@@ -547,11 +610,13 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
                     rec.translation[c] = {x[19 + 3 * c], x[20 + 3 * c], x[21 + 3 * c]};
                 }
                 rec.quality = x[28];
-                if (!(x[29] >= 0 && x[29] < 65536)) return "'" + path + "' holds a broken record";
+                if (!(x[29] >= 0 && x[29] < 65536))
+                    return fmt::format("'{}' holds a broken record: record {} of {}: its bounce is not a level", path, i + 1, count);
                 rec.level = static_cast<uint16_t>(x[29]);
-                if (!keep(rec)) return "'" + path + "' holds a broken record";
+                if (!keep(rec)) return broken;
             }
         } else if (version == 1) {
+            records_in_file = j.at("records").size();
             for (const auto& r : j.at("records")) {
                 IrradianceRecord rec;
                 rec.position = v(r.at("p")), rec.normal = v(r.at("n")), rec.irradiance = v(r.at("e"));
@@ -559,14 +624,15 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
                 for (size_t c = 0; c < 3; ++c) rec.rotation[c] = v(r.at("rot").at(c)), rec.translation[c] = v(r.at("tra").at(c));
                 rec.quality = r.at("q").get<float>();
                 rec.level = r.at("level").get<uint16_t>();
-                if (!keep(rec)) return "'" + path + "' holds a broken record";
+                if (!keep(rec)) return broken;
             }
         } else {
             return fmt::format("'{}' is a version {} cache; this crex reads versions 1 and 2", path, version);
         }
         for (const auto& r : loaded) insert(r);
-    } catch (const std::exception& e) {
-        return "'" + path + "': " + e.what();
+    } catch (const std::exception& e) {  // a field missing or of another type
+        return fmt::format("'{}' is damaged or not a crex irradiance cache ({}); delete it (crex makes the cache again)", path,
+                           plain_json_error(e));
     }
     return "";
 }

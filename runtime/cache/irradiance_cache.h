@@ -65,6 +65,14 @@ struct IcStats {
     uint64_t lookups = 0, interpolated = 0, records = 0, hemisphere_rays = 0, rounds = 0;
     uint64_t caustic_photons = 0;  ///< stored in the caustic map
     double caustic_seconds = 0;    ///< building it
+    /// Per bounce level: the luminance of the diffuse reflectance (times throughput) the
+    /// hemisphere rays of its records met, summed, and those rays: the share of a record's
+    /// light that comes from the next level, on average.
+    std::vector<double> albedo_sum;
+    std::vector<uint64_t> albedo_rays;
+    /// The share of a camera query's light that would come from bounces past the last level
+    /// (the product of the levels' mean albedos), which --ambient stands in for; 0 if unmeasured.
+    double throughput_past_last_bounce() const;
 };
 
 class IrradianceCache {
