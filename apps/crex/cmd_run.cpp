@@ -20,6 +20,7 @@
 #include "apps/crex/run_outputs.h"
 #include "apps/crex/run_resume.h"
 #include "apps/crex/run_setup.h"
+#include "apps/crex/run_summary.h"
 #include "base/check.h"
 
 namespace crex::app {
@@ -85,6 +86,10 @@ int run(RunOptions opt) {
         return kExitFailure;
     }
     progress.finish();
+    for (std::string& w : light_left_out_warnings(*result, setup.settings.executor.shade,
+                                                  setup.settings.irradiance_cache ? &*setup.settings.irradiance_cache : nullptr,
+                                                  {opt.max_depth_origin, opt.lw_origin, opt.ab_origin}))
+        result->warnings.push_back(std::move(w));
     if (ranks.active()) {
         if (auto exit = distributed.finish(setup, *result)) return *exit;  // rank 0 goes on to write the outputs
         if (setup.reference || !opt.report_dir.empty()) {
@@ -134,34 +139,36 @@ Runner add_run_command(CLI::App& app) {
     CLI::Option* size = cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT (default: the pipeline's image, else 256x256)");
     CLI::Option* spp = cmd->add_option("--spp", opt->spp, "Camera samples per pixel; of a pipeline, its preview's (default: the "
                                                           "pipeline's, else 16)")
-                           ->check(CLI::Range(1u, 1u << 20));
+                           ->check(whole_number_in(1, 1 << 20));
     cmd->add_option("-o,--output", opt->outputs, "Output image(s): .exr (float), .hdr, .png (tone-mapped); repeatable "
                                                  "(default out/render.exr and out/render.png)")
         ->allow_extra_args(false);
     cmd->add_flag("--components", opt->components, "EXR: add one layer per component AOV (camera, D, G, S, T, R, M)");
-    cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+    cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(whole_number_in(1, 1024));
     CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number (0 to 2^53)")->capture_default_str()->check(seed_value());
-    cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit on a surface the camera sees, directly or through mirrors and glass (deeper hits take one)")->capture_default_str()->check(CLI::Range(1u, 1024u));
+    cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit on a surface the camera sees, directly or through mirrors and glass (deeper hits take one)")->capture_default_str()->check(whole_number_in(1, 1024));
     cmd->add_option("--media-samples", opt->media_samples, "Single-scatter samples along each camera ray, in a scene with a medium "
                                                            "(a pipeline's media_samples varies it per pixel)")
         ->capture_default_str()
-        ->check(CLI::Range(1u, 1024u));
+        ->check(whole_number_in(1, 1024));
     CLI::Option* lw = cmd->add_option("--lw", opt->lw, "Weight limit: rays below it face Russian roulette")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    CLI::Option* max_depth = cmd->add_option("--max-depth", opt->max_depth, "No ray is spawned beyond this depth")->capture_default_str()->check(CLI::Range(0u, 65535u));
+        ->check(number_in(0.0, 1.0));
+    CLI::Option* max_depth = cmd->add_option("--max-depth", opt->max_depth, "No ray is spawned beyond this depth")->capture_default_str()->check(whole_number_in(0, 65535));
     cmd->add_flag("--no-roulette", opt->no_roulette, "Drop rays below --lw instead of Russian roulette (biased)");
     cmd->add_option("--clamp", opt->clamp, "Clamp every indirect contribution (a ray of D G S T R M, per camera sample) to at most L "
                                            "in its largest channel, keeping its hue: fewer fireflies, but biased (darker); off by default")
-        ->check(CLI::Range(1e-6, 1e30));
+        ->check(number_in(1e-6, 1e30));
     CLI::Option* ambient = cmd->add_option("--ambient", opt->ambient_text, "Ambient value av standing in for unexecuted D work "
                                                                            "(default 0), or 'auto': every unexecuted ray stands in "
                                                                            "with what its component's rays brought back on average "
                                                                            "(the default of pipelines)");
     cmd->add_option("--importance", opt->importance, "Constant importance I for '{ }' of a crex without guidance maps")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    cmd->add_option("--star-cap", opt->star_cap, "Iteration cap of '*' per entry (W401 when hit)")->capture_default_str();
+        ->check(number_in(0.0, 1.0));
+    cmd->add_option("--star-cap", opt->star_cap, "Iteration cap of '*' per entry (W401 when hit)")
+        ->capture_default_str()
+        ->check(whole_number_in(1, 4294967295.0));
     cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
         ->allow_extra_args(false);
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
@@ -177,7 +184,7 @@ Runner add_run_command(CLI::App& app) {
                                                          "is aborted naming it; rank 0 first writes the rows it finished to "
                                                          "NAME.partial.EXT beside each -o (--resume finishes them)")
         ->capture_default_str()
-        ->check(CLI::Range(0.1, 1e6));
+        ->check(number_in(0.1, 1e6));
     cmd->add_option("--resume", opt->resume, "Finish a run that failed under mpirun: NAME.partial.exr (the rows rank 0 finished) "
                                              "with the same inputs and options; only the other rows are rendered and -o gets the "
                                              "whole image (one process; not with a cache, a budget or subsample)")
@@ -200,27 +207,27 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--checkpoint-interval", opt->checkpoint_interval, "Seconds between checkpoints within long steps (also at "
                                                                        "every step and stage boundary)")
         ->capture_default_str()
-        ->check(CLI::Range(1e-4, 1e6));
+        ->check(number_in(1e-4, 1e6));
     cmd->add_option("--filter", opt->filter, "Pixel filter: box, or gaussian (sigma 0.5 px, radius 1.5, by filter importance sampling)")
         ->capture_default_str()
         ->check(CLI::IsMember({"box", "gaussian"}));
     cmd->add_flag("--ic", opt->ic, "Indirect diffuse (D) through a Ward irradiance cache instead of path tracing");
     CLI::Option* aa = cmd->add_option("--aa", opt->aa, "Irradiance cache accuracy (smaller is finer; a pipeline's ic_radius varies it per pixel)")
         ->capture_default_str()
-        ->check(CLI::Range(1e-3, 1.0));
+        ->check(number_in(1e-3, 1.0));
     CLI::Option* ad = cmd->add_option("--ad", opt->ad, "Hemisphere rays per irradiance record (later bounces use ad/2^k, at least 16)")
         ->capture_default_str()
-        ->check(CLI::Range(1u, 65536u));
-    CLI::Option* ab = cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(CLI::Range(1u, 64u));
+        ->check(whole_number_in(1, 65536));
+    CLI::Option* ab = cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(whole_number_in(1, 64));
     cmd->add_option("--ar", opt->ar, "Irradiance cache resolution (RADIANCE -ar): records no closer than the scene's extent / ar; "
                                      "0 for no cap")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 1e6));
+        ->check(number_in(0.0, 1e6));
     cmd->add_option("--caustic-photons", opt->caustic_photons,
                     "Photons aimed at mirrors, glass and dielectrics for the cache's caustics (0: the records' hemisphere rays "
                     "find them, noisily)")
         ->capture_default_str()
-        ->check(CLI::Range(0u, 20000000u));
+        ->check(whole_number_in(0, 20000000));
     cmd->add_option("--ic-file", opt->ic_file, "Load the irradiance cache from FILE if it exists, save it there after the render (implies --ic)");
     cmd->add_option("--uniform", opt->uniform, "Every selective variable of a pipeline at its base (min) or its maximum (max) in "
                                                "every pixel, guidance skipped: max is the pipeline's own gold")
@@ -228,14 +235,14 @@ Runner add_run_command(CLI::App& app) {
         ->check(CLI::IsMember({"off", "min", "max"}));
     cmd->add_option("--rounds", opt->rounds, "Rounds of guidance and selective rendering (the cyclic process): each round "
                                              "recomputes the maps on the image so far (default: the pipeline's, else 1)")
-        ->check(CLI::Range(1u, 1024u));
+        ->check(whole_number_in(1, 1024));
     cmd->add_option("--max-memory", opt->max_memory_mib, "Memory the render's sample passes are sized for, in MiB: camera samples "
                                                          "go in passes (or bands of rows) that fit")
         ->capture_default_str()
-        ->check(CLI::Range(64.0, 1048576.0));
+        ->check(number_in(64.0, 1048576.0));
     cmd->add_option("--pass-samples", opt->pass_samples, "At most this many samples per pixel in one pass (default: as many as "
                                                          "--max-memory allows)")
-        ->check(CLI::Range(1u, 1u << 20));
+        ->check(whole_number_in(1, 1 << 20));
     cmd->add_option("--maps", opt->maps_dir, "Write every guidance map, the preview and per-pixel pictures (samples, rays, "
                                              "components) to DIR (default with 'output { maps true }': beside the image)");
     cmd->footer(R"(

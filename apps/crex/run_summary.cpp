@@ -18,6 +18,28 @@ nlohmann::json curve_json(const std::vector<CurvePoint>& curve) {
     return cj;
 }
 
+std::vector<std::string> light_left_out_warnings(const RunResult& r, const ShadeParams& shade, const IcSettings* ic,
+                                                 const LimitOrigins& origins) {
+    std::vector<std::string> out;
+    auto say = [&](double share, const std::string& origin, const std::string& what, const std::string& fix) {
+        if (!(share > kLightLeftOutWarning)) return;
+        out.push_back(fmt::format("{}: warning[W404]: {} left out about {:.3g} % of the image's light (estimated; more than {:g} %): "
+                                  "the image is darker than the scene; {}",
+                                  origin.empty() ? "crex run" : origin, what, 100 * share, 100 * kLightLeftOutWarning, fix));
+    };
+    say(r.light_cut_by_depth, origins.max_depth, fmt::format("paths ended at max-depth {}", shade.max_depth),
+        shade.max_depth < 65535 ? fmt::format("raise --max-depth (e.g. --max-depth {}; at most 65535)", std::min<uint32_t>(65535, shade.max_depth * 4 + 4))
+                                : std::string("the scene traps light beyond what any depth limit renders"));
+    say(r.light_cut_by_weight, origins.lw, fmt::format("rays dropped below lw {:g} without Russian roulette", shade.weight_limit),
+        "leave out --no-roulette (roulette keeps the image unbiased) or lower --lw");
+    if (ic)
+        say(r.light_cut_by_cache, origins.ab, fmt::format("the irradiance cache's {} ambient bounces", ic->bounces),
+            ic->bounces < 64 ? fmt::format("raise --ab (e.g. --ab {}; at most 64), or give --ambient a value for the rest",
+                                           std::min<uint32_t>(64, ic->bounces * 2))
+                             : std::string("give --ambient a value for the rest"));
+    return out;
+}
+
 nlohmann::json run_summary_json(const RunFacts& f) {
     const RunResult& r = *f.result;
     const ExecutorStats& st = r.stats;
@@ -41,6 +63,8 @@ nlohmann::json run_summary_json(const RunFacts& f) {
     }
     j["components"] = comps;
     j["warnings"] = r.warnings;
+    // Estimated shares of the image's light the limits left out (run_plan.h).
+    j["light_left_out"] = {{"max_depth", r.light_cut_by_depth}, {"lw", r.light_cut_by_weight}, {"ab", r.light_cut_by_cache}};
     j["passes"] = r.passes;
     if (f.piped) {
         j["pipeline"] = f.plan->name;

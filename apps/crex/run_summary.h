@@ -48,6 +48,16 @@ std::vector<std::pair<std::string, double>> profile_errors(const Profile& predic
 nlohmann::json run_summary_json(const RunFacts& f);
 void print_run_summary(const RunFacts& f, std::ostream& out);
 
+/// W404 for each limit that left out more than kLightLeftOutWarning of the image's light
+/// (RunResult::light_cut_by_*): where the limit was set (the pipeline's line, else the
+/// command line) and which flag raises it.
+inline constexpr double kLightLeftOutWarning = 0.01;
+struct LimitOrigins {
+    std::string max_depth, lw, ab;  ///< "file:line:col" of a pipeline's setting; "" for a flag or default
+};
+std::vector<std::string> light_left_out_warnings(const RunResult& r, const ShadeParams& shade, const IcSettings* ic,
+                                                 const LimitOrigins& origins);
+
 /// The error curve's entries for the JSON summary.
 nlohmann::json curve_json(const std::vector<CurvePoint>& curve);
 

@@ -146,6 +146,7 @@ private:
 
     void setup_cache();
     void save_cache();
+    void measure_light_left_out();
     // A batch of D queries answered here, or as RunSettings::answer_ic_queries says.
     IcAnswerFn answer_queries() {
         return [this](const std::vector<IcQuery>& q, std::vector<Vec3>& e) {
@@ -1000,7 +1001,26 @@ RunResult PlanRun::execute() {
         if (said.insert(w).second) out_.warnings.push_back(w);
     out_.render_seconds = clock_();
     if (cache_) save_cache();
+    measure_light_left_out();
     return std::move(out_);
+}
+
+void PlanRun::measure_light_left_out() {
+    const ExecutorStats& st = out_.stats;
+    const double samples = static_cast<double>(st.camera.rays);
+    if (samples > 0) {
+        const double depth = st.cut_by_depth / samples, weight = st.cut_by_weight / samples;
+        out_.light_cut_by_depth = depth / (1 + depth);
+        out_.light_cut_by_weight = weight / (1 + weight);
+    }
+    if (!cache_ || max_component(s_.irradiance_cache->ambient) > 0 ||
+        out_.ic_stats.albedo_rays.size() != s_.irradiance_cache->bounces)
+        return;
+    const double past = out_.ic_stats.throughput_past_last_bounce();
+    double image = 0, d = 0;
+    for (const float v : out_.image()) image += v;
+    for (const float v : out_.aov_image(aov_of(Component::kD))) d += v;
+    if (image + past * d > 0) out_.light_cut_by_cache = past * d / (image + past * d);
 }
 
 }  // namespace

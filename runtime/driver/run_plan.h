@@ -163,6 +163,14 @@ struct RunResult {
     uint64_t budget_stopped_samples = 0;  ///< camera samples the budget left out
     size_t bytes_per_sample = 0;   ///< what the passes after the first were sized by (0: one pass)
     pipeline::SchedulingPolicy policy = pipeline::SchedulingPolicy::kTasks;  ///< the one used under a budget
+    /// The share of the image's light the limits left out, estimated (0..1; issue 37): paths
+    /// ended by max_depth, paths dropped below lw without roulette, and the cache's bounces past
+    /// its last (when no --ambient stands in). A path cut with throughput t is taken to have
+    /// lost t times what a camera sample brings (so the share is T / (1 + T), T the cut
+    /// throughput per camera sample); the cache's lost light is its D light times the product
+    /// of its levels' mean albedos. Both assume the light beyond the cut is like the light
+    /// before it, which in a closed room of high albedo makes them a lower bound.
+    double light_cut_by_depth = 0, light_cut_by_weight = 0, light_cut_by_cache = 0;
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
     IcStats ic_stats;
     size_t ic_loaded = 0;          ///< records read from `ic_file`

@@ -85,6 +85,8 @@ void Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Compo
         out.append_children_to(sink);
         stats.rays += end - begin;
         stats.shadow_rays += out.shadow_rays;
+        stats_.cut_by_depth += out.cut_by_depth;
+        stats_.cut_by_weight += out.cut_by_weight;
         rays_done_ += end - begin;
         if (options_.progress) options_.progress(label, rays_done_);
         if (options_.checkpoint) options_.checkpoint(label, false);

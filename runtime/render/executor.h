@@ -69,6 +69,10 @@ struct QueueChoice {
 struct ExecutorStats {
     std::array<ComponentStats, kComponentCount> components{};
     ComponentStats camera;
+    /// Light left out by the path limits: the luminance of the throughput of the children not
+    /// spawned past max_depth, and below lw without roulette, summed over every ray traced
+    /// (ShadeParams). Per camera ray it estimates the share of the image lost (run_plan.h).
+    double cut_by_depth = 0, cut_by_weight = 0;
     std::vector<StepRecord> steps;
     std::vector<SkippedTask> skipped;
     std::vector<QueueChoice> queue_choices;

@@ -19,10 +19,16 @@ constexpr double kMinWeightLimit = 1e-4;
 
 int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
                    const ShadeParams& params, SpawnScratch& scratch) {
-    if (ray.depth + 1u > params.max_depth) return 0;
-    const double weight_limit = std::max(params.weight_limit, kMinWeightLimit);
     const std::array<Lobe, kMaxLobes>& lobes = scratch.lobes;
     int n = scatter(b, f, random, scratch.lobes);
+    if (ray.depth + 1u > params.max_depth) {  // what the children would have carried is left out
+        for (int l = 0; l < n; ++l) {
+            const Vec3 beta = ray.beta * lobes[static_cast<size_t>(l)].weight;
+            if (is_finite(beta)) scratch.cut_by_depth += luminance(beta);
+        }
+        return 0;
+    }
+    const double weight_limit = std::max(params.weight_limit, kMinWeightLimit);
     int out = 0;
     double st = params.specular_threshold_per_pixel ? (*params.specular_threshold_per_pixel)[ray.pixel] : params.specular_threshold;
     for (int l = 0; l < n; ++l) {
@@ -34,7 +40,10 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         double mx = max_component(beta);
         if (!(mx > 0) || !is_finite(beta)) continue;
         if (mx < weight_limit) {
-            if (!params.roulette && mx < params.weight_limit) continue;
+            if (!params.roulette && mx < params.weight_limit) {
+                scratch.cut_by_weight += luminance(beta);
+                continue;
+            }
             double q = mx / weight_limit;  // survive with probability q, re-weighted by 1/q
             if (random(RandomUse::kRoulette, static_cast<uint32_t>(l)) >= q) continue;
             beta = beta / q;
@@ -225,6 +234,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     if (out.block_spawned.size() < blocks) out.block_spawned.resize(blocks);
     out.blocks = blocks;
     scratch.block_hits.assign(blocks, 0);
+    scratch.block_cut_by_depth.assign(blocks, 0.0);
+    scratch.block_cut_by_weight.assign(blocks, 0.0);
     scratch.block_shadow_rays.assign(blocks, 0);
     std::vector<RTCRay>& shadows = scratch.shadows;
     std::vector<Vec3>& shadow_value = scratch.shadow_value;
@@ -306,11 +317,15 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             }
             for (size_t c = 0; c < kComponentCount; ++c) children[c].append(spawned_rays[c].data(), spawned_rays[c].size());
             scratch.block_hits[block] = block_hits;
+            scratch.block_cut_by_depth[block] = spawn.cut_by_depth;
+            scratch.block_cut_by_weight[block] = spawn.cut_by_weight;
             scratch.block_shadow_rays[block] = block_shadow_rays;
         }
     });
     for (size_t block = 0; block < blocks; ++block) {
         out.hits += scratch.block_hits[block];
+        out.cut_by_depth += scratch.block_cut_by_depth[block];  // in block order: the same sum at any thread count
+        out.cut_by_weight += scratch.block_cut_by_weight[block];
         out.shadow_rays += scratch.block_shadow_rays[block];
     }
 

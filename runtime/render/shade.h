@@ -59,6 +59,7 @@ struct ShadeScratch {
     std::vector<RTCRay> shadows;
     std::vector<Vec3> shadow_value;
     std::vector<uint32_t> block_hits, block_shadow_rays;  ///< per block, summed in block order
+    std::vector<double> block_cut_by_depth, block_cut_by_weight;  ///< per block, as the SpawnScratch of each
 };
 
 struct ShadeOutput {
@@ -71,6 +72,8 @@ struct ShadeOutput {
     size_t blocks = 0;  ///< blocks used by the last chunk
     uint64_t shadow_rays = 0;
     uint64_t hits = 0;
+    /// Luminance of the throughput of the children the limits did not spawn (SpawnScratch).
+    double cut_by_depth = 0, cut_by_weight = 0;
     ShadeScratch scratch;
 
     /// Ready for the next chunk, keeping every buffer's memory.
@@ -81,6 +84,7 @@ struct ShadeOutput {
             for (auto& c : block) c.reset();
         blocks = 0;
         shadow_rays = hits = 0;
+        cut_by_depth = cut_by_weight = 0;
     }
     /// Appends the spawned rays to `bins`, in input ray order per component (each array of
     /// each bin is one task: a serial copy was 10 % of a 2-thread render).
@@ -149,6 +153,10 @@ struct SpawnScratch {
     std::array<Lobe, kMaxLobes> lobes;
     std::array<RayRecord, kMaxLobes> children;
     std::array<Component, kMaxLobes> components;
+    /// Light a truncated path leaves out, as the luminance of the throughput of the children
+    /// not spawned, summed over the hits shaded with this scratch: past max_depth, and below
+    /// lw without roulette (roulette's ends are unbiased: the survivors carry their weight).
+    double cut_by_depth = 0, cut_by_weight = 0;
 };
 
 /// Spawns the children of one hit into `out.children` (at most kMaxLobes); returns how many,
