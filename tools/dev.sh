@@ -76,9 +76,10 @@ run_fuzz() {
   log "configure + build (libFuzzer, clang-14)"
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
-  local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer view_fuzzer obj_fuzzer profile_fuzzer)
+  local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer view_fuzzer obj_fuzzer profile_fuzzer
+                 profile_numbers_fuzzer ic_records_fuzzer)
   cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile}
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
   for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad; do
@@ -93,7 +94,18 @@ run_fuzz() {
       build/release/apps/crex/crex run --size "$size" --spp 1 --ad 16 --ab 1 --caustic-photons 0 -q -o build/fuzz/corpus/seed.exr \
           --ic-file "build/fuzz/corpus/ic/seed_$size"
     done
-    rm -f build/fuzz/corpus/seed.exr
+    # The records of a cache with ic_records_fuzzer's settings (--ad 16 --ab 2), behind its
+    # one leading byte: the CBOR byte string after "records".
+    build/release/apps/crex/crex run --size 4x4 --spp 1 --ad 16 --ab 2 --caustic-photons 0 -q -o build/fuzz/corpus/seed.exr \
+        --ic-file build/fuzz/corpus/seed.ic
+    python3 - build/fuzz/corpus/seed.ic build/fuzz/corpus/ic_records/seed_4x4 <<'PY'
+import struct, sys
+d = open(sys.argv[1], 'rb').read()
+i = d.find(b'records') + 7
+n, start = (struct.unpack('>H', d[i+1:i+3])[0], i + 3) if d[i] == 0x59 else (struct.unpack('>I', d[i+1:i+5])[0], i + 5)
+open(sys.argv[2], 'wb').write(b'\0' + d[start:start + min(n, 120 * 8)])
+PY
+    rm -f build/fuzz/corpus/seed.exr build/fuzz/corpus/seed.ic
   fi
   cp examples/scenes/cornell/scene.vf build/fuzz/corpus/view/
   printf 'rpict -vtv -vp 1 2 3 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45 -vs 0 -vl 0\n' > build/fuzz/corpus/view/seed_options
@@ -101,10 +113,13 @@ run_fuzz() {
     > build/fuzz/corpus/obj/seed_triangles
   printf '{"format": "crex-profile", "version": 1, "full_render_seconds": 1.33, "seconds_per_ray": {"D": 3.5e-06, "T": 2.7e-06, "camera": 4.1e-07}}\n' \
     > build/fuzz/corpus/profile/seed_profile
+  head -c 96 /dev/urandom > build/fuzz/corpus/profile_numbers/seed_random
   local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan
-                   [ic_file_fuzzer]=ic [view_fuzzer]=view [obj_fuzzer]=obj [profile_fuzzer]=profile)
+                   [ic_file_fuzzer]=ic [view_fuzzer]=view [obj_fuzzer]=obj [profile_fuzzer]=profile
+                   [profile_numbers_fuzzer]=profile_numbers [ic_records_fuzzer]=ic_records)
   local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384
-                    [ic_file_fuzzer]=65536 [view_fuzzer]=512 [obj_fuzzer]=4096 [profile_fuzzer]=2048)
+                    [ic_file_fuzzer]=65536 [view_fuzzer]=512 [obj_fuzzer]=4096 [profile_fuzzer]=2048
+                    [profile_numbers_fuzzer]=256 [ic_records_fuzzer]=4096)
   # Every target runs even when one finds a crash (its input is written as crash-*); the
   # script fails at the end if any did.
   local failed=()
