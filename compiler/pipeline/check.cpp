@@ -118,7 +118,10 @@ private:
         static thread_local std::set<std::string> checking;
         auto it = checked.find(name);
         if (it == checked.end()) {
-            if (!checking.insert(name).second) return;
+            // Each file checks the files of its own bases: a chain of thousands of files in
+            // $CREX_STDLIB would recurse as deep. Past 64 the deeper files are resolved (E210
+            // for a cycle or an unknown base) but not checked.
+            if (checking.size() >= 64 || !checking.insert(name).second) return;
             DiagnosticSink sink;
             if (const ast::File* file = stdlib_file(name, sink)) Checker(sink).file(*file);
             std::vector<Diagnostic> errors;
