@@ -72,7 +72,8 @@ void face_index(const SourceFile& file, const Word& corner, std::string_view par
         sink.report("E306", at, fmt::format("face: {} index 0 names nothing (OBJ counts from 1, or back from -1)", kind));
         return;
     }
-    if (i > 0 ? static_cast<unsigned long long>(i) > total : static_cast<unsigned long long>(-i) > defined)
+    // -(i + 1) + 1: -i without overflow at the most negative long long.
+    if (i > 0 ? static_cast<unsigned long long>(i) > total : static_cast<unsigned long long>(-(i + 1)) + 1 > defined)
         sink.report("E303", at,
                     i > 0 ? fmt::format("face: {} index {} names no {}: the file has {}", kind, i, kind, total)
                           : fmt::format("face: {} index {} names no {}: {} are defined above this line", kind, i, kind, defined));
