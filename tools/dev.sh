@@ -82,9 +82,11 @@ run_fuzz() {
   rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
-  for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad; do
+  for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad tests/fuzz/radiance_seed.rad; do
     [ -f "$f" ] && cp "$f" "build/fuzz/corpus/scene/$(echo "$f" | tr '/' '_')"
   done
+  printf 'materials = basic.mat\nscene = room.rad "!xform -n a -a 3 -t 1 0 0 chair.rad"\nview = def -vf inside.vf -vh 60\n' \
+    > build/fuzz/corpus/scene/seed_project.rif
   for f in stdlib/pipelines/*.pipe examples/pipelines/*.pipe; do cp "$f" "build/fuzz/corpus/pipeline/$(echo "$f" | tr '/' '_')"; done
   for f in tests/golden/plans/*.plan.json; do cp "$f" build/fuzz/corpus/plan/; done
   # Irradiance cache seeds with the fuzzer's settings (--ad 16 --ab 1, no caustic map), when a
@@ -126,7 +128,9 @@ PY
   mkdir -p build/fuzz/artifacts
   for t in "${targets[@]}"; do
     log "fuzzing ${t} for ${seconds}s"
-    build/fuzz/tests/fuzz/"$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len="${max_len[$t]}" \
+    local dict=()
+    [ "$t" = scene_load_fuzzer ] && dict=(-dict=tests/fuzz/radiance.dict)
+    build/fuzz/tests/fuzz/"$t" "${dict[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len="${max_len[$t]}" \
         -artifact_prefix="build/fuzz/artifacts/${t}-" -print_final_stats=1 "build/fuzz/corpus/${corpus[$t]}" || failed+=("$t")
   done
   if ((${#failed[@]})); then

@@ -52,15 +52,24 @@ void print_text(const Scene& scene, const Census& c, const Stats& st) {
                              st.triangles, st.spheres);
     std::cout << fmt::format("  bounds     {} .. {}\n", vec_text(st.lo), vec_text(st.hi));
     const Camera& cam = scene.camera;
-    std::cout << fmt::format("  camera     at {} looking {} up {}, vfov {:g} deg{}\n", vec_text(cam.position),
-                             vec_text(cam.direction), vec_text(cam.up), cam.vfov_deg,
-                             cam.hfov_deg > 0 ? fmt::format(", hfov {:g} deg", cam.hfov_deg) : "");
-    std::cout << fmt::format("  emitters   {} sampled (light), {} unsampled (glow or emission)\n", c.sampled_emitters,
-                             c.unsampled_emitters);
+    const bool parallel = cam.projection == Projection::kParallel;
+    std::cout << fmt::format("  camera     {} at {} looking {} up {}, {} {:g}{}{}\n", projection_name(cam.projection), vec_text(cam.position),
+                             vec_text(cam.direction), vec_text(cam.up), parallel ? "height" : "vfov", cam.vfov_deg, parallel ? "" : " deg",
+                             cam.hfov_deg > 0 ? fmt::format(", {} {:g}{}", parallel ? "width" : "hfov", cam.hfov_deg, parallel ? "" : " deg") : "");
+    if (!scene.distant_lights.empty()) {
+        std::string names;
+        for (const auto& l : scene.distant_lights)
+            names += fmt::format("{}{} ({:g} deg{})", names.empty() ? "" : ", ", l.name.empty() ? l.material : l.name, l.angle_deg,
+                                 l.sky ? fmt::format(", {} sky", sky_type_name(l.sky->type)) : "");
+        std::cout << fmt::format("  distant    {}\n", names);
+    }
+    std::cout << fmt::format("  emitters   {} sampled (light, illum, glow with a radius, distant), {} unsampled (other glow "
+                             "or emission)\n", c.sampled_emitters, c.unsampled_emitters);
     if (c.has_medium) std::cout << "  medium     homogeneous single-scatter\n";
     if (!c.tags.empty()) {
         std::string tags;
-        for (const auto& t : c.tags) tags += (tags.empty() ? "" : ", ") + t;
+        for (size_t i = 0; i < c.tags.size(); ++i)
+            tags += fmt::format("{}{} ({} surface{})", tags.empty() ? "" : ", ", c.tags[i], c.tag_surfaces[i], c.tag_surfaces[i] == 1 ? "" : "s");
         std::cout << fmt::format("  tagged     {}\n", tags);
     }
     std::cout << "\nmaterials in use (component split):\n";

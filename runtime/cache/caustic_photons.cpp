@@ -178,7 +178,9 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
             double u, v;
             rnd.pair(RandomUse::kLight, u, v);
             LightSample ls = scene.lights->sample(rnd(RandomUse::kLightPick), u, v);
-            if (!(ls.pdf_area > 0)) return;
+            // Photons leave local `light` and `illum` emitters (not distant sources, nor glows,
+            // whose light is direct lighting's near them and the rays' beyond).
+            if (!(ls.pdf_area > 0) || (ls.limits && std::isfinite(ls.limits->max_distance))) return;
             std::array<Cone, 64> cones;
             double total = 0;
             for (size_t k = 0; k < targets.size(); ++k) total += (cones[k] = cone_to(ls.position, targets[k])).solid_angle;
@@ -196,6 +198,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
             Vec3 w = t1 * (sin_t * std::cos(phi)) + t2 * (sin_t * std::sin(phi)) + axis * cos_t;
             double cos_light = dot(w, ls.normal);
             if (!(cos_light > 0)) return;  // emitters light their front side only
+            if (ls.limits && ls.limits->spot_cos >= -1 && dot(w, ls.limits->spot_axis) < ls.limits->spot_cos) return;  // outside the cone
             int holding = 0;
             for (size_t k = 0; k < targets.size(); ++k) holding += cones[k].cos_half <= -1 || dot(w, cones[k].axis) >= cones[k].cos_half;
             double pdf_w = std::max(holding, 1) / total;

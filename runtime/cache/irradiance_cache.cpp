@@ -324,7 +324,10 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         const Vec3 beta = scene_.medium ? throughput[i] * scene_.medium->transmittance(h.ray.tfar) : throughput[i];
         if (!(max_component(beta) > 0) || is_delta(h)) return;  // absorbed, or still inside glass
         if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-            radiance[i] = beta * scene_.scene.background;
+            // Distant sources are direct lighting's, unless the ray came through glass or a mirror.
+            Vec3 seen = scene_.scene.background;
+            if (passed[i]) seen += scene_.lights->distant().escaped(normalize_or_zero(last_dir[i]));
+            radiance[i] = beta * seen;
             return;
         }
         double dist = h.ray.tfar;

@@ -27,12 +27,14 @@ PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mir
     probe.normal.assign(n, Vec3{});
     CameraRays camera(scene.scene.camera, width, height, scene.embree->origin_offset());
     std::vector<Vec3> origin(n), dir(n);
+    std::vector<size_t> active;
+    active.reserve(n);
     for (size_t p = 0; p < n; ++p) {
-        camera.generate(static_cast<double>(p % static_cast<size_t>(width)) + 0.5, static_cast<double>(p / static_cast<size_t>(width)) + 0.5,
-                        origin[p], dir[p]);
+        // A pixel outside a fisheye's circle sees nothing.
+        if (camera.generate(static_cast<double>(p % static_cast<size_t>(width)) + 0.5,
+                            static_cast<double>(p / static_cast<size_t>(width)) + 0.5, origin[p], dir[p]))
+            active.push_back(p);
     }
-    std::vector<size_t> active(n);
-    for (size_t p = 0; p < n; ++p) active[p] = p;
     for (int bounce = 0; bounce <= mirror_bounces && !active.empty(); ++bounce) {
         std::vector<RTCRayHit> batch(active.size());
         for (size_t i = 0; i < active.size(); ++i) batch[i] = make_ray(origin[active[i]], dir[active[i]], static_cast<unsigned>(i));

@@ -7,15 +7,22 @@
 /// Lobes, with c = colour, s = specularity, t = transmissivity, ts = transmitted specularity:
 ///   plastic, metal, trans  D  diffuse reflection      c(1-s)(1-t)           cosine sampled
 ///                          G  rough specular          ks = s (plastic) or c s (metal, trans: s)
-///                             (normalised Phong lobe, exponent 2/r^2 - 2, sampled exactly)
+///                             (normalised Phong lobe, exponent 2/r^2 - 2, sampled exactly;
+///                             with an anisotropy, RADIANCE's anisotropic Ward lobe, its
+///                             half vector sampled exactly: weight ks cos_o / (o.h cos_h))
 ///                          S  ideal specular          ks
 ///   trans                  D  diffuse transmission    c(1-s) t (1-ts)
 ///                          T  specular transmission   c(1-s) t ts            undeviated
 ///   glass, dielectric      R  Fresnel reflection      F;  T refraction (1-F) c; total internal
-///                             reflection spawns R only, weight 1
+///                             reflection spawns R only, weight 1 (a dielectric with an outside
+///                             medium: the indices' ratio, and T coloured by the medium entered)
 ///   mirror                 M  c
-/// Emission: `light` only on camera rays and rays from delta lobes, `glow` on every ray within
-/// its radius, both from the front side only; a material's `emission` on every ray, both sides.
+/// Emission, from the front side only: `light` (within its spotlight cone) on camera rays and
+/// rays from delta lobes (direct lighting samples it for the rest); `glow` with radius 0 on
+/// every ray, with a positive radius on camera and delta rays and on others that travelled
+/// farther than the radius (nearer, direct lighting samples it), with a negative one on camera
+/// and delta rays only. A material's `emission` on every ray, both sides. An `illum` surface
+/// never shows itself: rays see its alternate material.
 #pragma once
 
 #include <array>
@@ -56,6 +63,9 @@ struct Bsdf {
     Vec3 diffuse_transmit;   ///< D transmission (trans)
     Vec3 specular_transmit;  ///< T (trans)
     double exponent = 0;     ///< Phong exponent of G (roughness > 0)
+    bool anisotropic = false;  ///< G is an anisotropic Ward lobe
+    double alpha_u = 0, alpha_v = 0;  ///< its roughness along and across `orientation`
+    Vec3 orientation;        ///< world direction of u (projected onto the surface at a hit)
     bool glossy = false;     ///< a G lobe (specular, rough)
     bool mirror_like = false;  ///< an S lobe (specular, smooth)
     bool direct_response = false;  ///< a lobe that direct lighting can reach

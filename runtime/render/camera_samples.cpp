@@ -53,8 +53,10 @@ RayRecord camera_ray(const CameraRays& camera, uint64_t seed, int width, uint32_
     double u, v;
     camera_sample_offset(seed, pixel, sample, u, v, filter);
     RayRecord r;
-    camera.generate(x + u, y + v, r.origin, r.direction);
-    r.beta = {1, 1, 1};
+    // Outside a fisheye's circle there is no ray: a weightless one along the view keeps the
+    // sample (and its pixel's count) while adding no light.
+    const bool valid = camera.generate(x + u, y + v, r.origin, r.direction);
+    r.beta = valid ? Vec3{1, 1, 1} : Vec3{};
     r.pixel = pixel;
     r.path = camera_path_id(seed, pixel, sample);
     r.flags = (sample & 1) ? kRayOddSample : 0;

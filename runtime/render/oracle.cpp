@@ -31,7 +31,11 @@ struct Oracle {
         r.origin = {h.ray.org_x, h.ray.org_y, h.ray.org_z};
         r.direction = {h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
         r.beta = {static_cast<float>(ray.beta.x), static_cast<float>(ray.beta.y), static_cast<float>(ray.beta.z)};
-        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return r.beta * scene.scene.background;
+        if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+            Vec3 seen = scene.scene.background;
+            if (camera || (r.flags & kRayFromDeltaLobe)) seen += scene.lights->distant().escaped(normalize_or_zero(r.direction));
+            return r.beta * seen;
+        }
         Vec3 dir = normalize_or_zero(r.direction);
         double t = h.ray.tfar;
         HitFrame f = hit_frame(*scene.embree, h.hit, r.origin + r.direction * t, dir, t);
@@ -79,7 +83,7 @@ std::vector<float> render_oracle(const Scene& scene, const OracleOptions& option
             double u, v;
             camera_sample_offset(options.seed, static_cast<uint32_t>(p), k, u, v);
             RayRecord r;
-            camera.generate(x + u, y + v, r.origin, r.direction);
+            if (!camera.generate(x + u, y + v, r.origin, r.direction)) continue;  // outside a fisheye's circle: black
             r.beta = {1, 1, 1};
             r.pixel = static_cast<uint32_t>(p);
             r.path = camera_path_id(options.seed, static_cast<uint32_t>(p), k);

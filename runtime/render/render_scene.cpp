@@ -4,13 +4,115 @@
 #include <cmath>
 
 #include "runtime/base/sampling.h"
+#include "runtime/scene/material.h"
+#include "runtime/scene/sky_model.h"
 
 namespace crex {
+namespace {
 
-LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
-    for (const auto& g : embree.geometries()) {
-        const Material& m = scene.materials[g.material];
-        if (m.type != MaterialType::kLight || max_component(m.color) <= 0) continue;
+// A sky's brightness table: cells of equal solid angle, fine enough for the circumsolar peak
+// of a clear sky (a few degrees wide) to get its share of the samples.
+constexpr int kSkyCellsZ = 64, kSkyCellsPhi = 128;
+
+}  // namespace
+
+// ---- distant sources ----------------------------------------------------------------------
+
+DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius) {
+    scene_area_ = kPi * std::fmax(scene_radius * scene_radius, 1e-12);
+    for (const DistantLight& l : scene.distant_lights) {
+        const Material* m = scene.find_material(l.material);
+        if (!m || !(max_component(m->color) > 0)) continue;
+        // A glow source with a negative radius never lights the scene: camera and specular
+        // rays see it (escaped()), direct lighting does not sample it.
+        Source s;
+        s.axis = normalize_or_zero(l.direction);
+        orthonormal_basis(s.axis, s.t, s.b);
+        s.cos_max = std::cos(std::clamp(l.angle_deg, 0.0, 360.0) * kPi / 360.0);
+        s.color = m->color;
+        s.sky = l.sky;
+        const double solid_angle = 2 * kPi * (1 - s.cos_max);
+        double mean = 1;  // mean brightness of the pattern over the cone
+        if (s.sky) {
+            s.cells_z = kSkyCellsZ, s.cells_phi = kSkyCellsPhi;
+            s.cdf.reserve(static_cast<size_t>(s.cells_z * s.cells_phi));
+            double acc = 0;
+            for (int i = 0; i < s.cells_z; ++i)
+                for (int j = 0; j < s.cells_phi; ++j) {
+                    const double z = s.cos_max + (1 - s.cos_max) * (i + 0.5) / s.cells_z;
+                    const double r = std::sqrt(std::fmax(0.0, 1 - z * z)), phi = 2 * kPi * (j + 0.5) / s.cells_phi;
+                    const Vec3 d = s.axis * z + s.t * (r * std::cos(phi)) + s.b * (r * std::sin(phi));
+                    acc += std::fmax(sky_brightness(*s.sky, d), 0.0);
+                    s.cdf.push_back(acc);
+                }
+            mean = acc / static_cast<double>(s.cdf.size());
+            if (acc > 0)
+                for (double& c : s.cdf) c /= acc;
+            else
+                s.cdf.clear();  // a black sky: sample the cone uniformly
+        }
+        s.weight = std::fmax(luminance(s.color) * mean, 1e-12) * solid_angle;
+        if (m->type == MaterialType::kGlow && m->glow_radius < 0) s.weight = 0;
+        sources_.push_back(std::move(s));
+    }
+}
+
+Vec3 DistantEmitters::radiance_of(const Source& s, const Vec3& d) const {
+    return s.sky ? s.color * std::fmax(sky_brightness(*s.sky, d), 0.0) : s.color;
+}
+
+void DistantEmitters::sample(size_t i, double u, double v, Vec3& direction, Vec3& radiance, double& pdf) const {
+    const Source& s = sources_[i];
+    const double band = 1 - s.cos_max;  // solid angle / 2 pi
+    double z, phi, cell_pdf = 1;        // cell_pdf: the chosen cell's probability x number of cells
+    if (!s.cdf.empty()) {
+        // A cell by brightness, then uniformly within it: u picks, its remainder places.
+        const size_t n = s.cdf.size();
+        size_t k = std::min(static_cast<size_t>(std::lower_bound(s.cdf.begin(), s.cdf.end(), u) - s.cdf.begin()), n - 1);
+        const double lo = k == 0 ? 0.0 : s.cdf[k - 1], width = s.cdf[k] - lo;
+        const double w = width > 0 ? std::clamp((u - lo) / width, 0.0, 1.0) : 0.5;
+        cell_pdf = width * static_cast<double>(n);
+        const int iz = static_cast<int>(k) / s.cells_phi, ip = static_cast<int>(k) % s.cells_phi;
+        z = s.cos_max + band * (iz + w) / s.cells_z;
+        phi = 2 * kPi * (ip + v) / s.cells_phi;
+    } else {
+        z = s.cos_max + band * u;
+        phi = 2 * kPi * v;
+    }
+    z = std::min(z, 1.0);
+    const double r = std::sqrt(std::fmax(0.0, 1 - z * z));
+    direction = s.axis * z + s.t * (r * std::cos(phi)) + s.b * (r * std::sin(phi));
+    radiance = radiance_of(s, direction);
+    pdf = band > 0 ? cell_pdf / (2 * kPi * band) : 0;
+}
+
+Vec3 DistantEmitters::escaped(const Vec3& d) const {
+    Vec3 sum;
+    for (const Source& s : sources_)
+        if (dot(d, s.axis) >= s.cos_max) sum += radiance_of(s, d);
+    return sum;
+}
+
+// ---- the light sampler ---------------------------------------------------------------------
+
+LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree)
+    : distant_(scene, 0.5 * length(embree.bounds_max() - embree.bounds_min())) {
+    auto limits_of = [&](const Material& m) -> const EmitterLimits* {
+        EmitterLimits l;
+        if (m.spot) {
+            l.spot_cos = std::cos(std::clamp(m.spot->angle_deg, 0.0, 360.0) * kPi / 360.0);
+            l.spot_axis = normalize_or_zero(m.spot->direction);
+            l.focal = length(m.spot->direction);
+        }
+        if (m.type == MaterialType::kGlow) l.max_distance = m.glow_radius;
+        if (!l.limited()) return nullptr;
+        limits_.push_back(std::make_unique<EmitterLimits>(l));
+        return limits_.back().get();
+    };
+    auto add_geometry = [&](const GeometryInfo& g) {
+        const Material& m = scene.materials[g.emitter];
+        if (!is_sampled_emitter(m) || max_component(m.color) <= 0) return;
+        const EmitterLimits* limits = limits_of(m);
         if (g.sphere) {
             Entry e;
             e.sphere = true;
@@ -18,8 +120,10 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
             e.b = {g.radius, 0, 0};
             e.radiance = m.color;
             e.area = 4 * kPi * g.radius * g.radius;
+            e.reach = g.radius;
+            e.limits = limits;
             entries_.push_back(e);
-            continue;
+            return;
         }
         for (const auto& t : g.indices) {
             Entry e;
@@ -30,14 +134,28 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree) {
             e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
             e.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
             e.centre = (e.a + e.b + e.c) / 3.0;
+            e.reach = std::fmax(length(e.a - e.centre), std::fmax(length(e.b - e.centre), length(e.c - e.centre)));
+            e.limits = limits;
             if (e.area > 0) entries_.push_back(e);
         }
+    };
+    for (const auto& g : embree.geometries()) add_geometry(g);
+    for (const auto& g : embree.hidden_emitters()) add_geometry(g);
+    for (size_t i = 0; i < distant_.size(); ++i) {
+        if (!(distant_.weight(i) > 0)) continue;
+        Entry e;
+        e.distant = static_cast<int>(i);
+        e.area = 1;  // choices are per source; at() turns them into per-steradian pdfs
+        e.distant_weight = distant_.weight(i);
+        entries_.push_back(e);
     }
     double total = 0;
-    for (const auto& e : entries_) total += e.area * std::fmax(luminance(e.radiance), 1e-12);
+    for (auto& e : entries_) {
+        e.power = e.distant >= 0 ? distant_.power(static_cast<size_t>(e.distant)) : e.area * std::fmax(luminance(e.radiance), 1e-12);
+        total += e.power;
+    }
     double acc = 0;
     for (auto& e : entries_) {
-        e.power = e.area * std::fmax(luminance(e.radiance), 1e-12);
         double p = e.power / total;
         e.pdf_area = p / e.area;
         acc += p;
@@ -52,30 +170,91 @@ void LightSampler::sample_sphere(const Entry& e, double u, double v, LightSample
     s.position = e.a + s.normal * e.b.x;
 }
 
+// ---- the camera ----------------------------------------------------------------------------
+
+namespace {
+
+// Half of a field of view in the measure each projection spaces the image by, so that
+// square pixels mean equal ratios (RADIANCE's view aspect).
+double half_extent(Projection p, double fov_deg, bool horizontal) {
+    const double a = fov_deg * kPi / 180;
+    switch (p) {
+    case Projection::kPerspective: return std::tan(a / 2);
+    case Projection::kParallel: return fov_deg / 2;  // scene units
+    case Projection::kAngular: return a / 2;
+    case Projection::kHemispherical: return std::sin(std::fmin(a, kPi) / 2);
+    case Projection::kStereographic: return std::tan(a / 4);
+    case Projection::kCylindrical: return horizontal ? a / 2 : std::tan(a / 2);
+    }
+    return 1;
+}
+
+}  // namespace
+
 CameraRays::CameraRays(const Camera& c, int width, int height, const Vec3& origin_offset)
-    : width_(width), height_(height) {
+    : projection_(c.projection), fore_clip_(c.fore_clip), width_(width), height_(height) {
     origin_ = c.position - origin_offset;
     forward_ = normalize_or_zero(c.direction);
     right_ = normalize_or_zero(cross(forward_, c.up));
     up_ = cross(right_, forward_);
-    tan_y_ = std::tan(c.vfov_deg * kPi / 360.0);
+    ext_y_ = half_extent(projection_, c.vfov_deg, false);
     const double aspect = static_cast<double>(width) / std::max(height, 1);
-    tan_x_ = tan_y_ * aspect;
+    ext_x_ = ext_y_ * aspect;
     if (c.hfov_deg > 0) {
         // Both fields of view given: pixels stay square, as rpict keeps them, by narrowing the
         // one the image's aspect cannot hold (a 128x64 render of a 40x40 degree view shows 40
         // degrees across and 20.6 down, instead of squashing spheres into ellipses).
-        double tx = std::tan(c.hfov_deg * kPi / 360.0);
-        if (tx / tan_y_ > aspect) tan_x_ = tan_y_ * aspect;
-        else tan_x_ = tx, tan_y_ = tx / aspect;
+        double ex = half_extent(projection_, c.hfov_deg, true);
+        if (ex / ext_y_ > aspect) ext_x_ = ext_y_ * aspect;
+        else ext_x_ = ex, ext_y_ = ex / aspect;
     }
 }
 
-void CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) const {
-    double sx = (2 * px / width_ - 1) * tan_x_;
-    double sy = (1 - 2 * py / height_) * tan_y_;
+bool CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) const {
+    const double a = (2 * px / width_ - 1) * ext_x_;
+    const double b = (1 - 2 * py / height_) * ext_y_;
     origin = origin_;
-    direction = normalize_or_zero(forward_ + right_ * sx + up_ * sy);
+    switch (projection_) {
+    case Projection::kPerspective: {
+        const Vec3 d = forward_ + right_ * a + up_ * b;
+        origin = origin_ + d * fore_clip_;  // the clipping plane is square to the view
+        direction = normalize_or_zero(d);
+        return true;
+    }
+    case Projection::kParallel:
+        origin = origin_ + right_ * a + up_ * b + forward_ * fore_clip_;
+        direction = forward_;
+        return true;
+    case Projection::kAngular: {  // distance from the centre is the angle from the view direction
+        const double theta = std::sqrt(a * a + b * b);
+        if (theta > kPi) break;
+        const double s = theta > 1e-12 ? std::sin(theta) / theta : 1.0;
+        direction = forward_ * std::cos(theta) + right_ * (a * s) + up_ * (b * s);
+        origin = origin_ + direction * fore_clip_;
+        return true;
+    }
+    case Projection::kHemispherical: {  // distance is the angle's sine
+        const double z2 = 1 - a * a - b * b;
+        if (z2 < 0) break;
+        direction = normalize_or_zero(forward_ * std::sqrt(z2) + right_ * a + up_ * b);
+        origin = origin_ + direction * fore_clip_;
+        return true;
+    }
+    case Projection::kStereographic: {  // distance is the tangent of half the angle
+        const double d = a * a + b * b, z = (1 - d) / (1 + d);
+        direction = normalize_or_zero(forward_ * z + right_ * (a * (1 + z)) + up_ * (b * (1 + z)));
+        origin = origin_ + direction * fore_clip_;
+        return true;
+    }
+    case Projection::kCylindrical: {  // angle across, perspective up and down
+        const Vec3 d = forward_ * std::cos(a) + right_ * std::sin(a) + up_ * b;
+        origin = origin_ + d * fore_clip_;
+        direction = normalize_or_zero(d);
+        return true;
+    }
+    }
+    direction = forward_;
+    return false;
 }
 
 RenderScene::RenderScene(const Scene& s) : scene(s) {

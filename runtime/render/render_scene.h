@@ -16,24 +16,75 @@
 
 namespace crex {
 
+/// What limits where an emitter's light goes: a spotlight's cone (with the distance of its
+/// focus behind the emitter) and a glow's radius of influence.
+struct EmitterLimits {
+    double spot_cos = -2;  ///< cosine of the cone's half angle; below -1: no cone
+    Vec3 spot_axis;        ///< unit
+    double focal = 0;      ///< the light falls off as from this far behind the emitter
+    double max_distance = INFINITY;  ///< beyond this the emitter lights nothing (glow radius)
+    bool limited() const { return spot_cos >= -1 || std::isfinite(max_distance); }
+};
+
 struct LightSample {
     Vec3 position;  ///< local coordinates
     Vec3 normal;    ///< unit, the emitting side
     Vec3 radiance;
     double pdf_area = 0;  ///< pdf of this point, per unit area, including the choice of emitter
     bool sphere = false;  ///< on an analytic sphere (whose hit distance Embree finds less precisely)
+    const EmitterLimits* limits = nullptr;  ///< spot cone, glow radius (nullptr: none)
+    /// A distant source (the sun, a sky): a direction, not a point; pdf_area stays 0, so what
+    /// handles only local emitters ignores it.
+    bool distant = false;
+    Vec3 direction;             ///< unit, towards the source
+    double pdf_direction = 0;   ///< per unit solid angle, including the choice of emitter
 };
 
-/// Emitters of type `light` (each triangle or sphere), then a point uniformly on the chosen one.
-/// Seen from a shading point x, scenes with up to kLocalChoiceMax emitters choose by an estimate
-/// of what each brings to x: power / max(distance to its centre^2, its area), and 0 for a planar
-/// emitter x is behind (it cannot light x). Larger scenes choose by power alone.
+/// RADIANCE's distant sources (`source`): a disk of directions (the sun) or a sky dome
+/// (a glow source, possibly with a sky brightness pattern), sampled by direct lighting and
+/// seen by camera rays and rays from ideal specular lobes that escape the scene.
+class DistantEmitters {
+public:
+    DistantEmitters(const Scene& scene, double scene_radius);
+    size_t size() const { return sources_.size(); }
+    /// Irradiance-like weight of source i (radiance x solid angle) and its power entering the
+    /// scene (times the scene's cross-section), for choosing between emitters.
+    double weight(size_t i) const { return sources_[i].weight; }
+    double power(size_t i) const { return sources_[i].weight * scene_area_; }
+    /// A direction of source i for (u, v); pdf per solid angle.
+    void sample(size_t i, double u, double v, Vec3& direction, Vec3& radiance, double& pdf) const;
+    /// What an escaped ray along unit `d` sees of them all.
+    Vec3 escaped(const Vec3& d) const;
+
+private:
+    struct Source {
+        Vec3 axis, t, b;     // unit axis towards the source, and a basis around it
+        double cos_max = 1;  // cosine of the half angle
+        Vec3 color;
+        std::optional<SkyModel> sky;
+        double weight = 0;
+        // A sky: equal-solid-angle cells of (cos, phi) around the axis, chosen by brightness.
+        int cells_z = 0, cells_phi = 0;
+        std::vector<double> cdf;
+    };
+    Vec3 radiance_of(const Source& s, const Vec3& d) const;
+    std::vector<Source> sources_;
+    double scene_area_ = 1;
+};
+
+/// Emitters sampled by direct lighting: `light` and `illum` surfaces and `glow`s with a radius
+/// (each triangle or sphere), and distant sources; then a point (or direction) on the chosen
+/// one. Seen from a shading point x, scenes with up to kLocalChoiceMax emitters choose by an
+/// estimate of what each brings to x: power / max(distance to its centre^2, its area) (a
+/// distant source: radiance x solid angle), and 0 for a planar emitter x is behind (it cannot
+/// light x) or a glow x is beyond the reach of. Larger scenes choose by power alone.
 class LightSampler {
 public:
     static constexpr size_t kLocalChoiceMax = 64;
 
     LightSampler(const Scene& scene, const EmbreeScene& embree);
     bool empty() const { return entries_.empty(); }
+    const DistantEmitters& distant() const { return distant_; }
 
     /// An emitter point for shading point x; pdf_area 0 when no emitter faces x.
     LightSample sample(const Vec3& x, double u_pick, double u, double v) const {
@@ -63,15 +114,25 @@ private:
         Vec3 normal;          // triangle: unit normal
         Vec3 centre;          // triangle: centroid; sphere: centre
         bool sphere = false;
+        int distant = -1;     // >= 0: this distant source (a, b, c unused)
         Vec3 radiance;
-        double area = 0;
-        double power = 0;     // area x luminance
+        double area = 0;      // distant: solid angle
+        double reach = 0;     // distance from the centre to the farthest point of the entry
+        double power = 0;     // area x luminance (distant: as it enters the scene)
         double pdf_area = 0;  // probability of this entry by power alone / area
+        double distant_weight = 0;  // distant: radiance x solid angle, the weight at any point
+        const EmitterLimits* limits = nullptr;
     };
     static double local_weight(const Entry& e, const Vec3& x) {
+        if (e.distant >= 0) return e.distant_weight;
         if (!e.sphere && !(dot(x - e.a, e.normal) > 0)) return 0;  // behind a planar emitter
         Vec3 d = x - e.centre;
-        return e.power / std::fmax(dot(d, d), e.area);
+        const double d2 = dot(d, d);
+        if (e.limits && std::isfinite(e.limits->max_distance)) {
+            const double near = std::sqrt(d2) - e.reach;  // no point of it is within reach of x
+            if (near > e.limits->max_distance) return 0;
+        }
+        return e.power / std::fmax(d2, e.area);
     }
     /// An emitter, the probability of its area's points, and u_pick's place in its share.
     struct Choice {
@@ -112,13 +173,23 @@ private:
         return {chosen, w[chosen] / (total * entries_[chosen].area), place(target, acc - w[chosen], w[chosen])};
     }
     LightSample at(const Choice& c, double u, double v) const {
-        LightSample s = point_on(entries_[c.index], u, v);
+        const Entry& e = entries_[c.index];
+        if (e.distant >= 0) {  // pdf_area holds the choice's probability per steradian here
+            LightSample s;
+            s.distant = true;
+            double pdf = 0;
+            distant_.sample(static_cast<size_t>(e.distant), u, v, s.direction, s.radiance, pdf);
+            s.pdf_direction = pdf * c.pdf_area * e.area;
+            return s;
+        }
+        LightSample s = point_on(e, u, v);
         s.pdf_area = c.pdf_area;
         return s;
     }
     static LightSample point_on(const Entry& e, double u, double v) {
         LightSample s;
         s.radiance = e.radiance;
+        s.limits = e.limits;
         if (e.sphere) {
             s.sphere = true;
             sample_sphere(e, u, v, s);
@@ -132,20 +203,27 @@ private:
     }
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
+    std::vector<std::unique_ptr<EmitterLimits>> limits_;
+    DistantEmitters distant_;
     static void sample_sphere(const Entry& e, double u, double v, LightSample& s);  // position, normal
 };
 
-/// Pinhole camera. Pixel (0, 0) is the top-left; (x + u, y + v) for u, v in [0, 1) within it.
-/// Pixels are square: when the scene gives both fields of view, the one the image's aspect
-/// cannot hold is narrowed (rpict's rule).
+/// The camera's rays for image positions: pixel (0, 0) is the top-left; (x + u, y + v) for u, v
+/// in [0, 1) within it. Every projection of Camera (perspective, parallel, the fisheyes, the
+/// cylindrical panorama), as RADIANCE's views define them. Pixels are square: when the scene
+/// gives both fields of view, the one the image's aspect cannot hold is narrowed (rpict's rule).
 class CameraRays {
 public:
     CameraRays(const Camera& camera, int width, int height, const Vec3& origin_offset);
-    void generate(double px, double py, Vec3& origin, Vec3& direction) const;
+    /// False where the projection has no ray (outside a fisheye's circle): `direction` is then
+    /// the view direction, and the sample must carry no light.
+    bool generate(double px, double py, Vec3& origin, Vec3& direction) const;
 
 private:
     Vec3 origin_, forward_, right_, up_;
-    double tan_x_ = 1, tan_y_ = 1;
+    double ext_x_ = 1, ext_y_ = 1;  // half the image's extent, in the projection's own measure
+    Projection projection_ = Projection::kPerspective;
+    double fore_clip_ = 0;
     int width_, height_;
 };
 

@@ -83,6 +83,33 @@ HitLighting hit_lighting(const ShadeParams& params, const RayRecord& ray, bool c
             camera ? LightSampling::camera_hit(ray.path) : LightSampling{}};
 }
 
+namespace {
+
+// A direction towards a distant source (the sun, a sky): its shadow ray has no end.
+bool distant_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const LightSample& ls,
+                          uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar) {
+    if (!(ls.pdf_direction > 0)) return false;
+    const Vec3& wi = ls.direction;
+    Vec3 fr;
+    if (b.lambertian) {
+        const double c = dot(wi, f.normal);
+        if (c > 0) fr = b.diffuse * (c * kInvPi);
+    } else {
+        fr = eval_direct(b, f, wi);
+    }
+    if (!(max_component(fr) > 0)) return false;
+    value = beta * fr * ls.radiance * (1.0 / (ls.pdf_direction * n));
+    if (scene.medium) value = value * scene.medium->transmittance(INFINITY);
+    if (!is_finite(value) || !(max_component(value) > 0)) return false;
+    const double eps = scene.embree->ray_epsilon();
+    shadow_origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
+    shadow_dir = wi;
+    shadow_tfar = INFINITY;
+    return true;
+}
+
+}  // namespace
+
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
                          uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar,
                          const LightSampling& sampling) {
@@ -102,6 +129,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
         rotated_halton(j, r0, r1, u, v);
         ls = scene.lights->sample(f.position, (j + random(RandomUse::kLightPick, j)) / n, u, v);
     }
+    if (ls.distant) return distant_light_sample(scene, b, f, beta, ls, n, value, shadow_origin, shadow_dir, shadow_tfar);
     Vec3 to = ls.position - f.position;
     double d2 = dot(to, to);
     if (!(d2 > 0) || !(ls.pdf_area > 0)) return false;
@@ -109,6 +137,16 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     Vec3 wi = to / dist;
     double cos_l = -dot(ls.normal, wi);
     if (cos_l <= 0) return false;  // emitters radiate from their front side only
+    double falloff = 1;
+    if (ls.limits) {
+        if (dist > ls.limits->max_distance) return false;  // a glow beyond its reach: rays see it instead
+        if (ls.limits->spot_cos >= -1) {
+            if (-dot(wi, ls.limits->spot_axis) < ls.limits->spot_cos) return false;  // outside the spotlight's cone
+            // The light falls off as from the focus behind the emitter (RADIANCE's spotlight).
+            const double from_focus = dist + ls.limits->focal;
+            falloff = d2 / (from_focus * from_focus);
+        }
+    }
     Vec3 fr;
     if (b.lambertian) {  // the common case, inline: D reflection only
         double c = dot(wi, f.normal);
@@ -117,7 +155,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
         fr = eval_direct(b, f, wi);
     }
     if (!(max_component(fr) > 0)) return false;
-    value = beta * fr * ls.radiance * (cos_l / (d2 * ls.pdf_area * n));
+    value = beta * fr * ls.radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
     if (scene.medium) value = value * scene.medium->transmittance(dist);
     if (!is_finite(value)) return false;
     double eps = scene.embree->ray_epsilon();
@@ -275,8 +313,15 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     }
                 }
                 if (miss) {
-                    Vec3 c = beta * background * (medium ? medium->transmittance(INFINITY) : Vec3{1, 1, 1});
+                    // Camera rays and rays from delta lobes see the distant sources (the sun, a
+                    // sky); direct lighting samples them for the rest.
+                    Vec3 sources;
+                    if (camera || (rays.flags[r] & kRayFromDeltaLobe))
+                        sources = scene.lights->distant().escaped(Vec3{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z});
+                    const Vec3 through = beta * (medium ? medium->transmittance(INFINITY) : Vec3{1, 1, 1});
+                    Vec3 c = through * (background + sources);
                     out.contribution[i] = is_finite(c) ? c : Vec3{};
+                    if (camera && is_finite(through * sources)) out.emission[i] = through * sources;  // a sky seen is emission
                     continue;
                 }
                 ++block_hits;

@@ -129,7 +129,7 @@ inline HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec
     if (g.sphere) {
         Vec3 n = normalize_or_zero(point - g.center);
         if (n == Vec3{}) n = -dir;
-        f.geometric = n;
+        f.geometric = g.inward ? -n : n;       // a bubble faces its centre
         f.position = g.center + n * g.radius;  // back onto the surface: float error does not accumulate
     } else {
         // Embree's Ng (cross(v1 - v0, v2 - v0), as ours) and the ray's own point, whose error

@@ -23,24 +23,35 @@ uint64_t fnv1a(std::string_view bytes) {
 Census take_census(const Scene& scene) {
     Census c;
     std::map<std::string, MaterialUse> used;
+    std::map<std::string, size_t> tagged;
     for (const auto& shape : scene.shapes) {
         const Material* m = scene.find_material(shape.material);
         if (!m) continue;  // loaders reject unknown materials; be safe anyway
         MaterialUse& u = used[m->name];
         u.name = m->name;
         u.type = m->type;
-        u.spawns = spawned_components(*m);
+        // An illum's surface is its alternate material to every ray that can spawn others.
+        const Material* seen = shading_material(scene, *m);
+        u.spawns = seen ? spawned_components(*seen) : ComponentSet{};
         ++u.shapes;
         if (is_sampled_emitter(*m) && is_emissive(*m)) ++c.sampled_emitters;
         else if (is_emissive(*m)) ++c.unsampled_emitters;
-        if (shape.tag) c.tags.push_back(shape.tag->name);
+        if (shape.tag) ++tagged[shape.tag->name];
+    }
+    for (const auto& l : scene.distant_lights) {
+        const Material* m = scene.find_material(l.material);
+        if (!m || !is_emissive(*m)) continue;
+        if (m->type == MaterialType::kGlow && m->glow_radius < 0) ++c.unsampled_emitters;
+        else ++c.sampled_emitters;  // the sun, a sky: direct lighting samples them
+    }
+    for (const auto& [name, count] : tagged) {
+        c.tags.push_back(name);
+        c.tag_surfaces.push_back(count);
     }
     for (auto& [name, use] : used) {
         c.spawnable |= use.spawns;
         c.materials.push_back(use);
     }
-    std::sort(c.tags.begin(), c.tags.end());
-    c.tags.erase(std::unique(c.tags.begin(), c.tags.end()), c.tags.end());
     c.has_medium = scene.medium && max_component(scene.medium->extinction) > 0;
     // The hash covers what a plan depends on: reachable bins, emitter kinds, media and tags.
     std::string key = fmt::format("spawnable={};light={};glow={};medium={};tags=", c.spawnable.to_string(),
@@ -84,6 +95,9 @@ nlohmann::json to_json(const Census& c) {
     j["unsampled_emitters"] = c.unsampled_emitters;
     j["medium"] = c.has_medium;
     j["tags"] = c.tags;
+    nlohmann::json counts = nlohmann::json::object();
+    for (size_t i = 0; i < c.tags.size(); ++i) counts[c.tags[i]] = c.tag_surfaces[i];
+    j["tag_surfaces"] = counts;
     return j;
 }
 

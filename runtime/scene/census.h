@@ -27,10 +27,11 @@ struct MaterialUse {
 struct Census {
     std::vector<MaterialUse> materials;  ///< used materials, in name order
     ComponentSet spawnable;              ///< union of what used materials spawn
-    size_t sampled_emitters = 0;         ///< shapes with a `light` material
-    size_t unsampled_emitters = 0;       ///< shapes with `glow` or an `emission`
+    size_t sampled_emitters = 0;         ///< shapes and distant sources direct lighting samples
+    size_t unsampled_emitters = 0;       ///< shapes (or sources) that glow but are not sampled
     bool has_medium = false;
     std::vector<std::string> tags;  ///< names of tagged objects, sorted
+    std::vector<size_t> tag_surfaces;  ///< how many shapes each of `tags` tags
     uint64_t hash = 0;
 
     bool can_occur(Component c) const { return spawnable.test(static_cast<size_t>(c)); }

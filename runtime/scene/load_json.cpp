@@ -219,7 +219,7 @@ public:
         Scene scene;
         scene.source = file_.name();
         ObjectReader top(doc_, sink_, doc_.value, "");
-        top.warn_unknown({"format", "version", "camera", "background", "medium", "materials", "shapes"});
+        top.warn_unknown({"format", "version", "camera", "background", "medium", "materials", "shapes", "distant_lights"});
         std::string format;
         if (top.string("format", format) && format != "crex-scene")
             sink_.report("E303", top.span("format"), fmt::format("format: expected \"crex-scene\", got \"{}\"", format));
@@ -231,6 +231,7 @@ public:
         if (top.has("medium")) read_medium(top, scene);
         read_array(top, "materials", [&](ObjectReader& r) { read_material(r, scene); });
         read_array(top, "shapes", [&](ObjectReader& r) { read_shape(r, scene); });
+        read_array(top, "distant_lights", [&](ObjectReader& r) { read_distant_light(r, scene); });
         if (!top.has("shapes")) top.missing("shapes", "an array of shapes");
         if (sink_.error_count() != errors_before) return std::nullopt;
         validate_scene(scene, sink_, [&](size_t i) {
@@ -268,7 +269,18 @@ private:
             return;
         }
         ObjectReader r(doc_, sink_, top.at("camera"), "/camera");
-        r.warn_unknown({"position", "direction", "look_at", "up", "vfov", "hfov", "view_distance"});
+        r.warn_unknown({"position", "direction", "look_at", "up", "vfov", "hfov", "view_distance", "projection", "fore_clip"});
+        std::string projection;
+        if (r.string("projection", projection)) {
+            auto p = projection_from_name(projection);
+            if (!p)
+                sink_.report("E303", r.span("projection"), fmt::format("{}: unknown projection '{}'; expected one of perspective, "
+                                                                       "parallel, angular, hemispherical, stereographic, cylindrical",
+                                                                       r.path("projection"), projection));
+            else
+                cam.projection = *p;
+        }
+        r.number("fore_clip", cam.fore_clip, kNonNegative);
         r.vec3("position", cam.position);
         Vec3 look_at;
         if (r.has("direction") && r.has("look_at"))
@@ -278,8 +290,13 @@ private:
         else
             r.vec3("direction", cam.direction);
         r.vec3("up", cam.up);
-        r.number("vfov", cam.vfov_deg, Range{0, 180, true, true});
-        r.number("hfov", cam.hfov_deg, Range{0, 180, false, true});
+        // A field of view per projection: a fisheye reaches around, a parallel view's is a size.
+        const Projection p = cam.projection;
+        const double most = p == Projection::kParallel ? INFINITY
+                            : p == Projection::kAngular || p == Projection::kStereographic ? 360 : 180;
+        const bool closed = p == Projection::kAngular || p == Projection::kHemispherical;
+        r.number("vfov", cam.vfov_deg, Range{0, p == Projection::kCylindrical ? 180 : most, true, !closed});
+        r.number("hfov", cam.hfov_deg, Range{0, p == Projection::kCylindrical ? 360 : most, false, !(closed || p == Projection::kCylindrical)});
         r.number("view_distance", cam.view_distance, kPositive);
         if (!(length(cam.direction) > 0))
             sink_.report("E306", r.span(r.has("look_at") ? "look_at" : "direction"), "camera: the view direction has zero length");
@@ -310,14 +327,14 @@ private:
             if (!t) {
                 sink_.report("E303", r.span("type"),
                              fmt::format("{}: unknown material type '{}'; expected one of void, plastic, metal, "
-                                         "trans, glass, dielectric, mirror, light, glow", r.path("type"), type));
+                                         "trans, glass, dielectric, mirror, light, glow, illum", r.path("type"), type));
                 return;
             }
             m.type = *t;
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
-                        "ior", "glow_radius", "emission"});
-        bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow;
+                        "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate"});
+        bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
         r.vec3("color", m.color, emitter ? kRadiance : kUnit);
         r.number("specularity", m.specularity, kUnit);
@@ -325,15 +342,83 @@ private:
         r.number("transmissivity", m.transmissivity, kUnit);
         r.number("transmitted_specular", m.transmitted_specular, kUnit);
         r.number("ior", m.ior, kPositive);
-        r.number("glow_radius", m.glow_radius, kNonNegative);
+        r.number("glow_radius", m.glow_radius);  // negative: never lights the scene
         Vec3 e;
         if (r.vec3("emission", e, kRadiance)) m.emission = e;
+        if (r.has("anisotropy") && r.at("anisotropy").is_object()) {
+            ObjectReader a(doc_, sink_, r.at("anisotropy"), r.pointer() + "/anisotropy");
+            a.warn_unknown({"orientation", "roughness_v"});
+            Anisotropy an;
+            a.vec3("orientation", an.orientation, kAny, true);
+            a.number("roughness_v", an.roughness_v, Range{0, 1, true, false}, true);
+            if (!(length(an.orientation) > 0)) sink_.report("E306", a.span("orientation"), "anisotropy: the orientation vector is zero");
+            m.anisotropy = an;
+        } else if (r.has("anisotropy")) {
+            r.wrong("anisotropy", "an object {\"orientation\": [x, y, z], \"roughness_v\": r}");
+        }
+        if (r.has("spot") && r.at("spot").is_object()) {
+            ObjectReader a(doc_, sink_, r.at("spot"), r.pointer() + "/spot");
+            a.warn_unknown({"angle", "direction"});
+            Spot sp;
+            a.number("angle", sp.angle_deg, Range{0, 360, true, false}, true);
+            a.vec3("direction", sp.direction, kAny, true);
+            if (!(length(sp.direction) > 0)) sink_.report("E306", a.span("direction"), "spot: the direction is zero");
+            m.spot = sp;
+        } else if (r.has("spot")) {
+            r.wrong("spot", "an object {\"angle\": degrees, \"direction\": [x, y, z]}");
+        }
+        if (r.has("outside") && r.at("outside").is_object()) {
+            ObjectReader a(doc_, sink_, r.at("outside"), r.pointer() + "/outside");
+            a.warn_unknown({"color", "ior"});
+            OutsideMedium o;
+            a.vec3("color", o.color, kUnit);
+            a.number("ior", o.ior, kPositive, true);
+            m.outside = o;
+        } else if (r.has("outside")) {
+            r.wrong("outside", "an object {\"color\": [r, g, b], \"ior\": n}");
+        }
+        if (r.string("alternate", m.alternate) && !m.alternate.empty() && !material_names_.count(m.alternate))
+            sink_.report("E305", r.span("alternate"), fmt::format("{}: no material named '{}' is defined before it", r.path("alternate"), m.alternate));
         if (m.name.empty()) return;
         if (!material_names_.insert(m.name).second) {
             sink_.report("E305", r.span("name"), fmt::format("{}: a material named '{}' is already defined", r.path("name"), m.name));
             return;
         }
         scene.materials.push_back(m);
+    }
+
+    void read_distant_light(ObjectReader& r, Scene& scene) {
+        r.warn_unknown({"name", "material", "direction", "angle", "sky"});
+        DistantLight l;
+        r.string("name", l.name);
+        if (r.string("material", l.material, true) && !material_names_.count(l.material)) report_unknown_material(r, l.material);
+        r.vec3("direction", l.direction, kAny, true);
+        if (!(length(l.direction) > 0)) sink_.report("E306", r.span("direction"), fmt::format("{}: the direction is zero", r.path("direction")));
+        r.number("angle", l.angle_deg, Range{0, 360, true, false}, true);
+        if (r.has("sky") && r.at("sky").is_object()) {
+            ObjectReader k(doc_, sink_, r.at("sky"), r.pointer() + "/sky");
+            k.warn_unknown({"type", "zenith", "ground", "normalization", "sun"});
+            SkyModel sky;
+            std::string type;
+            if (k.string("type", type, true)) {
+                auto t = sky_type_from_name(type);
+                if (!t)
+                    sink_.report("E303", k.span("type"), fmt::format("{}: unknown sky type '{}'; expected clear, overcast, uniform or "
+                                                                     "intermediate", k.path("type"), type));
+                else
+                    sky.type = *t;
+            }
+            k.number("zenith", sky.zenith, kNonNegative, true);
+            k.number("ground", sky.ground, kNonNegative);
+            k.number("normalization", sky.normalization, kPositive);
+            k.vec3("sun", sky.sun);
+            sky.sun = normalize_or_zero(sky.sun);
+            if (sky.sun == Vec3{}) sink_.report("E306", k.span("sun"), "sky: the sun direction is zero");
+            l.sky = sky;
+        } else if (r.has("sky")) {
+            r.wrong("sky", "an object");
+        }
+        scene.distant_lights.push_back(std::move(l));
     }
 
     void read_shape(ObjectReader& r, Scene& scene) {
@@ -354,7 +439,8 @@ private:
         if (r.has("tag")) read_tag(r, s);
         switch (s.type) {
         case ShapeType::kSphere:
-            r.warn_unknown({"type", "name", "material", "tag", "center", "radius"});
+            r.warn_unknown({"type", "name", "material", "tag", "center", "radius", "inward"});
+            r.boolean("inward", s.inward);
             r.vec3("center", s.center, kAny, true);
             r.number("radius", s.radius, kPositive, true);
             break;
@@ -375,14 +461,16 @@ private:
             r.number("outer_radius", s.r1, kPositive, true);
             break;
         case ShapeType::kCone:
-            r.warn_unknown({"type", "name", "material", "tag", "p0", "p1", "r0", "r1"});
+            r.warn_unknown({"type", "name", "material", "tag", "p0", "p1", "r0", "r1", "inward"});
+            r.boolean("inward", s.inward);
             r.vec3("p0", s.p0, kAny, true);
             r.vec3("p1", s.p1, kAny, true);
             r.number("r0", s.r0, kNonNegative, true);
             r.number("r1", s.r1, kNonNegative, true);
             break;
         case ShapeType::kCylinder:
-            r.warn_unknown({"type", "name", "material", "tag", "p0", "p1", "radius"});
+            r.warn_unknown({"type", "name", "material", "tag", "p0", "p1", "radius", "inward"});
+            r.boolean("inward", s.inward);
             r.vec3("p0", s.p0, kAny, true);
             r.vec3("p1", s.p1, kAny, true);
             r.number("radius", s.radius, kPositive, true);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -22,6 +23,22 @@ std::string lower_extension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return ext;
+}
+
+// RADIANCE's library path (RAYPATH, ':'-separated), where files named without a directory
+// are looked for after the naming file's own directory.
+RadianceOptions radiance_options() {
+    RadianceOptions options;
+    if (const char* raypath = std::getenv("RAYPATH")) {
+        std::string dirs = raypath;
+        for (size_t b = 0; b <= dirs.size();) {
+            size_t e = dirs.find(':', b);
+            if (e == std::string::npos) e = dirs.size();
+            if (e > b && dirs.compare(b, e - b, ".") != 0) options.library_dirs.push_back(dirs.substr(b, e - b));
+            b = e + 1;
+        }
+    }
+    return options;
 }
 
 }  // namespace
@@ -49,8 +66,8 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
         }
         return import_obj(spec, sink, sources);
     }
-    if (ext != ".json" && ext != ".rad") {
-        failure.message = fmt::format("cannot tell the format of scene '{}': use .json (crex scene), .rad (RADIANCE), "
+    if (ext != ".json" && ext != ".rad" && ext != ".rif") {
+        failure.message = fmt::format("cannot tell the format of scene '{}': use .json (crex scene), .rad or .rif (RADIANCE), "
                                       ".obj (Wavefront) or builtin:cornell", spec);
         return std::nullopt;
     }
@@ -63,6 +80,8 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
     const SourceFile& file = sources.add(spec, std::move(*text));
     std::string dir = std::filesystem::path(spec).parent_path().string();
     if (ext == ".json") return load_scene_json(file, dir, sources, sink);
+    const RadianceOptions options = radiance_options();
+    if (ext == ".rif") return import_radiance_project(file, sources, options, sink);
     // A RADIANCE scene takes its camera from a view file beside it with the same stem.
     std::filesystem::path vf = std::filesystem::path(spec).replace_extension(".vf");
     const SourceFile* view = nullptr;
@@ -74,7 +93,7 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
         }
         view = &sources.add(vf.string(), std::move(*vtext));
     }
-    auto scene = import_radiance(file, view, sink);
+    auto scene = import_radiance(file, view, sources, options, sink);
     if (scene) scene->source = spec;
     // Neither a view file nor a `#@crex view` line set the camera (a view sets RADIANCE's
     // defaults first, so the camera is no longer crex's): say where it is (issue 37).

@@ -37,9 +37,20 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
 /// The loaders, on text already read. `base_dir` resolves relative paths (OBJ files).
 std::optional<Scene> load_scene_json(const SourceFile& file, const std::string& base_dir, SceneSources& sources,
                                      DiagnosticSink& sink);
-std::optional<Scene> import_radiance(const SourceFile& file, DiagnosticSink& sink);
-/// `view_file` (optional): a RADIANCE view file (-vp -vd -vu -vh -vv) for the camera.
-std::optional<Scene> import_radiance(const SourceFile& file, const SourceFile* view_file, DiagnosticSink& sink);
+/// How a RADIANCE scene finds the files it names.
+struct RadianceOptions {
+    /// Searched after the naming file's own directory for files named without a directory
+    /// (RADIANCE's RAYPATH; load_scene takes it from that environment variable).
+    std::vector<std::string> library_dirs;
+};
+/// A RADIANCE scene (docs/scene-format.md): files its commands read are kept in `sources`.
+/// `view_file` (optional): a RADIANCE view file for the camera.
+std::optional<Scene> import_radiance(const SourceFile& file, const SourceFile* view_file, SceneSources& sources,
+                                     const RadianceOptions& options, DiagnosticSink& sink);
+std::optional<Scene> import_radiance(const SourceFile& file, SceneSources& sources, DiagnosticSink& sink);
+/// A RADIANCE project file (`.rif`): its materials, scene and illum files, and its first view.
+std::optional<Scene> import_radiance_project(const SourceFile& rif, SceneSources& sources, const RadianceOptions& options,
+                                             DiagnosticSink& sink);
 std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, SceneSources& sources);
 
 /// Built-in scenes: "cornell" (the default), "cornell_diffuse".

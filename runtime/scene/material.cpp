@@ -8,7 +8,7 @@
 namespace crex {
 namespace {
 
-constexpr std::array<std::pair<MaterialType, std::string_view>, 9> kNames = {{
+constexpr std::array<std::pair<MaterialType, std::string_view>, 10> kNames = {{
     {MaterialType::kVoid, "void"},
     {MaterialType::kPlastic, "plastic"},
     {MaterialType::kMetal, "metal"},
@@ -18,6 +18,23 @@ constexpr std::array<std::pair<MaterialType, std::string_view>, 9> kNames = {{
     {MaterialType::kMirror, "mirror"},
     {MaterialType::kLight, "light"},
     {MaterialType::kGlow, "glow"},
+    {MaterialType::kIllum, "illum"},
+}};
+
+constexpr std::array<std::pair<Projection, std::string_view>, 6> kProjections = {{
+    {Projection::kPerspective, "perspective"},
+    {Projection::kParallel, "parallel"},
+    {Projection::kAngular, "angular"},
+    {Projection::kHemispherical, "hemispherical"},
+    {Projection::kStereographic, "stereographic"},
+    {Projection::kCylindrical, "cylindrical"},
+}};
+
+constexpr std::array<std::pair<SkyModel::Type, std::string_view>, 4> kSkyTypes = {{
+    {SkyModel::Type::kClear, "clear"},
+    {SkyModel::Type::kOvercast, "overcast"},
+    {SkyModel::Type::kUniform, "uniform"},
+    {SkyModel::Type::kIntermediate, "intermediate"},
 }};
 
 void set(ComponentSet& s, Component c) { s.set(static_cast<size_t>(c)); }
@@ -27,6 +44,11 @@ void set(ComponentSet& s, Component c) { s.set(static_cast<size_t>(c)); }
 std::string_view material_type_name(MaterialType t) { return name_in(kNames, t); }
 
 std::optional<MaterialType> material_type_from_name(std::string_view name) { return value_in(kNames, name); }
+
+std::string_view projection_name(Projection p) { return name_in(kProjections, p); }
+std::optional<Projection> projection_from_name(std::string_view name) { return value_in(kProjections, name); }
+std::string_view sky_type_name(SkyModel::Type t) { return name_in(kSkyTypes, t); }
+std::optional<SkyModel::Type> sky_type_from_name(std::string_view name) { return value_in(kSkyTypes, name); }
 
 ComponentSet spawned_components(const Material& m) {
     ComponentSet s;
@@ -55,13 +77,19 @@ ComponentSet spawned_components(const Material& m) {
         break;
     case MaterialType::kVoid:
     case MaterialType::kLight:
-    case MaterialType::kGlow: break;
+    case MaterialType::kGlow:
+    case MaterialType::kIllum: break;  // an illum's surface spawns what its alternate does
     }
     return s;
 }
 
+const Material* shading_material(const Scene& scene, const Material& m) {
+    if (m.type != MaterialType::kIllum) return &m;
+    return m.alternate.empty() ? nullptr : scene.find_material(m.alternate);
+}
+
 Vec3 emitted_radiance(const Material& m) {
-    if (m.type == MaterialType::kLight || m.type == MaterialType::kGlow) return m.color;
+    if (m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum) return m.color;
     return m.emission ? *m.emission : Vec3{};
 }
 

@@ -18,11 +18,26 @@ using ComponentSet = std::bitset<kComponentCount>;
 std::string_view material_type_name(MaterialType t);
 std::optional<MaterialType> material_type_from_name(std::string_view name);
 
-/// Components a hit on `m` spawns into (empty for emitters, void and black surfaces).
+/// The names of camera projections ("perspective", "parallel", "angular", "hemispherical",
+/// "stereographic", "cylindrical") and sky types ("clear", "overcast", "uniform",
+/// "intermediate"), as the JSON format writes them.
+std::string_view projection_name(Projection p);
+std::optional<Projection> projection_from_name(std::string_view name);
+std::string_view sky_type_name(SkyModel::Type t);
+std::optional<SkyModel::Type> sky_type_from_name(std::string_view name);
+
+/// Components a hit on `m` spawns into (empty for emitters, void and black surfaces; an
+/// illum's surface spawns what its alternate material does: see shading_material()).
 ComponentSet spawned_components(const Material& m);
 
-/// True for emitters sampled by direct lighting (`light`).
-inline bool is_sampled_emitter(const Material& m) { return m.type == MaterialType::kLight; }
+/// The material rays other than shadow rays see on a surface of `m` in `scene`: an illum's
+/// alternate (nullptr when it has none: the surface is invisible), else `m` itself.
+const Material* shading_material(const Scene& scene, const Material& m);
+
+/// True for emitters sampled by direct lighting: `light`, `illum`, a `glow` with a positive radius.
+inline bool is_sampled_emitter(const Material& m) {
+    return m.type == MaterialType::kLight || m.type == MaterialType::kIllum || (m.type == MaterialType::kGlow && m.glow_radius > 0);
+}
 /// True when a hit adds emission (sampled or not).
 bool is_emissive(const Material& m);
 

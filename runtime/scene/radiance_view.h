@@ -1,8 +1,9 @@
 /// \file radiance_view.h
-/// RADIANCE view options (-vp -vd -vu -vh -vv, perspective only), from a .vf file, a
-/// `#@crex view` line of a .rad scene, or `crex run --view FILE.vf`. Errors are located in the
-/// text they came from (E301 missing numbers, E302 not a number, E303 angle, E306 degenerate
-/// frame, E307 projection); unknown options are W301.
+/// RADIANCE view options (-vp -vd -vu -vh -vv -vo and the view types -vtv -vtl -vta -vth
+/// -vts -vtc), from a .vf file, a `#@crex view` line of a .rad scene, or `crex run --view
+/// FILE.vf`. Errors are located in the text they came from (E301 missing numbers, E302 not a
+/// number, E303 angle, E306 degenerate frame, E307 unknown view type); unknown options are
+/// W301.
 #pragma once
 
 #include <string>

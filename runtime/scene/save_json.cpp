@@ -54,6 +54,8 @@ nlohmann::json scene_to_json(const Scene& scene) {
     j["camera"] = {{"position", vec(c.position)}, {"direction", vec(c.direction)}, {"up", vec(c.up)},
                    {"vfov", c.vfov_deg},          {"view_distance", c.view_distance}};
     if (c.hfov_deg > 0) j["camera"]["hfov"] = c.hfov_deg;
+    if (c.projection != Projection::kPerspective) j["camera"]["projection"] = std::string(projection_name(c.projection));
+    if (c.fore_clip > 0) j["camera"]["fore_clip"] = c.fore_clip;
     j["background"] = vec(scene.background);
     if (scene.medium)
         j["medium"] = {{"extinction", vec(scene.medium->extinction)},
@@ -70,6 +72,10 @@ nlohmann::json scene_to_json(const Scene& scene) {
         if (m.ior != defaults.ior) e["ior"] = m.ior;
         if (m.glow_radius != defaults.glow_radius) e["glow_radius"] = m.glow_radius;
         if (m.emission) e["emission"] = vec(*m.emission);
+        if (m.anisotropy) e["anisotropy"] = {{"orientation", vec(m.anisotropy->orientation)}, {"roughness_v", m.anisotropy->roughness_v}};
+        if (m.spot) e["spot"] = {{"angle", m.spot->angle_deg}, {"direction", vec(m.spot->direction)}};
+        if (m.outside) e["outside"] = {{"color", vec(m.outside->color)}, {"ior", m.outside->ior}};
+        if (m.type == MaterialType::kIllum && !m.alternate.empty()) e["alternate"] = m.alternate;
         j["materials"].push_back(e);
     }
     j["shapes"] = nlohmann::json::array();
@@ -77,6 +83,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         nlohmann::json e = {{"type", std::string(shape_type_name(s.type))}, {"material", s.material}};
         if (!s.name.empty()) e["name"] = s.name;
         if (s.tag) e["tag"] = {{"name", s.tag->name}, {"task", s.tag->task}, {"distractor", s.tag->distractor}};
+        if (s.inward) e["inward"] = true;
         switch (s.type) {
         case ShapeType::kSphere: e["center"] = vec(s.center), e["radius"] = s.radius; break;
         case ShapeType::kPolygon:
@@ -94,6 +101,17 @@ nlohmann::json scene_to_json(const Scene& scene) {
         case ShapeType::kCylinder: e["p0"] = vec(s.p0), e["p1"] = vec(s.p1), e["radius"] = s.radius; break;
         }
         j["shapes"].push_back(e);
+    }
+    if (!scene.distant_lights.empty()) {
+        j["distant_lights"] = nlohmann::json::array();
+        for (const auto& l : scene.distant_lights) {
+            nlohmann::json e = {{"material", l.material}, {"direction", vec(l.direction)}, {"angle", l.angle_deg}};
+            if (!l.name.empty()) e["name"] = l.name;
+            if (l.sky)
+                e["sky"] = {{"type", std::string(sky_type_name(l.sky->type))}, {"zenith", l.sky->zenith}, {"ground", l.sky->ground},
+                            {"normalization", l.sky->normalization}, {"sun", vec(l.sky->sun)}};
+            j["distant_lights"].push_back(e);
+        }
     }
     return j;
 }

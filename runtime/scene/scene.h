@@ -24,7 +24,28 @@ enum class MaterialType {
     kDielectric,  ///< dielectric interface with index n: T and R
     kMirror,      ///< ideal mirror: M
     kLight,       ///< emitter sampled for direct lighting
-    kGlow,        ///< emitter not sampled (adds emission on every ray)
+    kGlow,        ///< emitter sampled only within `glow_radius` (see Material::glow_radius)
+    kIllum,       ///< emitter sampled for direct lighting; every other ray sees `alternate`
+};
+
+/// Anisotropic roughness (RADIANCE plastic2, metal2, trans2): the Ward lobe is `roughness`
+/// wide along `orientation` projected onto the surface and `roughness_v` wide across it.
+struct Anisotropy {
+    Vec3 orientation{0, 0, 1};  ///< world direction; need not be unit length
+    double roughness_v = 0;
+};
+
+/// A spotlight's cone (RADIANCE spotlight): light leaves only within `angle_deg` (full angle)
+/// of `direction`, whose length is the distance of the focus behind the emitter.
+struct Spot {
+    double angle_deg = 180;
+    Vec3 direction{0, 0, -1};
+};
+
+/// The medium outside a dielectric (RADIANCE interface); without it, the outside is vacuum.
+struct OutsideMedium {
+    Vec3 color{1, 1, 1};  ///< transmission of the outside medium (the inside's is `color`)
+    double ior = 1;
 };
 
 struct Material {
@@ -37,8 +58,16 @@ struct Material {
     double transmissivity = 0;  ///< trans: fraction of non-specular light transmitted
     double transmitted_specular = 0;  ///< trans: fraction of transmitted light that is specular
     double ior = 1.52;          ///< glass, dielectric: index of refraction
-    double glow_radius = 0;     ///< glow: maximum radius of influence (0 = everywhere)
+    /// glow: > 0: sampled by direct lighting from points within this distance of it, seen by
+    /// every other ray from farther away; 0: never sampled, seen by every ray; < 0: never
+    /// lights the scene, seen only by camera rays and rays from ideal specular lobes.
+    double glow_radius = 0;
     std::optional<Vec3> emission;  ///< any non-emitter may glow too (not sampled)
+    std::optional<Anisotropy> anisotropy;   ///< plastic, metal, trans
+    std::optional<Spot> spot;               ///< light, illum
+    std::optional<OutsideMedium> outside;   ///< dielectric
+    /// illum: the material every ray but a shadow ray sees ("" = the surface is invisible).
+    std::string alternate;
 };
 
 enum class ShapeType { kSphere, kPolygon, kMesh, kBox, kRing, kCone, kCylinder };
@@ -68,15 +97,52 @@ struct Shape {
     Vec3 normal;
     Vec3 p0, p1;
     double r0 = 0, r1 = 0;
+    /// sphere, cone, cylinder: the front faces inward (RADIANCE bubble, cup, tube).
+    bool inward = false;
+};
+
+/// RADIANCE's standard sky brightness (gensky's skybright.cal): a CIE sky above the horizon,
+/// blending into the ground's brightness below it.
+struct SkyModel {
+    enum class Type { kClear = 1, kOvercast = 2, kUniform = 3, kIntermediate = 4 };
+    Type type = Type::kClear;
+    double zenith = 1;         ///< zenith brightness
+    double ground = 0;         ///< ground plane brightness
+    double normalization = 1;  ///< divides the clear and intermediate skies (depends on the sun)
+    Vec3 sun{0, 0, 1};         ///< unit direction to the sun
+};
+
+/// A light source infinitely far away (RADIANCE `source`): the disk of directions within
+/// half of `angle_deg` of `direction`. A `light` material makes it a sampled disk (the sun);
+/// a `glow` makes it an environment that every escaping ray sees (a sky, the ground), sampled
+/// by direct lighting too unless its glow radius is negative.
+struct DistantLight {
+    std::string name;
+    std::string material;
+    Vec3 direction{0, 0, 1};  ///< towards the source; need not be unit length
+    double angle_deg = 0.5;   ///< full angle, in (0, 360]
+    std::optional<SkyModel> sky;  ///< the brightness pattern multiplying the material's colour
+};
+
+/// How directions map to the image (RADIANCE's view types -vtv -vtl -vta -vth -vts -vtc).
+enum class Projection {
+    kPerspective,    ///< pinhole (-vtv)
+    kParallel,       ///< orthographic: the fields of view are widths in scene units (-vtl)
+    kAngular,        ///< fisheye, distance from the centre proportional to the angle (-vta)
+    kHemispherical,  ///< fisheye, distance proportional to the angle's sine (-vth)
+    kStereographic,  ///< fisheye, distance proportional to the tangent of half the angle (-vts)
+    kCylindrical,    ///< panorama: angle across, perspective up and down (-vtc)
 };
 
 struct Camera {
     Vec3 position{0, 0, 5};
     Vec3 direction{0, 0, -1};  ///< need not be unit length
     Vec3 up{0, 1, 0};
-    double vfov_deg = 45;      ///< full vertical field of view
+    double vfov_deg = 45;      ///< full vertical field of view (parallel: height in scene units)
     double hfov_deg = 0;       ///< full horizontal field of view; 0 = from vfov and image aspect
     double view_distance = 1;  ///< viewer's distance to the display, in display widths (foveal angles)
+    Projection projection = Projection::kPerspective;
+    double fore_clip = 0;      ///< rays start this far along their direction (RADIANCE -vo)
 };
 
 /// Homogeneous single-scattering medium filling the scene (RADIANCE "mist").
@@ -92,6 +158,7 @@ struct Scene {
     Vec3 background{0, 0, 0};
     std::vector<Material> materials;
     std::vector<Shape> shapes;
+    std::vector<DistantLight> distant_lights;
     std::optional<Medium> medium;
 
     const Material* find_material(const std::string& name) const;

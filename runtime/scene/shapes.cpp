@@ -54,7 +54,8 @@ uint32_t push(TriangleMesh& m, const Vec3& p) {
 }
 
 // A band between two circles (a ring when both centres coincide, a cone or cylinder otherwise).
-void tessellate_band(TriangleMesh& out, const Vec3& c0, const Vec3& c1, const Vec3& axis, double r0, double r1) {
+// A cone's triangles face away from its axis, a ring's along its normal; `flip` turns them.
+void tessellate_band(TriangleMesh& out, const Vec3& c0, const Vec3& c1, const Vec3& axis, double r0, double r1, bool flip) {
     Vec3 u, v;
     basis(normalize_or_zero(axis), u, v);
     uint32_t base = static_cast<uint32_t>(out.positions.size());
@@ -64,11 +65,14 @@ void tessellate_band(TriangleMesh& out, const Vec3& c0, const Vec3& c1, const Ve
         push(out, c0 + dir * r0);
         push(out, c1 + dir * r1);
     }
+    // (a0, b0, a1) turns from the tangent to the axis: outward for a cone; for a ring, whose
+    // axis is its normal, the same order turns from the tangent to the radius, facing -normal.
+    if (c0 == c1) flip = !flip;
     for (uint32_t i = 0; i < kRoundSegments; ++i) {
         uint32_t j = (i + 1) % kRoundSegments;
         uint32_t a0 = base + 2 * i, a1 = base + 2 * i + 1, b0 = base + 2 * j, b1 = base + 2 * j + 1;
-        if (r0 > 0) out.indices.push_back({a0, b0, a1});
-        if (r1 > 0) out.indices.push_back({b0, b1, a1});
+        if (r0 > 0) out.indices.push_back(flip ? std::array<uint32_t, 3>{a0, a1, b0} : std::array<uint32_t, 3>{a0, b0, a1});
+        if (r1 > 0) out.indices.push_back(flip ? std::array<uint32_t, 3>{b0, a1, b1} : std::array<uint32_t, 3>{b0, b1, a1});
     }
 }
 
@@ -79,44 +83,82 @@ std::string_view shape_type_name(ShapeType t) { return name_in(kNames, t); }
 std::optional<ShapeType> shape_type_from_name(std::string_view name) { return value_in(kNames, name); }
 
 std::vector<std::array<uint32_t, 3>> triangulate_polygon(const std::vector<Vec3>& vertices) {
+    // Ear clipping that also takes RADIANCE's polygons with holes: a hole is a loop of
+    // vertices joined to the outline by a seam, an edge walked once each way, so the loop
+    // touches itself where the seam's ends repeat. Such a "weakly simple" polygon clips like a
+    // simple one once a vertex lying exactly on a corner of a candidate ear (the other end of a
+    // seam) does not count as inside it; the ear theorem's argument holds unchanged. (Counting
+    // it made every ear at a seam fail, and the old fallback, a fan, filled the hole: a wall
+    // with a window lit 1,985 pixels where RADIANCE lit 1,452.)
     std::vector<std::array<uint32_t, 3>> tris;
-    size_t n = vertices.size();
+    const size_t n = vertices.size();
     if (n < 3) return tris;
-    Vec3 normal = normalize_or_zero(newell_normal(vertices));
+    const Vec3 normal = normalize_or_zero(newell_normal(vertices));
     if (normal == Vec3{}) return tris;
     Vec3 u, v;
     basis(normal, u, v);
     std::vector<std::array<double, 2>> p(n);
-    for (size_t i = 0; i < n; ++i) p[i] = {dot(vertices[i], u), dot(vertices[i], v)};
-    auto area2 = [&](size_t a, size_t b, size_t c) {
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t i = 0; i < n; ++i) {
+        p[i] = {dot(vertices[i], u), dot(vertices[i], v)};
+        for (int k = 0; k < 2; ++k) lo[k] = std::fmin(lo[k], p[i][k]), hi[k] = std::fmax(hi[k], p[i][k]);
+    }
+    // Tolerances relative to the polygon's own size (never the scene's).
+    const double size = std::fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    const double same = 1e-9 * size, flat = 1e-12 * size * size;
+    auto area2 = [&](uint32_t a, uint32_t b, uint32_t c) {
         return (p[b][0] - p[a][0]) * (p[c][1] - p[a][1]) - (p[c][0] - p[a][0]) * (p[b][1] - p[a][1]);
     };
-    std::vector<uint32_t> ring(n);
-    for (uint32_t i = 0; i < n; ++i) ring[i] = i;
+    auto coincide = [&](uint32_t a, uint32_t b) {
+        return std::fabs(p[a][0] - p[b][0]) <= same && std::fabs(p[a][1] - p[b][1]) <= same;
+    };
     // In (u, v) the polygon winds counter-clockwise, since u x v = normal from Newell.
-    size_t guard = 0;
-    while (ring.size() > 3 && guard++ < n * n) {
+    std::vector<uint32_t> ring;
+    for (uint32_t i = 0; i < n; ++i)
+        if (ring.empty() || !coincide(ring.back(), i)) ring.push_back(i);
+    while (ring.size() > 1 && coincide(ring.front(), ring.back())) ring.pop_back();
+    auto at = [&](size_t i) { return ring[i % ring.size()]; };
+    auto is_ear = [&](size_t i) {
+        const uint32_t a = at(i + ring.size() - 1), b = at(i), c = at(i + 1);
+        if (area2(a, b, c) <= flat) return false;  // reflex or flat corner
+        for (size_t k = 0; k < ring.size(); ++k) {
+            const uint32_t q = ring[k];
+            if (q == a || q == b || q == c || coincide(q, a) || coincide(q, b) || coincide(q, c)) continue;
+            // Only a reflex vertex can lie inside an ear.
+            if (area2(at(k + ring.size() - 1), q, at(k + 1)) > flat) continue;
+            if (area2(a, b, q) >= -flat && area2(b, c, q) >= -flat && area2(c, a, q) >= -flat) return false;
+        }
+        return true;
+    };
+    size_t start = 0;
+    while (ring.size() > 3) {
         bool clipped = false;
-        for (size_t i = 0; i < ring.size(); ++i) {
-            uint32_t a = ring[(i + ring.size() - 1) % ring.size()], b = ring[i], c = ring[(i + 1) % ring.size()];
-            if (area2(a, b, c) <= 0) continue;  // reflex or collinear corner
-            bool inside = false;
-            for (uint32_t q : ring) {
-                if (q == a || q == b || q == c) continue;
-                if (area2(a, b, q) >= 0 && area2(b, c, q) >= 0 && area2(c, a, q) >= 0) {
-                    inside = true;
-                    break;
-                }
-            }
-            if (inside) continue;
-            tris.push_back({a, b, c});
+        for (size_t step = 0; step < ring.size(); ++step) {
+            const size_t i = (start + step) % ring.size();
+            if (!is_ear(i)) continue;
+            tris.push_back({at(i + ring.size() - 1), at(i), at(i + 1)});
             ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+            start = i == 0 ? 0 : i - 1;
             clipped = true;
             break;
         }
-        if (!clipped) break;  // not simple: fall back to a fan for what is left
+        if (clipped) continue;
+        // No ear: drop a vertex that encloses nothing (on a straight line, or the tip of a
+        // spike left where a seam met itself), and a repeated neighbour with it.
+        bool dropped = false;
+        for (size_t i = 0; i < ring.size() && !dropped; ++i) {
+            if (std::fabs(area2(at(i + ring.size() - 1), at(i), at(i + 1))) > flat) continue;
+            ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+            dropped = true;
+        }
+        if (!dropped) break;  // not weakly simple: what is left is not triangulated
+        for (size_t k = 0; ring.size() > 1 && k < ring.size();) {  // neighbours that now repeat
+            if (coincide(at(k), at(k + 1))) ring.erase(ring.begin() + static_cast<std::ptrdiff_t>((k + 1) % ring.size()));
+            else ++k;
+        }
+        start = 0;
     }
-    for (size_t i = 1; i + 1 < ring.size(); ++i) tris.push_back({ring[0], ring[i], ring[i + 1]});
+    if (ring.size() == 3 && area2(ring[0], ring[1], ring[2]) > flat) tris.push_back({ring[0], ring[1], ring[2]});
     return tris;
 }
 
@@ -133,6 +175,19 @@ double own_size(const std::vector<Vec3>& points) {
 }
 
 }  // namespace
+
+double polygon_signed_area(const std::vector<Vec3>& vertices) {
+    return 0.5 * length(newell_normal(vertices));
+}
+
+bool polygon_fully_triangulated(const Shape& s) {
+    if (s.type != ShapeType::kPolygon || s.vertices.size() < 3) return true;
+    double covered = 0;
+    for (const auto& t : triangulate_polygon(s.vertices))
+        covered += 0.5 * length(cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]));
+    const double area = polygon_signed_area(s.vertices);
+    return std::fabs(covered - area) <= 1e-6 * std::fmax(area, 1e-300);
+}
 
 bool degenerate_polygon(const Shape& s) {
     if (s.type != ShapeType::kPolygon || s.vertices.size() < 3) return false;
@@ -224,9 +279,9 @@ void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
         }
         return;
     }
-    case ShapeType::kRing: tessellate_band(out, s.center, s.center, s.normal, s.r0, s.r1); return;
-    case ShapeType::kCone: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.r0, s.r1); return;
-    case ShapeType::kCylinder: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.radius, s.radius); return;
+    case ShapeType::kRing: tessellate_band(out, s.center, s.center, s.normal, s.r0, s.r1, false); return;
+    case ShapeType::kCone: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.r0, s.r1, s.inward); return;
+    case ShapeType::kCylinder: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.radius, s.radius, s.inward); return;
     }
 }
 

@@ -44,8 +44,15 @@ size_t triangle_count(const Shape& shape);
 /// Axis-aligned bounds of a shape (spheres and round shapes included).
 void expand_bounds(const Shape& shape, Vec3& lo, Vec3& hi);
 
-/// Triangulates a planar simple polygon by ear clipping (convex or not); returns index
-/// triples into `vertices`, empty if it cannot (degenerate).
+/// Triangulates a planar polygon by ear clipping (convex or not, with holes joined to the
+/// outline by seams as RADIANCE writes them); returns index triples into `vertices`, empty if
+/// it cannot (degenerate).
 std::vector<std::array<uint32_t, 3>> triangulate_polygon(const std::vector<Vec3>& vertices);
+
+/// The polygon's area: its outline's less its holes' (seams cancel), by Newell's formula.
+double polygon_signed_area(const std::vector<Vec3>& vertices);
+/// False when the triangles do not cover the polygon's area (it crosses itself, or a hole
+/// winds the same way as its outline): crex then renders only part of it.
+bool polygon_fully_triangulated(const Shape& shape);
 
 }  // namespace crex

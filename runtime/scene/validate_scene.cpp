@@ -35,6 +35,10 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
         else if (degenerate_polygon(s))
             sink.report("W304", locate(i), fmt::format("polygon{}: zero area for its size, so no normal: dropped",
                                                        s.name.empty() ? "" : " '" + s.name + "'"));
+        else if (!polygon_fully_triangulated(s))
+            sink.report("W308", locate(i), fmt::format("polygon{} crosses itself (or a hole winds the same way as its outline): "
+                                                       "crex renders only part of it", s.name.empty() ? "" : " '" + s.name + "'"))
+                .help = "a hole is a loop of vertices running the other way round, joined to the outline by a seam";
         if (s.type == ShapeType::kMesh) {
             size_t dropped = 0;
             TriangleMesh tm;
@@ -51,6 +55,23 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
                                                        "by a path, it would overflow the image's floats and come out black)",
                                                        m->name, e, kMaxRadiance));
         }
+    }
+    for (size_t i = 0; i < scene.distant_lights.size(); ++i) {
+        const DistantLight& l = scene.distant_lights[i];
+        const Material* m = scene.find_material(l.material);
+        const std::string what = fmt::format("distant light{}", l.name.empty() ? "" : " '" + l.name + "'");
+        if (!m) {
+            sink.report("E305", locate(SIZE_MAX), fmt::format("{} uses material '{}', which is not defined", what, l.material));
+            continue;
+        }
+        if (m->type != MaterialType::kLight && m->type != MaterialType::kGlow && m->type != MaterialType::kIllum)
+            sink.report("E303", locate(SIZE_MAX), fmt::format("{}: its material '{}' must be a light or a glow, not {}", what, m->name,
+                                                              material_type_name(m->type)));
+        if (!is_finite(l.direction) || !(length(l.direction) > 0) || !(l.angle_deg > 0 && l.angle_deg <= 360))
+            sink.report("E306", locate(SIZE_MAX), fmt::format("{}: the direction must be non-zero and the angle in (0, 360]", what));
+        if (is_emissive(*m) && !(m->type == MaterialType::kGlow && m->glow_radius < 0)) ++lights;
+        if (const double e = max_component(emitted_radiance(*m)) * (l.sky ? std::fmax(l.sky->zenith, l.sky->ground) : 1.0); !(e <= kMaxRadiance))
+            sink.report("E303", locate(SIZE_MAX), fmt::format("{}: radiance {:g} is beyond the {:g} crex can render", what, e, kMaxRadiance));
     }
     if (!(max_component(scene.background) <= kMaxRadiance))
         sink.report("E303", locate(SIZE_MAX), fmt::format("background: radiance {:g} is beyond the {:g} crex can render",
@@ -75,7 +96,8 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
         sink.report("W302", locate(SIZE_MAX), "the scene has no shapes: the image will show the background only")
             .help = "give the scene shapes and a 'light' material (a 0-byte file is an empty scene)";
     else if (lights == 0)
-        sink.report("W302", locate(SIZE_MAX), "no shape has a 'light' material: direct lighting will be black")
+        sink.report("W302", locate(SIZE_MAX), "no shape or distant source is sampled by direct lighting (a light, an illum, "
+                                              "a glow with a radius): direct lighting will be black")
             .help = "give an emitter the material type 'light' so it is sampled";
 }
 

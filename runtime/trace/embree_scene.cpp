@@ -49,11 +49,25 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
         info.shape = i;
         for (uint32_t m = 0; m < scene.materials.size(); ++m)
             if (scene.materials[m].name == s.material) info.material = m;
+        info.emitter = info.material;
+        // An illum is sampled as itself and seen as its alternate material (or not at all).
+        bool hidden = false;
+        if (scene.materials[info.material].type == MaterialType::kIllum) {
+            const std::string& alt = scene.materials[info.material].alternate;
+            hidden = true;
+            for (uint32_t m = 0; m < scene.materials.size(); ++m)
+                if (!alt.empty() && scene.materials[m].name == alt) info.material = m, hidden = false;
+        }
+        info.inward = s.inward;
         RTCGeometry g;
         if (s.type == ShapeType::kSphere) {
             info.sphere = true;
             info.center = s.center - offset_;
             info.radius = s.radius;
+            if (hidden) {
+                hidden_emitters_.push_back(std::move(info));
+                continue;
+            }
             g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
             auto* p = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                                                   4 * sizeof(float), 1));
@@ -65,6 +79,13 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
             TriangleMesh mesh;
             tessellate(s, mesh);
             if (mesh.indices.empty()) continue;
+            if (hidden) {
+                for (auto& v : mesh.positions) v = v - offset_;
+                info.positions = std::move(mesh.positions);
+                info.indices = std::move(mesh.indices);
+                hidden_emitters_.push_back(std::move(info));
+                continue;
+            }
             for (auto& v : mesh.positions) v = v - offset_;
             info.positions = mesh.positions;
             info.indices = mesh.indices;

@@ -18,8 +18,10 @@ namespace crex {
 
 struct GeometryInfo {
     uint32_t shape = 0;     ///< index into Scene::shapes
-    uint32_t material = 0;  ///< index into Scene::materials
+    uint32_t material = 0;  ///< index into Scene::materials: what rays see (an illum's alternate)
+    uint32_t emitter = 0;   ///< index into Scene::materials: what direct lighting samples (the shape's own)
     bool sphere = false;
+    bool inward = false;    ///< sphere: the front faces the centre (RADIANCE bubble)
     Vec3 center;            ///< sphere centre, local coordinates
     double radius = 0;
     std::vector<Vec3> positions;                   ///< triangles: local vertex positions
@@ -37,6 +39,9 @@ public:
 
     RTCScene handle() const { return scene_; }
     const std::vector<GeometryInfo>& geometries() const { return geometries_; }
+    /// Emitters no ray but a shadow ray sees (an illum without an alternate material): not in
+    /// the BVH, sampled by direct lighting all the same.
+    const std::vector<GeometryInfo>& hidden_emitters() const { return hidden_emitters_; }
     Vec3 origin_offset() const { return offset_; }
     /// Diagonal of the scene's bounds (ray offsets scale with it).
     double extent() const { return extent_; }
@@ -49,6 +54,7 @@ private:
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     std::vector<GeometryInfo> geometries_;
+    std::vector<GeometryInfo> hidden_emitters_;
     Vec3 offset_, lo_, hi_;
     double extent_ = 1, epsilon_ = 1e-5;
 };

@@ -31,7 +31,7 @@ inline SceneResult load_rad_text(const std::string& text, const std::string& vie
     DiagnosticSink sink;
     const SourceFile& f = r.sources->add("scene.rad", text);
     const SourceFile* vf = view.empty() ? nullptr : &r.sources->add("scene.vf", view);
-    r.scene = import_radiance(f, vf, sink);
+    r.scene = import_radiance(f, vf, *r.sources, {}, sink);
     r.diagnostics = sink.sorted();
     r.errors = sink.error_count();
     return r;

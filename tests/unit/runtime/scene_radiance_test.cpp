@@ -151,13 +151,22 @@ TEST_P(SceneRadianceBadInput, IsALocatedErrorNamingTheConstruct) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, SceneRadianceBadInput,
     ::testing::Values(
-        BadRad{"inline_command", "void light l 0 0 3 1 1 1\n!xform -t 1 0 0 box.rad\n", "E307", 2, 1, "inline commands"},
-        BadRad{"unsupported_primitive", "void light l 0 0 3 1 1 1\nl source sun 0 0 4 0 0 1 0.5\n", "E307", 2, 3,
-               "'source' ('sun') is not supported"},
+        BadRad{"unknown_command", "void light l 0 0 3 1 1 1\n!obj2rad chair.obj\n", "E307", 2, 2, "the command 'obj2rad' is not supported"},
+        BadRad{"shell_syntax", "void light l 0 0 3 1 1 1\n!genbox l b 1 1 1 > box.rad\n", "E307", 2, 19, "'>' in a '!' command needs a shell"},
+        BadRad{"missing_include", "void light l 0 0 3 1 1 1\n!xform -t 1 0 0 nowhere.rad\n", "E308", 2, 17, "cannot read the scene file 'nowhere.rad'"},
+        BadRad{"instance", "void light l 0 0 3 1 1 1\nl instance car 1 car.oct 0 0\n", "E307", 2, 3, "instance 'car': octrees"},
+        BadRad{"mesh", "void light l 0 0 3 1 1 1\nl mesh vase 1 vase.rtm 0 0\n", "E307", 2, 3, "compiled meshes (.rtm"},
         BadRad{"unknown_type", "void light l 0 0 3 1 1 1\nl teapot t 0 0 0\n", "E307", 2, 3, "unknown RADIANCE type 'teapot'"},
-        BadRad{"pattern_modifier", "void brightfunc b 2 x y 0 0\nb plastic p 0 0 5 1 1 1 0 0\n", "E307", 1, 6, "'brightfunc'"},
-        BadRad{"truncated", "void light l 0 0 3 1 1\n", "E301", 2, 1, "needs 3 real arguments, found 2"},
-        BadRad{"truncated_header", "void light\n", "E301", 2, 1, "unexpected end of file"},
+        BadRad{"pattern_modifier", "void brightfunc b 2 x y 0 0\nb plastic p 0 0 5 1 1 1 0 0\np sphere s 0 0 4 0 0 0 1\n", "E307", 2, 1,
+               "modified by a brightfunc 'b'"},
+        BadRad{"unsupported_material", "void antimatter a 1 wall 0 0\na ring r 0 0 8 0 0 0 0 0 1 0 1\n", "E307", 1, 6,
+               "RADIANCE material type 'antimatter' ('a') is not supported"},
+        BadRad{"mixture", "void plastic w 0 0 5 1 1 1 0 0\nvoid mixfunc m 4 w void x .  0 0\nm sphere s 0 0 4 0 0 0 1\n", "E307", 2, 6,
+               "mixfunc 'm' (a mixture of materials)"},
+        BadRad{"unclosed_quote", "void light 'l 0 0 3 1 1 1\n", "E301", 1, 12, "never closed"},
+        BadRad{"undefined_alias", "void alias a nothing\n", "E305", 1, 14, "'nothing', which is not defined"},
+        BadRad{"truncated", "void light l 0 0 3 1 1\n", "E301", 2, 1, "real argument 3 of 3 is missing"},
+        BadRad{"truncated_header", "void light\n", "E301", 2, 1, "the file ends inside"},
         BadRad{"bad_count", "void light l 0 0 x 1 1 1\n", "E302", 1, 18, "expected the number of real arguments"},
         BadRad{"not_a_number", "void light l 0 0 3 1 one 1\n", "E302", 1, 22, "expected a real number, got 'one'"},
         BadRad{"nan", "void light l 0 0 3 1 nan 1\n", "E303", 1, 22, "finite"},
@@ -175,7 +184,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadRad>& p) { return std::string(p.param.name); });
 
 TEST(SceneRadiance, KeepsGoingAfterAnUnsupportedPrimitive) {
-    auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl source a 0 0 4 0 0 1 1\nl bubble b 0 0 4 0 0 0 1\nl sphere s 0 0 4 0 0 0 0\n");
+    auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl instance a 1 a.oct 0 0\nl mesh b 1 b.rtm 0 0\nl sphere s 0 0 4 0 0 0 0\n");
     size_t e307 = 0, e306 = 0;
     for (const auto& d : r.diagnostics) e307 += d.code == "E307", e306 += d.code == "E306";
     EXPECT_EQ(e307, 2u);

@@ -1,0 +1,103 @@
+/// \file scene_builder.h
+/// Expanded RADIANCE primitives -> crex's scene model, with RADIANCE's rules for names: a
+/// modifier is the most recent definition of its name before the primitive that uses it (a
+/// later definition applies only to what follows), `alias` copies a definition (with
+/// `inherit` or another modifier), and `void` as a surface's modifier makes it invisible.
+///
+/// Modifiers are converted when a surface first uses them, so a file may define types crex
+/// does not render as long as no surface needs them (as RADIANCE only complains about what it
+/// uses); every refusal names the type, where it is defined and the surface that needs it.
+///
+/// Also reads crex's own `#@crex` comments:
+///   #@crex view -vp ...                       the camera (RADIANCE view options)
+///   #@crex tag name=N [task=0..3] [distractor=true|false] [scope]
+/// where scope says which surfaces get the tag: nothing (the next surface, or everything the
+/// next `!` command makes), `begin` (every surface up to `#@crex tag end`), `object=NAME`
+/// (surfaces named NAME or NAME.* - what `xform -n NAME` makes), `prefix=TEXT` (names starting
+/// with TEXT) or `modifier=NAME` (surfaces written with that modifier).
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "base/diagnostic.h"
+#include "runtime/scene/radiance/expand.h"
+#include "runtime/scene/scene.h"
+
+namespace crex::radiance {
+
+class SceneBuilder : public PrimitiveConsumer {
+public:
+    /// `library_dirs`: where function files are looked for after the scene file's directory.
+    SceneBuilder(Scene& scene, std::vector<std::string> library_dirs, DiagnosticSink& sink)
+        : scene_(scene), sink_(sink), library_dirs_(std::move(library_dirs)) {}
+
+    void primitive(Primitive p) override;
+    void directive(const Directive& d) override;
+    void command_begins(const SourceSpan& command) override;
+    void command_ends() override;
+
+    /// Applies the tag rules (object=, prefix=, modifier=); reports tags that tagged nothing.
+    void finish();
+
+    /// Where each shape of the scene was written (for later diagnostics).
+    const std::vector<SourceSpan>& shape_spans() const { return shape_spans_; }
+    /// True when a `#@crex view` line set the camera.
+    bool view_seen() const { return view_seen_; }
+
+    struct Definition;
+
+private:
+    using DefPtr = std::shared_ptr<Definition>;
+
+    void define(Primitive p);
+    void alias(Primitive p);
+    void surface(Primitive p);
+    void distant_light(const Primitive& p, const Material& m, const std::optional<SkyModel>& sky);
+    std::optional<SkyModel> sky_of(const Definition& pattern, const Primitive& user);
+    /// The crex material of `d` (converted once); nullopt after a reported error; "" when the
+    /// surfaces it modifies are invisible.
+    std::optional<std::string> material_of(const DefPtr& d, const Primitive& user);
+    std::optional<Material> convert(const Definition& d, const Primitive& user);
+    std::optional<std::string> alternate_of(const Definition& d, const Primitive& user);
+    bool orientation(const Definition& d, Vec3& out);
+    std::string unique_material_name(const std::string& id);
+    DefPtr lookup(const Word& name, const Primitive& user, const char* role);
+    void refuse(const Definition& d, const Primitive& user, const std::string& message, const std::string& help = "");
+    void refuse(const Definition& d, SourceSpan at, const Primitive& user, const std::string& message, const std::string& help = "");
+    Diagnostic& report(const char* code, SourceSpan span, std::string message, const Primitive* via = nullptr);
+
+    struct TagScope {
+        Tag tag;
+        SourceSpan where;
+        size_t surfaces = 0;
+    };
+    struct TagRule {
+        enum class Kind { kObject, kPrefix, kModifier } kind;
+        std::string text;
+        TagScope scope;
+    };
+    void read_tag(const std::vector<Word>& words, const Directive& d);
+    std::optional<Tag> tag_for_next_surface();
+
+    Scene& scene_;
+    DiagnosticSink& sink_;
+    std::vector<std::string> library_dirs_;
+    std::map<std::string, DefPtr> defs_;  ///< the latest definition of each name
+    std::map<std::string, int> material_name_uses_;
+    std::vector<SourceSpan> shape_spans_;
+    std::vector<std::string> shape_modifiers_;  ///< each shape's modifier as written
+    bool view_seen_ = false;
+
+    std::optional<TagScope> pending_tag_;     ///< for the next surface or command
+    std::vector<std::optional<TagScope>> command_tags_;  ///< per open command: its tag, if any
+    std::optional<TagScope> block_tag_;       ///< `#@crex tag ... begin` .. `end`
+    std::vector<TagRule> rules_;
+    std::vector<TagScope> finished_scopes_;   ///< for "tagged nothing" warnings
+    std::vector<bool> shape_tag_explicit_;
+};
+
+}  // namespace crex::radiance
