@@ -116,7 +116,7 @@ int reference(const ReferenceOptions& opt) {
 Runner add_reference_command(CLI::App& app) {
     auto opt = std::make_shared<ReferenceOptions>();
     CLI::App* cmd = app.add_subcommand("reference", "Render a converged gold reference of a scene, cached by scene and settings");
-    cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.obj or builtin:NAME")->capture_default_str();
+    cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj or builtin:NAME")->capture_default_str();
     cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(whole_number_in(1, 1 << 20));
     cmd->add_option("--seed", opt->seed, "Seed (0 to 2^53)")->capture_default_str()->check(seed_value());

@@ -144,7 +144,7 @@ int run_scene_info(const SceneInfoOptions& opt) {
 Runner add_scene_info_command(CLI::App& app) {
     auto opt = std::make_shared<SceneInfoOptions>();
     CLI::App* cmd = app.add_subcommand("scene-info", "Show a scene's contents and its material census");
-    cmd->add_option("scene", opt->scene, "A scene: file.json, file.rad, file.obj or builtin:NAME")
+    cmd->add_option("scene", opt->scene, "A scene: file.json, file.rad, file.rif, file.obj or builtin:NAME")
         ->capture_default_str();
     cmd->add_option("--format", opt->format, "text or json (on stdout)")->check(CLI::IsMember({"text", "json"}));
     cmd->add_option("--export-json", opt->export_json, "Also write the scene in crex's native JSON format to FILE");

@@ -12,6 +12,7 @@
 
 #include "runtime/base/sampling.h"
 #include "runtime/render/bsdf.h"
+#include "runtime/render/render_scene.h"
 #include "runtime/scene/sky_model.h"
 #include "tests/support/scene_helpers.h"
 #include "tests/support/test_scenes.h"
@@ -153,6 +154,58 @@ TEST(RadianceLights, AnIllumLightsLikeALampAndShowsItsAlternate) {
     auto r = testing::load_rad_text(floor_scene(0.5, illum));
     ASSERT_TRUE(r.scene);
     EXPECT_EQ(r.scene->find_material("window")->alternate, "pane");
+}
+
+TEST(RadianceViews, EachProjectionMapsTheImageAsRadianceDefinesIt) {
+    // Looking down -z, right is +x. At the middle of the right edge of an image whose field
+    // across is 180 degrees, every fisheye looks 90 degrees off the axis; the cylinder of 360
+    // looks straight back; a parallel view 4 wide starts its ray 2 to the right.
+    auto ray = [](Projection p, double hfov, double vfov, double px, double py, Vec3& o, Vec3& d) {
+        Camera c;
+        c.position = {0, 0, 0};
+        c.direction = {0, 0, -1};
+        c.up = {0, 1, 0};
+        c.projection = p;
+        c.hfov_deg = hfov, c.vfov_deg = vfov;
+        return CameraRays(c, 100, 100, {0, 0, 0}).generate(px, py, o, d);
+    };
+    Vec3 o, d;
+    for (Projection p : {Projection::kAngular, Projection::kHemispherical, Projection::kStereographic}) {
+        ASSERT_TRUE(ray(p, 180, 180, 100, 50, o, d));
+        EXPECT_NEAR(d.x, 1, 1e-9);
+        EXPECT_NEAR(d.z, 0, 1e-9);
+        ASSERT_TRUE(ray(p, 180, 180, 50, 50, o, d));  // the centre looks along the view
+        EXPECT_NEAR(d.z, -1, 1e-12);
+    }
+    // Half way out, each fisheye's own law: angle, sine and tangent of half the angle.
+    ASSERT_TRUE(ray(Projection::kAngular, 180, 180, 75, 50, o, d));
+    EXPECT_NEAR(std::acos(-d.z), kPi / 4, 1e-9);
+    ASSERT_TRUE(ray(Projection::kHemispherical, 180, 180, 75, 50, o, d));
+    EXPECT_NEAR(std::sin(std::acos(-d.z)), 0.5, 1e-9);
+    ASSERT_TRUE(ray(Projection::kStereographic, 180, 180, 75, 50, o, d));
+    EXPECT_NEAR(std::tan(std::acos(-d.z) / 2), 0.5, 1e-9);
+    // A hemispherical fisheye has no ray beyond 90 degrees: its 180-degree image's corners;
+    // an angular one has none beyond 180 (its corners when it spans 360), as RADIANCE's.
+    EXPECT_FALSE(ray(Projection::kHemispherical, 180, 180, 100, 100, o, d));
+    EXPECT_TRUE(ray(Projection::kAngular, 180, 180, 0, 0, o, d));
+    EXPECT_NEAR(std::acos(-d.z), kPi / 2 * std::sqrt(2.0), 1e-9);
+    EXPECT_FALSE(ray(Projection::kAngular, 360, 360, 0, 0, o, d));
+    // A square image of a 360-degree panorama: tan(vfov / 2) = pi keeps its pixels square.
+    ASSERT_TRUE(ray(Projection::kCylindrical, 360, 2 * std::atan(kPi) * 180 / kPi, 100, 50, o, d));
+    EXPECT_NEAR(d.z, 1, 1e-9);
+    ASSERT_TRUE(ray(Projection::kParallel, 4, 4, 100, 50, o, d));
+    EXPECT_NEAR(o.x, 2, 1e-12);
+    EXPECT_EQ(d, (Vec3{0, 0, -1}));
+}
+
+TEST(RadianceViews, PixelsOutsideAFisheyeAreBlack) {
+    // A 180-degree hemispherical fisheye inside a glowing sphere: the circle is lit, the
+    // corners are black, and the lit share of the image is the circle's, pi / 4.
+    Scene s = load("#@crex view -vth -vp 0 0 0 -vd 0 0 -1 -vu 0 1 0 -vh 180 -vv 180\nvoid glow g 0 0 4 1 1 1 0\ng bubble b 0 0 4 0 0 0 10\n");
+    RunResult r = testing::render_crex(s, "", 64, 16);
+    std::vector<float> img = r.image();
+    EXPECT_EQ(img[0], 0.0f);
+    EXPECT_NEAR(channel_sum(img, 1) / (64 * 64), kPi / 4, 0.01);
 }
 
 TEST(RadianceMaterials, TheAnisotropicWardLobeSamplesWhatItEvaluates) {

@@ -341,11 +341,11 @@ std::string find_file(const std::string& name, const std::string& dir, const std
     std::error_code ec;
     auto exists = [&](const fs::path& p) { return fs::is_regular_file(p, ec); };
     if (name[0] == '/') return exists(name) ? name : "";
-    fs::path local = fs::path(dir.empty() ? "." : dir) / name;
+    fs::path local = (fs::path(dir.empty() ? "." : dir) / name).lexically_normal();
     if (name[0] == '.' || name[0] == '~') return exists(local) ? local.string() : "";
     if (exists(local)) return local.string();
     for (const auto& d : library_dirs) {
-        fs::path p = fs::path(d) / name;
+        fs::path p = (fs::path(d) / name).lexically_normal();
         if (exists(p)) return p.string();
     }
     return "";

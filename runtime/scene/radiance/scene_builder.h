@@ -20,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -98,6 +99,7 @@ private:
     std::vector<TagRule> rules_;
     std::vector<TagScope> finished_scopes_;   ///< for "tagged nothing" warnings
     std::vector<bool> shape_tag_explicit_;
+    std::set<std::pair<const SourceFile*, uint32_t>> refused_places_;  ///< instances and meshes reported
 };
 
 }  // namespace crex::radiance

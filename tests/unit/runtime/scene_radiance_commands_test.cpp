@@ -130,6 +130,83 @@ TEST(RadianceGrammar, ContinuedCommandsAndInvertedSurfaces) {
     }
 }
 
+TEST(RadianceGrammar, EveryNewTypeReadsItsArguments) {
+    auto r = testing::load_rad_text(R"(
+void plastic2 p2 6 1 0 0 . -rz 90 0 6 .5 .4 .3 .05 .1 .2
+void metal2 m2 4 0 0 1 . 0 6 .9 .8 .7 .9 .05 .02
+void trans2 t2 4 0 1 0 . 0 8 .6 .6 .6 .03 .05 .1 .5 .4
+void interface water 0 0 8 .98 .97 .96 1.33 .9 .8 .7 1.5
+void spotlight beam 0 0 7 10 20 30 40 0 0 -2
+void glow dim 0 0 4 1 1 1 -1
+void glass pane 0 0 3 .9 .9 .9
+void illum window 1 pane 0 3 5 5 5
+void illum hole 0 0 3 5 5 5
+void light sun_mat 0 0 3 1e4 1e4 1e4
+sun_mat source sun 0 0 4 0 -1 1 .5
+p2 sphere a 0 0 4 0 0 0 1
+m2 sphere b 0 0 4 3 0 0 1
+t2 polygon c 0 0 9 0 0 5 1 0 5 0 1 5
+water sphere d 0 0 4 6 0 0 1
+beam ring e 0 0 8 0 0 9 0 0 -1 0 .1
+dim sphere f 0 0 4 9 0 0 .1
+window polygon g 0 0 12 0 0 7 1 0 7 1 1 7 0 1 7
+hole polygon h 0 0 12 0 0 8 1 0 8 1 1 8 0 1 8
+)");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Scene& s = *r.scene;
+    const Material* p2 = s.find_material("p2");
+    ASSERT_TRUE(p2 && p2->anisotropy);
+    EXPECT_EQ(p2->type, MaterialType::kPlastic);
+    EXPECT_DOUBLE_EQ(p2->roughness, 0.1);
+    EXPECT_DOUBLE_EQ(p2->anisotropy->roughness_v, 0.2);
+    expect_near(p2->anisotropy->orientation, {0, 1, 0}, 1e-12, "orientation turned by its transform (-rz 90)");
+    EXPECT_EQ(s.find_material("m2")->type, MaterialType::kMetal);
+    const Material* t2 = s.find_material("t2");
+    EXPECT_EQ(t2->type, MaterialType::kTrans);
+    EXPECT_DOUBLE_EQ(t2->transmissivity, 0.5);
+    EXPECT_DOUBLE_EQ(t2->transmitted_specular, 0.4);
+    const Material* water = s.find_material("water");
+    EXPECT_EQ(water->type, MaterialType::kDielectric);
+    EXPECT_DOUBLE_EQ(water->ior, 1.33);
+    ASSERT_TRUE(water->outside);
+    EXPECT_DOUBLE_EQ(water->outside->ior, 1.5);
+    EXPECT_EQ(water->outside->color, (Vec3{.9, .8, .7}));
+    const Material* beam = s.find_material("beam");
+    EXPECT_EQ(beam->type, MaterialType::kLight);
+    ASSERT_TRUE(beam->spot);
+    EXPECT_DOUBLE_EQ(beam->spot->angle_deg, 40);
+    EXPECT_EQ(beam->spot->direction, (Vec3{0, 0, -2}));
+    EXPECT_DOUBLE_EQ(s.find_material("dim")->glow_radius, -1);
+    EXPECT_EQ(s.find_material("window")->type, MaterialType::kIllum);
+    EXPECT_EQ(s.find_material("window")->alternate, "pane");
+    EXPECT_EQ(s.find_material("hole")->alternate, "");
+    ASSERT_EQ(s.distant_lights.size(), 1u);
+    EXPECT_EQ(s.distant_lights[0].direction, (Vec3{0, -1, 1}));
+    EXPECT_DOUBLE_EQ(s.distant_lights[0].angle_deg, 0.5);
+    EXPECT_EQ(s.distant_lights[0].material, "sun_mat");
+    // The census: an illum's surface spawns what its glass does; the sun is a sampled emitter.
+    Census c = take_census(s);
+    for (const auto& m : c.materials) {
+        if (m.name == "window") {
+            EXPECT_EQ(component_set_letters(m.spawns), "T R");
+        }
+    }
+    EXPECT_GE(c.sampled_emitters, 4u);  // the spotlight, the two illums, the sun
+}
+
+TEST(RadianceViews, EveryViewTypeAndTheForeClip) {
+    const std::pair<const char*, Projection> types[] = {{"-vtv", Projection::kPerspective}, {"-vtl", Projection::kParallel},
+                                                        {"-vta", Projection::kAngular},     {"-vth", Projection::kHemispherical},
+                                                        {"-vts", Projection::kStereographic}, {"-vtc", Projection::kCylindrical}};
+    for (const auto& [option, projection] : types) {
+        auto r = testing::load_rad_text(std::string(kLight) + "l sphere s 0 0 4 0 0 0 1\n",
+                                        std::string("rview ") + option + " -vp 0 0 5 -vd 0 0 -1 -vu 0 1 0 -vh 90 -vv 60 -vo .5\n");
+        ASSERT_TRUE(r.scene) << option;
+        EXPECT_EQ(r.scene->camera.projection, projection) << option;
+        EXPECT_DOUBLE_EQ(r.scene->camera.fore_clip, 0.5);
+    }
+}
+
 TEST(RadianceCommands, GenboxFacesNamesAndNormals) {
     auto r = testing::load_rad_text(std::string(kLight) + "!genbox l crate 2 3 4\n");
     ASSERT_TRUE(r.scene);

@@ -1,0 +1,104 @@
+// Every refusal of the RADIANCE reader (issue 39) is a located error that names what it
+// refuses: commands crex does not run, shell syntax, the types it does not render, bad
+// arguments of its built-in generators and views, and its own #@crex comments.
+#include <gtest/gtest.h>
+
+#include "tests/support/scene_helpers.h"
+
+namespace crex {
+namespace {
+
+struct RadCase {
+    const char* name;
+    const char* text;
+    const char* code;
+    uint32_t line;
+    uint32_t col;
+    const char* message_part;
+};
+
+class RadianceDiagnostic : public ::testing::TestWithParam<RadCase> {};
+
+TEST_P(RadianceDiagnostic, IsLocatedAndNamesItsCause) {
+    const RadCase& c = GetParam();
+    auto r = testing::load_rad_text(c.text);
+    if (c.code[0] == 'E') {
+        EXPECT_FALSE(r.scene) << c.name;
+    }
+    testing::expect_diagnostic(r, c.name, c.code, c.line, c.col, c.message_part);
+}
+
+#define L "void light l 0 0 3 1 1 1\n"
+
+INSTANTIATE_TEST_SUITE_P(
+    Refusals, RadianceDiagnostic,
+    ::testing::Values(
+        // Commands and shell syntax.
+        RadCase{"other_program", L "!pkgBSDF -s blinds.xml | xform -rz 90\n", "E307", 2, 2, "the command 'pkgBSDF' is not supported"},
+        RadCase{"after_a_pipe", L "!genbox l b 1 1 1 | sort\n", "E307", 2, 21, "the command 'sort' after a '|'"},
+        RadCase{"semicolon", L "!genbox l b 1 1 1; rm x\n", "E307", 2, 18, "';' in a '!' command needs a shell"},
+        RadCase{"dollar", L "!xform -t $X 0 0 a.rad\n", "E307", 2, 11, "a '$' expansion"},
+        RadCase{"backquote", L "!xform `cat list`\n", "E307", 2, 8, "'`'"},
+        RadCase{"unquoted_parenthesis", L "!genrev l r sin(t) 1 4\n", "E307", 2, 16, "unquoted '('"},
+        RadCase{"empty_command", L "!\n", "E301", 2, 1, "an empty '!' command"},
+        RadCase{"xform_stdin", L "!xform -t 1 0 0\n", "E301", 2, 2, "standard input"},
+        RadCase{"xform_after_pipe_with_files", L "!genbox l b 1 1 1 | xform -t 1 0 0 other.rad\n", "E307", 2, 36, "naming files too"},
+        RadCase{"xform_option_after_transform", L "!xform -t 1 0 0 -n late a.rad\n", "E303", 2, 17, "'-n' is not an option here"},
+        RadCase{"xform_bad_number", L "!xform -rz ninety a.rad\n", "E302", 2, 12, "expected a number, got 'ninety'"},
+        RadCase{"xform_bad_array", L "!xform -a 0 -t 1 0 0 a.rad\n", "E303", 2, 11, "count of copies"},
+        RadCase{"xform_arg_file", L "!xform -f args.txt\n", "E307", 2, 8, "xform -f"},
+        // Generators.
+        RadCase{"genbox_size", L "!genbox l b 1 0 1\n", "E303", 2, 15, "sizes must be > 0"},
+        RadCase{"genbox_option", L "!genbox l b 1 1 1 -x\n", "E303", 2, 19, "unknown option '-x'"},
+        RadCase{"genbox_polygon_rounding", L "!genbox l b 1 1 1 -r .1 -n 8\n", "E307", 2, 25, "genbox -n"},
+        RadCase{"genprism_count", L "!genprism l p 4 0 0 1 0 1 1\n", "E301", 2, 2, "4 vertices need 8 coordinates"},
+        RadCase{"genprism_flat", L "!genprism l p 3 0 0 1 0 0 1 -l 1 0 0\n", "E303", 2, 36, "must leave the z = 0 plane"},
+        RadCase{"genprism_rounding", L "!genprism l p 3 0 0 1 0 0 1 -r .1\n", "E307", 2, 29, "genprism -r"},
+        RadCase{"genrev_syntax", L "!genrev l r 't*' 1 4\n", "E302", 2, 13, "z(t)"},
+        RadCase{"genrev_segments", L "!genrev l r t 1 0\n", "E303", 2, 17, "number of segments"},
+        RadCase{"genrev_negative_radius", L "!genrev l r t '-1' 4\n", "E303", 2, 15, "must not be negative"},
+        RadCase{"gensky_month", L "!gensky 13 1 12\n", "E303", 2, 9, "month must be 1 .. 12"},
+        RadCase{"gensky_time", L "!gensky 6 21 noon\n", "E302", 2, 14, "cannot read the time 'noon'"},
+        RadCase{"gensky_zone", L "!gensky 6 21 12XYZ\n", "E302", 2, 14, "time zone"},
+        RadCase{"gensky_option", L "!gensky 6 21 12 -q\n", "E303", 2, 17, "unknown option '-q'"},
+        // Types crex does not render, where they are defined, when a surface needs them.
+        RadCase{"texture", L "void texfunc wavy 4 dx dy dz . 0 0\nwavy plastic p 0 0 5 .5 .5 .5 0 0\np sphere s 0 0 4 0 0 0 1\n", "E307", 3, 1,
+                "modified by a texfunc 'wavy'"},
+        RadCase{"pattern_as_material", L "void colorfunc c 4 r g b . 0 0\nc sphere s 0 0 4 0 0 0 1\n", "E307", 2, 6,
+                "a colorfunc (a pattern), not a material"},
+        RadCase{"mist", L "void mist fog 0 0 3 .1 .1 .1\nfog sphere s 0 0 4 0 0 0 1\n", "E307", 2, 6, "'mist' ('fog') is not supported"},
+        RadCase{"bsdf_data", L "void BSDF b 6 0 file.xml 0 0 1 . 0 0\nb polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n", "E307", 2, 6, "'BSDF'"},
+        RadCase{"brtdfunc", L "void BRTDfunc f 10 0 0 0 0 0 0 0 0 0 . 0 9 0 0 0 0 0 0 0 0 0\nf sphere s 0 0 4 0 0 0 1\n", "E307", 2, 6,
+                "'BRTDfunc'"},
+        RadCase{"prism", L "void prism1 p 5 c dx dy dz prism.cal 0 1 1.5\np ring r 0 0 8 0 0 0 0 0 1 0 1\n", "E307", 2, 6, "'prism1'"},
+        RadCase{"sky_function", L "void brightfunc f 2 mysky my.cal 0 0\nf glow g 0 0 4 1 1 1 0\ng source s 0 0 4 0 0 1 180\n", "E307", 2, 6,
+                "crex evaluates the sky function skybr of skybright.cal"},
+        RadCase{"tipped_sky", L "void brightfunc f 4 skybr skybright.cal -rx 90 0 3 2 1 .2\nf glow g 0 0 4 1 1 1 0\ng source s 0 0 4 0 0 1 180\n",
+                "E307", 2, 45, "a sky tipped away from +z"},
+        RadCase{"orientation_varies", L "void plastic2 p 4 Px 0 1 . 0 6 .5 .5 .5 .05 .1 .2\np sphere s 0 0 4 0 0 0 1\n", "E307", 2, 19,
+                "cannot be evaluated once for the whole surface"},
+        // Arguments of the types crex does render.
+        RadCase{"zero_roughness", L "void metal2 m 4 0 0 1 . 0 6 .5 .5 .5 .9 0 .1\n", "E303", 2, 41, "roughness must be in (0, 1]"},
+        RadCase{"spot_angle", L "void spotlight s 0 0 7 1 1 1 0 0 0 -1\n", "E303", 2, 30, "cone angle"},
+        RadCase{"source_angle", L "l source sun 0 0 4 0 0 1 0\n", "E303", 2, 26, "the angle must be in (0, 360]"},
+        RadCase{"source_material", "void plastic p 0 0 5 .5 .5 .5 0 0\np source sun 0 0 4 0 0 1 1\n", "E303", 2, 1,
+                "needs a light or glow material"},
+        RadCase{"interface_ior", L "void interface w 0 0 8 1 1 1 1.33 1 1 1 0\n", "E303", 2, 41, "outside index of refraction"},
+        RadCase{"alternate_undefined", L "void illum i 1 glass 0 3 1 1 1\n", "E305", 2, 16, "the alternate material 'glass'"},
+        // Views and tags.
+        RadCase{"view_type", "#@crex view -vtq\n" L, "E307", 1, 13, "not a RADIANCE view type"},
+        RadCase{"fisheye_angle", "#@crex view -vta -vh 400\n" L, "E303", 1, 22, "(0, 360]"},
+        RadCase{"perspective_angle", "#@crex view -vh 200\n" L, "E303", 1, 17, "(0, 180)"},
+        RadCase{"tag_without_name", "#@crex tag task=2\n" L, "E304", 1, 1, "name=NAME is missing"},
+        RadCase{"tag_two_scopes", "#@crex tag name=a begin prefix=x\n" L, "E303", 1, 1, "'begin' tags what follows"},
+        RadCase{"tag_blocks_nest", "#@crex tag name=a begin\n#@crex tag name=b begin\n" L, "E303", 2, 1, "blocks do not nest"},
+        RadCase{"tag_nothing", L "#@crex tag name=lonely\n", "W307", 2, 1, "tags no surface"},
+        RadCase{"self_crossing_polygon", L "l polygon bow 0 0 12 0 0 0 2 2 0 2 0 0 0 1 0\n", "W308", 2, 3, "crosses itself"},
+        RadCase{"mirror_alternate", "void plastic pink 0 0 5 .9 .5 .6 .8 .015\nvoid mirror m 1 pink 0 3 .8 .8 .8\nm polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n" L
+                "l sphere s 0 0 4 0 0 5 1\n", "W306", 2, 17, "renders its surfaces as 'pink'"}),
+    [](const ::testing::TestParamInfo<RadCase>& p) { return std::string(p.param.name); });
+
+#undef L
+
+}  // namespace
+}  // namespace crex
