@@ -15,6 +15,20 @@
 #include "runtime/scene/radiance_view.h"
 
 namespace crex {
+namespace {
+
+// What every RADIANCE scene gets once it is read: the checks of every format.
+std::optional<Scene> checked(Scene scene, const radiance::SceneBuilder& builder, const SourceFile& file, size_t errors_before,
+                             DiagnosticSink& sink) {
+    if (sink.error_count() != errors_before) return std::nullopt;
+    const auto& spans = builder.shape_spans();
+    validate_scene(scene, sink, [&](size_t i) { return i < spans.size() ? spans[i] : SourceSpan{&file, 0, 0}; });
+    if (sink.error_count() != errors_before) return std::nullopt;
+    scene.source = file.name();
+    return scene;
+}
+
+}  // namespace
 
 std::optional<Scene> import_radiance(const SourceFile& file, const SourceFile* view_file, SceneSources& sources,
                                      const RadianceOptions& options, DiagnosticSink& sink) {
@@ -24,12 +38,7 @@ std::optional<Scene> import_radiance(const SourceFile& file, const SourceFile* v
     radiance::expand_scene(file, sources, {options.library_dirs}, builder, sink);
     builder.finish();
     if (view_file) apply_radiance_view(*view_file, view_file_words(*view_file), scene.camera, !builder.view_seen(), sink);
-    if (sink.error_count() != errors_before) return std::nullopt;
-    const auto& spans = builder.shape_spans();
-    validate_scene(scene, sink, [&](size_t i) { return i < spans.size() ? spans[i] : SourceSpan{&file, 0, 0}; });
-    if (sink.error_count() != errors_before) return std::nullopt;
-    scene.source = file.name();
-    return scene;
+    return checked(std::move(scene), builder, file, errors_before, sink);
 }
 
 std::optional<Scene> import_radiance_project(const SourceFile& rif, SceneSources& sources, const RadianceOptions& options,
@@ -63,12 +72,7 @@ std::optional<Scene> import_radiance_project(const SourceFile& rif, SceneSources
         fresh = false;
     }
     if (!rest.empty()) apply_radiance_view(rif, rest, scene.camera, fresh, sink);
-    if (sink.error_count() != errors_before) return std::nullopt;
-    const auto& spans = builder.shape_spans();
-    validate_scene(scene, sink, [&](size_t i) { return i < spans.size() ? spans[i] : SourceSpan{&rif, 0, 0}; });
-    if (sink.error_count() != errors_before) return std::nullopt;
-    scene.source = rif.name();
-    return scene;
+    return checked(std::move(scene), builder, rif, errors_before, sink);
 }
 
 std::optional<Scene> import_radiance(const SourceFile& file, SceneSources& sources, DiagnosticSink& sink) {

@@ -160,6 +160,21 @@ std::optional<std::string> SceneBuilder::alternate_of(const Definition& d, const
     return material_of(d.alternate, user);
 }
 
+std::optional<Transform> SceneBuilder::function_transform(const Primitive& p, size_t first) {
+    // The strings after a function file are its transform (xform appends its own there).
+    std::vector<std::string> words;
+    for (size_t k = first; k < p.strings.size(); ++k) words.push_back(p.strings[k].text);
+    Transform xf;
+    size_t consumed = 0, bad = 0;
+    std::string error;
+    if (!parse_transform(words, 0, xf, consumed, error, bad) || consumed != words.size()) {
+        report("E302", p.strings[std::min(first + (error.empty() ? consumed : bad), p.strings.size() - 1)].span,
+               fmt::format("{} '{}': {}", p.type.text, p.id.text, error.empty() ? "expected a transform after the function file" : error), &p);
+        return std::nullopt;
+    }
+    return xf;
+}
+
 bool SceneBuilder::orientation(const Definition& d, Vec3& out) {
     // ux uy uz funcfile [transform]: expressions evaluated in the function file's context,
     // then moved by its transform to world coordinates.
@@ -200,17 +215,9 @@ bool SceneBuilder::orientation(const Definition& d, Vec3& out) {
         }
         u[k] = *v;
     }
-    std::vector<std::string> words;
-    for (size_t k = 4; k < p.strings.size(); ++k) words.push_back(p.strings[k].text);
-    Transform xf;
-    size_t consumed = 0, bad = 0;
-    std::string error;
-    if (!parse_transform(words, 0, xf, consumed, error, bad) || consumed != words.size()) {
-        report("E302", p.strings[std::min(4 + (error.empty() ? consumed : bad), p.strings.size() - 1)].span,
-               fmt::format("{} '{}': {}", p.type.text, p.id.text, error.empty() ? "expected a transform after the function file" : error), &p);
-        return false;
-    }
-    out = xf.vector({u[0], u[1], u[2]});
+    std::optional<Transform> xf = function_transform(p, 4);
+    if (!xf) return false;
+    out = xf->vector({u[0], u[1], u[2]});
     if (!(length(out) > 0)) {
         report("E306", p.strings[0].span.merge(p.strings[2].span), fmt::format("{} '{}': the orientation vector is zero", p.type.text, p.id.text), &p);
         return false;
@@ -517,21 +524,14 @@ std::optional<SkyModel> SceneBuilder::sky_of(const Definition& pattern, const Pr
         return std::nullopt;
     }
     // A transform (from xform) may turn the sky about the zenith; it may not tip it.
-    std::vector<std::string> words;
-    for (size_t k = 2; k < p.strings.size(); ++k) words.push_back(p.strings[k].text);
-    Transform xf;
-    size_t consumed = 0, bad = 0;
-    std::string error;
-    if (!parse_transform(words, 0, xf, consumed, error, bad) || consumed != words.size()) {
-        report("E302", p.strings.back().span, fmt::format("brightfunc '{}': {}", p.id.text, error.empty() ? "expected a transform" : error), &p);
-        return std::nullopt;
-    }
-    const Vec3 up = normalize_or_zero(xf.vector({0, 0, 1}));
+    std::optional<Transform> xf = function_transform(p, 2);
+    if (!xf) return std::nullopt;
+    const Vec3 up = normalize_or_zero(xf->vector({0, 0, 1}));
     if (!(up.z > 1 - 1e-9)) {
         report("E307", p.strings.back().span, fmt::format("brightfunc '{}': a sky tipped away from +z is not supported", p.id.text), &p);
         return std::nullopt;
     }
-    sky.sun = normalize_or_zero(xf.vector(sky.sun));
+    sky.sun = normalize_or_zero(xf->vector(sky.sun));
     return sky;
 }
 

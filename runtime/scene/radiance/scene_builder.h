@@ -26,6 +26,7 @@
 
 #include "base/diagnostic.h"
 #include "runtime/scene/radiance/expand.h"
+#include "runtime/scene/radiance/transform.h"
 #include "runtime/scene/scene.h"
 
 namespace crex::radiance {
@@ -65,6 +66,7 @@ private:
     std::optional<Material> convert(const Definition& d, const Primitive& user);
     std::optional<std::string> alternate_of(const Definition& d, const Primitive& user);
     bool orientation(const Definition& d, Vec3& out);
+    std::optional<Transform> function_transform(const Primitive& p, size_t first);
     std::string unique_material_name(const std::string& id);
     DefPtr lookup(const Word& name, const Primitive& user, const char* role);
     void refuse(const Definition& d, const Primitive& user, const std::string& message, const std::string& help = "");
