@@ -20,7 +20,7 @@ bool split_command_line(const Command& c, std::vector<CommandWords>& stages, Dia
     };
     auto refuse = [&](size_t at, const std::string& what) {
         sink.report("E307", span(at, at + 1), fmt::format("{} in a '!' command needs a shell, and crex runs none", what))
-            .help = "crex carries out xform, genbox, genprism, genrev, gensky and gendaylit itself, alone or piped into "
+            .help = "crex carries out xform, genbox, genprism, genrev and gensky itself, alone or piped into "
                     "xform; write the other commands' output into a file and read that";
         return false;
     };

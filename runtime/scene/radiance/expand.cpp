@@ -129,10 +129,10 @@ private:
         Diagnostic& d = sink_.report("E307", program.span, fmt::format("the command '{}'{} is not supported in a scene file", name,
                                                                        where.empty() ? "" : " " + where));
         if (name == "pkgBSDF" || name == "mkillum" || name == "oconv" || name == "obj2rad" || name == "obj2mesh" || name == "ies2rad")
-            d.help = fmt::format("run {} yourself and read its output (crex carries out xform, genbox, genprism, genrev, "
-                                 "gensky and gendaylit itself)", name);
+            d.help = fmt::format("run {} yourself and read its output (crex carries out xform, genbox, genprism, genrev "
+                                 "and gensky itself)", name);
         else
-            d.help = "crex carries out xform, genbox, genprism, genrev, gensky and gendaylit itself (alone, or piped into xform) "
+            d.help = "crex carries out xform, genbox, genprism, genrev and gensky itself (alone, or piped into xform) "
                      "and runs no other program";
     }
 

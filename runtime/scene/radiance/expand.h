@@ -2,7 +2,7 @@
 /// A RADIANCE scene file with its `!` commands carried out, as RADIANCE's own xform would
 /// expand it, but natively: no shell is ever run. xform is built in (its transforms, -a
 /// arrays, -n names, -m modifiers, -I, -c, nested files read relative to the file that names
-/// them); so are the generators (genbox, genprism, genrev, gensky, gendaylit) and pipelines of
+/// them); so are the generators (genbox, genprism, genrev, gensky) and pipelines of
 /// a generator into xforms. Any other command is a located E307 that names it.
 ///
 /// What comes out is a stream of primitives in world coordinates with their final names and

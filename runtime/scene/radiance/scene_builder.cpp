@@ -37,6 +37,33 @@ std::string article(const std::string& word) {
     return word.empty() || std::string("aeiouAEIOU").find(word[0]) == std::string::npos ? "a" : "an";
 }
 
+// What a pattern, texture or mixture needs, from its string arguments: its functions, their
+// file, its data or picture ("flatcorr, src_phi4, src_theta of source.cal, data rect_fixture.dat").
+std::string what_it_needs(const Primitive& p) {
+    const std::string& t = p.type.text;
+    auto at = [&](size_t i) { return i < p.strings.size() ? p.strings[i].text : std::string("?"); };
+    auto list = [&](size_t from, size_t to) {
+        std::string out;
+        for (size_t i = from; i < std::min(to, p.strings.size()); ++i) {
+            if (std::string(at(i)).rfind('-', 0) == 0 && i > from) break;  // a transform begins
+            out += (out.empty() ? "" : ", ") + at(i);
+        }
+        return out;
+    };
+    auto file = [&](const std::string& f) { return f == "." ? std::string("the built-in library") : f; };
+    if (t == "brightfunc") return fmt::format("{} of {}", at(0), file(at(1)));
+    if (t == "colorfunc" || t == "texfunc") return fmt::format("{} of {}", list(0, 3), file(at(3)));
+    if (t == "brightdata") return fmt::format("{}, {} of {}, data {}", at(0), list(3, p.strings.size()), file(at(2)), at(1));
+    if (t == "colordata" || t == "texdata")
+        return fmt::format("{}, {} of {}, data {}", list(0, 3), list(7, p.strings.size()), file(at(6)), list(3, 6));
+    if (t == "colorpict") return fmt::format("{}, {}, {} of {}, picture {}", list(0, 3), at(5), at(6), file(at(4)), at(3));
+    if (t == "mixfunc") return fmt::format("{} of {}", at(2), file(at(3)));
+    if (t == "mixdata") return fmt::format("{}, {} of {}, data {}", at(2), list(5, p.strings.size()), file(at(4)), at(3));
+    if (t == "mixpict") return fmt::format("{}, {}, {} of {}, picture {}", at(2), at(5), at(6), file(at(4)), at(3));
+    if (t.find("text") != std::string::npos) return "text in a font";
+    return "";
+}
+
 }  // namespace
 
 Diagnostic& SceneBuilder::report(const char* code, SourceSpan span, std::string message, const Primitive* via) {
@@ -235,14 +262,17 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         return std::nullopt;
     }
     if (info->kind == PrimitiveKind::kMixture) {
-        refuse(d, user, fmt::format("{} '{}' (a mixture of materials) is not supported", t, p.id.text),
+        const std::string needs = what_it_needs(p);
+        refuse(d, user, fmt::format("{} '{}' (a mixture of materials{}) is not supported", t, p.id.text, needs.empty() ? "" : ", by " + needs),
                "give the surface one of the materials the mixture blends");
         return std::nullopt;
     }
     if (d.modifier) {
         const Definition& m = *d.modifier;
-        refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by {} {} '{}': patterns, textures and mixtures modifying a material are "
-                                    "not supported", t, p.id.text, article(m.p.type.text), m.p.type.text, m.p.id.text),
+        const std::string needs = what_it_needs(m.p);
+        refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by {} {} '{}'{}: patterns, textures and mixtures modifying a "
+                                    "material are not supported", t, p.id.text, article(m.p.type.text), m.p.type.text, m.p.id.text,
+                                    needs.empty() ? "" : " (" + needs + ")"),
                fmt::format("use 'void' as the modifier of '{}' to render it without the {}", p.id.text, m.p.type.text));
         return std::nullopt;
     }

@@ -1,5 +1,5 @@
 /// \file sky_generators.h
-/// gensky and gendaylit, built in: the sun and the sky they would print for a date, time and
+/// gensky, built in: the sun and the sky it would print for a date, time and
 /// place, as primitives (a `light` sun `source`, and the sky's `brightfunc` with the numbers
 /// of RADIANCE's own sky model, which crex evaluates natively).
 #pragma once

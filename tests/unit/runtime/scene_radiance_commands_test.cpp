@@ -194,6 +194,35 @@ hole polygon h 0 0 12 0 0 8 1 0 8 1 1 8 0 1 8
     EXPECT_GE(c.sampled_emitters, 4u);  // the spotlight, the two illums, the sun
 }
 
+TEST(RadianceGrammar, WhatItReadsExportsToJsonAndBackUnchanged) {
+    // Everything new in the scene model (distant lights and skies, spotlights, illum, glow
+    // radii, anisotropy, interfaces, inward shapes, projections) survives --export-json.
+    auto r = testing::load_rad_text(R"(#@crex view -vta -vp 0 0 1 -vd 0 1 0 -vu 0 0 1 -vh 180 -vv 170 -vo .2
+void plastic2 p2 4 1 0 0 . 0 6 .5 .4 .3 .05 .1 .2
+void interface water 0 0 8 .98 .97 .96 1.33 .9 .8 .7 1.5
+void spotlight beam 0 0 7 10 20 30 40 0 0 -2
+void glow dim 0 0 4 1 1 1 -1
+void glass pane 0 0 3 .9 .9 .9
+void illum window 1 pane 0 3 5 5 5
+!gensky 6 21 14 -a 40 -o 105 -m 105
+skyfunc glow sky_mat 0 0 4 1 1 1 0
+sky_mat source sky 0 0 4 0 0 1 180
+p2 sphere a 0 0 4 0 0 0 1
+water bubble b 0 0 4 3 0 0 1
+beam ring e 0 0 8 0 0 9 0 0 -1 0 .1
+dim tube f 0 0 7 9 0 0 9 0 1 .1
+window polygon g 0 0 12 0 0 7 1 0 7 1 1 7 0 1 7
+)");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const nlohmann::json first = scene_to_json(*r.scene);
+    ASSERT_EQ(first["distant_lights"].size(), 2u);  // the sun and the sky
+    EXPECT_EQ(first["distant_lights"][1]["sky"]["type"], "clear");
+    EXPECT_EQ(first["camera"]["projection"], "angular");
+    auto back = testing::load_json_text(scene_json_text(*r.scene));
+    ASSERT_TRUE(back.scene) << (back.diagnostics.empty() ? "" : back.diagnostics[0].message);
+    EXPECT_EQ(scene_to_json(*back.scene), first);
+}
+
 TEST(RadianceViews, EveryViewTypeAndTheForeClip) {
     const std::pair<const char*, Projection> types[] = {{"-vtv", Projection::kPerspective}, {"-vtl", Projection::kParallel},
                                                         {"-vta", Projection::kAngular},     {"-vth", Projection::kHemispherical},

@@ -162,7 +162,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadRad{"unsupported_material", "void antimatter a 1 wall 0 0\na ring r 0 0 8 0 0 0 0 0 1 0 1\n", "E307", 1, 6,
                "RADIANCE material type 'antimatter' ('a') is not supported"},
         BadRad{"mixture", "void plastic w 0 0 5 1 1 1 0 0\nvoid mixfunc m 4 w void x .  0 0\nm sphere s 0 0 4 0 0 0 1\n", "E307", 2, 6,
-               "mixfunc 'm' (a mixture of materials)"},
+               "mixfunc 'm' (a mixture of materials, by x of the built-in library)"},
         BadRad{"unclosed_quote", "void light 'l 0 0 3 1 1 1\n", "E301", 1, 12, "never closed"},
         BadRad{"undefined_alias", "void alias a nothing\n", "E305", 1, 14, "'nothing', which is not defined"},
         BadRad{"truncated", "void light l 0 0 3 1 1\n", "E301", 2, 1, "real argument 3 of 3 is missing"},
