@@ -142,12 +142,9 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
         if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true};
         break;
     }
-    case MaterialType::kGlass:
-    case MaterialType::kDielectric: {
+    case MaterialType::kGlass: {
         const Material& m = *b.material;
-        // The normal points to the outside (vacuum unless an outside medium is given).
-        const double outside = m.outside ? m.outside->ior : 1.0;
-        double eta = f.front ? outside / m.ior : m.ior / outside;
+        double eta = f.front ? 1.0 / m.ior : m.ior;
         double cos_i = -dot(d, nrm);
         double fr = fresnel_dielectric(cos_i, eta);
         Vec3 mirror = reflect(d, nrm);
@@ -156,13 +153,38 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             break;
         }
         out[n++] = {Component::kR, mirror, {fr, fr, fr}, false, true};
-        // A plain dielectric's colour applies at both crossings; with an outside medium, each
-        // crossing takes the colour of the medium it enters.
-        const Vec3 entered = m.outside && !f.front ? m.outside->color : m.color;
-        if (positive(entered)) {
+        if (positive(m.color)) {
             double cos_t = std::sqrt(std::fmax(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
             Vec3 dir = normalize_or_zero(d * eta + nrm * (eta * cos_i - cos_t));
-            if (dir != Vec3{}) out[n++] = {Component::kT, dir, entered * (1 - fr), true, true};
+            if (dir != Vec3{}) out[n++] = {Component::kT, dir, m.color * (1 - fr), true, true};
+        }
+        break;
+    }
+    case MaterialType::kDielectric: {
+        const Material& m = *b.material;
+        // The normal points to the outside (vacuum unless an outside medium is given). The
+        // colours are transmissions per unit length, as in RADIANCE: a ray reaching the surface
+        // kept colour^distance of its light across the medium it came through, whichever
+        // lobe it leaves by (a 1 cm pane of .1 keeps .1^0.01 = 98 %, not 10 % at each face).
+        const double outside = m.outside ? m.outside->ior : 1.0;
+        const Vec3 through = f.front ? (m.outside ? m.outside->color : Vec3{1, 1, 1}) : m.color;
+        const double t = std::isfinite(f.distance) ? std::fmax(f.distance, 0.0) : 0.0;
+        auto keep = [&](double c) { return c >= 1 || t == 0 ? 1.0 : c > 0 ? std::pow(c, t) : 0.0; };
+        const Vec3 kept{keep(through.x), keep(through.y), keep(through.z)};
+        double eta = f.front ? outside / m.ior : m.ior / outside;
+        double cos_i = -dot(d, nrm);
+        double fr = fresnel_dielectric(cos_i, eta);
+        Vec3 mirror = reflect(d, nrm);
+        if (fr >= 1) {  // total internal reflection
+            out[n++] = {Component::kR, mirror, kept, false, true};
+            break;
+        }
+        out[n++] = {Component::kR, mirror, kept * fr, false, true};
+        const Vec3 entered = f.front ? m.color : (m.outside ? m.outside->color : Vec3{1, 1, 1});
+        if (positive(entered)) {  // a black medium absorbs whatever enters it
+            double cos_t = std::sqrt(std::fmax(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
+            Vec3 dir = normalize_or_zero(d * eta + nrm * (eta * cos_i - cos_t));
+            if (dir != Vec3{}) out[n++] = {Component::kT, dir, kept * (1 - fr), true, true};
         }
         break;
     }

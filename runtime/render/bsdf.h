@@ -13,9 +13,12 @@
 ///                          S  ideal specular          ks
 ///   trans                  D  diffuse transmission    c(1-s) t (1-ts)
 ///                          T  specular transmission   c(1-s) t ts            undeviated
-///   glass, dielectric      R  Fresnel reflection      F;  T refraction (1-F) c; total internal
-///                             reflection spawns R only, weight 1 (a dielectric with an outside
-///                             medium: the indices' ratio, and T coloured by the medium entered)
+///   glass                  R  Fresnel reflection      F;  T refraction (1-F) c; total internal
+///                             reflection spawns R only, weight 1
+///   dielectric             R  F k;  T (1-F) k, where k = colour^distance of the medium the ray
+///                             came through (its colours are per unit length, as RADIANCE's;
+///                             vacuum, or the outside medium, on the front side); total
+///                             internal reflection R with weight k
 ///   mirror                 M  c
 /// Emission, from the front side only: `light` (within its spotlight cone) on camera rays and
 /// rays from delta lobes (direct lighting samples it for the rest); `glow` with radius 0 on

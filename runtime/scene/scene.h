@@ -44,15 +44,15 @@ struct Spot {
 
 /// The medium outside a dielectric (RADIANCE interface); without it, the outside is vacuum.
 struct OutsideMedium {
-    Vec3 color{1, 1, 1};  ///< transmission of the outside medium (the inside's is `color`)
+    Vec3 color{1, 1, 1};  ///< transmission per unit length of the outside medium (the inside's is `color`)
     double ior = 1;
 };
 
 struct Material {
     std::string name;
     MaterialType type = MaterialType::kPlastic;
-    Vec3 color{0.5, 0.5, 0.5};  ///< reflectance (plastic/metal/trans/mirror), transmission (glass,
-                                ///< dielectric), radiance (light/glow)
+    Vec3 color{0.5, 0.5, 0.5};  ///< reflectance (plastic/metal/trans/mirror), transmission (glass; a
+                                ///< dielectric's per unit length inside), radiance (light/glow/illum)
     double specularity = 0;     ///< plastic, metal, trans: fraction reflected specularly
     double roughness = 0;       ///< plastic, metal, trans: 0 = ideal specular (S), > 0 glossy (G)
     double transmissivity = 0;  ///< trans: fraction of non-specular light transmitted

@@ -208,6 +208,20 @@ TEST(RadianceViews, PixelsOutsideAFisheyeAreBlack) {
     EXPECT_NEAR(channel_sum(img, 1) / (64 * 64), kPi / 4, 0.01);
 }
 
+TEST(RadianceMaterials, ADielectricsColourIsPerUnitLength) {
+    // RADIANCE's dielectric (and interface) colours are transmissions per unit length: a slab
+    // 0.5 thick of colour 0.25 (index 1, so no Fresnel loss) passes 0.25^0.5 = 0.5 of the glow
+    // behind it, not 0.25 at each face.
+    Scene s = load(R"(#@crex view -vp 0 0 5 -vd 0 0 -1 -vu 0 1 0 -vh 5 -vv 5
+void glow back 0 0 4 1 1 1 0
+back polygon wall 0 0 12 -9 -9 -5 9 -9 -5 9 9 -5 -9 9 -5
+void dielectric tint 0 0 5 .25 .25 .25 1 0
+!genbox tint slab 4 4 .5 | xform -t -2 -2 0
+)");
+    RunResult r = testing::render_crex(s, "(TR)*", 8, 4);
+    EXPECT_NEAR(testing::mean_luminance(r.image()), 0.5, 1e-3);
+}
+
 TEST(RadianceMaterials, TheAnisotropicWardLobeSamplesWhatItEvaluates) {
     // The lobe's mean sampled weight (its albedo towards the view) against the integral of its
     // evaluation over the hemisphere: they estimate the same number, so they must agree.
