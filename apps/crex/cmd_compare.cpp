@@ -14,7 +14,9 @@
 #include "apps/crex/exit_codes.h"
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
+#include "runtime/metrics/image_comparison.h"
 #include "runtime/metrics/metrics.h"
+#include "runtime/reference/windowed_image.h"
 #include "stdlib/guidance/operators.h"
 
 namespace crex::app {
@@ -52,38 +54,206 @@ struct CompareOptions {
     std::string flip_out;
     std::string attention;  ///< "saliency" or a map file: weights of the attention-weighted FLIP
     bool assume_display = false;  ///< compare a tone-mapped file with a linear one by tone-mapping the linear one
+    double exposure = 0;          ///< --exposure: the tone map's exposure for both (0: the reference's)
     std::string format = "text";
 };
 
 const std::vector<std::string> kMetricNames = {"rmse", "relmse", "ssim", "flip", "perr"};
 
-int compare(const CompareOptions& opt) {
-    std::vector<std::string> wanted;
+// The metrics asked for; false (with the message said) for an unknown one.
+bool metric_choice(const CompareOptions& opt, metrics::MetricChoice& choice) {
     std::stringstream list(opt.metrics);
     for (std::string m; std::getline(list, m, ',');) {
         if (std::find(kMetricNames.begin(), kMetricNames.end(), m) == kMetricNames.end()) {
             std::cerr << fmt::format("crex compare: error: unknown metric '{}': expected some of rmse,relmse,ssim,flip,perr\n", m);
-            return kExitUsage;
+            return false;
         }
-        wanted.push_back(m);
+        (m == "rmse" ? choice.rmse : m == "relmse" ? choice.relmse : m == "ssim" ? choice.ssim : m == "flip" ? choice.flip : choice.perr) = true;
     }
-    metrics::Image test, ref;
-    bool test_ldr = false, ref_ldr = false;
-    for (auto [path, img, ldr] : {std::tuple{&opt.test, &test, &test_ldr}, std::tuple{&opt.reference, &ref, &ref_ldr}}) {
-        std::string error = read_image(*path, img->width, img->height, img->rgb, ldr);
-        if (!error.empty()) {
+    choice.perr_threshold = opt.perr_threshold;
+    choice.pixels_per_degree = opt.ppd;
+    choice.flip_map = !opt.flip_out.empty();
+    return true;
+}
+
+// Reads an image for comparison; "" or why not (NaN or Inf make every metric 'nan' and the
+// comparison say nothing, with exit 0: refused, exit 1).
+int read_for_comparison(const std::string& path, metrics::Image& img, bool& ldr) {
+    std::string error = read_image(path, img.width, img.height, img.rgb, &ldr);
+    if (!error.empty()) {
+        std::cerr << "crex compare: error: " << error << "\n";
+        return kExitFailure;
+    }
+    size_t bad = 0;
+    for (float v : img.rgb) bad += !std::isfinite(v);
+    if (bad > 0) {
+        std::cerr << fmt::format("crex compare: error: {} holds {} non-finite value{} (NaN or Inf): nothing to compare\n", path, bad,
+                                 bad == 1 ? "" : "s");
+        return kExitInputErrors;
+    }
+    return kExitOk;
+}
+
+// The metrics of `c` into `j` (as JSON keys), those asked for.
+void put_metrics(const metrics::ImageComparison& c, const metrics::MetricChoice& choice, nlohmann::json& j) {
+    if (choice.rmse && c.rmse) j["rmse"] = *c.rmse;
+    if (choice.relmse && c.relmse) j["relmse"] = *c.relmse;
+    if (choice.ssim) j["ssim"] = c.ssim ? nlohmann::json(*c.ssim) : nlohmann::json(nullptr);
+    if (choice.flip && c.flip) j["flip"] = *c.flip;
+    if (choice.perr && c.perr) {
+        j["perr"] = *c.perr;
+        j["perr_threshold"] = choice.perr_threshold;
+    }
+    if (c.aflip) j["aflip"] = *c.aflip;
+}
+
+int print_result(const CompareOptions& opt, const nlohmann::json& j, bool perceptual) {
+    if (opt.format == "json") {
+        std::cout << j.dump(2) << "\n";
+        return kExitOk;
+    }
+    std::cout << fmt::format("{} against {} ({}x{})\n", opt.test, opt.reference, j["size"][0].get<int>(), j["size"][1].get<int>());
+    if (j.contains("windows"))
+        std::cout << fmt::format("  on {} windows of the {}x{} frame ({} pixels), {} spp\n", j["windows"].size(), j["frame"][0].get<int>(),
+                                 j["frame"][1].get<int>(), j["pixels"].get<size_t>(), j["reference_spp"].get<uint32_t>());
+    if (j.contains("rmse")) std::cout << fmt::format("  rmse    {:.6g}   (linear radiance)\n", j["rmse"].get<double>());
+    if (j.contains("relmse")) std::cout << fmt::format("  relmse  {:.6g}   (mean of (t-r)^2/(r^2+0.01))\n", j["relmse"].get<double>());
+    if (j.contains("ssim"))
+        std::cout << (j["ssim"].is_null() ? std::string("  ssim    n/a (smaller than the 11x11 window)\n")
+                                          : fmt::format("  ssim    {:.6f}   (1 = identical)\n", j["ssim"].get<double>()));
+    if (j.contains("flip")) std::cout << fmt::format("  flip    {:.6f}   (mean LDR-FLIP, {:.1f} pixels per degree)\n", j["flip"].get<double>(), opt.ppd);
+    if (j.contains("perr"))
+        std::cout << fmt::format("  perr    {:.3f} %  (pixels with FLIP >= {:g}; not Daly's VDP)\n", j["perr"].get<double>(), opt.perr_threshold);
+    if (j.contains("aflip"))
+        std::cout << fmt::format("  aflip   {:.6f}   (FLIP weighted by {})\n", j["aflip"].get<double>(),
+                                 opt.attention == "saliency" ? "the reference's saliency" : opt.attention);
+    if (j.contains("windows"))
+        for (const auto& w : j["windows"])
+            std::cout << fmt::format("    window {:<20}{}{}\n", w["window"].dump(), w.contains("flip") ? fmt::format(" flip {:.6f}", w["flip"].get<double>()) : "",
+                                     w.contains("aflip") ? fmt::format(" aflip {:.6f}", w["aflip"].get<double>()) : "");
+    if (perceptual) std::cout << "  display: " << j["display"].get<std::string>() << "\n";
+    if (!opt.flip_out.empty()) std::cout << "  wrote " << opt.flip_out << "\n";
+    return kExitOk;
+}
+
+int write_flip_map(const std::string& path, int width, int height, const std::vector<float>& flip) {
+    std::vector<double> values(flip.begin(), flip.end());
+    ImageLayer layer{"", heat_colours(values, 1.0), true};
+    std::string error = write_image(path, width, height, {layer});
+    if (!error.empty()) {
+        std::cerr << "crex compare: error: " << error << "\n";
+        return kExitFailure;
+    }
+    return kExitOk;
+}
+
+// Against a windowed reference (issue 32): the test image's pixels at the windows (an image
+// of the whole frame, or a windowed image with the same windows), each window compared as an
+// image of its own, all seen through the whole frame's exposure the reference recorded.
+int compare_on_windows(const CompareOptions& opt, const metrics::MetricChoice& choice, const ReferenceImage& ref) {
+    const ReferenceHeader& h = ref.header;
+    const WindowAtlas atlas(h.windows);
+    metrics::Image test;
+    bool test_ldr = false;
+    if (int status = read_for_comparison(opt.test, test, test_ldr); status != kExitOk) return status;
+    if (test_ldr) {
+        std::cerr << fmt::format("crex compare: error: {} is display-referred (8-bit), but the windowed reference {} holds linear radiance: "
+                                 "compare the render's linear image (.exr)\n", opt.test, opt.reference);
+        return kExitInputErrors;
+    }
+    std::vector<float> test_atlas;
+    std::optional<ReferenceImage> test_ref;
+    if (test.width == h.frame_width && test.height == h.frame_height) {
+        test_atlas = atlas.pack(test.rgb, test.width);
+    } else if (read_reference_image(opt.test, test_ref).empty() && test_ref && test_ref->header.windows == h.windows &&
+               test_ref->header.frame_width == h.frame_width && test_ref->header.frame_height == h.frame_height) {
+        test_atlas = test.rgb;
+    } else {
+        std::cerr << fmt::format("crex compare: error: {} is {}x{}, but the reference {} holds windows of a {}x{} frame: compare an image of "
+                                 "the whole frame (or a windowed reference with the same windows)\n",
+                                 opt.test, test.width, test.height, opt.reference, h.frame_width, h.frame_height);
+        return kExitInputErrors;
+    }
+    std::vector<float> weights;  // one a pixel of the atlas
+    if (opt.attention == "saliency") {
+        if (ref.attention.empty()) {
+            std::cerr << fmt::format("crex compare: error: the windowed reference {} holds no saliency of its frame (layer '{}'): "
+                                     "give the attention map as a file\n", opt.reference, kAttentionLayer);
+            return kExitInputErrors;
+        }
+        weights = ref.attention;
+    } else if (!opt.attention.empty()) {
+        int w = 0, hgt = 0;
+        std::vector<float> rgb;
+        if (std::string error = read_image(opt.attention, w, hgt, rgb); !error.empty()) {
             std::cerr << "crex compare: error: " << error << "\n";
             return kExitFailure;
         }
-        // NaN or Inf would make every metric 'nan' and the comparison say nothing, with exit 0.
-        size_t bad = 0;
-        for (float v : img->rgb) bad += !std::isfinite(v);
-        if (bad > 0) {
-            std::cerr << fmt::format("crex compare: error: {} holds {} non-finite value{} (NaN or Inf): nothing to compare\n", *path,
-                                     bad, bad == 1 ? "" : "s");
+        if (w != h.frame_width || hgt != h.frame_height) {
+            std::cerr << fmt::format("crex compare: error: the attention map {} is {}x{} but the reference's frame is {}x{}\n", opt.attention, w,
+                                     hgt, h.frame_width, h.frame_height);
+            return kExitFailure;
+        }
+        std::vector<float> map(rgb.size() / 3);
+        for (size_t i = 0; i < map.size(); ++i) map[i] = rgb[3 * i];
+        weights = atlas.pack(map, w, 1);
+    }
+    const metrics::DisplayView view{true, opt.exposure > 0 ? opt.exposure : h.exposure > 0 ? h.exposure : display_exposure(ref.rgb)};
+    std::vector<metrics::ImageComparison> parts;
+    nlohmann::json windows = nlohmann::json::array();
+    std::vector<float> flip_atlas(static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height), 0.0f);
+    for (size_t i = 0; i < h.windows.size(); ++i) {
+        const PixelWindow& w = h.windows[i];
+        const metrics::Image t{w.width, w.height, atlas.window(test_atlas, i)}, r{w.width, w.height, atlas.window(ref.rgb, i)};
+        const std::vector<float> wi = weights.empty() ? std::vector<float>{} : atlas.window(weights, i, 1);
+        parts.push_back(metrics::compare_images(t, r, view, choice, weights.empty() ? nullptr : &wi));
+        nlohmann::json one;
+        one["window"] = {w.x, w.y, w.width, w.height};
+        put_metrics(parts.back(), choice, one);
+        windows.push_back(one);
+        for (int y = 0; y < w.height && !parts.back().flip_map.empty(); ++y)
+            std::copy_n(parts.back().flip_map.begin() + static_cast<std::ptrdiff_t>(y) * w.width, w.width,
+                        flip_atlas.begin() + static_cast<std::ptrdiff_t>(y) * atlas.width + atlas.column[i]);
+    }
+    const metrics::ImageComparison all = metrics::combine(parts);
+    if (!weights.empty() && !all.aflip) {
+        std::cerr << fmt::format("crex compare: error: the attention map {} is zero at every window: nothing to weight by\n", opt.attention);
+        return kExitInputErrors;
+    }
+    nlohmann::json j;
+    j["test"] = opt.test;
+    j["reference"] = opt.reference;
+    j["size"] = {atlas.width, atlas.height};
+    j["frame"] = {h.frame_width, h.frame_height};
+    j["pixels"] = all.pixels;
+    j["reference_spp"] = h.spp;
+    j["display"] = fmt::format("HDR inputs tone-mapped with {} exposure {:.6g}, Reinhard, sRGB curve; each window compared as an image of its own",
+                               opt.exposure > 0 ? "the given" : "the whole frame's", view.exposure);
+    put_metrics(all, choice, j);
+    if (!opt.attention.empty()) j["attention"] = opt.attention;
+    j["windows"] = windows;
+    if (!opt.flip_out.empty()) {
+        if (int status = write_flip_map(opt.flip_out, atlas.width, atlas.height, flip_atlas); status != kExitOk) return status;
+        j["flip_map"] = opt.flip_out;
+    }
+    return print_result(opt, j, choice.ssim || choice.flip || choice.perr);
+}
+
+int compare(const CompareOptions& opt) {
+    metrics::MetricChoice choice;
+    if (!metric_choice(opt, choice)) return kExitUsage;
+    {
+        std::optional<ReferenceImage> windowed;
+        if (std::string error = read_reference_image(opt.reference, windowed); !error.empty() && error.find("header") != std::string::npos) {
+            std::cerr << "crex compare: error: " << error << "\n";
             return kExitInputErrors;
         }
+        if (windowed && !windowed->header.whole_frame()) return compare_on_windows(opt, choice, *windowed);
     }
+    metrics::Image test, ref;
+    bool test_ldr = false, ref_ldr = false;
+    if (int status = read_for_comparison(opt.test, test, test_ldr); status != kExitOk) return status;
+    if (int status = read_for_comparison(opt.reference, ref, ref_ldr); status != kExitOk) return status;
     if (test.width != ref.width || test.height != ref.height) {
         std::cerr << fmt::format("crex compare: error: {} is {}x{} but the reference {} is {}x{}\n", opt.test, test.width, test.height,
                                  opt.reference, ref.width, ref.height);
@@ -112,78 +282,33 @@ int compare(const CompareOptions& opt) {
         test_ldr = ref_ldr = true;
         display_note = fmt::format("{} tone-mapped as crex writes PNGs (--assume-display), then both as stored (sRGB)", hdr);
     }
-    // HDR if both images are: both are then seen through the reference's exposure.
-    metrics::DisplayView view{!(test_ldr && ref_ldr), display_exposure(ref.rgb)};
-    bool perceptual = false;
-    for (const auto& m : wanted) perceptual |= m == "ssim" || m == "flip" || m == "perr";
-    metrics::Image td, rd;
-    std::vector<float> flip;
-    if (perceptual || !opt.flip_out.empty() || !opt.attention.empty()) {
-        td = metrics::display_view(test, view), rd = metrics::display_view(ref, view);
-        flip = metrics::flip_map(td, rd, opt.ppd);
+    // HDR if both images are: both are then seen through the reference's exposure (or --exposure).
+    metrics::DisplayView view{!(test_ldr && ref_ldr), opt.exposure > 0 ? opt.exposure : display_exposure(ref.rgb)};
+    std::vector<float> weights;
+    if (!opt.attention.empty()) {
+        std::string error = attention_weights(opt.attention, metrics::display_view(ref, view), weights);
+        if (!error.empty()) {
+            std::cerr << "crex compare: error: " << error << "\n";
+            return kExitFailure;
+        }
+    }
+    const metrics::ImageComparison c = metrics::compare_images(test, ref, view, choice, opt.attention.empty() ? nullptr : &weights);
+    if (!opt.attention.empty() && !c.aflip) {
+        std::cerr << fmt::format("crex compare: error: the attention map {} is zero everywhere: nothing to weight by\n", opt.attention);
+        return kExitInputErrors;
     }
     nlohmann::json j;
     j["test"] = opt.test;
     j["reference"] = opt.reference;
     j["size"] = {ref.width, ref.height};
     j["display"] = display_note.empty() ? view.describe() : display_note;
-    for (const auto& m : wanted) {
-        if (m == "rmse") j["rmse"] = metrics::rmse(test, ref);
-        if (m == "relmse") j["relmse"] = metrics::relmse(test, ref);
-        if (m == "ssim") {
-            auto s = metrics::ssim(td, rd);
-            j["ssim"] = s ? nlohmann::json(*s) : nlohmann::json(nullptr);
-        }
-        if (m == "flip") j["flip"] = metrics::mean(flip);
-        if (m == "perr") {
-            j["perr"] = metrics::perr(flip, opt.perr_threshold);
-            j["perr_threshold"] = opt.perr_threshold;
-        }
-    }
-    if (!opt.attention.empty()) {
-        std::vector<float> weights;
-        std::string error = attention_weights(opt.attention, rd, weights);
-        if (!error.empty()) {
-            std::cerr << "crex compare: error: " << error << "\n";
-            return kExitFailure;
-        }
-        auto aflip = metrics::weighted_mean(flip, weights);
-        if (!aflip) {
-            std::cerr << fmt::format("crex compare: error: the attention map {} is zero everywhere: nothing to weight by\n", opt.attention);
-            return kExitInputErrors;
-        }
-        j["aflip"] = *aflip;
-        j["attention"] = opt.attention;
-    }
+    put_metrics(c, choice, j);
+    if (!opt.attention.empty()) j["attention"] = opt.attention;
     if (!opt.flip_out.empty()) {
-        std::vector<double> values(flip.begin(), flip.end());
-        ImageLayer layer{"", heat_colours(values, 1.0), true};
-        std::string error = write_image(opt.flip_out, ref.width, ref.height, {layer});
-        if (!error.empty()) {
-            std::cerr << "crex compare: error: " << error << "\n";
-            return kExitFailure;
-        }
+        if (int status = write_flip_map(opt.flip_out, ref.width, ref.height, c.flip_map); status != kExitOk) return status;
         j["flip_map"] = opt.flip_out;
     }
-    if (opt.format == "json") {
-        std::cout << j.dump(2) << "\n";
-        return kExitOk;
-    }
-    std::cout << fmt::format("{} against {} ({}x{})\n", opt.test, opt.reference, ref.width, ref.height);
-    if (j.contains("rmse")) std::cout << fmt::format("  rmse    {:.6g}   (linear radiance)\n", j["rmse"].get<double>());
-    if (j.contains("relmse")) std::cout << fmt::format("  relmse  {:.6g}   (mean of (t-r)^2/(r^2+0.01))\n", j["relmse"].get<double>());
-    if (j.contains("ssim"))
-        std::cout << (j["ssim"].is_null() ? std::string("  ssim    n/a (smaller than the 11x11 window)\n")
-                                          : fmt::format("  ssim    {:.6f}   (1 = identical)\n", j["ssim"].get<double>()));
-    if (j.contains("flip")) std::cout << fmt::format("  flip    {:.6f}   (mean LDR-FLIP, {:.1f} pixels per degree)\n", j["flip"].get<double>(), opt.ppd);
-    if (j.contains("perr"))
-        std::cout << fmt::format("  perr    {:.3f} %  (pixels with FLIP >= {:g}; not Daly's VDP)\n", j["perr"].get<double>(), opt.perr_threshold);
-    if (j.contains("aflip"))
-        std::cout << fmt::format("  aflip   {:.6f}   (FLIP weighted by {})\n", j["aflip"].get<double>(),
-                                 opt.attention == "saliency" ? "the reference's saliency" : opt.attention);
-    if (perceptual) std::cout << "  display: " << j["display"].get<std::string>() << "\n";
-    if (!opt.flip_out.empty()) std::cout << "  wrote " << opt.flip_out << "\n";
-    return kExitOk;
+    return print_result(opt, j, choice.ssim || choice.flip || choice.perr);
 }
 
 }  // namespace
@@ -201,6 +326,9 @@ Runner add_compare_command(CLI::App& app) {
     cmd->add_option("--flip-map", opt->flip_out, "Write the per-pixel FLIP error as a picture (viridis, 0..1)");
     cmd->add_option("--attention", opt->attention,
                     "Also the attention-weighted FLIP (aflip): FLIP averaged with weights 'saliency' (of the reference) or from a map file (e.g. a task map)");
+    cmd->add_option("--exposure", opt->exposure,
+                    "Tone-map both HDR images with this exposure instead of the reference's (the key 0.18 over its log-average luminance)")
+        ->check(CLI::Range(1e-12, 1e12));
     cmd->add_flag("--assume-display", opt->assume_display,
                   "Compare a tone-mapped file (PNG) with a linear one (EXR) by tone-mapping the linear one as crex writes PNGs");
     cmd->add_option("--format", opt->format, "Output as text or json")->check(CLI::IsMember({"text", "json"}));
@@ -210,6 +338,13 @@ LDR files (PNG, JPEG) as stored; HDR files (EXR, HDR) both through the tone map 
 section 7 with the reference's exposure, and the output says so. One of each is refused
 (exit 1): the PNG is already tone-mapped. --assume-display tone-maps the linear one as crex
 writes PNGs (its own exposure) and compares the two as displayed.
+
+A windowed reference ('crex reference --window'): the test is an image of the whole frame,
+scored on the reference's windows alone, each window compared as an image of its own (the
+same figures as 'crex compare' of the crops with --exposure E) and the figures combined over
+all their pixels; both are tone-mapped with the whole frame's exposure E the reference
+recorded, and --attention saliency weights by the whole frame's saliency it recorded. The
+JSON lists each window's figures too.
 
 Examples:
   crex compare out/sel_rp.exr out/gold.exr

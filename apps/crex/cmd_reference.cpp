@@ -1,4 +1,5 @@
-// `crex reference`: a converged gold image of a scene, cached by what determines it.
+// `crex reference`: a converged gold image of a scene, cached by what determines it; or the
+// windows of a frame only, and more samples for a reference made before (issue 32).
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -17,6 +18,9 @@
 #include "apps/crex/cli_values.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/driver/run_plan.h"
+#include "runtime/reference/reference_render.h"
+#include "runtime/reference/reference_windows.h"
+#include "runtime/reference/windowed_image.h"
 #include "runtime/report/reference_cache.h"
 
 namespace crex::app {
@@ -24,41 +28,238 @@ namespace {
 
 struct ReferenceOptions {
     std::string scene = "builtin:cornell";
+    bool scene_given = false;
     std::string size = "128x128";
     uint32_t spp = 1024;
     uint64_t seed = 0;
     std::string output;
     bool force = false;
     bool quiet = false;
+    std::vector<std::string> windows;  ///< --window X,Y,W,H, repeatable
+    std::string windows_rule;          ///< --windows auto
+    int window_size = 64;
+    uint32_t context_spp = 16;
+    std::string accumulate;            ///< --accumulate FILE
+    bool size_given = false, seed_given = false;
 };
 
+const ImageMetadata kSoftware = {{"Software", std::string("crex ") + CREX_VERSION}, {"crex:version", CREX_VERSION}};
+
+// What the run was, as a command anyone can type again (windows as given: `--windows auto`
+// chooses the same ones again for the same scene and size).
+std::string command_line(const ReferenceOptions& opt, const std::string& scene, const std::string& output) {
+    std::string c = "crex reference " + scene;
+    if (!opt.accumulate.empty()) c += " --accumulate " + opt.accumulate;
+    else c += fmt::format(" --size {} --seed {}", opt.size, opt.seed);
+    c += fmt::format(" --spp {}", opt.spp);
+    for (const auto& w : opt.windows) c += " --window " + w;
+    if (!opt.windows_rule.empty()) c += fmt::format(" --windows {} --window-size {}", opt.windows_rule, opt.window_size);
+    if (opt.accumulate.empty() && (!opt.windows.empty() || !opt.windows_rule.empty())) c += fmt::format(" --context-spp {}", opt.context_spp);
+    if (!output.empty() && output != opt.accumulate) c += " -o " + output;
+    return c;
+}
+
+struct LoadedScene {
+    std::unique_ptr<SceneInput> input;
+    int exit = kExitOk;
+};
+
+LoadedScene load_scene(const std::string& scene) {
+    DiagnosticSink sink;
+    LoadedScene out;
+    out.input = load_scene_input(scene, sink);
+    std::cerr << render_text(sink.sorted());
+    if (!out.input->failure.empty()) {
+        std::cerr << "crex reference: error: " << out.input->failure << "\n";
+        out.exit = kExitFailure;
+    } else if (!out.input->scene) {
+        out.exit = kExitInputErrors;
+    }
+    return out;
+}
+
+// The reference's crex compiled (nullopt if it does not compile: a header's, edited).
+std::optional<sched::Program> reference_program(const std::string& crex_text) {
+    DiagnosticSink sink;
+    SourceFile crex("<reference>", crex_text);
+    return compile_crex(crex, sink).program;
+}
+
+int write_and_say(const std::string& path, const ReferenceImage& image, const ReferenceOptions& opt, const std::string& what) {
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+    if (std::string error = write_reference_image(path, image, kSoftware); !error.empty()) {
+        std::cerr << "crex reference: error: " << error << "\n";
+        return kExitFailure;
+    }
+    std::cout << path << "\n";
+    if (!opt.quiet) std::cerr << "crex reference: " << what << "\n";
+    return kExitOk;
+}
+
+// --accumulate FILE: more samples for a reference crex wrote, continuing its sample indices.
+int accumulate(const ReferenceOptions& opt) {
+    if (opt.size_given || opt.seed_given || !opt.windows.empty() || !opt.windows_rule.empty()) {
+        std::cerr << "crex reference: error: --accumulate takes the size, the windows and the seed from the reference it adds to; "
+                     "give only the scene (optional), --spp and -o\n";
+        return kExitUsage;
+    }
+    std::optional<ReferenceImage> ref;
+    if (std::string error = read_reference_image(opt.accumulate, ref); !error.empty()) {
+        std::cerr << "crex reference: error: " << error << "\n";
+        return kExitFailure;
+    }
+    if (!ref) {
+        std::cerr << fmt::format("crex reference: error: {} has no reference header (crex:windows, crex:spp, crex:scene_hash): it was not "
+                                 "written by this crex's `crex reference`, so what it holds cannot be added to\n", opt.accumulate);
+        return kExitInputErrors;
+    }
+    ReferenceHeader& h = ref->header;
+    const std::string scene_name = opt.scene_given ? opt.scene : h.scene;
+    LoadedScene loaded = load_scene(scene_name);
+    if (loaded.exit != kExitOk) return loaded.exit;
+    const Scene& scene = *loaded.input->scene;
+    if (const std::string hash = scene_content_hash(scene); hash != h.scene_hash) {
+        std::cerr << fmt::format("crex reference: error: {} was rendered from a scene with hash {}, but {} now hashes to {}: the scene has "
+                                 "changed, so new samples would not add up with the old; render the reference again\n",
+                                 opt.accumulate, h.scene_hash.empty() ? "(none recorded)" : h.scene_hash, scene_name, hash);
+        return kExitInputErrors;
+    }
+    if (uint64_t{h.spp} + opt.spp > UINT32_MAX) {
+        std::cerr << "crex reference: error: more than 2^32 - 1 samples a pixel in all\n";
+        return kExitUsage;
+    }
+    ReferencePixels s;
+    s.width = h.frame_width, s.height = h.frame_height;
+    if (!h.whole_frame()) s.windows = h.windows;
+    s.first_sample = h.spp, s.spp = opt.spp, s.seed = h.seed;
+    const std::optional<sched::Program> program = reference_program(h.crex.empty() ? ReferenceSettings{}.crex : h.crex);
+    if (!program) {
+        std::cerr << fmt::format("crex reference: error: {}'s header names the crex '{}', which does not compile\n", opt.accumulate, h.crex);
+        return kExitInputErrors;
+    }
+    Progress progress(!opt.quiet);
+    s.progress = [&](const RunProgress& p) { progress.update(p); };
+    RenderedPixels more;
+    try {
+        more = render_reference_pixels(scene, *program, s);
+    } catch (const std::exception& e) {
+        progress.finish();
+        std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
+        return kExitFailure;
+    }
+    progress.finish();
+    ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, opt.spp);
+    const uint32_t before = h.spp;
+    h.spp += opt.spp;
+    h.runs = (h.runs.empty() ? std::to_string(before) : h.runs) + "+" + std::to_string(opt.spp);
+    const std::string path = opt.output.empty() ? opt.accumulate : opt.output;
+    h.commands += (h.commands.empty() ? "" : "\n") + command_line(opt, scene_name, path);
+    h.render_seconds += more.seconds;
+    return write_and_say(path, *ref, opt,
+                         fmt::format("{} samples added to {} in {:.1f} s: {} spp in all ({})", opt.spp, opt.accumulate, more.seconds, h.spp, h.runs));
+}
+
+// --window / --windows auto: those pixels of the frame only, and a cheap look at all of it.
+int windowed(const ReferenceOptions& opt, int width, int height) {
+    if (opt.output.empty()) {
+        std::cerr << "crex reference: error: a windowed reference is not cached: give -o FILE.exr\n";
+        return kExitUsage;
+    }
+    std::vector<PixelWindow> windows;
+    for (const auto& text : opt.windows) {
+        auto w = parse_window(text);
+        if (!w) {
+            std::cerr << fmt::format("crex reference: error: --window '{}': expected X,Y,W,H (whole numbers, W and H at least 1), e.g. 96,64,64,64\n", text);
+            return kExitUsage;
+        }
+        windows.push_back(*w);
+    }
+    if (!opt.windows_rule.empty() && opt.window_size > std::min(width, height)) {
+        std::cerr << fmt::format("crex reference: error: --window-size {} does not fit in the {}x{} frame\n", opt.window_size, width, height);
+        return kExitUsage;
+    }
+    if (!opt.windows_rule.empty() && opt.context_spp == 0) {
+        std::cerr << "crex reference: error: --windows auto reads the whole frame's context: --context-spp must be at least 1\n";
+        return kExitUsage;
+    }
+    if (!windows.empty())
+        if (std::string why = check_windows(windows, width, height); !why.empty()) {
+            std::cerr << "crex reference: error: " << why << "\n";
+            return kExitUsage;
+        }
+    LoadedScene loaded = load_scene(opt.scene);
+    if (loaded.exit != kExitOk) return loaded.exit;
+    const Scene& scene = *loaded.input->scene;
+    const ReferenceSettings defaults;
+    const std::optional<sched::Program> program = reference_program(defaults.crex);
+    Progress progress(!opt.quiet);
+    ReferencePixels s;
+    s.width = width, s.height = height, s.spp = opt.spp, s.seed = opt.seed;
+    s.progress = [&](const RunProgress& p) { progress.update(p); };
+    FrameContext context;
+    RenderedPixels pixels;
+    try {
+        if (opt.context_spp > 0) context = render_frame_context(scene, *program, width, height, opt.context_spp, opt.seed, s.progress);
+        if (!opt.windows_rule.empty()) {
+            progress.finish();
+            for (const ChosenWindow& c : choose_reference_windows(scene, context, opt.window_size, opt.seed)) {
+                if (c.window.width) windows.push_back(c.window);
+                if (!opt.quiet)
+                    std::cerr << fmt::format("  {:<10} {:<18} {}\n", c.kind,
+                                             c.window.width ? fmt::format("{},{},{},{}", c.window.x, c.window.y, c.window.width, c.window.height) : "-",
+                                             c.why);
+            }
+            if (std::string why = check_windows(windows, width, height); !why.empty()) throw std::runtime_error(why);
+        }
+        s.windows = windows;
+        pixels = render_reference_pixels(scene, *program, s);
+    } catch (const std::exception& e) {
+        progress.finish();
+        std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
+        return kExitFailure;
+    }
+    progress.finish();
+    const WindowAtlas atlas(windows);
+    ReferenceImage image;
+    image.width = atlas.width, image.height = atlas.height;
+    image.rgb = std::move(pixels.rgb);
+    if (!context.saliency.empty()) image.attention = atlas.pack(context.saliency, width, 1);
+    ReferenceHeader& h = image.header;
+    h.frame_width = width, h.frame_height = height, h.windows = windows, h.spp = opt.spp, h.seed = opt.seed;
+    h.scene = opt.scene, h.scene_hash = scene_content_hash(scene), h.crex = defaults.crex;
+    h.commands = command_line(opt, opt.scene, opt.output), h.runs = std::to_string(opt.spp);
+    h.render_seconds = pixels.seconds;
+    if (!context.rgb.empty()) h.exposure = context.exposure, h.context = context.how;
+    return write_and_say(opt.output, image, opt,
+                         fmt::format("{} window{} of {} at {}x{}, {} spp in {:.1f} s (the frame's context: {:.1f} s)", windows.size(),
+                                     windows.size() == 1 ? "" : "s", opt.scene, width, height, opt.spp, pixels.seconds, context.seconds));
+}
+
 int reference(const ReferenceOptions& opt) {
+    if (!opt.accumulate.empty()) return accumulate(opt);
     ReferenceSettings s;
     if (!parse_image_size(opt.size, s.width, s.height)) {  // sscanf took trailing junk
         std::cerr << fmt::format("crex reference: error: image size '{}': expected WIDTHxHEIGHT, each 1 to 16384, e.g. 128x128\n", opt.size);
         return kExitUsage;
     }
-    s.spp = opt.spp;
-    s.seed = opt.seed;
-    DiagnosticSink sink;
-    auto in = load_scene_input(opt.scene, sink);
-    std::cerr << render_text(sink.sorted());
-    if (!in->failure.empty()) {
-        std::cerr << "crex reference: error: " << in->failure << "\n";
-        return kExitFailure;
-    }
-    if (!in->scene) return kExitInputErrors;
     // -o DIR said "no image writer for 'DIR'" after the whole render.
     if (!opt.output.empty())
         if (auto failure = check_output_path(opt.output)) {
             std::cerr << "crex reference: error: " << failure->message << "\n";
             return failure->exit_code;
         }
-    std::string path = opt.output.empty() ? reference_path(*in->scene, s) : opt.output;
+    if (!opt.windows.empty() || !opt.windows_rule.empty()) return windowed(opt, s.width, s.height);
+    s.spp = opt.spp;
+    s.seed = opt.seed;
+    LoadedScene loaded = load_scene(opt.scene);
+    if (loaded.exit != kExitOk) return loaded.exit;
+    const Scene& scene = *loaded.input->scene;
+    std::string path = opt.output.empty() ? reference_path(scene, s) : opt.output;
     // An existing file counts as this reference only when it is one: the key file written
     // beside it names the same scene content and settings, and it reads as an image of the
     // requested size (-o used to take any existing file, even /etc/hostname).
-    const std::string key = reference_key(*in->scene, s), key_path = path + ".key";
+    const std::string key = reference_key(scene, s), key_path = path + ".key";
     auto is_this_reference = [&] {
         if (!std::filesystem::exists(path)) return false;
         if (!opt.output.empty()) {
@@ -72,43 +273,36 @@ int reference(const ReferenceOptions& opt) {
     };
     if (!opt.force && is_this_reference()) {
         std::cout << path << "\n";
-        if (!opt.quiet) std::cerr << "crex reference: cached (key " << reference_key(*in->scene, s) << "); --force renders again\n";
+        if (!opt.quiet) std::cerr << "crex reference: cached (key " << key << "); --force renders again\n";
         return kExitOk;
     }
-    RunSettings ro;
-    ro.width = s.width, ro.height = s.height, ro.spp = s.spp, ro.seed = s.seed;
-    ro.executor.shade.weight_limit = s.lw;
-    ro.executor.shade.max_depth = s.max_depth;
     Progress progress(!opt.quiet);
-    ro.progress = [&](const RunProgress& p) { progress.update(p); };
-    SourceFile crex("<reference>", s.crex);
-    auto program = compile_crex(crex, sink).program;
-    std::optional<RunResult> r;
+    ReferencePixels rp;
+    rp.width = s.width, rp.height = s.height, rp.spp = s.spp, rp.seed = s.seed, rp.lw = s.lw, rp.max_depth = s.max_depth;
+    rp.progress = [&](const RunProgress& p) { progress.update(p); };
+    RenderedPixels pixels;
     try {
-        r.emplace(render(*in->scene, *program, ro));
+        pixels = render_reference_pixels(scene, *reference_program(s.crex), rp);  // the default crex: it compiles
     } catch (const std::exception& e) {
         progress.finish();
         std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
         return kExitFailure;
     }
     progress.finish();
-    std::error_code ec;
-    std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-    ImageMetadata metadata = {{"Software", std::string("crex ") + CREX_VERSION}, {"crex:version", CREX_VERSION},
-                              {"crex:scene", opt.scene},  {"crex:crex", s.crex},
-                              {"crex:spp", std::to_string(s.spp)}, {"crex:seed", std::to_string(s.seed)},
-                              {"crex:render_seconds", fmt::format("{:.6g}", r->render_seconds)}, {"crex:reference", "true"}};
-    std::string error = write_image(path, s.width, s.height, {{"", r->image()}}, metadata);
-    if (error.empty() && !opt.output.empty()) error = write_file_atomically(key_path, key + "\n");
-    if (!error.empty()) {
-        std::cerr << "crex reference: error: " << error << "\n";
-        return kExitFailure;
-    }
-    std::cout << path << "\n";
-    if (!opt.quiet)
-        std::cerr << fmt::format("crex reference: {} at {}x{}, {} spp with {} in {:.1f} s\n", opt.scene, s.width, s.height, s.spp, s.crex,
-                                 r->render_seconds);
-    return kExitOk;
+    ReferenceImage image;
+    image.width = s.width, image.height = s.height, image.rgb = std::move(pixels.rgb);
+    ReferenceHeader& h = image.header;
+    h.frame_width = s.width, h.frame_height = s.height, h.windows = {{0, 0, s.width, s.height}}, h.spp = s.spp, h.seed = s.seed;
+    h.scene = opt.scene, h.scene_hash = scene_content_hash(scene), h.crex = s.crex;
+    h.commands = command_line(opt, opt.scene, opt.output), h.runs = std::to_string(s.spp), h.render_seconds = pixels.seconds;
+    int status = write_and_say(path, image, opt,
+                               fmt::format("{} at {}x{}, {} spp with {} in {:.1f} s", opt.scene, s.width, s.height, s.spp, s.crex, pixels.seconds));
+    if (status == kExitOk && !opt.output.empty())
+        if (std::string error = write_file_atomically(key_path, key + "\n"); !error.empty()) {
+            std::cerr << "crex reference: error: " << error << "\n";
+            return kExitFailure;
+        }
+    return status;
 }
 
 }  // namespace
@@ -116,11 +310,24 @@ int reference(const ReferenceOptions& opt) {
 Runner add_reference_command(CLI::App& app) {
     auto opt = std::make_shared<ReferenceOptions>();
     CLI::App* cmd = app.add_subcommand("reference", "Render a converged gold reference of a scene, cached by scene and settings");
-    cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj or builtin:NAME")->capture_default_str();
-    cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT")->capture_default_str();
-    cmd->add_option("--spp", opt->spp, "Camera samples per pixel")->capture_default_str()->check(whole_number_in(1, 1 << 20));
-    cmd->add_option("--seed", opt->seed, "Seed (0 to 2^53)")->capture_default_str()->check(seed_value());
-    cmd->add_option("-o,--output", opt->output, "Write here instead of the cache");
+    CLI::Option* scene = cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj or builtin:NAME")->capture_default_str();
+    CLI::Option* size = cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT (with windows: of the whole frame)")->capture_default_str();
+    cmd->add_option("--spp", opt->spp, "Camera samples per pixel (with --accumulate: to add)")->capture_default_str()->check(whole_number_in(1, 1 << 20));
+    CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed (0 to 2^53)")->capture_default_str()->check(seed_value());
+    cmd->add_option("-o,--output", opt->output, "Write here instead of the cache (required with windows)");
+    cmd->add_option("--window", opt->windows,
+                    "Render only this window X,Y,W,H of the frame (columns X..X+W-1, rows Y..Y+H-1); repeatable");
+    cmd->add_option("--windows", opt->windows_rule, "auto: choose the windows by the stated rule (see below)")
+        ->check(CLI::IsMember({"auto"}));
+    cmd->add_option("--window-size", opt->window_size, "Side of each window --windows auto chooses, in pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16384));
+    cmd->add_option("--context-spp", opt->context_spp,
+                    "Samples of the cheap cached render of the whole frame a windowed reference keeps (0: none; then the windows' own "
+                    "exposure, and no saliency)")
+        ->capture_default_str()
+        ->check(CLI::Range(0u, 4096u));
+    cmd->add_option("--accumulate", opt->accumulate, "Add --spp independent samples to this reference (windowed or not) and record the total");
     cmd->add_flag("--force", opt->force, "Render even if the cache has it");
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no messages");
     cmd->footer(R"(
@@ -130,13 +337,37 @@ the key is a hash of the scene's full content (not its path) and the settings.
 'crex run --reference auto' uses the cached reference of its scene at its image size with
 the most samples (seed 0).
 
+Windows (references that scale with the frame): --window renders only those pixels of the
+--size frame, each exactly as a render of the whole frame at the same seed would give it
+(same camera, filter and sample pattern). The file holds the windows side by side, with the
+frame and windows in its header, the whole frame's exposure and (layer 'attention') its
+saliency at the windows' pixels, both from a cheap cached render of the whole frame
+(--context-spp); 'crex compare' scores an image of the whole frame on the windows alone.
+--windows auto chooses square windows of --window-size by one rule, in this order: the
+tagged task object, a tagged distractor, a lamp's edge, the brightest caustic, the most
+salient and the plainest region, none overlapping; it prints each choice and why.
+--accumulate FILE renders --spp more samples of FILE's pixels, continuing its sample
+indices (so they are independent of the ones it has), and writes the mean of all of them
+with the total in its header (to -o, else over FILE). Every reference records its seed,
+samples, the commands that made it and a hash of the scene's content; accumulation refuses
+a scene that has changed since.
+
 Examples:
   crex reference                                       builtin:cornell, 128x128, 1024 spp
   crex reference examples/scenes/corridor/scene.json --size 128x96 --spp 4096
+  crex reference builtin:cornell --size 960x540 --windows auto --spp 4096 --seed 1 -o ref.exr
+  crex reference --accumulate ref.exr --spp 4096           8192 spp in all
+  crex compare render.exr ref.exr                        scored on the windows
   crex run stdlib/pipelines/sel_rp.pipe --size 128x128 --reference auto --report out/report
 
-Exit status: 0 ok, 1 errors in the scene, 2 usage, 3 I/O or runtime failure.)");
-    return [opt] { return reference(*opt); };
+Exit status: 0 ok, 1 errors in the scene (or a reference of another scene), 2 usage, 3 I/O
+or runtime failure.)");
+    return [opt, scene, size, seed] {
+        opt->scene_given = scene->count() > 0;
+        opt->size_given = size->count() > 0;
+        opt->seed_given = seed->count() > 0;
+        return reference(*opt);
+    };
 }
 
 }  // namespace crex::app

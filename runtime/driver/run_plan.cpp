@@ -805,6 +805,8 @@ RunResult PlanRun::execute() {
     // A pipeline runs in stages (its preview is kept and shown); a bare crex runs each pass
     // through both programs.
     out_.staged = !plan_.nodes.empty();
+    if (out_.staged && !s_.windows.empty())  // guidance reads the whole preview: a window has no meaning there
+        throw RunInputError("only a plain crex renders windows of the frame, not a pipeline");
     if (s_.uniform != UniformQuality::kOff && !has_guidance(plan_))
         out_.notes.push_back("--uniform has no effect: the plan varies nothing");
     // What no pass size can shrink is over the limit: say so, rather than let the limit look kept.
@@ -873,7 +875,8 @@ RunResult PlanRun::execute() {
     if (!out_.staged) {
         // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
         last_stage_ = true;
-        run_samples("render", {s_.first_sample, s_.first_sample + s_.spp, {}, {}}, [&] {
+        const SampleRanges every_pixel{s_.first_sample, s_.first_sample + s_.spp, {}, {}};
+        run_samples("render", s_.windows.empty() ? every_pixel : only_windows(every_pixel, s_.width, s_.height, s_.windows), [&] {
             if (rec) rec->set_stage("preselective");
             ex_->run_stage(program.preselective);
             if (rec) {

@@ -34,6 +34,7 @@
 
 #include "compiler/plan/pipeline_plan.h"
 #include "runtime/cache/irradiance_cache.h"
+#include "runtime/driver/sample_passes.h"
 #include "runtime/pipeline/component_subsample.h"
 #include "runtime/pipeline/subsample.h"
 #include "runtime/render/camera_samples.h"
@@ -86,6 +87,9 @@ struct RunSettings {
     /// Camera samples per pixel: of a plain crex run all of them, of a pipeline the preview's.
     uint32_t spp = 1;
     uint32_t first_sample = 0;  ///< a plain crex run renders samples [first_sample, first_sample + spp)
+    /// A plain crex run renders only the pixels of these windows of the frame, each exactly as
+    /// a render of the whole frame would (windowed references); empty: every pixel.
+    std::vector<PixelWindow> windows;
     uint64_t seed = 0;
     PixelFilter filter = PixelFilter::kBox;
     Vec3 ambient{0, 0, 0};      ///< `av`: radiance standing in for unexecuted D work

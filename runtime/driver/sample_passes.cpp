@@ -116,6 +116,21 @@ SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int ro
     return rows_where(ranges, width, height, [&](int row) { return row >= row_begin && row < row_end; });
 }
 
+SampleRanges only_windows(const SampleRanges& ranges, int width, int height, const std::vector<PixelWindow>& windows) {
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    SampleRanges out;
+    out.start_of.resize(pixels);
+    out.end_of.resize(pixels);
+    for (size_t p = 0; p < pixels; ++p) out.start_of[p] = out.end_of[p] = ranges.start(p);
+    for (const PixelWindow& w : windows)
+        for (int y = std::max(w.y, 0); y < std::min(w.y + w.height, height); ++y)
+            for (int x = std::max(w.x, 0); x < std::min(w.x + w.width, width); ++x) {
+                const size_t p = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
+                out.end_of[p] = ranges.stop(p);
+            }
+    return out;
+}
+
 SampleRanges without_rows(const SampleRanges& ranges, int width, int height, const std::vector<char>& skip) {
     return rows_where(ranges, width, height, [&](int row) { return static_cast<size_t>(row) >= skip.size() || !skip[static_cast<size_t>(row)]; });
 }

@@ -34,6 +34,17 @@ struct SampleRanges {
     uint32_t stop(size_t p) const { return end_of.empty() ? end : end_of[p]; }
 };
 
+/// A rectangle of pixels of the full frame: columns [x, x + width), rows [y, y + height).
+struct PixelWindow {
+    int x = 0, y = 0, width = 0, height = 0;
+    bool contains(int px, int py) const { return px >= x && px < x + width && py >= y && py < y + height; }
+    bool operator==(const PixelWindow&) const = default;
+};
+
+/// `ranges` with samples only in the pixels of `windows` (windowed references: the pixels of
+/// the full frame a reference is rendered for, each with the samples it would have there).
+SampleRanges only_windows(const SampleRanges& ranges, int width, int height, const std::vector<PixelWindow>& windows);
+
 /// `ranges` with no samples outside rows [row_begin, row_end) (distributed rendering: the
 /// rows this process renders).
 SampleRanges only_rows(const SampleRanges& ranges, int width, int height, int row_begin, int row_end);

@@ -18,11 +18,13 @@ namespace {
 using WriteFn = std::string (*)(const std::string&, int, int, const std::vector<ImageLayer>&, const ImageMetadata&);
 using ReadFn = std::string (*)(const std::string&, int&, int&, std::vector<float>&, bool&);
 using ReadMetadataFn = std::string (*)(const std::string&, int&, int&, ImageMetadata&);
+using ReadLayerFn = std::string (*)(const std::string&, const std::string&, int&, int&, std::vector<float>&);
 
 struct Plugin {
     WriteFn write = nullptr;
     ReadFn read = nullptr;
     ReadMetadataFn read_metadata = nullptr;
+    ReadLayerFn read_layer = nullptr;
     std::string error;
 };
 
@@ -60,7 +62,8 @@ const Plugin& plugin() {
             p.write = reinterpret_cast<WriteFn>(dlsym(h, "crex_oiio_write_image"));
             p.read = reinterpret_cast<ReadFn>(dlsym(h, "crex_oiio_read_image"));
             p.read_metadata = reinterpret_cast<ReadMetadataFn>(dlsym(h, "crex_oiio_read_image_metadata"));
-            if (p.write && p.read && p.read_metadata) return;
+            p.read_layer = reinterpret_cast<ReadLayerFn>(dlsym(h, "crex_oiio_read_image_layer"));
+            if (p.write && p.read && p.read_metadata && p.read_layer) return;
             tried += "\n  " + path + ": not a crex image plugin";
         }
         p.error = "cannot load the image plugin libcrex_oiio.so (OpenImageIO); tried:" + tried;
@@ -83,6 +86,11 @@ std::string read_image_metadata(const std::string& path, int& width, int& height
     if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
     const Plugin& p = plugin();
     return p.read_metadata ? p.read_metadata(path, width, height, metadata) : p.error;
+}
+
+std::string read_image_layer(const std::string& path, const std::string& layer, int& width, int& height, std::vector<float>& rgb) {
+    const Plugin& p = plugin();
+    return p.read_layer ? p.read_layer(path, layer, width, height, rgb) : p.error;
 }
 
 std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool* display_referred) {

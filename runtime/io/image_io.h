@@ -24,7 +24,7 @@ struct ImageLayer {
 /// The interface version of the image plugin (libcrex_oiio.so): raised whenever the entry
 /// points change, so a plugin from another build is refused instead of called wrongly (an
 /// old binary that loaded a newer plugin crashed at the end of a 40-minute render).
-inline constexpr int kImagePluginAbi = 3;
+inline constexpr int kImagePluginAbi = 4;
 
 /// Attributes stored in the file's header where the format keeps them (EXR: every one, as
 /// strings; "Software" goes where readers look for it): what made the image.
@@ -50,6 +50,10 @@ std::vector<float> to_display(const std::vector<float>& rgb, double exposure);
 /// Reads an image's size and the string attributes of its header (EXR: every one written by
 /// write_image's `metadata`), without its pixels. Returns "" on success.
 std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata);
+
+/// Reads the layer `layer` of a multi-layer EXR (channels LAYER.R, LAYER.G, LAYER.B, as
+/// write_image names them) as float RGB. Returns "" on success, else why (no such layer).
+std::string read_image_layer(const std::string& path, const std::string& layer, int& width, int& height, std::vector<float>& rgb);
 
 /// Reads an image's first three channels as linear float RGB (8- and 16-bit sRGB inputs are
 /// linearised; `display_referred` says whether they were). Returns "" on success.

@@ -115,6 +115,25 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
     return "";
 }
 
+std::string read_image_layer(const std::string& path, const std::string& layer, int& width, int& height, std::vector<float>& rgb) {
+    OIIO::ImageBuf buf(path);
+    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return "cannot read '" + path + "': " + buf.geterror();
+    const OIIO::ImageSpec& spec = buf.spec();
+    int at[3];
+    for (int c = 0; c < 3; ++c) {
+        at[c] = spec.channelindex(layer + "." + "RGB"[c]);
+        if (at[c] < 0) return "'" + path + "' has no layer '" + layer + "' (channels " + layer + ".R, .G, .B)";
+    }
+    width = spec.width, height = spec.height;
+    const size_t np = static_cast<size_t>(width) * static_cast<size_t>(height), nc = static_cast<size_t>(spec.nchannels);
+    std::vector<float> all(np * nc);
+    buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, all.data());
+    rgb.assign(3 * np, 0.0f);
+    for (size_t p = 0; p < np; ++p)
+        for (size_t c = 0; c < 3; ++c) rgb[3 * p + c] = all[p * nc + static_cast<size_t>(at[c])];
+    return "";
+}
+
 std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) return "cannot read '" + path + "': " + OIIO::geterror();
@@ -138,6 +157,10 @@ std::string crex_oiio_write_image(const std::string& path, int width, int height
 std::string crex_oiio_read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb,
                                  bool& display_referred) {
     return crex::oiio::read_image(path, width, height, rgb, display_referred);
+}
+std::string crex_oiio_read_image_layer(const std::string& path, const std::string& layer, int& width, int& height,
+                                       std::vector<float>& rgb) {
+    return crex::oiio::read_image_layer(path, layer, width, height, rgb);
 }
 std::string crex_oiio_read_image_metadata(const std::string& path, int& width, int& height, crex::ImageMetadata& metadata) {
     return crex::oiio::read_image_metadata(path, width, height, metadata);

@@ -41,6 +41,12 @@ double mean(const std::vector<float>& values);
 /// (weights: a saliency or task map in [0, 1]). Negative and non-finite weights count as 0;
 /// nullopt when every weight is 0 or the sizes differ.
 std::optional<double> weighted_mean(const std::vector<float>& values, const std::vector<float>& weights);
+/// The two sums of weighted_mean(), sum(w_i v_i) and sum(w_i) (both 0 when the sizes differ),
+/// so that means over several images (windows) combine.
+struct WeightedSum {
+    double sum = 0, weight = 0;
+};
+WeightedSum weighted_sum(const std::vector<float>& values, const std::vector<float>& weights);
 
 /// How an image is shown to the perceptual metrics: LDR inputs as they are (sRGB), HDR inputs
 /// through the tone map of spec §7 with the *reference's* exposure, so both images of a pair

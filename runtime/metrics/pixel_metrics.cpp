@@ -71,15 +71,21 @@ double mean(const std::vector<float>& values) {
     return values.empty() ? 0 : sum / static_cast<double>(values.size());
 }
 
-std::optional<double> weighted_mean(const std::vector<float>& values, const std::vector<float>& weights) {
-    if (values.size() != weights.size()) return std::nullopt;
-    double sum = 0, total = 0;
+WeightedSum weighted_sum(const std::vector<float>& values, const std::vector<float>& weights) {
+    WeightedSum s;
+    if (values.size() != weights.size()) return s;
     for (size_t i = 0; i < values.size(); ++i) {
         double w = std::isfinite(weights[i]) && weights[i] > 0 ? weights[i] : 0.0;
-        sum += w * values[i], total += w;
+        s.sum += w * values[i], s.weight += w;
     }
-    if (!(total > 0)) return std::nullopt;
-    return sum / total;
+    return s;
+}
+
+std::optional<double> weighted_mean(const std::vector<float>& values, const std::vector<float>& weights) {
+    if (values.size() != weights.size()) return std::nullopt;
+    const WeightedSum s = weighted_sum(values, weights);
+    if (!(s.weight > 0)) return std::nullopt;
+    return s.sum / s.weight;
 }
 
 std::string DisplayView::describe() const {

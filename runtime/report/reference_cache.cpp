@@ -9,12 +9,19 @@
 
 namespace crex {
 
-std::string reference_key(const Scene& scene, const ReferenceSettings& s) {
-    std::string text = scene_json_text(scene);
-    text += fmt::format("\n{}x{} seed {} crex {} lw {:.17g} max_depth {} v1", s.width, s.height, s.seed, s.crex, s.lw, s.max_depth);
+namespace {
+std::string fnv1a64(const std::string& text) {
     uint64_t h = 1469598103934665603ull;
     for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
     return fmt::format("{:016x}", h);
+}
+}  // namespace
+
+std::string scene_content_hash(const Scene& scene) { return fnv1a64(scene_json_text(scene)); }
+
+std::string reference_key(const Scene& scene, const ReferenceSettings& s) {
+    return fnv1a64(scene_json_text(scene) +
+                   fmt::format("\n{}x{} seed {} crex {} lw {:.17g} max_depth {} v1", s.width, s.height, s.seed, s.crex, s.lw, s.max_depth));
 }
 
 std::string reference_cache_dir() {

@@ -1,0 +1,52 @@
+/// \file reference_render.h
+/// Rendering references (issue 32): the pixels of some windows of the full frame, exactly as a
+/// render of the whole frame would give them (same camera, filter, sample pattern, seed), and
+/// more samples for an existing reference, continuing its sample indices so that they are
+/// independent of the ones it has; and the cheap look at the whole frame a windowed reference
+/// keeps for what its windows cannot tell (the frame's exposure and where the eye goes).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "compiler/sched/program.h"
+#include "runtime/driver/run_plan.h"
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+struct ReferencePixels {
+    int width = 128, height = 128;     ///< the full frame
+    std::vector<PixelWindow> windows;  ///< empty: the whole frame
+    uint32_t first_sample = 0, spp = 1024;  ///< samples [first_sample, first_sample + spp) of every pixel
+    uint64_t seed = 0;
+    double lw = 1e-3;
+    uint32_t max_depth = 256;
+    std::function<void(const RunProgress&)> progress;
+};
+
+struct RenderedPixels {
+    std::vector<float> rgb;  ///< the windows as an atlas (windowed_image.h), or the whole frame
+    double seconds = 0;
+};
+
+/// Path traces the reference's pixels with `program` (no cache).
+RenderedPixels render_reference_pixels(const Scene& scene, const sched::Program& program, const ReferencePixels& settings);
+
+/// The whole frame seen cheaply: a render through the irradiance cache (smooth at few samples,
+/// unlike path tracing), its exposure and its saliency as displayed.
+struct FrameContext {
+    int width = 0, height = 0;
+    std::vector<float> rgb;       ///< linear RGB
+    double exposure = 1;          ///< display_exposure(rgb)
+    std::vector<float> saliency;  ///< one a pixel, in [0, 1]
+    double seconds = 0;
+    std::string how;              ///< what it was, for the reference's header
+};
+
+FrameContext render_frame_context(const Scene& scene, const sched::Program& program, int width, int height, uint32_t spp, uint64_t seed,
+                                  const std::function<void(const RunProgress&)>& progress = {});
+
+}  // namespace crex
