@@ -2,9 +2,16 @@
 """Does selective rendering pay? Every runnable stdlib pipeline on the Cornell box, the corridor
 and the furnished room, under the two protocols of issue 14, side by side in one run.
 
-  python3 bench/thesis/selective_table.py [--crex build/release/apps/crex/crex] [--width 128]
+  python3 bench/thesis/selective_table.py [--crex build/release/apps/crex/crex] [--width 128 | --size 960x540]
         [--reference-spp 4096] [--pipelines adaptive,prog_dis_all,...] [--scenes cornell,room] [--repeat 3]
-        [--out out/thesis]
+        [--uniform-spp 1,2,4,8,16] [--out out/thesis]
+
+References: a windowed reference committed under --refs (bench/refs/SCENE_WxH.exr, issue 32)
+when there is one for the scene and size: every image is then scored on its windows alone;
+else --reference-file SCENE=FILE; else a path-traced `crex reference` of the whole frame at
+--reference-spp. With --repeat N every render of the table is made once, then all of them
+again, N times (A B A B, so that a change of the machine's load falls on all alike), and the
+median time of each is kept.
 
 Thesis protocol: the pipeline against its own gold, `crex run P --uniform max` (every selective
 variable at its maximum in every pixel): the time ratio gold / pipeline, and the perr of both
@@ -59,6 +66,13 @@ def arguments():
     ap = parser(__doc__)
     ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
     ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--size", default=None, metavar="WxH",
+                    help="the frame size for every scene (instead of --width and each scene's aspect), e.g. 960x540")
+    ap.add_argument("--refs", default=os.path.join(ROOT, "bench/refs"),
+                    help="where windowed references SCENE_WxH.exr are looked for (issue 32)")
+    ap.add_argument("--uniform-spp", default=None, metavar="LIST",
+                    help="the spp of every uniform curve, comma-separated (default: 1..128 in steps of about 1.4x, "
+                         "and 256, 512 path traced up to --uncached-max-spp)")
     ap.add_argument("--reference-spp", type=int, default=4096)
     ap.add_argument("--pipelines", default=",".join(DEFAULT_PIPELINES))
     ap.add_argument("--scenes", default="cornell,corridor,room")
@@ -74,6 +88,12 @@ def arguments():
     ap.add_argument("--reference-file", action="append", default=[], metavar="SCENE=FILE",
                     help="use FILE, a path-traced reference of --reference-spp samples made elsewhere (e.g. the mean "
                          "of two seeds' `crex reference -o`), for SCENE instead of `crex reference`; repeatable")
+    ap.add_argument("--gold-once", action="store_true",
+                    help="time each gold (`--uniform max`, the thesis protocol's reference point) once, not --repeat times "
+                         "(at frame size the golds cost about as much as everything else)")
+    ap.add_argument("--rescore", action="store_true",
+                    help="like --reprint, but compare every image of --out's selective_table.json with its reference again "
+                         "(after the reference grew by accumulation); no rendering")
     ap.add_argument("--thesis-only", action="store_true",
                     help="the thesis protocol only (pipeline, gold, reference): no uniform curves, for sizes where "
                          "they cost too much (512x512)")
@@ -86,16 +106,43 @@ def arguments():
         if not sep or name not in SCENES or not os.path.isfile(path):
             ap.error(f"--reference-file {item}: expected SCENE=FILE with SCENE one of {', '.join(SCENES)} and FILE an image")
         a.reference_files[name] = path
+    if a.size is not None:
+        w, sep, h = a.size.partition("x")
+        if not sep or not w.isdigit() or not h.isdigit() or int(w) < 1 or int(h) < 1:
+            ap.error(f"--size {a.size}: expected WIDTHxHEIGHT, e.g. 960x540")
+    if a.uniform_spp is not None:
+        try:
+            a.uniform_spp = sorted({int(v) for v in a.uniform_spp.split(",")})
+        except ValueError:
+            a.uniform_spp = None
+        if not a.uniform_spp or a.uniform_spp[0] < 1:
+            ap.error("--uniform-spp: expected whole numbers from 1, comma-separated, e.g. 1,2,4,8,16")
     return a
 
 
-def run(a, args):
-    """One render, `--repeat` times: the last run's summary with the median render time."""
-    runs = [json.loads(crex(a.crex, ["run"] + args + ["--format", "json", "-q", "--seed", str(a.seed)]))
-            for _ in range(max(1, a.repeat))]
-    j = runs[-1]
-    j["render_seconds"] = statistics.median(r["render_seconds"] for r in runs)
+def run(a, args, retimed=True):
+    """One render (the first of its --repeat): its summary. The repeats are made later, all renders
+    of the table in turn (retime), so that the load of the machine falls on every point alike."""
+    j = json.loads(crex(a.crex, ["run"] + args + ["--format", "json", "-q", "--seed", str(a.seed)]))
+    j["times"] = [j["render_seconds"]]
+    if retimed:
+        RENDERS.append((args, j))
     return j
+
+
+RENDERS = []  # (args, summary) of every render of the table, in order, for retime()
+
+
+def retime(a):
+    """Renders every render of the table again, --repeat - 1 times over, in turn (A B C .. A B C ..),
+    and sets each one's render_seconds to the median of its times."""
+    for round_ in range(1, max(1, a.repeat)):
+        print(f"[retime] round {round_ + 1}/{a.repeat}: {len(RENDERS)} renders (load {os.getloadavg()[0]:.2f})", file=sys.stderr)
+        for args, j in RENDERS:
+            again = json.loads(crex(a.crex, ["run"] + args + ["--format", "json", "-q", "--seed", str(a.seed)]))
+            j["times"].append(again["render_seconds"])
+    for _, j in RENDERS:
+        j["render_seconds"] = statistics.median(j["times"])
 
 
 def compare(a, test, ref, attention):
@@ -156,6 +203,16 @@ def reprint(a):
         results = json.load(f)
     for name, entry in results.items():
         uniform, rows = entry["uniform"], entry["rows"]
+        if a.rescore:
+            ref = entry["reference"]
+            if "windows" in entry.get("reference_text", ""):
+                entry["reference_text"] = windowed_reference_text(a, ref)
+            for u in uniform:
+                u.update(compare(a, u["image"], ref, "saliency"))
+            for r in rows:
+                out = os.path.join(a.out, f"{name}_{r['pipeline']}")
+                weights = out + "_maps/map_task.png" if r["attention"] != "saliency" else "saliency"
+                r["vs_reference"], r["gold_vs_reference"] = compare(a, out + ".exr", ref, weights), compare(a, out + "_gold.exr", ref, weights)
         for r in (rows if uniform else []):
             c = r["vs_reference"]
             curve_a = uniform
@@ -166,13 +223,19 @@ def reprint(a):
             r["uniform_seconds_at_aflip"] = time_at([(u["seconds"], u["aflip"], curve_of(u)) for u in curve_a], c["aflip"])
             r["uniform_seconds_at_gold_flip"] = time_at([(u["seconds"], u["flip"], curve_of(u)) for u in uniform],
                                                         r["gold_vs_reference"]["flip"])
-        (print_tables if uniform else print_thesis_table)(name, entry["size"], a.reference_spp, uniform, rows)
+        (print_tables if uniform else print_thesis_table)(name, entry["size"], entry.get("reference_text", f"path traced, {a.reference_spp} spp"),
+                                                          uniform, rows)
+    if a.rescore:
+        with open(os.path.join(a.out, "selective_table.json"), "w") as f:
+            json.dump(results, f, indent=2)
 
 
 def uniform_curves(a, pipelines):
     """(spp, ad, aa) of every uniform render: path traced (ad None), then the cache's curves."""
-    return [(spp, None, None) for spp in UNIFORM_SPP + UNCACHED_EXTRA_SPP if spp <= a.uncached_max_spp] + [
-        (spp, ad, aa) for ad, aa in cache_settings(a, pipelines) for spp in UNIFORM_SPP]
+    cached = a.uniform_spp or UNIFORM_SPP
+    uncached = a.uniform_spp or UNIFORM_SPP + UNCACHED_EXTRA_SPP
+    return [(spp, None, None) for spp in uncached if spp <= a.uncached_max_spp] + [
+        (spp, ad, aa) for ad, aa in cache_settings(a, pipelines) for spp in cached]
 
 
 def render_uniform(a, name, scene, size, ref, curve):
@@ -181,8 +244,25 @@ def render_uniform(a, name, scene, size, ref, curve):
     img = os.path.join(a.out, f"{name}_uniform{spp}{tag}.exr")
     j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] +
             ([] if ad is None else ["--ic", "--ad", str(ad), "--aa", str(aa)]))
-    return {"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "seconds": j["render_seconds"], "image": img,
-            **compare(a, img, ref, "saliency")}
+    return {"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "run": j, "image": img, **compare(a, img, ref, "saliency")}
+
+
+def profile(j):
+    """Where a render's time went (bench/thesis/time_split.py prints it): its stages, each bin's
+    seconds and rays, and the irradiance cache's counts, from its --format json summary."""
+    return {"render_seconds": j["render_seconds"], "times": j["times"], "stages": j.get("stages", {}),
+            "components": {k: {f: v.get(f) for f in ("seconds", "rays", "shadow_rays")} for k, v in j["components"].items()},
+            "irradiance_cache": j.get("irradiance_cache", {}), "passes": j.get("passes")}
+
+
+def timed(entries):
+    """Replaces each entry's "run" (a render's summary, retimed) by its median "seconds" and its
+    profile."""
+    for e in entries:
+        if "run" in e:
+            j = e.pop("run")
+            e["seconds"], e["profile"] = j["render_seconds"], profile(j)
+    return entries
 
 
 def extend(a):
@@ -197,14 +277,37 @@ def extend(a):
             if c not in have:
                 print(f"[{name}] uniform {c} ...", file=sys.stderr)
                 entry["uniform"].append(render_uniform(a, name, SCENES[name][0], entry["size"], entry["reference"], c))
+    retime(a)
+    for entry in results.values():
+        timed(entry["uniform"])
     with open(path, "w") as f:
         json.dump(results, f, indent=2)
     reprint(a)
 
 
+def windowed_reference_text(a, path):
+    """What a windowed reference is, for a table's heading (its samples grow by accumulation)."""
+    j = json.loads(crex(a.crex, ["compare", path, path, "--format", "json", "--metric", "rmse"]))
+    return (f"path traced, {j['reference_spp']} spp, on the {len(j['windows'])} windows ({j['pixels']} pixels) of "
+            f"{os.path.relpath(path, ROOT)}")
+
+
+def reference_for(a, name, scene, size):
+    """The reference a scene is scored against, and its samples: a windowed one under --refs, else
+    --reference-file, else a path-traced `crex reference` of the whole frame."""
+    windowed = os.path.join(a.refs, f"{name}_{size}.exr")
+    if name not in a.reference_files and os.path.isfile(windowed):
+        text = windowed_reference_text(a, windowed)
+        print(f"[{name}] reference: {text}", file=sys.stderr)
+        return windowed, text
+    print(f"[{name}] reference at {a.reference_spp} spp ...", file=sys.stderr)
+    ref = a.reference_files.get(name) or crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
+    return ref, f"path traced, {a.reference_spp} spp"
+
+
 def main():
     a = arguments()
-    if a.reprint:
+    if a.reprint or a.rescore:
         reprint(a)
         return
     if a.extend:
@@ -215,9 +318,8 @@ def main():
     pipelines = a.pipelines.split(",")
     for name in a.scenes.split(","):
         scene, aspect = SCENES[name]
-        size = f"{a.width}x{int(round(a.width * aspect))}"
-        print(f"[{name}] reference at {a.reference_spp} spp ...", file=sys.stderr)
-        ref = a.reference_files.get(name) or crex(a.crex, ["reference", scene, "--size", size, "--spp", str(a.reference_spp), "-q"]).strip()
+        size = a.size or f"{a.width}x{int(round(a.width * aspect))}"
+        ref, ref_text = reference_for(a, name, scene, size)
         out = lambda f: os.path.join(a.out, f"{name}_{f}")  # noqa: E731
         curves = [] if a.thesis_only else uniform_curves(a, pipelines)
         uniform = [render_uniform(a, name, scene, size, ref, c) for c in curves]
@@ -227,23 +329,32 @@ def main():
             pipe = os.path.join(ROOT, "stdlib/pipelines", p + ".pipe")
             img, gold_img, maps = out(f"{p}.exr"), out(f"{p}_gold.exr"), out(f"{p}_maps")
             j = run(a, [pipe, "--scene", scene, "--size", size, "-o", img, "--maps", maps])
-            g = run(a, [pipe, "--scene", scene, "--size", size, "-o", gold_img, "--uniform", "max"])
+            g = run(a, [pipe, "--scene", scene, "--size", size, "-o", gold_img, "--uniform", "max"], retimed=not a.gold_once)
             task = os.path.join(maps, "map_task.png")
             # A task map that is zero everywhere (no tags in the scene) weighs nothing (compare
             # exits 1): saliency then.
             attention = task if os.path.exists(task) and succeeds(a, ["compare", img, ref, "--attention", task]) else "saliency"
             c, cg = compare(a, img, ref, attention), compare(a, gold_img, ref, attention)
-            curve_a = uniform if attention == "saliency" else [
-                {**u, "aflip": compare(a, u["image"], ref, attention)["aflip"]} for u in uniform]
-            flip_curve = [(u["seconds"], u["flip"], curve_of(u)) for u in uniform]
-            t, tg = j["render_seconds"], g["render_seconds"]
-            rows.append({"pipeline": p, "seconds": t, "gold_seconds": tg, "vs_reference": c, "gold_vs_reference": cg,
+            task_aflip = None if attention == "saliency" else [compare(a, u["image"], ref, attention)["aflip"] for u in uniform]
+            rows.append({"pipeline": p, "run": j, "gold_run": g, "vs_reference": c, "gold_vs_reference": cg,
                          "attention": "task map" if attention != "saliency" else "saliency", "stages": j["stages"],
-                         "uniform_seconds_at_flip": time_at(flip_curve, c["flip"]),
-                         "uniform_seconds_at_aflip": time_at([(u["seconds"], u["aflip"], curve_of(u)) for u in curve_a], c["aflip"]),
-                         "uniform_seconds_at_gold_flip": time_at(flip_curve, cg["flip"])})
-        results[name] = {"size": size, "reference": ref, "uniform": uniform, "rows": rows}
-        (print_thesis_table if a.thesis_only else print_tables)(name, size, a.reference_spp, uniform, rows)
+                         "uniform_task_aflip": task_aflip})
+        results[name] = {"size": size, "reference": ref, "reference_text": ref_text, "uniform": uniform, "rows": rows}
+    retime(a)
+    for name, entry in results.items():
+        uniform, rows = timed(entry["uniform"]), entry["rows"]
+        flip_curve = [(u["seconds"], u["flip"], curve_of(u)) for u in uniform]
+        for r in rows:
+            c, cg = r["vs_reference"], r["gold_vs_reference"]
+            j, g = r.pop("run"), r.pop("gold_run")
+            r["seconds"], r["gold_seconds"], r["profile"], r["gold_profile"] = j["render_seconds"], g["render_seconds"], profile(j), profile(g)
+            aflips = r.pop("uniform_task_aflip") or [u["aflip"] for u in uniform]
+            r["uniform_seconds_at_flip"] = time_at(flip_curve, c["flip"])
+            r["uniform_seconds_at_aflip"] = time_at([(u["seconds"], af, curve_of(u)) for u, af in zip(uniform, aflips)], c["aflip"])
+            r["uniform_seconds_at_gold_flip"] = time_at(flip_curve, cg["flip"])
+        (print_thesis_table if a.thesis_only else print_tables)(name, entry["size"], entry["reference_text"], uniform, rows)
+    print(f"\nload average at the end (1, 5, 15 min): {', '.join(f'{v:.2f}' for v in os.getloadavg())}; "
+          f"times: median of {max(1, a.repeat)} interleaved runs")
     with open(os.path.join(a.out, "selective_table.json"), "w") as f:
         json.dump(results, f, indent=2)
 
@@ -276,8 +387,8 @@ def speedup(eq, t):
     return f"{'>' if below else ''}{tu / t:.2f}x"
 
 
-def print_tables(name, size, ref_spp, uniform, rows):
-    print(f"\n### {name} ({size}; reference: path traced, {ref_spp} spp)\n")
+def print_tables(name, size, ref_text, uniform, rows):
+    print(f"\n### {name} ({size}; reference: {ref_text})\n")
     print("| pipeline | time s | thesis: gold s | thesis: gold/pipeline | perr % (gold's) | perr cost, points "
           "| FLIP (gold's) | equal FLIP: uniform s | speed-up | aFLIP | weights | equal aFLIP: uniform s | speed-up "
           "| why below 1x (equal FLIP) |")
@@ -316,10 +427,10 @@ def why_slower(r, uniform):
     return "; ".join(reasons)
 
 
-def print_thesis_table(name, size, ref_spp, uniform, rows):
+def print_thesis_table(name, size, ref_text, uniform, rows):
     """The thesis protocol alone (--thesis-only): with the preview's share of gold's time, the
     speed-up a free selective pass would reach."""
-    print(f"\n### {name} ({size}; thesis protocol only; reference: path traced, {ref_spp} spp)\n")
+    print(f"\n### {name} ({size}; thesis protocol only; reference: {ref_text})\n")
     print("| pipeline | time s | preview s | gold s | gold/pipeline | bound: gold/preview | perr % (gold's) "
           "| perr cost, points | FLIP (gold's) |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
