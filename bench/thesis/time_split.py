@@ -2,7 +2,9 @@
 """Where a render's time goes (issue 32, step 3): for every render of a selective_table.py run
 (uniform rendering and each pipeline, and its gold), the time of each stage (preview, guidance,
 selective), of each bin (camera rays with their direct light, D with the irradiance cache's
-records and lookups, T R M, G S), of the caustic photon map, and the cache's counts.
+records and lookups, T R M, G S), of the caustic photon map, and the cache's counts; of the D
+bin's first-bounce queries, the time making records (with their deeper bounces), interpolating
+and adding the caustic map's estimate (crex run --format json: irradiance_cache.*_seconds).
 
   python3 bench/thesis/time_split.py out/frame_cornell/selective_table.json [more.json ...]
         [--renders uniform4_ic,prog_dis_all,...]
@@ -53,8 +55,10 @@ def row(name, p):
     rec = f"{ic['preview_records']:,} / {ic['selective_records']:,}" if "preview_records" in ic else f"{records:,}" if ic else "-"
     fmt = lambda v: f"{v * scale:.2f}"  # noqa: E731
     stages = " / ".join(f"{st[k] * scale:.2f}" for k in ("preview_seconds", "guidance_seconds", "selective_seconds") if k in st) or "-"
+    d_split = (f"{fmt(ic['record_seconds'])} / {fmt(ic['lookup_seconds'])} / {fmt(ic['caustic_lookup_seconds'])}"
+               if "record_seconds" in ic else "-")
     return (f"| {name} | {p['render_seconds']:.2f} | {stages} | {fmt(caustic)} | {fmt(sec['camera'])} | {fmt(sec['D'])} "
-            f"({100 * sec['D'] / first:.0f} %) | {fmt(sec['T'] + sec['R'] + sec['M'])} | {fmt(sec['G'] + sec['S'])} | {fmt(other)} | "
+            f"({100 * sec['D'] / first:.0f} %) | {d_split} | {fmt(sec['T'] + sec['R'] + sec['M'])} | {fmt(sec['G'] + sec['S'])} | {fmt(other)} | "
             f"{rec} | {ic.get('lookups', 0) / 1e6:.2f} | {ic.get('hemisphere_rays', 0) / 1e6:.1f} | "
             f"{comp.get('camera', {}).get('rays', 0) / 1e6:.2f} | {comp.get('camera', {}).get('shadow_rays', 0) / 1e6:.2f} |")
 
@@ -68,9 +72,9 @@ def main():
         for scene, entry in results.items():
             print(f"\n#### {scene} ({entry['size']}; {os.path.dirname(path)})\n")
             print("| render | s (median) | preview / guidance / selective s | caustic map s | camera bin s | D bin s (share) "
-                  "| T+R+M s | G+S s | rest s | records (preview / selective) | lookups M | hemisphere rays M | camera samples M "
-                  "| camera-hit shadow rays M |")
-            print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+                  "| of D: records / lookups / caustic lookups s | T+R+M s | G+S s | rest s | records (preview / selective) | lookups M "
+                  "| hemisphere rays M | camera samples M | camera-hit shadow rays M |")
+            print("|---|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|")
             for name, p in renders(entry):
                 if wanted is None or name in wanted:
                     print(row(name, p))

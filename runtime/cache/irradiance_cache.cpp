@@ -130,6 +130,10 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
 }
 
 void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t level, std::vector<Vec3>& out) {
+    using Clock = std::chrono::steady_clock;
+    const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+    const auto start = Clock::now();
+    double lookups = 0;
     out.assign(queries.size(), Vec3{});
     std::vector<uint32_t> pending(queries.size());
     std::iota(pending.begin(), pending.end(), 0u);
@@ -140,10 +144,12 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
     for (int round = 0; !pending.empty(); ++round) {
         // Lookups in parallel (the records do not change here); misses kept in order.
         std::vector<uint8_t> found(pending.size());
+        const auto lookup_start = Clock::now();
         tbb::parallel_for(size_t{0}, pending.size(), [&](size_t k) {
             const IcQuery& q = queries[pending[k]];
             found[k] = lookup(q.position, q.normal, q.accuracy, level, out[pending[k]]) ? 1 : 0;
         });
+        lookups += since(lookup_start);
         std::vector<uint32_t> misses;
         for (size_t k = 0; k < pending.size(); ++k)
             if (!found[k]) misses.push_back(pending[k]);
@@ -197,8 +203,14 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
             break;
         }
     }
+    const double before_caustics = since(start);
     if (caustics_ && level == 0)
         tbb::parallel_for(size_t{0}, queries.size(), [&](size_t q) { out[q] += caustics_->irradiance(queries[q].position, queries[q].normal); });
+    if (level == 0) {
+        stats_.lookup_seconds += lookups;
+        stats_.record_seconds += before_caustics - lookups;
+        stats_.caustic_lookup_seconds += since(start) - before_caustics;
+    }
 }
 
 std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery>& sites, uint32_t level) {

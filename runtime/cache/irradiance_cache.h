@@ -73,6 +73,10 @@ struct IcStats {
     /// The share of a camera query's light that would come from bounces past the last level
     /// (the product of the levels' mean albedos), which --ambient stands in for; 0 if unmeasured.
     double throughput_past_last_bounce() const;
+    /// Where the first-bounce (level-0) queries' time goes (issue 32, what guidance can steer):
+    /// interpolating from records, making the missing records (their hemisphere rays and every
+    /// deeper bounce), adding the caustic map's estimate.
+    double lookup_seconds = 0, record_seconds = 0, caustic_lookup_seconds = 0;
 };
 
 class IrradianceCache {
