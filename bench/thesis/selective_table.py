@@ -94,6 +94,9 @@ def arguments():
     ap.add_argument("--rescore", action="store_true",
                     help="like --reprint, but compare every image of --out's selective_table.json with its reference again "
                          "(after the reference grew by accumulation); no rendering")
+    ap.add_argument("--score-later", action="store_true",
+                    help="render and time only; compare nothing (the windowed reference under --refs is still being "
+                         "accumulated): --rescore --out DIR scores and prints the tables afterwards")
     ap.add_argument("--thesis-only", action="store_true",
                     help="the thesis protocol only (pipeline, gold, reference): no uniform curves, for sizes where "
                          "they cost too much (512x512)")
@@ -244,7 +247,11 @@ def render_uniform(a, name, scene, size, ref, curve):
     img = os.path.join(a.out, f"{name}_uniform{spp}{tag}.exr")
     j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] +
             ([] if ad is None else ["--ic", "--ad", str(ad), "--aa", str(aa)]))
-    return {"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "run": j, "image": img, **compare(a, img, ref, "saliency")}
+    return {"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "run": j, "image": img,
+            **(UNSCORED if a.score_later else compare(a, img, ref, "saliency"))}
+
+
+UNSCORED = {"flip": None, "perr": None, "aflip": None}
 
 
 def profile(j):
@@ -296,6 +303,8 @@ def reference_for(a, name, scene, size):
     """The reference a scene is scored against, and its samples: a windowed one under --refs, else
     --reference-file, else a path-traced `crex reference` of the whole frame."""
     windowed = os.path.join(a.refs, f"{name}_{size}.exr")
+    if a.score_later:
+        return windowed, "path traced, on the windows of " + os.path.relpath(windowed, ROOT) + " (scored later)"
     if name not in a.reference_files and os.path.isfile(windowed):
         text = windowed_reference_text(a, windowed)
         print(f"[{name}] reference: {text}", file=sys.stderr)
@@ -333,14 +342,30 @@ def main():
             task = os.path.join(maps, "map_task.png")
             # A task map that is zero everywhere (no tags in the scene) weighs nothing (compare
             # exits 1): saliency then.
-            attention = task if os.path.exists(task) and succeeds(a, ["compare", img, ref, "--attention", task]) else "saliency"
-            c, cg = compare(a, img, ref, attention), compare(a, gold_img, ref, attention)
-            task_aflip = None if attention == "saliency" else [compare(a, u["image"], ref, attention)["aflip"] for u in uniform]
+            # (Against the image itself when the reference is not there yet: only the map's weights matter.)
+            attention = task if os.path.exists(task) and succeeds(a, ["compare", img, img if a.score_later else ref, "--attention", task]) \
+                else "saliency"
+            if a.score_later:
+                c, cg, task_aflip = UNSCORED, UNSCORED, None
+            else:
+                c, cg = compare(a, img, ref, attention), compare(a, gold_img, ref, attention)
+                task_aflip = None if attention == "saliency" else [compare(a, u["image"], ref, attention)["aflip"] for u in uniform]
             rows.append({"pipeline": p, "run": j, "gold_run": g, "vs_reference": c, "gold_vs_reference": cg,
                          "attention": "task map" if attention != "saliency" else "saliency", "stages": j["stages"],
                          "uniform_task_aflip": task_aflip})
         results[name] = {"size": size, "reference": ref, "reference_text": ref_text, "uniform": uniform, "rows": rows}
     retime(a)
+    if a.score_later:
+        for entry in results.values():
+            timed(entry["uniform"])
+            for r in entry["rows"]:
+                j, g = r.pop("run"), r.pop("gold_run")
+                r["seconds"], r["gold_seconds"], r["profile"], r["gold_profile"] = j["render_seconds"], g["render_seconds"], profile(j), profile(g)
+                r.pop("uniform_task_aflip")
+        with open(os.path.join(a.out, "selective_table.json"), "w") as f:
+            json.dump(results, f, indent=2)
+        print(f"rendered and timed; scores and tables: --rescore --out {a.out}", file=sys.stderr)
+        return
     for name, entry in results.items():
         uniform, rows = timed(entry["uniform"]), entry["rows"]
         flip_curve = [(u["seconds"], u["flip"], curve_of(u)) for u in uniform]
