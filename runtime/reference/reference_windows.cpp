@@ -202,12 +202,14 @@ std::vector<ChosenWindow> choose_reference_windows(const Scene& scene, const Fra
             place.add({"caustic", w, w.width ? fmt::format("largest mean caustic irradiance over the window ({:.3g})", value) : "no room left"});
     }
 
-    // 5-6. The whole frame's saliency, away from emitters (the lamp has its window): where
-    // a window would show an emitter, its mean counts as no saliency for `salient` and as
-    // full saliency for `plain`.
-    std::vector<double> lamp_pixels(pixels, 0.0);
-    for (size_t p = 0; p < pixels; ++p) lamp_pixels[p] = probe.shape[p] >= 0 && emits(material_of_shape(probe.shape[p]));
-    const BoxMeans lamps(lamp_pixels, width, height);
+    // 5-6. The whole frame's saliency, away from emitters (the lamp has its window) and from
+    // black pixels (the Cornell box's mirror ball shows the dark outside of the box, whose
+    // rim is salient: a window there compares black with black, error 0 whatever the render).
+    std::vector<double> excluded(pixels, 0.0);
+    for (size_t p = 0; p < pixels; ++p)
+        excluded[p] = (probe.shape[p] >= 0 && emits(material_of_shape(probe.shape[p]))) ||
+                      !(luminance({context.rgb[3 * p], context.rgb[3 * p + 1], context.rgb[3 * p + 2]}) > 0);
+    const BoxMeans lamps(excluded, width, height);
     const std::vector<double> saliency(context.saliency.begin(), context.saliency.end());
     const BoxMeans sal(saliency, width, height);
     for (const double sign : {+1.0, -1.0}) {

@@ -13,7 +13,8 @@
 ///  4. caustic:    where the caustic photon map's irradiance on the surfaces the camera sees,
 ///                 averaged over the window, is largest (light focused by mirrors and glass);
 ///  5. salient:    where the whole frame's saliency, averaged over the window, is largest,
-///                 among windows that show no emitter (the lamp has its own);
+///                 among windows that show no emitter (the lamp has its own) and no black
+///                 pixel (black against black says nothing of a render);
 ///  6. plain:      where it is smallest, likewise (a region the eye passes over).
 /// A kind the scene lacks (no tags, no emitter in view, no caustic) is left out and said so.
 #pragma once
