@@ -328,7 +328,7 @@ Runner add_compare_command(CLI::App& app) {
                     "Also the attention-weighted FLIP (aflip): FLIP averaged with weights 'saliency' (of the reference) or from a map file (e.g. a task map)");
     cmd->add_option("--exposure", opt->exposure,
                     "Tone-map both HDR images with this exposure instead of the reference's (the key 0.18 over its log-average luminance)")
-        ->check(CLI::Range(1e-12, 1e12));
+        ->check(number_in(1e-12, 1e12));
     cmd->add_flag("--assume-display", opt->assume_display,
                   "Compare a tone-mapped file (PNG) with a linear one (EXR) by tone-mapping the linear one as crex writes PNGs");
     cmd->add_option("--format", opt->format, "Output as text or json")->check(CLI::IsMember({"text", "json"}));

@@ -321,12 +321,12 @@ Runner add_reference_command(CLI::App& app) {
         ->check(CLI::IsMember({"auto"}));
     cmd->add_option("--window-size", opt->window_size, "Side of each window --windows auto chooses, in pixels")
         ->capture_default_str()
-        ->check(CLI::Range(1, 16384));
+        ->check(whole_number_in(1, 16384));
     cmd->add_option("--context-spp", opt->context_spp,
                     "Samples of the cheap cached render of the whole frame a windowed reference keeps (0: none; then the windows' own "
                     "exposure, and no saliency)")
         ->capture_default_str()
-        ->check(CLI::Range(0u, 4096u));
+        ->check(whole_number_in(0, 4096));
     cmd->add_option("--accumulate", opt->accumulate, "Add --spp independent samples to this reference (windowed or not) and record the total");
     cmd->add_flag("--force", opt->force, "Render even if the cache has it");
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no messages");
