@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # One entry point for building crex on a fresh Debian machine (as root, or with sudo).
 #
-#   tools/dev.sh demo     install what is missing, build (Release), run the main job
+#   tools/dev.sh demo     install what is missing, build the tool (Release), run the main job
 #   tools/dev.sh test     install what is missing, build (Release), run every test, then
 #                         rebuild with ASan+UBSan at -O1 and rerun the fast labels
 #   tools/dev.sh build    install what is missing and build (Release) only
@@ -32,19 +32,23 @@ install_packages() {
   fi
 }
 
+# build_release [TARGET...]: everything, or only the targets named (the demo needs the tool
+# and its image plugin, not the tests and benchmarks).
 build_release() {
-  log "configure + build (Release)"
+  log "configure + build (Release${*:+: $*})"
   cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build/release -j "$JOBS"
+  cmake --build build/release -j "$JOBS" ${*:+--target "$@"}
 }
 
 run_tests() {
   log "tests (Release, all labels)"
   (cd build/release && ctest --output-on-failure -j "$JOBS")
   log "configure + build (ASan+UBSan, -O1)"
-  cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 \
+  # -g1: line tables are all the sanitizers' stack traces need (full debug info only makes the
+  # compiles and links slower); and only the targets the fast labels run.
+  cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 -DCMAKE_CXX_FLAGS_DEBUG=-g1 \
         -DCREX_SANITIZE=ON -DCREX_BENCH=OFF >/dev/null
-  cmake --build build/asan -j "$JOBS"
+  cmake --build build/asan -j "$JOBS" --target crex_fast_tests
   log "tests (ASan+UBSan, fast labels)"
   # intercept_tls_get_addr=0: the leak check at exit walks the dynamic TLS of the dlopen'd
   # image plugin (libcrex_oiio.so) and LSan's tracer crashed there in about one run in five
@@ -140,7 +144,7 @@ PY
 }
 
 case "${1:-}" in
-  demo) install_packages; build_release; run_demo ;;
+  demo) install_packages; build_release crex; run_demo ;;
   test) install_packages; build_release; run_tests ;;
   build) install_packages; build_release ;;
   fuzz) shift; run_fuzz "$@" ;;
