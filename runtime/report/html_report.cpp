@@ -1,5 +1,6 @@
 #include "runtime/report/html_report.h"
 
+#include "base/base64.h"
 #include "runtime/report/svg_plot.h"
 
 #include <fmt/format.h>
@@ -72,25 +73,6 @@ window.addEventListener('load', () => {
 )";
 
 }  // namespace
-
-std::string base64(const std::string& bytes) {
-    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    out.reserve((bytes.size() + 2) / 3 * 4);
-    size_t i = 0;
-    for (; i + 2 < bytes.size(); i += 3) {
-        uint32_t v = (uint32_t(uint8_t(bytes[i])) << 16) | (uint32_t(uint8_t(bytes[i + 1])) << 8) | uint8_t(bytes[i + 2]);
-        out += t[v >> 18], out += t[(v >> 12) & 63], out += t[(v >> 6) & 63], out += t[v & 63];
-    }
-    if (i + 1 == bytes.size()) {
-        uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-        out += t[v >> 18], out += t[(v >> 12) & 63], out += "==";
-    } else if (i + 2 == bytes.size()) {
-        uint32_t v = (uint32_t(uint8_t(bytes[i])) << 16) | (uint32_t(uint8_t(bytes[i + 1])) << 8);
-        out += t[v >> 18], out += t[(v >> 12) & 63], out += t[(v >> 6) & 63], out += '=';
-    }
-    return out;
-}
 
 std::string render_report_html(const ReportPage& page, std::string& error) {
     std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escape(page.title) + "</title>\n";

@@ -38,6 +38,4 @@ struct ReportPage {
 /// Returns the page; `error` names an image that could not be read.
 std::string render_report_html(const ReportPage& page, std::string& error);
 
-std::string base64(const std::string& bytes);
-
 }  // namespace crex

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 
+#include "base/base64.h"
 #include "base/json_positions.h"
 #include "base/nearest_name.h"
 #include "runtime/scene/load_scene.h"
@@ -219,7 +220,8 @@ public:
         Scene scene;
         scene.source = file_.name();
         ObjectReader top(doc_, sink_, doc_.value, "");
-        top.warn_unknown({"format", "version", "camera", "background", "medium", "materials", "shapes", "distant_lights"});
+        top.warn_unknown({"format", "version", "camera", "cameras", "units", "background", "medium", "images", "materials", "shapes",
+                          "distant_lights"});
         std::string format;
         if (top.string("format", format) && format != "crex-scene")
             sink_.report("E303", top.span("format"), fmt::format("format: expected \"crex-scene\", got \"{}\"", format));
@@ -227,6 +229,10 @@ public:
         if (top.integer("version", version, 1, 1000) && version != 1)
             sink_.report("E303", top.span("version"), fmt::format("version: this crex reads version 1, the file is version {}", version));
         if (top.has("camera")) read_camera(top, scene.camera);
+        read_array(top, "cameras", [&](ObjectReader& r) { read_named_camera(r, scene); });
+        if (!top.has("camera") && !scene.cameras.empty()) scene.camera = scene.cameras.front().camera;
+        if (top.has("units")) read_units(top, scene.units);
+        read_array(top, "images", [&](ObjectReader& r) { read_image(r, scene); });
         top.vec3("background", scene.background, kRadiance);
         if (top.has("medium")) read_medium(top, scene);
         read_array(top, "materials", [&](ObjectReader& r) { read_material(r, scene); });
@@ -270,6 +276,52 @@ private:
         }
         ObjectReader r(doc_, sink_, top.at("camera"), "/camera");
         r.warn_unknown({"position", "direction", "look_at", "up", "vfov", "hfov", "view_distance", "projection", "fore_clip"});
+        read_camera_fields(r, cam);
+    }
+
+    // One of the file's named cameras (`crex --camera NAME|INDEX` chooses among them).
+    void read_named_camera(ObjectReader& r, Scene& scene) {
+        r.warn_unknown({"name", "position", "direction", "look_at", "up", "vfov", "hfov", "view_distance", "projection",
+                        "fore_clip"});
+        NamedCamera c;
+        r.string("name", c.name);
+        read_camera_fields(r, c.camera);
+        scene.cameras.push_back(c);
+    }
+
+    void read_units(ObjectReader& top, SceneUnits& units) {
+        if (!top.at("units").is_object()) {
+            top.wrong("units", "an object {\"metres_per_unit\": ..., \"up\": [x, y, z]}");
+            return;
+        }
+        ObjectReader r(doc_, sink_, top.at("units"), "/units");
+        r.warn_unknown({"metres_per_unit", "up"});
+        r.number("metres_per_unit", units.metres_per_unit, kPositive);
+        r.vec3("up", units.up);
+    }
+
+    // An image carried in the file: {"name": ..., "mime_type": ..., "data": base64}.
+    void read_image(ObjectReader& r, Scene& scene) {
+        r.warn_unknown({"name", "mime_type", "data"});
+        EmbeddedImage image;
+        std::string data;
+        const bool named = r.string("name", image.name, true);
+        if (!r.string("data", data, true) || !named) return;
+        r.string("mime_type", image.mime_type);
+        auto bytes = base64_decode(data);
+        if (!bytes) {
+            sink_.report("E303", r.span("data"), fmt::format("{}: expected the image's bytes in base64", r.path("data")));
+            return;
+        }
+        image.bytes = std::move(*bytes);
+        if (!image_names_.insert(image.name).second) {
+            sink_.report("E305", r.span("name"), fmt::format("{}: an image named '{}' is already defined", r.path("name"), image.name));
+            return;
+        }
+        scene.images.push_back(std::move(image));
+    }
+
+    void read_camera_fields(ObjectReader& r, Camera& cam) {
         std::string projection;
         if (r.string("projection", projection)) {
             auto p = projection_from_name(projection);
@@ -333,18 +385,23 @@ private:
             m.type = *t;
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
-                        "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate"});
+                        "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
+                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
+        MaterialTextures& tex = m.textures;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
-        r.vec3("color", m.color, emitter ? kRadiance : kUnit);
-        r.number("specularity", m.specularity, kUnit);
-        r.number("roughness", m.roughness, kUnit);
+        // Wherever a colour or a number goes, a texture reference (an object) may go instead.
+        if (!texture_or(r, "color", tex.color)) r.vec3("color", m.color, emitter ? kRadiance : kUnit);
+        if (!texture_or(r, "specularity", tex.specularity)) r.number("specularity", m.specularity, kUnit);
+        if (!texture_or(r, "roughness", tex.roughness)) r.number("roughness", m.roughness, kUnit);
+        if (!texture_or(r, "metallic", tex.metallic)) r.number("metallic", m.metallic, kUnit);
+        if (!texture_or(r, "opacity", tex.opacity)) r.number("opacity", m.opacity, kUnit);
         r.number("transmissivity", m.transmissivity, kUnit);
         r.number("transmitted_specular", m.transmitted_specular, kUnit);
         r.number("ior", m.ior, kPositive);
         r.number("glow_radius", m.glow_radius);  // negative: never lights the scene
         Vec3 e;
-        if (r.vec3("emission", e, kRadiance)) m.emission = e;
+        if (!texture_or(r, "emission", tex.emission) && r.vec3("emission", e, kRadiance)) m.emission = e;
         if (r.has("anisotropy") && r.at("anisotropy").is_object()) {
             ObjectReader a(doc_, sink_, r.at("anisotropy"), r.pointer() + "/anisotropy");
             a.warn_unknown({"orientation", "roughness_v"});
@@ -379,6 +436,19 @@ private:
         }
         if (r.string("alternate", m.alternate) && !m.alternate.empty() && !material_names_.count(m.alternate))
             sink_.report("E305", r.span("alternate"), fmt::format("{}: no material named '{}' is defined before it", r.path("alternate"), m.alternate));
+        texture_only(r, "specular_color", tex.specular_color);
+        texture_only(r, "normal_map", tex.normal);
+        texture_only(r, "bump_map", tex.bump);
+        std::string mode;
+        if (r.string("alpha_mode", mode)) {
+            if (mode == "mask") m.alpha_mode = AlphaMode::kMask;
+            else if (mode == "blend") m.alpha_mode = AlphaMode::kBlend;
+            else sink_.report("E303", r.span("alpha_mode"), fmt::format("{}: expected \"mask\" or \"blend\", got \"{}\"", r.path("alpha_mode"), mode));
+        }
+        r.number("alpha_cutoff", m.alpha_cutoff, kUnit);
+        if (emitter && tex.any())
+            sink_.report("E307", r.span("type"), fmt::format("{}: a '{}' emitter takes constant values, not textures (give another "
+                                                             "material an 'emission' texture instead)", r.path("type"), type));
         if (m.name.empty()) return;
         if (!material_names_.insert(m.name).second) {
             sink_.report("E305", r.span("name"), fmt::format("{}: a material named '{}' is already defined", r.path("name"), m.name));
@@ -419,6 +489,127 @@ private:
             r.wrong("sky", "an object");
         }
         scene.distant_lights.push_back(std::move(l));
+    }
+
+    // `key` holds a texture reference (an object): read it into `slot` and return true.
+    bool texture_or(ObjectReader& r, const std::string& key, std::optional<TextureRef>& slot) {
+        if (!r.has(key) || !r.at(key).is_object()) return false;
+        slot = read_texture(r, key);
+        return true;
+    }
+
+    // `key` may only hold a texture reference.
+    void texture_only(ObjectReader& r, const std::string& key, std::optional<TextureRef>& slot) {
+        if (!r.has(key)) return;
+        if (!r.at(key).is_object()) {
+            r.wrong(key, "a texture reference {\"file\": ...}");
+            return;
+        }
+        slot = read_texture(r, key);
+    }
+
+    // A texture reference (docs/scene-format.md, "Textures").
+    std::optional<TextureRef> read_texture(ObjectReader& parent, const std::string& key) {
+        ObjectReader r(doc_, sink_, parent.at(key), parent.pointer() + "/" + key);
+        r.warn_unknown({"file", "image", "color_space", "wrap", "scale", "power", "channel", "uv_transform", "mapping", "planar"});
+        TextureRef t;
+        std::string file;
+        if (r.has("file") == r.has("image")) {
+            sink_.report("E304", doc_.span(r.pointer()), fmt::format("{}: give the texture's 'file' or the name of an embedded "
+                                                                      "'image' (one of them)", readable_json_path(r.pointer())));
+            return std::nullopt;
+        }
+        if (r.string("file", file)) {
+            std::filesystem::path p(file);
+            if (p.is_relative()) p = std::filesystem::path(base_dir_) / p;
+            std::error_code ec;
+            std::filesystem::path absolute = std::filesystem::absolute(p, ec);
+            t.file = (ec ? p : absolute).lexically_normal().string();
+            if (!std::filesystem::is_regular_file(t.file, ec))
+                sink_.report("W310", r.span("file"), fmt::format("{}: cannot find the texture '{}': it renders magenta", r.path("file"), file));
+        }
+        if (r.string("image", t.image) && !image_names_.count(t.image))
+            sink_.report("E305", r.span("image"), fmt::format("{}: no image named '{}' is defined in 'images'", r.path("image"), t.image));
+        std::string name;
+        if (r.string("color_space", name)) {
+            if (auto c = texture_color_space_from_name(name)) t.color_space = *c;
+            else sink_.report("E303", r.span("color_space"), fmt::format("{}: expected \"auto\", \"srgb\" or \"linear\", got \"{}\"", r.path("color_space"), name));
+        }
+        if (r.has("wrap")) read_wrap(r, t);
+        if (r.has("scale")) {
+            double k;
+            if (r.at("scale").is_number()) {
+                if (r.number("scale", k, kNonNegative)) t.scale = {k, k, k};
+            } else {
+                r.vec3("scale", t.scale, kNonNegative);
+            }
+        }
+        r.number("power", t.power, kPositive);
+        r.integer("channel", t.channel, 0, 63);
+        if (r.has("uv_transform")) read_uv_transform(r, t);
+        if (r.string("mapping", name)) {
+            if (auto m = texture_mapping_from_name(name)) t.mapping = *m;
+            else sink_.report("E303", r.span("mapping"), fmt::format("{}: expected \"uv\" or \"planar\", got \"{}\"", r.path("mapping"), name));
+        }
+        if (r.has("planar")) {
+            const json& p = r.at("planar");
+            bool ok = p.is_array() && p.size() == 8;
+            for (size_t i = 0; ok && i < 8; ++i) ok = p[i].is_number() && std::isfinite(p[i].get<double>());
+            if (!ok) r.wrong("planar", "an array of 8 numbers [ux, uy, uz, u0, vx, vy, vz, v0]");
+            else
+                for (size_t i = 0; i < 8; ++i) t.planar[i] = p[i].get<double>();
+        }
+        return t;
+    }
+
+    void read_wrap(ObjectReader& r, TextureRef& t) {
+        const json& w = r.at("wrap");
+        auto one = [&](const json& v, TextureWrap& out) {
+            auto x = v.is_string() ? texture_wrap_from_name(v.get<std::string>()) : std::nullopt;
+            if (x) out = *x;
+            return x.has_value();
+        };
+        bool ok = w.is_string() ? one(w, t.wrap_s) && one(w, t.wrap_t)
+                                : w.is_array() && w.size() == 2 && one(w[0], t.wrap_s) && one(w[1], t.wrap_t);
+        if (!ok)
+            sink_.report("E303", r.span("wrap"), fmt::format("{}: expected \"repeat\", \"clamp\", \"mirror\" or \"black\" (or two of "
+                                                             "them, for s and t), got {}", r.path("wrap"), show(w)));
+    }
+
+    // {"offset": [u, v], "rotation": radians, "scale": [u, v]} (glTF's KHR_texture_transform),
+    // or {"matrix": [a, b, c, d, e, f]}: s = a u + b v + c, t = d u + e v + f.
+    void read_uv_transform(ObjectReader& parent, TextureRef& t) {
+        if (!parent.at("uv_transform").is_object()) {
+            parent.wrong("uv_transform", "an object {\"offset\": [u, v], \"rotation\": radians, \"scale\": [u, v]}");
+            return;
+        }
+        ObjectReader r(doc_, sink_, parent.at("uv_transform"), parent.pointer() + "/uv_transform");
+        r.warn_unknown({"offset", "rotation", "scale", "matrix"});
+        auto pair = [&](const std::string& key, std::array<double, 2>& out) {
+            if (!r.has(key)) return;
+            const json& v = r.at(key);
+            if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number() || !std::isfinite(v[0].get<double>()) ||
+                !std::isfinite(v[1].get<double>())) {
+                r.wrong(key, "an array of 2 numbers");
+                return;
+            }
+            out = {v[0].get<double>(), v[1].get<double>()};
+        };
+        if (r.has("matrix")) {
+            const json& v = r.at("matrix");
+            bool ok = v.is_array() && v.size() == 6;
+            for (size_t i = 0; ok && i < 6; ++i) ok = v[i].is_number() && std::isfinite(v[i].get<double>());
+            if (!ok) r.wrong("matrix", "an array of 6 numbers [a, b, c, d, e, f]");
+            else
+                for (size_t i = 0; i < 6; ++i) t.uv_transform[i] = v[i].get<double>();
+            return;
+        }
+        std::array<double, 2> offset{0, 0}, scale{1, 1};
+        double rotation = 0;
+        pair("offset", offset);
+        pair("scale", scale);
+        r.number("rotation", rotation);
+        t.uv_transform = uv_transform_of(offset[0], offset[1], rotation, scale[0], scale[1]);
     }
 
     void read_shape(ObjectReader& r, Scene& scene) {
@@ -476,13 +667,17 @@ private:
             r.number("radius", s.radius, kPositive, true);
             break;
         case ShapeType::kMesh:
-            r.warn_unknown({"type", "name", "material", "tag", "vertices", "triangles", "file"});
+            r.warn_unknown({"type", "name", "material", "tag", "vertices", "triangles", "uvs", "normals", "file"});
             if (r.has("file")) {
                 read_obj_mesh(r, s, scene);
                 return;
             }
             r.vec3_list("vertices", s.vertices, true);
             read_triangles(r, s);
+            read_uvs(r, s);
+            if (r.vec3_list("normals", s.normals, false) && s.normals.size() != s.vertices.size())
+                sink_.report("E303", r.span("normals"), fmt::format("{}: {} normals for {} vertices (give one per vertex)",
+                                                                    r.path("normals"), s.normals.size(), s.vertices.size()));
             break;
         }
         shape_index_.push_back(current_index_);
@@ -544,6 +739,30 @@ private:
         }
     }
 
+    // "uvs": one [u, v] per vertex.
+    void read_uvs(ObjectReader& r, Shape& s) {
+        if (!r.has("uvs")) return;
+        const json& uvs = r.at("uvs");
+        if (!uvs.is_array()) {
+            r.wrong("uvs", "an array of [u, v], one per vertex");
+            return;
+        }
+        for (size_t i = 0; i < uvs.size(); ++i) {
+            const json& e = uvs[i];
+            std::string ptr = r.pointer() + "/uvs/" + std::to_string(i);
+            if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number() || !std::isfinite(e[0].get<double>()) ||
+                !std::isfinite(e[1].get<double>())) {
+                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected [u, v] (finite numbers), got {}", readable_json_path(ptr), show(e)));
+                s.uvs.clear();
+                return;
+            }
+            s.uvs.push_back({e[0].get<double>(), e[1].get<double>()});
+        }
+        if (s.uvs.size() != s.vertices.size())
+            sink_.report("E303", r.span("uvs"), fmt::format("{}: {} texture coordinates for {} vertices (give one per vertex)",
+                                                            r.path("uvs"), s.uvs.size(), s.vertices.size()));
+    }
+
     void read_obj_mesh(ObjectReader& r, Shape& s, Scene& scene) {
         std::string rel;
         if (!r.string("file", rel)) return;
@@ -577,6 +796,7 @@ private:
     SceneSources& sources_;
     DiagnosticSink& sink_;
     std::set<std::string> material_names_;
+    std::set<std::string> image_names_;
     std::vector<size_t> shape_index_;  // scene shape -> index in the file's "shapes"
     size_t current_index_ = 0;
 };

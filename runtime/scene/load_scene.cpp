@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -106,6 +107,25 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
                                 vf.string()))
             .help = fmt::format("write the view (rpict's -vp -vd -vu -vh -vv) into {}, or pass --view FILE.vf to crex run", vf.string());
     return scene;
+}
+
+std::string select_camera(Scene& scene, const std::string& spec) {
+    std::string names;
+    for (size_t i = 0; i < scene.cameras.size(); ++i) {
+        if (scene.cameras[i].name == spec) {
+            scene.camera = scene.cameras[i].camera;
+            return "";
+        }
+        names += fmt::format("{}{} '{}'", i ? ", " : "", i, scene.cameras[i].name);
+    }
+    char* end = nullptr;
+    const unsigned long index = std::strtoul(spec.c_str(), &end, 10);
+    if (!spec.empty() && end && *end == '\0' && std::isdigit(static_cast<unsigned char>(spec[0])) && index < scene.cameras.size()) {
+        scene.camera = scene.cameras[index].camera;
+        return "";
+    }
+    if (scene.cameras.empty()) return fmt::format("--camera {}: the scene names no cameras (it has only its one camera)", spec);
+    return fmt::format("--camera {}: no such camera; the scene's cameras are {}", spec, names);
 }
 
 }  // namespace crex

@@ -52,15 +52,24 @@ std::optional<SkyModel::Type> sky_type_from_name(std::string_view name) { return
 
 ComponentSet spawned_components(const Material& m) {
     ComponentSet s;
-    bool coloured = max_component(m.color) > 0;
+    // A texture can make any texel anything in its range: a textured parameter counts as
+    // possibly non-zero (a material whose texture happens to be black is still a material),
+    // and a textured roughness as glossy (it is kept above 0: textures never make S).
+    const MaterialTextures& tex = m.textures;
+    bool coloured = max_component(m.color) > 0 || tex.color.has_value();
     switch (m.type) {
     case MaterialType::kPlastic:
     case MaterialType::kMetal:
     case MaterialType::kTrans: {
-        double spec = m.specularity;
-        if (coloured && spec < 1) set(s, Component::kD);  // diffuse reflection
-        if (spec > 0) set(s, m.roughness > 0 ? Component::kG : Component::kS);
-        if (m.type == MaterialType::kTrans && coloured && m.transmissivity > 0) {
+        const bool metal_part = m.metallic > 0 || tex.metallic.has_value();
+        const bool dielectric_part = m.metallic < 1 || tex.metallic.has_value();
+        const bool some_specular = m.specularity > 0 || tex.specularity.has_value();
+        const bool all_specular = m.specularity >= 1 && !tex.specularity;
+        const bool rough = m.roughness > 0 || tex.roughness.has_value();
+        const bool all_transmitted = m.type == MaterialType::kTrans && m.transmissivity >= 1;
+        if (coloured && dielectric_part && !all_specular && !all_transmitted) set(s, Component::kD);  // diffuse reflection
+        if ((some_specular && dielectric_part) || (metal_part && coloured)) set(s, rough ? Component::kG : Component::kS);
+        if (m.type == MaterialType::kTrans && coloured && dielectric_part && !all_specular && m.transmissivity > 0) {
             if (m.transmitted_specular < 1) set(s, Component::kD);  // diffuse transmission
             if (m.transmitted_specular > 0) set(s, Component::kT);  // specular transmission
         }
@@ -88,12 +97,23 @@ const Material* shading_material(const Scene& scene, const Material& m) {
     return m.alternate.empty() ? nullptr : scene.find_material(m.alternate);
 }
 
+MaterialValues constant_values(const Material& m) {
+    MaterialValues v;
+    v.color = m.color;
+    v.specularity = m.specularity;
+    v.roughness = m.roughness;
+    v.metallic = m.metallic;
+    v.opacity = m.opacity;
+    v.emission = m.emission;
+    return v;
+}
+
 Vec3 emitted_radiance(const Material& m) {
     if (m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum) return m.color;
     return m.emission ? *m.emission : Vec3{};
 }
 
-bool is_emissive(const Material& m) { return max_component(emitted_radiance(m)) > 0; }
+bool is_emissive(const Material& m) { return max_component(emitted_radiance(m)) > 0 || m.textures.emission.has_value(); }
 
 std::string component_set_letters(const ComponentSet& set) {
     std::string out;

@@ -50,6 +50,18 @@ inline constexpr double kMaxRadiance = 1e30;
 /// The emitted radiance of `m` (its colour for lights and glows, else its `emission`).
 Vec3 emitted_radiance(const Material& m);
 
+/// A material's parameters at one point of a surface: its constants, or what its textures
+/// give there (runtime/texture). What the renderer's lobes are made from.
+struct MaterialValues {
+    Vec3 color;
+    double specularity = 0, roughness = 0, metallic = 0, opacity = 1;
+    std::optional<Vec3> specular_tint;  ///< a specular colour texture's value (else white, or the colour for metal)
+    std::optional<Vec3> emission;
+};
+
+/// The values of an untextured material (and of a textured one where it has no texture).
+MaterialValues constant_values(const Material& m);
+
 /// "D T R" for a set.
 std::string component_set_letters(const ComponentSet& set);
 

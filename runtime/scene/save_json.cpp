@@ -1,5 +1,6 @@
 // Scene -> native JSON. Writes every field that differs from its default, so that loading the
 // output gives an equal scene (tests/unit/runtime/scene_json_test.cpp checks the round trip).
+#include "base/base64.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/shapes.h"
@@ -8,6 +9,33 @@ namespace crex {
 namespace {
 
 nlohmann::json vec(const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+
+nlohmann::json camera_json(const Camera& c) {
+    nlohmann::json j = {{"position", vec(c.position)}, {"direction", vec(c.direction)}, {"up", vec(c.up)},
+                        {"vfov", c.vfov_deg},          {"view_distance", c.view_distance}};
+    if (c.hfov_deg > 0) j["hfov"] = c.hfov_deg;
+    if (c.projection != Projection::kPerspective) j["projection"] = std::string(projection_name(c.projection));
+    if (c.fore_clip > 0) j["fore_clip"] = c.fore_clip;
+    return j;
+}
+
+// A texture reference with every field that differs from its default.
+nlohmann::json texture_json(const TextureRef& t) {
+    const TextureRef d;
+    nlohmann::json j;
+    if (!t.file.empty()) j["file"] = t.file;
+    else j["image"] = t.image;
+    if (t.color_space != d.color_space) j["color_space"] = std::string(texture_color_space_name(t.color_space));
+    if (t.wrap_s != d.wrap_s || t.wrap_t != d.wrap_t)
+        j["wrap"] = {std::string(texture_wrap_name(t.wrap_s)), std::string(texture_wrap_name(t.wrap_t))};
+    if (t.scale != d.scale) j["scale"] = vec(t.scale);
+    if (t.power != d.power) j["power"] = t.power;
+    if (t.channel != d.channel) j["channel"] = t.channel;
+    if (t.uv_transform != d.uv_transform) j["uv_transform"] = {{"matrix", t.uv_transform}};
+    if (t.mapping != d.mapping) j["mapping"] = std::string(texture_mapping_name(t.mapping));
+    if (t.planar != d.planar) j["planar"] = t.planar;
+    return j;
+}
 
 void write_json(std::string& out, const nlohmann::json& j, int depth) {
     auto scalar_array = [](const nlohmann::json& a) {
@@ -50,13 +78,19 @@ nlohmann::json scene_to_json(const Scene& scene) {
     nlohmann::json j;
     j["format"] = "crex-scene";
     j["version"] = 1;
-    const Camera& c = scene.camera;
-    j["camera"] = {{"position", vec(c.position)}, {"direction", vec(c.direction)}, {"up", vec(c.up)},
-                   {"vfov", c.vfov_deg},          {"view_distance", c.view_distance}};
-    if (c.hfov_deg > 0) j["camera"]["hfov"] = c.hfov_deg;
-    if (c.projection != Projection::kPerspective) j["camera"]["projection"] = std::string(projection_name(c.projection));
-    if (c.fore_clip > 0) j["camera"]["fore_clip"] = c.fore_clip;
+    j["camera"] = camera_json(scene.camera);
+    for (const auto& named : scene.cameras) {
+        nlohmann::json c = camera_json(named.camera);
+        if (!named.name.empty()) c["name"] = named.name;
+        j["cameras"].push_back(c);
+    }
+    if (scene.units.metres_per_unit > 0 || scene.units.up != Vec3{}) {
+        if (scene.units.metres_per_unit > 0) j["units"]["metres_per_unit"] = scene.units.metres_per_unit;
+        if (scene.units.up != Vec3{}) j["units"]["up"] = vec(scene.units.up);
+    }
     j["background"] = vec(scene.background);
+    for (const auto& image : scene.images)
+        j["images"].push_back({{"name", image.name}, {"mime_type", image.mime_type}, {"data", base64(image.bytes)}});
     if (scene.medium)
         j["medium"] = {{"extinction", vec(scene.medium->extinction)},
                        {"albedo", vec(scene.medium->albedo)},
@@ -76,6 +110,12 @@ nlohmann::json scene_to_json(const Scene& scene) {
         if (m.spot) e["spot"] = {{"angle", m.spot->angle_deg}, {"direction", vec(m.spot->direction)}};
         if (m.outside) e["outside"] = {{"color", vec(m.outside->color)}, {"ior", m.outside->ior}};
         if (m.type == MaterialType::kIllum && !m.alternate.empty()) e["alternate"] = m.alternate;
+        if (m.metallic != defaults.metallic) e["metallic"] = m.metallic;
+        if (m.opacity != defaults.opacity) e["opacity"] = m.opacity;
+        if (m.alpha_mode != defaults.alpha_mode) e["alpha_mode"] = m.alpha_mode == AlphaMode::kBlend ? "blend" : "mask";
+        if (m.alpha_cutoff != defaults.alpha_cutoff) e["alpha_cutoff"] = m.alpha_cutoff;
+        // A textured parameter is written as its reference, in place of the constant.
+        m.textures.for_each([&](const char* slot, const TextureRef& t) { e[slot] = texture_json(t); });
         j["materials"].push_back(e);
     }
     j["shapes"] = nlohmann::json::array();
@@ -91,6 +131,9 @@ nlohmann::json scene_to_json(const Scene& scene) {
             e["vertices"] = nlohmann::json::array();
             for (const auto& v : s.vertices) e["vertices"].push_back(vec(v));
             if (s.type == ShapeType::kMesh) e["triangles"] = s.triangles;
+            if (!s.uvs.empty()) e["uvs"] = s.uvs;
+            if (!s.normals.empty())
+                for (const auto& n : s.normals) e["normals"].push_back(vec(n));
             break;
         case ShapeType::kBox: e["min"] = vec(s.min), e["max"] = vec(s.max); break;
         case ShapeType::kRing:

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "runtime/base/vec3.h"
+#include "runtime/scene/texture_ref.h"
 
 namespace crex {
 
@@ -68,6 +69,15 @@ struct Material {
     std::optional<OutsideMedium> outside;   ///< dielectric
     /// illum: the material every ray but a shadow ray sees ("" = the surface is invisible).
     std::string alternate;
+    /// plastic, metal, trans: blends the material towards a conductor of its colour (glTF's
+    /// metallic): D scaled by (1 - metallic), the specular lobe (1 - metallic) s + metallic c.
+    double metallic = 0;
+    /// Fraction of light the surface stops (1 = opaque); below 1 a hit is a hole with the
+    /// rest's probability for every ray (kBlend), or below `alpha_cutoff` always (kMask).
+    double opacity = 1;
+    AlphaMode alpha_mode = AlphaMode::kMask;
+    double alpha_cutoff = 0.5;
+    MaterialTextures textures;  ///< parameters taken from images instead of the constants above
 };
 
 enum class ShapeType { kSphere, kPolygon, kMesh, kBox, kRing, kCone, kCylinder };
@@ -90,6 +100,10 @@ struct Shape {
     // polygon (planar, >= 3 vertices) and mesh
     std::vector<Vec3> vertices;
     std::vector<std::array<uint32_t, 3>> triangles;  ///< mesh
+    /// mesh, optional: per-vertex texture coordinates and shading normals (each empty or one
+    /// per vertex). Without normals a mesh is shaded flat.
+    std::vector<std::array<double, 2>> uvs;
+    std::vector<Vec3> normals;
     std::string file;                                  ///< mesh: the OBJ it came from, if any
     // box
     Vec3 min, max;
@@ -152,9 +166,25 @@ struct Medium {
     double eccentricity = 0;   ///< Henyey-Greenstein g in (-1, 1)
 };
 
+/// A camera the scene file names (glTF cameras); `crex --camera NAME|INDEX` chooses one.
+struct NamedCamera {
+    std::string name;
+    Camera camera;
+};
+
+/// What the scene's numbers mean, where the format says (glTF: metres, +y up); unknown
+/// otherwise. Rendering needs neither; reports and people do.
+struct SceneUnits {
+    double metres_per_unit = 0;  ///< 0: not stated
+    Vec3 up;                     ///< zero: not stated
+};
+
 struct Scene {
     std::string source;  ///< where it came from (a path or "builtin:cornell")
     Camera camera;
+    std::vector<NamedCamera> cameras;  ///< the file's cameras, when it has several to choose from
+    SceneUnits units;
+    std::vector<EmbeddedImage> images;  ///< images carried in the scene file (texture references name them)
     Vec3 background{0, 0, 0};
     std::vector<Material> materials;
     std::vector<Shape> shapes;

@@ -216,6 +216,14 @@ std::optional<std::string> shape_problem(const Shape& s) {
                 if (i >= s.vertices.size())
                     return fmt::format("triangle index {} out of range ({} vertices)", i, s.vertices.size());
         if (s.triangles.empty()) return "mesh has no triangles";
+        if (!s.uvs.empty() && s.uvs.size() != s.vertices.size())
+            return fmt::format("{} texture coordinates for {} vertices", s.uvs.size(), s.vertices.size());
+        if (!s.normals.empty() && s.normals.size() != s.vertices.size())
+            return fmt::format("{} normals for {} vertices", s.normals.size(), s.vertices.size());
+        for (const auto& uv : s.uvs)
+            if (!std::isfinite(uv[0]) || !std::isfinite(uv[1])) return "non-finite texture coordinate";
+        for (const auto& n : s.normals)
+            if (!is_finite(n)) return "non-finite normal";
         return std::nullopt;
     case ShapeType::kBox:
         if (!is_finite(s.min) || !is_finite(s.max)) return "non-finite box corner";
@@ -242,7 +250,9 @@ std::optional<std::string> shape_problem(const Shape& s) {
     return std::nullopt;
 }
 
-void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
+namespace {
+
+void append_triangles(const Shape& s, TriangleMesh& out, size_t* dropped) {
     switch (s.type) {
     case ShapeType::kSphere: return;
     case ShapeType::kPolygon: {
@@ -253,7 +263,14 @@ void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
     }
     case ShapeType::kMesh: {
         uint32_t base = static_cast<uint32_t>(out.positions.size());
+        // Per-vertex attributes stay aligned with the positions only while every mesh
+        // appended has them.
+        const bool aligned_uvs = out.uvs.size() == base, aligned_normals = out.normals.size() == base;
         for (const auto& v : s.vertices) out.positions.push_back(v);
+        if (aligned_uvs && s.uvs.size() == s.vertices.size()) out.uvs.insert(out.uvs.end(), s.uvs.begin(), s.uvs.end());
+        else out.uvs.clear();
+        if (aligned_normals && s.normals.size() == s.vertices.size()) out.normals.insert(out.normals.end(), s.normals.begin(), s.normals.end());
+        else out.normals.clear();
         for (const auto& t : s.triangles) {
             Vec3 n = cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]);
             if (!(length(n) > 0)) {  // zero-area triangles have no normal: never hand them to the tracer
@@ -283,6 +300,15 @@ void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
     case ShapeType::kCone: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.r0, s.r1, s.inward); return;
     case ShapeType::kCylinder: tessellate_band(out, s.p0, s.p1, s.p1 - s.p0, s.radius, s.radius, s.inward); return;
     }
+}
+
+}  // namespace
+
+void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
+    append_triangles(s, out, dropped);
+    // Per-vertex attributes are all or nothing.
+    if (out.uvs.size() != out.positions.size()) out.uvs.clear();
+    if (out.normals.size() != out.positions.size()) out.normals.clear();
 }
 
 size_t triangle_count(const Shape& s) {

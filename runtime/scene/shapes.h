@@ -22,6 +22,10 @@ std::optional<ShapeType> shape_type_from_name(std::string_view name);
 struct TriangleMesh {
     std::vector<Vec3> positions;
     std::vector<std::array<uint32_t, 3>> indices;
+    /// Per position, for meshes that have them (empty otherwise, or when the meshes appended
+    /// to one TriangleMesh do not all have them).
+    std::vector<std::array<double, 2>> uvs;
+    std::vector<Vec3> normals;
 };
 
 /// Why `shape` cannot be rendered (non-finite numbers, zero radius, degenerate normal or axis,
