@@ -177,7 +177,8 @@ RankTotals totals(double rays, const IcStats& ic, double render_seconds, double 
 int DistributedRun::serve(const RunInput& in, const RunSetup& setup) {
 #ifdef CREX_WITH_MPI
     const RunSettings& s = setup.settings;
-    RenderScene rs(*in.scene->scene);
+    RenderScene rs(*in.scene->scene, texture_cache_bytes(s.max_memory));
+    rs.set_view(s.width, s.height);
     IrradianceCache cache(rs, plan_cache_settings(in.plan, *s.irradiance_cache));
     for (const auto& r : s.ic_records) cache.insert(r);
     if (s.ic_file_bytes)  // the file as rank 0 read it: it may exist on rank 0's machine only

@@ -289,7 +289,10 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
             r.ray.tnear = 1.0f, r.ray.tfar = 0.0f;  // a hole unless a lobe is chosen
             r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             r.ray.mask = 0xFFFFFFFFu;
-            const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
+            // Passing a trans surface is decided on the material's constants (above); the lobes
+            // a ray scatters into are the surface's own.
+            Bsdf textured;
+            const Bsdf& b = through_trans[i] ? scene_.bsdf_of(h.hit.geomID) : surface_at(scene_, h.hit, f, textured);
             Lobe lobe;
             double prob = 0;
             if (through_trans[i]) {
@@ -345,13 +348,14 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         double dist = h.ray.tfar;
         Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z};
         HitFrame f = hit_frame(*scene_.embree, h.hit, origin + last_dir[i] * dist, last_dir[i], dist);
-        const Bsdf& b = scene_.bsdf_of(h.hit.geomID);
+        Bsdf textured;
+        const Bsdf& b = surface_at(scene_, h.hit, f, textured);
         // Through a mirror, glass or a trans surface's specular transmission, emitters are
         // seen; a `light` emitter's light along those paths is the photon map's when there is
         // one (its photons follow the same lobes), else a rare ray onto a small bright lamp
         // seen through a frosted screen lit a whole record's disc behind it.
         const bool caustic = caustics_ && passed[i] && b.type == MaterialType::kLight;
-        Vec3 l = caustic ? Vec3{} : emitted(*b.material, f, passed[i] != 0, false);
+        Vec3 l = caustic ? Vec3{} : emitted(b, f, passed[i] != 0, false);
         uint64_t key = ray_key(i);
         if (!scene_.lights->empty() && b.direct_response) {
             Vec3 value, so, sd;
@@ -366,7 +370,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         l = l * beta;
         if (max_component(albedo[i]) > 0) {
             if (deeper) {
-                next[i] = {f.position, f.normal, sites[i / per].accuracy, sites[i / per].priority, key};
+                next[i] = {f.position, f.shading, sites[i / per].accuracy, sites[i / per].priority, key};
                 wants_next[i] = 1;
             } else {
                 l += albedo[i] * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
@@ -374,7 +378,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
         }
         if (max_component(albedo_far[i]) > 0) {
             if (deeper) {
-                next_far[i] = {f.position, -f.normal, sites[i / per].accuracy, sites[i / per].priority, hash_combine(key, 0xfa5ull)};
+                next_far[i] = {f.position, -f.shading, sites[i / per].accuracy, sites[i / per].priority, hash_combine(key, 0xfa5ull)};
                 wants_far[i] = 1;
             } else {
                 l += albedo_far[i] * settings_.ambient;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <numeric>
@@ -11,6 +12,7 @@
 #include <set>
 
 #include "base/check.h"
+#include "runtime/base/cpu_time.h"
 #include "runtime/base/memory.h"
 #include "runtime/base/sampling.h"
 #include "runtime/driver/row_bands.h"
@@ -226,6 +228,7 @@ size_t PlanRun::pass_bytes(size_t held_bytes) const {
     // rays) and what is still to come (guidance's buffers, the output images).
     size_t used = fixed_bytes(out_.film.pixel_count(), out_.film.tracked_branches(), out_.staged && out_.preview.empty()) + held_bytes;
     for (const auto& g : rs_->embree->geometries()) used += g.indices.size() * kBytesPerTriangle;
+    if (rs_->textures) used += texture_cache_bytes(s_.max_memory);
     // At least one row of samples, whatever the limit says: a pass cannot be smaller.
     size_t row = static_cast<size_t>(s_.width) * kBytesPerSample;
     return s_.max_memory > used + row ? s_.max_memory - used : row;
@@ -798,8 +801,12 @@ void PlanRun::refine_components(const sched::Program& program) {
 
 RunResult PlanRun::execute() {
     auto t_setup = Clock::now();
-    rs_.emplace(scene_);
+    // One texture cache for the render, its share of --max-memory (pass_bytes() counts it).
+    rs_.emplace(scene_, texture_cache_bytes(s_.max_memory));
+    rs_->set_view(s_.width, s_.height, s_.texture_filter_width);
+    for (const auto& w : rs_->warnings) out_.warnings.push_back(w);
     out_.setup_seconds = seconds_since(t_setup);
+    const double cpu_at_start = process_cpu_seconds();
     const size_t pixels = out_.film.pixel_count();
     ambient_.assign(3 * pixels, 0.0);
     // A pipeline runs in stages (its preview is kept and shown); a bare crex runs each pass
@@ -1003,6 +1010,9 @@ RunResult PlanRun::execute() {
     for (const auto& w : ex_->warnings())
         if (said.insert(w).second) out_.warnings.push_back(w);
     out_.render_seconds = clock_();
+    out_.render_cpu_seconds = process_cpu_seconds() - cpu_at_start;
+    out_.render_thread_seconds = out_.render_seconds * tbb::this_task_arena::max_concurrency();
+    if (rs_->textures) out_.textures = rs_->textures->stats();
     if (cache_) save_cache();
     measure_light_left_out();
     return std::move(out_);

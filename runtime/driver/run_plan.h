@@ -107,6 +107,9 @@ struct RunSettings {
     /// has the file); loaded instead of reading `ic_file`, which is still where they are saved.
     std::optional<std::string> ic_file_bytes;
     size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
+    /// Texture lookups filter over this many pixels' footprint (0: none, the sharpest lookups:
+    /// tests show what filtering prevents).
+    double texture_filter_width = 1;
     uint32_t pass_samples = 0;  ///< samples per pixel per pass at most (0: as many as fit)
     UniformQuality uniform = UniformQuality::kOff;
     uint32_t rounds = 0;        ///< rounds of guidance and selective rendering (0: the plan's, else 1)
@@ -160,8 +163,11 @@ struct RunResult {
     std::vector<std::string> notes;  ///< what the runtime did not execute, and why
     /// With ambient_auto: the radiance that stood in for each component's unexecuted rays.
     std::array<Vec3, kComponentCount> auto_ambient{};
-    double setup_seconds = 0;      ///< Embree scene and BVH build
+    double setup_seconds = 0;      ///< Embree scene and BVH build (and opening the textures)
     double render_seconds = 0;     ///< from the first camera ray
+    double render_cpu_seconds = 0; ///< the process's CPU time over the same span (all threads)
+    double render_thread_seconds = 0;  ///< render_seconds times the worker threads it had
+    std::optional<TextureStats> textures;  ///< a textured scene's texture cache and lookups
     std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end of passes, per bin
     size_t passes = 0;             ///< sample passes over all stages
     uint64_t budget_stopped_samples = 0;  ///< camera samples the budget left out

@@ -1,6 +1,7 @@
 // image_io.h for the rest of crex: loads the OpenImageIO plugin (libcrex_oiio.so) the first
 // time an image is read or written, so that commands that never touch an image start fast.
 #include "runtime/io/image_io.h"
+#include "runtime/io/texture_backend.h"
 
 #include <dlfcn.h>
 #include <unistd.h>
@@ -19,12 +20,14 @@ using WriteFn = std::string (*)(const std::string&, int, int, const std::vector<
 using ReadFn = std::string (*)(const std::string&, int&, int&, std::vector<float>&, bool&);
 using ReadMetadataFn = std::string (*)(const std::string&, int&, int&, ImageMetadata&);
 using ReadLayerFn = std::string (*)(const std::string&, const std::string&, int&, int&, std::vector<float>&);
+using MakeTextureBackendFn = TextureBackend* (*)(size_t);
 
 struct Plugin {
     WriteFn write = nullptr;
     ReadFn read = nullptr;
     ReadMetadataFn read_metadata = nullptr;
     ReadLayerFn read_layer = nullptr;
+    MakeTextureBackendFn make_texture_backend = nullptr;
     std::string error;
 };
 
@@ -63,7 +66,8 @@ const Plugin& plugin() {
             p.read = reinterpret_cast<ReadFn>(dlsym(h, "crex_oiio_read_image"));
             p.read_metadata = reinterpret_cast<ReadMetadataFn>(dlsym(h, "crex_oiio_read_image_metadata"));
             p.read_layer = reinterpret_cast<ReadLayerFn>(dlsym(h, "crex_oiio_read_image_layer"));
-            if (p.write && p.read && p.read_metadata && p.read_layer) return;
+            p.make_texture_backend = reinterpret_cast<MakeTextureBackendFn>(dlsym(h, "crex_oiio_make_texture_backend"));
+            if (p.write && p.read && p.read_metadata && p.read_layer && p.make_texture_backend) return;
             tried += "\n  " + path + ": not a crex image plugin";
         }
         p.error = "cannot load the image plugin libcrex_oiio.so (OpenImageIO); tried:" + tried;
@@ -100,6 +104,15 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
     std::string error = p.read ? p.read(path, width, height, rgb, ldr) : p.error;
     if (display_referred) *display_referred = ldr;
     return error;
+}
+
+std::unique_ptr<TextureBackend> make_texture_backend(size_t cache_bytes, std::string& error) {
+    const Plugin& p = plugin();
+    if (!p.make_texture_backend) {
+        error = p.error;
+        return nullptr;
+    }
+    return std::unique_ptr<TextureBackend>(p.make_texture_backend(cache_bytes));
 }
 
 }  // namespace crex

@@ -11,27 +11,34 @@ bool positive(const Vec3& v) { return max_component(v) > 0; }
 
 }  // namespace
 
-Bsdf Bsdf::of(const Material& m) {
+Bsdf Bsdf::of(const Material& m, const MaterialValues& v) {
     Bsdf b;
     b.material = &m;
     b.type = m.type;
-    b.emits = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.emission.has_value();
+    b.color = v.color;
+    b.emission = v.emission;
+    b.emits = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || v.emission.has_value();
     if (m.type != MaterialType::kPlastic && m.type != MaterialType::kMetal && m.type != MaterialType::kTrans) return b;
-    double spec = m.specularity;
-    double trans = m.type == MaterialType::kTrans ? m.transmissivity : 0.0;
-    b.diffuse = m.color * ((1 - spec) * (1 - trans));
-    b.specular = m.type == MaterialType::kMetal ? m.color * spec : Vec3{spec, spec, spec};
+    const double spec = v.specularity, metal = v.metallic;
+    const double trans = m.type == MaterialType::kTrans ? m.transmissivity : 0.0;
+    // The dielectric part (1 - metallic) keeps the material's own lobes; the metallic part is
+    // a conductor of the material's colour.
+    const double dielectric = 1 - metal;
+    b.diffuse = v.color * ((1 - spec) * (1 - trans) * dielectric);
+    const Vec3 tint = v.specular_tint ? *v.specular_tint : m.type == MaterialType::kMetal ? v.color : Vec3{1, 1, 1};
+    b.specular = tint * spec;
+    if (metal > 0) b.specular = b.specular * dielectric + v.color * metal;
     if (m.type == MaterialType::kTrans) {
-        b.diffuse_transmit = m.color * ((1 - spec) * trans * (1 - m.transmitted_specular));
-        b.specular_transmit = m.color * ((1 - spec) * trans * m.transmitted_specular);
+        b.diffuse_transmit = v.color * ((1 - spec) * trans * (1 - m.transmitted_specular) * dielectric);
+        b.specular_transmit = v.color * ((1 - spec) * trans * m.transmitted_specular * dielectric);
     }
-    bool specular = spec > 0 && positive(b.specular);
-    b.glossy = specular && (m.roughness > 0 || m.anisotropy);
+    bool specular = (spec > 0 || metal > 0) && positive(b.specular);
+    b.glossy = specular && (v.roughness > 0 || m.anisotropy);
     b.mirror_like = specular && !b.glossy;
-    if (b.glossy) b.exponent = phong_exponent(m.roughness);
+    if (b.glossy) b.exponent = phong_exponent(v.roughness);
     if (b.glossy && m.anisotropy) {
         b.anisotropic = true;
-        b.alpha_u = std::fmax(m.roughness, 1e-4);  // 0 would divide by zero; RADIANCE refuses it
+        b.alpha_u = std::fmax(v.roughness, 1e-4);  // 0 would divide by zero; RADIANCE refuses it
         b.alpha_v = std::fmax(m.anisotropy->roughness_v, 1e-4);
         b.orientation = m.anisotropy->orientation;
     }
@@ -95,7 +102,7 @@ double ward(const Bsdf& b, const Vec3& n, const Vec3& wi, const Vec3& wo) {
 
 int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out) {
     int n = 0;
-    const Vec3& nrm = f.normal;
+    const Vec3& nrm = f.shading;
     const Vec3& d = f.incoming;
     switch (b.type) {
     case MaterialType::kPlastic:
@@ -153,10 +160,10 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             break;
         }
         out[n++] = {Component::kR, mirror, {fr, fr, fr}, false, true};
-        if (positive(m.color)) {
+        if (positive(b.color)) {
             double cos_t = std::sqrt(std::fmax(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
             Vec3 dir = normalize_or_zero(d * eta + nrm * (eta * cos_i - cos_t));
-            if (dir != Vec3{}) out[n++] = {Component::kT, dir, m.color * (1 - fr), true, true};
+            if (dir != Vec3{}) out[n++] = {Component::kT, dir, b.color * (1 - fr), true, true};
         }
         break;
     }
@@ -189,25 +196,39 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
         break;
     }
     case MaterialType::kMirror:
-        if (positive(b.material->color)) out[n++] = {Component::kM, reflect(d, nrm), b.material->color, false, true};
+        if (positive(b.color)) out[n++] = {Component::kM, reflect(d, nrm), b.color, false, true};
         break;
     case MaterialType::kVoid:
     case MaterialType::kLight:
     case MaterialType::kGlow:
     case MaterialType::kIllum: break;
     }
+    if (f.shading != f.normal) {
+        // Lobes made around a shading normal can point through the surface they leave: such a
+        // ray would start on the wrong side of it (dropped, as pbrt does).
+        int kept = 0;
+        for (int l = 0; l < n; ++l) {
+            const Lobe& lobe = out[static_cast<size_t>(l)];
+            const double side = dot(lobe.direction, f.normal);
+            if (lobe.transmits ? side < 0 : side > 0) out[static_cast<size_t>(kept++)] = lobe;
+        }
+        n = kept;
+    }
     return n;
 }
 
 Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
-    double c = dot(wi, f.normal);
+    double c = dot(wi, f.shading);
+    // Light from one side of the surface by its shading normal and the other by its geometry
+    // reaches neither side.
+    if (f.shading != f.normal && (c > 0) != (dot(wi, f.normal) > 0)) return {};
     Vec3 out;
     if (c > 0) {
         out += b.diffuse * (c * kInvPi);
         if (b.glossy && b.anisotropic) {
-            out += b.specular * (ward(b, f.normal, wi, -f.incoming) * c);
+            out += b.specular * (ward(b, f.shading, wi, -f.incoming) * c);
         } else if (b.glossy) {
-            double ca = dot(wi, reflect(f.incoming, f.normal));
+            double ca = dot(wi, reflect(f.incoming, f.shading));
             if (ca > 0) out += b.specular * ((b.exponent + 2) * (0.5 * kInvPi) * std::pow(ca, b.exponent) * c);
         }
     } else if (c < 0) {
@@ -216,7 +237,8 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
     return out;
 }
 
-Vec3 emitted(const Material& m, const HitFrame& f, bool camera_or_delta, bool /*camera*/) {
+Vec3 emitted(const Bsdf& b, const HitFrame& f, bool camera_or_delta, bool /*camera*/) {
+    const Material& m = *b.material;
     Vec3 e;
     if (m.type == MaterialType::kLight && f.front && camera_or_delta) {
         const bool in_cone = !m.spot || -dot(f.incoming, normalize_or_zero(m.spot->direction)) >=
@@ -229,7 +251,7 @@ Vec3 emitted(const Material& m, const HitFrame& f, bool camera_or_delta, bool /*
         const double r = m.glow_radius;
         if (camera_or_delta || r == 0 || (r > 0 && f.distance > r)) e += m.color;
     }
-    if (m.emission) e += *m.emission;
+    if (b.emission) e += *b.emission;
     return e;
 }
 

@@ -4,15 +4,17 @@
 /// (lobe splitting: one ray per lobe, no random lobe choice), what emission a ray sees, and
 /// how the non-delta lobes respond to direct light.
 ///
-/// Lobes, with c = colour, s = specularity, t = transmissivity, ts = transmitted specularity:
-///   plastic, metal, trans  D  diffuse reflection      c(1-s)(1-t)           cosine sampled
-///                          G  rough specular          ks = s (plastic) or c s (metal, trans: s)
+/// Lobes, with c = colour, s = specularity, t = transmissivity, ts = transmitted specularity,
+/// m = metallic (0 unless given; glTF's metallic):
+///   plastic, metal, trans  D  diffuse reflection      c(1-s)(1-t)(1-m)      cosine sampled
+///                          G  rough specular          ks = (1-m) s k + m c, k = white (plastic,
+///                             trans), c (metal) or a specular colour texture's value
 ///                             (normalised Phong lobe, exponent 2/r^2 - 2, sampled exactly;
 ///                             with an anisotropy, RADIANCE's anisotropic Ward lobe, its
 ///                             half vector sampled exactly: weight ks cos_o / (o.h cos_h))
 ///                          S  ideal specular          ks
-///   trans                  D  diffuse transmission    c(1-s) t (1-ts)
-///                          T  specular transmission   c(1-s) t ts            undeviated
+///   trans                  D  diffuse transmission    c(1-s) t (1-ts)(1-m)
+///                          T  specular transmission   c(1-s) t ts (1-m)      undeviated
 ///   glass                  R  Fresnel reflection      F;  T refraction (1-F) c; total internal
 ///                             reflection spawns R only, weight 1
 ///   dielectric             R  F k;  T (1-F) k, where k = colour^distance of the medium the ray
@@ -29,9 +31,11 @@
 #pragma once
 
 #include <array>
+#include <optional>
 
 #include "base/components.h"
 #include "runtime/base/sampling.h"
+#include "runtime/scene/material.h"
 #include "runtime/scene/scene.h"
 
 namespace crex {
@@ -41,6 +45,10 @@ struct HitFrame {
     Vec3 position;   ///< local coordinates
     Vec3 geometric;  ///< unit geometric normal as the surface defines it (outward for spheres)
     Vec3 normal;     ///< unit normal on the side the ray came from
+    /// The normal lobes are made around, on the same side: `normal`, or the mesh's
+    /// interpolated vertex normal and the normal or bump map there (runtime/render/surface.h).
+    /// Rays still leave from `normal`'s side, and a lobe that would go below it is not spawned.
+    Vec3 shading;
     Vec3 incoming;   ///< unit ray direction
     bool front = true;  ///< the ray hit the side `geometric` points to
     double distance = 0;
@@ -61,6 +69,8 @@ inline constexpr int kMaxLobes = 4;
 struct Bsdf {
     const Material* material = nullptr;
     MaterialType type = MaterialType::kVoid;
+    Vec3 color;              ///< the colour (textured or not): glass and dielectric transmission, mirror reflectance
+    std::optional<Vec3> emission;  ///< a non-emitter's own emission (textured or not)
     Vec3 diffuse;            ///< D reflection (0 unless plastic, metal, trans)
     Vec3 specular;           ///< G or S reflection
     Vec3 diffuse_transmit;   ///< D transmission (trans)
@@ -75,7 +85,9 @@ struct Bsdf {
     bool emits = false;            ///< light, glow, or an emission of its own
     bool lambertian = false;       ///< direct light reaches the D reflection lobe only
 
-    static Bsdf of(const Material& m);
+    static Bsdf of(const Material& m) { return of(m, constant_values(m)); }
+    /// With the material's parameters at a point (its textures' values there).
+    static Bsdf of(const Material& m, const MaterialValues& values);
 };
 
 /// Fills `out` with the lobes spawned at this hit; returns how many. Random numbers are the
@@ -108,7 +120,7 @@ int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, doubl
 Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi);
 
 /// Emission seen by a ray. `camera_or_delta`: a camera ray or a ray from a delta lobe.
-Vec3 emitted(const Material& m, const HitFrame& f, bool camera_or_delta, bool camera);
+Vec3 emitted(const Bsdf& b, const HitFrame& f, bool camera_or_delta, bool camera);
 
 /// Dielectric Fresnel reflectance; `eta` = n_incident / n_transmitted. Returns 1 for total
 /// internal reflection.

@@ -39,9 +39,10 @@ struct Oracle {
         Vec3 dir = normalize_or_zero(r.direction);
         double t = h.ray.tfar;
         HitFrame f = hit_frame(*scene.embree, h.hit, r.origin + r.direction * t, dir, t);
-        const Bsdf& b = scene.bsdf_of(h.hit.geomID);
+        Bsdf textured;
+        const Bsdf& b = surface_at(scene, h.hit, f, textured);
         const HitRandom random(r.path, r.depth);
-        Vec3 total = r.beta * emitted(*b.material, f, camera || (r.flags & kRayFromDeltaLobe), camera);
+        Vec3 total = r.beta * emitted(b, f, camera || (r.flags & kRayFromDeltaLobe), camera);
         if (!is_finite(total)) total = {};
         if (!scene.lights->empty() && b.direct_response) {
             const HitLighting lighting = hit_lighting(params, r, camera);
@@ -71,6 +72,7 @@ struct Oracle {
 
 std::vector<float> render_oracle(const Scene& scene, const OracleOptions& options) {
     RenderScene rs(scene);
+    rs.set_view(options.width, options.height);
     CameraRays camera(scene.camera, options.width, options.height, rs.embree->origin_offset());
     size_t pixels = static_cast<size_t>(options.width) * static_cast<size_t>(options.height);
     std::vector<float> image(3 * pixels, 0.0f);

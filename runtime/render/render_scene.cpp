@@ -210,6 +210,15 @@ CameraRays::CameraRays(const Camera& c, int width, int height, const Vec3& origi
     }
 }
 
+void RenderScene::set_view(int width, int height, double filter_width) {
+    // The footprint is a pinhole's; other projections (fisheyes, parallel views) look textures
+    // up at their sharpest rather than with a wrong filter.
+    const Camera& c = scene.camera;
+    footprint = filter_width > 0 && c.projection == Projection::kPerspective
+                    ? PixelFootprint(c, width, height, c.position - embree->origin_offset(), filter_width)
+                    : PixelFootprint{};
+}
+
 bool CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) const {
     const double a = (2 * px / width_ - 1) * ext_x_;
     const double b = (1 - 2 * py / height_) * ext_y_;
@@ -257,8 +266,17 @@ bool CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) c
     return false;
 }
 
-RenderScene::RenderScene(const Scene& s) : scene(s) {
-    embree = std::make_unique<EmbreeScene>(s);
+RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) {
+    bool any_texture = false, any_cutout = false;
+    for (const Material& m : s.materials) any_texture = any_texture || m.textures.any(), any_cutout = any_cutout || m.opacity < 1;
+    if (any_texture || any_cutout) {
+        textures = std::make_unique<SurfaceTextures>(s, texture_cache_bytes, warnings);
+        bool cuts = false;
+        for (uint32_t m = 0; m < s.materials.size(); ++m) cuts = cuts || textures->cuts_out(m);
+        if (cuts) cutouts = std::make_unique<SceneCutouts>(s, *textures);
+    }
+    embree = std::make_unique<EmbreeScene>(s, cutouts.get());
+    if (cutouts) cutouts->attach(*embree);
     lights = std::make_unique<LightSampler>(s, *embree);
     for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));
     medium = medium_of(s);

@@ -11,6 +11,7 @@
 
 #include "runtime/render/bsdf.h"
 #include "runtime/render/medium.h"
+#include "runtime/render/surface.h"
 #include "runtime/scene/scene.h"
 #include "runtime/trace/embree_scene.h"
 
@@ -229,12 +230,23 @@ private:
 
 struct RenderScene {
     const Scene& scene;
+    /// The scene's textures (one texture cache of `texture_cache_bytes`); null when no
+    /// material has a texture or a constant opacity below 1.
+    std::unique_ptr<SurfaceTextures> textures;
+    std::unique_ptr<SceneCutouts> cutouts;  ///< when some material cuts holes
     std::unique_ptr<EmbreeScene> embree;
     std::unique_ptr<LightSampler> lights;
     std::vector<Bsdf> bsdfs;  ///< per material, prepared once
     std::optional<MediumModel> medium;  ///< the scene's homogeneous medium, if any
+    /// Where texture lookups filter: the camera's pixel footprint (set_view()); without it,
+    /// lookups are the sharpest (tests that never set an image size).
+    PixelFootprint footprint;
+    std::vector<std::string> warnings;  ///< textures that cannot be read (they render magenta)
 
-    explicit RenderScene(const Scene& s);
+    explicit RenderScene(const Scene& s, size_t texture_cache_bytes = kDefaultTextureCacheBytes);
+    /// Texture filtering for images of width x height through the scene's camera, over
+    /// `filter_width` pixels (1: one pixel's footprint; 0: the sharpest lookups, which alias).
+    void set_view(int width, int height, double filter_width = 1);
     const Material& material_of(uint32_t geometry) const {
         return scene.materials[embree->geometries()[geometry].material];
     }

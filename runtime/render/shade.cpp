@@ -55,7 +55,7 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         bool query = params.ic_queries && lobe.component == Component::kD;
         if (query) {  // an irradiance-cache query: the hit and the normal on the lit side
             c.origin = f.position;
-            c.direction = lobe.transmits ? -f.normal : f.normal;
+            c.direction = lobe.transmits ? -f.shading : f.shading;
             c.flags = static_cast<uint8_t>(kRayIcQuery | (ray.flags & kRayOddSample) | branch);
         } else {
             c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
@@ -148,7 +148,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
         }
     }
     Vec3 fr;
-    if (b.lambertian) {  // the common case, inline: D reflection only
+    if (b.lambertian && f.shading == f.normal) {  // the common case, inline: D reflection only
         double c = dot(wi, f.normal);
         if (c > 0) fr = b.diffuse * (c * kInvPi);
     } else {
@@ -338,9 +338,10 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                                     rays.flags[r],
                                     rays.path[r]};
                 HitFrame f = hit_frame(*scene.embree, h.hit, ray.origin + ray.direction * t, ray.direction, t);
-                const Bsdf& b = scene.bsdf_of(h.hit.geomID);
+                Bsdf textured;
+                const Bsdf& b = surface_at(scene, h.hit, f, textured);
                 const HitRandom random(ray.path, ray.depth);
-                Vec3 c = b.emits ? ray.beta * emitted(*b.material, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
+                Vec3 c = b.emits ? ray.beta * emitted(b, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
                 out.contribution[i] = is_finite(c) ? c : Vec3{};
                 if (camera) out.emission[i] = out.contribution[i];
                 if (lights && b.direct_response) {
@@ -420,15 +421,18 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 for (size_t s = first[i]; s < first[i + 1]; ++s) make_hole(shadows[s], static_cast<unsigned>(i));
                 const RTCRayHit& h = hits[i];
                 if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-                const Bsdf& b = scene.bsdf_of(h.hit.geomID);
-                if (!b.direct_response) continue;
+                if (!scene.bsdf_of(h.hit.geomID).direct_response && !(scene.textures && scene.textures->textured(scene.embree->geometries()[h.hit.geomID].material)))
+                    continue;
                 // As trace_and_shade() shades a camera hit: the same frame, throughput and random numbers.
                 const size_t r = begin + i;
                 const double t = h.ray.tfar;
                 const Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z}, dir{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
                 Vec3 beta{rays.br[r], rays.bg[r], rays.bb[r]};
                 if (medium) beta = beta * medium->transmittance(t);
-                const HitFrame f = hit_frame(*scene.embree, h.hit, origin + dir * t, dir, t);
+                HitFrame f = hit_frame(*scene.embree, h.hit, origin + dir * t, dir, t);
+                Bsdf textured;
+                const Bsdf& b = surface_at(scene, h.hit, f, textured);
+                if (!b.direct_response) continue;
                 const HitRandom random(rays.path[r], rays.depth[r]);
                 const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
                 const uint32_t k = wanted(r);

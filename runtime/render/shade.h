@@ -143,6 +143,7 @@ inline HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec
     f.incoming = dir;
     f.front = dot(dir, f.geometric) < 0;
     f.normal = f.front ? f.geometric : -f.geometric;
+    f.shading = f.normal;
     f.distance = t;
     return f;
 }

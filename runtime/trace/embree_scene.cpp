@@ -24,9 +24,23 @@ void check(RTCDevice device, const char* what) {
                                              last_embree_error.empty() ? fmt::format("error {}", static_cast<int>(e)) : last_embree_error));
 }
 
+// Embree's filter for cut-out geometries (the user pointer is the CutoutTest): a hit the test
+// calls a hole is not a hit, whichever query found it.
+void cutout_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* test = static_cast<const CutoutTest*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const Vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i), RTCRayN_org_z(args->ray, args->N, i)};
+        const Vec3 dir{RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
+        if (!test->solid(RTCHitN_geomID(args->hit, args->N, i), RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                         RTCHitN_v(args->hit, args->N, i), origin, dir, RTCRayN_tfar(args->ray, args->N, i)))
+            args->valid[i] = 0;
+    }
+}
+
 }  // namespace
 
-EmbreeScene::EmbreeScene(const Scene& scene) {
+EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("Embree: cannot create a device (unsupported CPU?)");
     rtcSetDeviceErrorFunction(device_, on_embree_error, nullptr);
@@ -89,6 +103,8 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
             for (auto& v : mesh.positions) v = v - offset_;
             info.positions = mesh.positions;
             info.indices = mesh.indices;
+            for (const auto& uv : mesh.uvs) info.uvs.push_back({static_cast<float>(uv[0]), static_cast<float>(uv[1])});
+            for (const auto& n : mesh.normals) info.vertex_normals.push_back(normalize_or_zero(n));
             info.normals.reserve(mesh.indices.size());
             for (const auto& t : mesh.indices) {
                 const Vec3 &p0 = mesh.positions[t[0]], &p1 = mesh.positions[t[1]], &p2 = mesh.positions[t[2]];
@@ -108,6 +124,11 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
                                                                        3 * sizeof(uint32_t), mesh.indices.size()));
             for (size_t k = 0; k < mesh.indices.size(); ++k)
                 for (int c = 0; c < 3; ++c) idx[3 * k + static_cast<size_t>(c)] = mesh.indices[k][static_cast<size_t>(c)];
+        }
+        if (cutouts && cutouts->cuts_out(info.material)) {
+            rtcSetGeometryUserData(g, const_cast<CutoutTest*>(cutouts));
+            rtcSetGeometryIntersectFilterFunction(g, cutout_filter);
+            rtcSetGeometryOccludedFilterFunction(g, cutout_filter);
         }
         rtcCommitGeometry(g);
         unsigned id = rtcAttachGeometry(scene_, g);

@@ -8,6 +8,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,6 +16,19 @@
 #include "runtime/scene/scene.h"
 
 namespace crex {
+
+/// Decides, during traversal, whether a hit on a cut-out surface counts (alpha textures): a
+/// hole is not a hit for any ray (camera, shadow, cache and photon rays alike). The renderer
+/// implements it (runtime/render/surface.h); trace only calls it.
+class CutoutTest {
+public:
+    virtual ~CutoutTest() = default;
+    /// Does material `material` (an index into Scene::materials) ever cut holes?
+    virtual bool cuts_out(uint32_t material) const = 0;
+    /// False: the ray from `origin` along `dir` goes through geometry `geometry`'s primitive
+    /// `prim` at barycentrics (u, v), distance t.
+    virtual bool solid(uint32_t geometry, uint32_t prim, float u, float v, const Vec3& origin, const Vec3& dir, float t) const = 0;
+};
 
 struct GeometryInfo {
     uint32_t shape = 0;     ///< index into Scene::shapes
@@ -27,12 +41,15 @@ struct GeometryInfo {
     std::vector<Vec3> positions;                   ///< triangles: local vertex positions
     std::vector<std::array<uint32_t, 3>> indices;  ///< triangles
     std::vector<Vec3> normals;  ///< triangles: unit geometric normal, zero when degenerate
+    std::vector<std::array<float, 2>> uvs;  ///< meshes that have them: per vertex texture coordinates
+    std::vector<Vec3> vertex_normals;        ///< meshes that have them: per vertex shading normals (unit)
 };
 
 class EmbreeScene {
 public:
     /// Builds and commits the BVH. Throws std::runtime_error with Embree's message on failure.
-    explicit EmbreeScene(const Scene& scene);
+    /// With `cutouts`, geometries whose material cuts holes ask it about every hit.
+    explicit EmbreeScene(const Scene& scene, const CutoutTest* cutouts = nullptr);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;

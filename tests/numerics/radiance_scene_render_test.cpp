@@ -234,7 +234,7 @@ TEST(RadianceMaterials, TheAnisotropicWardLobeSamplesWhatItEvaluates) {
     Bsdf b = Bsdf::of(m);
     ASSERT_TRUE(b.anisotropic);
     HitFrame f;
-    f.normal = f.geometric = {0, 0, 1};
+    f.normal = f.geometric = f.shading = {0, 0, 1};
     f.incoming = normalize_or_zero(Vec3{0.4, 0.3, -1});
     double sampled = 0;
     const int n = 200000;

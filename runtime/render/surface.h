@@ -1,0 +1,61 @@
+/// \file surface.h
+/// What a hit's surface is, beyond its material's constants: the mesh's interpolated shading
+/// normal and texture coordinates, the pixel's footprint there (so texture lookups filter
+/// over what one pixel sees: a 1-spp preview does not alias), its textures' values and
+/// normal or bump map, and cut-outs (alpha textures) for Embree. Every place that shades a
+/// hit (bins, oracle, irradiance cache, photons) asks surface_at() for its Bsdf.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include "runtime/render/bsdf.h"
+#include "runtime/scene/scene.h"
+#include "runtime/texture/surface_textures.h"
+#include "runtime/trace/embree_scene.h"
+
+namespace crex {
+
+struct RenderScene;
+
+/// The pixel footprint of a pinhole camera at any point, as pbrt-v4 approximates it for
+/// every hit (camera rays and deeper ones alike): where the rays through the neighbouring
+/// pixels, one pixel right and one down, meet the tangent plane of the point. The footprint
+/// does not shrink with more samples per pixel, so a textured pixel reads the same filtered
+/// value at 1 spp as at 64 (selective rendering gives pixels very different counts).
+class PixelFootprint {
+public:
+    PixelFootprint() = default;
+    /// `eye` in local coordinates (the camera's position minus the scene's origin offset).
+    PixelFootprint(const Camera& camera, int width, int height, const Vec3& eye, double pixels = 1);
+    bool valid() const { return valid_; }
+    /// dp/dx and dp/dy at `p` (local) on the plane with unit normal `n`; zero when unknown.
+    void at(const Vec3& p, const Vec3& n, Vec3& dpdx, Vec3& dpdy) const;
+
+private:
+    Vec3 eye_, forward_, right_step_, down_step_;
+    bool valid_ = false;
+};
+
+/// Cut-outs for Embree: a hit on a material with an opacity texture (or a constant opacity
+/// below 1) is a hole where the opacity is below the material's cutoff (alpha mode mask), or
+/// with probability 1 - opacity (blend, decided by a hash of the ray and the hit, so the same
+/// ray always meets the same holes).
+class SceneCutouts final : public CutoutTest {
+public:
+    SceneCutouts(const Scene& scene, const SurfaceTextures& textures) : scene_(scene), textures_(textures) {}
+    void attach(const EmbreeScene& embree) { embree_ = &embree; }
+    bool cuts_out(uint32_t material) const override { return textures_.cuts_out(material); }
+    bool solid(uint32_t geometry, uint32_t prim, float u, float v, const Vec3& origin, const Vec3& dir, float t) const override;
+
+private:
+    const Scene& scene_;
+    const SurfaceTextures& textures_;
+    const EmbreeScene* embree_ = nullptr;
+};
+
+/// The surface at Embree's `hit`, whose frame `f` hit_frame() made: sets f.shading (the
+/// mesh's vertex normal, then its normal or bump map) and returns the Bsdf to shade with:
+/// the material's prepared one, or one made in `scratch` from its textures' values there.
+const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch);
+
+}  // namespace crex

@@ -1,0 +1,294 @@
+#include "runtime/texture/surface_textures.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace crex {
+namespace {
+
+// Textured roughness never reaches 0: a texel of 0 is the sharpest glossy lobe, not an ideal
+// mirror, so that the census can say "G" of a material whose roughness is an image.
+constexpr double kMinTexturedRoughness = 1e-3;
+
+// A normal map's texel decodes as 2 v - 1: 8-bit files cannot hold 0 (128 is +1/255, 127 is
+// -1/255), so tangent-space x and y within about one 8-bit step of 0 are flat: a flat normal
+// map then changes nothing at all, not a 0.2 degree tilt.
+constexpr double kFlatNormal = 1.01 / 255;
+
+double clamp01(double x) { return min_of(max_of(x, 0.0), 1.0); }
+Vec3 clamp01(const Vec3& v) { return {clamp01(v.x), clamp01(v.y), clamp01(v.z)}; }
+
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+BackendWrap wrap_of(TextureWrap w) {
+    switch (w) {
+    case TextureWrap::kRepeat: return BackendWrap::kPeriodic;
+    case TextureWrap::kClamp: return BackendWrap::kClamp;
+    case TextureWrap::kMirror: return BackendWrap::kMirror;
+    case TextureWrap::kBlack: return BackendWrap::kBlack;
+    }
+    return BackendWrap::kPeriodic;
+}
+
+}  // namespace
+
+size_t texture_cache_bytes(size_t max_memory) {
+    return std::clamp<size_t>(max_memory / 8, size_t{16} << 20, size_t{1} << 30);
+}
+
+uint64_t TextureImage::memory_bytes() const {
+    const uint64_t top = uint64_t(info.width) * uint64_t(info.height) * uint64_t(info.channels) * uint64_t(std::max(info.bytes_per_channel, 1));
+    return top + top / 3;
+}
+
+SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<std::string>& warnings) : scene_(scene) {
+    bool referenced = false;
+    for (const Material& m : scene.materials) referenced = referenced || m.textures.any();
+    if (referenced) {  // the image plugin only when there are images
+        std::string error;
+        backend_ = make_texture_backend(cache_bytes, error);
+        if (!backend_) throw std::runtime_error("cannot read the scene's textures: " + error);
+    }
+    slots_.resize(scene.materials.size());
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        const MaterialTextures& t = m.textures;
+        MaterialSlots& s = slots_[i];
+        s.color = open_slot(t.color, SlotKind::kColour, scene, warnings);
+        s.specular_color = open_slot(t.specular_color, SlotKind::kColour, scene, warnings);
+        s.specularity = open_slot(t.specularity, SlotKind::kScalar, scene, warnings);
+        s.roughness = open_slot(t.roughness, SlotKind::kScalar, scene, warnings);
+        s.metallic = open_slot(t.metallic, SlotKind::kScalar, scene, warnings);
+        s.normal = open_slot(t.normal, SlotKind::kVector, scene, warnings);
+        s.bump = open_slot(t.bump, SlotKind::kScalar, scene, warnings);
+        s.opacity = open_slot(t.opacity, SlotKind::kOpacity, scene, warnings);
+        s.emission = open_slot(t.emission, SlotKind::kColour, scene, warnings);
+        s.any = t.any();
+        s.cuts_out = s.opacity.image >= 0 || m.opacity < 1;
+    }
+}
+
+SurfaceTextures::~SurfaceTextures() = default;
+
+SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene,
+                                                 std::vector<std::string>& warnings) {
+    const bool colour = kind == SlotKind::kColour;
+    Slot slot;
+    if (!ref) return slot;
+    slot.ref = *ref;
+    const std::string& name = ref->source();
+    auto known = std::find_if(images_.begin(), images_.end(), [&](const TextureImage& i) { return i.name == name; });
+    size_t index = static_cast<size_t>(known - images_.begin());
+    if (known == images_.end()) {
+        TextureImage image;
+        image.name = name;
+        const std::string* bytes = nullptr;
+        if (ref->file.empty()) {
+            for (const auto& e : scene.images)
+                if (e.name == ref->image) bytes = &e.bytes;
+            if (!bytes) image.error = "no embedded image of that name";
+        }
+        int id = -1;
+        if (image.error.empty()) id = backend_->open(name, bytes, image.info, image.error);
+        if (id < 0) warnings.push_back(fmt::format("texture '{}' cannot be read ({}): it renders magenta where it gives a colour", name, image.error));
+        ids_.push_back(id);
+        images_.push_back(image);
+        index = images_.size() - 1;
+    }
+    const TextureImage& image = images_[index];
+    if (ids_[index] < 0) {
+        slot.image = kMissing;
+        return slot;
+    }
+    // A channel the image does not have: an opacity from the alpha of an image without one
+    // (glTF's RGB base colour) is opaque, as glTF says; anything else is a warning.
+    const int needed = kind == SlotKind::kVector ? 3 : 1;
+    if (ref->channel + needed > image.info.channels) {
+        if (kind != SlotKind::kOpacity)
+            warnings.push_back(fmt::format("texture '{}' has {} channel{}, not channel {}{}: the material's constant is used instead", name,
+                                           image.info.channels, image.info.channels == 1 ? "" : "s", ref->channel,
+                                           needed > 1 ? fmt::format(" and the {} after it", needed - 1) : ""));
+        slot.image = kNone;
+        return slot;
+    }
+    slot.image = static_cast<int>(index);
+    slot.srgb = colour ? (ref->color_space == TextureColorSpace::kAuto ? image.info.eight_bit : ref->color_space == TextureColorSpace::kSrgb)
+                       : ref->color_space == TextureColorSpace::kSrgb;
+    slot.grey = colour && image.info.channels - ref->channel < 3;
+    return slot;
+}
+
+TextureLookup SurfaceTextures::coordinates(const Slot& slot, const SurfacePoint& p) const {
+    const TextureRef& r = slot.ref;
+    double u = p.u, v = p.v, dudx = p.dudx, dvdx = p.dvdx, dudy = p.dudy, dvdy = p.dvdy;
+    if (r.mapping == TextureMapping::kPlanar) {
+        const Vec3 a{r.planar[0], r.planar[1], r.planar[2]}, b{r.planar[4], r.planar[5], r.planar[6]};
+        u = dot(a, p.position) + r.planar[3], v = dot(b, p.position) + r.planar[7];
+        dudx = dot(a, p.dpdx), dvdx = dot(b, p.dpdx), dudy = dot(a, p.dpdy), dvdy = dot(b, p.dpdy);
+    }
+    const UvTransform& m = r.uv_transform;
+    TextureLookup at;
+    at.s = static_cast<float>(m[0] * u + m[1] * v + m[2]);
+    at.t = static_cast<float>(m[3] * u + m[4] * v + m[5]);
+    at.dsdx = static_cast<float>(m[0] * dudx + m[1] * dvdx);
+    at.dtdx = static_cast<float>(m[3] * dudx + m[4] * dvdx);
+    at.dsdy = static_cast<float>(m[0] * dudy + m[1] * dvdy);
+    at.dtdy = static_cast<float>(m[3] * dudy + m[4] * dvdy);
+    // Coordinates beyond float's reach (a planar mapping far away) read the texture's centre.
+    if (!std::isfinite(at.s) || !std::isfinite(at.t)) at = TextureLookup{0.5f, 0.5f};
+    if (!std::isfinite(at.dsdx + at.dtdx + at.dsdy + at.dtdy)) at.dsdx = at.dtdx = at.dsdy = at.dtdy = 0;
+    return at;
+}
+
+bool SurfaceTextures::read(const Slot& slot, const TextureLookup& at, int n, float* out, float* d_ds, float* d_dt) const {
+    // Every lookup is timed: the first ones of an image read and MIP-map it (milliseconds),
+    // so a sample of them would not stand for the rest. Two clock reads cost ~40 ns.
+    Counters& c = counters_.local();
+    ++c.lookups;
+    const auto start = std::chrono::steady_clock::now();
+    const int channels = slot.grey ? 1 : n;
+    bool ok = backend_->lookup(ids_[static_cast<size_t>(slot.image)], at, wrap_of(slot.ref.wrap_s), wrap_of(slot.ref.wrap_t), slot.ref.channel,
+                               channels, out, d_ds, d_dt);
+    c.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (ok && channels < n) out[1] = out[2] = out[0];
+    return ok;
+}
+
+Vec3 SurfaceTextures::colour(const Slot& slot, const SurfacePoint& p, const Vec3& constant) const {
+    if (slot.image == kNone) return constant;
+    if (slot.image == kMissing) return {1, 0, 1};  // magenta: seen, not mistaken for the material
+    float texel[3] = {0, 0, 0};
+    if (!read(slot, coordinates(slot, p), 3, texel)) return {1, 0, 1};
+    Vec3 c{texel[0], texel[1], texel[2]};
+    if (slot.srgb) c = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
+    c = vmax(c, Vec3{}) * slot.ref.scale;
+    if (slot.ref.power != 1) c = {std::pow(c.x, slot.ref.power), std::pow(c.y, slot.ref.power), std::pow(c.z, slot.ref.power)};
+    return is_finite(c) ? c : Vec3{};
+}
+
+double SurfaceTextures::scalar(const Slot& slot, const SurfacePoint& p, double constant) const {
+    if (slot.image < 0) return constant;
+    float texel = 0;
+    if (!read(slot, coordinates(slot, p), 1, &texel)) return constant;
+    double x = max_of(static_cast<double>(texel), 0.0);
+    if (slot.srgb) x = srgb_to_linear(x);
+    x *= slot.ref.scale.x;
+    if (slot.ref.power != 1) x = std::pow(x, slot.ref.power);
+    return std::isfinite(x) ? x : constant;
+}
+
+MaterialValues SurfaceTextures::values(uint32_t m, const SurfacePoint& p) const {
+    const Material& mat = scene_.materials[m];
+    MaterialValues v = constant_values(mat);
+    const MaterialSlots& s = slots_[m];
+    if (!s.any) return v;
+    if (s.color.image != kNone) {
+        const bool emitter = mat.type == MaterialType::kLight || mat.type == MaterialType::kGlow;
+        const Vec3 c = colour(s.color, p, mat.color);
+        v.color = emitter ? vmin(c, Vec3{kMaxRadiance, kMaxRadiance, kMaxRadiance}) : clamp01(c);  // reflectance above 1 makes light
+    }
+    if (s.specular_color.image != kNone) v.specular_tint = clamp01(colour(s.specular_color, p, {1, 1, 1}));
+    v.specularity = clamp01(scalar(s.specularity, p, mat.specularity));
+    if (s.roughness.image != kNone) v.roughness = std::clamp(scalar(s.roughness, p, mat.roughness), kMinTexturedRoughness, 1.0);
+    v.metallic = clamp01(scalar(s.metallic, p, mat.metallic));
+    if (s.emission.image != kNone) {
+        const Vec3 e = vmin(colour(s.emission, p, mat.emission.value_or(Vec3{})), Vec3{kMaxRadiance, kMaxRadiance, kMaxRadiance});
+        v.emission = e;
+    }
+    return v;
+}
+
+double SurfaceTextures::opacity(uint32_t m, const SurfacePoint& p) const {
+    const Slot& slot = slots_[m].opacity;
+    return clamp01(scalar(slot, p, scene_.materials[m].opacity));
+}
+
+Vec3 SurfaceTextures::perturbed_normal(uint32_t m, const SurfacePoint& p, const Vec3& n, const Vec3& dpdu, const Vec3& dpdv) const {
+    const MaterialSlots& s = slots_[m];
+    Vec3 out = n;
+    // The surface's derivatives in the slot's (s, t): [dpdu dpdv] = [dpds dpdt] A, A the linear
+    // part of the slot's uv transform (planar mappings have no mesh derivatives: left flat).
+    auto in_texture_space = [&](const Slot& slot, Vec3& dpds, Vec3& dpdt) {
+        if (slot.ref.mapping != TextureMapping::kUv || dpdu == Vec3{} || dpdv == Vec3{}) return false;
+        const UvTransform& a = slot.ref.uv_transform;
+        const double det = a[0] * a[4] - a[1] * a[3];
+        if (!(std::fabs(det) > 1e-12)) return false;
+        dpds = (dpdu * a[4] - dpdv * a[3]) / det;
+        dpdt = (dpdv * a[0] - dpdu * a[1]) / det;
+        return is_finite(dpds) && is_finite(dpdt);
+    };
+    Vec3 dpds, dpdt;
+    if (s.normal.image >= 0 && in_texture_space(s.normal, dpds, dpdt)) {
+        float texel[3] = {0.5f, 0.5f, 1.0f};
+        if (read(s.normal, coordinates(s.normal, p), 3, texel)) {
+            const double k = s.normal.ref.scale.x;
+            const double x = (2.0 * texel[0] - 1.0) * k, y = (2.0 * texel[1] - 1.0) * k, z = 2.0 * texel[2] - 1.0;
+            if (std::fabs(x) > kFlatNormal || std::fabs(y) > kFlatNormal) {
+                // Tangent along +s; the map's +y is up in the image, which is -t (t = 0 is the top row).
+                const Vec3 t = normalize_or_zero(dpds - n * dot(n, dpds));
+                Vec3 b = -dpdt;
+                b = normalize_or_zero(b - n * dot(n, b) - t * dot(t, b));
+                const Vec3 bent = normalize_or_zero(t * x + b * y + n * max_of(z, 0.0));
+                if (t != Vec3{} && b != Vec3{} && dot(bent, n) > 0) out = bent;
+            }
+        }
+    }
+    if (s.bump.image >= 0 && in_texture_space(s.bump, dpds, dpdt)) {
+        float h = 0, dh_ds = 0, dh_dt = 0;
+        if (read(s.bump, coordinates(s.bump, p), 1, &h, &dh_ds, &dh_dt)) {
+            // The surface displaced by height x scale along its normal: its new tangents, crossed.
+            const double k = s.bump.ref.scale.x;
+            const Vec3 ts = dpds + out * (k * dh_ds), tt = dpdt + out * (k * dh_dt);
+            Vec3 bent = normalize_or_zero(cross(ts, tt));
+            if (dot(bent, out) < 0) bent = -bent;
+            if (bent != Vec3{} && (dh_ds != 0 || dh_dt != 0)) out = bent;
+        }
+    }
+    return out;
+}
+
+nlohmann::json images_json(const std::vector<TextureImage>& images) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& i : images) {
+        nlohmann::json e = {{"name", i.name}};
+        if (!i.error.empty()) {
+            e["error"] = i.error;
+        } else {
+            e["width"] = i.info.width, e["height"] = i.info.height, e["channels"] = i.info.channels;
+            e["format"] = i.info.format, e["file_bytes"] = i.info.file_bytes;
+            e["memory_bytes"] = i.memory_bytes(), e["tiled"] = i.info.tiled, e["mip_levels"] = i.info.mip_levels;
+        }
+        out.push_back(e);
+    }
+    return out;
+}
+
+nlohmann::json to_json(const TextureStats& s, double render_thread_seconds, double render_cpu_seconds) {
+    nlohmann::json j;
+    j["images"] = images_json(s.images);
+    j["cache"] = {{"memory_limit_bytes", s.cache.memory_limit}, {"memory_bytes", s.cache.memory_bytes},
+                  {"bytes_read", s.cache.bytes_read},         {"tiles_peak", s.cache.tiles_peak},
+                  {"tile_misses", s.cache.cache_misses},      {"files", s.cache.files},
+                  {"file_io_seconds", s.cache.file_io_seconds}, {"queries", s.cache.queries}};
+    j["lookups"] = s.lookups;
+    j["lookup_seconds"] = s.lookup_seconds;
+    j["render_thread_seconds"] = render_thread_seconds;
+    j["render_cpu_seconds"] = render_cpu_seconds;
+    j["lookup_share_of_render"] = render_thread_seconds > 0 ? s.lookup_seconds / render_thread_seconds : 0.0;
+    return j;
+}
+
+TextureStats SurfaceTextures::stats() const {
+    TextureStats s;
+    s.images = images_;
+    if (backend_) s.cache = backend_->stats();
+    for (const Counters& c : counters_) s.lookups += c.lookups, s.lookup_seconds += c.seconds;
+    return s;
+}
+
+}  // namespace crex

@@ -1,0 +1,128 @@
+/// \file surface_textures.h
+/// A scene's textures at render time: every texture reference of its materials, opened once
+/// through one texture backend (OpenImageIO's TextureSystem: one cache per render, within its
+/// share of --max-memory), and what shading asks of them:
+///  - a material's parameter values at a point, filtered over the pixel's footprint there;
+///  - the shading normal a normal or bump map gives;
+///  - the opacity at a point, sharp (cut-outs are decided per ray, not filtered).
+/// A texture that cannot be read shows magenta where it gives a colour and leaves the
+/// material's constant elsewhere; either way it is one warning, never a failed render.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <tbb/enumerable_thread_specific.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/io/texture_backend.h"
+#include "runtime/scene/material.h"
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+inline constexpr size_t kDefaultTextureCacheBytes = size_t{64} << 20;
+
+/// The texture cache's share of a render's --max-memory: an eighth, between 16 MiB and 1 GiB.
+size_t texture_cache_bytes(size_t max_memory);
+
+/// Where a texture is read: the point (scene coordinates, for planar mappings), its mesh
+/// (u, v) and how both change across the pixel's footprint (zero: the sharpest lookup).
+struct SurfacePoint {
+    Vec3 position;         ///< scene (world) coordinates
+    Vec3 dpdx, dpdy;       ///< footprint of the pixel on the surface
+    double u = 0, v = 0;   ///< the mesh's texture coordinates (0 without them)
+    double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;
+};
+
+/// One image the scene uses, as `crex scene-info` and `--format json` list it.
+struct TextureImage {
+    std::string name;   ///< the file, or the embedded image's name
+    TextureImageInfo info;
+    std::string error;  ///< why it cannot be read ("" when it can)
+    /// Texels held when all of it is in memory, MIP levels included (4/3 of the top level).
+    uint64_t memory_bytes() const;
+};
+
+/// What the textures cost a render.
+struct TextureStats {
+    std::vector<TextureImage> images;
+    TextureCacheStats cache;
+    uint64_t lookups = 0;          ///< crex's requests (a colour is one, a bump map's height one)
+    double lookup_seconds = 0;     ///< in the TextureSystem's lookups, summed over threads
+};
+
+/// The images as `crex scene-info --format json` lists them, and the cache and lookups as
+/// `crex run --format json` reports them: `render_thread_seconds` is the render's time times
+/// its worker threads (what the lookups' share is of), `render_cpu_seconds` the CPU it used.
+nlohmann::json images_json(const std::vector<TextureImage>& images);
+nlohmann::json to_json(const TextureStats& s, double render_thread_seconds, double render_cpu_seconds);
+
+class SurfaceTextures {
+public:
+    /// Opens every image the materials reference. `warnings`: one line per image that cannot
+    /// be read. Throws std::runtime_error when the image plugin cannot be loaded at all.
+    SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<std::string>& warnings);
+    ~SurfaceTextures();
+
+    /// Has material `m` any texture (else its constants are all there is)?
+    bool textured(uint32_t m) const { return slots_[m].any; }
+    /// Does material `m` cut holes (an opacity texture, or a constant opacity below 1)?
+    bool cuts_out(uint32_t m) const { return slots_[m].cuts_out; }
+    /// Has material `m` a normal or bump map?
+    bool perturbs_normal(uint32_t m) const { return slots_[m].normal.image != kNone || slots_[m].bump.image != kNone; }
+
+    /// Material `m`'s parameters at `p` (constants where it has no texture).
+    MaterialValues values(uint32_t m, const SurfacePoint& p) const;
+
+    /// The shading normal after material `m`'s normal or bump map at `p`, for the unit normal
+    /// `n` (on the side the ray came from) and the surface's derivatives in mesh (u, v)
+    /// (zero: no map applies). A flat normal map returns `n` itself, bit for bit.
+    Vec3 perturbed_normal(uint32_t m, const SurfacePoint& p, const Vec3& n, const Vec3& dpdu, const Vec3& dpdv) const;
+
+    /// Material `m`'s opacity at (u, v) and `position`, sharp.
+    double opacity(uint32_t m, const SurfacePoint& p) const;
+
+    TextureStats stats() const;
+
+private:
+    static constexpr int kNone = -2;     ///< no texture in this slot
+    static constexpr int kMissing = -1;  ///< a texture that cannot be read
+    struct Slot {
+        int image = kNone;
+        TextureRef ref;
+        bool srgb = false;
+        bool grey = false;  ///< a one-channel image read as a colour: its value thrice
+    };
+    struct MaterialSlots {
+        Slot color, specular_color, specularity, roughness, metallic, normal, bump, opacity, emission;
+        bool any = false, cuts_out = false;
+    };
+    /// What a slot reads: a colour (1 channel replicated, or 3), a number, a normal (3) or an
+    /// opacity (a missing alpha channel is opaque).
+    enum class SlotKind { kColour, kScalar, kVector, kOpacity };
+    Slot open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene, std::vector<std::string>& warnings);
+    /// (s, t) and footprint of `slot` at `p`.
+    TextureLookup coordinates(const Slot& slot, const SurfacePoint& p) const;
+    /// A filtered lookup of `n` channels (1 or 3); false when the slot's image cannot be read.
+    bool read(const Slot& slot, const TextureLookup& at, int n, float* out, float* d_ds = nullptr, float* d_dt = nullptr) const;
+    Vec3 colour(const Slot& slot, const SurfacePoint& p, const Vec3& constant) const;
+    double scalar(const Slot& slot, const SurfacePoint& p, double constant) const;
+
+    const Scene& scene_;
+    std::unique_ptr<TextureBackend> backend_;
+    std::vector<TextureImage> images_;
+    std::vector<int> ids_;  ///< per image: the backend's id, -1 when it cannot be read
+    std::vector<MaterialSlots> slots_;  ///< per scene material
+    struct Counters {
+        uint64_t lookups = 0;
+        double seconds = 0;
+    };
+    mutable tbb::enumerable_thread_specific<Counters> counters_;
+};
+
+}  // namespace crex

@@ -1,0 +1,341 @@
+// Textures against closed forms (issue 33):
+//  - a textured diffuse plane under a uniform white sky is the texture's filtered value times
+//    the analytic irradiance (pi, so radiance = albedo), within 1 %, with and without the
+//    irradiance cache (whose records hold irradiance, the texture applied at lookup);
+//  - a checkerboard at grazing angles at 1 spp does not alias (the pixel footprint filters it),
+//    and does without the footprint, so the bound means something;
+//  - an alpha cut-out casts the shadow of its opaque part only, is seen through by camera
+//    rays, and lets irradiance-cache rays through;
+//  - a flat normal map changes nothing, bit for bit;
+//  - a missing texture is magenta, not grey.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "runtime/io/image_io.h"
+#include "tests/support/test_scenes.h"
+
+namespace crex {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scratch folder of this test binary's own (tests run in parallel).
+fs::path scratch() {
+    static const fs::path dir = [] {
+        fs::path d = fs::temp_directory_path() / ("crex_texture_render_" + std::to_string(::getpid()));
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+// Writes an RGB image (float EXR, or 8-bit PNG whose bytes are round(255 v)).
+std::string write_texture(const std::string& name, int w, int h, const std::vector<float>& rgb) {
+    const std::string path = (scratch() / name).string();
+    ImageLayer layer;
+    layer.rgb = rgb;
+    layer.display_referred = true;  // 8-bit formats store the values as they are
+    const std::string error = write_image(path, w, h, {layer});
+    if (!error.empty()) throw std::runtime_error(error);
+    return path;
+}
+
+// A quad mesh with texture coordinates: corners a b c d counter-clockwise seen from the side
+// it faces, (u, v) = (0, 0) at d ... the image's top-left at d, so the image lies upright
+// when a is the bottom-left corner.
+Shape uv_quad(const std::string& material, Vec3 a, Vec3 b, Vec3 c, Vec3 d, double repeat = 1) {
+    Shape s;
+    s.type = ShapeType::kMesh;
+    s.material = material;
+    s.vertices = {a, b, c, d};
+    s.triangles = {{0, 1, 2}, {0, 2, 3}};
+    s.uvs = {{0, repeat}, {repeat, repeat}, {repeat, 0}, {0, 0}};
+    return s;
+}
+
+TextureRef texture(const std::string& file) {
+    TextureRef t;
+    t.file = file;
+    return t;
+}
+
+// Four quadrants of 4 x 4 texels each (an 8 x 8 texture): top-left, top-right, bottom-left,
+// bottom-right.
+const Vec3 kQuadrant[4] = {{0.2, 0.4, 0.6}, {0.8, 0.1, 0.3}, {0.5, 0.5, 0.5}, {0.9, 0.7, 0.2}};
+
+std::vector<float> quadrant_texels() {
+    std::vector<float> rgb(8 * 8 * 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const Vec3& c = kQuadrant[(y >= 4 ? 2 : 0) + (x >= 4 ? 1 : 0)];
+            for (int k = 0; k < 3; ++k) rgb[size_t((y * 8 + x) * 3 + k)] = static_cast<float>(c[k]);
+        }
+    return rgb;
+}
+
+// A diffuse plane z = 0 (x, y in [-1, 1]) textured by `tex`, facing the camera at z = 2 whose
+// view it exactly fills, under a white sky (radiance 1) and nothing else.
+Scene plane_under_sky(const TextureRef& tex) {
+    Scene s;
+    Material m = testing::make_material("plane", MaterialType::kPlastic, {0.5, 0.5, 0.5});
+    m.textures.color = tex;
+    s.materials.push_back(m);
+    s.shapes.push_back(uv_quad("plane", {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}));
+    s.background = {1, 1, 1};
+    s.camera.position = {0, 0, 2};
+    s.camera.direction = {0, 0, -1};
+    s.camera.vfov_deg = 2 * std::atan(0.5) * 180 / kPi;
+    return s;
+}
+
+Vec3 pixel(const std::vector<float>& img, int size, int x, int y) {
+    const size_t i = 3 * (size_t(y) * size_t(size) + size_t(x));
+    return {img[i], img[i + 1], img[i + 2]};
+}
+
+TEST(TexturedPlane, UnderAWhiteSkyIsTheFilteredTextureTimesTheIrradiance) {
+    // Irradiance from a sky of radiance 1 over the hemisphere: pi; radiance = albedo E / pi.
+    // Each D ray escapes to the sky: its weight is the albedo exactly, so 1 spp suffices.
+    const Scene s = plane_under_sky(texture(write_texture("quadrants.exr", 8, 8, quadrant_texels())));
+    const int n = 32;
+    RunResult r = testing::render_crex(s, "D", n, 1);
+    const std::vector<float> img = r.image();
+    ASSERT_TRUE(testing::all_finite(img));
+    ASSERT_TRUE(r.textures.has_value());
+    EXPECT_GT(r.textures->lookups, 0u);
+    // Pixels well inside each quadrant (the filter sees one colour there): the quadrant's.
+    for (int q = 0; q < 4; ++q)
+        for (int y = 6; y < 10; ++y)
+            for (int x = 6; x < 10; ++x) {
+                const Vec3 p = pixel(img, n, x + (q % 2) * 16, y + (q / 2) * 16);
+                for (int k = 0; k < 3; ++k) ASSERT_NEAR(p[k] / kQuadrant[q][k], 1.0, 0.01) << "quadrant " << q << " pixel " << x << "," << y;
+            }
+}
+
+TEST(TexturedPlane, TheIrradianceCacheAppliesTheTextureAtLookup) {
+    // Records hold irradiance; the texture multiplies it where each query is. A cache that
+    // stored albedo times irradiance would blur the texture over each record's radius.
+    const Scene s = plane_under_sky(texture(write_texture("quadrants_ic.exr", 8, 8, quadrant_texels())));
+    const int n = 32;
+    RunSettings o;
+    o.width = o.height = n;
+    o.spp = 1;
+    RunResult without = render(s, testing::lower_or_die("D"), o);
+    IcSettings ic;
+    ic.divisions = 64;
+    ic.caustic_photons = 0;
+    o.irradiance_cache = ic;
+    RunResult with = render(s, testing::lower_or_die("D"), o);
+    ASSERT_GT(with.ic_stats.records, 0u);
+    const std::vector<float> a = without.image(), b = with.image();
+    // Every pixel, the quadrants' edges included.
+    for (size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(b[i], a[i], 0.01 * a[i] + 1e-6) << "pixel " << i / 3;
+}
+
+TEST(TexturedPlane, EightBitColourTexturesAreDecodedFromSrgb) {
+    // 188 / 255 in sRGB is 0.5029 linear (the sRGB curve undone for 8-bit colour textures).
+    std::vector<float> rgb(4 * 4 * 3, 188.0f / 255.0f);
+    const Scene s = plane_under_sky(texture(write_texture("grey188.png", 4, 4, rgb)));
+    RunResult r = testing::render_crex(s, "D", 8, 1);
+    const double expected = std::pow((188.0 / 255.0 + 0.055) / 1.055, 2.4);
+    for (float v : r.image()) ASSERT_NEAR(v / expected, 1.0, 0.01);
+}
+
+TEST(TexturedPlane, AMissingTextureIsMagentaNotGrey) {
+    const Scene s = plane_under_sky(texture((scratch() / "no_such_texture.png").string()));
+    RunResult r = testing::render_crex(s, "D", 8, 1);
+    ASSERT_FALSE(r.warnings.empty());
+    EXPECT_NE(r.warnings[0].find("magenta"), std::string::npos) << r.warnings[0];
+    const Vec3 p = pixel(r.image(), 8, 4, 4);
+    EXPECT_NEAR(p.x, 1, 1e-6);
+    EXPECT_NEAR(p.y, 0, 1e-6);
+    EXPECT_NEAR(p.z, 1, 1e-6);
+}
+
+// A checkerboard on a ground plane seen at grazing angles, as an emission (no lighting: the
+// image is the filtered texture itself, no other noise). Checks of 4 texels: OpenImageIO's
+// bicubic B-spline, what a lookup without a footprint reads, smooths single-texel checks
+// to 0.5 +- 0.06 by itself.
+Scene grazing_checkerboard() {
+    const int n = 64;
+    std::vector<float> rgb(size_t(n) * n * 3);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            for (int k = 0; k < 3; ++k) rgb[size_t((y * n + x) * 3 + k)] = float((x / 4 + y / 4) % 2);
+    Scene s;
+    Material m = testing::make_material("ground", MaterialType::kPlastic, {0, 0, 0});
+    m.textures.emission = texture(write_texture("checks.exr", n, n, rgb));
+    s.materials.push_back(m);
+    // 400 m x 400 m, the texture (16 checks across) repeated every 0.32 m: checks of 2 cm.
+    const double w = 200, repeat = 2 * w / 0.32;
+    s.shapes.push_back(uv_quad("ground", {-w, 0, w}, {w, 0, w}, {w, 0, -w}, {-w, 0, -w}, repeat));
+    s.camera.position = {0, 1, 0};
+    s.camera.direction = {0, -0.1, -1};
+    s.camera.vfov_deg = 30;
+    return s;
+}
+
+// Mean |pixel - 0.5| over the rows where each pixel spans several checks (the horizon is at
+// about row 20 of 64; rows 22..40 are from 40 m to 4 m away, a pixel 3 to 30 checks wide).
+double far_field_deviation(const std::vector<float>& img, int n) {
+    double sum = 0;
+    int count = 0;
+    for (int y = 22; y <= 40; ++y)
+        for (int x = 0; x < n; ++x) sum += std::fabs(pixel(img, n, x, y).x - 0.5), ++count;
+    return sum / count;
+}
+
+TEST(GrazingCheckerboard, OneSamplePerPixelDoesNotAlias) {
+    const Scene s = grazing_checkerboard();
+    RunSettings o;
+    o.width = o.height = 64;
+    o.spp = 1;
+    const std::vector<float> filtered = render(s, testing::lower_or_die(""), o).image();
+    o.texture_filter_width = 0;  // the sharpest lookups: what point sampling gives
+    const std::vector<float> sharp = render(s, testing::lower_or_die(""), o).image();
+    // The bound: within 0.1 of the checks' mean 0.5 on average (a pixel of random 0s and 1s
+    // deviates by 0.5). Without the footprint, the same pixels alias.
+    const double dev_filtered = far_field_deviation(filtered, 64), dev_sharp = far_field_deviation(sharp, 64);
+    EXPECT_LT(dev_filtered, 0.1) << "point sampling: " << dev_sharp;
+    EXPECT_GT(dev_sharp, 0.3) << "the test must be able to fail";
+}
+
+// A diffuse floor under a small square lamp, an occluder between them whose left half is
+// opaque and right half a hole (an opacity texture), the camera under the occluder looking down.
+Scene cutout_shadow(const std::optional<TextureRef>& opacity, bool occluder) {
+    Scene s;
+    s.materials.push_back(testing::make_material("floor", MaterialType::kPlastic, {0.5, 0.5, 0.5}));
+    s.materials.push_back(testing::make_material("lamp", MaterialType::kLight, {20, 20, 20}));
+    Material leaf = testing::make_material("leaf", MaterialType::kPlastic, {0.5, 0.5, 0.5});
+    leaf.textures.opacity = opacity;
+    s.materials.push_back(leaf);
+    s.shapes.push_back(testing::quad("floor", {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}));
+    s.shapes.push_back(testing::quad("lamp", {-0.1, 2, -0.1}, {0.1, 2, -0.1}, {0.1, 2, 0.1}, {-0.1, 2, 0.1}));
+    if (occluder) s.shapes.push_back(uv_quad("leaf", {-1, 1, 1}, {1, 1, 1}, {1, 1, -1}, {-1, 1, -1}));
+    s.camera.position = {0, 0.5, 0};
+    s.camera.direction = {0, -1, 0};
+    s.camera.up = {0, 0, -1};
+    s.camera.vfov_deg = 90;  // the floor x in [-0.5, 0.5]
+    return s;
+}
+
+std::vector<float> opacity_left_half() {
+    std::vector<float> rgb(16 * 16 * 3);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int k = 0; k < 3; ++k) rgb[size_t((y * 16 + x) * 3 + k)] = x < 8 ? 1.0f : 0.0f;
+    return rgb;
+}
+
+TEST(AlphaCutout, CastsTheShadowOfItsOpaquePartOnly) {
+    const TextureRef half = texture(write_texture("left_half.exr", 16, 16, opacity_left_half()));
+    const int n = 32;
+    RunSettings o;
+    o.width = o.height = n;
+    o.spp = 4;
+    o.executor.shade.shadow_rays = 4;
+    // Camera rays only: the image is the direct light on the floor.
+    const std::vector<float> cut = render(cutout_shadow(half, true), testing::lower_or_die(""), o).image();
+    const std::vector<float> open = render(cutout_shadow(std::nullopt, false), testing::lower_or_die(""), o).image();
+    const std::vector<float> solid = render(cutout_shadow(std::nullopt, true), testing::lower_or_die(""), o).image();
+    // The penumbra of a 0.2 m lamp 1 m above the occluder's edge (x = 0) is 0.2 m wide on the
+    // floor: columns 10 and 21 (x = -0.17, +0.17) are clear of it.
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x <= 10; ++x) {  // under the opaque half: the solid occluder's shadow
+            const Vec3 c = pixel(cut, n, x, y), s = pixel(solid, n, x, y);
+            ASSERT_EQ(c.x, s.x) << x << "," << y;
+            ASSERT_EQ(c.x, 0.0f) << x << "," << y;
+        }
+        for (int x = 21; x < n; ++x)  // under the hole: as lit as with no occluder at all
+            ASSERT_EQ(pixel(cut, n, x, y).x, pixel(open, n, x, y).x) << x << "," << y;
+    }
+    EXPECT_GT(pixel(open, n, 25, 16).x, 0.01f);  // rho / pi x E, E about L A / d^2 = 0.2
+}
+
+TEST(AlphaCutout, CameraRaysSeeThroughItsHoles) {
+    // The camera above the occluder: over its hole it sees the lit floor, over its opaque half
+    // the (unlit, its back to the lamp) occluder... seen from above, the occluder's top faces
+    // the lamp: it is lit too, but brighter than the floor one metre further down.
+    const TextureRef half = texture(write_texture("left_half_cam.exr", 16, 16, opacity_left_half()));
+    Scene s = cutout_shadow(half, true);
+    s.camera.position = {0, 1.5, 0};
+    s.camera.vfov_deg = 30;  // sees x in [-0.13, 0.13] on the occluder
+    Scene open = s;
+    open.shapes.pop_back();
+    const int n = 16;
+    RunSettings o;
+    o.width = o.height = n;
+    o.spp = 2;
+    const std::vector<float> cut = render(s, testing::lower_or_die(""), o).image();
+    const std::vector<float> floor = render(open, testing::lower_or_die(""), o).image();
+    for (int y = 0; y < n; ++y)
+        for (int x = 10; x < n; ++x) ASSERT_EQ(pixel(cut, n, x, y).x, pixel(floor, n, x, y).x) << x << "," << y;
+    EXPECT_GT(pixel(cut, n, 2, 8).x, 2 * pixel(floor, n, 2, 8).x);  // the occluder itself, nearer the lamp
+}
+
+TEST(AlphaCutout, CacheRaysPassThroughHolesToo) {
+    // A white floor under a sky of radiance 1, a fully transparent sheet 1 cm above it: the
+    // irradiance cache's hemisphere rays must see the sky through it (E = pi, radiance =
+    // albedo); stopped by the sheet, they would see its (unlit) underside.
+    Scene s;
+    s.materials.push_back(testing::make_material("floor", MaterialType::kPlastic, {0.5, 0.5, 0.5}));
+    Material sheet = testing::make_material("sheet", MaterialType::kPlastic, {0.5, 0.5, 0.5});
+    sheet.opacity = 0;  // a constant opacity below the cutoff: all hole
+    s.materials.push_back(sheet);
+    s.shapes.push_back(testing::quad("floor", {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}));
+    s.shapes.push_back(testing::quad("sheet", {-5, 0.01, 5}, {5, 0.01, 5}, {5, 0.01, -5}, {-5, 0.01, -5}));
+    s.background = {1, 1, 1};
+    s.camera.position = {0, 1, 0};
+    s.camera.direction = {0, -1, 0};
+    s.camera.up = {0, 0, -1};
+    s.camera.vfov_deg = 40;
+    RunSettings o;
+    o.width = o.height = 8;
+    o.spp = 1;
+    IcSettings ic;
+    ic.divisions = 64;
+    ic.caustic_photons = 0;
+    o.irradiance_cache = ic;
+    RunResult r = render(s, testing::lower_or_die("D"), o);
+    ASSERT_GT(r.ic_stats.records, 0u);
+    for (float v : r.image()) ASSERT_NEAR(v, 0.5, 0.005);
+}
+
+TEST(NormalMap, AFlatNormalMapChangesNothingBitForBit) {
+    // An 8-bit "flat" normal map (128, 128, 255): 2 v - 1 is 1/255, not 0, which crex reads
+    // as flat. The images with and without it must be the same bytes.
+    std::vector<float> rgb(8 * 8 * 3);
+    for (size_t i = 0; i < rgb.size(); i += 3) rgb[i] = rgb[i + 1] = 128.0f / 255.0f, rgb[i + 2] = 1.0f;
+    const TextureRef flat = texture(write_texture("flat_normal.png", 8, 8, rgb));
+    auto scene = [&](bool mapped) {
+        Scene s = testing::square_light_over_plane(0.6, 3.0, 0.5, 1.0);
+        s.shapes[0] = uv_quad("floor", {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}, {-50, 0, -50}, 100);
+        s.shapes[0].normals = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}};
+        Material& floor = s.materials[0];
+        floor.specularity = 0.2, floor.roughness = 0.3;  // a glossy lobe too: both lobes use the normal
+        if (mapped) floor.textures.normal = flat;
+        s.camera.vfov_deg = 60;
+        return s;
+    };
+    RunSettings o;
+    o.width = o.height = 16;
+    o.spp = 2;
+    const std::vector<float> with = render(scene(true), testing::lower_or_die("(DG)2"), o).image();
+    const std::vector<float> without = render(scene(false), testing::lower_or_die("(DG)2"), o).image();
+    ASSERT_EQ(with.size(), without.size());
+    EXPECT_EQ(std::memcmp(with.data(), without.data(), with.size() * sizeof(float)), 0);
+    // A tilted normal map does change it (the comparison can fail).
+    for (size_t i = 0; i < rgb.size(); i += 3) rgb[i] = 0.8f;
+    const TextureRef tilted = texture(write_texture("tilted_normal.png", 8, 8, rgb));
+    Scene t = scene(false);
+    t.materials[0].textures.normal = tilted;
+    const std::vector<float> bent = render(t, testing::lower_or_die("(DG)2"), o).image();
+    EXPECT_NE(std::memcmp(bent.data(), without.data(), bent.size() * sizeof(float)), 0);
+}
+
+}  // namespace
+}  // namespace crex
