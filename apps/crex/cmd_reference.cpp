@@ -310,7 +310,7 @@ int reference(const ReferenceOptions& opt) {
 Runner add_reference_command(CLI::App& app) {
     auto opt = std::make_shared<ReferenceOptions>();
     CLI::App* cmd = app.add_subcommand("reference", "Render a converged gold reference of a scene, cached by scene and settings");
-    CLI::Option* scene = cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj or builtin:NAME")->capture_default_str();
+    CLI::Option* scene = cmd->add_option("scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj, file.gltf, file.glb or builtin:NAME")->capture_default_str();
     CLI::Option* size = cmd->add_option("--size", opt->size, "Image size WIDTHxHEIGHT (with windows: of the whole frame)")->capture_default_str();
     cmd->add_option("--spp", opt->spp, "Camera samples per pixel (with --accumulate: to add)")->capture_default_str()->check(whole_number_in(1, 1 << 20));
     CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed (0 to 2^53)")->capture_default_str()->check(seed_value());

@@ -130,9 +130,11 @@ Runner add_run_command(CLI::App& app) {
     auto opt = std::make_shared<RunOptions>();
     CLI::App* cmd = app.add_subcommand("run", "Render a scene with a crex on the component-bin renderer");
     cmd->add_option("plan", opt->plan, "A pipeline file (.pipe), or a plan made by 'crex plan --format json' (instead of -e)");
-    cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj or builtin:NAME (default: the plan's, "
-                                           "else builtin:cornell)");
+    cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj, file.gltf, file.glb or builtin:NAME "
+                                           "(default: the plan's, else builtin:cornell)");
     cmd->add_option("--view", opt->view, "A RADIANCE view file (-vp -vd -vu -vh -vv -vo, view types -vtv -vtl -vta -vth -vts -vtc) replacing the scene's camera, as rpict -vf");
+    cmd->add_option("--camera", opt->camera, "One of the scene's named cameras, by NAME or INDEX from 0 (glTF files name theirs; "
+                                             "default: the first)");
     CLI::Option* crex = cmd->add_option("-e,--crex", opt->crex, std::string("The crex saying in which order bins execute (default ") +
                                                 kDefaultCrex + ")")
         ->allow_extra_args(false);

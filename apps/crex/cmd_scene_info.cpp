@@ -14,6 +14,7 @@
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/shapes.h"
+#include "runtime/texture/surface_textures.h"
 
 namespace crex::app {
 namespace {
@@ -22,6 +23,7 @@ struct SceneInfoOptions {
     std::string scene = "builtin:cornell";
     std::string format = "text";
     std::string export_json;
+    std::string camera;
 };
 
 struct Stats {
@@ -44,7 +46,26 @@ Stats scene_stats(const Scene& s) {
 
 std::string vec_text(const Vec3& v) { return fmt::format("({:g}, {:g}, {:g})", v.x, v.y, v.z); }
 
-void print_text(const Scene& scene, const Census& c, const Stats& st) {
+// The images the materials use, opened (headers only) through the texture backend.
+std::vector<TextureImage> texture_images(const Scene& scene, std::vector<std::string>& warnings) {
+    bool any = false;
+    for (const auto& m : scene.materials) any = any || m.textures.any();
+    if (!any) return {};
+    try {
+        return SurfaceTextures(scene, texture_cache_bytes(0), warnings).stats().images;
+    } catch (const std::exception& e) {
+        warnings.push_back(e.what());
+        return {};
+    }
+}
+
+std::string textured_slots(const Material& m) {
+    std::string out;
+    m.textures.for_each([&](const char* slot, const TextureRef&) { out += (out.empty() ? "" : ", ") + std::string(slot); });
+    return out;
+}
+
+void print_text(const Scene& scene, const Census& c, const Stats& st, const std::vector<TextureImage>& images) {
     std::string types;
     for (const auto& [t, n] : st.shapes_by_type) types += fmt::format("{}{} {}", types.empty() ? "" : ", ", n, t);
     std::cout << fmt::format("scene {}\n", scene.source);
@@ -63,6 +84,12 @@ void print_text(const Scene& scene, const Census& c, const Stats& st) {
                                  l.sky ? fmt::format(", {} sky", sky_type_name(l.sky->type)) : "");
         std::cout << fmt::format("  distant    {}\n", names);
     }
+    for (size_t i = 0; i < scene.cameras.size(); ++i)
+        std::cout << fmt::format("  camera {:<3} '{}' at {} looking {}\n", i, scene.cameras[i].name, vec_text(scene.cameras[i].camera.position),
+                                 vec_text(scene.cameras[i].camera.direction));
+    if (scene.units.metres_per_unit > 0 || scene.units.up != Vec3{})
+        std::cout << fmt::format("  units      {}{}\n", scene.units.metres_per_unit > 0 ? fmt::format("{:g} m per unit", scene.units.metres_per_unit) : "",
+                                 scene.units.up != Vec3{} ? fmt::format(", up {}", vec_text(scene.units.up)) : "");
     std::cout << fmt::format("  emitters   {} sampled (light, illum, glow with a radius, distant), {} unsampled (other glow "
                              "or emission)\n", c.sampled_emitters, c.unsampled_emitters);
     if (c.has_medium) std::cout << "  medium     homogeneous single-scatter\n";
@@ -75,8 +102,27 @@ void print_text(const Scene& scene, const Census& c, const Stats& st) {
     std::cout << "\nmaterials in use (component split):\n";
     for (const auto& m : c.materials) {
         std::string spawns = component_set_letters(m.spawns);
-        std::cout << fmt::format("  {:<20} {:<10} spawns {:<8} ({} shape{})\n", m.name, material_type_name(m.type),
-                                 spawns.empty() ? "nothing" : spawns, m.shapes, m.shapes == 1 ? "" : "s");
+        const Material* mat = scene.find_material(m.name);
+        const std::string slots = mat ? textured_slots(*mat) : "";
+        std::cout << fmt::format("  {:<20} {:<10} spawns {:<8} ({} shape{}){}\n", m.name, material_type_name(m.type),
+                                 spawns.empty() ? "nothing" : spawns, m.shapes, m.shapes == 1 ? "" : "s",
+                                 slots.empty() ? "" : ", textured: " + slots);
+    }
+    if (!images.empty()) {
+        uint64_t file = 0, memory = 0;
+        std::cout << "\ntextures (memory: all texels with their MIP levels; the render's cache holds at most its share of --max-memory):\n";
+        for (const auto& i : images) {
+            if (!i.error.empty()) {
+                std::cout << fmt::format("  {}  cannot be read: {} (renders magenta)\n", i.name, i.error);
+                continue;
+            }
+            file += i.info.file_bytes, memory += i.memory_bytes();
+            std::cout << fmt::format("  {}  {}x{}, {} channel{}, {}, {:.1f} KiB on disk, {:.1f} MiB in memory\n", i.name, i.info.width,
+                                     i.info.height, i.info.channels, i.info.channels == 1 ? "" : "s", i.info.format,
+                                     i.info.file_bytes / 1024.0, i.memory_bytes() / double(1 << 20));
+        }
+        std::cout << fmt::format("  {} image{}: {:.1f} MiB on disk, {:.1f} MiB in memory\n", images.size(), images.size() == 1 ? "" : "s",
+                                 file / double(1 << 20), memory / double(1 << 20));
     }
     std::cout << "\ncensus: which bins can ever receive rays\n";
     std::string cannot;
@@ -117,6 +163,12 @@ int run_scene_info(const SceneInfoOptions& opt) {
         }
         return kExitInputErrors;
     }
+    if (!opt.camera.empty()) {
+        if (std::string error = select_camera(*scene, opt.camera); !error.empty()) {
+            std::cerr << "crex scene-info: error: " << error << "\n";
+            return kExitUsage;
+        }
+    }
     if (!opt.export_json.empty()) {
         std::string error = write_file_atomically(opt.export_json, scene_json_text(*scene));
         if (!error.empty()) {
@@ -126,15 +178,25 @@ int run_scene_info(const SceneInfoOptions& opt) {
     }
     Census census = take_census(*scene);
     Stats st = scene_stats(*scene);
+    std::vector<std::string> texture_warnings;
+    const std::vector<TextureImage> images = texture_images(*scene, texture_warnings);
+    if (opt.format == "text")
+        for (const auto& w : texture_warnings) std::cerr << "crex scene-info: warning: " << w << "\n";
     if (opt.format == "json") {
         nlohmann::json out;
         out["diagnostics"] = to_json(diagnostics);
         out["scene"] = {{"source", scene->source}, {"shapes", scene->shapes.size()}, {"triangles", st.triangles},
                         {"spheres", st.spheres}, {"shapes_by_type", st.shapes_by_type}};
         out["census"] = to_json(census);
+        out["textures"] = images_json(images);
+        nlohmann::json cameras = nlohmann::json::array();
+        for (const auto& c : scene->cameras) cameras.push_back(c.name);
+        out["scene"]["cameras"] = cameras;
+        if (scene->units.metres_per_unit > 0) out["scene"]["metres_per_unit"] = scene->units.metres_per_unit;
+        if (scene->units.up != Vec3{}) out["scene"]["up"] = {scene->units.up.x, scene->units.up.y, scene->units.up.z};
         std::cout << out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     } else {
-        print_text(*scene, census, st);
+        print_text(*scene, census, st, images);
     }
     return kExitOk;
 }
@@ -144,10 +206,11 @@ int run_scene_info(const SceneInfoOptions& opt) {
 Runner add_scene_info_command(CLI::App& app) {
     auto opt = std::make_shared<SceneInfoOptions>();
     CLI::App* cmd = app.add_subcommand("scene-info", "Show a scene's contents and its material census");
-    cmd->add_option("scene", opt->scene, "A scene: file.json, file.rad, file.rif, file.obj or builtin:NAME")
+    cmd->add_option("scene", opt->scene, "A scene: file.json, file.rad, file.rif, file.obj, file.gltf, file.glb or builtin:NAME")
         ->capture_default_str();
     cmd->add_option("--format", opt->format, "text or json (on stdout)")->check(CLI::IsMember({"text", "json"}));
     cmd->add_option("--export-json", opt->export_json, "Also write the scene in crex's native JSON format to FILE");
+    cmd->add_option("--camera", opt->camera, "The scene's camera NAME or INDEX (glTF files name theirs; the first is the default)");
     cmd->footer(R"(
 The census lists, for each component bin (D G S T R M), whether any material in use can spawn
 rays into it. Crex steps on bins that can never have work are pruned by the planner.
@@ -158,6 +221,7 @@ Examples:
   crex scene-info examples/scenes/cornell/scene.rad a RADIANCE scene (+ scene.vf for the view)
   crex scene-info --format json my_scene.json
   crex scene-info model.obj --export-json model.json   convert to the native format
+  crex scene-info room.gltf                         meshes, cameras, lights, textures (files, sizes, memory)
 
 Exit status: 0 ok or warnings only, 1 errors in the scene, 2 usage, 3 cannot read it.)");
     return [opt] { return run_scene_info(*opt); };

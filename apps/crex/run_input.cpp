@@ -106,6 +106,13 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
     auto t_load = std::chrono::steady_clock::now();
     if (!in.scene) in.scene = load_scene_input(in.scene_spec, sink);
     in.load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+    // --camera NAME|INDEX: another of the scene's cameras (then --view may still replace it).
+    if (!opt.camera.empty() && in.scene->scene) {
+        if (std::string error = select_camera(*in.scene->scene, opt.camera); !error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitUsage;
+        }
+    }
     // --view FILE.vf: RADIANCE's view options replace the scene's camera (rpict -vf).
     if (!opt.view.empty() && in.scene->scene) {
         std::string view_error;

@@ -49,6 +49,7 @@ struct RunOptions {
   ///< --compare-policies: also render under every other policy
     std::string policy;  ///< "" : the pipeline's, else the default
     std::string view;    ///< --view FILE.vf
+    std::string camera;  ///< --camera NAME|INDEX (a scene's named cameras)
     std::string budget_origin;  ///< "file:line:col" of the pipeline's `budget` when the budget is the pipeline's
     /// The same for the limits whose light left out W404 names (run_summary.h).
     std::string max_depth_origin, lw_origin, ab_origin;

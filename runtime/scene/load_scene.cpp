@@ -67,9 +67,17 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
         }
         return import_obj(spec, sink, sources);
     }
+    if (ext == ".gltf" || ext == ".glb") {
+        // Not a regular file of at most 1 GiB (missing, a directory, a FIFO): an I/O failure.
+        if (std::string why = check_input_file(spec, kMaxDataInputBytes); !why.empty()) {
+            failure.message = why;
+            return std::nullopt;
+        }
+        return import_gltf(spec, sink, sources);
+    }
     if (ext != ".json" && ext != ".rad" && ext != ".rif") {
         failure.message = fmt::format("cannot tell the format of scene '{}': use .json (crex scene), .rad or .rif (RADIANCE), "
-                                      ".obj (Wavefront) or builtin:cornell", spec);
+                                      ".obj (Wavefront), .gltf or .glb (glTF 2.0) or builtin:cornell", spec);
         return std::nullopt;
     }
     std::string error;

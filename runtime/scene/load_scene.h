@@ -1,6 +1,6 @@
 /// \file load_scene.h
-/// Loading scenes: `builtin:NAME`, native JSON (`.json`), RADIANCE (`.rad`) and Wavefront OBJ
-/// (`.obj` with its `.mtl`). Errors are diagnostics with file, line, column and field (codes
+/// Loading scenes: `builtin:NAME`, native JSON (`.json`), RADIANCE (`.rad`), Wavefront OBJ
+/// (`.obj` with its `.mtl`) and glTF 2.0 (`.gltf`, `.glb`). Errors are diagnostics with file, line, column and field (codes
 /// E3xx/W3xx); a scene is returned only when there were no errors.
 #pragma once
 
@@ -52,6 +52,11 @@ std::optional<Scene> import_radiance(const SourceFile& file, SceneSources& sourc
 std::optional<Scene> import_radiance_project(const SourceFile& rif, SceneSources& sources, const RadianceOptions& options,
                                              DiagnosticSink& sink);
 std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, SceneSources& sources);
+std::optional<Scene> import_gltf(const std::string& path, DiagnosticSink& sink, SceneSources& sources);
+
+/// `--camera NAME|INDEX`: makes the scene's named camera `spec` (a name, or an index from 0
+/// in the order of Scene::cameras) its camera. Returns "" or why it cannot.
+std::string select_camera(Scene& scene, const std::string& spec);
 
 /// `--camera NAME|INDEX`: makes the scene's named camera `spec` (a name, or an index from 0
 /// in the order of Scene::cameras) its camera. Returns "" or why it cannot.

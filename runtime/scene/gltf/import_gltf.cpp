@@ -1,0 +1,397 @@
+// glTF 2.0 (.gltf, .glb) -> Scene (docs/scene-format.md, "glTF 2.0"): the default scene's
+// node tree with its transforms, one mesh shape per (node, primitive), materials by the
+// table of gltf_materials.h, KHR_lights_punctual point lights as small spherical `light`
+// emitters, perspective cameras (the first is the camera; `--camera` chooses another), and
+// tags for task maps from node names ("task3:cup", "distractor:tv") or node extras
+// ({"task": 3}, {"distractor": true}), inherited by a node's children. glTF's units are
+// metres and its up axis +y; crex keeps both (and says so in `crex scene-info`).
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <set>
+
+#include "runtime/scene/gltf/gltf_document.h"
+#include "runtime/scene/gltf/gltf_materials.h"
+#include "runtime/scene/load_scene.h"
+#include "runtime/scene/material.h"
+#include "runtime/scene/shapes.h"
+
+namespace crex {
+namespace {
+
+using gltf::Document;
+
+/// Column-major 4x4 (glTF's order): m[column * 4 + row].
+struct Mat4 {
+    std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    Mat4 operator*(const Mat4& o) const {
+        Mat4 r;
+        for (int c = 0; c < 4; ++c)
+            for (int row = 0; row < 4; ++row) {
+                double s = 0;
+                for (int k = 0; k < 4; ++k) s += m[size_t(k * 4 + row)] * o.m[size_t(c * 4 + k)];
+                r.m[size_t(c * 4 + row)] = s;
+            }
+        return r;
+    }
+    Vec3 point(const Vec3& p) const {
+        return {m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12], m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13],
+                m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14]};
+    }
+    Vec3 vector(const Vec3& v) const {
+        return {m[0] * v.x + m[4] * v.y + m[8] * v.z, m[1] * v.x + m[5] * v.y + m[9] * v.z, m[2] * v.x + m[6] * v.y + m[10] * v.z};
+    }
+    double det3() const {
+        return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
+    }
+    /// Normals: the inverse transpose of the upper 3x3 (its cofactor matrix, up to the
+    /// determinant's scale, which normalising removes; its sign is kept).
+    Vec3 normal(const Vec3& n) const {
+        const Vec3 c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
+        const Vec3 r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
+        Vec3 out = r0 * n.x + r1 * n.y + r2 * n.z;
+        return normalize_or_zero(det3() < 0 ? -out : out);
+    }
+};
+
+Mat4 local_transform(const tinygltf::Node& n) {
+    Mat4 t;
+    if (n.matrix.size() == 16) {
+        for (size_t i = 0; i < 16; ++i) t.m[i] = n.matrix[i];
+        return t;
+    }
+    Mat4 translate, rotate, scale;
+    if (n.translation.size() == 3) translate.m[12] = n.translation[0], translate.m[13] = n.translation[1], translate.m[14] = n.translation[2];
+    if (n.rotation.size() == 4) {
+        double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
+        const double len = std::sqrt(x * x + y * y + z * z + w * w);
+        if (len > 0 && std::isfinite(len)) x /= len, y /= len, z /= len, w /= len;
+        else x = y = z = 0, w = 1;
+        rotate.m = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
+                    2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
+                    2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
+                    0,                       0,                       0,                       1};
+    }
+    if (n.scale.size() == 3) scale.m[0] = n.scale[0], scale.m[5] = n.scale[1], scale.m[10] = n.scale[2];
+    return translate * rotate * scale;
+}
+
+// A tag from a node: extras {"task": 0..3, "distractor": bool, "tag": name}, or a name
+// "task3:cup" / "distractor:tv".
+std::optional<Tag> node_tag(const tinygltf::Node& node) {
+    std::optional<Tag> tag;
+    const std::string& name = node.name;
+    for (int task = 0; task <= 3; ++task)
+        if (name.rfind(fmt::format("task{}:", task), 0) == 0) tag = Tag{name.substr(6), task, false};
+    if (name.rfind("distractor:", 0) == 0) tag = Tag{name.substr(11), 0, true};
+    const tinygltf::Value& x = node.extras;
+    if (x.IsObject() && (x.Has("task") || x.Has("distractor"))) {
+        if (!tag) tag = Tag{name, 0, false};
+        if (x.Has("task") && x.Get("task").IsNumber()) tag->task = std::clamp(x.Get("task").GetNumberAsInt(), 0, 3);
+        if (x.Has("distractor") && x.Get("distractor").IsBool()) tag->distractor = x.Get("distractor").Get<bool>();
+        if (x.Has("tag") && x.Get("tag").IsString()) tag->name = x.Get("tag").Get<std::string>();
+    }
+    if (tag && tag->name.empty()) tag->name = "node";
+    return tag;
+}
+
+// Extensions whose absence would change what the file means, which crex reads.
+const std::set<std::string> kReadableRequired = {"KHR_texture_transform",        "KHR_materials_transmission",     "KHR_materials_ior",
+                                                 "KHR_materials_emissive_strength", "KHR_lights_punctual",          "KHR_mesh_quantization",
+                                                 "KHR_materials_pbrSpecularGlossiness", "KHR_materials_unlit"};
+
+class GltfImporter {
+public:
+    GltfImporter(const Document& doc, const std::string& path, DiagnosticSink& sink) : doc_(doc), path_(path), sink_(sink) {}
+
+    std::optional<Scene> run() {
+        const size_t errors = sink_.error_count();
+        const auto& m = doc_.model;
+        for (size_t i = 0; i < m.extensionsRequired.size(); ++i)
+            if (!kReadableRequired.count(m.extensionsRequired[i]))
+                sink_.report("E307", doc_.at(fmt::format("/extensionsRequired/{}", i)),
+                             fmt::format("the file requires extension {}, which crex cannot read", m.extensionsRequired[i]));
+        if (sink_.error_count() != errors) return std::nullopt;
+        scene_.source = path_;
+        scene_.units = {1.0, {0, 1, 0}};
+        const std::string stem = std::filesystem::path(path_).stem().string();
+        materials_ = gltf::convert_materials(doc_, stem, scene_.images, sink_);
+        scene_.materials = materials_.materials;
+        used_.assign(materials_.materials.size(), false);
+
+        // The default scene's roots, or every node no other node has as a child.
+        std::vector<int> roots;
+        if (!m.scenes.empty()) {
+            const size_t s = m.defaultScene >= 0 && static_cast<size_t>(m.defaultScene) < m.scenes.size() ? size_t(m.defaultScene) : 0;
+            roots = m.scenes[s].nodes;
+        } else {
+            std::vector<bool> child(m.nodes.size(), false);
+            for (const auto& n : m.nodes)
+                for (int c : n.children)
+                    if (c >= 0 && static_cast<size_t>(c) < child.size()) child[size_t(c)] = true;
+            for (size_t i = 0; i < m.nodes.size(); ++i)
+                if (!child[i]) roots.push_back(static_cast<int>(i));
+        }
+        visited_.assign(m.nodes.size(), false);
+        for (int r : roots) visit(r, Mat4{}, std::nullopt, 0, "/scenes");
+        if (sink_.error_count() != errors) return std::nullopt;
+        add_lights();
+        // Only the materials some shape uses (and the lights'): the census counts used ones anyway.
+        std::vector<Material> used;
+        for (size_t i = 0; i < scene_.materials.size(); ++i)
+            if (i >= used_.size() || used_[i]) used.push_back(scene_.materials[i]);
+        scene_.materials = std::move(used);
+        if (scene_.shapes.empty()) {
+            sink_.report("E306", doc_.at(""), fmt::format("glTF '{}' has no triangles in its scene", path_));
+            return std::nullopt;
+        }
+        if (!scene_.cameras.empty()) {
+            scene_.camera = scene_.cameras.front().camera;
+        } else {
+            // No camera: frame the bounds from +z (glTF's front), as for a standalone OBJ.
+            Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+            for (const auto& s : scene_.shapes) expand_bounds(s, lo, hi);
+            const Vec3 centre = (lo + hi) * 0.5;
+            scene_.camera.position = centre + Vec3{0, 0, 0.5 * length(hi - lo) * 2.5 + 1e-9};
+            scene_.camera.direction = {0, 0, -1};
+        }
+        validate_scene(scene_, sink_, [&](size_t i) { return doc_.at(i < where_.size() ? where_[i] : std::string()); });
+        if (sink_.error_count() != errors) return std::nullopt;
+        return std::move(scene_);
+    }
+
+private:
+    void visit(int index, const Mat4& parent, std::optional<Tag> tag, int depth, const std::string& from) {
+        const auto& m = doc_.model;
+        if (index < 0 || static_cast<size_t>(index) >= m.nodes.size()) {
+            sink_.report("E303", doc_.at(from), fmt::format("node {} does not exist", index));
+            return;
+        }
+        const std::string at = fmt::format("/nodes/{}", index);
+        if (visited_[size_t(index)] || depth > 1000) {
+            sink_.report("E303", doc_.at(at), fmt::format("node {} is reached twice: the node hierarchy must be a tree", index));
+            return;
+        }
+        visited_[size_t(index)] = true;
+        const tinygltf::Node& node = m.nodes[size_t(index)];
+        const Mat4 world = parent * local_transform(node);
+        if (auto own = node_tag(node)) tag = own;
+        if (node.mesh >= 0) add_mesh(node, index, world, tag);
+        if (node.camera >= 0) add_camera(node, index, world);
+        if (auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end() && it->second.Has("light"))
+            pending_lights_.push_back({it->second.Get("light").GetNumberAsInt(), world, at + "/extensions/KHR_lights_punctual", node.name});
+        if (node.skin >= 0 && !warned_skin_) {
+            warned_skin_ = true;
+            sink_.report("W311", doc_.at(at + "/skin"), "skinning is not applied: meshes are rendered in their bind pose");
+        }
+        for (size_t c = 0; c < node.children.size(); ++c) visit(node.children[c], world, tag, depth + 1, fmt::format("{}/children/{}", at, c));
+    }
+
+    void add_mesh(const tinygltf::Node& node, int node_index, const Mat4& world, const std::optional<Tag>& tag) {
+        const auto& m = doc_.model;
+        if (static_cast<size_t>(node.mesh) >= m.meshes.size()) {
+            sink_.report("E303", doc_.at(fmt::format("/nodes/{}/mesh", node_index)), fmt::format("mesh {} does not exist", node.mesh));
+            return;
+        }
+        const tinygltf::Mesh& mesh = m.meshes[size_t(node.mesh)];
+        const bool flip = world.det3() < 0;  // a mirroring transform turns the triangles' winding
+        for (size_t k = 0; k < mesh.primitives.size(); ++k) {
+            const tinygltf::Primitive& p = mesh.primitives[k];
+            const std::string at = fmt::format("/meshes/{}/primitives/{}", node.mesh, k);
+            const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+                sink_.report("W311", doc_.at(at + "/mode"), fmt::format("mesh '{}' primitive {}: mode {} ({}) is not rendered: crex renders "
+                                                                        "triangles", mesh.name, k, mode, mode <= 0 ? "points" : "lines"));
+                continue;
+            }
+            if (!p.targets.empty() && !warned_morph_) {
+                warned_morph_ = true;
+                sink_.report("W311", doc_.at(at + "/targets"), "morph targets are not applied: the base shape is rendered");
+            }
+            auto attribute = [&](const char* name) {
+                auto it = p.attributes.find(name);
+                return it == p.attributes.end() ? -1 : it->second;
+            };
+            const int position = attribute("POSITION");
+            if (position < 0) {
+                sink_.report("E304", doc_.at(at + "/attributes"), fmt::format("mesh '{}' primitive {}: no POSITION attribute", mesh.name, k));
+                continue;
+            }
+            const size_t errors = sink_.error_count();
+            const size_t material = p.material >= 0 && static_cast<size_t>(p.material) < materials_.materials.size() - 1
+                                        ? size_t(p.material) : materials_.default_index;
+            if (p.material >= 0 && material == materials_.default_index)
+                sink_.report("E303", doc_.at(at + "/material"), fmt::format("material {} does not exist", p.material));
+            const std::vector<double> pos = gltf::read_accessor(doc_, position, 3, at + "/attributes/POSITION", sink_);
+            const int normal_accessor = attribute("NORMAL");
+            std::vector<double> nrm = normal_accessor >= 0 ? gltf::read_accessor(doc_, normal_accessor, 3, at + "/attributes/NORMAL", sink_)
+                                                           : std::vector<double>{};
+            const int uv_accessor = attribute(materials_.tex_coord[material] == 1 ? "TEXCOORD_1" : "TEXCOORD_0");
+            std::vector<double> uv = uv_accessor >= 0 ? gltf::read_accessor(doc_, uv_accessor, 2, at + "/attributes/TEXCOORD", sink_)
+                                                      : std::vector<double>{};
+            std::vector<uint32_t> idx;
+            if (p.indices >= 0) idx = gltf::read_indices(doc_, p.indices, at + "/indices", sink_);
+            if (sink_.error_count() != errors) continue;
+            const size_t n = pos.size() / 3;
+            if (p.indices < 0)
+                for (size_t i = 0; i < n; ++i) idx.push_back(static_cast<uint32_t>(i));
+            Shape s;
+            s.type = ShapeType::kMesh;
+            s.name = !node.name.empty() ? node.name : mesh.name;
+            s.material = materials_.materials[material].name;
+            s.tag = tag;
+            s.vertices.reserve(n);
+            for (size_t i = 0; i < n; ++i) {
+                const Vec3 v = world.point({pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]});
+                if (!is_finite(v)) {
+                    sink_.report("E303", doc_.at(fmt::format("/accessors/{}", position)),
+                                 fmt::format("mesh '{}': vertex {} has a non-finite coordinate", mesh.name, i));
+                    break;
+                }
+                s.vertices.push_back(v);
+            }
+            if (s.vertices.size() != n) continue;
+            if (nrm.size() == pos.size())
+                for (size_t i = 0; i < n; ++i) {
+                    const Vec3 v = world.normal({nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]});
+                    s.normals.push_back(is_finite(v) ? v : Vec3{});
+                }
+            // Normals that are zero (or were not finite) mean the file has none there: shade flat.
+            for (const auto& v : s.normals)
+                if (v == Vec3{}) {
+                    s.normals.clear();
+                    break;
+                }
+            if (uv.size() / 2 == n)
+                for (size_t i = 0; i < n; ++i) s.uvs.push_back({std::isfinite(uv[2 * i]) ? uv[2 * i] : 0.0, std::isfinite(uv[2 * i + 1]) ? uv[2 * i + 1] : 0.0});
+            // Triangles of the primitive's mode.
+            auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
+                if (a >= n || b >= n || c >= n) return false;
+                if (flip) std::swap(b, c);
+                s.triangles.push_back({a, b, c});
+                return true;
+            };
+            bool in_range = true;
+            if (mode == TINYGLTF_MODE_TRIANGLES) {
+                for (size_t i = 0; i + 2 < idx.size(); i += 3) in_range = add(idx[i], idx[i + 1], idx[i + 2]) && in_range;
+            } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+                for (size_t i = 0; i + 2 < idx.size(); ++i)
+                    in_range = (i % 2 == 0 ? add(idx[i], idx[i + 1], idx[i + 2]) : add(idx[i + 1], idx[i], idx[i + 2])) && in_range;
+            } else {
+                for (size_t i = 1; i + 1 < idx.size(); ++i) in_range = add(idx[0], idx[i], idx[i + 1]) && in_range;
+            }
+            if (!in_range) {
+                sink_.report("E303", doc_.at(at + "/indices"), fmt::format("mesh '{}' primitive {}: an index is beyond its {} vertices", mesh.name, k, n));
+                continue;
+            }
+            if (s.triangles.empty()) {
+                sink_.report("W311", doc_.at(at), fmt::format("mesh '{}' primitive {}: no triangles", mesh.name, k));
+                continue;
+            }
+            used_[material] = true;
+            where_.push_back(at);
+            scene_.shapes.push_back(std::move(s));
+        }
+    }
+
+    void add_camera(const tinygltf::Node& node, int node_index, const Mat4& world) {
+        const auto& m = doc_.model;
+        const std::string at = fmt::format("/nodes/{}/camera", node_index);
+        if (static_cast<size_t>(node.camera) >= m.cameras.size()) {
+            sink_.report("E303", doc_.at(at), fmt::format("camera {} does not exist", node.camera));
+            return;
+        }
+        const tinygltf::Camera& c = m.cameras[size_t(node.camera)];
+        if (c.type != "perspective") {
+            sink_.report("W311", doc_.at(fmt::format("/cameras/{}", node.camera)),
+                         fmt::format("camera '{}' is {}: crex's cameras are perspective; it is not used", c.name, c.type));
+            return;
+        }
+        NamedCamera named;
+        named.name = !c.name.empty() ? c.name : !node.name.empty() ? node.name : fmt::format("camera{}", scene_.cameras.size());
+        named.camera.position = world.point({0, 0, 0});
+        named.camera.direction = world.vector({0, 0, -1});
+        named.camera.up = world.vector({0, 1, 0});
+        const double yfov = c.perspective.yfov * 180 / 3.14159265358979323846;
+        if (!(yfov > 0 && yfov < 180) || !is_finite(named.camera.position) || !(length(cross(named.camera.direction, named.camera.up)) > 0)) {
+            sink_.report("W311", doc_.at(fmt::format("/cameras/{}", node.camera)),
+                         fmt::format("camera '{}': its field of view or placement cannot be used; it is not used", named.name));
+            return;
+        }
+        named.camera.vfov_deg = yfov;
+        scene_.cameras.push_back(named);
+    }
+
+    // KHR_lights_punctual: point (and spot) lights become small spheres of `light` material
+    // with the same intensity (radiance = intensity / (pi r^2)), sized by the scene.
+    void add_lights() {
+        const auto& m = doc_.model;
+        if (pending_lights_.empty()) return;
+        Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+        for (const auto& s : scene_.shapes) expand_bounds(s, lo, hi);
+        for (const auto& l : pending_lights_) lo = vmin(lo, l.world.point({})), hi = vmax(hi, l.world.point({}));
+        const double extent = is_finite(hi - lo) ? length(hi - lo) : 1.0;
+        const double radius = std::max(2.5e-3 * extent, 1e-6);
+        for (const auto& pending : pending_lights_) {
+            if (pending.index < 0 || static_cast<size_t>(pending.index) >= m.lights.size()) {
+                sink_.report("E303", doc_.at(pending.at), fmt::format("light {} does not exist", pending.index));
+                continue;
+            }
+            const tinygltf::Light& light = m.lights[size_t(pending.index)];
+            const std::string name = !light.name.empty() ? light.name : !pending.node.empty() ? pending.node : fmt::format("light{}", pending.index);
+            if (light.type == "directional") {
+                sink_.report("W311", doc_.at(pending.at), fmt::format("directional light '{}' is not rendered: crex has no distant lights", name));
+                continue;
+            }
+            if (light.type == "spot")
+                sink_.report("W311", doc_.at(pending.at), fmt::format("spot light '{}' is rendered as a point light: its cone is not", name));
+            Vec3 colour{1, 1, 1};
+            if (light.color.size() == 3) colour = vmax(Vec3{light.color[0], light.color[1], light.color[2]}, Vec3{});
+            const double intensity = std::isfinite(light.intensity) ? std::max(light.intensity, 0.0) : 0.0;
+            Material mat;
+            mat.name = fmt::format("{}/light:{}#{}", std::filesystem::path(path_).stem().string(), name, pending.index);
+            mat.type = MaterialType::kLight;
+            mat.color = vmin(colour * (intensity / (3.14159265358979323846 * radius * radius)), Vec3{kMaxRadiance, kMaxRadiance, kMaxRadiance});
+            if (!scene_.find_material(mat.name)) {
+                scene_.materials.push_back(mat);
+                used_.push_back(true);
+            }
+            Shape s;
+            s.type = ShapeType::kSphere;
+            s.name = "light:" + name;
+            s.material = mat.name;
+            s.center = pending.world.point({});
+            s.radius = radius;
+            where_.push_back(pending.at);
+            scene_.shapes.push_back(s);
+        }
+    }
+
+    struct PendingLight {
+        int index;
+        Mat4 world;
+        std::string at, node;
+    };
+    const Document& doc_;
+    std::string path_;
+    DiagnosticSink& sink_;
+    Scene scene_;
+    gltf::ConvertedMaterials materials_;
+    std::vector<bool> used_, visited_;
+    std::vector<std::string> where_;  ///< per shape: its JSON pointer
+    std::vector<PendingLight> pending_lights_;
+    bool warned_skin_ = false, warned_morph_ = false;
+};
+
+}  // namespace
+
+std::optional<Scene> import_gltf(const std::string& path, DiagnosticSink& sink, SceneSources& sources) {
+    auto doc = gltf::read_document(path, sources, sink);
+    if (!doc) return std::nullopt;
+    return GltfImporter(*doc, path, sink).run();
+}
+
+}  // namespace crex

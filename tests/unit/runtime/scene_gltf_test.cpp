@@ -1,0 +1,300 @@
+// glTF 2.0 import (issue 33): the node tree and its transforms, materials by the documented
+// table, KHR_texture_transform, KHR_lights_punctual, cameras and --camera, tags from node
+// names and extras, embedded images; and what it cannot render or read, located.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "base/base64.h"
+#include "runtime/scene/census.h"
+#include "tests/support/scene_helpers.h"
+
+namespace crex {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch() {
+    static const fs::path dir = [] {
+        fs::path d = fs::temp_directory_path() / ("crex_gltf_test_" + std::to_string(::getpid()));
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+std::string write(const std::string& name, const std::string& bytes) {
+    const std::string path = (scratch() / name).string();
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+}
+
+template <class T>
+void append(std::string& out, const std::vector<T>& values) {
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+// One triangle's buffer: 3 float3 positions (36 bytes), then 3 uint16 indices (6 bytes + 2 pad),
+// then 3 float2 uvs (24 bytes).
+std::string triangle_buffer() {
+    std::string b;
+    append(b, std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0});
+    append(b, std::vector<uint16_t>{0, 1, 2, 0});
+    append(b, std::vector<float>{0, 0, 1, 0, 0, 1});
+    return b;
+}
+
+const std::string kBufferViews = R"("bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                  {"buffer": 0, "byteOffset": 36, "byteLength": 6},
+                  {"buffer": 0, "byteOffset": 44, "byteLength": 24}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"},
+                {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}])";
+
+std::string buffers() {
+    return R"("buffers": [{"byteLength": 68, "uri": "data:application/octet-stream;base64,)" + base64(triangle_buffer()) + R"("}])";
+}
+
+// The test scene: a root node moved by (1, 0, 0) whose child is turned a quarter turn about
+// +y and scaled by 2, holding the triangle; materials of every kind; two cameras and an
+// orthographic one; a point and a directional light; tagged nodes.
+std::string room_gltf() {
+    return R"({"asset": {"version": "2.0"},
+  "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_texture_transform", "KHR_materials_emissive_strength"],
+  "scene": 0,
+  "scenes": [{"nodes": [0, 3, 4, 5, 6, 7, 8, 9]}],
+  "nodes": [
+    {"name": "root", "translation": [1, 0, 0], "children": [1]},
+    {"name": "task2:cup", "rotation": [0, 0.7071067811865476, 0, 0.7071067811865476], "scale": [2, 2, 2], "mesh": 0},
+    {"name": "unused"},
+    {"name": "screen", "mesh": 1, "extras": {"distractor": true, "tag": "tv"}},
+    {"name": "lamp", "mesh": 2},
+    {"name": "front", "camera": 0, "translation": [0, 0, 5]},
+    {"name": "side", "camera": 1, "matrix": [0,0,-1,0, 0,1,0,0, 1,0,0,0, 5,0,0,1]},
+    {"name": "plan", "camera": 2, "translation": [0, 5, 0]},
+    {"name": "bulb", "translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+    {"name": "sun", "extensions": {"KHR_lights_punctual": {"light": 1}}}],
+  "meshes": [
+    {"name": "cup", "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 2}, "indices": 1, "material": 0}]},
+    {"name": "screen", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 1},
+                                      {"attributes": {"POSITION": 0},
+                                       "mode": 1, "material": 1}]},
+    {"name": "lamp", "primitives": [{"attributes": {"POSITION": 0}, "material": 2}]}],
+  "materials": [
+    {"name": "glaze", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1], "metallicFactor": 0.5, "roughnessFactor": 0.5,
+       "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0], "scale": [2, 2]}}},
+       "metallicRoughnessTexture": {"index": 0}},
+     "alphaMode": "MASK", "alphaCutoff": 0.3,
+     "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.8}}},
+    {"name": "glow", "emissiveTexture": {"index": 0}, "emissiveFactor": [1, 1, 1],
+     "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}},
+    {"name": "panel", "emissiveFactor": [1, 0.5, 0.25], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}}],
+  "textures": [{"source": 0, "sampler": 0}],
+  "samplers": [{"wrapS": 33071, "wrapT": 33648}],
+  "images": [{"uri": "wood%20grain.png"}],
+  "cameras": [{"name": "front", "type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}},
+              {"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}},
+              {"type": "orthographic",
+               "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}],
+  "extensions": {"KHR_lights_punctual": {"lights": [{"name": "bulb", "type": "point", "intensity": 10, "color": [1, 0.5, 1]},
+                                                   {"name": "sun", "type": "directional"}]}},
+  )" + kBufferViews + ",\n  " + buffers() + "}";
+}
+
+const Shape* shape_named(const Scene& s, const std::string& name) {
+    for (const auto& shape : s.shapes)
+        if (shape.name == name) return &shape;
+    return nullptr;
+}
+
+TEST(SceneGltf, NodeTransformsApplyDownTheTree) {
+    write("wood grain.png", "not read here");
+    auto r = testing::load_path(write("room.gltf", room_gltf()));
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Shape* cup = shape_named(*r.scene, "task2:cup");
+    ASSERT_TRUE(cup);
+    ASSERT_EQ(cup->vertices.size(), 3u);
+    // (1, 0, 0) scaled by 2, turned a quarter turn about +y (x -> -z), moved by (1, 0, 0).
+    EXPECT_NEAR(cup->vertices[1].x, 1, 1e-9);
+    EXPECT_NEAR(cup->vertices[1].y, 0, 1e-9);
+    EXPECT_NEAR(cup->vertices[1].z, -2, 1e-9);
+    EXPECT_NEAR(cup->vertices[2].y, 2, 1e-9);
+    ASSERT_EQ(cup->uvs.size(), 3u);
+    EXPECT_EQ(cup->uvs[1], (std::array<double, 2>{1, 0}));
+    EXPECT_DOUBLE_EQ(r.scene->units.metres_per_unit, 1);
+    EXPECT_EQ(r.scene->units.up, (Vec3{0, 1, 0}));
+}
+
+TEST(SceneGltf, MaterialsFollowTheDocumentedTable) {
+    auto r = testing::load_path(write("room.gltf", room_gltf()));
+    ASSERT_TRUE(r.scene);
+    const Material* glaze = r.scene->find_material("room/glaze");
+    ASSERT_TRUE(glaze);
+    EXPECT_EQ(glaze->type, MaterialType::kTrans);  // KHR_materials_transmission
+    EXPECT_DOUBLE_EQ(glaze->transmissivity, 0.8);
+    EXPECT_DOUBLE_EQ(glaze->transmitted_specular, 1);
+    EXPECT_NEAR(glaze->specularity, 0.04, 1e-12);  // F0 at ior 1.5
+    EXPECT_DOUBLE_EQ(glaze->metallic, 0.5);
+    EXPECT_DOUBLE_EQ(glaze->roughness, 0.25);  // perceptual roughness squared
+    EXPECT_EQ(glaze->alpha_mode, AlphaMode::kMask);
+    EXPECT_DOUBLE_EQ(glaze->alpha_cutoff, 0.3);
+    const MaterialTextures& t = glaze->textures;
+    ASSERT_TRUE(t.color && t.roughness && t.metallic && t.opacity);
+    EXPECT_EQ(fs::path(t.color->file).filename(), "wood grain.png");  // percent-decoded, beside the file
+    EXPECT_EQ(t.color->scale, (Vec3{0.8, 0.6, 0.4}));
+    EXPECT_EQ(t.color->wrap_s, TextureWrap::kClamp);
+    EXPECT_EQ(t.color->wrap_t, TextureWrap::kMirror);
+    EXPECT_EQ(t.color->uv_transform, (UvTransform{2, 0, 0.5, 0, 2, 0}));
+    EXPECT_EQ(t.roughness->channel, 1);
+    EXPECT_DOUBLE_EQ(t.roughness->power, 2);
+    EXPECT_EQ(t.metallic->channel, 2);
+    EXPECT_EQ(t.opacity->channel, 3);
+    // A textured emission glows (not sampled); a constant one is a sampled lamp.
+    const Material* glow = r.scene->find_material("room/glow");
+    ASSERT_TRUE(glow && glow->textures.emission);
+    EXPECT_EQ(glow->type, MaterialType::kPlastic);
+    EXPECT_EQ(glow->textures.emission->scale, (Vec3{4, 4, 4}));
+    const Material* panel = r.scene->find_material("room/panel");
+    ASSERT_TRUE(panel);
+    EXPECT_EQ(panel->type, MaterialType::kLight);
+    EXPECT_EQ(panel->color, (Vec3{2, 1, 0.5}));
+    // The census of the trans, metallic, textured glaze: D, G (textured roughness), T.
+    const ComponentSet s = spawned_components(*glaze);
+    EXPECT_EQ(component_set_letters(s), "D G T");
+}
+
+TEST(SceneGltf, CamerasLightsAndTags) {
+    auto r = testing::load_path(write("room.gltf", room_gltf()));
+    ASSERT_TRUE(r.scene);
+    Scene s = *r.scene;
+    ASSERT_EQ(s.cameras.size(), 2u);  // the orthographic one is not used
+    EXPECT_EQ(s.cameras[0].name, "front");
+    EXPECT_EQ(s.cameras[1].name, "side");
+    EXPECT_NEAR(s.camera.vfov_deg, 0.7 * 180 / M_PI, 1e-9);
+    EXPECT_EQ(select_camera(s, "side"), "");
+    EXPECT_NEAR(s.camera.position.x, 5, 1e-12);
+    EXPECT_NEAR(s.camera.direction.x, -1, 1e-12);  // the node's -z turned to -x
+    // The point light: a small sphere of `light`, its intensity kept (radiance x pi r^2).
+    const Shape* bulb = shape_named(s, "light:bulb");
+    ASSERT_TRUE(bulb);
+    EXPECT_EQ(bulb->type, ShapeType::kSphere);
+    EXPECT_EQ(bulb->center, (Vec3{0, 2, 0}));
+    const Material* m = s.find_material(bulb->material);
+    ASSERT_TRUE(m);
+    EXPECT_NEAR(m->color.x * M_PI * bulb->radius * bulb->radius, 10, 1e-9);
+    EXPECT_NEAR(m->color.y * M_PI * bulb->radius * bulb->radius, 5, 1e-9);
+    const Census c = take_census(s);
+    EXPECT_EQ(c.sampled_emitters, 2u);  // the bulb and the panel
+    // Tags from a node name and from extras (inherited by nothing else here).
+    ASSERT_TRUE(shape_named(s, "task2:cup")->tag);
+    EXPECT_EQ(shape_named(s, "task2:cup")->tag->name, "cup");
+    EXPECT_EQ(shape_named(s, "task2:cup")->tag->task, 2);
+    const Shape* screen = shape_named(s, "screen");
+    ASSERT_TRUE(screen && screen->tag);
+    EXPECT_EQ(screen->tag->name, "tv");
+    EXPECT_TRUE(screen->tag->distractor);
+}
+
+TEST(SceneGltf, WhatItCannotRenderIsALocatedWarning) {
+    auto r = testing::load_path(write("room.gltf", room_gltf()));
+    ASSERT_TRUE(r.scene);
+    // Lines (mode 1), the orthographic camera, the directional light: each at its own line.
+    const std::string text = room_gltf();
+    auto line_of = [&](const std::string& needle) {
+        const size_t at = text.find(needle);
+        return static_cast<size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n') + 1);
+    };
+    std::vector<std::string> found;
+    for (const auto& d : r.diagnostics) {
+        if (d.code != "W311") continue;
+        ASSERT_TRUE(d.span.file);
+        const LineCol at = d.span.file->position(d.span.begin);
+        if (d.message.find("mode 1") != std::string::npos) {
+            EXPECT_EQ(at.line, line_of("\"mode\": 1"));
+            found.push_back("lines");
+        }
+        if (d.message.find("orthographic") != std::string::npos) {
+            EXPECT_EQ(at.line, line_of("{\"type\": \"orthographic\""));
+            found.push_back("ortho");
+        }
+        if (d.message.find("directional") != std::string::npos) {
+            EXPECT_EQ(at.line, line_of("\"name\": \"sun\", \"extensions\""));
+            found.push_back("sun");
+        }
+    }
+    EXPECT_EQ(found.size(), 3u);
+}
+
+TEST(SceneGltf, BrokenFilesAreLocatedErrors) {
+    // An accessor reaching past its buffer view: refused at the accessor.
+    std::string bad = room_gltf();
+    const std::string count3 = R"("componentType": 5126, "count": 3, "type": "VEC2"})";
+    bad.replace(bad.find(count3), count3.size(), R"("componentType": 5126, "count": 30, "type": "VEC2"})");
+    auto r = testing::load_path(write("bad_accessor.gltf", bad));
+    EXPECT_FALSE(r.scene);
+    const Diagnostic* d = r.find("E303");
+    ASSERT_TRUE(d);
+    EXPECT_NE(d->message.find("do not fit"), std::string::npos) << d->message;
+    EXPECT_GT(d->span.file->position(d->span.begin).line, 1u);
+    // A required extension crex cannot read.
+    std::string draco = room_gltf();
+    draco.replace(draco.find("\"extensionsUsed\""), 0, "\"extensionsRequired\": [\"KHR_draco_mesh_compression\"],\n  ");
+    r = testing::load_path(write("draco.gltf", draco));
+    EXPECT_FALSE(r.scene);
+    ASSERT_TRUE(r.find("E307"));
+    EXPECT_EQ(r.where("E307").line, 2u);
+    // Not JSON at all: a located syntax error.
+    r = testing::load_path(write("garbage.gltf", "{\"asset\": {\"version\": \"2.0\"},\n \"nodes\": [}"));
+    EXPECT_FALSE(r.scene);
+    ASSERT_TRUE(r.find("E301"));
+    EXPECT_EQ(r.where("E301").line, 2u);
+    // A node that is its own child.
+    std::string cycle = room_gltf();
+    cycle.replace(cycle.find("\"children\": [1]"), std::strlen("\"children\": [1]"), "\"children\": [1, 0]");
+    r = testing::load_path(write("cycle.gltf", cycle));
+    EXPECT_FALSE(r.scene);
+    ASSERT_TRUE(r.find("E303"));
+    EXPECT_NE(r.find("E303")->message.find("tree"), std::string::npos);
+}
+
+TEST(SceneGltf, BinaryFilesCarryTheirImages) {
+    // A .glb whose base colour image is a buffer view: the image travels with the scene.
+    std::string json = room_gltf();
+    const std::string png = "\x89PNG\r\n\x1a\n-not-decoded-here-";
+    std::string bin = triangle_buffer();
+    const size_t image_at = bin.size();
+    bin += png;
+    while (bin.size() % 4) bin += '\0';
+    json.replace(json.find(R"("images": [{"uri": "wood%20grain.png"}])"), std::strlen(R"("images": [{"uri": "wood%20grain.png"}])"),
+                 R"("images": [{"bufferView": 3, "mimeType": "image/png"}])");
+    json.replace(json.find(R"({"buffer": 0, "byteOffset": 44, "byteLength": 24}])"),
+                 std::strlen(R"({"buffer": 0, "byteOffset": 44, "byteLength": 24}])"),
+                 R"({"buffer": 0, "byteOffset": 44, "byteLength": 24}, {"buffer": 0, "byteOffset": )" + std::to_string(image_at) +
+                     R"(, "byteLength": )" + std::to_string(png.size()) + "}]");
+    json.replace(json.find(buffers()), buffers().size(), R"("buffers": [{"byteLength": )" + std::to_string(bin.size()) + "}]");
+    while (json.size() % 4) json += ' ';
+    std::string glb = "glTF";
+    auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(2), u32(static_cast<uint32_t>(12 + 8 + json.size() + 8 + bin.size()));
+    u32(static_cast<uint32_t>(json.size())), glb += "JSON", glb += json;
+    u32(static_cast<uint32_t>(bin.size())), glb += std::string("BIN\0", 4), glb += bin;
+    auto r = testing::load_path(write("room.glb", glb));
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    ASSERT_EQ(r.scene->images.size(), 1u);
+    EXPECT_EQ(r.scene->images[0].bytes, png);
+    const Material* glaze = r.scene->find_material("room/glaze");
+    ASSERT_TRUE(glaze && glaze->textures.color);
+    EXPECT_EQ(glaze->textures.color->image, r.scene->images[0].name);
+    // It round-trips through the native format, image bytes and all.
+    auto back = testing::load_json_text(scene_json_text(*r.scene));
+    ASSERT_TRUE(back.scene) << (back.diagnostics.empty() ? "" : back.diagnostics[0].message);
+    EXPECT_EQ(back.scene->images[0].bytes, png);
+}
+
+}  // namespace
+}  // namespace crex
