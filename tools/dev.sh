@@ -5,7 +5,8 @@
 #   tools/dev.sh test     install what is missing, build (Release), run every test, then
 #                         rebuild with ASan+UBSan at -O1 and rerun the fast labels
 #   tools/dev.sh build    install what is missing and build (Release) only
-#   tools/dev.sh fuzz [S] build the libFuzzer targets with clang; run each for S seconds (120)
+#   tools/dev.sh fuzz [S] [TARGET...]  build the libFuzzer targets with clang; run each (or the
+#                         TARGETs named, e.g. gltf_fuzzer) for S seconds (120)
 #
 # Build trees: build/release, build/asan, build/fuzz. Safe to rerun: installs only what is
 # missing and rebuilds incrementally.
@@ -76,14 +77,16 @@ run_demo() {
 
 run_fuzz() {
   local seconds=${1:-120}
+  shift || true
+  local only=("$@")
   install_packages clang-14 libclang-rt-14-dev
   log "configure + build (libFuzzer, clang-14)"
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
   local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer view_fuzzer obj_fuzzer profile_fuzzer
-                 profile_numbers_fuzzer ic_records_fuzzer)
+                 profile_numbers_fuzzer ic_records_fuzzer gltf_fuzzer mtl_fuzzer)
   cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records}
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
   for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad tests/fuzz/radiance_seed.rad; do
@@ -117,20 +120,26 @@ PY
   printf 'rpict -vtv -vp 1 2 3 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45 -vs 0 -vl 0\n' > build/fuzz/corpus/view/seed_options
   printf 'mtllib fuzz.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nvn 0 0 1\nusemtl lamp\nf 1//1 2//1 3//1\nusemtl glass\nf 2 4 3\n#mtl\nnewmtl lamp\nKe 5 5 5\nnewmtl glass\nKd 0.9 0.9 0.9\nd 0.5\nNi 1.5\nillum 7\n' \
     > build/fuzz/corpus/obj/seed_triangles
+  # glTF seeds: Debian's assimp-testmodels (valid and broken files), when installed.
+  find /usr/share/assimp/models/glTF2 \( -name '*.gltf' -o -name '*.glb' \) -size -64k 2>/dev/null |
+    while read -r f; do cp "$f" "build/fuzz/corpus/gltf/$(echo "$f" | tr '/' '_')"; done
+  printf 'newmtl a\nKd 0.8 0.6 0.4\nKs 0.2 0.2 0.2\nNs 100\nmap_Kd -s 2 3 1 -o 0.5 0 0 -clamp on tex/wood.png\nmap_Ks tex/wood.png\nmap_Ns tex/wood.png\nbump -bm 2 tex/wood.png\nnorm tex/wood.png\nnewmtl b\nKd 0.3 0.6 0.2\nmap_d -imfchan m tex/leaf.png\nnewmtl c\nKe 1 1 1\nmap_Ke -colorspace sRGB tex/screen.png\nnewmtl d\nd 0.5\nNi 1.5\nillum 7\n' \
+    > build/fuzz/corpus/mtl/seed_textures
   printf '{"format": "crex-profile", "version": 1, "full_render_seconds": 1.33, "seconds_per_ray": {"D": 3.5e-06, "T": 2.7e-06, "camera": 4.1e-07}}\n' \
     > build/fuzz/corpus/profile/seed_profile
   head -c 96 /dev/urandom > build/fuzz/corpus/profile_numbers/seed_random
   local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan
                    [ic_file_fuzzer]=ic [view_fuzzer]=view [obj_fuzzer]=obj [profile_fuzzer]=profile
-                   [profile_numbers_fuzzer]=profile_numbers [ic_records_fuzzer]=ic_records)
+                   [profile_numbers_fuzzer]=profile_numbers [ic_records_fuzzer]=ic_records [gltf_fuzzer]=gltf [mtl_fuzzer]=mtl)
   local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384
                     [ic_file_fuzzer]=65536 [view_fuzzer]=512 [obj_fuzzer]=4096 [profile_fuzzer]=2048
-                    [profile_numbers_fuzzer]=256 [ic_records_fuzzer]=4096)
+                    [profile_numbers_fuzzer]=256 [ic_records_fuzzer]=4096 [gltf_fuzzer]=65536 [mtl_fuzzer]=4096)
   # Every target runs even when one finds a crash (its input is written as crash-*); the
   # script fails at the end if any did.
   local failed=()
   mkdir -p build/fuzz/artifacts
   for t in "${targets[@]}"; do
+    if ((${#only[@]})) && [[ ! " ${only[*]} " == *" $t "* ]]; then continue; fi
     log "fuzzing ${t} for ${seconds}s"
     local dict=()
     [ "$t" = scene_load_fuzzer ] && dict=(-dict=tests/fuzz/radiance.dict)
@@ -148,5 +157,5 @@ case "${1:-}" in
   test) install_packages; build_release; run_tests ;;
   build) install_packages; build_release ;;
   fuzz) shift; run_fuzz "$@" ;;
-  *) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
+  *) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
 esac

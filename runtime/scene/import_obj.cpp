@@ -1,9 +1,15 @@
 // Wavefront OBJ (+ MTL) -> Scene, through Debian's tinyobjloader (double precision build).
-// One mesh shape per (OBJ object, material). MTL parameters map onto our materials:
-//   Ke > 0                          -> light (radiance Ke)
-//   d < 1 or illum 4/6/7/9          -> glass (transmission Kd or Tf, ior Ni)
+// One mesh shape per (OBJ object, material), with its texture coordinates (vt) and normals
+// (vn) when every face has them. MTL parameters map onto our materials:
+//   Ke > 0 (no map_Ke)              -> light (radiance Ke)
+//   d < 1 (no map_d) or illum 4/6/7/9 -> glass (transmission Kd or Tf, ior Ni)
 //   illum 3/5 with black Kd         -> mirror (Ks)
 //   otherwise                       -> plastic: Kd, specularity from Ks, roughness from Ns
+// and its textures (docs/scene-format.md has the table): map_Kd the colour, map_Ks the
+// specular colour, map_Ns the roughness, map_d cut-outs, bump/map_Bump a bump map, norm a
+// normal map, map_Ke an emission; paths relative to the MTL's folder; -o, -s, -clamp,
+// -imfchan, -bm and -colorspace honoured. A texture that is not there is a warning at its
+// MTL line, and renders magenta.
 // A standalone OBJ gets a camera framing its bounds from +z.
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
@@ -11,6 +17,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <utility>
 
 #include "base/input_file.h"
 #include "runtime/scene/load_scene.h"
@@ -20,31 +27,115 @@
 namespace crex {
 namespace {
 
-Material convert_material(const tinyobj::material_t& m, const std::string& name) {
+// Where an MTL's textures are found and its lines are (for locating missing ones).
+struct MtlContext {
+    std::string directory;              ///< the MTL's folder
+    const SourceFile* file = nullptr;   ///< the MTL text, when it could be read
+};
+
+// The span of the first MTL line `keyword ... name` (for a texture that is not there).
+SourceSpan texture_line(const MtlContext& mtl, const std::string& name) {
+    if (!mtl.file) return {};
+    for (uint32_t line = 1; line <= mtl.file->line_count(); ++line) {
+        std::string_view t = mtl.file->line_text(line);
+        if (t.find(name) != std::string_view::npos && t.find_first_not_of(" \t") != std::string_view::npos &&
+            (t.find("map_") != std::string_view::npos || t.find("bump") != std::string_view::npos || t.find("norm") != std::string_view::npos)) {
+            const uint32_t b = mtl.file->line_start(line);
+            return {mtl.file, b, b + static_cast<uint32_t>(t.size())};
+        }
+    }
+    return {mtl.file, 0, 0};
+}
+
+// An MTL texture statement (its name and options) as a texture reference: the path from the
+// MTL's folder, OBJ's v flipped (t = 1 - v: OBJ's v runs up, images' t down), -o and -s as a
+// uv transform, -clamp, -imfchan and -colorspace.
+std::optional<TextureRef> mtl_texture(const std::string& name, const tinyobj::texture_option_t& opt, const MtlContext& mtl,
+                                      DiagnosticSink& sink) {
+    if (name.empty()) return std::nullopt;
+    TextureRef t;
+    std::filesystem::path p(name);
+    if (p.is_relative()) p = std::filesystem::path(mtl.directory) / p;
+    std::error_code ec;
+    const auto absolute = std::filesystem::absolute(p, ec);
+    t.file = (ec ? p : absolute).lexically_normal().string();
+    if (!std::filesystem::is_regular_file(t.file, ec))
+        sink.report("W310", texture_line(mtl, name), fmt::format("cannot find the texture '{}': it renders magenta", name));
+    auto finite_or = [](double x, double fallback) { return std::isfinite(x) ? x : fallback; };
+    const double su = finite_or(opt.scale[0], 1), sv = finite_or(opt.scale[1], 1);
+    const double ou = finite_or(opt.origin_offset[0], 0), ov = finite_or(opt.origin_offset[1], 0);
+    t.uv_transform = {su, 0, ou, 0, -sv, 1 - ov};
+    if (opt.clamp) t.wrap_s = t.wrap_t = TextureWrap::kClamp;
+    switch (opt.imfchan) {
+    case 'g': t.channel = 1; break;
+    case 'b': t.channel = 2; break;
+    case 'm': t.channel = 3; break;
+    default: t.channel = 0; break;
+    }
+    if (opt.colorspace == "sRGB" || opt.colorspace == "srgb") t.color_space = TextureColorSpace::kSrgb;
+    else if (opt.colorspace == "linear") t.color_space = TextureColorSpace::kLinear;
+    return t;
+}
+
+Material convert_material(const tinyobj::material_t& m, const std::string& name, const MtlContext& mtl, DiagnosticSink& sink) {
     Material out;
     out.name = name;
     Vec3 kd{m.diffuse[0], m.diffuse[1], m.diffuse[2]};
     Vec3 ks{m.specular[0], m.specular[1], m.specular[2]};
     Vec3 ke{m.emission[0], m.emission[1], m.emission[2]};
     auto clamp01 = [](Vec3 v) { return vmin(vmax(v, Vec3{0, 0, 0}), Vec3{1, 1, 1}); };
-    if (max_component(ke) > 0) {
+    const bool cut_out = !m.alpha_texname.empty();
+    if (max_component(ke) > 0 && m.emissive_texname.empty()) {
         out.type = MaterialType::kLight;
         out.color = vmax(ke, Vec3{0, 0, 0});
-    } else if (m.dissolve < 1 || m.illum == 4 || m.illum == 6 || m.illum == 7 || m.illum == 9) {
+        return out;  // an emitter: its textures do not apply
+    }
+    if ((m.dissolve < 1 && !cut_out) || m.illum == 4 || m.illum == 6 || m.illum == 7 || m.illum == 9) {
         out.type = MaterialType::kGlass;
         Vec3 tf{m.transmittance[0], m.transmittance[1], m.transmittance[2]};
         out.color = clamp01(max_component(tf) > 0 ? tf : Vec3{1, 1, 1});
         out.ior = m.ior > 0 ? m.ior : 1.5;
-    } else if ((m.illum == 3 || m.illum == 5) && max_component(kd) <= 0) {
+    } else if ((m.illum == 3 || m.illum == 5) && max_component(kd) <= 0 && m.diffuse_texname.empty()) {
         out.type = MaterialType::kMirror;
         out.color = clamp01(ks);
     } else {
         out.type = MaterialType::kPlastic;
         double d = max_component(kd), s = max_component(ks);
         out.specularity = d + s > 0 ? std::clamp(s / (d + s), 0.0, 1.0) : 0;
+        // A specular map with Ks = 0 (some exporters write that): half of the light specular.
+        if (!m.specular_texname.empty() && !(out.specularity > 0)) out.specularity = 0.5, ks = {1, 1, 1};
         out.color = clamp01(out.specularity < 1 ? kd / (1 - out.specularity) : kd);
         // Phong exponent -> roughness (the usual sqrt(2 / (Ns + 2)) mapping).
         out.roughness = out.specularity > 0 ? std::clamp(std::sqrt(2.0 / (std::max<double>(m.shininess, 0) + 2)), 0.0, 1.0) : 0;
+    }
+    MaterialTextures& tex = out.textures;
+    // map_Kd multiplies Kd, so the diffuse lobe is Kd x texel; a Kd of 0 with a map (some
+    // exporters write that) means the texture alone.
+    if ((tex.color = mtl_texture(m.diffuse_texname, m.diffuse_texopt, mtl, sink)) && out.type == MaterialType::kPlastic)
+        tex.color->scale = max_component(kd) > 0 ? out.color : Vec3{1, 1, 1} / (1 - std::min(out.specularity, 0.999));
+    if ((tex.specular_color = mtl_texture(m.specular_texname, m.specular_texopt, mtl, sink)) && out.specularity > 0)
+        tex.specular_color->scale = clamp01(ks / out.specularity);
+    // map_Ns scales Ns: roughness = sqrt(2 / Ns) ~ (Ns texel / 2)^(-1/2).
+    if ((tex.roughness = mtl_texture(m.specular_highlight_texname, m.specular_highlight_texopt, mtl, sink))) {
+        const double ns = m.shininess > 0 ? m.shininess : 1000;
+        tex.roughness->scale = Vec3{1, 1, 1} * (ns / 2), tex.roughness->power = -0.5;
+        tex.roughness->color_space = TextureColorSpace::kLinear;
+    }
+    if ((tex.opacity = mtl_texture(m.alpha_texname, m.alpha_texopt, mtl, sink))) {
+        tex.opacity->scale = Vec3{1, 1, 1} * std::clamp<double>(m.dissolve, 0, 1);
+        if (m.alpha_texopt.imfchan == 'm') tex.opacity->channel = 3;
+        tex.opacity->color_space = TextureColorSpace::kLinear;
+    }
+    // bump: height = texel x -bm x 1 cm (MTL heights have no unit; scenes are in metres by convention).
+    if ((tex.bump = mtl_texture(m.bump_texname, m.bump_texopt, mtl, sink))) {
+        tex.bump->scale = Vec3{1, 1, 1} * (0.01 * (std::isfinite(m.bump_texopt.bump_multiplier) ? m.bump_texopt.bump_multiplier : 1.0));
+        tex.bump->color_space = TextureColorSpace::kLinear;
+    }
+    if ((tex.normal = mtl_texture(m.normal_texname, m.normal_texopt, mtl, sink))) tex.normal->color_space = TextureColorSpace::kLinear;
+    if ((tex.emission = mtl_texture(m.emissive_texname, m.emissive_texopt, mtl, sink)))
+        tex.emission->scale = max_component(ke) > 0 ? vmax(ke, Vec3{}) : Vec3{1, 1, 1};
+    if (out.type != MaterialType::kPlastic) {  // glass and mirrors: their colour and cut-outs only
+        tex.specular_color.reset(), tex.roughness.reset();
     }
     return out;
 }
@@ -74,7 +165,12 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     // Its text and its MTL files' values first (obj_checks.h): tinyobjloader reads them silently.
     const size_t errors_first = sink.error_count();
     check_obj_text(file, sink);
+    // The first MTL's folder is where its textures are looked for; its text locates them.
+    MtlContext mtl_context{std::filesystem::path(path).parent_path().string(), nullptr};
+    bool first_library = true;
     for (const auto& lib : material_libraries(file, std::filesystem::path(path).parent_path().string())) {
+        if (first_library) mtl_context.directory = std::filesystem::path(lib.path).parent_path().string();
+        const bool first = std::exchange(first_library, false);
         std::error_code ec;
         if (!std::filesystem::exists(lib.path, ec)) continue;  // tinyobjloader warns (W301)
         auto mtl = read_input_file(lib.path, error, kMaxDataInputBytes);
@@ -82,7 +178,9 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
             sink.report("E308", lib.named_at, error);
             continue;
         }
-        check_mtl_text(sources.add(lib.path, std::move(*mtl)), sink);
+        const SourceFile& mtl_file = sources.add(lib.path, std::move(*mtl));
+        if (first) mtl_context.file = &mtl_file;
+        check_mtl_text(mtl_file, sink);
     }
     if (sink.error_count() != errors_first) return std::nullopt;
     tinyobj::ObjReaderConfig config;
@@ -112,17 +210,20 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     scene.source = path;
     std::string stem = std::filesystem::path(path).stem().string();
     std::vector<std::string> material_names;
+    const MtlContext& mtl = mtl_context;
     for (const auto& m : reader.GetMaterials()) {
         std::string name = stem + "/" + m.name;
         material_names.push_back(name);
-        scene.materials.push_back(convert_material(m, name));
+        scene.materials.push_back(convert_material(m, name, mtl, sink));
     }
     std::string fallback = stem + "/default";
     bool fallback_used = false;
 
     for (const auto& shape : reader.GetShapes()) {
         std::map<int, Shape> by_material;  // material id -> mesh
-        std::map<int, std::map<int, uint32_t>> remap;
+        // Per material: (position, texture coordinate, normal) indices -> the mesh's vertex.
+        std::map<int, std::map<std::array<int, 3>, uint32_t>> remap;
+        std::map<int, bool> all_uvs, all_normals;  // does every corner of the mesh have them?
         size_t offset = 0;
         for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
             size_t n = shape.mesh.num_face_vertices[f];
@@ -130,17 +231,28 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
             if (mid >= static_cast<int>(material_names.size())) mid = -1;
             Shape& mesh = by_material[mid];
             auto& ids = remap[mid];
+            all_uvs.try_emplace(mid, true), all_normals.try_emplace(mid, true);
             if (n == 3) {
                 std::array<uint32_t, 3> tri{};
                 bool valid = true;
                 for (size_t k = 0; k < 3; ++k) {
-                    int vi = shape.mesh.indices[offset + k].vertex_index;
+                    const tinyobj::index_t& index = shape.mesh.indices[offset + k];
+                    const int vi = index.vertex_index;
                     if (vi < 0 || static_cast<size_t>(vi) >= positions.size()) {
                         valid = false;
                         break;
                     }
-                    auto [it, fresh] = ids.try_emplace(vi, static_cast<uint32_t>(mesh.vertices.size()));
-                    if (fresh) mesh.vertices.push_back(positions[static_cast<size_t>(vi)]);
+                    const int ti = index.texcoord_index >= 0 && 2 * size_t(index.texcoord_index) + 1 < attrib.texcoords.size() ? index.texcoord_index : -1;
+                    const int ni = index.normal_index >= 0 && 3 * size_t(index.normal_index) + 2 < attrib.normals.size() ? index.normal_index : -1;
+                    all_uvs[mid] = all_uvs[mid] && ti >= 0;
+                    all_normals[mid] = all_normals[mid] && ni >= 0;
+                    auto [it, fresh] = ids.try_emplace({vi, ti, ni}, static_cast<uint32_t>(mesh.vertices.size()));
+                    if (fresh) {
+                        mesh.vertices.push_back(positions[static_cast<size_t>(vi)]);
+                        const size_t t = static_cast<size_t>(std::max(ti, 0)), nn = static_cast<size_t>(std::max(ni, 0));
+                        mesh.uvs.push_back(ti >= 0 ? std::array<double, 2>{attrib.texcoords[2 * t], attrib.texcoords[2 * t + 1]} : std::array<double, 2>{0, 0});
+                        mesh.normals.push_back(ni >= 0 ? Vec3{attrib.normals[3 * nn], attrib.normals[3 * nn + 1], attrib.normals[3 * nn + 2]} : Vec3{});
+                    }
                     tri[k] = it->second;
                 }
                 if (valid) mesh.triangles.push_back(tri);
@@ -149,6 +261,12 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
         }
         for (auto& [mid, mesh] : by_material) {
             if (mesh.triangles.empty()) continue;
+            // Texture coordinates and normals only when every corner has them (and they are usable).
+            bool uvs_ok = all_uvs[mid], normals_ok = all_normals[mid];
+            for (const auto& uv : mesh.uvs) uvs_ok = uvs_ok && std::isfinite(uv[0]) && std::isfinite(uv[1]);
+            for (const auto& nv : mesh.normals) normals_ok = normals_ok && is_finite(nv) && length(nv) > 0;
+            if (!uvs_ok) mesh.uvs.clear();
+            if (!normals_ok) mesh.normals.clear();
             mesh.type = ShapeType::kMesh;
             mesh.name = shape.name;
             mesh.material = mid >= 0 ? material_names[static_cast<size_t>(mid)] : fallback;
