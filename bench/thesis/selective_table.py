@@ -51,7 +51,9 @@ DEFAULT_PIPELINES = ["adaptive", "prog_dis_all", "prog_all", "prog_rp", "sel_rp"
 SCENES = {"cornell": ("builtin:cornell", 1.0), "corridor": (os.path.join(ROOT, "examples/scenes/corridor/scene.json"), 0.75),
           "room": (os.path.join(ROOT, "examples/scenes/room/scene.json"), 0.75),
           # The thesis's Mist Cornell (issue 18): run with --scenes mist --pipelines prog_dis_all,prog_dis_media.
-          "mist": (os.path.join(ROOT, "examples/scenes/mist/scene.json"), 1.0)}
+          "mist": (os.path.join(ROOT, "examples/scenes/mist/scene.json"), 1.0),
+          # The textured living room (issue 33, docs/textures.md), written by the build.
+          "living_room": (os.path.join(ROOT, "build/release/examples/scenes/living_room/scene.gltf"), 0.75)}
 # Steps of about 1.4x, not 2x: between powers of two the log-log interpolation of a sparse
 # curve overstated uniform's time (capict on the corridor sat between 8 and 16 spp).
 UNIFORM_SPP = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 128]
