@@ -1,12 +1,14 @@
 // glTF 2.0 (.gltf, .glb) -> Scene (docs/scene-format.md, "glTF 2.0"): the default scene's
 // node tree with its transforms, one mesh shape per (node, primitive), materials by the
-// table of gltf_materials.h, KHR_lights_punctual point lights as small spherical `light`
-// emitters, perspective cameras (the first is the camera; `--camera` chooses another), and
+// table of gltf_materials.h, KHR_lights_punctual point and spot lights as small spherical
+// `light` emitters and directional ones as distant lights, perspective and orthographic
+// cameras (the first is the camera; `--camera` chooses another), and
 // tags for task maps from node names ("task3:cup", "distractor:tv") or node extras
 // ({"task": 3}, {"distractor": true}), inherited by a node's children. glTF's units are
 // metres and its up axis +y; crex keeps both (and says so in `crex scene-info`).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -23,6 +25,9 @@ namespace crex {
 namespace {
 
 using gltf::Document;
+
+// A directional light's disk: the sun's angular diameter (glTF's lights have no size).
+constexpr double kSunAngleDeg = 0.53;
 
 /// Column-major 4x4 (glTF's order): m[column * 4 + row].
 struct Mat4 {
@@ -305,9 +310,10 @@ private:
             return;
         }
         const tinygltf::Camera& c = m.cameras[size_t(node.camera)];
-        if (c.type != "perspective") {
+        const bool orthographic = c.type == "orthographic";
+        if (c.type != "perspective" && !orthographic) {
             sink_.report("W311", doc_.at(fmt::format("/cameras/{}", node.camera)),
-                         fmt::format("camera '{}' is {}: crex's cameras are perspective; it is not used", c.name, c.type));
+                         fmt::format("camera '{}' is of type '{}', neither perspective nor orthographic; it is not used", c.name, c.type));
             return;
         }
         NamedCamera named;
@@ -315,18 +321,28 @@ private:
         named.camera.position = world.point({0, 0, 0});
         named.camera.direction = world.vector({0, 0, -1});
         named.camera.up = world.vector({0, 1, 0});
-        const double yfov = c.perspective.yfov * 180 / 3.14159265358979323846;
-        if (!(yfov > 0 && yfov < 180) || !is_finite(named.camera.position) || !(length(cross(named.camera.direction, named.camera.up)) > 0)) {
+        // Perspective: the vertical field of view; orthographic: crex's parallel view, whose
+        // "fields of view" are the view's height and width in scene units (twice ymag, xmag).
+        const double vertical = orthographic ? 2 * c.orthographic.ymag : c.perspective.yfov * 180 / 3.14159265358979323846;
+        const double horizontal = orthographic ? 2 * c.orthographic.xmag : 0;
+        const bool usable = orthographic ? vertical > 0 && std::isfinite(vertical) && horizontal > 0 && std::isfinite(horizontal)
+                                         : vertical > 0 && vertical < 180;
+        if (!usable || !is_finite(named.camera.position) || !(length(cross(named.camera.direction, named.camera.up)) > 0)) {
             sink_.report("W311", doc_.at(fmt::format("/cameras/{}", node.camera)),
                          fmt::format("camera '{}': its field of view or placement cannot be used; it is not used", named.name));
             return;
         }
-        named.camera.vfov_deg = yfov;
+        named.camera.vfov_deg = vertical;
+        if (orthographic) {
+            named.camera.projection = Projection::kParallel;
+            named.camera.hfov_deg = horizontal;
+        }
         scene_.cameras.push_back(named);
     }
 
-    // KHR_lights_punctual: point (and spot) lights become small spheres of `light` material
-    // with the same intensity (radiance = intensity / (pi r^2)), sized by the scene.
+    // KHR_lights_punctual: point and spot lights become small spheres of `light` material
+    // with the same intensity (radiance = intensity / (pi r^2)), sized by the scene; a spot
+    // keeps its cone; a directional light becomes a distant light the size of the sun.
     void add_lights() {
         const auto& m = doc_.model;
         if (pending_lights_.empty()) return;
@@ -342,19 +358,49 @@ private:
             }
             const tinygltf::Light& light = m.lights[size_t(pending.index)];
             const std::string name = !light.name.empty() ? light.name : !pending.node.empty() ? pending.node : fmt::format("light{}", pending.index);
-            if (light.type == "directional") {
-                sink_.report("W311", doc_.at(pending.at), fmt::format("directional light '{}' is not rendered: crex has no distant lights", name));
+            if (light.type != "point" && light.type != "spot" && light.type != "directional") {
+                sink_.report("W311", doc_.at(pending.at), fmt::format("light '{}' is of type '{}': it is not rendered", name, light.type));
                 continue;
             }
-            if (light.type == "spot")
-                sink_.report("W311", doc_.at(pending.at), fmt::format("spot light '{}' is rendered as a point light: its cone is not", name));
             Vec3 colour{1, 1, 1};
             if (light.color.size() == 3) colour = vmax(Vec3{light.color[0], light.color[1], light.color[2]}, Vec3{});
             const double intensity = std::isfinite(light.intensity) ? std::max(light.intensity, 0.0) : 0.0;
+            const Vec3 max_radiance{kMaxRadiance, kMaxRadiance, kMaxRadiance};
             Material mat;
             mat.name = fmt::format("{}/light:{}#{}", std::filesystem::path(path_).stem().string(), name, pending.index);
             mat.type = MaterialType::kLight;
-            mat.color = vmin(colour * (intensity / (3.14159265358979323846 * radius * radius)), Vec3{kMaxRadiance, kMaxRadiance, kMaxRadiance});
+            if (light.type == "directional") {
+                // A distant `light` of the sun's size along the node's +z (it shines along -z),
+                // its illuminance (lux) kept: radiance = intensity / the disk's solid angle.
+                DistantLight d;
+                d.name = "light:" + name;
+                d.material = mat.name;
+                d.direction = normalize_or_zero(pending.world.vector({0, 0, 1}));
+                d.angle_deg = kSunAngleDeg;
+                const double solid_angle = 2 * 3.14159265358979323846 * (1 - std::cos(kSunAngleDeg * 3.14159265358979323846 / 360));
+                mat.color = vmin(colour * (intensity / solid_angle), max_radiance);
+                if (d.direction == Vec3{}) {
+                    sink_.report("W311", doc_.at(pending.at), fmt::format("directional light '{}': its node's transform has no direction; it is not rendered", name));
+                    continue;
+                }
+                if (!scene_.find_material(mat.name)) scene_.materials.push_back(mat), used_.push_back(true);
+                scene_.distant_lights.push_back(d);
+                continue;
+            }
+            mat.color = vmin(colour * (intensity / (3.14159265358979323846 * radius * radius)), max_radiance);
+            if (light.type == "spot") {
+                // crex's spotlight: a hard cone at glTF's outer angle (a half angle; crex's is
+                // the whole), along the node's -z, its focus at the bulb (no extra falloff).
+                const double outer = std::isfinite(light.spot.outerConeAngle) ? std::clamp(light.spot.outerConeAngle, 0.0, 3.14159265358979323846 / 2) : 0.785398;
+                Spot spot;
+                spot.angle_deg = 2 * outer * 180 / 3.14159265358979323846;
+                spot.direction = normalize_or_zero(pending.world.vector({0, 0, -1})) * (1e-6 * radius);
+                if (spot.direction != Vec3{} && spot.angle_deg > 0) mat.spot = spot;
+                if (light.spot.innerConeAngle < outer)
+                    sink_.report("W311", doc_.at(pending.at), fmt::format("spot light '{}': its cone's soft edge (inner angle {:g}, outer {:g}) "
+                                                                          "is rendered as a hard edge at the outer angle", name,
+                                                                          light.spot.innerConeAngle, outer));
+            }
             if (!scene_.find_material(mat.name)) {
                 scene_.materials.push_back(mat);
                 used_.push_back(true);

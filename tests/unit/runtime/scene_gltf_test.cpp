@@ -62,12 +62,12 @@ std::string buffers() {
 
 // The test scene: a root node moved by (1, 0, 0) whose child is turned a quarter turn about
 // +y and scaled by 2, holding the triangle; materials of every kind; two cameras and an
-// orthographic one; a point and a directional light; tagged nodes.
+// orthographic one; a point, a spot and a directional light; tagged nodes.
 std::string room_gltf() {
     return R"({"asset": {"version": "2.0"},
   "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission", "KHR_texture_transform", "KHR_materials_emissive_strength"],
   "scene": 0,
-  "scenes": [{"nodes": [0, 3, 4, 5, 6, 7, 8, 9]}],
+  "scenes": [{"nodes": [0, 3, 4, 5, 6, 7, 8, 9, 10]}],
   "nodes": [
     {"name": "root", "translation": [1, 0, 0], "children": [1]},
     {"name": "task2:cup", "rotation": [0, 0.7071067811865476, 0, 0.7071067811865476], "scale": [2, 2, 2], "mesh": 0},
@@ -78,7 +78,9 @@ std::string room_gltf() {
     {"name": "side", "camera": 1, "matrix": [0,0,-1,0, 0,1,0,0, 1,0,0,0, 5,0,0,1]},
     {"name": "plan", "camera": 2, "translation": [0, 5, 0]},
     {"name": "bulb", "translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
-    {"name": "sun", "extensions": {"KHR_lights_punctual": {"light": 1}}}],
+    {"name": "sun", "rotation": [-0.7071067811865476, 0, 0, 0.7071067811865476], "extensions": {"KHR_lights_punctual": {"light": 1}}},
+    {"name": "reading", "translation": [0, 3, 0], "rotation": [-0.7071067811865476, 0, 0, 0.7071067811865476],
+     "extensions": {"KHR_lights_punctual": {"light": 2}}}],
   "meshes": [
     {"name": "cup", "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 2}, "indices": 1, "material": 0}]},
     {"name": "screen", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 1},
@@ -102,7 +104,9 @@ std::string room_gltf() {
               {"type": "orthographic",
                "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}],
   "extensions": {"KHR_lights_punctual": {"lights": [{"name": "bulb", "type": "point", "intensity": 10, "color": [1, 0.5, 1]},
-                                                   {"name": "sun", "type": "directional"}]}},
+                                                   {"name": "sun", "type": "directional", "intensity": 3},
+                                                   {"name": "reading", "type": "spot", "intensity": 20,
+                                                    "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}}]}},
   )" + kBufferViews + ",\n  " + buffers() + "}";
 }
 
@@ -172,10 +176,14 @@ TEST(SceneGltf, CamerasLightsAndTags) {
     auto r = testing::load_path(write("room.gltf", room_gltf()));
     ASSERT_TRUE(r.scene);
     Scene s = *r.scene;
-    ASSERT_EQ(s.cameras.size(), 2u);  // the orthographic one is not used
+    ASSERT_EQ(s.cameras.size(), 3u);
     EXPECT_EQ(s.cameras[0].name, "front");
     EXPECT_EQ(s.cameras[1].name, "side");
     EXPECT_NEAR(s.camera.vfov_deg, 0.7 * 180 / M_PI, 1e-9);
+    // The orthographic camera: crex's parallel view, its height and width twice ymag and xmag.
+    EXPECT_EQ(s.cameras[2].camera.projection, Projection::kParallel);
+    EXPECT_NEAR(s.cameras[2].camera.vfov_deg, 2, 1e-12);
+    EXPECT_NEAR(s.cameras[2].camera.hfov_deg, 2, 1e-12);
     EXPECT_EQ(select_camera(s, "side"), "");
     EXPECT_NEAR(s.camera.position.x, 5, 1e-12);
     EXPECT_NEAR(s.camera.direction.x, -1, 1e-12);  // the node's -z turned to -x
@@ -188,8 +196,27 @@ TEST(SceneGltf, CamerasLightsAndTags) {
     ASSERT_TRUE(m);
     EXPECT_NEAR(m->color.x * M_PI * bulb->radius * bulb->radius, 10, 1e-9);
     EXPECT_NEAR(m->color.y * M_PI * bulb->radius * bulb->radius, 5, 1e-9);
+    EXPECT_FALSE(m->spot);
+    // The spot light: the same sphere, with a hard cone at the outer angle (crex's angle is the
+    // whole cone), pointing down (the node's -z turned to -y).
+    const Shape* reading = shape_named(s, "light:reading");
+    ASSERT_TRUE(reading);
+    const Material* spot = s.find_material(reading->material);
+    ASSERT_TRUE(spot && spot->spot);
+    EXPECT_NEAR(spot->spot->angle_deg, 2 * 0.5 * 180 / M_PI, 1e-9);
+    EXPECT_NEAR(normalize_or_zero(spot->spot->direction).y, -1, 1e-9);
+    EXPECT_NEAR(spot->color.x * M_PI * reading->radius * reading->radius, 20, 1e-9);
+    // The directional light: a distant light towards the node's +z (turned to +y: the sun is
+    // overhead, shining down), its illuminance kept: radiance x the disk's solid angle.
+    ASSERT_EQ(s.distant_lights.size(), 1u);
+    const DistantLight& sun = s.distant_lights[0];
+    EXPECT_NEAR(sun.direction.y, 1, 1e-9);
+    const Material* sun_light = s.find_material(sun.material);
+    ASSERT_TRUE(sun_light);
+    EXPECT_EQ(sun_light->type, MaterialType::kLight);
+    EXPECT_NEAR(sun_light->color.x * 2 * M_PI * (1 - std::cos(sun.angle_deg * M_PI / 360)), 3, 1e-9);
     const Census c = take_census(s);
-    EXPECT_EQ(c.sampled_emitters, 2u);  // the bulb and the panel
+    EXPECT_EQ(c.sampled_emitters, 4u);  // the bulb, the spot, the sun and the panel
     // Tags from a node name and from extras (inherited by nothing else here).
     ASSERT_TRUE(shape_named(s, "task2:cup")->tag);
     EXPECT_EQ(shape_named(s, "task2:cup")->tag->name, "cup");
@@ -203,7 +230,7 @@ TEST(SceneGltf, CamerasLightsAndTags) {
 TEST(SceneGltf, WhatItCannotRenderIsALocatedWarning) {
     auto r = testing::load_path(write("room.gltf", room_gltf()));
     ASSERT_TRUE(r.scene);
-    // Lines (mode 1), the orthographic camera, the directional light: each at its own line.
+    // Lines (mode 1) and the spot's soft edge: each at its own line.
     const std::string text = room_gltf();
     auto line_of = [&](const std::string& needle) {
         const size_t at = text.find(needle);
@@ -218,16 +245,13 @@ TEST(SceneGltf, WhatItCannotRenderIsALocatedWarning) {
             EXPECT_EQ(at.line, line_of("\"mode\": 1"));
             found.push_back("lines");
         }
-        if (d.message.find("orthographic") != std::string::npos) {
-            EXPECT_EQ(at.line, line_of("{\"type\": \"orthographic\""));
-            found.push_back("ortho");
-        }
-        if (d.message.find("directional") != std::string::npos) {
-            EXPECT_EQ(at.line, line_of("\"name\": \"sun\", \"extensions\""));
-            found.push_back("sun");
+        if (d.message.find("soft edge") != std::string::npos) {
+            EXPECT_EQ(at.line, line_of("\"extensions\": {\"KHR_lights_punctual\": {\"light\": 2}}"));
+            found.push_back("spot");
         }
     }
-    EXPECT_EQ(found.size(), 3u);
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, (std::vector<std::string>{"lines", "spot"}));
 }
 
 TEST(SceneGltf, BrokenFilesAreLocatedErrors) {
