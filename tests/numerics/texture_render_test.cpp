@@ -16,6 +16,7 @@
 #include <filesystem>
 
 #include "runtime/io/image_io.h"
+#include "tests/support/scene_helpers.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -23,15 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A scratch folder of this test binary's own (tests run in parallel).
-fs::path scratch() {
-    static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("crex_texture_render_" + std::to_string(::getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
-}
+fs::path scratch() { return testing::scratch_folder("crex_texture_render_"); }
 
 // Writes an RGB image (float EXR, or 8-bit PNG whose bytes are round(255 v)).
 std::string write_texture(const std::string& name, int w, int h, const std::vector<float>& rgb) {

@@ -180,44 +180,24 @@ int component_bytes(int type) {
     }
 }
 
+// One value of type T at p (an accessor's bytes need not be aligned).
+template <class T>
+double load(const unsigned char* p) {
+    T v;
+    std::memcpy(&v, p, sizeof v);
+    return static_cast<double>(v);
+}
+
 double component_value(const unsigned char* p, int type, bool normalized) {
     switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE: {
-        int8_t v;
-        std::memcpy(&v, p, 1);
-        return normalized ? std::max(v / 127.0, -1.0) : v;
-    }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return normalized ? std::max(load<int8_t>(p) / 127.0, -1.0) : load<int8_t>(p);
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
-    case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        int16_t v;
-        std::memcpy(&v, p, 2);
-        return normalized ? std::max(v / 32767.0, -1.0) : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        uint16_t v;
-        std::memcpy(&v, p, 2);
-        return normalized ? v / 65535.0 : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_INT: {
-        int32_t v;
-        std::memcpy(&v, p, 4);
-        return v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-        uint32_t v;
-        std::memcpy(&v, p, 4);
-        return v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-        float v;
-        std::memcpy(&v, p, 4);
-        return v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_DOUBLE: {
-        double v;
-        std::memcpy(&v, p, 8);
-        return v;
-    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return normalized ? std::max(load<int16_t>(p) / 32767.0, -1.0) : load<int16_t>(p);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return normalized ? load<uint16_t>(p) / 65535.0 : load<uint16_t>(p);
+    case TINYGLTF_COMPONENT_TYPE_INT: return load<int32_t>(p);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load<uint32_t>(p);
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return load<float>(p);
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE: return load<double>(p);
     default: return 0;
     }
 }

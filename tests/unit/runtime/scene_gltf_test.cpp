@@ -19,14 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch() {
-    static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("crex_gltf_test_" + std::to_string(::getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
-}
+fs::path scratch() { return testing::scratch_folder("crex_gltf_test_"); }
 
 std::string write(const std::string& name, const std::string& bytes) {
     const std::string path = (scratch() / name).string();
