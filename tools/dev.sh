@@ -55,7 +55,10 @@ run_tests() {
   # image plugin (libcrex_oiio.so) and LSan's tracer crashed there in about one run in five
   # ("Tracer caught signal 11", as in google/sanitizers#1353); without the interception,
   # 0 of 60 runs failed.
-  (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0 \
+  # new_delete_type_mismatch=0: OpenImageIO 2.4's TextureSystem::destroy deletes its
+  # implementation through the base class, so ASan sees a sized delete of 1 byte for an object of
+  # 184 (inside libOpenImageIO, not crex; the leak check still finds nothing left behind).
+  (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0:new_delete_type_mismatch=0 \
       LSAN_OPTIONS=suppressions="$ROOT/tools/lsan.supp" \
       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --output-on-failure -j "$JOBS" -L '^(unit|diag|cli|numerics)$')
