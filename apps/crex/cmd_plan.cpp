@@ -8,15 +8,12 @@
 #include "apps/crex/exit_codes.h"
 #include "apps/crex/input_files.h"
 #include "apps/crex/scene_input.h"
-#include "base/render_text.h"
-#include "compiler/crex/compile.h"
 #include "apps/crex/pipeline_input.h"
+#include "base/render_text.h"
+#include "compiler/compiler.h"
 #include "compiler/pipeline/print.h"
-#include "compiler/plan/emit_plan.h"
 #include "compiler/sched/print.h"
-#include "compiler/plan/plan_pipeline.h"
 #include "runtime/base/atomic_file.h"
-#include "runtime/scene/census.h"
 
 namespace crex::app {
 namespace {
@@ -142,17 +139,9 @@ int run_plan(const PlanOptions& opt) {
         std::cerr << fmt::format("crex plan: {} error{}; no plan\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
         return kExitInputErrors;
     }
-    CrexPlan plan;
-    plan.source = opt.crex;
-    plan.where = SourceLocation::of(compiled.span);
-    plan.program = *compiled.program;
-    if (scene) {
-        Census census = take_census(*scene->scene);
-        plan.pruned = find_dead_steps(plan.program, census.spawnable);
-        plan.program = prune_dead_steps(plan.program, census.spawnable);
-        plan.scene = opt.scene;
-        plan.census_hash = census_hash_hex(census.hash);
-    }
+    std::optional<SceneFacts> facts;
+    if (scene) facts = scene_facts(opt.scene, *scene->scene);
+    const CrexPlan plan = plan_crex(opt.crex, compiled, facts ? &*facts : nullptr);
     return write_output(opt, opt.format == "json" ? plan_to_json(plan).dump(2) + "\n"
                              : opt.format == "dot" ? plan_to_dot(plan)
                                                     : plan_to_text(plan));

@@ -57,8 +57,8 @@ std::optional<int> read_run_input(RunOptions& opt, RunInput& in) {
             return kExitFailure;
         }
         if (pipe->plan) {
-            if (auto it = pipe->resolved->top.find("budget"); opt.budget.empty() && it != pipe->resolved->top.end() && !it->second.empty())
-                opt.budget_origin = format_location(it->second[0].span);
+            if (const auto& budget = pipe->plan->settings.budget; opt.budget.empty() && budget && budget->where.known())
+                opt.budget_origin = budget->where.to_string();
             // Where the pipeline sets a limit, for W404 (a flag given overrides it: said as the flag's).
             for (auto [key, given, origin] : {std::tuple{"max_depth", opt.max_depth_given, &opt.max_depth_origin},
                                               std::tuple{"lw", opt.lw_given, &opt.lw_origin}, std::tuple{"ab", opt.ab_given, &opt.ab_origin}})

@@ -207,8 +207,7 @@ std::optional<int> make_run_setup(const RunOptions& opt, const RunInput& in, Run
             }
     }
     // The irradiance cache: --ic, --ic-file, or a pipeline that has one.
-    bool wants_cache = opt.ic || !opt.ic_file.empty();
-    for (const auto& n : in.plan.nodes) wants_cache |= n.id == "irradiance_cache";
+    const bool wants_cache = opt.ic || !opt.ic_file.empty() || in.plan.irradiance_cache;
     if (wants_cache) {
         IcSettings ics;
         ics.accuracy = opt.aa, ics.divisions = opt.ad, ics.bounces = opt.ab, ics.resolution = opt.ar;

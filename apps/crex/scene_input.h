@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "compiler/compiler.h"
 #include "runtime/scene/load_scene.h"
 
 namespace crex::app {
@@ -17,5 +18,8 @@ struct SceneInput {
 };
 
 std::unique_ptr<SceneInput> load_scene_input(const std::string& spec, DiagnosticSink& sink);
+
+/// What the compiler plans a scene by: its census, named `spec`.
+SceneFacts scene_facts(const std::string& spec, const Scene& scene);
 
 }  // namespace crex::app

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "base/source.h"
 #include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/settings_table.h"
 #include "compiler/sched/program.h"
@@ -23,6 +24,8 @@ namespace crex {
 struct PlanBudget {
     double amount = 0;
     bool percent = false;
+    /// Where the pipeline says it (a runtime error about it points there); unknown in a kept plan.
+    SourceLocation where;
 };
 
 /// The pipeline's settings (compiler/pipeline/settings_table.h gives their ranges); unset ones
@@ -92,8 +95,8 @@ struct PlanBuffer {
     std::string buffer;
 };
 
-/// A graph node, for the picture (DOT) and the JSON graph: what the runtime executes is in the
-/// typed fields of PipelinePlan. params holds only a crex stage's "crex".
+/// A graph node, for the picture (DOT) and the JSON graph only: what the runtime executes is in
+/// the typed fields of PipelinePlan. params holds only a crex stage's "crex".
 struct PlanNode {
     std::string id, kind, stage, label;
     nlohmann::json params = nlohmann::json::object();
@@ -108,6 +111,7 @@ struct PlanRemoval {
     std::string what, at, reason;
 };
 
+/// What the runtime executes, as typed fields (spec/pipeline.md §3); `nodes` and `edges` draw it.
 struct PipelinePlan {
     std::string name;
     std::vector<std::string> chain;
@@ -116,11 +120,16 @@ struct PipelinePlan {
     PlanSettings settings;
     PlanOutputs outputs;
     sched::Program program;  ///< .preselective / .selective: the two stages' programs
+    /// A pipeline runs in stages (preview, guidance, selective: spec §1); a crex's plan (false)
+    /// runs both programs in every sample pass.
+    bool staged = false;
+    /// D through a Ward irradiance cache (`vary ic_radius` with a D step left for the scene).
+    bool irradiance_cache = false;
     std::vector<PlanMap> maps;               ///< live maps and nested calls, inputs before their users
     std::vector<PlanBuffer> buffers;
     std::vector<PlanVariable> variables;
     std::string modulation_map;              ///< node id of the map modulating `{ }`, "" when none
-    std::vector<PlanNode> nodes;
+    std::vector<PlanNode> nodes;             ///< the graph: for pictures (DOT) and people (JSON) only
     std::vector<PlanEdge> edges;
     std::vector<PlanRemoval> pruned;
 };

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <numbers>
 #include <set>
@@ -74,7 +75,7 @@ PlanSettings typed_settings(const pipeline::ResolvedPipeline& p) {
     if (auto v = number("ad")) s.ad = static_cast<uint32_t>(*v);
     if (auto it = p.top.find("budget"); it != p.top.end() && it->second.size() == 1) {
         const Value& b = it->second[0];
-        s.budget = PlanBudget{b.unit == "ms" ? b.number / 1000 : b.number, b.unit == "%"};
+        s.budget = PlanBudget{b.unit == "ms" ? b.number / 1000 : b.number, b.unit == "%", SourceLocation::of(b.span)};
     }
     if (auto name = text("policy"); !name.empty()) s.policy = pipeline::scheduling_policy_from_name(name);
     s.reference = text("reference");
@@ -188,38 +189,40 @@ private:
 
 }  // namespace
 
-std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, const std::optional<BinSet>& spawnable,
-                                          const std::string& scene, const std::string& census_hash, DiagnosticSink& sink) {
-    PipelinePlan plan;
+bool lower_stages(const pipeline::ResolvedPipeline& p, PipelinePlan& plan, DiagnosticSink& sink) {
     plan.name = p.name;
     plan.chain = p.chain;
-    plan.scene = scene;
-    plan.census_hash = census_hash;
+    plan.staged = true;
     plan.settings = typed_settings(p);
-    // Stage programs.
-    size_t errors = sink.error_count();
+    const size_t errors = sink.error_count();
     plan.program.preselective.op = plan.program.selective.op = sched::Op::kSeq;
     if (p.preselective.crex)
         if (auto n = stage_program(*p.preselective.crex, sink)) plan.program.preselective = *n;
     if (p.selective.crex)
         if (auto n = stage_program(*p.selective.crex, sink)) plan.program.selective = *n;
-    if (sink.error_count() != errors) return std::nullopt;
+    if (sink.error_count() != errors) return false;
     // The modulation map of the selective crex names its `{ }` groups' map.
-    std::string modulation = p.selective.crex_by ? expr_text(*p.selective.crex_by) : "importance";
+    const std::string modulation = p.selective.crex_by ? expr_text(*p.selective.crex_by) : "importance";
     std::function<void(sched::Node&)> name_map = [&](sched::Node& n) {
         if (n.op == sched::Op::kModulate) n.map = modulation;
         for (auto& c : n.children) name_map(c);
     };
     name_map(plan.program.selective);
+    return true;
+}
 
-    if (spawnable) {
-        for (const auto& d : find_dead_steps(plan.program, *spawnable))
-            plan.pruned.push_back({fmt::format("step {}", component_letter(d.component)), d.where.to_string(), d.reason});
-        plan.program = prune_dead_steps(plan.program, *spawnable);
-    }
-    bool d_left = has_exec(plan.program.preselective, Component::kD) || has_exec(plan.program.selective, Component::kD);
+void prune_steps_for_scene(const BinSet& spawnable, const std::string& scene, const std::string& census_hash, PipelinePlan& plan) {
+    plan.scene = scene;
+    plan.census_hash = census_hash;
+    for (const auto& d : find_dead_steps(plan.program, spawnable))
+        plan.pruned.push_back({fmt::format("step {}", component_letter(d.component)), d.where.to_string(), d.reason});
+    plan.program = prune_dead_steps(plan.program, spawnable);
+}
 
-    // Which variables survive: without a D step there is no irradiance cache to vary.
+std::vector<const pipeline::ResolvedVariable*> prune_variables(const pipeline::ResolvedPipeline& p, PipelinePlan& plan) {
+    const bool d_left = has_exec(plan.program.preselective, Component::kD) || has_exec(plan.program.selective, Component::kD);
+    // The cache exists while a D step is left; without one there is no cache to vary.
+    plan.irradiance_cache = d_left && std::any_of(p.vary.begin(), p.vary.end(), [](const auto& v) { return v.name == "ic_radius"; });
     std::vector<const pipeline::ResolvedVariable*> vary;
     for (const auto& v : p.vary) {
         if (v.name == "ic_radius" && !d_left) {
@@ -235,7 +238,11 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         }
         vary.push_back(&v);
     }
-    // Maps consumed by something that survives (transitively through other maps).
+    return vary;
+}
+
+std::set<std::string> mark_live_maps(const pipeline::ResolvedPipeline& p, const std::vector<const pipeline::ResolvedVariable*>& vary,
+                                     PipelinePlan& plan) {
     std::map<std::string, const Expr*> defs;
     for (const auto& [name, e] : p.maps) defs[name] = &e;
     std::set<std::string> live;
@@ -248,13 +255,13 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
     };
     for (const auto* v : vary) use(v->by);
     if (p.selective.crex_by) use(*p.selective.crex_by);
-    std::set<std::string> maps;
-    for (const auto& [name, e] : p.maps) {
-        if (live.count(name)) maps.insert(name);
-        else plan.pruned.push_back({"map " + name, "", "no selective variable or crex consumes it"});
-    }
+    for (const auto& [name, e] : p.maps)
+        if (!live.count(name)) plan.pruned.push_back({"map " + name, "", "no selective variable or crex consumes it"});
+    return live;
+}
 
-    // The graph.
+void build_plan_graph(const pipeline::ResolvedPipeline& p, const std::vector<const pipeline::ResolvedVariable*>& vary,
+                      const std::set<std::string>& maps, PipelinePlan& plan) {
     GraphBuilder g(plan);
     g.node("camera", "camera", "preselective", "camera rays");
     g.node("preselective", "crex", "preselective", "pre-selective crex", {{"crex", sched::to_crex(plan.program.preselective)}});
@@ -309,13 +316,11 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         typed.map = from;
         plan.variables.push_back(typed);
     }
-    bool wants_cache = false;
-    for (const auto& v : p.vary) wants_cache |= v.name == "ic_radius";
-    if (wants_cache && d_left) {
+    if (plan.irradiance_cache) {
         g.node("irradiance_cache", "cache", "selective", "irradiance cache");
         g.edge("preselective", "irradiance_cache", "cache", "records");
         g.edge("irradiance_cache", "selective", "cache", "records");
-    } else if (wants_cache) {
+    } else if (std::any_of(p.vary.begin(), p.vary.end(), [](const auto& v) { return v.name == "ic_radius"; })) {
         plan.pruned.push_back({"irradiance cache", "", "no D step is left for this scene"});
     }
     g.node("composite", "composite", "output", "composite");
@@ -330,6 +335,17 @@ std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, c
         g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)));
         g.edge("composite", "output." + key, "image");
     }
+}
+
+std::optional<PipelinePlan> plan_pipeline(const pipeline::ResolvedPipeline& p, const std::optional<BinSet>& spawnable,
+                                          const std::string& scene, const std::string& census_hash, DiagnosticSink& sink) {
+    PipelinePlan plan;
+    if (!lower_stages(p, plan, sink)) return std::nullopt;
+    if (spawnable) prune_steps_for_scene(*spawnable, scene, census_hash, plan);
+    else plan.scene = scene, plan.census_hash = census_hash;
+    const std::vector<const pipeline::ResolvedVariable*> vary = prune_variables(p, plan);
+    const std::set<std::string> maps = mark_live_maps(p, vary, plan);
+    build_plan_graph(p, vary, maps, plan);
     return plan;
 }
 
@@ -397,6 +413,7 @@ nlohmann::json pipeline_plan_to_json(const PipelinePlan& plan) {
     for (const auto& m : plan.maps) j["maps"].push_back(plan_map_to_json(m));
     j["buffers"] = nlohmann::json::array();
     for (const auto& b : plan.buffers) j["buffers"].push_back({{"id", b.id}, {"buffer", b.buffer}});
+    j["irradiance_cache"] = plan.irradiance_cache;
     j["modulation_map"] = plan.modulation_map.empty() ? nlohmann::json(nullptr) : nlohmann::json(plan.modulation_map);
     j["stages"] = {{"preselective", schedule_to_json(plan.program.preselective)}, {"selective", schedule_to_json(plan.program.selective)}};
     j["nodes"] = nlohmann::json::array();

@@ -238,7 +238,7 @@ public:
             const char* key = percent ? "percent" : "seconds";
             if (!number(b, ptr + "/budget", key, v)) return false;
             if (auto e = pipeline::budget_range_error(v, percent); !e.empty()) return fail(ptr + "/budget/" + key, "expected " + e);
-            out.budget = PlanBudget{v, percent};
+            out.budget = PlanBudget{v, percent, {}};
         }
         if (s.contains("policy")) {
             std::string name;
@@ -491,6 +491,13 @@ public:
             p.variables.push_back(var);
         }
         if (!read_guidance(j, index, p)) return false;
+        p.staged = true;
+        if (j.contains("irradiance_cache")) {
+            if (!j["irradiance_cache"].is_boolean()) return fail("/irradiance_cache", "expected true or false");
+            p.irradiance_cache = j["irradiance_cache"].get<bool>();
+        } else {  // plans of format 2 written before the field: the graph has the cache node
+            p.irradiance_cache = index.count("irradiance_cache") > 0;
+        }
         if (j.contains("modulation_map") && !j["modulation_map"].is_null()) {
             if (!text(j, "", "modulation_map", p.modulation_map, true)) return false;
             if (!index.count(p.modulation_map)) return fail("/modulation_map", fmt::format("no node '{}' in the plan", p.modulation_map));

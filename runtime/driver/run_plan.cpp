@@ -76,7 +76,7 @@ void refuse_what_cannot_fit(const PipelinePlan& plan, const RunSettings& s) {
     const std::optional<size_t> available = memory_available_bytes();
     if (!available) return;
     const size_t pixels = static_cast<size_t>(s.width) * static_cast<size_t>(s.height);
-    const size_t needed = fixed_bytes(pixels, subsampled_components(plan), !plan.nodes.empty());
+    const size_t needed = fixed_bytes(pixels, subsampled_components(plan), plan.staged);
     if (needed <= *available) return;
     constexpr double kGB = 1e9;
     throw std::runtime_error(fmt::format(
@@ -84,7 +84,7 @@ void refuse_what_cannot_fit(const PipelinePlan& plan, const RunSettings& s) {
         "ambient stand-ins, {}the output images), more than the {:.1f} GB of memory and swap this machine has "
         "free; render it smaller (--size)",
         s.width, s.height, static_cast<double>(needed) / kGB, (needed - kBaselineBytes) / std::max<size_t>(pixels, 1),
-        plan.nodes.empty() ? "" : "guidance's buffers, ", static_cast<double>(*available) / kGB));
+        plan.staged ? "guidance's buffers, " : "", static_cast<double>(*available) / kGB));
 }
 
 bool needs_probe(const PipelinePlan& plan) {
@@ -811,7 +811,7 @@ RunResult PlanRun::execute() {
     ambient_.assign(3 * pixels, 0.0);
     // A pipeline runs in stages (its preview is kept and shown); a bare crex runs each pass
     // through both programs.
-    out_.staged = !plan_.nodes.empty();
+    out_.staged = plan_.staged;
     if (out_.staged && !s_.windows.empty())  // guidance reads the whole preview: a window has no meaning there
         throw RunInputError("only a plain crex renders windows of the frame, not a pipeline");
     if (s_.uniform != UniformQuality::kOff && !has_guidance(plan_))
