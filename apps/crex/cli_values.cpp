@@ -1,8 +1,13 @@
 #include "apps/crex/cli_values.h"
 
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "base/number_range.h"
+#include "compiler/pipeline/settings_table.h"
 
 namespace crex::app {
 namespace {
@@ -30,6 +35,41 @@ bool parse_image_size(const std::string& text, int& width, int& height) {
         return v >= 1 && v <= 16384;
     };
     return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
+}
+
+std::string parse_budget(const std::string& text, PlanBudget& budget) {
+    std::string t = text;
+    budget = {};
+    double scale = 1;
+    const std::string expected = "expected a time with its unit, e.g. 10s, 500ms or 25%";  // as in the pipeline language
+    if (t.size() > 2 && t.substr(t.size() - 2) == "ms") t.resize(t.size() - 2), scale = 1e-3;
+    else if (!t.empty() && t.back() == 's') t.pop_back();
+    else if (!t.empty() && t.back() == '%') t.pop_back(), budget.percent = true;
+    else return expected;
+    auto v = parse_number_text(t);
+    if (!v) return expected;
+    budget.amount = *v * scale;
+    if (std::string range = pipeline::budget_range_error(budget.amount, budget.percent); !range.empty())
+        return fmt::format("{}: expected {}", std::isnan(budget.amount)   ? "nan is not a number"
+                                              : std::isinf(budget.amount) ? "it is infinite"
+                                                                          : "out of range",
+                           range);
+    return "";
+}
+
+bool parse_ambient(const std::string& text, AmbientStandIn& ambient) {
+    ambient = {};
+    if (text == "auto") {
+        ambient.automatic = true;
+        return true;
+    }
+    try {
+        size_t used = 0;
+        ambient.value = std::stod(text, &used);
+        return used == text.size() && std::isfinite(ambient.value) && ambient.value >= 0 && ambient.value <= 1e30;
+    } catch (const std::exception&) {
+        return false;
+    }
 }
 
 }  // namespace crex::app

@@ -6,6 +6,9 @@
 
 #include <string>
 
+#include "compiler/plan/pipeline_plan.h"
+#include "runtime/api/run_options.h"
+
 namespace crex::app {
 
 /// Every numeric flag's check (base/number_range.h): the whole text a number in [lo, hi];
@@ -21,5 +24,12 @@ CLI::Validator seed_value();
 
 /// "WIDTHxHEIGHT" with 1..16384 each, nothing else.
 bool parse_image_size(const std::string& text, int& width, int& height);
+
+/// --budget: "10s", "500ms" or "25%" (of the full render time in the profile); a unit is
+/// required, and its range is the pipeline language's (settings_table.h). "" or what is wrong.
+std::string parse_budget(const std::string& text, PlanBudget& budget);
+
+/// --ambient: "auto", or a radiance from 0 to 1e30.
+bool parse_ambient(const std::string& text, AmbientStandIn& ambient);
 
 }  // namespace crex::app

@@ -5,12 +5,10 @@
 #include <memory>
 
 #include "apps/crex/commands.h"
-#include "apps/crex/exit_codes.h"
-#include "apps/crex/input_files.h"
+#include "base/exit_codes.h"
 #include "base/render_json.h"
 #include "base/render_text.h"
-#include "apps/crex/pipeline_input.h"
-#include "apps/crex/scene_input.h"
+#include "runtime/api/run_inputs.h"
 #include "compiler/crex/compile.h"
 #include "compiler/plan/bin_occupancy.h"
 #include "runtime/scene/census.h"
@@ -86,8 +84,8 @@ int run_check(const CheckOptions& opt) {
                 std::cerr << render_text(sink.sorted()) << "crex check: error: " << in->failure << "\n";
                 return kExitFailure;
             }
-            if (in->ast && sink.error_count() == errors && !opt.quiet && opt.format == "text")
-                for (const auto& p : in->ast->pipelines)
+            if (in->compiled.ast && sink.error_count() == errors && !opt.quiet && opt.format == "text")
+                for (const auto& p : in->compiled.ast->pipelines)
                     std::cout << fmt::format("{}: ok: pipeline {}\n", format_location(p.name_span), p.name);
             kept_inputs.push_back(std::move(in));
         } else {

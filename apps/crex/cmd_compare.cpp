@@ -11,7 +11,7 @@
 
 #include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
-#include "apps/crex/exit_codes.h"
+#include "base/exit_codes.h"
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/image_comparison.h"

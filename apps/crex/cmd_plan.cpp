@@ -5,10 +5,8 @@
 #include <memory>
 
 #include "apps/crex/commands.h"
-#include "apps/crex/exit_codes.h"
-#include "apps/crex/input_files.h"
-#include "apps/crex/scene_input.h"
-#include "apps/crex/pipeline_input.h"
+#include "base/exit_codes.h"
+#include "runtime/api/run_inputs.h"
 #include "base/render_text.h"
 #include "compiler/compiler.h"
 #include "compiler/pipeline/print.h"
@@ -53,20 +51,20 @@ int dump_after(const PlanOptions& opt, const PipelineInput& in, const Diagnostic
         return kExitInputErrors;
     };
     if (pass == "parse" || pass == "check") {
-        if (!in.ast || (pass == "check" && sink.has_errors())) return failed();
-        int status = write_output(opt, pipeline::print_file(*in.ast));
+        if (!in.compiled.ast || (pass == "check" && sink.has_errors())) return failed();
+        int status = write_output(opt, pipeline::print_file(*in.compiled.ast));
         return status == kExitOk && sink.has_errors() ? kExitInputErrors : status;
     }
-    if (!in.resolved) return failed();
-    if (pass == "resolve") return write_output(opt, pipeline::print_resolved(*in.resolved));
+    if (!in.compiled.resolved) return failed();
+    if (pass == "resolve") return write_output(opt, pipeline::print_resolved(*in.compiled.resolved));
     if (pass == "prune") {
-        if (!in.plan) return failed();
-        return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in.plan).dump(2) + "\n"
-                                 : opt.format == "dot" ? pipeline_plan_to_dot(*in.plan)
-                                                        : pipeline_plan_to_text(*in.plan));
+        if (!in.compiled.plan) return failed();
+        return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in.compiled.plan).dump(2) + "\n"
+                                 : opt.format == "dot" ? pipeline_plan_to_dot(*in.compiled.plan)
+                                                        : pipeline_plan_to_text(*in.compiled.plan));
     }
     DiagnosticSink again;  // compile and plan without the scene; their diagnostics are reported above
-    auto unpruned = plan_pipeline(*in.resolved, std::nullopt, "", "", again);
+    auto unpruned = plan_pipeline(*in.compiled.resolved, std::nullopt, "", "", again);
     if (!unpruned) return failed();
     if (pass == "compile")
         return write_output(opt, fmt::format("preselective: {}\nselective:    {}\n", sched::to_crex(unpruned->program.preselective),
@@ -86,13 +84,13 @@ int plan_pipeline_file(const PlanOptions& opt) {
         return kExitFailure;
     }
     if (!opt.dump_after.empty()) return dump_after(opt, *in, sink);
-    if (!in->plan) {
+    if (!in->compiled.plan) {
         std::cerr << fmt::format("crex plan: {} error{}; no plan\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
         return kExitInputErrors;
     }
-    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in->plan).dump(2) + "\n"
-                             : opt.format == "dot" ? pipeline_plan_to_dot(*in->plan)
-                                                    : pipeline_plan_to_text(*in->plan));
+    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in->compiled.plan).dump(2) + "\n"
+                             : opt.format == "dot" ? pipeline_plan_to_dot(*in->compiled.plan)
+                                                    : pipeline_plan_to_text(*in->compiled.plan));
 }
 
 int run_plan(const PlanOptions& opt) {

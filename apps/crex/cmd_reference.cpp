@@ -8,14 +8,14 @@
 #include <memory>
 
 #include "apps/crex/commands.h"
-#include "apps/crex/exit_codes.h"
 #include "apps/crex/progress.h"
-#include "apps/crex/run_setup.h"
-#include "apps/crex/scene_input.h"
+#include "base/exit_codes.h"
 #include "base/render_text.h"
 #include "compiler/crex/compile.h"
 #include "runtime/io/image_io.h"
 #include "apps/crex/cli_values.h"
+#include "runtime/api/run_inputs.h"
+#include "runtime/api/run_outputs.h"
 #include "runtime/base/atomic_file.h"
 #include "runtime/driver/run_plan.h"
 #include "runtime/reference/reference_render.h"
@@ -245,9 +245,9 @@ int reference(const ReferenceOptions& opt) {
     }
     // -o DIR said "no image writer for 'DIR'" after the whole render.
     if (!opt.output.empty())
-        if (auto failure = check_output_path(opt.output)) {
-            std::cerr << "crex reference: error: " << failure->message << "\n";
-            return failure->exit_code;
+        if (std::string failure = check_output_path(opt.output); !failure.empty()) {
+            std::cerr << "crex reference: error: " << failure << "\n";
+            return kExitFailure;
         }
     if (!opt.windows.empty() || !opt.windows_rule.empty()) return windowed(opt, s.width, s.height);
     s.spp = opt.spp;

@@ -1,133 +1,17 @@
 // `crex run`: execute a crex, a pipeline or a kept plan through the one render driver.
-// The flags are defined here; what they become is run_input.cpp (what to run, the pipeline's
-// settings), run_setup.cpp (the driver's settings, budget, reference) and run_outputs.cpp.
-#include <fmt/format.h>
-#include <tbb/global_control.h>
-
-#include <iostream>
+// The flags are defined here; run_command.cpp turns them into the library's typed options and
+// runs them (runtime/api/).
 #include <memory>
 
 #include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
-#include "apps/crex/distributed.h"
-#include "apps/crex/distributed_input.h"
-#include "apps/crex/exit_codes.h"
-#include "apps/crex/progress.h"
-#include "apps/crex/rank_watchdog.h"
-#include "apps/crex/run_input.h"
-#include "apps/crex/run_options.h"
-#include "apps/crex/run_distributed.h"
-#include "apps/crex/run_outputs.h"
-#include "apps/crex/run_resume.h"
-#include "apps/crex/run_setup.h"
-#include "apps/crex/run_summary.h"
-#include "base/check.h"
+#include "apps/crex/run_command.h"
+#include "apps/crex/run_flags.h"
 
 namespace crex::app {
-namespace {
-
-int run(RunOptions opt) {
-    if (auto exit = parse_ambient(opt, distribution().rank == 0)) return *exit;  // said once under mpirun
-    set_rank_timeout(opt.rank_timeout);  // bounds the wait for rank 0's inputs too
-    // Under mpirun rank 0 alone reads, checks and plans; the others get it as data.
-    RunInput in;
-    RunSetup setup;
-    if (auto exit = read_run_input_on_rank0(opt, in, setup)) return *exit;
-    if (!opt.resume.empty())  // one process only (refused under mpirun by rank 0)
-        if (auto exit = load_resume(opt, in, setup)) return *exit;
-    std::unique_ptr<tbb::global_control> threads;
-    if (opt.threads > 0)
-        threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(opt.threads));
-    if (opt.compare_policies && (!(setup.budget > 0) || !setup.reference)) {
-        std::cerr << "crex run: error: --compare-policies needs a budget (--budget or the pipeline's) and a reference "
-                     "(--reference, or --report with a cached reference)\n";
-        return kExitUsage;
-    }
-    // Under mpirun: this rank's rows, the cache shared as --ic-share says; rank 0 writes.
-    DistributedRun distributed;
-    if (auto exit = distributed.configure(opt, in, setup)) return *exit;
-    const Distribution ranks = distribution();
-    if (distributed.answers_irradiance()) {
-        try {
-            return distributed.serve(in, setup);
-        } catch (const std::exception& e) {  // the PRs would wait for their answers: end them
-            abort_all_ranks(fmt::format("crex run: error: rank {}: answering irradiance queries failed: {}\n", ranks.rank, e.what()),
-                            kExitFailure);
-        }
-    }
-    if (ranks.active() && ranks.rank != 0) opt.quiet = true;
-    std::optional<CheckpointRecorder> recorder;
-    // Under mpirun rank 0's film holds only its own band until the last exchange of rows, so
-    // snapshots during the render would measure rows no rank had sent yet: the error curve
-    // gets one point, the end, with every rank's rows (after finish() below).
-    if ((setup.reference || !opt.report_dir.empty()) && !ranks.active()) {
-        recorder.emplace(opt.checkpoint_interval);
-        setup.settings.recorder = &*recorder;
-    }
-    Progress progress(!opt.quiet && opt.format != "json");
-    setup.settings.progress = [&](const RunProgress& p) { progress.update(p); };
-    std::optional<RunResult> result;
-    try {
-        result.emplace(run_plan(*in.scene->scene, in.plan, setup.settings));
-    } catch (const InternalError& e) {
-        progress.finish();
-        // Under mpirun the other ranks would wait for this one at the next exchange: end them.
-        if (ranks.active()) abort_all_ranks(fmt::format("crex run: internal error on rank {}: {}\n", ranks.rank, e.what()), kExitFailure);
-        throw;  // a bug, not a failed render: main says so
-    } catch (const RunInputError& e) {
-        progress.finish();
-        if (ranks.active()) abort_all_ranks(fmt::format("crex run: error: rank {}: {}\n", ranks.rank, e.what()), kExitInputErrors);
-        std::cerr << "crex run: error: " << e.what() << "\n";
-        return kExitInputErrors;
-    } catch (const std::exception& e) {
-        progress.finish();
-        if (ranks.active()) abort_all_ranks(fmt::format("crex run: error: rank {}: rendering failed: {}\n", ranks.rank, e.what()), kExitFailure);
-        std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
-        return kExitFailure;
-    }
-    progress.finish();
-    for (std::string& w : light_left_out_warnings(*result, setup.settings.executor.shade,
-                                                  setup.settings.irradiance_cache ? &*setup.settings.irradiance_cache : nullptr,
-                                                  {opt.max_depth_origin, opt.lw_origin, opt.ab_origin}))
-        result->warnings.push_back(std::move(w));
-    if (ranks.active()) {
-        if (auto exit = distributed.finish(setup, *result)) return *exit;  // rank 0 goes on to write the outputs
-        if (setup.reference || !opt.report_dir.empty()) {
-            recorder.emplace(opt.checkpoint_interval);
-            for (Checkpoint& c : distributed.exchange_checkpoints()) recorder->add(std::move(c));
-            recorder->add({distributed.slowest_render_seconds(), "end", "end of render (the rows of every rank)",
-                           static_cast<uint64_t>(distributed.rays_over_ranks()), result->image()});
-        }
-    }
-    // The same render under every other policy, from the same profile, for the report's
-    // plot of all of them; nothing of theirs is written but their checkpoints.
-    std::vector<PolicyRun> others;
-    for (std::string_view name : pipeline::scheduling_policy_names()) {
-        if (!opt.compare_policies || name == pipeline::name_of(result->policy)) continue;
-        if (!opt.quiet && opt.format != "json") std::cerr << "crex run: rendering again under policy " << name << "\n";
-        RunSettings s = setup.settings;
-        s.policy = pipeline::scheduling_policy_from_name(name);
-        Profile profile = setup.predicted.value_or(Profile{});
-        s.executor.profile = &profile;
-        s.ic_file.clear();
-        CheckpointRecorder r(opt.checkpoint_interval);
-        s.recorder = &r;
-        s.progress = nullptr;
-        try {
-            run_plan(*in.scene->scene, in.plan, s);
-        } catch (const std::exception& e) {
-            std::cerr << "crex run: error: rendering under policy " << name << " failed: " << e.what() << "\n";
-            return kExitFailure;
-        }
-        others.push_back({std::string(name), r.checkpoints()});
-    }
-    return write_run_outputs(opt, in, setup, *result, recorder ? &*recorder : nullptr, others);
-}
-
-}  // namespace
 
 Runner add_run_command(CLI::App& app) {
-    auto opt = std::make_shared<RunOptions>();
+    auto opt = std::make_shared<RunFlags>();
     CLI::App* cmd = app.add_subcommand("run", "Render a scene with a crex on the component-bin renderer");
     cmd->add_option("plan", opt->plan, "A pipeline file (.pipe), or a plan made by 'crex plan --format json' (instead of -e)");
     cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj, file.gltf, file.glb or builtin:NAME "
@@ -161,7 +45,7 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--clamp", opt->clamp, "Clamp every indirect contribution (a ray of D G S T R M, per camera sample) to at most L "
                                            "in its largest channel, keeping its hue: fewer fireflies, but biased (darker); off by default")
         ->check(number_in(1e-6, 1e30));
-    CLI::Option* ambient = cmd->add_option("--ambient", opt->ambient_text, "Ambient value av standing in for unexecuted D work "
+    cmd->add_option("--ambient", opt->ambient_text, "Ambient value av standing in for unexecuted D work "
                                                                            "(default 0), or 'auto': every unexecuted ray stands in "
                                                                            "with what its component's rays brought back on average "
                                                                            "(the default of pipelines)");
@@ -267,8 +151,8 @@ Examples:
   crex run --size 512x512 --resume out/render.partial.exr   finish a run that failed under mpirun
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
-    return [opt, crex, size, spp, seed, lw, max_depth, ambient, aa, ab, ad] {
-        RunOptions o = *opt;
+    return [opt, crex, size, spp, seed, lw, max_depth, aa, ab, ad] {
+        RunFlags o = *opt;
         o.crex_given = crex->count() > 0;
         o.aa_given = aa->count() > 0;
         o.ab_given = ab->count() > 0;
@@ -276,10 +160,9 @@ Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/
         o.seed_given = seed->count() > 0;
         o.lw_given = lw->count() > 0;
         o.max_depth_given = max_depth->count() > 0;
-        o.ambient_given = ambient->count() > 0;
         o.size_given = size->count() > 0;
         o.spp_given = spp->count() > 0;
-        return run(o);
+        return run_command(o);
     };
 }
 

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "apps/crex/commands.h"
-#include "apps/crex/exit_codes.h"
+#include "base/exit_codes.h"
 #include "base/render_json.h"
 #include "base/render_text.h"
 #include "runtime/base/atomic_file.h"

@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "apps/crex/commands.h"
-#include "apps/crex/distributed.h"
-#include "apps/crex/exit_codes.h"
 #include "base/check.h"
+#include "base/exit_codes.h"
 #include "base/nearest_name.h"
+#include "runtime/distributed/distributed.h"
 
 namespace {
 
@@ -31,7 +31,7 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
     if (!first.empty() && first[0] != '-' && std::find(commands.begin(), commands.end(), first) == commands.end()) {
         std::string hint = capitalised(crex::did_you_mean(first, commands));
         std::cerr << "crex: '" << first << "' is not a crex command." << (hint.empty() ? "" : " " + hint) << " See 'crex --help'.\n";
-        return crex::app::kExitUsage;
+        return crex::kExitUsage;
     }
     const CLI::App* sub = nullptr;
     for (const auto* s : app.get_subcommands({}))
@@ -49,15 +49,16 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
         std::string hint = flag.rfind("--", 0) == 0 ? capitalised(crex::did_you_mean(flag, flags)) : "";
         std::cerr << prefix << ": error: unknown option '" << arg << "'." << (hint.empty() ? "" : " " + hint) << " See '" << prefix
                   << " --help'.\n";
-        return crex::app::kExitUsage;
+        return crex::kExitUsage;
     }
     std::cerr << prefix << ": error: " << what << ". See '" << prefix << " --help'.\n";
-    return crex::app::kExitUsage;
+    return crex::kExitUsage;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    using namespace crex;
     using namespace crex::app;
     // A file-size limit (ulimit -f) is a write failure like a full disk: write() fails with
     // EFBIG, the writer says so and removes its staged file, crex exits 3. By default SIGXFSZ
@@ -79,7 +80,7 @@ int main(int argc, char** argv) {
 
     // Under mpirun every rank parses the same command line: rank 0 alone says what is wrong
     // (or prints the help), and every rank exits with the same code.
-    const bool speaks = distribution().rank == 0;
+    const bool speaks = mpi.leads();
     std::ostringstream silent;
     try {
         app.parse(argc, argv);

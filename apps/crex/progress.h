@@ -1,6 +1,7 @@
 /// \file progress.h
-/// A one-line progress display on stderr (stage, pass, percent, ETA, ray rate), only when stderr is a terminal (quiet in pipes and
-/// CI logs), redrawn at most ten times a second.
+/// What `crex run` and `crex reference` watch a render by: a one-line progress display on
+/// stderr (stage, pass, percent, ETA, ray rate), only when stderr is a terminal (quiet in pipes
+/// and CI logs), redrawn at most ten times a second; and the checkpoints of a report.
 #pragma once
 
 #include <unistd.h>
@@ -9,14 +10,19 @@
 #include <cstdio>
 #include <string>
 
-#include "runtime/driver/run_plan.h"
+#include "runtime/driver/run_observer.h"
 
 namespace crex::app {
 
-class Progress {
+class Progress final : public RunObserver {
 public:
-    explicit Progress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO)) {}
-    ~Progress() { finish(); }
+    /// `recorder`: where a report's checkpoints go (null: none).
+    explicit Progress(bool enabled, CheckpointRecorder* recorder = nullptr)
+        : enabled_(enabled && ::isatty(STDERR_FILENO)), recorder_(recorder) {}
+    ~Progress() override { finish(); }
+
+    void progress(const RunProgress& p) override { update(p); }
+    CheckpointRecorder* checkpoints() override { return recorder_; }
 
     /// "  selective  pass 3/12   41%  ETA 12 s   5.20 M rays/s  D at <crex>:1:7"
     void update(const RunProgress& p) {
@@ -40,6 +46,7 @@ public:
 
 private:
     bool enabled_;
+    CheckpointRecorder* recorder_;
     bool drawn_ = false;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point last_{};

@@ -41,6 +41,9 @@ struct PlanSettings {
     std::optional<PlanBudget> budget;
     std::optional<pipeline::SchedulingPolicy> policy;
     std::string reference;                   ///< "" when none
+    /// Where the pipeline sets the limits whose light left out W404 names (unknown: not set, or
+    /// a kept plan).
+    SourceLocation lw_at, max_depth_at, ab_at;
 };
 
 /// The `output` section.

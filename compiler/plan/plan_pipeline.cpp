@@ -73,6 +73,8 @@ PlanSettings typed_settings(const pipeline::ResolvedPipeline& p) {
     if (auto v = number("max_depth")) s.max_depth = static_cast<uint32_t>(*v);
     if (auto v = number("ab")) s.ab = static_cast<uint32_t>(*v);
     if (auto v = number("ad")) s.ad = static_cast<uint32_t>(*v);
+    for (auto [key, at] : {std::pair{"lw", &s.lw_at}, std::pair{"max_depth", &s.max_depth_at}, std::pair{"ab", &s.ab_at}})
+        if (auto it = p.top.find(key); it != p.top.end() && !it->second.empty()) *at = SourceLocation::of(it->second[0].span);
     if (auto it = p.top.find("budget"); it != p.top.end() && it->second.size() == 1) {
         const Value& b = it->second[0];
         s.budget = PlanBudget{b.unit == "ms" ? b.number / 1000 : b.number, b.unit == "%", SourceLocation::of(b.span)};

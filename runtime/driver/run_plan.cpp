@@ -128,8 +128,9 @@ void add_stand_in(const std::vector<float>& left, const Vec3& av, std::vector<do
 
 class PlanRun {
 public:
-    PlanRun(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings)
-        : scene_(scene), plan_(plan), s_(settings), out_(settings.width, settings.height) {}
+    PlanRun(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings, ProcessGroup& group, RunObserver& observer)
+        : scene_(scene), plan_(plan), s_(settings), group_(group), observer_(observer), recorder_(observer.checkpoints()),
+          out_(settings.width, settings.height) {}
 
     RunResult execute();
 
@@ -149,12 +150,9 @@ private:
     void setup_cache();
     void save_cache();
     void measure_light_left_out();
-    // A batch of D queries answered here, or as RunSettings::answer_ic_queries says.
+    // A batch of D queries answered here, or by another process of the group.
     IcAnswerFn answer_queries() {
-        return [this](const std::vector<IcQuery>& q, std::vector<Vec3>& e) {
-            if (s_.answer_ic_queries) s_.answer_ic_queries(*cache_, q, e);
-            else cache_->irradiance(q, 0, e);
-        };
+        return [this](const std::vector<IcQuery>& q, std::vector<Vec3>& e) { group_.answer_queries(*cache_, q, e); };
     }
     SelectiveSetup guidance(bool from_current_image);
     void reanswer_preview_queries(const SelectiveSetup& sel);
@@ -164,6 +162,9 @@ private:
     const Scene& scene_;
     const PipelinePlan& plan_;
     const RunSettings& s_;
+    ProcessGroup& group_;
+    RunObserver& observer_;
+    CheckpointRecorder* recorder_;  // reports: image snapshots during the render (null: none)
     RunResult out_;
     std::optional<RenderScene> rs_;
     std::optional<CameraRays> camera_;
@@ -176,18 +177,18 @@ private:
     // the work since the last exchange done in the bands of `bands_`; `ambient`: the stand-ins
     // that go with the film.
     void share_rows(RowExchange why, std::vector<double>& ambient) {
-        if (!s_.share_rows) return;
+        if (bands_.empty()) return;
         SharedRows rows{out_.film, ambient, {}, bands_, why};
         for (auto& left : leftover_beta_) rows.throughput_left.push_back(&left);
-        s_.share_rows(rows);
+        group_.share_rows(rows);
     }
     void share_with_other_processes(RowExchange why, std::vector<double>& ambient) {
         share_rows(why, ambient);
-        if (s_.share_cache && cache_) s_.share_cache(*cache_);
+        if (cache_ && !bands_.empty()) group_.share_cache(*cache_);
     }
     // The rows this process renders: of its band, or all of them.
-    int first_row() const { return bands_.empty() ? 0 : bands_[static_cast<size_t>(s_.band)]; }
-    int end_row() const { return bands_.empty() ? s_.height : bands_[static_cast<size_t>(s_.band) + 1]; }
+    int first_row() const { return bands_.empty() ? 0 : bands_[static_cast<size_t>(group_.band())]; }
+    int end_row() const { return bands_.empty() ? s_.height : bands_[static_cast<size_t>(group_.band()) + 1]; }
     void balance_bands(const SampleRanges& all_rows, bool worked_since_exchange);
     // Has any pixel an even and an odd sample (the two halves noise() compares)?
     bool two_samples_somewhere() const {
@@ -235,12 +236,11 @@ size_t PlanRun::pass_bytes(size_t held_bytes) const {
 }
 
 void PlanRun::report_progress(const std::string& step) {
-    if (!s_.progress) return;
     progress_.step = step;
     progress_.stage_seconds = seconds_since(stage_start_);
     progress_.fraction = stage_samples_ ? double(stage_samples_done_) / double(stage_samples_) : 0;
     progress_.rays = ex_ ? ex_->rays_done() : 0;
-    s_.progress(progress_);
+    observer_.progress(progress_);
 }
 
 void PlanRun::trace_camera_rays(const SamplePass& pass, const SampleRanges& ranges) {
@@ -375,7 +375,7 @@ void PlanRun::add_auto_ambient() {
         double* at = &sums[3 + 6 * c];
         at[0] = found.x, at[1] = found.y, at[2] = found.z, at[3] = beta[0], at[4] = beta[1], at[5] = beta[2];
     }
-    if (s_.sum_over_processes) s_.sum_over_processes(sums);
+    if (!bands_.empty()) group_.sum(sums);
     const Vec3 mean = Vec3{sums[0], sums[1], sums[2]} / double(std::max<size_t>(pixels, 1));
     for (size_t c = 0; c < kComponentCount; ++c) {
         std::vector<float>& left = leftover_beta_[c];
@@ -397,9 +397,9 @@ void PlanRun::add_auto_ambient() {
 }
 
 void PlanRun::stage_end(const std::string& what, const std::string& next) {
-    if (!s_.recorder) return;
-    s_.recorder->event(what, true, ex_->rays_done(), [this] { return snapshot(); }, true);
-    s_.recorder->set_stage(next);
+    if (!recorder_) return;
+    recorder_->event(what, true, ex_->rays_done(), [this] { return snapshot(); }, true);
+    recorder_->set_stage(next);
 }
 
 void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows, const std::function<void()>& after_camera_rays) {
@@ -452,8 +452,8 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
             }
             progress_.pass = i + 1;
             report_progress("camera rays");
-            if (s_.recorder)
-                s_.recorder->paused([&] {
+            if (recorder_)
+                recorder_->paused([&] {
                     pass_start_image_ = composite_now();
                     pass_start_samples_.resize(out_.film.pixel_count());
                     for (uint32_t p = 0; p < pass_start_samples_.size(); ++p) pass_start_samples_[p] = out_.film.samples(p);
@@ -538,7 +538,7 @@ void PlanRun::setup_cache() {
 void PlanRun::save_cache() {
     out_.ic_records = cache_->records();
     out_.ic_stats = cache_->stats();
-    if (s_.ic_file.empty() || !s_.save_ic_file) return;
+    if (s_.ic_file.empty() || !group_.saves_cache_file()) return;
     std::string error = cache_->save(s_.ic_file);
     if (!error.empty()) throw std::runtime_error("cannot save the irradiance cache: " + error);
 }
@@ -766,7 +766,7 @@ void PlanRun::refine_components(const sched::Program& program) {
     const size_t pixels = out_.film.pixel_count();
     for (int round = 0; round < 11; ++round) {
         std::vector<float> before;
-        if (s_.recorder) s_.recorder->paused([&] { before = composite_now(); });
+        if (recorder_) recorder_->paused([&] { before = composite_now(); });
         std::vector<uint8_t> runs(pixels, 0);
         uint8_t replay = 0;
         for (const PlanVariable& v : plan_.variables) {
@@ -825,7 +825,7 @@ RunResult PlanRun::execute() {
     // One clock from the first camera ray for every stage (spec §7); reports pause it while
     // they copy snapshots.
     const auto t0 = Clock::now();
-    CheckpointRecorder* rec = s_.recorder;
+    CheckpointRecorder* rec = recorder_;
     ExecutorOptions eo = s_.executor;
     preview_shadow_rays_ = eo.shade.shadow_rays;
     out_.policy = s_.policy ? *s_.policy
@@ -873,8 +873,8 @@ RunResult PlanRun::execute() {
     // Distributed: nothing is known of the first stage's cost yet. With --ambient auto every
     // process keeps every component's throughput left unexecuted, so that their rows are
     // shared alike (a pixel's may have been left by the process whose band held it before).
-    if (s_.bands > 0) {
-        bands_ = equal_row_bands(s_.height, s_.bands);
+    if (group_.bands() > 0) {
+        bands_ = equal_row_bands(s_.height, group_.bands());
         if (s_.ambient_auto)
             for (auto& left : leftover_beta_) left.assign(3 * pixels, 0.0f);
     }
@@ -1004,7 +1004,7 @@ RunResult PlanRun::execute() {
     share_rows(RowExchange::kEnd, ambient_);
     out_.row_bands = bands_;
     out_.ambient = std::move(ambient_);
-    if (s_.final_image) s_.final_image(out_.image(), s_.width);
+    if (!bands_.empty()) group_.final_image(out_.image(), s_.width);
     // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.
     std::set<std::string> said;
     for (const auto& w : ex_->warnings())
@@ -1084,15 +1084,27 @@ std::vector<float> RunResult::aov_image(size_t aov) const {
     return rgb;
 }
 
-RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings) {
+RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings, ProcessGroup& group, RunObserver& observer) {
     refuse_what_cannot_fit(plan, settings);
-    return PlanRun(scene, plan, settings).execute();
+    return PlanRun(scene, plan, settings, group, observer).execute();
+}
+
+RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings) {
+    LocalGroup one;
+    RunObserver nobody;
+    return run_plan(scene, plan, settings, one, nobody);
+}
+
+RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings, RunObserver& observer) {
+    PipelinePlan plan;
+    plan.program = program;
+    LocalGroup one;
+    return run_plan(scene, plan, settings, one, observer);
 }
 
 RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings) {
-    PipelinePlan plan;
-    plan.program = program;
-    return run_plan(scene, plan, settings);
+    RunObserver nobody;
+    return render(scene, program, settings, nobody);
 }
 
 }  // namespace crex

@@ -25,7 +25,6 @@
 #pragma once
 
 #include <array>
-#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -35,12 +34,13 @@
 #include "compiler/plan/pipeline_plan.h"
 #include "runtime/cache/irradiance_cache.h"
 #include "runtime/driver/sample_passes.h"
+#include "runtime/driver/process_group.h"
+#include "runtime/driver/run_observer.h"
 #include "runtime/pipeline/component_subsample.h"
 #include "runtime/pipeline/subsample.h"
 #include "runtime/render/camera_samples.h"
 #include "runtime/render/executor.h"
 #include "runtime/render/film.h"
-#include "runtime/report/checkpoints.h"
 #include "runtime/scene/scene.h"
 #include "stdlib/guidance/raster.h"
 
@@ -50,37 +50,7 @@ namespace crex {
 /// pixel, as if every map were 0 or 1; guidance is not computed. `max` is a pipeline's own gold.
 enum class UniformQuality { kOff, kMin, kMax };
 
-/// What the driver is doing, for a progress line.
-struct RunProgress {
-    std::string stage;        ///< "render", "pre-selective", "guidance", "selective"
-    size_t pass = 0, passes = 0;  ///< 1-based pass within the stage
-    double fraction = 0;      ///< of the stage's camera samples traced so far
-    double stage_seconds = 0; ///< since the stage began
-    uint64_t rays = 0;        ///< rays executed since the first camera ray
-    std::string step;         ///< the crex step running
-};
-
 inline constexpr size_t kDefaultMaxMemory = size_t{1} << 30;
-
-/// Why the processes of a distributed render exchange rows.
-enum class RowExchange {
-    kPreview,   ///< after the preview: guidance sees the whole image
-    kNewBands,  ///< before round 1's bands replace the preview's, which held the work on the preview's samples
-    kRound,     ///< before a later round's guidance
-    kEnd,       ///< at the end: every row is final (what is written should the run fail)
-};
-
-/// What an exchange of rows shares (distributed rendering): every per-pixel buffer of the
-/// render, each row as the process whose band held it left it.
-struct SharedRows {
-    Film& film;
-    std::vector<double>& ambient;  ///< the stand-ins the composite adds (per pixel RGB)
-    /// --ambient auto: per component, the throughput of its rays left unexecuted (per pixel
-    /// RGB), whose stand-ins are added at the end.
-    std::vector<std::vector<float>*> throughput_left;
-    const std::vector<int>& bounds;  ///< the split of the work since the last exchange (row_bands.h)
-    RowExchange why;
-};
 
 struct RunSettings {
     int width = 128, height = 128;
@@ -99,12 +69,12 @@ struct RunSettings {
     /// whose components were skipped is never black for lack of work (spec/pipeline.md §6).
     bool ambient_auto = false;
     ExecutorOptions executor;   ///< base-quality shading, budget, profile
-    CheckpointRecorder* recorder = nullptr;      ///< reports: image snapshots during the render
     std::optional<IcSettings> irradiance_cache;  ///< D through a Ward irradiance cache
     std::vector<IrradianceRecord> ic_records;    ///< records to start from
     std::string ic_file;        ///< with a cache: load records from it if it exists, save them there at the end
     /// The bytes of `ic_file` read already (distributed runs: by rank 0, the one process that
-    /// has the file); loaded instead of reading `ic_file`, which is still where they are saved.
+    /// has the file); loaded instead of reading `ic_file`, which is still where they are saved
+    /// (by the process the ProcessGroup names).
     std::optional<std::string> ic_file_bytes;
     size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
     /// Texture lookups filter over this many pixels' footprint (0: none, the sharpest lookups:
@@ -117,35 +87,11 @@ struct RunSettings {
     /// §7: whole tasks for a pipeline without `vary`, queues for one with, and progressive
     /// passes for a plain crex (a plan with no name).
     std::optional<pipeline::SchedulingPolicy> policy;
-    std::function<void(const RunProgress&)> progress;
-    /// Distributed rendering (issue 19): `bands` processes render rows (0: this one renders
-    /// every row), this one band `band` of each stage's split (row_bands.h): equal bands for the
-    /// first stage, then bands of about the same camera samples, which every process chooses
-    /// alike from the film they all hold after an exchange of rows. `share_rows` makes every
-    /// process's film (and ambient stand-ins) hold each row as the process whose band held it
-    /// rendered it.
-    int band = 0, bands = 0;
-    std::function<void(SharedRows& rows)> share_rows;
-    /// Distributed rendering: `values` summed over the processes that render rows, on each
-    /// (all call it at the same point): --ambient auto's stand-ins from every process's rays.
-    std::function<void(std::vector<double>& values)> sum_over_processes;
-    /// Distributed rendering, rank 0: the final image (RunResult::image(), `width` pixels a row)
-    /// right after the last share_rows, every row final: what is written should the run fail
-    /// from there on.
-    std::function<void(const std::vector<float>& rgb, int width)> final_image;
     /// --resume (issue 19): rows already final, taken from a partial image; the camera samples of
     /// the render's last stage are not traced there (a plain crex: none at all; a pipeline: its
     /// last round's selective samples; the preview and earlier rounds are rendered whole, since
     /// guidance sees the whole image). Those rows of the result are the caller's to replace.
     std::vector<char> final_rows;
-    /// With a cache, called where `share_rows` is called mid-render (after the preview, before
-    /// each later round): the processes exchange the records they made (--ic-share broadcast).
-    std::function<void(IrradianceCache& cache)> share_cache;
-    bool save_ic_file = true;  ///< false: load --ic-file but let another process save it
-    /// With a cache: how a batch of D queries is answered (unset: by `cache` here). Distributed
-    /// rendering answers them on another process (--ic-share component) or exchanges the
-    /// records made meanwhile (central).
-    std::function<void(IrradianceCache& cache, const std::vector<IcQuery>& queries, std::vector<Vec3>& irradiance)> answer_ic_queries;
 };
 
 /// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot
@@ -210,11 +156,17 @@ struct RunResult {
     std::vector<float> aov_image(size_t aov) const;
 };
 
-/// Executes `plan` on `scene`. Throws RunInputError for input it cannot use and
-/// std::runtime_error for runtime failures (Embree, I/O of the cache file).
+/// Executes `plan` on `scene` with resolved settings (runtime/api/run.h resolves a caller's
+/// options against the plan first), as one process of `group` (distributed rendering: this
+/// process's rows, the exchanges), telling `observer` what it does. Throws RunInputError for
+/// input it cannot use, std::runtime_error for runtime failures (Embree, I/O of the cache
+/// file), and whatever the observer throws to stop it.
+RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings, ProcessGroup& group, RunObserver& observer);
+/// One process, nobody watching.
 RunResult run_plan(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings);
 
 /// A plain crex run: the plan of `program` without guidance.
+RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings, RunObserver& observer);
 RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings);
 
 /// The cache's settings for `plan`: a plan varying ic_radius starts at its `from` accuracy and

@@ -13,10 +13,10 @@ RenderedPixels render_reference_pixels(const Scene& scene, const sched::Program&
     ro.width = s.width, ro.height = s.height, ro.spp = s.spp, ro.first_sample = s.first_sample, ro.seed = s.seed;
     ro.executor.shade.weight_limit = s.lw;
     ro.executor.shade.max_depth = s.max_depth;
-    ro.progress = s.progress;
     const bool windowed = !s.windows.empty();
     if (windowed) ro.windows = s.windows;
-    RunResult r = render(scene, program, ro);
+    ProgressFunction observer(s.progress);
+    RunResult r = render(scene, program, ro, observer);
     RenderedPixels out;
     out.seconds = r.render_seconds;
     out.rgb = windowed ? WindowAtlas(s.windows).pack(r.image(), s.width) : r.image();
@@ -29,8 +29,8 @@ FrameContext render_frame_context(const Scene& scene, const sched::Program& prog
     ro.width = width, ro.height = height, ro.spp = spp, ro.seed = seed;
     ro.irradiance_cache = IcSettings{};
     ro.irradiance_cache->seed = seed;
-    ro.progress = progress;
-    RunResult r = render(scene, program, ro);
+    ProgressFunction observer(progress);
+    RunResult r = render(scene, program, ro, observer);
     FrameContext c;
     c.width = width, c.height = height;
     c.rgb = r.image();

@@ -27,7 +27,7 @@ RunSettings settings(FakeClock& clock, Profile* profile) {
     o.width = o.height = 32;
     o.spp = 16;
     o.executor.clock = [&clock] { return clock.now(); };
-    o.progress = [&clock](const RunProgress& p) { clock.rays = p.rays; };
+    o.executor.progress = [&clock](const std::string&, uint64_t rays) { clock.rays = rays; };
     o.executor.profile = profile;
     return o;
 }

@@ -1,0 +1,343 @@
+#include "apps/crex/run_command.h"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include "apps/crex/cli_values.h"
+#include "apps/crex/progress.h"
+#include "base/check.h"
+#include "base/exit_codes.h"
+#include "base/render_text.h"
+#include "compiler/pipeline/settings_table.h"
+#include "runtime/api/resume.h"
+#include "runtime/api/run.h"
+#include "runtime/api/run_outputs.h"
+#include "runtime/api/shared_inputs.h"
+#include "runtime/distributed/distributed.h"
+
+namespace crex::app {
+namespace {
+
+// The flags as the library's typed inputs and options: what was given overrides the plan's
+// settings (spec/pipeline.md §7). Usage errors are said by `say` only (under mpirun the lead).
+struct Request {
+    DistributedOptions distributed;
+    InputSpec input;
+    RunOptions options;
+    RunFiles files;         // the flags' outputs; the plan's apply where none was given
+    std::string reference;  // --reference: a path or "auto" ("": the plan's)
+    std::string resume;     // --resume: a partial image to finish
+    bool compare_policies = false;
+    std::string budget;     // --budget as given, for what is said about it
+    std::string format;     // of the summary: text or json
+    bool quiet = false;
+    int threads = 0;
+    double checkpoint_interval = 0.1;
+};
+
+std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
+    auto usage = [&](const std::string& message) -> std::optional<int> {
+        if (say) std::cerr << "crex run: error: " << message << "\n";
+        return kExitUsage;
+    };
+    if (!f.plan.empty() && f.crex_given) return usage("give either a plan file or -e/--crex, not both");
+    r.distributed.ic_share = f.ic_share == "none"        ? IcShare::kNone
+                             : f.ic_share == "central"   ? IcShare::kCentral
+                             : f.ic_share == "broadcast" ? IcShare::kBroadcast
+                                                         : IcShare::kComponent;
+    r.distributed.rank_timeout = f.rank_timeout;
+    r.input.file = f.plan;
+    if (f.crex_given) r.input.crex = f.crex;  // an empty -e is an empty crex (camera rays only)
+    r.input.scene = f.scene;
+    r.input.camera = f.camera;
+    r.input.view = f.view;
+    r.input.star_cap = f.star_cap;
+    r.input.profile = f.profile_in;
+    r.input.ic_file = f.ic_file;
+
+    RunOptions& o = r.options;
+    int width = 0, height = 0;
+    if (!parse_image_size(f.size, width, height))
+        return usage(fmt::format("image size '{}': expected WIDTHxHEIGHT, each 1 to 16384, e.g. 512x512", f.size));
+    if (f.size_given) o.width = width, o.height = height;
+    if (f.spp_given) o.spp = f.spp;
+    if (f.seed_given) o.seed = f.seed;
+    if (f.lw_given) o.lw = f.lw;
+    if (f.max_depth_given) o.max_depth = f.max_depth;
+    if (f.aa_given) o.aa = f.aa;
+    if (f.ab_given) o.ab = f.ab;
+    if (f.ad_given) o.ad = f.ad;
+    if (!f.ambient_text.empty()) {
+        AmbientStandIn ambient;
+        if (!parse_ambient(f.ambient_text, ambient))
+            return usage(fmt::format("--ambient '{}': expected 'auto' or a radiance from 0 to 1e30", f.ambient_text));
+        o.ambient = ambient;
+    }
+    if (!f.budget.empty()) {
+        PlanBudget budget;
+        if (std::string error = parse_budget(f.budget, budget); !error.empty()) return usage(fmt::format("--budget {}: {}", f.budget, error));
+        o.budget = budget;
+    }
+    o.no_budget = f.no_budget;
+    if (!f.policy.empty()) o.policy = pipeline::scheduling_policy_from_name(f.policy);
+    if (f.rounds) o.rounds = f.rounds;
+    o.shadow_rays = f.shadow_rays;
+    o.media_samples = f.media_samples;
+    o.roulette = !f.no_roulette;
+    o.clamp = f.clamp;
+    o.importance = f.importance;
+    o.filter = f.filter == "gaussian" ? PixelFilter::kGaussian : PixelFilter::kBox;
+    o.uniform = f.uniform == "max" ? UniformQuality::kMax : f.uniform == "min" ? UniformQuality::kMin : UniformQuality::kOff;
+    o.max_memory = static_cast<size_t>(f.max_memory_mib * double(1 << 20));
+    o.pass_samples = f.pass_samples;
+    o.irradiance_cache = f.ic;
+    o.ar = f.ar;
+    o.caustic_photons = f.caustic_photons;
+    o.ic_file = f.ic_file;
+
+    r.files.images = f.outputs;
+    r.files.components = f.components;
+    r.files.profile = f.profile_out;
+    r.files.maps_dir = f.maps_dir;
+    r.files.report_dir = f.report_dir;
+    r.reference = f.reference;
+    r.resume = f.resume;
+    r.compare_policies = f.compare_policies;
+    r.budget = f.budget;
+    r.format = f.format;
+    r.quiet = f.quiet;
+    r.threads = f.threads;
+    r.checkpoint_interval = f.checkpoint_interval;
+    return std::nullopt;
+}
+
+// Two outputs named by one path (`-o X -o X`, `-o X --save-profile X`): the second replaced the
+// first and the commit then said "cannot move 'X' into place: No such file or directory" after
+// the old X was gone. Compared as absolute, normalised paths, before anything renders.
+std::string same_output_twice(const RunFiles& files, const std::string& ic_file) {
+    std::vector<std::pair<std::string, std::string>> named;  // (flag, path)
+    for (const auto& o : files.images) named.push_back({"-o", o});
+    if (!files.profile.empty()) named.push_back({"--save-profile", files.profile});
+    if (!ic_file.empty()) named.push_back({"--ic-file", ic_file});
+    if (!files.maps_dir.empty()) named.push_back({"--maps", files.maps_dir});
+    if (!files.report_dir.empty()) named.push_back({"--report", files.report_dir});
+    std::map<std::string, size_t> seen;
+    for (size_t i = 0; i < named.size(); ++i) {
+        std::error_code ec;
+        std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(named[i].second, ec), ec);
+        std::string key = (p.filename().empty() ? p.parent_path() : p).lexically_normal().string();
+        auto [it, fresh] = seen.try_emplace(key, i);
+        if (fresh) continue;
+        const auto& first = named[it->second];
+        return fmt::format("{} {} and {} {} name the same path: each output needs its own", first.first, first.second, named[i].first,
+                           named[i].second);
+    }
+    return "";
+}
+
+// What only the lead does before anything renders: it reads the inputs and checks everything
+// that can fail, so that every process learns the verdict before it starts.
+struct LeadChecks {
+    ReferenceInput reference;
+    std::optional<ResumedRows> resumed;
+};
+
+int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
+    DiagnosticSink sink;
+    in = load_run_inputs(r.input, sink);
+    std::cerr << render_text(sink.sorted());
+    if (!in.failure.empty()) {
+        std::cerr << "crex run: error: " << in.failure << "\n";
+        return in.failure_is_usage ? kExitUsage : in.failure_in_content ? kExitInputErrors : kExitFailure;
+    }
+    if (sink.has_errors() || !in.ready()) {
+        std::cerr << fmt::format("crex run: {} error{}; nothing rendered\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
+        return kExitInputErrors;
+    }
+    r.options.profile = in.profile;
+    std::optional<ResolvedRun> run;
+    try {
+        run = resolve_run(in.plan, r.options);
+    } catch (const RunOptionError& e) {  // said where the setting comes from: the pipeline's line, or the flag
+        if (e.where.empty()) {
+            std::cerr << fmt::format("crex run: error: --budget {}: {}\n", r.budget, e.what());
+            return e.in_input_file ? kExitInputErrors : kExitUsage;
+        }
+        std::cerr << fmt::format("{}: error: budget {:g}%: {}\n", e.where, in.plan.settings.budget->amount, e.what());
+        return kExitInputErrors;
+    }
+    const RunSettings& s = run->settings;
+    // The plan's outputs where no flag names any.
+    RunFiles& files = r.files;
+    if (files.images.empty()) files.images = in.plan.outputs.images;
+    if (files.images.empty()) files.images = {"out/render.exr", "out/render.png"};
+    if (files.report_dir.empty()) files.report_dir = in.plan.outputs.report;
+    if (files.maps_dir.empty() && in.plan.outputs.maps)
+        files.maps_dir = (std::filesystem::path(files.images.front()).parent_path() / "maps").string();
+    // Every output is checked before anything renders: a bad second -o used to be found after
+    // the render, with the first image already written.
+    for (const auto& path : files.images)
+        if (std::string error = check_output_path(path); !error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitFailure;
+        }
+    for (const auto& [flag, dir] : {std::pair{"--maps", files.maps_dir}, std::pair{"--report", files.report_dir}}) {
+        std::error_code ec;
+        if (!dir.empty() && std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+            std::cerr << fmt::format("crex run: error: {} {}: is a file; give a directory\n", flag, dir);
+            return kExitFailure;
+        }
+    }
+    if (std::string clash = same_output_twice(files, r.input.ic_file); !clash.empty()) {
+        std::cerr << "crex run: error: " << clash << "\n";
+        return kExitUsage;
+    }
+    // The reference of the error curve: with --reference (or the pipeline's), or for a report.
+    const std::string reference = r.reference.empty() ? in.plan.settings.reference : r.reference;
+    if (!reference.empty() || !files.report_dir.empty()) {
+        lead.reference = load_reference(reference, *in.scene->scene, in.scene_spec, s.width, s.height);
+        if (!lead.reference.error.empty()) {
+            std::cerr << "crex run: error: " << lead.reference.error << "\n";
+            return lead.reference.wrong_size || lead.reference.not_finite ? kExitInputErrors : kExitFailure;
+        }
+    }
+    if (!r.resume.empty()) {
+        auto refuse = [&](const std::string& why, int status) {
+            std::cerr << fmt::format("crex run: error: --resume {}: {}\n", r.resume, why);
+            return status;
+        };
+        // Outputs the partial has no rows for.
+        if (files.components) return refuse("cannot resume a run with --components: the partial image holds the final rows' composite only", kExitUsage);
+        if (!files.maps_dir.empty())
+            return refuse("cannot resume a run with --maps (or the pipeline's output { maps true }): the partial image holds the "
+                          "final rows' composite only, not their samples and rays",
+                          kExitUsage);
+        if (!files.report_dir.empty() || !reference.empty())
+            return refuse("cannot resume a run with --report and --reference: the error curve of a resumed run would measure rows "
+                          "it did not render",
+                          kExitUsage);
+        if (r.compare_policies) return refuse("cannot resume a run with --compare-policies", kExitUsage);
+        ResumeLoad load = load_resume(r.resume, in.scene_spec, in.plan, s);
+        if (!load.rows) return refuse(load.error, load.io ? kExitFailure : load.bad_file ? kExitInputErrors : kExitUsage);
+        r.options.final_rows = load.rows->final_rows;
+        lead.resumed = std::move(load.rows);
+    }
+    if (r.compare_policies && (!(run->budget_seconds > 0) || !lead.reference.image)) {
+        std::cerr << "crex run: error: --compare-policies needs a budget (--budget or the pipeline's) and a reference "
+                     "(--reference, or --report with a cached reference)\n";
+        return kExitUsage;
+    }
+    return kExitOk;
+}
+
+// Notes and warnings of the runtime, each note once in first-said order: every round of the
+// cyclic process may say the same thing.
+void say_notes(const RunResult& result) {
+    std::vector<std::pair<std::string, int>> said;
+    for (const auto& note : result.notes) {
+        auto it = std::find_if(said.begin(), said.end(), [&](const auto& s) { return s.first == note; });
+        if (it == said.end()) said.emplace_back(note, 1);
+        else ++it->second;
+    }
+    for (const auto& [note, times] : said)
+        std::cerr << "crex run: note: " << note << (times > 1 ? fmt::format(" ({} times)", times) : "") << "\n";
+}
+
+// Reads, checks, renders and writes: the lead reads and checks (every process learns its
+// verdict), every process renders its part, the lead writes and says what happened.
+int run_request(Request& r) {
+    std::unique_ptr<ProcessGroup> group = make_process_group(r.distributed);
+    if (group->distributed() && (r.compare_policies || !r.resume.empty())) {  // every rank refuses alike; the lead says so
+        if (group->leads())
+            std::cerr << (r.compare_policies ? "crex run: error: under mpirun, --compare-policies is not supported yet\n"
+                                             : "crex run: error: under mpirun, --resume is not supported yet: resume in one process "
+                                               "(the same command without mpirun)\n");
+        return kExitUsage;
+    }
+    // The lead alone reads, checks and plans; the others get it as data.
+    LeadChecks lead;
+    RunInputs in = share_run_inputs(*group, [&] {
+        RunInputs read;
+        read.status = read_and_check(r, read, lead);
+        return read;
+    });
+    if (in.status != kExitOk) return in.status;
+    r.options.profile = in.profile;
+    r.options.ic_file_bytes = in.ic_file_bytes;
+    ResolvedRun run = resolve_run(in.plan, r.options);  // the lead resolved them already: this cannot fail
+    std::unique_ptr<tbb::global_control> threads;
+    if (r.threads > 0)
+        threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(r.threads));
+    group->keep_partial_outputs(r.files.images, run.settings.width, run.settings.height,
+                                partial_identity(in.scene_spec, in.plan, run.settings));
+    std::optional<CheckpointRecorder> recorder;
+    if (lead.reference.image || !r.files.report_dir.empty()) recorder.emplace(r.checkpoint_interval);
+    const bool quiet = r.quiet || !group->leads();
+    Progress progress(!quiet && r.format != "json", recorder ? &*recorder : nullptr);
+    RunOutcome out;
+    try {
+        out = run_resolved(in.plan, *in.scene->scene, std::move(run), *group, progress);
+    } catch (const InternalError&) {
+        progress.finish();
+        throw;  // a bug, not a failed render: main says so
+    } catch (const RunInputError& e) {
+        progress.finish();
+        std::cerr << "crex run: error: " << e.what() << "\n";
+        return kExitInputErrors;
+    } catch (const std::exception& e) {
+        progress.finish();
+        std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
+        return kExitFailure;
+    }
+    progress.finish();
+    if (!group->leads() || !out.result) return kExitOk;  // the lead writes the outputs
+    RunRecord record;
+    record.inputs = &in;
+    record.outcome = &out;
+    record.plan_file = r.input.file;
+    record.checkpoints = recorder ? &*recorder : nullptr;
+    record.reference = lead.reference.image;
+    record.reference_path = lead.reference.path;
+    record.resumed = lead.resumed ? &*lead.resumed : nullptr;
+    if (r.compare_policies) {  // the same render under every other policy, for the report's plot of all of them
+        try {
+            record.other_policies = render_other_policies(in.plan, *in.scene->scene, out.run, out.result->policy, r.checkpoint_interval,
+                                                          [&](std::string_view name) {
+                                                              if (!quiet && r.format != "json")
+                                                                  std::cerr << "crex run: rendering again under policy " << name << "\n";
+                                                          });
+        } catch (const std::exception& e) {
+            std::cerr << "crex run: error: rendering under another policy failed: " << e.what() << "\n";
+            return kExitFailure;
+        }
+    }
+    say_notes(*out.result);
+    if (lead.resumed) say_resumed(*lead.resumed, out.run.settings, *out.result, std::cerr);
+    for (const auto& w : out.result->warnings) std::cerr << w << "\n";
+    WrittenRun written;
+    if (std::string error = write_run_files(r.files, record, written); !error.empty()) {
+        std::cerr << "crex run: error: " << error << "\n";
+        return kExitFailure;
+    }
+    if (r.format == "json") {
+        std::cout << written.summary.dump(2) << "\n";
+        return kExitOk;
+    }
+    if (!r.quiet) print_run_summary(run_facts(r.files, record, &written), std::cout);
+    return kExitOk;
+}
+
+}  // namespace
+
+int run_command(const RunFlags& f) {
+    Request r;
+    if (auto exit = make_request(f, DistributedSession::leads(), r)) return *exit;  // said once under mpirun
+    return run_request(r);
+}
+
+}  // namespace crex::app

@@ -1,0 +1,87 @@
+#include "runtime/api/run_options.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace crex {
+
+std::string profile_json_text(const Profile& profile, double full_render_seconds) {
+    auto j = nlohmann::json::parse(profile.to_json_text());
+    j["full_render_seconds"] = full_render_seconds;
+    return j.dump(2) + "\n";
+}
+
+ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
+    const PlanSettings& ps = plan.settings;
+    ResolvedRun run;
+    RunSettings& rs = run.settings;
+    // Each setting: the option, else the plan's, else the default.
+    rs.width = o.width.value_or(ps.width.value_or(256));
+    rs.height = o.height.value_or(ps.height.value_or(256));
+    rs.spp = o.spp.value_or(plan.staged ? ps.spp : 16);
+    rs.seed = o.seed.value_or(ps.seed.value_or(0));
+    rs.filter = o.filter;
+    // A pipeline never shows black for skipped work unless it asked for an av (spec §6).
+    const AmbientStandIn ambient = o.ambient   ? *o.ambient
+                                   : ps.av     ? AmbientStandIn{false, *ps.av}
+                                               : AmbientStandIn{plan.staged, 0};
+    rs.ambient = {ambient.value, ambient.value, ambient.value};
+    rs.ambient_auto = ambient.automatic;
+    ShadeParams& shade = rs.executor.shade;
+    shade.shadow_rays = o.shadow_rays;
+    shade.media_samples = o.media_samples;
+    shade.weight_limit = o.lw.value_or(ps.lw.value_or(1e-3));
+    shade.max_depth = o.max_depth.value_or(ps.max_depth.value_or(256));
+    shade.roulette = o.roulette;
+    rs.executor.clamp_indirect = o.clamp;
+    rs.executor.constant_importance = o.importance;
+    rs.max_memory = o.max_memory;
+    rs.pass_samples = o.pass_samples;
+    rs.rounds = o.rounds.value_or(0);  // 0: the plan's rounds, else 1 (run_plan.h)
+    rs.uniform = o.uniform;
+    rs.final_rows = o.final_rows;
+    if (o.policy) rs.policy = *o.policy;
+
+    // The budget, and the profile it is predicted from.
+    run.predicted = o.profile;
+    const std::optional<PlanBudget> budget = o.no_budget ? std::nullopt : o.budget ? o.budget : ps.budget;
+    if (budget) {
+        run.budget_seconds = budget->amount;
+        if (budget->percent) {
+            const double full = run.predicted ? run.predicted->full_render_seconds : 0;
+            const std::string where = o.budget ? "" : budget->where.known() ? budget->where.to_string() : "the plan";
+            if (!(full > 0) && !run.predicted)
+                throw RunOptionError("a budget in % needs the time of a full render: render once without a budget with "
+                                     "--save-profile FILE, then pass --profile FILE (or --no-budget)",
+                                     where);
+            if (!(full > 0))
+                throw RunOptionError(fmt::format("the profile '{}' holds no full render time (\"full_render_seconds\" above 0): save it "
+                                                 "again with --save-profile from a render without a budget, or give the budget in seconds",
+                                                 run.predicted->path),
+                                     where, true);
+            run.budget_seconds = budget->amount / 100 * full;
+        }
+    }
+    rs.executor.budget_seconds = run.budget_seconds;
+    // Where the limits W404 names were set: the plan's line, unless an option overrides it.
+    auto at = [](bool overridden, const SourceLocation& where) { return overridden || !where.known() ? std::string() : where.to_string(); };
+    run.limits_set_at = {at(o.max_depth.has_value(), ps.max_depth_at), at(o.lw.has_value(), ps.lw_at), at(o.ab.has_value(), ps.ab_at)};
+
+    // The irradiance cache: asked for, or the plan has one.
+    if (o.irradiance_cache || !o.ic_file.empty() || plan.irradiance_cache) {
+        IcSettings ics;
+        ics.accuracy = o.aa.value_or(ps.aa.value_or(0.15));
+        ics.divisions = o.ad.value_or(ps.ad.value_or(256));
+        ics.bounces = o.ab.value_or(ps.ab.value_or(8));  // 8: at 4, interiors lost their light beyond the 4th bounce (issue 14)
+        ics.resolution = o.ar;
+        ics.ambient = rs.ambient;
+        ics.seed = rs.seed;
+        ics.caustic_photons = o.caustic_photons;
+        rs.irradiance_cache = ics;
+        rs.ic_file = o.ic_file;
+        rs.ic_file_bytes = o.ic_file_bytes;
+    }
+    return run;
+}
+
+}  // namespace crex

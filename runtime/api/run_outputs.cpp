@@ -1,0 +1,185 @@
+#include "runtime/api/run_outputs.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <filesystem>
+#include <set>
+
+#include "compiler/plan/emit_plan.h"
+#include "compiler/plan/plan_pipeline.h"
+#include "compiler/sched/print.h"
+#include "runtime/base/atomic_file.h"
+#include "runtime/base/output_set.h"
+#include "runtime/io/image_io.h"
+#include "runtime/report/run_report.h"
+
+namespace crex {
+
+std::string check_output_path(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    static const std::set<std::string> kFormats = {".exr", ".hdr", ".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".ppm", ".pfm"};
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) return fmt::format("-o {}: is a directory; give a file name such as {}/render.exr", path, path);
+    if (!kFormats.count(ext))
+        return fmt::format("-o {}: unknown image format '{}'; crex writes .exr (float), .hdr, .png, .jpg, .tif, .bmp, .tga, .ppm or .pfm",
+                           path, ext.empty() ? "(no extension)" : ext);
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    fs::create_directories(dir, ec);
+    // Writable: a file can be made (and is removed) where the image will go.
+    std::string probe = (dir / ".crex-write-check-XXXXXX").string();
+    int fd = ::mkstemp(probe.data());
+    if (fd < 0) return fmt::format("-o {}: cannot write in {}: {}", path, dir.string(), std::strerror(errno));
+    ::close(fd);
+    ::unlink(probe.c_str());
+    return {};
+}
+
+std::vector<float> final_image(const RunRecord& record) {
+    const RunResult& result = *record.outcome->result;
+    std::vector<float> rgb = result.image();
+    if (record.resumed) take_resumed_rows(*record.resumed, rgb, result.film.width());
+    return rgb;
+}
+
+RunFacts run_facts(const RunFiles& files, const RunRecord& record, const WrittenRun* written) {
+    const RunInputs& in = *record.inputs;
+    const RunSettings& rs = record.outcome->run.settings;
+    const RunResult& result = *record.outcome->result;
+    RunFacts facts;
+    facts.scene = in.scene->scene->source;
+    facts.program = &in.plan.program;
+    facts.width = rs.width, facts.height = rs.height;
+    facts.spp = rs.spp;
+    facts.load_seconds = in.load_seconds;
+    facts.result = &result;
+    facts.piped = result.staged ? &result : nullptr;
+    facts.plan = in.plan.staged ? &in.plan : nullptr;
+    facts.outputs = files.images;
+    facts.budget = record.outcome->run.budget_seconds;
+    facts.recorder = record.checkpoints;
+    facts.ic = rs.irradiance_cache ? &*rs.irradiance_cache : nullptr;
+    facts.ic_loaded = result.ic_loaded + rs.ic_records.size();
+    facts.ic_file = rs.ic_file;
+    facts.maps_dir = files.maps_dir;
+    facts.report_dir = files.report_dir;
+    facts.predicted = record.outcome->run.predicted ? &record.outcome->run.predicted->profile : nullptr;
+    if (written) {
+        facts.pictures = &written->pictures;
+        facts.curve = &written->curve;
+        facts.reference = record.reference_path;
+    }
+    return facts;
+}
+
+std::string write_run_files(const RunFiles& where, const RunRecord& record, WrittenRun& written) {
+    const RunInputs& in = *record.inputs;
+    const RunOutcome& outcome = *record.outcome;
+    const RunSettings& rs = outcome.run.settings;
+    const RunResult& result = *outcome.result;
+    const int width = rs.width, height = rs.height;
+    // All or none: every file goes to a staged name first and moves into place at the end, so
+    // a failure at the report leaves the images the user had (issue 16).
+    OutputSet files;
+    if (!where.profile.empty()) {
+        // A budgeted render is not a full one: the profile's own full render time is kept.
+        const auto& predicted = outcome.run.predicted;
+        const double full = outcome.run.budget_seconds > 0 ? (predicted ? predicted->full_render_seconds : 0) : result.render_seconds;
+        std::string error = write_file_atomically(files.stage_file(where.profile), profile_json_text(outcome.measured, full));
+        if (!error.empty()) return fmt::format("cannot write profile '{}': {}", where.profile, files.in_user_terms(error));
+    }
+
+    std::vector<ImageLayer> layers = {{"", final_image(record)}};
+    if (where.components)
+        for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.aov_image(a)});
+    // What made the image, in its header (EXR), so a file found later says how to make it again.
+    uint32_t min_spp = UINT32_MAX, max_spp = 0;
+    for (uint32_t p = 0; p < result.film.pixel_count(); ++p)
+        if (!record.resumed || !record.resumed->final_rows[p / static_cast<uint32_t>(width)])  // those rows' samples are not in this film
+            min_spp = std::min(min_spp, result.film.samples(p)), max_spp = std::max(max_spp, result.film.samples(p));
+    ImageMetadata metadata = {
+        {"Software", std::string("crex ") + CREX_VERSION},
+        {"crex:version", CREX_VERSION},
+        {"crex:scene", in.scene_spec},
+        {"crex:crex", sched::to_crex(in.plan.program)},
+        {"crex:spp", min_spp == max_spp ? std::to_string(max_spp) : fmt::format("{}..{}", min_spp, max_spp)},
+        {"crex:seed", std::to_string(rs.seed)},
+        {"crex:render_seconds", fmt::format("{:.6g}", result.render_seconds)},
+    };
+    if (in.plan.staged)
+        metadata.push_back({"crex:pipeline", in.plan.name + (record.plan_file.empty() ? "" : " (" + record.plan_file + ")")});
+    if (outcome.run.budget_seconds > 0) metadata.push_back({"crex:budget_seconds", fmt::format("{:.6g}", outcome.run.budget_seconds)});
+    if (record.resumed) metadata.push_back({"crex:resumed", fmt::format("rows {} from {}", record.resumed->rows, record.resumed->path)});
+    if (const double clamp = rs.executor.clamp_indirect; clamp > 0)
+        metadata.push_back({"crex:clamp_indirect", fmt::format("{:.6g} (biased)", clamp)});
+    for (const auto& path : where.images)
+        if (std::string error = write_image(files.stage_file(path), width, height, layers, metadata); !error.empty())
+            return files.in_user_terms(error);
+
+    PictureSummary staged_pictures;  // paths where they are written; `written.pictures`: where they will be
+    if (!where.maps_dir.empty()) {
+        std::string error = write_run_pictures(files.stage_dir(where.maps_dir), result.film, result.staged ? &result.preview : nullptr,
+                                               result.maps, staged_pictures);
+        if (!error.empty()) return files.in_user_terms(error);
+        written.pictures = staged_pictures;
+        for (std::string& p : written.pictures.written) p = files.destination_of(p);
+    }
+
+    written.summary = run_summary_json(run_facts(where, record, &written));  // --format json's, and the report's
+    if (record.checkpoints) {
+        RunReport report;
+        if (!where.report_dir.empty()) report.dir = files.stage_dir(where.report_dir);
+        report.title = fmt::format("crex run: {} on {}", in.plan.staged ? "pipeline " + in.plan.name : sched::to_crex(in.plan.program),
+                                   in.scene->scene->source);
+        report.width = width, report.height = height;
+        report.checkpoints = &record.checkpoints->checkpoints();
+        report.policy = std::string(pipeline::name_of(result.policy));
+        for (const auto& [name, checkpoints] : record.other_policies) report.other_policies.push_back({name, &checkpoints});
+        report.reference = record.reference;
+        report.reference_path = record.reference_path;
+        report.view = {true, record.reference ? display_exposure(record.reference->rgb) : 1.0};
+        if (outcome.run.budget_seconds > 0) report.budget_seconds = outcome.run.budget_seconds;
+        report.summary = written.summary;
+        report.images.push_back({"final image", layers.front().rgb});
+        if (result.staged) report.images.push_back({"preview", result.preview});
+        if (record.reference) report.images.push_back({"reference", record.reference->rgb});
+        // Components no ray reached (a bin the scene or the crex never fills) would be black tiles.
+        for (size_t a = 0; a < kAovCount; ++a) {
+            std::vector<float> aov = result.aov_image(a);
+            if (std::any_of(aov.begin(), aov.end(), [](float v) { return v != 0; }))
+                report.images.push_back({"component " + aov_name(a), std::move(aov)});
+        }
+        report.maps = result.maps;
+        report.pictures = staged_pictures.written;
+        report.picture_scales = staged_pictures.heat_scale;
+        if (in.plan.staged) {
+            report.plan_dot = pipeline_plan_to_dot(in.plan);
+        } else {
+            CrexPlan cp;
+            cp.source = in.source->text();
+            cp.program = in.plan.program;
+            report.plan_dot = plan_to_dot(cp);
+        }
+        if (where.report_dir.empty()) {  // a reference without a report: the curve only, in the summary
+            if (record.reference) written.curve = error_curve(record.checkpoints->checkpoints(), *record.reference, report.view);
+        } else if (std::string error = write_run_report(report, written.curve); !error.empty()) {
+            return "report: " + files.in_user_terms(error);
+        }
+        if (!written.curve.empty()) {
+            written.summary["error_curve"] = curve_json(written.curve);
+            written.summary["reference"] = record.reference_path;
+        }
+        if (!where.report_dir.empty()) written.summary["report"] = (std::filesystem::path(where.report_dir) / "index.html").string();
+    }
+    return files.commit();
+}
+
+}  // namespace crex

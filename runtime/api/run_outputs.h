@@ -1,0 +1,64 @@
+/// \file run_outputs.h
+/// What a run leaves behind, all or none (runtime/base/output_set.h): the images with what made
+/// them in their headers, the measured profile, the maps and per-pixel pictures, and the report
+/// with its error curve; with the run's summary (run_summary.h) that the report and
+/// `--format json` show.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/api/resume.h"
+#include "runtime/api/run.h"
+#include "runtime/api/run_inputs.h"
+#include "runtime/api/run_summary.h"
+#include "runtime/report/checkpoints.h"
+#include "runtime/report/error_curve.h"
+#include "runtime/report/run_pictures.h"
+
+namespace crex {
+
+/// Where a run's files go ("" or empty: not written).
+struct RunFiles {
+    std::vector<std::string> images;  ///< .exr (float), .hdr, .png, ... (tone-mapped)
+    bool components = false;          ///< EXR: a layer per component AOV as well
+    std::string profile;              ///< the measured profile (`--profile` reads it back)
+    std::string maps_dir;             ///< every map, the preview, per-pixel pictures
+    std::string report_dir;           ///< checkpoints, error plot, images, plan, index.html
+};
+
+/// "" when an image can be written to `path` (a known format, not a directory, a directory
+/// that exists, made if missing, and takes a new file), else why not: checked before rendering.
+std::string check_output_path(const std::string& path);
+
+/// What the files and the summary are made of.
+struct RunRecord {
+    const RunInputs* inputs = nullptr;
+    const RunOutcome* outcome = nullptr;          ///< with its result
+    std::string plan_file;                        ///< the pipeline or plan file run ("" for a crex)
+    const CheckpointRecorder* checkpoints = nullptr;
+    std::optional<metrics::Image> reference;      ///< the error curve's
+    std::string reference_path;
+    std::vector<PolicyRun> other_policies;        ///< the same render under other policies
+    const ResumedRows* resumed = nullptr;         ///< rows taken from a partial image
+};
+
+/// The final image as written: the result's, with a resumed run's final rows taken in.
+std::vector<float> final_image(const RunRecord& record);
+
+/// What write_run_files() made beside the files.
+struct WrittenRun {
+    nlohmann::json summary;          ///< the run's JSON summary, with the error curve and the report's path
+    std::vector<CurvePoint> curve;   ///< the error against time (with a reference)
+    PictureSummary pictures;         ///< the pictures written to `maps_dir`, where they are now
+};
+
+/// Writes `files`, all or none. Returns "" or what failed (nothing written then).
+std::string write_run_files(const RunFiles& files, const RunRecord& record, WrittenRun& written);
+
+/// The summaries' view of a run (run_summary.h).
+RunFacts run_facts(const RunFiles& files, const RunRecord& record, const WrittenRun* written);
+
+}  // namespace crex

@@ -1,0 +1,53 @@
+/// \file run_observer.h
+/// What a caller sees of a render while it runs: progress (a terminal line, a notebook's bar,
+/// a Python callback) and the checkpoints of a report. The driver calls it from the thread
+/// that called run_plan(), between steps and batches of rays, never from a worker thread: an
+/// observer may throw (RunCancelled, say) to stop the render there, and nothing of it is kept.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "runtime/report/checkpoints.h"
+
+namespace crex {
+
+/// What the driver is doing, for a progress line.
+struct RunProgress {
+    std::string stage;            ///< "render", "pre-selective", "guidance", "selective"
+    size_t pass = 0, passes = 0;  ///< 1-based pass within the stage
+    double fraction = 0;          ///< of the stage's camera samples traced so far
+    double stage_seconds = 0;     ///< since the stage began
+    uint64_t rays = 0;            ///< rays executed since the first camera ray
+    std::string step;             ///< the crex step running
+};
+
+/// Thrown by an observer that stops the render (Ctrl-C in Python); the render is abandoned.
+struct RunCancelled : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+class RunObserver {
+public:
+    virtual ~RunObserver() = default;
+    /// Called often (every batch of rays): keep it cheap, or throttle it.
+    virtual void progress(const RunProgress& p) { (void)p; }
+    /// Where image snapshots go during the render, for an error curve; null: none are taken.
+    virtual CheckpointRecorder* checkpoints() { return nullptr; }
+};
+
+/// Progress to a function (none: nobody watching), no checkpoints.
+class ProgressFunction final : public RunObserver {
+public:
+    explicit ProgressFunction(std::function<void(const RunProgress&)> f) : f_(std::move(f)) {}
+    void progress(const RunProgress& p) override {
+        if (f_) f_(p);
+    }
+
+private:
+    std::function<void(const RunProgress&)> f_;
+};
+
+}  // namespace crex
