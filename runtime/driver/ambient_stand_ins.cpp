@@ -1,0 +1,122 @@
+#include "runtime/driver/ambient_stand_ins.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/render/camera_samples.h"
+
+namespace crex {
+namespace {
+
+// ambient += av x the throughput left unexecuted per pixel (RGB).
+void add_stand_in(const std::vector<float>& left, const Vec3& av, std::vector<double>& ambient) {
+    for (size_t i = 0; i < left.size() && i < ambient.size(); ++i) ambient[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
+}
+
+// What the executed rays of component c found in pixels [p0, p1) (sample-summed RGB).
+Vec3 found_by(const Film& film, size_t c, size_t p0, size_t p1) {
+    const size_t aov = aov_of(static_cast<Component>(c));
+    double found[3] = {0, 0, 0};
+    for (size_t p = p0; p < p1; ++p) {
+        Vec3 v = film.pixel_value(aov, static_cast<uint32_t>(p)) * double(film.samples(static_cast<uint32_t>(p)));
+        found[0] += v.x, found[1] += v.y, found[2] += v.z;
+    }
+    return {found[0], found[1], found[2]};
+}
+
+}  // namespace
+
+AmbientStandIns::AmbientStandIns(size_t pixels, const Vec3& av, bool automatic)
+    : pixels_(pixels), av_(av), automatic_(automatic), ambient_(3 * pixels, 0.0) {}
+
+void AmbientStandIns::keep_every_component() {
+    if (automatic_)
+        for (auto& left : left_) left.assign(3 * pixels_, 0.0f);
+}
+
+void AmbientStandIns::flush(std::array<RayBatch, kComponentCount>& bins, std::array<size_t, kComponentCount>& left_count) {
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        RayBatch& bin = bins[c];
+        if (automatic_ && !bin.empty()) {
+            std::vector<float>& left = left_[c];
+            if (left.empty()) left.assign(3 * pixels_, 0.0f);
+            for (size_t i = 0; i < bin.size(); ++i) {
+                float* l = &left[3 * static_cast<size_t>(bin.pixel[i])];
+                l[0] += bin.br[i], l[1] += bin.bg[i], l[2] += bin.bb[i];
+            }
+        } else if (c == static_cast<size_t>(Component::kD)) {
+            add_ambient(bin, av_, ambient_);
+        }
+        left_count[c] += bin.size();
+        bin = RayBatch();  // freed: bins kept at their largest would add up over passes
+    }
+}
+
+std::vector<double> AmbientStandIns::if_stopped_now(const Film& film, const ExecutorStats& stats,
+                                                    const std::array<RayBatch, kComponentCount>& waiting,
+                                                    const std::array<RayBatch, kComponentCount>& carried) const {
+    std::vector<double> ambient = ambient_;
+    if (automatic_) {
+        // The image if the render stopped here: rays still waiting (this pass's, the preview's
+        // carried ones, those dropped at earlier passes' ends) stand in with what their
+        // component's rays brought back so far, as at the end of a render. Without this a
+        // checkpoint inside a pass counted its new samples with only their camera light and
+        // the error curve rose through every pass (issue 17).
+        for (size_t c = 0; c < kComponentCount; ++c) {
+            const double* beta = stats.components[c].beta;
+            if (!(beta[0] + beta[1] + beta[2] > 0)) continue;
+            const Vec3 av = per_unit(found_by(film, c, 0, film.pixel_count()), {beta[0], beta[1], beta[2]});
+            add_ambient(waiting[c], av, ambient);
+            add_ambient(carried[c], av, ambient);
+            add_stand_in(left_[c], av, ambient);
+        }
+    } else {
+        add_ambient(waiting[static_cast<size_t>(Component::kD)], av_, ambient);
+        add_ambient(carried[static_cast<size_t>(Component::kD)], av_, ambient);
+    }
+    return ambient;
+}
+
+void AmbientStandIns::finish_automatic(const Film& film, const ExecutorStats& stats, const std::vector<float>& image_before, size_t p0,
+                                       size_t p1, ProcessGroup* group, std::array<Vec3, kComponentCount>& auto_ambient,
+                                       std::vector<std::string>& notes) {
+    // Over this process's rows: distributed, each pixel is final in the band of the process
+    // that rendered the last stage there, so the sums over every process's rows are those of
+    // the whole image, and what every process's rays did stands in for every process's rays.
+    // sums: the image's radiance summed (3), then per component what its executed rays found
+    // (3) and their throughput (3).
+    std::vector<double> sums(3 + 6 * kComponentCount, 0.0);
+    // Where no ray of a component ran, the mean radiance of the image stands in (RADIANCE's
+    // usual choice of -av).
+    for (size_t p = p0; p < p1; ++p)
+        for (size_t k = 0; k < 3; ++k) sums[k] += std::isfinite(image_before[3 * p + k]) ? image_before[3 * p + k] : 0.0f;
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        const Vec3 found = found_by(film, c, p0, p1);
+        const double* beta = stats.components[c].beta;
+        double* at = &sums[3 + 6 * c];
+        at[0] = found.x, at[1] = found.y, at[2] = found.z, at[3] = beta[0], at[4] = beta[1], at[5] = beta[2];
+    }
+    if (group) group->sum(sums);
+    const Vec3 mean = Vec3{sums[0], sums[1], sums[2]} / double(std::max<size_t>(pixels_, 1));
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        std::vector<float>& left = left_[c];
+        if (std::all_of(left.begin(), left.end(), [](float b) { return b == 0; })) {  // none left (distributed, all are kept)
+            left = {};
+            continue;
+        }
+        const double* at = &sums[3 + 6 * c];
+        const bool measured = at[3] + at[4] + at[5] > 0;
+        const Vec3 av = measured ? per_unit({at[0], at[1], at[2]}, {at[3], at[4], at[5]}) : mean;
+        auto_ambient[c] = av;
+        add_stand_in(left, av, ambient_);
+        notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), {}", kComponentTable[c].letter, av.x,
+                                    av.y, av.z,
+                                    measured ? "what its executed rays brought back per unit throughput"
+                                             : "the mean radiance of the image (none of its rays ran)"));
+        left = {};
+    }
+}
+
+}  // namespace crex

@@ -1,0 +1,65 @@
+/// \file ambient_stand_ins.h
+/// What stands in for the work a render leaves undone (spec/pipeline.md §6). Rays still waiting
+/// in a bin when a pass ends are dropped; their light stands in as `av` times their throughput
+/// (D's rays), or, automatically, as what the executed rays of their component brought back per
+/// unit throughput in this render (every component's), or the image's mean radiance where none
+/// of them ran. So a pixel whose components were skipped is never black for lack of work.
+/// Automatic stand-ins are known only at the end; until then each component's throughput left
+/// unexecuted is kept per pixel.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "runtime/driver/process_group.h"
+#include "runtime/render/executor.h"
+#include "runtime/render/film.h"
+
+namespace crex {
+
+class AmbientStandIns {
+public:
+    /// `pixels` of the image; `av` the stand-in radiance unless `automatic`.
+    AmbientStandIns(size_t pixels, const Vec3& av, bool automatic);
+
+    /// Distributed rendering with automatic stand-ins: every component's throughput kept from
+    /// the start, so that each process shares its rows alike (a pixel's may have been left by
+    /// the process whose band held it before).
+    void keep_every_component();
+
+    /// The rays left in `bins` at the end of a pass: counted in `left` per bin, their stand-in
+    /// (or, automatic, their throughput) kept; the bins emptied and freed.
+    void flush(std::array<RayBatch, kComponentCount>& bins, std::array<size_t, kComponentCount>& left);
+
+    /// The stand-ins if the render stopped now (an image for a checkpoint): the rays still
+    /// `waiting` in the bins and `carried` to the selective stage stand in too, automatic ones
+    /// with what their component's rays brought back so far.
+    std::vector<double> if_stopped_now(const Film& film, const ExecutorStats& stats, const std::array<RayBatch, kComponentCount>& waiting,
+                                       const std::array<RayBatch, kComponentCount>& carried) const;
+
+    /// The end of an automatic render: each component's throughput left stands in with what its
+    /// executed rays over pixels [p0, p1) found (summed over every process rendering rows of
+    /// `group`), else with the mean radiance of `image_before` (the preview, or the composite
+    /// so far); each said in `notes`, kept in `auto_ambient`. `group` null: one process.
+    void finish_automatic(const Film& film, const ExecutorStats& stats, const std::vector<float>& image_before, size_t p0, size_t p1,
+                          ProcessGroup* group, std::array<Vec3, kComponentCount>& auto_ambient, std::vector<std::string>& notes);
+
+    /// Per pixel RGB, sample-summed: what the composite adds for D rays dropped (and, after
+    /// finish_automatic(), every component's).
+    std::vector<double>& ambient() { return ambient_; }
+    const std::vector<double>& ambient() const { return ambient_; }
+    /// Automatic: per component, the throughput of its rays left unexecuted (per pixel RGB).
+    std::array<std::vector<float>, kComponentCount>& throughput_left() { return left_; }
+    const Vec3& av() const { return av_; }
+    bool automatic() const { return automatic_; }
+
+private:
+    size_t pixels_;
+    Vec3 av_;
+    bool automatic_;
+    std::vector<double> ambient_;
+    std::array<std::vector<float>, kComponentCount> left_;
+};
+
+}  // namespace crex

@@ -1,0 +1,67 @@
+/// \file pass_sizing.h
+/// How big a sample pass may be (issue 13): a model of the memory a render holds, not a
+/// measurement of the process, so that the passes (and so the order of the film's sums) are the
+/// same on every run. A pass holds what the limit leaves beside the film, its buffers, the scene
+/// and the rays carried over; the first pass of a stage takes an eighth of that, and the rest
+/// are planned again on the rays it actually held (where lobe splitting keeps many more rays in
+/// flight than the model, as in the room's trans and glass: 2.9 GB under a 1 GiB limit).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "compiler/plan/pipeline_plan.h"
+#include "runtime/driver/sample_passes.h"
+#include "runtime/render/render_scene.h"
+
+namespace crex {
+
+struct RunSettings;
+
+/// A camera sample in flight: its ray, hit and shading buffers and the children it leaves.
+inline constexpr size_t kBytesPerSample = 512;
+
+/// capict: the components whose first-bounce branches the film tracks (their `subsample(X)`).
+uint8_t subsampled_components(const PipelinePlan& plan);
+
+/// What a render holds whatever its passes: the process's baseline, the film and its ambient
+/// stand-ins, guidance's buffers while they are to come (`guidance`), the output images.
+size_t fixed_bytes(size_t pixels, uint8_t tracked_branches, bool guidance);
+
+/// Throws std::runtime_error for a render whose film and buffers alone need more than the
+/// machine has free, before anything is allocated.
+void refuse_what_cannot_fit(const PipelinePlan& plan, const RunSettings& settings);
+
+/// A note when what no pass size can shrink is over `max_memory` ("": it is not).
+std::string memory_over_limit_note(size_t pixels, const PipelinePlan& plan, size_t max_memory);
+
+/// Bytes the next pass's rays may take: `max_memory` less what the process holds (`fixed`,
+/// `held` by rays carried over, the scene's triangles), at least one row of `width` samples.
+size_t pass_bytes(size_t fixed, size_t held, const RenderScene& scene, int width, size_t max_memory);
+
+/// The sample passes of one stage.
+class StagePasses {
+public:
+    /// `limits.bytes` from pass_bytes(); `budgeted`: one sample index a pass (each admitted on
+    /// its cost); `pass_samples`: a given number of samples a pass (no replanning).
+    StagePasses(int width, int height, const SampleRanges& ranges, PassLimits limits, bool budgeted, uint32_t pass_samples);
+
+    std::vector<SamplePass>& passes() { return passes_; }
+
+    /// After the first pass, which held `peak_rays_held` rays at most: the rest planned again on
+    /// what its samples really took, when the first pass covered whole rows and more follow.
+    /// Returns the bytes a sample was sized by (0: not planned again).
+    size_t replan_after_first(uint64_t peak_rays_held, size_t pixels);
+
+private:
+    int width_, height_;
+    SampleRanges ranges_;
+    PassLimits limits_;
+    size_t full_bytes_;
+    bool replan_;
+    std::vector<SamplePass> passes_;
+};
+
+}  // namespace crex

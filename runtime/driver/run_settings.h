@@ -1,0 +1,76 @@
+/// \file run_settings.h
+/// What the render driver runs with (run_plan.h): the settings of a render, resolved already
+/// (runtime/api/run_options.h resolves a caller's options against a plan), and the error of
+/// input a run cannot use.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "compiler/pipeline/settings_table.h"
+#include "runtime/cache/irradiance_cache.h"
+#include "runtime/driver/sample_passes.h"
+#include "runtime/render/camera_samples.h"
+#include "runtime/render/executor.h"
+
+namespace crex {
+
+/// `--uniform`: every selective variable at its base (min) or its maximum (max) in every
+/// pixel, as if every map were 0 or 1; guidance is not computed. `max` is a pipeline's own gold.
+enum class UniformQuality { kOff, kMin, kMax };
+
+inline constexpr size_t kDefaultMaxMemory = size_t{1} << 30;
+
+struct RunSettings {
+    int width = 128, height = 128;
+    /// Camera samples per pixel: of a plain crex run all of them, of a pipeline the preview's.
+    uint32_t spp = 1;
+    uint32_t first_sample = 0;  ///< a plain crex run renders samples [first_sample, first_sample + spp)
+    /// A plain crex run renders only the pixels of these windows of the frame, each exactly as
+    /// a render of the whole frame would (windowed references); empty: every pixel.
+    std::vector<PixelWindow> windows;
+    uint64_t seed = 0;
+    PixelFilter filter = PixelFilter::kBox;
+    Vec3 ambient{0, 0, 0};      ///< `av`: radiance standing in for unexecuted D work
+    /// Instead of `ambient`: every ray left unexecuted in any bin stands in with what rays of
+    /// its component brought back on average in this render (its AOV over the throughput of
+    /// its executed rays), or the image's mean radiance where none of them ran. So a pixel
+    /// whose components were skipped is never black for lack of work (spec/pipeline.md §6).
+    bool ambient_auto = false;
+    ExecutorOptions executor;   ///< base-quality shading, budget, profile
+    std::optional<IcSettings> irradiance_cache;  ///< D through a Ward irradiance cache
+    std::vector<IrradianceRecord> ic_records;    ///< records to start from
+    std::string ic_file;        ///< with a cache: load records from it if it exists, save them there at the end
+    /// The bytes of `ic_file` read already (distributed runs: by rank 0, the one process that
+    /// has the file); loaded instead of reading `ic_file`, which is still where they are saved
+    /// (by the process the ProcessGroup names).
+    std::optional<std::string> ic_file_bytes;
+    size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
+    /// Texture lookups filter over this many pixels' footprint (0: none, the sharpest lookups:
+    /// tests show what filtering prevents).
+    double texture_filter_width = 1;
+    uint32_t pass_samples = 0;  ///< samples per pixel per pass at most (0: as many as fit)
+    UniformQuality uniform = UniformQuality::kOff;
+    uint32_t rounds = 0;        ///< rounds of guidance and selective rendering (0: the plan's, else 1)
+    /// How a budget is spent (--policy); unset: the plan's, else the default of spec/pipeline.md
+    /// §7: whole tasks for a pipeline without `vary`, queues for one with, and progressive
+    /// passes for a plain crex (a plan with no name).
+    std::optional<pipeline::SchedulingPolicy> policy;
+    /// --resume (issue 19): rows already final, taken from a partial image; the camera samples of
+    /// the render's last stage are not traced there (a plain crex: none at all; a pipeline: its
+    /// last round's selective samples; the preview and earlier rounds are rendered whole, since
+    /// guidance sees the whole image). Those rows of the result are the caller's to replace.
+    std::vector<char> final_rows;
+};
+
+/// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot
+/// execute): the user's to fix (exit 1), unlike runtime failures (std::runtime_error, exit 3).
+struct RunInputError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+}  // namespace crex
