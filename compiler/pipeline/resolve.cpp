@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "base/input_file.h"
+#include "base/install_paths.h"
 #include "compiler/pipeline/parse.h"
 
 namespace crex::pipeline {
@@ -97,6 +98,7 @@ const ast::File* stdlib_file(const std::string& name, DiagnosticSink& sink) { re
 
 std::string stdlib_dir() {
     if (const char* env = std::getenv("CREX_STDLIB")) return env;
+    if (std::string installed = installed_path(CREX_STDLIB_INSTALL_DIR); !installed.empty()) return installed;
     return CREX_STDLIB_DIR;
 }
 

@@ -43,7 +43,8 @@ struct ResolvedPipeline {
     std::map<std::string, ast::Value> output;
 };
 
-/// Where `extends NAME` looks for stdlib pipelines: $CREX_STDLIB, else the source tree's stdlib/.
+/// Where `extends NAME` looks for stdlib pipelines: $CREX_STDLIB, else the install tree's
+/// (base/install_paths.h), else the source tree's stdlib/.
 std::string stdlib_dir();
 
 /// The stdlib file that defines pipeline `name` (stdlib/pipelines/NAME.pipe), parsed once per

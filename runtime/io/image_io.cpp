@@ -12,6 +12,7 @@
 #include <string>
 
 #include "base/input_file.h"
+#include "base/install_paths.h"
 
 namespace crex {
 namespace {
@@ -31,14 +32,15 @@ struct Plugin {
     std::string error;
 };
 
-// Where the plugin may be: $CREX_OIIO_MODULE, beside the running executable, then where the
-// build put it.
+// Where the plugin may be: $CREX_OIIO_MODULE, beside the running executable, in the install
+// tree the code runs from (base/install_paths.h), then where the build put it.
 std::vector<std::string> candidates() {
     std::vector<std::string> out;
     if (const char* env = std::getenv("CREX_OIIO_MODULE")) out.push_back(env);
     std::error_code ec;
     auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (!ec) out.push_back((exe.parent_path() / "libcrex_oiio.so").string());
+    if (std::string installed = installed_path(CREX_OIIO_INSTALL_PATH); !installed.empty()) out.push_back(installed);
     out.push_back(CREX_OIIO_MODULE_PATH);
     return out;
 }

@@ -1,0 +1,143 @@
+"""The Python module against the CLI and the issue's promises (issue 35): the same image as
+`crex run` bit for bit, diagnostics raised with their code, line and column, a render stopped
+by Ctrl-C with nothing written, the GIL released while rendering. Run by ctest (label python)
+with PYTHONPATH at the build's python/ folder and CREX_BINARY, CREX_SOURCE_DIR set."""
+import _thread
+import json
+import os
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import crex
+
+SOURCE = os.environ.get("CREX_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+CLI = os.environ.get("CREX_BINARY", "crex")
+SEL_RP = os.path.join(SOURCE, "stdlib", "pipelines", "sel_rp.pipe")
+
+
+def cli(*args):
+    return subprocess.run([CLI, *args], capture_output=True, text=True, check=False)
+
+
+@pytest.mark.parametrize("source", [SEL_RP, "(TTMRSGD)*"])
+def test_the_image_is_the_cli_image_bit_for_bit(tmp_path, source):
+    exr = str(tmp_path / "cli.exr")
+    plan_args = [source] if source.endswith(".pipe") else ["-e", source]
+    r = cli("run", *plan_args, "--scene", "builtin:cornell", "--size", "32x24", "--spp", "2", "--seed", "7", "-q", "-o", exr)
+    assert r.returncode == 0, r.stderr
+    result = crex.run(crex.compile(source, scene="builtin:cornell"), size=(32, 24), spp=2, seed=7)
+    assert result.image.shape == (24, 32, 3) and result.image.dtype == np.float32
+    assert np.array_equal(result.image, crex.read_image(exr)), "the Python image differs from the CLI's"
+    assert result.image.max() > 0
+
+
+def test_a_crex_error_is_raised_with_its_code_line_and_column():
+    with pytest.raises(crex.CompileError) as caught:
+        crex.compile("TT{TD*}2")
+    errors = [d for d in caught.value.diagnostics if d.severity == "error"]
+    assert [(d.code, d.line, d.column) for d in errors] == [("E004", 1, 6)]
+    assert "E004" in str(caught.value)
+
+
+def test_a_pipeline_error_is_located_in_the_pipeline_text():
+    text = 'pipeline broken {\n  preselective { crex "TT" spp 4 }\n  guidance { m = saliency(nothing) }\n  selective { vary spp 1 .. 8 by m }\n}\n'
+    with pytest.raises(crex.CompileError) as caught:
+        crex.compile(text)
+    d = next(d for d in caught.value.diagnostics if d.severity == "error")
+    assert d.code == "E205" and d.line == 3 and d.column == text.splitlines()[2].index("nothing") + 1, repr(d)
+    assert isinstance(caught.value, crex.CrexError)
+
+
+def test_ctrl_c_stops_a_render_with_nothing_written(tmp_path):
+    out = tmp_path / "never.exr"
+    # Minutes of work: the interrupt must stop it, and the file must not appear.
+    threading.Timer(0.5, _thread.interrupt_main).start()
+    with pytest.raises(KeyboardInterrupt):
+        crex.run("(TTMRSGD)*", size=(256, 256), spp=4096, output=str(out))
+    assert not out.exists()
+    assert not [p for p in tmp_path.iterdir()], "a staged file was left behind"
+
+
+def test_the_gil_is_released_while_rendering():
+    counted = [0]
+    done = threading.Event()
+
+    def count():
+        while not done.is_set():
+            counted[0] += 1
+
+    t = threading.Thread(target=count)
+    t.start()
+    try:
+        crex.run("(TTMRSGD)*", size=(32, 32), spp=16)
+    finally:
+        done.set()
+        t.join()
+    # With the GIL held for the whole render the other thread could not have counted at all.
+    assert counted[0] > 1000
+
+
+def test_progress_is_reported_and_can_stop_the_render():
+    seen = []
+    crex.run("(TTMRSGD)*", size=(32, 32), spp=64, progress=seen.append)
+    assert seen and all({"stage", "fraction", "rays"} <= set(p) for p in seen)
+    assert seen[-1]["rays"] > 0
+
+    class Enough(Exception):
+        pass
+
+    def stop(_):
+        raise Enough()
+
+    with pytest.raises(Enough):
+        crex.run("(TTMRSGD)*", size=(64, 64), spp=4096, progress=stop)
+
+
+def test_a_run_gives_components_maps_samples_and_the_summary(tmp_path):
+    plan = crex.compile(SEL_RP, scene="builtin:cornell")
+    assert plan.staged and plan.name == "sel_rp"
+    r = crex.run(plan, size=(24, 16), seed=3, output=str(tmp_path / "sel.png"))
+    assert (tmp_path / "sel.png").exists()
+    h, w = 16, 24
+    assert set(r.components) == {"camera", "D", "G", "S", "T", "R", "M"}
+    total = sum(r.components.values())
+    assert np.allclose(total, r.image, rtol=1e-4, atol=1e-5), "the components add up to the image"
+    assert r.maps and all(m.shape == (h, w, 1) for m in r.maps.values())
+    assert r.samples_per_pixel.shape == (h, w) and r.samples_per_pixel.min() >= 1
+    assert r.samples_per_pixel.max() > r.samples_per_pixel.min(), "sel_rp varies the samples per pixel"
+    assert r.summary["pipeline"] == "sel_rp" and r.summary["size"] == [w, h]
+    assert r.preview.shape == (h, w, 3)
+
+
+def test_check_compile_load_scene_and_compare():
+    ds = crex.check("TT{TD*}2")  # as `crex check -e` says: the error, then the warning W101
+    assert [(d.code, d.severity, d.column) for d in ds] == [("E004", "error", 6), ("W101", "warning", 8)]
+    assert crex.check("(TTMRSGD)*") == []
+    assert [d.code for d in crex.check("(TTMRSGD)*", scene="builtin:cornell_diffuse")].count("W103") >= 1
+    plan = crex.compile("(TTMRSGD)*", scene="builtin:cornell_diffuse")
+    as_json = plan.to_dict()
+    assert as_json["format"] == "crex-plan" and as_json["pruned"], "steps the scene cannot need are pruned"
+    assert plan.dot.startswith("digraph")
+    scene = crex.load_scene("builtin:cornell")
+    assert scene.spec == "builtin:cornell" and scene.census()["components"]["D"]["can_occur"]
+    a = crex.run("(TTMRSGD)*", scene=scene, size=(32, 32), spp=1, seed=1).image
+    b = crex.run("(TTMRSGD)*", scene=scene, size=(32, 32), spp=1, seed=2).image
+    same = crex.compare(a, a, ["rmse", "flip"])
+    assert same == {"rmse": 0.0, "flip": 0.0}
+    other = crex.compare(a, b, ("rmse", "flip", "ssim"))
+    assert other["rmse"] > 0 and 0 < other["flip"] < 1 and other["ssim"] < 1
+
+
+def test_inputs_that_cannot_be_read_raise_input_error(tmp_path):
+    with pytest.raises(crex.InputError):
+        crex.load_scene(str(tmp_path / "none.json"))
+    with pytest.raises(crex.InputError):
+        crex.read_image(str(tmp_path / "none.exr"))
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"camera": {"position": [0, 0, 0]}}))
+    with pytest.raises(crex.CompileError) as caught:
+        crex.load_scene(str(bad))
+    assert all(d.file == str(bad) for d in caught.value.diagnostics if d.severity == "error")

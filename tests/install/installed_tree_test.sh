@@ -1,0 +1,34 @@
+#!/bin/sh
+# `cmake --install` into a fresh prefix, then the installed tool and (when built) the Python
+# package used from there: the stdlib, the image plugin and the module must be the installed
+# ones, not the build tree's (which would still be found, as a last resort, while it exists).
+# Usage: installed_tree_test.sh BUILD_DIR PYTHON PYTHON_INSTALL_DIR   (PYTHON "": no module)
+set -eu
+build=$1 python=$2 python_dir=$3
+prefix=$(mktemp -d)
+trap 'rm -rf "$prefix"' EXIT
+cmake --install "$build" --prefix "$prefix" > /dev/null
+cd "$prefix"
+
+# The tool renders a pipeline of the installed stdlib; the plugin it loads is the installed one.
+LD_DEBUG=files "$prefix/bin/crex" run share/crex/stdlib/pipelines/sel_rp.pipe --size 16x12 -q -o out.png 2> ld.log
+test -s out.png
+grep -q "file=$prefix/lib[^ ]*/crex/libcrex_oiio.so" ld.log || { echo "the installed image plugin was not the one loaded"; exit 1; }
+
+# `extends` reads the installed stdlib: without its sel_rp, a pipeline extending it is refused.
+printf 'pipeline mine extends sel_rp {\n  preselective { spp 2 }\n}\n' > mine.pipe
+"$prefix/bin/crex" check -q mine.pipe
+rm share/crex/stdlib/pipelines/sel_rp.pipe
+if "$prefix/bin/crex" check -q mine.pipe 2> check.log; then echo "extends read a stdlib outside the prefix"; exit 1; fi
+grep -q "E210" check.log
+
+[ -n "$python" ] || exit 0
+# The package imports from the prefix, renders, and writes through the installed plugin.
+PYTHONPATH="$prefix/$python_dir" LD_DEBUG=files "$python" -c "
+import crex, os, sys
+assert crex.__file__.startswith('$prefix'), crex.__file__
+r = crex.run('(TTMRSGD)*', size=(16, 12), output='py.png')
+assert r.image.shape == (12, 16, 3) and os.path.getsize('py.png') > 0
+" 2> py.log || { cat py.log | grep -v '^ *[0-9]*:' >&2; exit 1; }
+grep -q "file=$prefix/lib[^ ]*/crex/libcrex_oiio.so" py.log || { echo "the module loaded another image plugin"; exit 1; }
+echo "installed tree ok: $prefix"
