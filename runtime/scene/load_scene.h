@@ -58,10 +58,6 @@ std::optional<Scene> import_gltf(const std::string& path, DiagnosticSink& sink, 
 /// in the order of Scene::cameras) its camera. Returns "" or why it cannot.
 std::string select_camera(Scene& scene, const std::string& spec);
 
-/// `--camera NAME|INDEX`: makes the scene's named camera `spec` (a name, or an index from 0
-/// in the order of Scene::cameras) its camera. Returns "" or why it cannot.
-std::string select_camera(Scene& scene, const std::string& spec);
-
 /// Built-in scenes: "cornell" (the default), "cornell_diffuse".
 std::optional<Scene> builtin_scene(const std::string& name);
 std::vector<std::string> builtin_scene_names();
