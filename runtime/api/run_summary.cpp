@@ -93,7 +93,6 @@ nlohmann::json run_summary_json(const RunFacts& f) {
     }
     if (f.recorder) j["checkpoint_seconds"] = f.recorder->paused_seconds();
     if (r.textures) j["textures"] = to_json(*r.textures, r.render_thread_seconds, r.render_cpu_seconds);
-    if (r.textures) j["textures"] = to_json(*r.textures, r.render_thread_seconds, r.render_cpu_seconds);
     if (f.ic) {
         const IcStats& ic = r.ic_stats;
         j["irradiance_cache"] = {{"aa", f.ic->accuracy}, {"ad", f.ic->divisions}, {"ab", f.ic->bounces}, {"records", r.ic_records.size()},
@@ -196,12 +195,6 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
         for (const auto& [what, percent] : profile_errors(*f.predicted, st)) line += fmt::format("{}{} {:+.1f} %", line.empty() ? "" : ", ", what, percent);
         if (!line.empty()) out << "  profile's cost per ray against this run's: " << line << "\n";
     }
-    if (r.textures)
-        out << fmt::format("  textures: {} image{}, {} lookups, {:.1f} % of the render's thread time; cache {:.1f} of {:.0f} MiB, {:.1f} MiB read\n",
-                           r.textures->images.size(), r.textures->images.size() == 1 ? "" : "s", r.textures->lookups,
-                           r.render_thread_seconds > 0 ? 100 * r.textures->lookup_seconds / r.render_thread_seconds : 0.0,
-                           r.textures->cache.memory_bytes / double(1 << 20), r.textures->cache.memory_limit / double(1 << 20),
-                           r.textures->cache.bytes_read / double(1 << 20));
     if (r.textures)
         out << fmt::format("  textures: {} image{}, {} lookups, {:.1f} % of the render's thread time; cache {:.1f} of {:.0f} MiB, {:.1f} MiB read\n",
                            r.textures->images.size(), r.textures->images.size() == 1 ? "" : "s", r.textures->lookups,

@@ -53,6 +53,14 @@ TEST(TexturedSceneCli, RunReportsTheTextureCache) {
     const double share = t["lookup_share_of_render"].get<double>();
     EXPECT_GT(share, 0.0);
     EXPECT_LT(share, 1.0);
+    // The text summary says it once (the line was printed twice after a merge).
+    auto text = crex_cli({"run", "--scene", kRoom, "--size", "32x24", "--spp", "1", "-e", "D", "-o",
+                          (std::filesystem::temp_directory_path() / "crex_cli_living_room.exr").string()});
+    ASSERT_EQ(text.exit_code, 0) << text.err;
+    const std::string said = text.out + text.err;
+    const size_t first = said.find("  textures: ");
+    ASSERT_NE(first, std::string::npos) << said;
+    EXPECT_EQ(said.find("  textures: ", first + 1), std::string::npos) << said;
     std::filesystem::remove(std::filesystem::temp_directory_path() / "crex_cli_living_room.exr");
 }
 
