@@ -17,6 +17,7 @@
 #include "runtime/report/reference_cache.h"
 #include "runtime/scene/load_scene.h"
 #include "tests/support/crex_cli.h"
+#include "tests/support/scratch_folder.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -27,14 +28,9 @@ namespace fs = std::filesystem;
 using testing::crex_cli;
 using testing::run_command;
 
-class HostileInputs : public ::testing::Test {
+class HostileInputs : public testing::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("crex_hostile_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    HostileInputs() : ScratchFolderTest("crex_hostile_") {}
     std::string write(const std::string& name, const std::string& text) const {
         std::ofstream(path(name), std::ios::binary) << text;
         return path(name);
@@ -56,7 +52,6 @@ protected:
         args.insert(args.begin(), {"/usr/bin/timeout", "60", CREX_BINARY});
         return run_command(args);
     }
-    fs::path dir_;
 };
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }

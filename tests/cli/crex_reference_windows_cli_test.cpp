@@ -2,7 +2,6 @@
 // the frame rendered as the whole frame would be, accumulation over runs, and `crex compare`
 // on the windows alone.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include "runtime/io/image_io.h"
 #include "runtime/reference/windowed_image.h"
 #include "tests/support/crex_cli.h"
+#include "tests/support/scratch_folder.h"
 
 namespace crex {
 namespace {
@@ -23,14 +23,9 @@ constexpr int kWidth = 48, kHeight = 32;
 // Two windows of different heights: the atlas has a black strip under the shorter one.
 const std::vector<std::string> kWindows = {"5,4,12,10", "30,16,16,16"};
 
-class ReferenceWindowsCli : public ::testing::Test {
+class ReferenceWindowsCli : public testing::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("crex_reference_windows_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    std::string path(const std::string& f) const { return (dir_ / f).string(); }
+    ReferenceWindowsCli() : ScratchFolderTest("crex_reference_windows_") {}
 
     // `crex reference builtin:cornell` of the windows at 48x32, seed 3; `context`: with the
     // cheap cached render of the whole frame (exposure and saliency), which costs more than
@@ -56,7 +51,6 @@ protected:
         return {m.begin(), m.end()};
     }
 
-    fs::path dir_;
 };
 
 std::vector<PixelWindow> windows() {

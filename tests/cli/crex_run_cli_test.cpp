@@ -10,6 +10,7 @@
 #include "runtime/base/memory.h"
 #include "runtime/io/image_io.h"
 #include "tests/support/crex_cli.h"
+#include "tests/support/scratch_folder.h"
 
 namespace crex {
 namespace {
@@ -18,20 +19,14 @@ namespace fs = std::filesystem;
 
 using testing::crex_cli;
 
-class CrexRunCli : public ::testing::Test {
+class CrexRunCli : public testing::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("crex_run_cli_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    CrexRunCli() : ScratchFolderTest("crex_run_cli_") {}
     size_t file_count() const {
         size_t n = 0;
         for ([[maybe_unused]] const auto& e : fs::recursive_directory_iterator(dir_)) ++n;
         return n;
     }
-    fs::path dir_;
 };
 
 TEST_F(CrexRunCli, RendersTheDefaultSceneToEveryRequestedFormat) {

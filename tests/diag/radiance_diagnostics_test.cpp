@@ -98,6 +98,42 @@ INSTANTIATE_TEST_SUITE_P(
                 "l sphere s 0 0 4 0 0 5 1\n", "W306", 2, 17, "renders its surfaces as 'pink'"}),
     [](const ::testing::TestParamInfo<RadCase>& p) { return std::string(p.param.name); });
 
+// Errors in a file's text: each located, naming what stops it, and no scene.
+INSTANTIATE_TEST_SUITE_P(
+    Errors, RadianceDiagnostic,
+    ::testing::Values(
+        RadCase{"unknown_command", "void light l 0 0 3 1 1 1\n!obj2rad chair.obj\n", "E307", 2, 2, "the command 'obj2rad' is not supported"},
+        RadCase{"shell_syntax", "void light l 0 0 3 1 1 1\n!genbox l b 1 1 1 > box.rad\n", "E307", 2, 19, "'>' in a '!' command needs a shell"},
+        RadCase{"missing_include", "void light l 0 0 3 1 1 1\n!xform -t 1 0 0 nowhere.rad\n", "E308", 2, 17, "cannot read the scene file 'nowhere.rad'"},
+        RadCase{"instance", "void light l 0 0 3 1 1 1\nl instance car 1 car.oct 0 0\n", "E307", 2, 3, "instance 'car': octrees"},
+        RadCase{"mesh", "void light l 0 0 3 1 1 1\nl mesh vase 1 vase.rtm 0 0\n", "E307", 2, 3, "compiled meshes (.rtm"},
+        RadCase{"unknown_type", "void light l 0 0 3 1 1 1\nl teapot t 0 0 0\n", "E307", 2, 3, "unknown RADIANCE type 'teapot'"},
+        RadCase{"pattern_modifier", "void brightfunc b 2 x y 0 0\nb plastic p 0 0 5 1 1 1 0 0\np sphere s 0 0 4 0 0 0 1\n", "E307", 2, 1,
+               "modified by a brightfunc 'b'"},
+        RadCase{"unsupported_material", "void antimatter a 1 wall 0 0\na ring r 0 0 8 0 0 0 0 0 1 0 1\n", "E307", 1, 6,
+               "RADIANCE material type 'antimatter' ('a') is not supported"},
+        RadCase{"mixture", "void plastic w 0 0 5 1 1 1 0 0\nvoid mixfunc m 4 w void x .  0 0\nm sphere s 0 0 4 0 0 0 1\n", "E307", 2, 6,
+               "mixfunc 'm' (a mixture of materials, by x of the built-in library)"},
+        RadCase{"unclosed_quote", "void light 'l 0 0 3 1 1 1\n", "E301", 1, 12, "never closed"},
+        RadCase{"undefined_alias", "void alias a nothing\n", "E305", 1, 14, "'nothing', which is not defined"},
+        RadCase{"truncated", "void light l 0 0 3 1 1\n", "E301", 2, 1, "real argument 3 of 3 is missing"},
+        RadCase{"truncated_header", "void light\n", "E301", 2, 1, "the file ends inside"},
+        RadCase{"bad_count", "void light l 0 0 x 1 1 1\n", "E302", 1, 18, "expected the number of real arguments"},
+        RadCase{"not_a_number", "void light l 0 0 3 1 one 1\n", "E302", 1, 22, "expected a real number, got 'one'"},
+        RadCase{"nan", "void light l 0 0 3 1 nan 1\n", "E303", 1, 22, "finite"},
+        RadCase{"inf", "void light l 0 0 3 1 1 inf\n", "E303", 1, 24, "finite"},
+        RadCase{"wrong_arity", "void plastic p 0 0 3 1 1 1\n", "E303", 1, 22, "takes 5 real arguments, got 3"},
+        RadCase{"reflectance_range", "void plastic p 0 0 5 1 2 1 0 0\n", "E303", 1, 24, "reflectance must be in [0, 1]"},
+        RadCase{"radiance_beyond_floats", "void light l 0 0 3 1 1e100 1\nl sphere s 0 0 4 0 0 0 1\n", "E303", 2, 3,
+               "material 'l': radiance 1e+100 is beyond the 1e+30"},
+        RadCase{"undefined_modifier", "void light l 0 0 3 1 1 1\nwhite sphere s 0 0 4 0 0 0 1\n", "E305", 2, 1,
+               "modifier 'white', which is not defined"},
+        RadCase{"degenerate_ring_normal", "void light l 0 0 3 1 1 1\nl ring r 0 0 8 0 0 0 0 0 0 0 1\n", "E306", 2, 3,
+               "degenerate normal"},
+        RadCase{"zero_radius_sphere", "void light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 0\n", "E306", 2, 3, "radius must be > 0"},
+        RadCase{"polygon_arity", "void light l 0 0 3 1 1 1\nl polygon p 0 0 7 0 0 0 1 1 1 2\n", "E303", 2, 3, "3 numbers per vertex"}),
+    [](const ::testing::TestParamInfo<RadCase>& p) { return std::string(p.param.name); });
+
 #undef L
 
 }  // namespace

@@ -11,16 +11,9 @@
 
 #include "runtime/scene/load_scene.h"
 #include "tests/support/diagnostic_helpers.h"
+#include "tests/support/scratch_folder.h"
 
 namespace crex::testing {
-
-/// A scratch folder of this test process's own (test binaries run in parallel), made when
-/// first asked for: scene files and the textures they name are written there.
-inline std::filesystem::path scratch_folder(const std::string& prefix) {
-    std::filesystem::path dir = std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    return dir;
-}
 
 struct SceneResult : Diagnosed {
     std::unique_ptr<SceneSources> sources = std::make_unique<SceneSources>();

@@ -11,6 +11,7 @@
 
 #include "base/input_file.h"
 #include "base/number_range.h"
+#include "tests/support/scratch_folder.h"
 
 namespace crex {
 namespace {
@@ -47,15 +48,9 @@ TEST(NumberRange, ReadsTextWholeAndWholeNumbersExactly) {
     EXPECT_EQ(number_text_error("\x1b[2J", {0, 1, false}), "'?[2J' is not a number: expected a number from 0 to 1");
 }
 
-class InputFile : public ::testing::Test {
+class InputFile : public testing::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("crex_input_file_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    fs::path dir_;
+    InputFile() : ScratchFolderTest("crex_input_file_") {}
 };
 
 TEST_F(InputFile, ReadsARegularFileWhole) {

@@ -130,59 +130,6 @@ TEST(SceneRadiance, CornellTwinIsRenderEquivalentToTheJson) {
     EXPECT_NEAR(a.hfov_deg, b.hfov_deg, 1e-6);
 }
 
-struct BadRad {
-    const char* name;
-    const char* text;
-    const char* code;
-    uint32_t line;
-    uint32_t col;
-    const char* message_part;
-};
-
-class SceneRadianceBadInput : public ::testing::TestWithParam<BadRad> {};
-
-TEST_P(SceneRadianceBadInput, IsALocatedErrorNamingTheConstruct) {
-    const BadRad& c = GetParam();
-    auto r = testing::load_rad_text(c.text);
-    EXPECT_FALSE(r.scene) << c.name;
-    testing::expect_diagnostic(r, c.name, c.code, c.line, c.col, c.message_part);
-}
-
-INSTANTIATE_TEST_SUITE_P(
-    Cases, SceneRadianceBadInput,
-    ::testing::Values(
-        BadRad{"unknown_command", "void light l 0 0 3 1 1 1\n!obj2rad chair.obj\n", "E307", 2, 2, "the command 'obj2rad' is not supported"},
-        BadRad{"shell_syntax", "void light l 0 0 3 1 1 1\n!genbox l b 1 1 1 > box.rad\n", "E307", 2, 19, "'>' in a '!' command needs a shell"},
-        BadRad{"missing_include", "void light l 0 0 3 1 1 1\n!xform -t 1 0 0 nowhere.rad\n", "E308", 2, 17, "cannot read the scene file 'nowhere.rad'"},
-        BadRad{"instance", "void light l 0 0 3 1 1 1\nl instance car 1 car.oct 0 0\n", "E307", 2, 3, "instance 'car': octrees"},
-        BadRad{"mesh", "void light l 0 0 3 1 1 1\nl mesh vase 1 vase.rtm 0 0\n", "E307", 2, 3, "compiled meshes (.rtm"},
-        BadRad{"unknown_type", "void light l 0 0 3 1 1 1\nl teapot t 0 0 0\n", "E307", 2, 3, "unknown RADIANCE type 'teapot'"},
-        BadRad{"pattern_modifier", "void brightfunc b 2 x y 0 0\nb plastic p 0 0 5 1 1 1 0 0\np sphere s 0 0 4 0 0 0 1\n", "E307", 2, 1,
-               "modified by a brightfunc 'b'"},
-        BadRad{"unsupported_material", "void antimatter a 1 wall 0 0\na ring r 0 0 8 0 0 0 0 0 1 0 1\n", "E307", 1, 6,
-               "RADIANCE material type 'antimatter' ('a') is not supported"},
-        BadRad{"mixture", "void plastic w 0 0 5 1 1 1 0 0\nvoid mixfunc m 4 w void x .  0 0\nm sphere s 0 0 4 0 0 0 1\n", "E307", 2, 6,
-               "mixfunc 'm' (a mixture of materials, by x of the built-in library)"},
-        BadRad{"unclosed_quote", "void light 'l 0 0 3 1 1 1\n", "E301", 1, 12, "never closed"},
-        BadRad{"undefined_alias", "void alias a nothing\n", "E305", 1, 14, "'nothing', which is not defined"},
-        BadRad{"truncated", "void light l 0 0 3 1 1\n", "E301", 2, 1, "real argument 3 of 3 is missing"},
-        BadRad{"truncated_header", "void light\n", "E301", 2, 1, "the file ends inside"},
-        BadRad{"bad_count", "void light l 0 0 x 1 1 1\n", "E302", 1, 18, "expected the number of real arguments"},
-        BadRad{"not_a_number", "void light l 0 0 3 1 one 1\n", "E302", 1, 22, "expected a real number, got 'one'"},
-        BadRad{"nan", "void light l 0 0 3 1 nan 1\n", "E303", 1, 22, "finite"},
-        BadRad{"inf", "void light l 0 0 3 1 1 inf\n", "E303", 1, 24, "finite"},
-        BadRad{"wrong_arity", "void plastic p 0 0 3 1 1 1\n", "E303", 1, 22, "takes 5 real arguments, got 3"},
-        BadRad{"reflectance_range", "void plastic p 0 0 5 1 2 1 0 0\n", "E303", 1, 24, "reflectance must be in [0, 1]"},
-        BadRad{"radiance_beyond_floats", "void light l 0 0 3 1 1e100 1\nl sphere s 0 0 4 0 0 0 1\n", "E303", 2, 3,
-               "material 'l': radiance 1e+100 is beyond the 1e+30"},
-        BadRad{"undefined_modifier", "void light l 0 0 3 1 1 1\nwhite sphere s 0 0 4 0 0 0 1\n", "E305", 2, 1,
-               "modifier 'white', which is not defined"},
-        BadRad{"degenerate_ring_normal", "void light l 0 0 3 1 1 1\nl ring r 0 0 8 0 0 0 0 0 0 0 1\n", "E306", 2, 3,
-               "degenerate normal"},
-        BadRad{"zero_radius_sphere", "void light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 0\n", "E306", 2, 3, "radius must be > 0"},
-        BadRad{"polygon_arity", "void light l 0 0 3 1 1 1\nl polygon p 0 0 7 0 0 0 1 1 1 2\n", "E303", 2, 3, "3 numbers per vertex"}),
-    [](const ::testing::TestParamInfo<BadRad>& p) { return std::string(p.param.name); });
-
 TEST(SceneRadiance, KeepsGoingAfterAnUnsupportedPrimitive) {
     auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl instance a 1 a.oct 0 0\nl mesh b 1 b.rtm 0 0\nl sphere s 0 0 4 0 0 0 0\n");
     size_t e307 = 0, e306 = 0;
