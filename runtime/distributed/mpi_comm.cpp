@@ -93,7 +93,9 @@ void share_rows(const Distribution& d, SharedRows& rows) {
     // finished. Before it, a rank that got here first under load failed while rank 0 still
     // rendered (1 run in 3 with the MPI tests at -j2), and rank 0 had no final row to write.
     fail_here_if_asked(exchange, rows.why == RowExchange::kEnd);
-    CREX_CHECK(bounds.size() == static_cast<size_t>(d.bands) + 1 && bounds.front() == 0 && bounds.back() == film.height());
+    CREX_CHECK_EQ(bounds.size(), static_cast<size_t>(d.bands) + 1);
+    CREX_CHECK_EQ(bounds.front(), 0);
+    CREX_CHECK_EQ(bounds.back(), film.height());
     const int width = film.width();
     // Each buffer in place: band b's rows go to every rank (MPI_IN_PLACE: a rank's own band
     // is already where it belongs). Non-blocking, so a rank stalling inside is caught too.

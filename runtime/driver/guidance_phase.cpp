@@ -21,7 +21,9 @@ bool needs_probe(const PipelinePlan& plan) {
 }
 
 std::vector<float> map_values(const guidance::Raster& r, size_t pixels) {
-    CREX_CHECK(r.channels == 1 && r.pixels() == pixels);  // every operator makes maps of the image's size
+    // Every operator makes one-channel maps of the image's size.
+    CREX_CHECK_EQ(r.channels, 1);
+    CREX_CHECK_EQ(r.pixels(), pixels);
     return r.v;
 }
 

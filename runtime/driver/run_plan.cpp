@@ -475,7 +475,11 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
     StagePasses stage_passes(s_.width, s_.height, ranges, limits, budget_.budgeted(), s_.pass_samples);
     std::vector<SamplePass>& passes = stage_passes.passes();
     ex_->reset_peak_rays_held();
-    for (const SamplePass& p : passes) CREX_CHECK(p.first < p.end && p.row_begin < p.row_end && p.samples > 0);
+    for (const SamplePass& p : passes) {
+        CREX_CHECK_LT(p.first, p.end);
+        CREX_CHECK_LT(p.row_begin, p.row_end);
+        CREX_CHECK_LT(uint64_t{0}, p.samples);
+    }
     progress_ = {};
     progress_.stage = stage;
     progress_.passes = passes.size();
@@ -552,7 +556,7 @@ void PlanRun::trace_camera_rays(const SamplePass& pass, const SampleRanges& rang
             }
         }
     });
-    CREX_CHECK(rays.size() == pass.samples);
+    CREX_CHECK_EQ(rays.size(), pass.samples);
     ex_->run_camera_rays(rays);
 }
 

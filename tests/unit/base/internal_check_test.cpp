@@ -20,5 +20,26 @@ TEST(InternalCheck, AFailedInvariantNamesItsFileAndLineAndAsksForAReport) {
     }
 }
 
+TEST(InternalCheck, AFailedComparisonPrintsBothValues) {
+    size_t rays = 3, samples = 4;
+    EXPECT_NO_THROW(CREX_CHECK_LT(rays, samples));
+    EXPECT_NO_THROW(CREX_CHECK_LE(rays, rays));
+    EXPECT_NO_THROW(CREX_CHECK_NE(rays, samples));
+    try {
+        CREX_CHECK_EQ(rays, samples);
+        FAIL() << "no throw";
+    } catch (const InternalError& e) {
+        EXPECT_NE(std::string(e.what()).find("expected rays == samples (3 vs 4)"), std::string::npos) << e.what();
+    }
+    int evaluated = 0;
+    try {
+        CREX_CHECK_LT(++evaluated + 1, 1);  // operands evaluated once, even when printed
+        FAIL() << "no throw";
+    } catch (const InternalError& e) {
+        EXPECT_EQ(evaluated, 1);
+        EXPECT_NE(std::string(e.what()).find("(2 vs 1)"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace crex
