@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "runtime/cache/caustic_photons.h"
+#include "runtime/cache/irradiance_cache_file.h"
 #include "runtime/cache/irradiance_record.h"
 #include "runtime/cache/record_grid.h"
 #include "runtime/render/ray_batch.h"
@@ -99,9 +100,9 @@ public:
     double min_radius() const { return r_min_; }
     double max_radius() const { return r_max_; }
 
-    /// Persistence (reuse across frames and runs): CBOR (version 2; version 1 JSON is still
-    /// read) with the settings that shaped the records; load() refuses a file made with other
-    /// settings or another scene extent, and damaged bytes, without loading any record.
+    /// Persistence (reuse across frames and runs), in the format of irradiance_cache_file.h:
+    /// load() refuses a file made with other settings or another scene extent, and damaged
+    /// bytes, without loading any record.
     std::string save(const std::string& path) const;
     /// What save() writes, as bytes (distributed runs: sent to the process that writes it).
     std::string to_bytes() const;
@@ -109,8 +110,19 @@ public:
     /// load() of a file's bytes already read; `name` is the file the messages name.
     std::string load_bytes(const std::string& data, const std::string& name);
 
+    /// The settings a file of this cache's records carries and must match to be read.
+    IcFileSettings file_settings() const;
+
 private:
+    /// Makes the records of `sites` at `level` (record_hemispheres.cpp), in four phases over
+    /// the whole batch; the third asks irradiance() for the next level.
     std::vector<IrradianceRecord> compute(const std::vector<IcQuery>& sites, uint32_t level);
+    struct Hemispheres;
+    Hemispheres cast_hemispheres(const std::vector<IcQuery>& sites, uint32_t level);
+    void pass_specular_interfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
+    void shade_hemispheres(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
+    void add_next_bounce(Hemispheres& h, uint32_t level);
+    std::vector<IrradianceRecord> records_from(const Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) const;
     uint64_t cell_key(int x, int y, int z) const;
     double level_accuracy(double aa, uint32_t level) const;
 

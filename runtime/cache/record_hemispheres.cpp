@@ -1,0 +1,339 @@
+// How IrradianceCache makes a batch of records (compute()), in its four phases: cast the
+// stratified hemisphere rays of every site; carry the rays that met glass, a mirror or a
+// translucent surface through them; shade what each ray reached (emission, one light sample,
+// the next bounce from records one level deeper); fold each site's rays into a record (E,
+// harmonic distance, Ward-Heckbert gradients). Every phase works on the whole batch, so Embree
+// sees large batches and the order of every sum is fixed (images do not depend on threads).
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "runtime/base/sampling.h"
+#include "runtime/cache/irradiance_cache.h"
+#include "runtime/render/bsdf.h"
+#include "runtime/render/shade.h"
+#include "runtime/render/surface.h"
+#include "runtime/trace/trace_batch.h"
+
+namespace crex {
+
+/// The hemisphere rays of a batch of sites: `per` = M x N stratified rays each, site s's rays
+/// at [s per, (s + 1) per). What each phase leaves for the next.
+struct IrradianceCache::Hemispheres {
+    int M = 1, N = 1;  ///< strata in cos^2 theta and in phi
+    size_t per = 1, n = 0;
+    double eps = 0;
+    std::vector<RTCRayHit> first;  ///< first hits: their distances make R and the gradients
+    std::vector<RTCRayHit> last;   ///< what each ray reached after any specular interfaces
+    std::vector<Vec3> last_dir, throughput;
+    /// The ray reached what it shades through a delta shape or a trans surface's specular
+    /// transmission (emitters are seen along it; `light` ones are the photon map's).
+    std::vector<uint8_t> passed;
+    std::vector<Vec3> radiance;
+    /// Where shading asks the next bounce: reflected (near) and diffusely transmitted (far).
+    std::vector<IcQuery> next, next_far;
+    std::vector<Vec3> albedo, albedo_far;
+    std::vector<uint8_t> wants_next, wants_far;
+
+    uint64_t ray_key(const std::vector<IcQuery>& sites, size_t i) const { return hash_combine(sites[i / per].key, 0x1c0000ull + i % per); }
+};
+
+std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery>& sites, uint32_t level) {
+    Hemispheres h = cast_hemispheres(sites, level);
+    pass_specular_interfaces(h, sites, level);
+    shade_hemispheres(h, sites, level);
+    add_next_bounce(h, level);
+    return records_from(h, sites, level);
+}
+
+// Stratified cosine-weighted directions (M strata in cos^2 theta, N in phi, jittered by the
+// site's key), traced to their first hits as one batch.
+IrradianceCache::Hemispheres IrradianceCache::cast_hemispheres(const std::vector<IcQuery>& sites, uint32_t level) {
+    Hemispheres h;
+    const uint32_t ad = std::max(16u, settings_.divisions >> std::min(level, 16u));
+    h.M = std::max(1, static_cast<int>(std::lround(std::sqrt(ad / kPi))));
+    h.N = std::max(1, static_cast<int>(std::lround(static_cast<double>(ad) / h.M)));
+    h.per = static_cast<size_t>(h.M) * static_cast<size_t>(h.N);
+    h.n = sites.size() * h.per;
+    stats_.records += sites.size();
+    stats_.hemisphere_rays += h.n;
+    h.eps = scene_.embree->ray_epsilon();
+    h.first.resize(h.n);
+    h.last_dir.resize(h.n);
+    const int M = h.M, N = h.N;
+    tbb::parallel_for(size_t{0}, sites.size(), [&](size_t s) {
+        Vec3 t, b;
+        orthonormal_basis(sites[s].normal, t, b);
+        for (int j = 0; j < M; ++j)
+            for (int k = 0; k < N; ++k) {
+                size_t i = s * h.per + static_cast<size_t>(j * N + k);
+                uint32_t cell = static_cast<uint32_t>(j * N + k);
+                double u = (j + random_at(sites[s].key, level, RandomUse::kIcTheta, cell)) / M;
+                double phi = 2 * kPi * (k + random_at(sites[s].key, level, RandomUse::kIcPhi, cell)) / N;
+                double sin_t = std::sqrt(u), cos_t = std::sqrt(std::fmax(0.0, 1 - u));
+                Vec3 d = t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi)) + sites[s].normal * cos_t;
+                h.last_dir[i] = d;
+                Vec3 o = sites[s].position + sites[s].normal * h.eps;
+                set_ray(h.first[i], static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
+                        static_cast<float>(d.y), static_cast<float>(d.z), static_cast<unsigned>(i));
+            }
+    });
+    intersect_batch(*scene_.embree, h.first.data(), h.n, false);
+    h.last = h.first;
+    h.throughput.assign(h.n, Vec3{1, 1, 1});
+    h.passed.assign(h.n, 0);
+    return h;
+}
+
+// Hemisphere rays that reach mirrors, glass or dielectrics continue through them (one lobe
+// chosen by its weight, up to 8 interfaces), so light arriving through them (caustics) is in
+// E. A translucent (trans) surface passes a ray through its specular transmission with that
+// lobe's share of the surface's weight, else the ray is shaded there, each divided by its
+// probability: without it, what a frosted screen lets through was missing from E behind it.
+// The first hit's distance stays what the harmonic mean uses.
+void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
+    auto is_delta = [&](const RTCRayHit& r) {
+        return r.hit.geomID != RTC_INVALID_GEOMETRY_ID && is_delta_material(scene_.material_of(r.hit.geomID).type);
+    };
+    std::vector<uint8_t> settled(h.n, 0);
+    for (uint32_t bounce = 0; bounce < 8; ++bounce) {
+        std::vector<size_t> go;
+        std::vector<uint8_t> through_trans(h.n, 0);
+        for (size_t i = 0; i < h.n; ++i) {
+            if (settled[i] || h.last[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+            if (is_delta(h.last[i])) {
+                go.push_back(i);
+                continue;
+            }
+            const double pass = transmission_share(scene_.bsdf_of(h.last[i].hit.geomID));
+            if (!(pass > 0)) continue;
+            if (random_at(h.ray_key(sites, i), level * 16 + bounce, RandomUse::kIcTrans) < pass) {
+                through_trans[i] = 1;
+                go.push_back(i);
+            } else {
+                h.throughput[i] = h.throughput[i] / (1 - pass);
+                settled[i] = 1;  // shaded here
+            }
+        }
+        if (go.empty()) break;
+        std::vector<RTCRayHit> batch(go.size());
+        tbb::parallel_for(size_t{0}, go.size(), [&](size_t g) {
+            size_t i = go[g];
+            const RTCRayHit& hit = h.last[i];
+            Vec3 o{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z};
+            double t = hit.ray.tfar;
+            HitFrame f = hit_frame(*scene_.embree, hit.hit, o + h.last_dir[i] * t, h.last_dir[i], t);
+            RTCRayHit& r = batch[g];
+            r = RTCRayHit{};
+            r.ray.tnear = 1.0f, r.ray.tfar = 0.0f;  // a hole unless a lobe is chosen
+            r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            r.ray.mask = 0xFFFFFFFFu;
+            // Passing a trans surface is decided on the material's constants (above); the lobes
+            // a ray scatters into are the surface's own.
+            Bsdf textured;
+            const Bsdf& b = through_trans[i] ? scene_.bsdf_of(hit.hit.geomID) : surface_at(scene_, hit.hit, f, textured);
+            Lobe lobe;
+            double prob = 0;
+            if (through_trans[i]) {
+                lobe = {Component::kT, h.last_dir[i], b.specular_transmit, true, true};
+                prob = transmission_share(b);
+            } else {
+                std::array<Lobe, kMaxLobes> lobes;
+                uint64_t key = h.ray_key(sites, i);
+                int nl = scatter(b, f, HitRandom(key, level * 16 + bounce + 1), lobes);
+                const int pick = choose_lobe(lobes, nl, random_at(key, level * 16 + bounce, RandomUse::kIcLobe), prob);
+                if (pick < 0) {
+                    h.throughput[i] = {};
+                    return;
+                }
+                lobe = lobes[static_cast<size_t>(pick)];
+            }
+            h.throughput[i] = h.throughput[i] * lobe.weight / prob;
+            h.passed[i] = 1;
+            Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * h.eps;
+            h.last_dir[i] = lobe.direction;
+            set_ray(r, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
+                    static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(i));
+        });
+        intersect_batch(*scene_.embree, batch.data(), batch.size(), false);
+        for (size_t g = 0; g < go.size(); ++g) h.last[go[g]] = batch[g];
+    }
+}
+
+// Radiance of every hemisphere ray: emission and one direct-light sample here; the queries
+// for the next bounce (on the side the ray arrived from, and through a trans surface's
+// diffuse transmission on its other side) are left for add_next_bounce().
+void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
+    const size_t n = h.n;
+    h.radiance.assign(n, Vec3{});
+    h.albedo.assign(n, Vec3{});
+    h.albedo_far.assign(n, Vec3{});
+    h.next.assign(n, IcQuery{});
+    h.next_far.assign(n, IcQuery{});
+    h.wants_next.assign(n, 0);
+    h.wants_far.assign(n, 0);
+    std::vector<RTCRay> shadows(n);
+    std::vector<Vec3> shadow_value(n);
+    const bool deeper = level + 1 < settings_.bounces;
+    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+        RTCRay& s = shadows[i];
+        s = RTCRay{};
+        s.tnear = 1.0f, s.tfar = 0.0f, s.dir_z = 1, s.mask = 0xFFFFFFFFu;  // a hole unless filled below
+        const RTCRayHit& hit = h.last[i];
+        // In a medium, what the last segment reaches is seen through its transmittance (the
+        // segments before it, inside glass, are not attenuated: a simplification).
+        const Vec3 beta = scene_.medium ? h.throughput[i] * scene_.medium->transmittance(hit.ray.tfar) : h.throughput[i];
+        const bool still_in_glass = hit.hit.geomID != RTC_INVALID_GEOMETRY_ID && is_delta_material(scene_.material_of(hit.hit.geomID).type);
+        if (!(max_component(beta) > 0) || still_in_glass) return;  // absorbed, or still inside glass
+        if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+            // Distant sources are direct lighting's, unless the ray came through glass or a mirror.
+            Vec3 seen = scene_.scene.background;
+            if (h.passed[i]) seen += scene_.lights->distant().escaped(normalize_or_zero(h.last_dir[i]));
+            h.radiance[i] = beta * seen;
+            return;
+        }
+        double dist = hit.ray.tfar;
+        Vec3 origin{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z};
+        HitFrame f = hit_frame(*scene_.embree, hit.hit, origin + h.last_dir[i] * dist, h.last_dir[i], dist);
+        Bsdf textured;
+        const Bsdf& b = surface_at(scene_, hit.hit, f, textured);
+        // Through a mirror, glass or a trans surface's specular transmission, emitters are
+        // seen; a `light` emitter's light along those paths is the photon map's when there is
+        // one (its photons follow the same lobes), else a rare ray onto a small bright lamp
+        // seen through a frosted screen lit a whole record's disc behind it.
+        const bool caustic = caustics_ && h.passed[i] && b.type == MaterialType::kLight;
+        Vec3 l = caustic ? Vec3{} : emitted(b, f, h.passed[i] != 0, false);
+        uint64_t key = h.ray_key(sites, i);
+        if (!scene_.lights->empty() && b.direct_response) {
+            Vec3 value, so, sd;
+            double tfar;
+            if (direct_light_sample(scene_, b, f, beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1, value, so, sd, tfar)) {
+                aim_shadow_ray(s, so, sd, tfar);
+                shadow_value[i] = value;
+            }
+        }
+        h.albedo[i] = beta * b.diffuse;
+        h.albedo_far[i] = beta * b.diffuse_transmit;
+        l = l * beta;
+        const IcQuery& site = sites[i / h.per];
+        if (max_component(h.albedo[i]) > 0) {
+            if (deeper) {
+                h.next[i] = {f.position, f.shading, site.accuracy, site.priority, key};
+                h.wants_next[i] = 1;
+            } else {
+                l += h.albedo[i] * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
+            }
+        }
+        if (max_component(h.albedo_far[i]) > 0) {
+            if (deeper) {
+                h.next_far[i] = {f.position, -f.shading, site.accuracy, site.priority, hash_combine(key, 0xfa5ull)};
+                h.wants_far[i] = 1;
+            } else {
+                l += h.albedo_far[i] * settings_.ambient;
+            }
+        }
+        h.radiance[i] = is_finite(l) ? l : Vec3{};
+    });
+    // What the next level brings to this one, on average (IcStats): in order, so the same sum at
+    // any thread count.
+    if (stats_.albedo_sum.size() <= level) stats_.albedo_sum.resize(level + 1), stats_.albedo_rays.resize(level + 1);
+    for (size_t i = 0; i < n; ++i)
+        if (const Vec3 a = h.albedo[i] + h.albedo_far[i]; is_finite(a)) stats_.albedo_sum[level] += luminance(a);
+    stats_.albedo_rays[level] += n;
+    occluded_batch(*scene_.embree, shadows.data(), n);
+    for (size_t i = 0; i < n; ++i) {
+        const RTCRay& s = shadows[i];
+        if (!(s.tnear > s.tfar && s.tfar == 0.0f) && s.tfar != -INFINITY) h.radiance[i] += shadow_value[i];
+    }
+}
+
+// rho/pi E from records one level deeper (made now where missing), for every ray shading
+// asked it for. This recurses through irradiance(): up to `bounces` batches are alive at once.
+void IrradianceCache::add_next_bounce(Hemispheres& h, uint32_t level) {
+    if (level + 1 >= settings_.bounces) return;
+    std::vector<IcQuery> q;
+    std::vector<size_t> from;
+    std::vector<Vec3> weight;
+    for (size_t i = 0; i < h.n; ++i) {
+        if (h.wants_next[i]) q.push_back(h.next[i]), from.push_back(i), weight.push_back(h.albedo[i]);
+        if (h.wants_far[i]) q.push_back(h.next_far[i]), from.push_back(i), weight.push_back(h.albedo_far[i]);
+    }
+    std::vector<Vec3> e;
+    irradiance(q, level + 1, e);
+    for (size_t k = 0; k < q.size(); ++k) h.radiance[from[k]] += weight[k] * e[k] / kPi;
+}
+
+// Per site: E, the harmonic mean distance of the first hits, and the Ward-Heckbert gradients.
+std::vector<IrradianceRecord> IrradianceCache::records_from(const Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) const {
+    const int M = h.M, N = h.N;
+    const size_t per = h.per;
+    std::vector<IrradianceRecord> out(sites.size());
+    tbb::parallel_for(size_t{0}, sites.size(), [&](size_t s) {
+        const IcQuery& site = sites[s];
+        Vec3 t, b;
+        orthonormal_basis(site.normal, t, b);
+        auto L = [&](int j, int k) { return h.radiance[s * per + static_cast<size_t>(j * N + k)]; };
+        auto r = [&](int j, int k) {
+            float d = h.first[s * per + static_cast<size_t>(j * N + k)].ray.tfar;
+            return std::isfinite(d) && d > 0 ? static_cast<double>(d) : 1e30;
+        };
+        Vec3 sum{};
+        double inv = 0;
+        for (int j = 0; j < M; ++j)
+            for (int k = 0; k < N; ++k) {
+                sum += L(j, k);
+                inv += 1 / r(j, k);
+            }
+        IrradianceRecord rec;
+        rec.position = site.position;
+        rec.normal = site.normal;
+        rec.irradiance = sum * (kPi / static_cast<double>(per));
+        double R = inv > 0 ? static_cast<double>(per) / inv : r_max_;
+        rec.harmonic_distance = std::clamp(std::isfinite(R) ? R : r_max_, r_min_, r_max_);
+        // Deeper bounces take the caustic at the site (blurred by interpolation, as all of
+        // their light is); the camera's queries add it at their own point (irradiance()).
+        if (caustics_ && level > 0) rec.irradiance += caustics_->irradiance(site.position, site.normal);
+        rec.quality = static_cast<float>(level_accuracy(site.accuracy, level));
+        rec.level = static_cast<uint16_t>(level);
+        // Rotation: (pi / MN) sum_k v_k sum_j (-tan theta_j) L_jk, v_k at phi_k + pi/2.
+        // Translation: Ward and Heckbert's cell-boundary differences, distances min'ed.
+        std::array<Vec3, 3> rot{}, tra{};
+        auto add = [](std::array<Vec3, 3>& g, const Vec3& dir, const Vec3& l) {
+            g[0] += dir * l.x, g[1] += dir * l.y, g[2] += dir * l.z;
+        };
+        for (int k = 0; k < N; ++k) {
+            double phi = 2 * kPi * (k + 0.5) / N, phi_minus = 2 * kPi * k / N;
+            Vec3 u_k = t * std::cos(phi) + b * std::sin(phi);
+            Vec3 v_k = t * -std::sin(phi) + b * std::cos(phi);
+            Vec3 v_minus = t * -std::sin(phi_minus) + b * std::cos(phi_minus);
+            Vec3 rot_k{}, tra_u{}, tra_v{};
+            for (int j = 0; j < M; ++j) {
+                double theta = std::asin(std::sqrt((j + 0.5) / M));
+                rot_k += L(j, k) * -std::tan(std::min(theta, 1.5533));  // 89 degrees at most
+                double sin_minus = std::sqrt(static_cast<double>(j) / M), sin_plus = std::sqrt(static_cast<double>(j + 1) / M);
+                if (j > 0) {
+                    double cos2 = 1 - sin_minus * sin_minus;
+                    tra_u += (L(j, k) - L(j - 1, k)) * (sin_minus * cos2 / std::min(r(j, k), r(j - 1, k)));
+                }
+                int kp = (k + N - 1) % N;
+                tra_v += (L(j, k) - L(j, kp)) * ((sin_plus - sin_minus) / std::min(r(j, k), r(j, kp)));
+            }
+            add(rot, v_k, rot_k * (kPi / static_cast<double>(per)));
+            add(tra, u_k, tra_u * (2 * kPi / N));
+            add(tra, v_minus, tra_v);
+        }
+        for (int c = 0; c < 3; ++c) {
+            if (!is_finite(rot[static_cast<size_t>(c)])) rot[static_cast<size_t>(c)] = {};
+            if (!is_finite(tra[static_cast<size_t>(c)])) tra[static_cast<size_t>(c)] = {};
+        }
+        rec.rotation = rot;
+        rec.translation = tra;
+        if (!is_finite(rec.irradiance)) rec.irradiance = {};
+        out[s] = rec;
+    });
+    return out;
+}
+
+}  // namespace crex
