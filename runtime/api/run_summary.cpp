@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <climits>
 #include <filesystem>
+#include <optional>
 
 #include "compiler/pipeline/settings_table.h"
 #include "compiler/sched/print.h"
@@ -39,6 +40,42 @@ std::vector<std::string> light_left_out_warnings(const RunResult& r, const Shade
                              : std::string("give --ambient a value for the rest"));
     return out;
 }
+
+namespace {
+
+// Where a pipeline's samples went (issue 38): the mean samples per pixel in the tenth of
+// pixels where the map that varies spp is highest, and in the tenth where it is lowest.
+struct SamplesByMap {
+    std::string map;
+    double highest_tenth = 0, lowest_tenth = 0;
+};
+
+std::optional<SamplesByMap> samples_by_map(const RunResult& r, const PipelinePlan& plan) {
+    const PlanVariable* spp = nullptr;
+    for (const PlanVariable& v : plan.variables)
+        if (v.variable == pipeline::SelectiveVariable::kSpp) spp = &v;
+    if (!spp) return std::nullopt;
+    std::string shown = spp->map;  // the map's name as RunResult::maps holds it
+    for (const PlanMap& m : plan.maps)
+        if (m.id == spp->map) shown = !m.defines.empty() ? m.defines : (!m.name.empty() ? m.name : m.id);
+    const guidance::Raster* map = nullptr;
+    for (const auto& [name, raster] : r.maps)
+        if (name == shown) map = &raster;
+    const size_t pixels = r.film.pixel_count();
+    if (!map || map->channels != 1 || map->pixels() != pixels || pixels < 10) return std::nullopt;
+    std::vector<std::pair<float, uint32_t>> by_value(pixels);
+    for (size_t p = 0; p < pixels; ++p) by_value[p] = {map->v[p], r.film.samples(static_cast<uint32_t>(p))};
+    std::stable_sort(by_value.begin(), by_value.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const size_t tenth = pixels / 10;
+    auto mean = [&](size_t from, size_t to) {
+        double sum = 0;
+        for (size_t k = from; k < to; ++k) sum += by_value[k].second;
+        return sum / static_cast<double>(to - from);
+    };
+    return SamplesByMap{shown, mean(pixels - tenth, pixels), mean(0, tenth)};
+}
+
+}  // namespace
 
 nlohmann::json run_summary_json(const RunFacts& f) {
     const RunResult& r = *f.result;
@@ -78,6 +115,8 @@ nlohmann::json run_summary_json(const RunFacts& f) {
         for (const auto& m : f.piped->maps) maps.push_back(m.first);
         j["maps"] = maps;
         j["notes"] = f.piped->notes;
+        if (auto by = samples_by_map(*f.piped, *f.plan))
+            j["samples_by_map"] = {{"map", by->map}, {"highest_tenth_spp", by->highest_tenth}, {"lowest_tenth_spp", by->lowest_tenth}};
         if (f.piped->direct_light_redone)  // progressive direct light: preview samples given their pixel's shadow_rays
             j["preview_direct_light_redone"] = {{"samples", f.piped->direct_light_redone},
                                                 {"shadow_rays", f.piped->direct_light_redone_shadow_rays}};
@@ -171,6 +210,9 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
             for (const auto& m : f.piped->maps) names += (names.empty() ? "" : ", ") + m.first;
             out << "  maps: " << names << "\n";
         }
+        if (auto by = samples_by_map(*f.piped, *f.plan))
+            out << fmt::format("  samples follow {}: {:.1f} spp in the tenth of pixels where it is highest, {:.1f} where it is lowest\n",
+                               by->map, by->highest_tenth, by->lowest_tenth);
     }
     out << "  bin       steps        rays  shadow rays   seconds   M rays/s   left at end\n";
     auto row = [&](const std::string& name, const ComponentStats& s, const std::string& steps, size_t left) {

@@ -1,6 +1,7 @@
 // `crex run` as a user runs it: outputs written atomically, EXR layers, exit codes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -200,6 +201,40 @@ TEST_F(CrexRunCli, APipelineWritesItsMapsAndPerPixelPictures) {
     std::vector<float> task;
     ASSERT_EQ(read_image(path("maps/map_task.png"), w, h, task), "");
     EXPECT_NEAR(*std::max_element(task.begin(), task.end()), 1.0f, 1e-6);
+}
+
+// The demo (tools/dev.sh demo) runs the normative pipeline without its budget: every pixel
+// gets the camera samples its importance asks for (vary spp 4 .. 25 by imp), so the exit sign
+// and the lamps, where the map is high, get more than the walls. Under the 10 s budget on a
+// slow machine the whole budget went to the preview's rays and the map was 4 everywhere.
+TEST_F(CrexRunCli, TheDemoPipelineAddsSamplesWhereItsImportanceIsHigh) {
+    auto r = crex_cli({"run", CREX_SOURCE_DIR "/examples/pipelines/cornell_prog.pipe", "--no-budget", "--size", "64x48", "-o",
+                       path("demo.exr"), "--maps", path("maps"), "--report", path("report"), "--format", "json", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    int w = 0, h = 0, wi = 0, hi = 0;
+    std::vector<float> spp, imp;
+    ASSERT_EQ(read_image(path("maps/samples_per_pixel.exr"), w, h, spp), "");
+    ASSERT_EQ(read_image(path("maps/map_imp.png"), wi, hi, imp), "");
+    ASSERT_EQ(w * h, wi * hi);
+    const size_t pixels = static_cast<size_t>(w) * static_cast<size_t>(h);
+    std::vector<std::pair<float, float>> by_importance;  // (importance, samples)
+    for (size_t p = 0; p < pixels; ++p) by_importance.emplace_back(imp[3 * p], spp[3 * p]);
+    std::sort(by_importance.begin(), by_importance.end());
+    auto mean_samples = [&](size_t from, size_t to) {
+        double sum = 0;
+        for (size_t k = from; k < to; ++k) sum += by_importance[k].second;
+        return sum / static_cast<double>(to - from);
+    };
+    const size_t tenth = pixels / 10;
+    const double least = mean_samples(0, tenth), most = mean_samples(pixels - tenth, pixels);
+    EXPECT_GE(by_importance.front().second, 4.0f);  // the pipeline's floor, everywhere
+    EXPECT_GT(most, least + 2) << "the tenth of pixels of highest importance: " << most << " spp, of lowest: " << least;
+    EXPECT_GT(std::max_element(spp.begin(), spp.end())[0], 12.0f);
+    // The summary says the same (the map's values, not its 8-bit picture, rank the pixels).
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["samples_by_map"]["map"], "imp");
+    EXPECT_NEAR(j["samples_by_map"]["highest_tenth_spp"].get<double>(), most, 1.0);
+    EXPECT_NEAR(j["samples_by_map"]["lowest_tenth_spp"].get<double>(), least, 1.0);
 }
 
 TEST_F(CrexRunCli, IcRadiusRunsTheProgressiveIrradianceCache) {
