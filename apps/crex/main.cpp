@@ -55,6 +55,28 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
     return crex::kExitUsage;
 }
 
+// `crex help COMMAND`: that command's --help; `crex help`: the overview; an unknown name is a
+// usage error with the nearest command.
+int help_command(const CLI::App& app, const std::string& topic) {
+    if (topic.empty()) {
+        // Not app.help(): it would show the selected subcommand's, this one's.
+        std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal);
+        return crex::kExitOk;
+    }
+    std::vector<std::string> commands;
+    for (const auto* sub : app.get_subcommands({})) {
+        if (sub->get_name() == topic) {
+            std::cout << sub->help(app.get_name());
+            return crex::kExitOk;
+        }
+        commands.push_back(sub->get_name());
+    }
+    std::string hint = capitalised(crex::did_you_mean(topic, commands));
+    std::cerr << "crex help: error: '" << topic << "' is not a crex command." << (hint.empty() ? "" : " " + hint)
+              << " See 'crex --help'.\n";
+    return crex::kExitUsage;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -68,7 +90,7 @@ int main(int argc, char** argv) {
     CLI::App app{"crex: compile and run selective-rendering pipelines", "crex"};
     app.set_version_flag("--version", std::string("crex ") + CREX_VERSION);
     app.require_subcommand(1);
-    app.footer("Run 'crex <command> --help' for the options and examples of each command.");
+    app.footer("Run 'crex help <command>' (or 'crex <command> --help') for the options and examples of each command.");
 
     std::map<std::string, Runner> runners;
     runners["check"] = add_check_command(app);
@@ -77,6 +99,11 @@ int main(int argc, char** argv) {
     runners["plan"] = add_plan_command(app);
     runners["compare"] = add_compare_command(app);
     runners["reference"] = add_reference_command(app);
+    // `crex help [COMMAND]`, as git has it: the same text as `crex COMMAND --help`.
+    std::string help_topic;
+    CLI::App* help = app.add_subcommand("help", "Show the help of a command: crex help run (the same as crex run --help)");
+    help->add_option("command", help_topic, "The command whose help to show (none: this overview)");
+    runners["help"] = [&app, &help_topic] { return help_command(app, help_topic); };
 
     // Under mpirun every rank parses the same command line: rank 0 alone says what is wrong
     // (or prints the help), and every rank exits with the same code.

@@ -57,6 +57,22 @@ TEST(UsageCli, SeedsAreWholeNumbersNotWrappedNegatives) {
     }
 }
 
+// `crex help COMMAND` is `crex COMMAND --help`, as git has it; a wrong name gets the nearest one.
+TEST(UsageCli, HelpShowsACommandsHelp) {
+    auto help = crex_cli({"help", "run"});
+    EXPECT_EQ(help.exit_code, 0) << help.err;
+    EXPECT_EQ(help.out, crex_cli({"run", "--help"}).out);
+    EXPECT_NE(help.out.find("Usage: crex run"), std::string::npos) << help.out;
+    auto overview = crex_cli({"help"});
+    EXPECT_EQ(overview.exit_code, 0);
+    EXPECT_EQ(overview.out, crex_cli({"--help"}).out);
+    EXPECT_NE(overview.out.find("Subcommands:"), std::string::npos) << overview.out;
+    auto wrong = crex_cli({"help", "plna"});
+    EXPECT_EQ(wrong.exit_code, 2);
+    EXPECT_NE(wrong.err.find("crex help: error: 'plna' is not a crex command. Did you mean 'plan'?"), std::string::npos) << wrong.err;
+    EXPECT_EQ(wrong.out, "");
+}
+
 TEST(UsageCli, VersionIsPrinted) {
     auto r = crex_cli({"--version"});
     EXPECT_EQ(r.exit_code, 0);
