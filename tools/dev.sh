@@ -71,8 +71,7 @@ run_demo() {
   "$crex" check examples/pipelines/cornell_prog.pipe
   log "its execution plan, pruned for the corridor (out/cornell_prog.plan.svg)"
   mkdir -p out
-  "$crex" plan examples/pipelines/cornell_prog.pipe --format dot -o out/cornell_prog.plan.dot
-  dot -Tsvg out/cornell_prog.plan.dot -o out/cornell_prog.plan.svg
+  "$crex" plan examples/pipelines/cornell_prog.pipe -o out/cornell_prog.plan.svg
   # Without its 10 s budget: on a slow or busy machine the budget went to the preview's rays and
   # no pixel got more than the 4 samples of the preview, so the demo showed nothing selective.
   log "main job: the normative pipeline - preview, guidance maps, then selective rendering: 4 to 25 samples a pixel by importance"

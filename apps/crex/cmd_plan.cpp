@@ -1,8 +1,14 @@
 // `crex plan`: what a crex will execute on a scene, with what the scene does not need pruned.
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "apps/crex/commands.h"
 #include "base/exit_codes.h"
@@ -12,6 +18,8 @@
 #include "compiler/pipeline/print.h"
 #include "compiler/sched/print.h"
 #include "runtime/base/atomic_file.h"
+#include "runtime/base/output_folder.h"
+#include "runtime/report/graphviz.h"
 
 namespace crex::app {
 namespace {
@@ -22,7 +30,7 @@ struct PlanOptions {
     std::string crex;
     bool crex_given = false;  // -e '' is a valid (empty) crex
     std::string scene;
-    std::string format = "text";
+    std::string format;  // "": -o's extension says, else text
     std::string output;
     std::string dump_after;  // a front-end pass: print the pipeline as it leaves it
 };
@@ -40,6 +48,44 @@ int write_output(const PlanOptions& opt, const std::string& text) {
     return kExitOk;
 }
 
+nlohmann::json to_json(const PipelinePlan& p) { return pipeline_plan_to_json(p); }
+std::string to_dot(const PipelinePlan& p) { return pipeline_plan_to_dot(p); }
+std::string to_text(const PipelinePlan& p) { return pipeline_plan_to_text(p); }
+nlohmann::json to_json(const CrexPlan& p) { return plan_to_json(p); }
+std::string to_dot(const CrexPlan& p) { return plan_to_dot(p); }
+std::string to_text(const CrexPlan& p) { return plan_to_text(p); }
+
+// A plan in the chosen format: its JSON, its DOT graph, the graph drawn by Graphviz (svg,
+// png), or text.
+template <typename Plan>
+int write_plan(const PlanOptions& opt, const Plan& plan) {
+    if (opt.format == "svg" || opt.format == "png") {
+        if (std::string error = draw_graph(to_dot(plan), opt.format, opt.output); !error.empty()) {
+            std::cerr << (opt.output.empty() ? fmt::format("crex plan: error: {}\n", error)
+                                             : fmt::format("crex plan: error: cannot write '{}': {}\n", opt.output, error));
+            return kExitFailure;
+        }
+        return kExitOk;
+    }
+    return write_output(opt, opt.format == "json" ? to_json(plan).dump(2) + "\n" : opt.format == "dot" ? to_dot(plan) : to_text(plan));
+}
+
+// The format of the plan: --format as given, else what -o's extension names (.json, .dot or
+// .gv, .svg, .png; any other is text). A --format that an extension contradicts is a usage
+// error: `-o plan.svg --format text` would write text into a file every viewer reads as SVG.
+std::optional<std::string> plan_format(const std::string& given, const std::string& output, std::string& error) {
+    std::string ext = std::filesystem::path(output).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string named = ext == ".json" ? "json" : ext == ".dot" || ext == ".gv" ? "dot" : ext == ".svg" ? "svg" : ext == ".png" ? "png" : "";
+    if (given.empty()) return named.empty() ? "text" : named;
+    if (!named.empty() && named != given) {
+        error = fmt::format("--format {} and -o {} disagree: the extension '{}' says {}; drop --format, or name the file for {}", given,
+                            output, ext, named, given);
+        return std::nullopt;
+    }
+    return given;
+}
+
 // `--dump-after PASS`: the pipeline as the front end's pass PASS leaves it. parse and check
 // print the file back (check only when it passed), resolve the pipeline with its bases applied,
 // compile the two stages' lowered crex, plan the plan before scene pruning, prune the plan.
@@ -50,6 +96,13 @@ int dump_after(const PlanOptions& opt, const PipelineInput& in, const Diagnostic
                                  sink.error_count() == 1 ? "" : "s", pass);
         return kExitInputErrors;
     };
+    if (pass == "parse" || pass == "check" || pass == "resolve" || pass == "compile")
+        if (opt.format == "svg" || opt.format == "png") {
+            std::cerr << fmt::format("crex plan: error: --dump-after {} prints text; {} draws a plan only (--dump-after plan or "
+                                     "prune){}\n",
+                                     pass, opt.format, opt.output.empty() ? "" : ": name the output for text, e.g. -o dump.txt");
+            return kExitUsage;
+        }
     if (pass == "parse" || pass == "check") {
         if (!in.compiled.ast || (pass == "check" && sink.has_errors())) return failed();
         int status = write_output(opt, pipeline::print_file(*in.compiled.ast));
@@ -59,9 +112,7 @@ int dump_after(const PlanOptions& opt, const PipelineInput& in, const Diagnostic
     if (pass == "resolve") return write_output(opt, pipeline::print_resolved(*in.compiled.resolved));
     if (pass == "prune") {
         if (!in.compiled.plan) return failed();
-        return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in.compiled.plan).dump(2) + "\n"
-                                 : opt.format == "dot" ? pipeline_plan_to_dot(*in.compiled.plan)
-                                                        : pipeline_plan_to_text(*in.compiled.plan));
+        return write_plan(opt, *in.compiled.plan);
     }
     DiagnosticSink again;  // compile and plan without the scene; their diagnostics are reported above
     auto unpruned = plan_pipeline(*in.compiled.resolved, std::nullopt, "", "", again);
@@ -69,9 +120,7 @@ int dump_after(const PlanOptions& opt, const PipelineInput& in, const Diagnostic
     if (pass == "compile")
         return write_output(opt, fmt::format("preselective: {}\nselective:    {}\n", sched::to_crex(unpruned->program.preselective),
                                              sched::to_crex(unpruned->program.selective)));
-    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*unpruned).dump(2) + "\n"
-                             : opt.format == "dot" ? pipeline_plan_to_dot(*unpruned)
-                                                    : pipeline_plan_to_text(*unpruned));
+    return write_plan(opt, *unpruned);
 }
 
 // A pipeline file: check, resolve `extends`, plan for its scene (or --scene).
@@ -88,12 +137,24 @@ int plan_pipeline_file(const PlanOptions& opt) {
         std::cerr << fmt::format("crex plan: {} error{}; no plan\n", sink.error_count(), sink.error_count() == 1 ? "" : "s");
         return kExitInputErrors;
     }
-    return write_output(opt, opt.format == "json" ? pipeline_plan_to_json(*in->compiled.plan).dump(2) + "\n"
-                             : opt.format == "dot" ? pipeline_plan_to_dot(*in->compiled.plan)
-                                                    : pipeline_plan_to_text(*in->compiled.plan));
+    return write_plan(opt, *in->compiled.plan);
 }
 
-int run_plan(const PlanOptions& opt) {
+int run_plan(PlanOptions opt) {
+    std::string format_error;
+    if (auto format = plan_format(opt.format, opt.output, format_error)) opt.format = *format;
+    else {
+        std::cerr << "crex plan: error: " << format_error << "\n";
+        return kExitUsage;
+    }
+    if (opt.format == "png" && opt.output.empty() && ::isatty(STDOUT_FILENO)) {
+        std::cerr << "crex plan: error: a PNG is not for the terminal: write it to a file with -o plan.png\n";
+        return kExitUsage;
+    }
+    if (std::string missing = opt.output.empty() ? "" : missing_output_folder(opt.output); !missing.empty()) {
+        std::cerr << "crex plan: error: " << missing << "\n";
+        return kExitFailure;
+    }
     if (opt.file.empty() != opt.crex_given) {
         std::cerr << "crex plan: give a pipeline file or -e CREX (one of them; see 'crex plan --help')\n";
         return kExitUsage;
@@ -140,9 +201,7 @@ int run_plan(const PlanOptions& opt) {
     std::optional<SceneFacts> facts;
     if (scene) facts = scene_facts(opt.scene, *scene->scene);
     const CrexPlan plan = plan_crex(opt.crex, compiled, facts ? &*facts : nullptr);
-    return write_output(opt, opt.format == "json" ? plan_to_json(plan).dump(2) + "\n"
-                             : opt.format == "dot" ? plan_to_dot(plan)
-                                                    : plan_to_text(plan));
+    return write_plan(opt, plan);
 }
 
 }  // namespace
@@ -154,9 +213,11 @@ Runner add_plan_command(CLI::App& app) {
     cmd->add_option("--pipeline", opt->pipeline_name, "Which pipeline of the file (default: the last)");
     CLI::Option* crex = cmd->add_option("-e,--crex", opt->crex, "A crex to plan (instead of a pipeline file)")->allow_extra_args(false);
     cmd->add_option("--scene", opt->scene, "Scene to plan for (default: the pipeline's 'scene'): what it cannot need is pruned");
-    cmd->add_option("--format", opt->format, "text, json (versioned, byte-stable) or dot (Graphviz)")
-        ->check(CLI::IsMember({"text", "json", "dot"}));
-    cmd->add_option("-o,--output", opt->output, "Write the plan to FILE (atomically) instead of stdout");
+    cmd->add_option("--format", opt->format, "text, json (versioned, byte-stable), dot (Graphviz's language), or svg or png (the "
+                                             "graph drawn; needs Graphviz's 'dot' program). Default: -o's extension (.json, .dot, "
+                                             ".svg, .png), else text")
+        ->check(CLI::IsMember({"text", "json", "dot", "svg", "png"}));
+    cmd->add_option("-o,--output", opt->output, "Write the plan to FILE (atomically; its folder must exist) instead of stdout");
     cmd->add_option("--dump-after", opt->dump_after, "Pipeline files: print the pipeline after this front-end pass: parse, check, "
                                                      "resolve (extends applied), compile (lowered crex), plan (before pruning), prune")
         ->check(CLI::IsMember({"parse", "check", "resolve", "compile", "plan", "prune"}));
@@ -167,11 +228,12 @@ never has work, so it is removed, and the plan says why.
 Examples:
   crex plan -e '(TTMRSGD)*' --scene builtin:cornell_diffuse        executes D*
   crex plan -e 'TT{TTMRSGD}2' --scene builtin:cornell --format json
-  crex plan -e '(TT[RS]G)*D' --format dot | dot -Tpng -o plan.png   a picture of the plan
-  crex plan examples/pipelines/cornell_prog.pipe --format dot        a pipeline's execution graph
+  crex plan -e '(TT[RS]G)*D' -o plan.png                           a picture of the plan (Graphviz)
+  crex plan examples/pipelines/cornell_prog.pipe -o plan.svg         a pipeline's execution graph
+  crex plan examples/pipelines/cornell_prog.pipe --format dot        ... as DOT text on stdout
   crex plan stdlib/pipelines/gold.pipe --scene builtin:cornell_diffuse
 
-Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O failure.)");
+Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O failure (or no Graphviz for svg, png).)");
     return [opt, crex] {
         opt->crex_given = crex->count() > 0;
         return run_plan(*opt);

@@ -1,8 +1,6 @@
 #include "runtime/report/run_report.h"
 
 #include <fmt/format.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
@@ -13,27 +11,14 @@
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/metrics.h"
+#include "runtime/report/graphviz.h"
 #include "runtime/report/html_report.h"
 #include "runtime/report/svg_plot.h"
-
-extern char** environ;
 
 namespace crex {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Runs a program (found on PATH) and waits; true if it exited 0.
-bool run_program(const std::vector<std::string>& args) {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    pid_t pid = 0;
-    if (posix_spawnp(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return false;
-    int status = 0;
-    if (waitpid(pid, &status, 0) < 0) return false;
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
 
 std::string read_file(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -140,7 +125,7 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
     page.plan_dot = r.plan_dot;
     std::string dot = (fs::path(r.dir) / "plan.dot").string(), svg = (fs::path(r.dir) / "plan.svg").string();
     if (std::string e = write_file_atomically(dot, r.plan_dot); !e.empty()) return e;
-    if (run_program({"dot", "-Tsvg", dot, "-o", svg})) page.plan_svg = read_file(svg);
+    if (draw_graph(r.plan_dot, "svg", svg).empty()) page.plan_svg = read_file(svg);  // else the page shows the DOT text
 
     // Summary rows.
     auto row = [&](const std::string& k, const std::string& v) { page.summary.push_back({k, v}); };
