@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "base/image_formats.h"
 #include "base/nearest_name.h"
 #include "compiler/crex/compile.h"
 #include "compiler/pipeline/registry.h"
@@ -292,6 +293,17 @@ private:
         switch (shape) {
         case SettingShape::kString:
             if (!(s.values.size() == 1 && is(0, Value::Kind::kString))) bad("a string in double quotes");
+            break;
+        case SettingShape::kImages:
+            if (s.values.empty() || !std::all_of(s.values.begin(), s.values.end(), [](const Value& v) { return v.kind == Value::Kind::kString; }))
+                bad("one or more image paths in double quotes, e.g. image \"out/x.exr\" \"out/x.png\"");
+            else
+                for (const Value& v : s.values)
+                    if (!is_image_file_name(v.text)) {
+                        const std::string ext = image_extension(v.text);
+                        sink_.report("E203", v.span, fmt::format("{}: unknown image format '{}': crex writes {}", s.key,
+                                                                 ext.empty() ? "(no extension)" : ext, image_formats_text()));
+                    }
             break;
         case SettingShape::kBool:
             if (!(s.values.size() == 1 && is(0, Value::Kind::kBool))) bad("true or false");

@@ -99,7 +99,11 @@ std::string print_resolved(const ResolvedPipeline& p) {
     print_stage("selective", p.selective, &p.vary, out);
     if (!p.output.empty()) {
         out += "  output {\n";
-        for (const auto& [key, v] : p.output) out += fmt::format("    {} {}\n", key, value_text(v));
+        for (const auto& [key, values] : p.output) {
+            out += "    " + key;
+            for (const auto& v : values) out += " " + value_text(v);
+            out += "\n";
+        }
         out += "  }\n";
     }
     out += "}\n";

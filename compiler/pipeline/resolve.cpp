@@ -86,7 +86,7 @@ void merge(ResolvedPipeline& r, const ast::Pipeline& p, std::unordered_map<std::
                 if (auto [at, fresh] = map_at.try_emplace(inner.key, r.maps.size()); fresh) r.maps.emplace_back(inner.key, inner.expr);
                 else r.maps[at->second].second = inner.expr;
             } else if (s.key == "output" && inner.kind == K::kSetting && !inner.values.empty()) {
-                r.output[inner.key] = inner.values[0];
+                r.output[inner.key] = inner.values;
             }
         }
     }

@@ -40,7 +40,7 @@ struct ResolvedPipeline {
     ResolvedStage preselective, selective;
     std::vector<std::pair<std::string, ast::Expr>> maps;  ///< guidance, in definition order
     std::vector<ResolvedVariable> vary;
-    std::map<std::string, ast::Value> output;
+    std::map<std::string, std::vector<ast::Value>> output;  ///< `image` may name several files
 };
 
 /// Where `extends NAME` looks for stdlib pipelines: $CREX_STDLIB, else the install tree's

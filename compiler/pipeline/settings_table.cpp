@@ -35,7 +35,7 @@ constexpr std::array kRules = {
     SettingRule{"selective", "crex", S::kCrex},
     SettingRule{"selective", "spp", S::kInteger, 1, 1 << 20},
     SettingRule{"selective", "rounds", S::kInteger, 1, 64},  // the cyclic process; --rounds
-    SettingRule{"output", "image", S::kString},
+    SettingRule{"output", "image", S::kImages},  // as repeated -o: "out/x.exr" "out/x.png"
     SettingRule{"output", "components", S::kBool},
     SettingRule{"output", "maps", S::kBool},
     SettingRule{"output", "report", S::kString},

@@ -14,6 +14,7 @@ namespace crex::pipeline {
 
 enum class SettingShape {
     kString,   ///< "text"
+    kImages,   ///< "a.exr" "a.png" ...: one or more image paths, each with a format crex writes
     kBool,     ///< true | false
     kInteger,  ///< a whole number in [lo, hi]
     kNumber,   ///< a number in [lo, hi]

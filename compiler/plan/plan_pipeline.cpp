@@ -327,15 +327,25 @@ void build_plan_graph(const pipeline::ResolvedPipeline& p, const std::vector<con
     }
     g.node("composite", "composite", "output", "composite");
     g.edge("selective", "composite", "image");
-    for (const auto& [key, v] : p.output) {
+    for (const auto& [key, values] : p.output) {
+        const auto& v = values.front();
         if (key == "components" || key == "maps") {
             (key == "maps" ? plan.outputs.maps : plan.outputs.components) = v.boolean;
             continue;
         }
-        if (key == "image") plan.outputs.images.push_back(v.text);
         if (key == "report") plan.outputs.report = v.text;
-        g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)));
-        g.edge("composite", "output." + key, "image");
+        if (key != "image") {
+            g.node("output." + key, "output", "output", fmt::format("{} {}", key, value_text(v)));
+            g.edge("composite", "output." + key, "image");
+            continue;
+        }
+        // One node per image; the first keeps the id "output.image" that plans had before.
+        for (size_t i = 0; i < values.size(); ++i) {
+            plan.outputs.images.push_back(values[i].text);
+            const std::string id = i == 0 ? "output.image" : fmt::format("output.image{}", i + 1);
+            g.node(id, "output", "output", fmt::format("image {}", value_text(values[i])));
+            g.edge("composite", id, "image");
+        }
     }
 }
 
