@@ -12,6 +12,7 @@
 #include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
 #include "base/exit_codes.h"
+#include "runtime/base/output_folder.h"
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/image_comparison.h"
@@ -242,6 +243,10 @@ int compare_on_windows(const CompareOptions& opt, const metrics::MetricChoice& c
 int compare(const CompareOptions& opt) {
     metrics::MetricChoice choice;
     if (!metric_choice(opt, choice)) return kExitUsage;
+    if (std::string missing = opt.flip_out.empty() ? "" : missing_output_folder(opt.flip_out); !missing.empty()) {
+        std::cerr << "crex compare: error: " << missing << "\n";  // before the work, as crex run says it
+        return kExitFailure;
+    }
     {
         std::optional<ReferenceImage> windowed;
         if (std::string error = read_reference_image(opt.reference, windowed); !error.empty() && error.find("header") != std::string::npos) {

@@ -26,10 +26,12 @@ Runner add_run_command(CLI::App& app) {
     CLI::Option* spp = cmd->add_option("--spp", opt->spp, "Camera samples per pixel; of a pipeline, its preview's (default: the "
                                                           "pipeline's, else 16)")
                            ->check(whole_number_in(1, 1 << 20));
-    cmd->add_option("-o,--output", opt->outputs, "Output image(s): .exr (float), .hdr, .png (tone-mapped); repeatable "
-                                                 "(default out/render.exr and out/render.png)")
+    cmd->add_option("-o,--output", opt->outputs, "Output image(s): .exr (float), .hdr, .png (tone-mapped); repeatable; the folder "
+                                                 "must exist (default: the pipeline's output images, else out/render.exr and "
+                                                 "out/render.png, whose folders are made)")
         ->allow_extra_args(false);
-    cmd->add_flag("--components", opt->components, "EXR: add one layer per component AOV (camera, D, G, S, T, R, M)");
+    cmd->add_flag("--components", opt->components, "EXR: add one layer per component AOV (camera, D, G, S, T, R, M); also "
+                                                    "a pipeline's output { components true }");
     cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(whole_number_in(1, 1024));
     CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number (0 to 2^53)")->capture_default_str()->check(seed_value());
     cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit on a surface the camera sees, directly or through mirrors and glass (deeper hits take one)")->capture_default_str()->check(whole_number_in(1, 1024));
@@ -89,7 +91,8 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--reference", opt->reference, "Reference image to measure error against during the render (checkpoints), or "
                                                    "'auto' for the cached 'crex reference' of the scene at this size");
     cmd->add_option("--report", opt->report_dir, "Write a report to DIR: checkpoints (JSON, CSV), error plot (SVG), images, plan, "
-                                                 "and one self-contained index.html");
+                                                 "and one self-contained index.html. It replaces DIR whole, so DIR must be new, "
+                                                 "empty or an earlier report");
     cmd->add_option("--checkpoint-interval", opt->checkpoint_interval, "Seconds between checkpoints within long steps (also at "
                                                                        "every step and stage boundary)")
         ->capture_default_str()
@@ -147,6 +150,7 @@ Examples:
   crex run -e '(TT[RS]G)*D' --save-profile p.json            measure, then render in 25 % of the time:
   crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
   crex run stdlib/pipelines/sel_rp.pipe --maps out/maps      saliency-driven rays per pixel, with its maps
+  crex run examples/pipelines/cornell_prog.pipe              writes what its output { } block names
   crex run examples/pipelines/cornell_prog.pipe --size 128x128 --format json
   crex run --size 512x512 --resume out/render.partial.exr   finish a run that failed under mpirun
 

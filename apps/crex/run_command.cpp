@@ -18,6 +18,8 @@
 #include "runtime/api/run.h"
 #include "runtime/api/run_outputs.h"
 #include "runtime/api/shared_inputs.h"
+#include "runtime/base/output_folder.h"
+#include "runtime/report/run_report.h"
 #include "runtime/distributed/distributed.h"
 
 namespace crex::app {
@@ -172,13 +174,22 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
         return kExitInputErrors;
     }
     const RunSettings& s = run->settings;
-    // The plan's outputs where no flag names any.
+    // The plan's outputs where no flag names any. Their folders, and the default's, are made:
+    // a pipeline shipped with `image "out/x.exr"` runs from a fresh clone. A folder in a path
+    // the user typed must exist (said below, before anything renders).
     RunFiles& files = r.files;
-    if (files.images.empty()) files.images = in.plan.outputs.images;
-    if (files.images.empty()) files.images = {"out/render.exr", "out/render.png"};
-    if (files.report_dir.empty()) files.report_dir = in.plan.outputs.report;
+    std::vector<std::string> defaults;  // outputs no flag named
+    if (files.images.empty()) files.images = defaults = in.plan.outputs.images;
+    if (files.images.empty()) files.images = defaults = {"out/render.exr", "out/render.png"};
+    if (files.report_dir.empty() && !in.plan.outputs.report.empty()) defaults.push_back(files.report_dir = in.plan.outputs.report);
     if (files.maps_dir.empty() && in.plan.outputs.maps)
         files.maps_dir = (std::filesystem::path(files.images.front()).parent_path() / "maps").string();
+    files.components = files.components || in.plan.outputs.components;
+    for (const auto& path : defaults)
+        if (std::string error = make_output_folder(path); !error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
+            return kExitFailure;
+        }
     // Every output is checked before anything renders: a bad second -o used to be found after
     // the render, with the first image already written.
     for (const auto& path : files.images)
@@ -186,12 +197,20 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
             std::cerr << "crex run: error: " << error << "\n";
             return kExitFailure;
         }
-    for (const auto& [flag, dir] : {std::pair{"--maps", files.maps_dir}, std::pair{"--report", files.report_dir}}) {
-        std::error_code ec;
-        if (!dir.empty() && std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
-            std::cerr << fmt::format("crex run: error: {} {}: is a file; give a directory\n", flag, dir);
+    for (const auto& path : {files.maps_dir, files.report_dir, files.profile, r.input.ic_file})
+        if (std::string error = path.empty() ? "" : missing_output_folder(path); !error.empty()) {
+            std::cerr << "crex run: error: " << error << "\n";
             return kExitFailure;
         }
+    std::error_code ec;
+    if (!files.maps_dir.empty() && std::filesystem::exists(files.maps_dir, ec) && !std::filesystem::is_directory(files.maps_dir, ec)) {
+        std::cerr << fmt::format("crex run: error: --maps {}: is a file; give a directory\n", files.maps_dir);
+        return kExitFailure;
+    }
+    // The report replaces its folder whole, so that folder must be a report (or new, or empty).
+    if (std::string refusal = files.report_dir.empty() ? "" : report_folder_refusal(files.report_dir); !refusal.empty()) {
+        std::cerr << "crex run: error: " << refusal << "\n";
+        return kExitFailure;
     }
     if (std::string clash = same_output_twice(files, r.input.ic_file); !clash.empty()) {
         std::cerr << "crex run: error: " << clash << "\n";
@@ -212,7 +231,10 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
             return status;
         };
         // Outputs the partial has no rows for.
-        if (files.components) return refuse("cannot resume a run with --components: the partial image holds the final rows' composite only", kExitUsage);
+        if (files.components)
+            return refuse("cannot resume a run with --components (or the pipeline's output { components true }): the partial image "
+                          "holds the final rows' composite only",
+                          kExitUsage);
         if (!files.maps_dir.empty())
             return refuse("cannot resume a run with --maps (or the pipeline's output { maps true }): the partial image holds the "
                           "final rows' composite only, not their samples and rays",

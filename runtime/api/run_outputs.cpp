@@ -4,17 +4,17 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <climits>
 #include <cstring>
 #include <filesystem>
-#include <set>
 
+#include "base/image_formats.h"
 #include "compiler/plan/emit_plan.h"
 #include "compiler/plan/plan_pipeline.h"
 #include "compiler/sched/print.h"
 #include "runtime/base/atomic_file.h"
+#include "runtime/base/output_folder.h"
 #include "runtime/base/output_set.h"
 #include "runtime/io/image_io.h"
 #include "runtime/report/run_report.h"
@@ -23,17 +23,15 @@ namespace crex {
 
 std::string check_output_path(const std::string& path) {
     namespace fs = std::filesystem;
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    static const std::set<std::string> kFormats = {".exr", ".hdr", ".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".ppm", ".pfm"};
     std::error_code ec;
     if (fs::is_directory(path, ec)) return fmt::format("-o {}: is a directory; give a file name such as {}/render.exr", path, path);
-    if (!kFormats.count(ext))
-        return fmt::format("-o {}: unknown image format '{}'; crex writes .exr (float), .hdr, .png, .jpg, .tif, .bmp, .tga, .ppm or .pfm",
-                           path, ext.empty() ? "(no extension)" : ext);
+    if (!is_image_file_name(path)) {
+        const std::string ext = image_extension(path);
+        return fmt::format("-o {}: unknown image format '{}'; crex writes {}", path, ext.empty() ? "(no extension)" : ext, image_formats_text());
+    }
+    if (std::string missing = missing_output_folder(path); !missing.empty()) return missing;
     fs::path dir = fs::path(path).parent_path();
     if (dir.empty()) dir = ".";
-    fs::create_directories(dir, ec);
     // Writable: a file can be made (and is removed) where the image will go.
     std::string probe = (dir / ".crex-write-check-XXXXXX").string();
     int fd = ::mkstemp(probe.data());
@@ -136,7 +134,10 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
     written.summary = run_summary_json(run_facts(where, record, &written));  // --format json's, and the report's
     if (record.checkpoints) {
         RunReport report;
-        if (!where.report_dir.empty()) report.dir = files.stage_dir(where.report_dir);
+        if (!where.report_dir.empty()) {  // replaced whole: no picture of an earlier run stays
+            if (std::string refusal = report_folder_refusal(where.report_dir); !refusal.empty()) return refusal;
+            report.dir = files.stage_replacement_dir(where.report_dir);
+        }
         report.title = fmt::format("crex run: {} on {}", in.plan.staged ? "pipeline " + in.plan.name : sched::to_crex(in.plan.program),
                                    in.scene->scene->source);
         report.width = width, report.height = height;

@@ -29,8 +29,9 @@ struct RunFiles {
     std::string report_dir;           ///< checkpoints, error plot, images, plan, index.html
 };
 
-/// "" when an image can be written to `path` (a known format, not a directory, a directory
-/// that exists, made if missing, and takes a new file), else why not: checked before rendering.
+/// "" when an image can be written to `path` (a known format, not a directory, in a folder
+/// that exists and takes a new file), else why not: checked before rendering. The folder is
+/// not made (runtime/base/output_folder.h: only default outputs' folders are).
 std::string check_output_path(const std::string& path);
 
 /// What the files and the summary are made of.

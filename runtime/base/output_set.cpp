@@ -1,5 +1,7 @@
 #include "runtime/base/output_set.h"
 
+#include <fcntl.h>
+#include <stdio.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -30,6 +32,34 @@ void for_each_file(const std::string& staged, const std::string& destination, bo
         if (it->is_regular_file(ec)) f(it->path(), fs::path(destination) / fs::relative(it->path(), staged, ec));
 }
 
+// `staged` (a folder) becomes `destination`; the old destination, if any, is removed. One
+// rename where the kernel can exchange two names atomically (renameat2, Linux 3.15), so a
+// reader never sees the folder missing; else two renames, the old folder put back if the
+// second fails.
+std::string swap_into_place(const std::string& staged, const std::string& destination) {
+    std::error_code ec;
+    if (!fs::exists(destination, ec)) {
+        if (std::rename(staged.c_str(), destination.c_str()) != 0)
+            return "cannot move '" + destination + "' into place: " + std::strerror(errno);
+        return "";
+    }
+    if (::renameat2(AT_FDCWD, staged.c_str(), AT_FDCWD, destination.c_str(), RENAME_EXCHANGE) == 0) {
+        fs::remove_all(staged, ec);  // the old folder, now under the staged name
+        return "";
+    }
+    const std::string old = staged + ".old";
+    fs::remove_all(old, ec);
+    if (std::rename(destination.c_str(), old.c_str()) != 0)
+        return "cannot move the old '" + destination + "' aside: " + std::strerror(errno);
+    if (std::rename(staged.c_str(), destination.c_str()) != 0) {
+        std::string why = std::strerror(errno);
+        std::rename(old.c_str(), destination.c_str());
+        return "cannot move '" + destination + "' into place: " + why;
+    }
+    fs::remove_all(old, ec);
+    return "";
+}
+
 }  // namespace
 
 OutputSet::~OutputSet() {
@@ -38,9 +68,6 @@ OutputSet::~OutputSet() {
 }
 
 std::string OutputSet::stage_file(const std::string& destination) {
-    std::error_code ec;
-    fs::path parent = fs::path(destination).parent_path();
-    if (!parent.empty()) fs::create_directories(parent, ec);
     entries_.push_back({staged_name(destination, false), destination, false});
     return entries_.back().staged;
 }
@@ -48,13 +75,18 @@ std::string OutputSet::stage_file(const std::string& destination) {
 std::string OutputSet::stage_dir(const std::string& destination) {
     fs::path d(destination);
     if (d.filename().empty()) d = d.parent_path();  // "maps/" is "maps"
-    std::error_code ec;
-    if (!d.parent_path().empty()) fs::create_directories(d.parent_path(), ec);
     Entry e{staged_name(d, true), d.string(), true};
+    std::error_code ec;
     fs::remove_all(e.staged, ec);  // a leftover of a killed run of this pid
-    fs::create_directories(e.staged, ec);
+    fs::create_directory(e.staged, ec);
     entries_.push_back(e);
     return e.staged;
+}
+
+std::string OutputSet::stage_replacement_dir(const std::string& destination) {
+    std::string staged = stage_dir(destination);
+    entries_.back().replaces = true;
+    return staged;
 }
 
 std::string OutputSet::destination_of(const std::string& staged) const {
@@ -75,7 +107,11 @@ std::string OutputSet::in_user_terms(std::string message) const {
 std::string OutputSet::commit() {
     // First every destination, so that one that cannot take its file moves nothing.
     std::string problem;
-    for (const Entry& e : entries_)
+    for (const Entry& e : entries_) {
+        std::error_code status;
+        if (e.replaces && fs::exists(e.destination, status) && !fs::is_directory(e.destination, status))
+            problem = "'" + e.destination + "' is a file, not a folder";
+        if (e.replaces) continue;  // its files go with their folder
         for_each_file(e.staged, e.destination, e.directory, [&](const fs::path&, const fs::path& to) {
             if (!problem.empty()) return;
             std::error_code ec;
@@ -89,12 +125,19 @@ std::string OutputSet::commit() {
             }
             if (fs::is_directory(to, ec)) problem = "'" + to.string() + "' is a directory";
         });
+    }
     if (!problem.empty()) return problem + "; no output was written";
     for (const Entry& e : entries_) {
+        if (e.replaces) {
+            problem = swap_into_place(e.staged, e.destination);
+            if (!problem.empty()) return problem;
+            continue;
+        }
         for_each_file(e.staged, e.destination, e.directory, [&](const fs::path& from, const fs::path& to) {
             if (!problem.empty()) return;
             std::error_code ec;
-            if (!to.parent_path().empty()) fs::create_directories(to.parent_path(), ec);
+            // A directory output's subfolders (report/images) are made; a file's folder exists.
+            if (e.directory) fs::create_directories(to.parent_path(), ec);
             if (std::rename(from.c_str(), to.c_str()) != 0)
                 problem = "cannot move '" + to.string() + "' into place: " + std::strerror(errno);
         });

@@ -75,7 +75,7 @@ window.addEventListener('load', () => {
 }  // namespace
 
 std::string render_report_html(const ReportPage& page, std::string& error) {
-    std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escape(page.title) + "</title>\n";
+    std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n" + std::string(kReportMarker) + "\n<title>" + escape(page.title) + "</title>\n";
     html += R"(<style>
 body { font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #202124; }
 h1 { font-size: 20px; } h2 { font-size: 16px; margin-top: 28px; }

@@ -35,6 +35,10 @@ struct ReportPage {
     std::vector<ReportImage> images;
 };
 
+/// In the head of every report page: a folder whose index.html carries it is a crex report,
+/// which a later run may replace whole (run_report.h).
+inline constexpr const char* kReportMarker = "<meta name=\"generator\" content=\"crex report\">";
+
 /// Returns the page; `error` names an image that could not be read.
 std::string render_report_html(const ReportPage& page, std::string& error);
 

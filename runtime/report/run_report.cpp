@@ -35,6 +35,21 @@ std::string safe_name(std::string s) {
 
 }  // namespace
 
+std::string report_folder_refusal(const std::string& dir) {
+    std::error_code ec;
+    if (!fs::exists(dir, ec)) return "";
+    if (!fs::is_directory(dir, ec)) return fmt::format("--report {}: is a file; give a directory", dir);
+    if (fs::directory_iterator(dir, ec) == fs::directory_iterator()) return "";  // empty (or unreadable: writing says so)
+    std::ifstream in(fs::path(dir) / "index.html", std::ios::binary);
+    std::string head(4096, '\0');  // the marker is in the page's head
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<size_t>(in.gcount()));
+    if (head.find(kReportMarker) != std::string::npos) return "";
+    return fmt::format("--report {}: the folder exists and is not a crex report (no index.html written by crex), so crex will not "
+                       "replace it: give a new or empty folder",
+                       dir);
+}
+
 std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve) {
     std::error_code ec;
     fs::create_directories(fs::path(r.dir) / "images", ec);

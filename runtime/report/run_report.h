@@ -38,7 +38,13 @@ struct RunReport {
     std::vector<std::pair<std::string, const std::vector<Checkpoint>*>> other_policies;
 };
 
-/// Writes the report; returns "" or what failed. `curve` receives the error curve.
+/// "" when `dir` may become a report, replacing what it holds: it does not exist, is an empty
+/// folder, or holds a crex report (its index.html carries kReportMarker); else why not. A run
+/// asks before rendering, so a folder of the user's own is never removed.
+std::string report_folder_refusal(const std::string& dir);
+
+/// Writes the report into `report.dir` (a fresh folder); returns "" or what failed. `curve`
+/// receives the error curve.
 std::string write_run_report(const RunReport& report, std::vector<CurvePoint>& curve);
 
 }  // namespace crex

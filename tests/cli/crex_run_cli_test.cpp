@@ -332,8 +332,8 @@ TEST(RunOutputsCli, AShortWriteNeverReplacesTheOldImage) {
 
 // Several outputs: all or none. The second image cannot be written (a file-size limit lets
 // the small PNG through and stops the EXR): the first, already written, must not replace the
-// old one either. Then a report whose images/ is blocked by a file: found when the outputs
-// move into place, and again nothing is replaced. No staged file is left behind.
+// old one either. Then a report into a folder that is not a crex report (its images/ is a
+// file): refused before rendering, and again nothing is replaced. No staged file is left behind.
 TEST(RunOutputsCli, SeveralOutputsAreWrittenAllOrNone) {
     namespace fs = std::filesystem;
     fs::path dir = fs::temp_directory_path() / ("crex_all_or_none_" + std::to_string(::getpid()));
@@ -360,8 +360,8 @@ TEST(RunOutputsCli, SeveralOutputsAreWrittenAllOrNone) {
     { std::ofstream(dir / "report" / "images") << "in the way"; }
     auto blocked = testing::crex_cli({"run", "--size", "16x16", "--spp", "1", "--seed", "9", "-o", png, "--report",
                                       (dir / "report").string(), "--reference", exr, "-q"});
-    EXPECT_EQ(blocked.exit_code, 3) << blocked.err;
-    EXPECT_NE(blocked.err.find("no output was written"), std::string::npos) << blocked.err;
+    EXPECT_EQ(blocked.exit_code, 3) << blocked.err;  // a report replaces its folder whole: a folder that is not one is refused
+    EXPECT_NE(blocked.err.find("is not a crex report"), std::string::npos) << blocked.err;
     EXPECT_EQ(bytes(png), old_png);
     EXPECT_FALSE(fs::exists(dir / "report" / "index.html"));
 
