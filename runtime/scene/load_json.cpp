@@ -8,6 +8,7 @@
 
 #include "base/base64.h"
 #include "base/json_positions.h"
+#include "runtime/scene/json_fields.h"
 #include "base/nearest_name.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
@@ -18,192 +19,7 @@ namespace {
 
 using nlohmann::json;
 
-std::string type_name(const json& v) {
-    if (v.is_number()) return "a number";
-    if (v.is_string()) return "a string";
-    if (v.is_boolean()) return "a boolean";
-    if (v.is_array()) return "an array";
-    if (v.is_object()) return "an object";
-    return "null";
-}
-
-std::string show(const json& v) {
-    std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
-    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
-}
-
-struct Range {
-    double lo = -INFINITY, hi = INFINITY;
-    bool lo_open = false, hi_open = false;
-    bool contains(double x) const {
-        return (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
-    }
-    std::string text() const {
-        if (std::isinf(lo) && std::isinf(hi)) return "";
-        if (std::isinf(hi)) return fmt::format(" {} {:g}", lo_open ? ">" : ">=", lo);
-        return fmt::format(" in {}{:g}, {:g}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");
-    }
-};
-
-const Range kAny{};
-const Range kUnit{0, 1};
-const Range kNonNegative{0, INFINITY};
-const Range kPositive{0, INFINITY, true};
 const Range kRadiance{0, kMaxRadiance};
-
-// Typed access to one JSON object, reporting at the field's own position.
-class ObjectReader {
-public:
-    ObjectReader(const PositionedJson& doc, DiagnosticSink& sink, const json& obj, std::string pointer)
-        : doc_(doc), sink_(sink), obj_(obj), pointer_(std::move(pointer)) {}
-
-    std::string path(const std::string& key) const { return readable_json_path(pointer_ + "/" + key); }
-    SourceSpan span(const std::string& key) const { return doc_.span(pointer_ + "/" + key); }
-    bool has(const std::string& key) const { return obj_.contains(key); }
-    const json& at(const std::string& key) const { return obj_.at(key); }
-    const std::string& pointer() const { return pointer_; }
-
-    void missing(const std::string& key, const std::string& what) {
-        sink_.report("E304", doc_.span(pointer_), fmt::format("{}: missing required field '{}' ({})",
-                                                               readable_json_path(pointer_), key, what));
-    }
-    void wrong(const std::string& key, const std::string& expected) {
-        sink_.report("E302", span(key), fmt::format("{}: expected {}, got {}", path(key), expected, type_name(at(key))));
-    }
-
-    bool number(const std::string& key, double& out, const Range& r = kAny, bool required = false) {
-        if (!has(key)) {
-            if (required) missing(key, "a number");
-            return false;
-        }
-        const json& v = at(key);
-        if (!v.is_number()) {
-            wrong(key, "a number" + r.text());
-            return false;
-        }
-        double x = v.get<double>();
-        if (!std::isfinite(x) || !r.contains(x)) {
-            sink_.report("E303", span(key), fmt::format("{}: expected a number{}, got {}", path(key), r.text(), show(v)));
-            return false;
-        }
-        out = x;
-        return true;
-    }
-
-    bool integer(const std::string& key, int& out, int lo, int hi) {
-        if (!has(key)) return false;
-        const json& v = at(key);
-        if (!v.is_number_integer()) {
-            wrong(key, fmt::format("an integer in {} .. {}", lo, hi));
-            return false;
-        }
-        auto x = v.get<int64_t>();
-        if (x < lo || x > hi) {
-            sink_.report("E303", span(key), fmt::format("{}: expected an integer in {} .. {}, got {}", path(key), lo, hi, x));
-            return false;
-        }
-        out = static_cast<int>(x);
-        return true;
-    }
-
-    bool boolean(const std::string& key, bool& out) {
-        if (!has(key)) return false;
-        if (!at(key).is_boolean()) {
-            wrong(key, "true or false");
-            return false;
-        }
-        out = at(key).get<bool>();
-        return true;
-    }
-
-    bool string(const std::string& key, std::string& out, bool required = false) {
-        if (!has(key)) {
-            if (required) missing(key, "a string");
-            return false;
-        }
-        if (!at(key).is_string()) {
-            wrong(key, "a string");
-            return false;
-        }
-        out = at(key).get<std::string>();
-        return true;
-    }
-
-    static bool vec3_of(const json& v, Vec3& out) {
-        if (!v.is_array() || v.size() != 3) return false;
-        for (const auto& e : v)
-            if (!e.is_number()) return false;
-        out = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-        return true;
-    }
-
-    bool vec3(const std::string& key, Vec3& out, const Range& r = kAny, bool required = false) {
-        if (!has(key)) {
-            if (required) missing(key, "an array of 3 numbers");
-            return false;
-        }
-        Vec3 v;
-        if (!vec3_of(at(key), v)) {
-            sink_.report("E302", span(key), fmt::format("{}: expected an array of 3 numbers, got {}", path(key), show(at(key))));
-            return false;
-        }
-        for (int i = 0; i < 3; ++i) {
-            if (!std::isfinite(v[i]) || !r.contains(v[i])) {
-                sink_.report("E303", doc_.span(pointer_ + "/" + key + "/" + std::to_string(i)),
-                             fmt::format("{}[{}]: expected a number{}, got {}", path(key), i, r.text(), show(at(key)[static_cast<size_t>(i)])));
-                return false;
-            }
-        }
-        out = v;
-        return true;
-    }
-
-    bool vec3_list(const std::string& key, std::vector<Vec3>& out, bool required) {
-        if (!has(key)) {
-            if (required) missing(key, "an array of points");
-            return false;
-        }
-        if (!at(key).is_array()) {
-            wrong(key, "an array of points [x, y, z]");
-            return false;
-        }
-        out.clear();
-        for (size_t i = 0; i < at(key).size(); ++i) {
-            Vec3 v;
-            const json& e = at(key)[i];
-            std::string ptr = pointer_ + "/" + key + "/" + std::to_string(i);
-            if (!vec3_of(e, v)) {
-                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected [x, y, z], got {}", readable_json_path(ptr), show(e)));
-                return false;
-            }
-            if (!is_finite(v)) {
-                sink_.report("E303", doc_.span(ptr), fmt::format("{}: non-finite coordinate", readable_json_path(ptr)));
-                return false;
-            }
-            out.push_back(v);
-        }
-        return true;
-    }
-
-    /// W301 for every key not in `known`, with the nearest known name as help.
-    void warn_unknown(std::initializer_list<std::string_view> known) {
-        for (const auto& [key, value] : obj_.items()) {
-            bool found = false;
-            for (auto k : known) found = found || k == key;
-            if (found) continue;
-            std::string help = did_you_mean(key, std::vector<std::string>(known.begin(), known.end()));
-            Diagnostic& d = sink_.report("W301", doc_.key_span(pointer_ + "/" + escape_pointer_token(key)),
-                                         fmt::format("{}: unknown field '{}' is ignored", readable_json_path(pointer_), key));
-            d.help = help;
-        }
-    }
-
-private:
-    const PositionedJson& doc_;
-    DiagnosticSink& sink_;
-    const json& obj_;
-    std::string pointer_;
-};
 
 class SceneJsonLoader {
 public:
@@ -214,7 +30,7 @@ public:
     std::optional<Scene> load() {
         size_t errors_before = sink_.error_count();
         if (!doc_.value.is_object()) {
-            sink_.report("E302", doc_.span(""), fmt::format("a scene file must hold a JSON object, got {}", type_name(doc_.value)));
+            sink_.report("E302", doc_.span(""), fmt::format("a scene file must hold a JSON object, got {}", json_type_name(doc_.value)));
             return std::nullopt;
         }
         Scene scene;
@@ -261,7 +77,7 @@ private:
             std::string ptr = parent.pointer() + "/" + key + "/" + std::to_string(i);
             current_index_ = i;
             if (!e.is_object()) {
-                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected an object, got {}", readable_json_path(ptr), type_name(e)));
+                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected an object, got {}", readable_json_path(ptr), json_type_name(e)));
                 continue;
             }
             ObjectReader r(doc_, sink_, e, ptr);
@@ -573,7 +389,7 @@ private:
                                 : w.is_array() && w.size() == 2 && one(w[0], t.wrap_s) && one(w[1], t.wrap_t);
         if (!ok)
             sink_.report("E303", r.span("wrap"), fmt::format("{}: expected \"repeat\", \"clamp\", \"mirror\" or \"black\" (or two of "
-                                                             "them, for s and t), got {}", r.path("wrap"), show(w)));
+                                                             "them, for s and t), got {}", r.path("wrap"), json_shown(w)));
     }
 
     // {"offset": [u, v], "rotation": radians, "scale": [u, v]} (glTF's KHR_texture_transform),
@@ -721,7 +537,7 @@ private:
             for (size_t k = 0; ok && k < 3; ++k) ok = t[k].is_number_unsigned();
             if (!ok) {
                 sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected [i, j, k] with vertex indices >= 0, got {}",
-                                                                  readable_json_path(ptr), show(t)));
+                                                                  readable_json_path(ptr), json_shown(t)));
                 return;
             }
             std::array<uint32_t, 3> tri{};
@@ -752,7 +568,7 @@ private:
             std::string ptr = r.pointer() + "/uvs/" + std::to_string(i);
             if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number() || !std::isfinite(e[0].get<double>()) ||
                 !std::isfinite(e[1].get<double>())) {
-                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected [u, v] (finite numbers), got {}", readable_json_path(ptr), show(e)));
+                sink_.report("E302", doc_.span(ptr), fmt::format("{}: expected [u, v] (finite numbers), got {}", readable_json_path(ptr), json_shown(e)));
                 s.uvs.clear();
                 return;
             }
