@@ -115,6 +115,13 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
     if (in.plan.staged)
         metadata.push_back({"crex:pipeline", in.plan.name + (record.plan_file.empty() ? "" : " (" + record.plan_file + ")")});
     if (outcome.run.budget_seconds > 0) metadata.push_back({"crex:budget_seconds", fmt::format("{:.6g}", outcome.run.budget_seconds)});
+    if (record.frame >= 0) {  // which frame of a sequence, and the camera its path gave it (as a RADIANCE view)
+        const Camera& c = in.scene->scene->camera;
+        metadata.push_back({"crex:frame", std::to_string(record.frame)});
+        metadata.push_back({"crex:view", fmt::format("-vp {:.9g} {:.9g} {:.9g} -vd {:.9g} {:.9g} {:.9g} -vu {:.9g} {:.9g} {:.9g}",
+                                                     c.position.x, c.position.y, c.position.z, c.direction.x, c.direction.y,
+                                                     c.direction.z, c.up.x, c.up.y, c.up.z)});
+    }
     if (record.resumed) metadata.push_back({"crex:resumed", fmt::format("rows {} from {}", record.resumed->rows, record.resumed->path)});
     if (const double clamp = rs.executor.clamp_indirect; clamp > 0)
         metadata.push_back({"crex:clamp_indirect", fmt::format("{:.6g} (biased)", clamp)});

@@ -44,6 +44,7 @@ struct RunRecord {
     std::string reference_path;
     std::vector<PolicyRun> other_policies;        ///< the same render under other policies
     const ResumedRows* resumed = nullptr;         ///< rows taken from a partial image
+    int64_t frame = -1;                           ///< a frame of a sequence (frame_sequence.h): its number; -1 none
 };
 
 /// The final image as written: the result's, with a resumed run's final rows taken in.

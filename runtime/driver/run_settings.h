@@ -49,6 +49,9 @@ struct RunSettings {
     /// has the file); loaded instead of reading `ic_file`, which is still where they are saved
     /// (by the process the ProcessGroup names).
     std::optional<std::string> ic_file_bytes;
+    /// false: `ic_file` is only where the cache is saved, not read (the frames of a sequence
+    /// after its first carry their records in `ic_records`, the file holds the last frame's).
+    bool ic_file_read = true;
     size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
     /// Texture lookups filter over this many pixels' footprint (0: none, the sharpest lookups:
     /// tests show what filtering prevents).

@@ -1,0 +1,181 @@
+#include "runtime/api/frame_sequence.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "runtime/driver/process_group.h"
+
+namespace crex {
+namespace {
+
+// 13850 -> "13,850": counts people read at a glance.
+std::string grouped(uint64_t n) {
+    std::string digits = std::to_string(n), out;
+    for (size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
+}
+
+// A frame's time on the path.
+double frame_time(int64_t frame, double fps) { return double(frame) / fps; }
+
+// The scene's camera as it was, whatever happens to the frames.
+struct CameraRestore {
+    Scene& scene;
+    Camera saved;
+    ~CameraRestore() { scene.camera = saved; }
+};
+
+}  // namespace
+
+std::vector<int64_t> FrameRange::frames() const {
+    std::vector<int64_t> out;
+    for (int64_t f = first; f <= last && step > 0; f += step) out.push_back(f);
+    return out;
+}
+
+FrameRange path_frames(const CameraPath& path, double fps) {
+    // Times of whole frames within the span, allowing for the division's rounding at its ends.
+    const double slack = 1e-9;
+    FrameRange r;
+    r.first = static_cast<int64_t>(std::ceil(path.start_time() * fps - slack));
+    r.last = static_cast<int64_t>(std::floor(path.end_time() * fps + slack));
+    return r;
+}
+
+std::string check_frame_range(const FrameRange& range, const CameraPath& path, double fps) {
+    const FrameRange on = path_frames(path, fps);
+    if (range.first >= on.first && range.last <= on.last) return "";
+    return fmt::format("frames {}..{} are not all on the camera path: at {:g} fps it has frames {}..{} ({:g} s to {:g} s)", range.first,
+                       range.last, fps, on.first, on.last, path.start_time(), path.end_time());
+}
+
+std::string frame_file_name(const std::string& path, int64_t frame) {
+    const std::filesystem::path p(path);
+    return (p.parent_path() / fmt::format("{}.{:04d}{}", p.stem().string(), frame, p.extension().string())).string();
+}
+
+std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const RunFiles& files, const SequenceOptions& o,
+                                    RunObserver& observer, const std::function<void(const FrameRun&, size_t, size_t)>& done) {
+    Scene& scene = *in.scene->scene;
+    CameraRestore restore{scene, scene.camera};
+    const Camera scene_camera = scene.camera;
+    const std::vector<int64_t> frames = o.frames.frames();
+    std::vector<FrameRun> out;
+    // What every frame starts from: the sequence's cache (a file's bytes, records given), then
+    // each frame's records when carried. The file is read once: later frames only save to it.
+    ResolvedRun next = run;
+    for (size_t index = 0; index < frames.size(); ++index) {
+        FrameRun f;
+        f.frame = frames[index];
+        f.time = frame_time(f.frame, o.fps);
+        RunFiles frame_files;
+        frame_files.components = files.components;
+        for (const std::string& image : files.images) frame_files.images.push_back(frame_file_name(image, f.frame));
+        f.files = frame_files.images;
+        std::error_code ec;
+        f.skipped = !o.force && !f.files.empty() &&
+                    std::all_of(f.files.begin(), f.files.end(), [&](const std::string& p) { return std::filesystem::exists(p, ec); });
+        if (f.skipped) {
+            out.push_back(f);
+            if (done) done(out.back(), index, frames.size());
+            continue;
+        }
+        const auto start = std::chrono::steady_clock::now();
+        scene.camera = o.path->camera_at(f.time, scene_camera);
+        f.records_reused = next.settings.ic_records.size();
+        LocalGroup one;
+        RunOutcome outcome = run_resolved(in.plan, scene, next, one, observer);
+        const RunResult& result = *outcome.result;
+        f.records_reused += result.ic_loaded;
+        f.records_made = result.ic_stats.records;
+        f.rays = total_rays(result.stats);
+        f.render_seconds = result.render_seconds;
+        f.warnings = result.warnings;
+        for (const std::string& note : result.notes) f.warnings.push_back("note: " + note);
+        RunRecord record;
+        record.inputs = &in;
+        record.outcome = &outcome;
+        record.plan_file = o.plan_file;
+        record.frame = f.frame;
+        WrittenRun written;
+        if (std::string error = write_run_files(frame_files, record, written); !error.empty())
+            throw FrameWriteError(fmt::format("frame {}: {}", f.frame, error));
+        f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        // The next frame starts from this one's cache, never from the file again (it holds
+        // this frame's records now: --ic-file saves after every frame).
+        next.settings.ic_file_read = false;
+        if (o.carry_cache && next.settings.irradiance_cache) {
+            next.settings.ic_records = std::move(outcome.result->ic_records);
+            next.settings.ic_file_bytes.reset();
+        }
+        out.push_back(std::move(f));
+        if (done) done(out.back(), index, frames.size());
+    }
+    return out;
+}
+
+nlohmann::json frames_json(const std::vector<FrameRun>& frames, double fps) {
+    nlohmann::json list = nlohmann::json::array();
+    size_t rendered = 0;
+    double seconds = 0;
+    uint64_t made = 0;
+    for (const FrameRun& f : frames) {
+        nlohmann::json j = {{"frame", f.frame}, {"time", f.time}, {"skipped", f.skipped}, {"files", f.files}};
+        if (!f.skipped) {
+            j["seconds"] = f.seconds;
+            j["render_seconds"] = f.render_seconds;
+            j["records_made"] = f.records_made;
+            j["records_reused"] = f.records_reused;
+            j["rays"] = f.rays;
+            ++rendered;
+            seconds += f.seconds;
+            made += f.records_made;
+        }
+        list.push_back(std::move(j));
+    }
+    return {{"fps", fps}, {"frames", std::move(list)}, {"rendered", rendered}, {"skipped", frames.size() - rendered},
+            {"seconds", seconds}, {"records_made", made}};
+}
+
+std::string frame_line(const FrameRun& f, size_t index, size_t count) {
+    const std::string head = fmt::format("frame {}/{} ({:04d})", index + 1, count, f.frame);
+    if (f.skipped) return head + ": skipped, its files exist (--force renders it again)";
+    std::string line = fmt::format("{}: {:.2f} s", head, f.seconds);
+    if (f.records_made || f.records_reused)
+        line += fmt::format(", {} new records, {} reused", grouped(f.records_made), grouped(f.records_reused));
+    return line;
+}
+
+std::string frames_summary_text(const std::vector<FrameRun>& frames) {
+    std::vector<const FrameRun*> rendered;
+    for (const FrameRun& f : frames)
+        if (!f.skipped) rendered.push_back(&f);
+    const size_t skipped = frames.size() - rendered.size();
+    std::string text = fmt::format("{} frame{}: {} rendered, {} skipped{}\n", frames.size(), frames.size() == 1 ? "" : "s",
+                                   rendered.size(), skipped, skipped ? " (their files existed)" : "");
+    if (rendered.empty()) return text;
+    const FrameRun& first = *rendered.front();
+    text += fmt::format("  first frame rendered ({:04d}): {:.2f} s, {} records made\n", first.frame, first.seconds, grouped(first.records_made));
+    if (rendered.size() > 1) {
+        double seconds = 0, made = 0;
+        for (size_t i = 1; i < rendered.size(); ++i) seconds += rendered[i]->seconds, made += double(rendered[i]->records_made);
+        const double n = double(rendered.size() - 1);
+        text += fmt::format("  the other {}: {:.2f} s and {} records made per frame on average{}\n", rendered.size() - 1, seconds / n,
+                            grouped(static_cast<uint64_t>(std::llround(made / n))),
+                            seconds > 0 ? fmt::format(" ({:.1f}x faster than the first)", first.seconds / (seconds / n)) : "");
+    }
+    const FrameRun& last = *rendered.back();
+    for (size_t k = 0; k < first.files.size() && k < last.files.size(); ++k)  // one line per -o, not per frame
+        text += first.frame == last.frame ? fmt::format("  wrote {}\n", first.files[k])
+                                          : fmt::format("  wrote {} .. {}\n", first.files[k], last.files[k]);
+    return text;
+}
+
+}  // namespace crex

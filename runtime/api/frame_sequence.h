@@ -1,0 +1,88 @@
+/// \file frame_sequence.h
+/// A sequence of frames along a camera path (issue 36, docs/animation.md): frame f is the
+/// render with the path's camera at time f / fps, written to `NAME.%04d.EXT` for every image
+/// `NAME.EXT` of the run, each frame's files all or none. A frame whose files all exist is
+/// skipped (a sequence stopped half way restarts where it stopped) unless `force`. The
+/// irradiance cache is carried from frame to frame in the process: the records of a static
+/// scene do not depend on the camera, so a frame only makes the records its new view lacks.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "runtime/api/run.h"
+#include "runtime/api/run_inputs.h"
+#include "runtime/api/run_outputs.h"
+#include "runtime/scene/camera_path.h"
+
+namespace crex {
+
+/// Frames first, first + step, ... up to last (inclusive).
+struct FrameRange {
+    int64_t first = 0, last = 0, step = 1;
+    std::vector<int64_t> frames() const;
+};
+
+/// The frames a path at `fps` covers: those whose time f / fps lies within its keys' span.
+FrameRange path_frames(const CameraPath& path, double fps);
+
+/// "" when every frame of `range` is on the path at `fps`, else what is wrong (with the
+/// frames the path has).
+std::string check_frame_range(const FrameRange& range, const CameraPath& path, double fps);
+
+/// `out/walk.png`, 7 -> `out/walk.0007.png` (more digits past 9999).
+std::string frame_file_name(const std::string& path, int64_t frame);
+
+struct SequenceOptions {
+    const CameraPath* path = nullptr;
+    FrameRange frames;
+    double fps = 30;
+    bool force = false;        ///< render frames whose files exist too
+    bool carry_cache = true;   ///< false: every frame starts from the cache the sequence started with
+    std::string plan_file;     ///< the pipeline or plan file run, for the images' headers ("" for a crex)
+};
+
+/// What one frame did.
+struct FrameRun {
+    int64_t frame = 0;
+    double time = 0;             ///< on the path, seconds
+    bool skipped = false;        ///< its files existed
+    double seconds = 0;          ///< the whole frame: scene set-up, render, files written
+    double render_seconds = 0;   ///< from its first camera ray
+    size_t records_reused = 0;   ///< cache records it started with (carried, or from the cache file)
+    size_t records_made = 0;
+    uint64_t rays = 0;
+    std::vector<std::string> files;
+    std::vector<std::string> warnings;  ///< the frame's runtime warnings and notes
+};
+
+/// A frame's files could not be written; the frames before it are kept.
+struct FrameWriteError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// Renders the frames of `options` with `run`'s settings, in one process, each frame's images
+/// in `files.images` renamed by frame_file_name() (only images: maps, reports and profiles are
+/// not per frame yet). `in`'s scene camera is set per frame and restored before returning.
+/// `observer` watches each frame's render; `done(frame, index, count)` is called after each
+/// frame, skipped ones too. Throws what run_resolved() throws, and FrameWriteError.
+std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const RunFiles& files, const SequenceOptions& options,
+                                    RunObserver& observer,
+                                    const std::function<void(const FrameRun&, size_t index, size_t count)>& done = nullptr);
+
+/// The sequence as `--format json` gives it: per frame its seconds, records made and reused,
+/// rays and files; with totals.
+nlohmann::json frames_json(const std::vector<FrameRun>& frames, double fps);
+
+/// "frame 3/60 (0007): 0.66 s, 1,147 new records, 13,850 reused": a frame's progress line.
+std::string frame_line(const FrameRun& f, size_t index, size_t count);
+
+/// A summary for people: frames rendered and skipped, the first frame against the mean of
+/// the rest, records made.
+std::string frames_summary_text(const std::vector<FrameRun>& frames);
+
+}  // namespace crex
