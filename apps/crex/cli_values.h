@@ -7,6 +7,7 @@
 #include <string>
 
 #include "compiler/plan/pipeline_plan.h"
+#include "runtime/api/frame_sequence.h"
 #include "runtime/api/run_options.h"
 
 namespace crex::app {
@@ -31,5 +32,8 @@ std::string parse_budget(const std::string& text, PlanBudget& budget);
 
 /// --ambient: "auto", or a radiance from 0 to 1e30.
 bool parse_ambient(const std::string& text, AmbientStandIn& ambient);
+
+/// --frames: "FIRST..LAST", "FIRST..LAST:STEP" or one frame "N"; "" or what is wrong.
+std::string parse_frame_range(const std::string& text, FrameRange& range);
 
 }  // namespace crex::app

@@ -134,6 +134,19 @@ Runner add_run_command(CLI::App& app) {
         ->check(whole_number_in(1, 1 << 20));
     cmd->add_option("--maps", opt->maps_dir, "Write every guidance map, the preview and per-pixel pictures (samples, rays, "
                                              "components) to DIR (default with 'output { maps true }': beside the image)");
+    cmd->add_option("--camera-path", opt->camera_path, "Render frames along a camera path: a JSON path of keys (time, position, "
+                                                       "look_at or direction, up, vfov) or a RADIANCE file of one view per line "
+                                                       "(docs/animation.md); each -o NAME.EXT becomes NAME.0000.EXT, NAME.0001.EXT, ...")
+        ->allow_extra_args(false);
+    cmd->add_option("--frames", opt->frames, "The frames to render, FIRST..LAST[:STEP] (frame f at f / fps seconds on the path; "
+                                             "default: every frame of the path); frames whose files exist are skipped")
+        ->allow_extra_args(false);
+    cmd->add_option("--fps", opt->fps, "Frames per second along the camera path (a view file's line k is frame k at any fps)")
+        ->capture_default_str()
+        ->check(number_in(1e-3, 1e4));
+    cmd->add_flag("--force", opt->force, "With --frames: render frames whose files exist too");
+    cmd->add_flag("--no-carry-cache", opt->no_carry_cache, "With --frames: start every frame from an empty irradiance cache (or "
+                                                           "the --ic-file's) instead of the frame before's: what carrying it saves");
     cmd->footer(R"(
 Camera rays are traced first; then the crex runs over the component bins (D G S T R M) and
 rays still waiting when it ends are dropped (--ambient stands in for waiting D rays).
@@ -153,6 +166,8 @@ Examples:
   crex run examples/pipelines/cornell_prog.pipe              writes what its output { } block names
   crex run examples/pipelines/cornell_prog.pipe --size 128x128 --format json
   crex run --size 512x512 --resume out/render.partial.exr   finish a run that failed under mpirun
+  crex run --scene examples/scenes/corridor/scene.json --camera-path examples/paths/corridor_walk.json \
+      --frames 0..59 --ic --size 320x240 --spp 4 -o out/walk.png          a walk, NAME.0000.png to NAME.0059.png
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
     return [opt, crex, size, spp, seed, lw, max_depth, aa, ab, ad] {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -20,6 +21,7 @@
 #include "runtime/api/shared_inputs.h"
 #include "runtime/base/output_folder.h"
 #include "runtime/report/run_report.h"
+#include "runtime/scene/camera_path_file.h"
 #include "runtime/distributed/distributed.h"
 
 namespace crex::app {
@@ -40,6 +42,10 @@ struct Request {
     bool quiet = false;
     int threads = 0;
     double checkpoint_interval = 0.1;
+    // --camera-path: frames along a path instead of one image (runtime/api/frame_sequence.h).
+    std::string camera_path;
+    std::optional<FrameRange> frames;  // unset: every frame of the path
+    SequenceOptions sequence;
 };
 
 std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
@@ -115,6 +121,31 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.quiet = f.quiet;
     r.threads = f.threads;
     r.checkpoint_interval = f.checkpoint_interval;
+
+    // A sequence: its flags, and what it does not write per frame yet.
+    if (!f.frames.empty() && f.camera_path.empty())
+        return usage("--frames needs --camera-path FILE: the camera of each frame comes from a path");
+    if (f.camera_path.empty() && (f.force || f.no_carry_cache))
+        return usage(fmt::format("{} is for frames along a camera path: give --camera-path FILE", f.force ? "--force" : "--no-carry-cache"));
+    r.camera_path = f.camera_path;
+    if (!f.frames.empty()) {
+        FrameRange range;
+        if (std::string error = parse_frame_range(f.frames, range); !error.empty()) return usage(fmt::format("--frames {}: {}", f.frames, error));
+        r.frames = range;
+    }
+    r.sequence.fps = f.fps;
+    r.sequence.force = f.force;
+    r.sequence.carry_cache = !f.no_carry_cache;
+    r.sequence.plan_file = f.plan;
+    if (!f.camera_path.empty()) {
+        for (const auto& [given, flag] : {std::pair{!f.view.empty(), "--view"}, std::pair{!f.resume.empty(), "--resume"},
+                                          std::pair{f.compare_policies, "--compare-policies"}, std::pair{!f.report_dir.empty(), "--report"},
+                                          std::pair{!f.maps_dir.empty(), "--maps"}, std::pair{!f.reference.empty(), "--reference"},
+                                          std::pair{!f.profile_out.empty(), "--save-profile"}})
+            if (given)
+                return usage(fmt::format("{} does not go with --camera-path yet: a sequence writes its images only{}", flag,
+                                         std::string(flag) == "--view" ? " (the path gives every frame's view)" : ""));
+    }
     return std::nullopt;
 }
 
@@ -147,7 +178,34 @@ std::string same_output_twice(const RunFiles& files, const std::string& ic_file)
 struct LeadChecks {
     ReferenceInput reference;
     std::optional<ResumedRows> resumed;
+    std::optional<CameraPath> path;  // --camera-path
 };
+
+// The camera path, its diagnostics said; the frames checked against it (every frame of the
+// path when none were given). An exit status, or kExitOk.
+int read_camera_path_file(Request& r, LeadChecks& lead) {
+    std::string error;
+    auto text = read_input(r.camera_path, error);
+    if (!text) {
+        std::cerr << fmt::format("crex run: error: --camera-path: {}\n", error);
+        return kExitFailure;
+    }
+    const SourceFile file(r.camera_path, std::move(*text));
+    DiagnosticSink sink;
+    lead.path = read_camera_path(file, r.sequence.fps, sink);
+    std::cerr << render_text(sink.sorted());
+    if (!lead.path || sink.has_errors()) {
+        std::cerr << fmt::format("crex run: {} error{} in the camera path; nothing rendered\n", sink.error_count(),
+                                 sink.error_count() == 1 ? "" : "s");
+        return kExitInputErrors;
+    }
+    r.sequence.frames = r.frames ? *r.frames : path_frames(*lead.path, r.sequence.fps);
+    if (std::string range = check_frame_range(r.sequence.frames, *lead.path, r.sequence.fps); !range.empty()) {
+        std::cerr << "crex run: error: --frames: " << range << "\n";
+        return kExitUsage;
+    }
+    return kExitOk;
+}
 
 int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     DiagnosticSink sink;
@@ -181,6 +239,15 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     std::vector<std::string> defaults;  // outputs no flag named
     if (files.images.empty()) files.images = defaults = in.plan.outputs.images;
     if (files.images.empty()) files.images = defaults = {"out/render.exr", "out/render.png"};
+    if (!r.camera_path.empty()) {
+        if (int status = read_camera_path_file(r, lead); status != kExitOk) return status;
+        if (!in.plan.outputs.report.empty() || in.plan.outputs.maps || !in.plan.settings.reference.empty())
+            std::cerr << "crex run: note: the pipeline's report, maps and reference are not made per frame yet; a sequence writes "
+                         "its images\n";
+        in.plan.outputs.report.clear();
+        in.plan.outputs.maps = false;
+        in.plan.settings.reference.clear();
+    }
     if (files.report_dir.empty() && !in.plan.outputs.report.empty()) defaults.push_back(files.report_dir = in.plan.outputs.report);
     if (files.maps_dir.empty() && in.plan.outputs.maps)
         files.maps_dir = (std::filesystem::path(files.images.front()).parent_path() / "maps").string();
@@ -270,10 +337,59 @@ void say_notes(const RunResult& result) {
         std::cerr << "crex run: note: " << note << (times > 1 ? fmt::format(" ({} times)", times) : "") << "\n";
 }
 
+// The frames of a camera path: a progress line per frame, the sequence's summary at the end.
+int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path) {
+    r.sequence.path = &path;
+    const bool talk = !r.quiet && r.format != "json";
+    Progress progress(talk);
+    std::vector<FrameRun> frames;
+    try {
+        frames = render_frames(in, run, r.files, r.sequence, progress, [&](const FrameRun& f, size_t index, size_t count) {
+            progress.finish();
+            if (talk) std::cerr << "crex run: " << frame_line(f, index, count) << "\n";
+        });
+    } catch (const InternalError&) {
+        progress.finish();
+        throw;
+    } catch (const RunInputError& e) {
+        progress.finish();
+        std::cerr << "crex run: error: " << e.what() << "\n";
+        return kExitInputErrors;
+    } catch (const FrameWriteError& e) {
+        progress.finish();
+        std::cerr << "crex run: error: " << e.what() << "; the frames before it are written\n";
+        return kExitFailure;
+    } catch (const std::exception& e) {
+        progress.finish();
+        std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
+        return kExitFailure;
+    }
+    progress.finish();
+    // Each warning once, however many frames said it.
+    std::vector<std::string> said;
+    for (const FrameRun& f : frames)
+        for (const std::string& w : f.warnings)
+            if (std::find(said.begin(), said.end(), w) == said.end()) said.push_back(w);
+    for (const std::string& w : said) std::cerr << (w.rfind("note: ", 0) == 0 ? "crex run: " : "") << w << "\n";
+    if (r.format == "json") {
+        nlohmann::json j = frames_json(frames, r.sequence.fps);
+        j["camera_path"] = r.camera_path;
+        j["scene"] = in.scene_spec;
+        std::cout << j.dump(2) << "\n";
+    } else if (!r.quiet) {
+        std::cout << frames_summary_text(frames);
+    }
+    return kExitOk;
+}
+
 // Reads, checks, renders and writes: the lead reads and checks (every process learns its
 // verdict), every process renders its part, the lead writes and says what happened.
 int run_request(Request& r) {
     std::unique_ptr<ProcessGroup> group = make_process_group(r.distributed);
+    if (group->distributed() && !r.camera_path.empty()) {
+        if (group->leads()) std::cerr << "crex run: error: under mpirun, --camera-path is not supported yet: render the frames in one process\n";
+        return kExitUsage;
+    }
     if (group->distributed() && (r.compare_policies || !r.resume.empty())) {  // every rank refuses alike; the lead says so
         if (group->leads())
             std::cerr << (r.compare_policies ? "crex run: error: under mpirun, --compare-policies is not supported yet\n"
@@ -297,6 +413,7 @@ int run_request(Request& r) {
         threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(r.threads));
     group->keep_partial_outputs(r.files.images, run.settings.width, run.settings.height,
                                 partial_identity(in.scene_spec, in.plan, run.settings));
+    if (lead.path) return run_sequence(r, in, run, *lead.path);
     std::optional<CheckpointRecorder> recorder;
     if (lead.reference.image || !r.files.report_dir.empty()) recorder.emplace(r.checkpoint_interval);
     const bool quiet = r.quiet || !group->leads();

@@ -62,6 +62,11 @@ struct RunFlags {
     double max_memory_mib = double(kDefaultMaxMemory >> 20);
     uint32_t pass_samples = 0;
     uint32_t rounds = 0;
+    std::string camera_path;  ///< --camera-path FILE: render frames along it
+    std::string frames;       ///< --frames A..B[:STEP] ("": every frame of the path)
+    double fps = 30;
+    bool force = false;       ///< render frames whose files exist too
+    bool no_carry_cache = false;
     // Which flags were given (they override the pipeline's settings).
     bool size_given = false, spp_given = false, seed_given = false, lw_given = false, max_depth_given = false,
          aa_given = false, ab_given = false, ad_given = false;

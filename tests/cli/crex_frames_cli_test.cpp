@@ -1,0 +1,157 @@
+// `crex run --camera-path FILE --frames A..B` as a user runs it (issue 36): a file per frame
+// and output, a rerun that skips finished frames without touching them, --force to redo them,
+// a progress line per frame, JSON per frame, and usage errors for what does not go together.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "runtime/io/image_io.h"
+#include "tests/support/crex_cli.h"
+#include "tests/support/scratch_folder.h"
+
+namespace crex {
+namespace {
+
+using testing::crex_cli;
+
+const char* kCorridor = CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json";
+
+class CrexFramesCli : public testing::ScratchFolderTest {
+protected:
+    CrexFramesCli() : ScratchFolderTest("crex_frames_cli_") {}
+
+    std::string write(const std::string& name, const std::string& text) {
+        std::ofstream(path(name)) << text;
+        return path(name);
+    }
+    std::string walk() {
+        return write("walk.json", R"({"keys": [
+            {"time": 0, "position": [0, 1.6, 9.5], "look_at": [0, 1.4, 0]},
+            {"time": 1, "position": [0, 1.6, 3.5], "look_at": [0, 1.4, -6]}]})");
+    }
+    std::vector<std::string> run_args(std::vector<std::string> more) {
+        std::vector<std::string> args = {"run", "--scene", kCorridor, "--size", "24x16", "--spp", "1", "-o", path("f.png")};
+        args.insert(args.end(), more.begin(), more.end());
+        return args;
+    }
+    // The file's inode: an atomic rewrite renames a new file into place, so it changes.
+    static ino_t inode(const std::string& p) {
+        struct stat st {};
+        return ::stat(p.c_str(), &st) == 0 ? st.st_ino : 0;
+    }
+    static std::string bytes(const std::string& p) {
+        std::ifstream f(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    }
+    // The picture without its header (which holds the render's seconds).
+    static std::vector<float> pixels(const std::string& p) {
+        int w = 0, h = 0;
+        std::vector<float> rgb;
+        EXPECT_EQ(read_image(p, w, h, rgb), "") << p;
+        return rgb;
+    }
+};
+
+TEST_F(CrexFramesCli, WritesEachFrameSkipsFinishedOnesAndForceRedoesThem) {
+    const std::string path_file = walk();
+    auto first = crex_cli(run_args({"--camera-path", path_file, "--frames", "3..5"}));
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    std::vector<std::string> frames = {path("f.0003.png"), path("f.0004.png"), path("f.0005.png")};
+    std::vector<ino_t> inodes;
+    std::vector<std::string> contents;
+    std::vector<std::vector<float>> pictures;
+    for (const auto& f : frames) {
+        ASSERT_TRUE(std::filesystem::exists(f)) << f;
+        inodes.push_back(inode(f));
+        contents.push_back(bytes(f));
+        pictures.push_back(pixels(f));
+    }
+    EXPECT_FALSE(std::filesystem::exists(path("f.png")));
+    EXPECT_FALSE(std::filesystem::exists(path("f.0002.png")));
+    EXPECT_TRUE(pictures[0] != pictures[2]) << "the camera moved";
+    EXPECT_NE(first.err.find("frame 1/3 (0003): "), std::string::npos) << first.err;
+    EXPECT_NE(first.err.find("frame 3/3 (0005): "), std::string::npos) << first.err;
+    EXPECT_NE(first.out.find("3 frames: 3 rendered, 0 skipped"), std::string::npos) << first.out;
+
+    // Again: every frame's file exists, so nothing is rendered and nothing touched.
+    auto again = crex_cli(run_args({"--camera-path", path_file, "--frames", "3..5", "--format", "json"}));
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    auto j = nlohmann::json::parse(again.out);
+    ASSERT_EQ(j["frames"].size(), 3u);
+    for (size_t i = 0; i < 3; ++i) {
+        EXPECT_TRUE(j["frames"][i]["skipped"].get<bool>());
+        EXPECT_EQ(inode(frames[i]), inodes[i]) << frames[i];
+        EXPECT_TRUE(bytes(frames[i]) == contents[i]) << frames[i];
+    }
+    EXPECT_EQ(j["skipped"], 3);
+
+    // A frame lost: only it is rendered, to the same picture (frames do not depend on each
+    // other without a cache).
+    std::filesystem::remove(frames[1]);
+    auto refill = crex_cli(run_args({"--camera-path", path_file, "--frames", "3..5"}));
+    ASSERT_EQ(refill.exit_code, 0) << refill.err;
+    EXPECT_NE(refill.err.find("frame 1/3 (0003): skipped"), std::string::npos) << refill.err;
+    EXPECT_NE(refill.out.find("3 frames: 1 rendered, 2 skipped"), std::string::npos) << refill.out;
+    EXPECT_TRUE(pixels(frames[1]) == pictures[1]);
+    EXPECT_EQ(inode(frames[0]), inodes[0]);
+
+    // --force renders them all again: new files in place, the same pictures.
+    auto forced = crex_cli(run_args({"--camera-path", path_file, "--frames", "3..5", "--force", "--format", "json"}));
+    ASSERT_EQ(forced.exit_code, 0) << forced.err;
+    auto fj = nlohmann::json::parse(forced.out);
+    for (size_t i = 0; i < 3; ++i) {
+        const auto& f = fj["frames"][i];
+        EXPECT_FALSE(f["skipped"].get<bool>());
+        EXPECT_EQ(f["frame"], 3 + int(i));
+        EXPECT_GT(f["rays"].get<double>(), 0);
+        EXPECT_GT(f["seconds"].get<double>(), 0);
+        EXPECT_EQ(f["records_made"], 0);  // no cache in this run
+        if (i != 1) {
+            EXPECT_NE(inode(frames[i]), inodes[i]) << frames[i];
+        }
+        EXPECT_TRUE(pixels(frames[i]) == pictures[i]) << frames[i];
+    }
+}
+
+// A RADIANCE view per line: without --frames, every line is a frame.
+TEST_F(CrexFramesCli, ViewFileLinesAreFrames) {
+    const std::string views = write("walk.vf", "rview -vp 0 1.6 9 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45\n"
+                                               "-vp 0 1.6 8 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45\n");
+    auto r = crex_cli(run_args({"--camera-path", views, "-o", path("f.exr")}));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* f : {"f.0000.png", "f.0001.png", "f.0000.exr", "f.0001.exr"}) EXPECT_TRUE(std::filesystem::exists(path(f))) << f;
+    EXPECT_FALSE(std::filesystem::exists(path("f.0002.png")));
+}
+
+TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
+    const std::string path_file = walk();
+    struct Case {
+        std::vector<std::string> args;
+        int exit;
+        const char* says;
+    };
+    const std::vector<Case> cases = {
+        {{"--frames", "0..2"}, 2, "--frames needs --camera-path"},
+        {{"--force"}, 2, "--force is for frames along a camera path"},
+        {{"--camera-path", path_file, "--frames", "5..2"}, 2, "the last frame 2 is before the first 5"},
+        {{"--camera-path", path_file, "--frames", "0..2:0"}, 2, "STEP from 1"},
+        {{"--camera-path", path_file, "--frames", "a..b"}, 2, "expected FIRST..LAST"},
+        {{"--camera-path", path_file, "--frames", "25..31"}, 2, "it has frames 0..30 (0 s to 1 s)"},
+        {{"--camera-path", path_file, "--view", path_file}, 2, "--view does not go with --camera-path"},
+        {{"--camera-path", path("missing.json")}, 3, "--camera-path"},
+        {{"--camera-path", write("bad.json", "{\"keys\": [\n  {\"time\": 0, \"position\": [0, 1], \"look_at\": [0, 0, 0]}]}")}, 1,
+         "bad.json:2:27: error[E302]"},
+    };
+    for (const Case& c : cases) {
+        auto r = crex_cli(run_args(c.args));
+        EXPECT_EQ(r.exit_code, c.exit) << c.args.back() << ": " << r.err;
+        EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args.back() << ": " << r.err;
+    }
+    EXPECT_FALSE(std::filesystem::exists(path("f.0000.png")));
+}
+
+}  // namespace
+}  // namespace crex
