@@ -64,12 +64,7 @@ public:
         }
         ObjectReader top(doc_, sink_, doc_.value, "");
         top.warn_unknown({"format", "version", "timing", "keys"});
-        std::string format;
-        if (top.string("format", format) && format != "crex-camera-path")
-            sink_.report("E303", top.span("format"), fmt::format("format: expected \"crex-camera-path\", got \"{}\"", format));
-        int version = 1;
-        if (top.integer("version", version, 1, 1000) && version != 1)
-            sink_.report("E303", top.span("version"), fmt::format("version: this crex reads version 1, the file is version {}", version));
+        top.format_and_version("crex-camera-path");
         PathTiming timing = PathTiming::kConstantSpeed;
         std::string timing_name;
         if (top.string("timing", timing_name)) {

@@ -95,6 +95,15 @@ bool ObjectReader::string(const std::string& key, std::string& out, bool require
     return true;
 }
 
+void ObjectReader::format_and_version(std::string_view format) {
+    std::string given;
+    if (string("format", given) && given != format)
+        sink_.report("E303", span("format"), fmt::format("format: expected \"{}\", got \"{}\"", format, given));
+    int version = 1;
+    if (integer("version", version, 1, 1000) && version != 1)
+        sink_.report("E303", span("version"), fmt::format("version: this crex reads version 1, the file is version {}", version));
+}
+
 bool ObjectReader::vec3_of(const json& v, Vec3& out) {
     if (!v.is_array() || v.size() != 3) return false;
     for (const auto& e : v)

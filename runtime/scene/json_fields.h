@@ -60,6 +60,8 @@ public:
     bool string(const std::string& key, std::string& out, bool required = false);
     bool vec3(const std::string& key, Vec3& out, const Range& r = kAny, bool required = false);
     bool vec3_list(const std::string& key, std::vector<Vec3>& out, bool required);
+    /// The optional "format" (must be `format`) and "version" (must be 1) of a file's top object.
+    void format_and_version(std::string_view format);
     /// W301 for every key not in `known`, with the nearest known name as help.
     void warn_unknown(std::initializer_list<std::string_view> known);
 

@@ -38,12 +38,7 @@ public:
         ObjectReader top(doc_, sink_, doc_.value, "");
         top.warn_unknown({"format", "version", "camera", "cameras", "units", "background", "medium", "images", "materials", "shapes",
                           "distant_lights"});
-        std::string format;
-        if (top.string("format", format) && format != "crex-scene")
-            sink_.report("E303", top.span("format"), fmt::format("format: expected \"crex-scene\", got \"{}\"", format));
-        int version = 1;
-        if (top.integer("version", version, 1, 1000) && version != 1)
-            sink_.report("E303", top.span("version"), fmt::format("version: this crex reads version 1, the file is version {}", version));
+        top.format_and_version("crex-scene");
         if (top.has("camera")) read_camera(top, scene.camera);
         read_array(top, "cameras", [&](ObjectReader& r) { read_named_camera(r, scene); });
         if (!top.has("camera") && !scene.cameras.empty()) scene.camera = scene.cameras.front().camera;

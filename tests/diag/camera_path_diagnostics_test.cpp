@@ -8,14 +8,7 @@
 namespace crex {
 namespace {
 
-struct PathCase {
-    const char* name;
-    const char* text;
-    const char* code;
-    uint32_t line;
-    uint32_t col;
-    const char* message_part;
-};
+using PathCase = testing::DiagnosticCase;
 
 class CameraPathDiagnostic : public ::testing::TestWithParam<PathCase> {};
 

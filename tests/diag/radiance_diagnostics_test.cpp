@@ -8,14 +8,7 @@
 namespace crex {
 namespace {
 
-struct RadCase {
-    const char* name;
-    const char* text;
-    const char* code;
-    uint32_t line;
-    uint32_t col;
-    const char* message_part;
-};
+using RadCase = testing::DiagnosticCase;
 
 class RadianceDiagnostic : public ::testing::TestWithParam<RadCase> {};
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,17 @@ struct Diagnosed {
         const Diagnostic* d = find(code);
         return d && d->span.valid() ? d->span.file->position(d->span.begin) : LineCol{0, 0};
     }
+};
+
+/// One case of a table of refusals: an input, and the diagnostic it must give (where, and a
+/// part of what it says).
+struct DiagnosticCase {
+    const char* name;
+    const char* text;
+    const char* code;
+    uint32_t line;
+    uint32_t col;
+    const char* message_part;
 };
 
 /// `case_name` reports `code` at `line`:`col` (col 0: any column) with `message_part` in it.
