@@ -337,34 +337,50 @@ void say_notes(const RunResult& result) {
         std::cerr << "crex run: note: " << note << (times > 1 ? fmt::format(" ({} times)", times) : "") << "\n";
 }
 
-// The frames of a camera path: a progress line per frame, the sequence's summary at the end.
-int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path) {
-    r.sequence.path = &path;
-    const bool talk = !r.quiet && r.format != "json";
-    Progress progress(talk);
-    std::vector<FrameRun> frames;
+// Runs `render` (it returns an exit status) and says why it failed as `crex run` does: a bug
+// goes on to main, which says so; input the run cannot use is exit 1, anything else 3. The
+// progress line is cleared either way.
+template <class Render>
+int rendering(Progress& progress, Render&& render) {
+    int status = kExitOk;
     try {
-        frames = render_frames(in, run, r.files, r.sequence, progress, [&](const FrameRun& f, size_t index, size_t count) {
-            progress.finish();
-            if (talk) std::cerr << "crex run: " << frame_line(f, index, count) << "\n";
-        });
+        status = render();
     } catch (const InternalError&) {
         progress.finish();
-        throw;
+        throw;  // a bug, not a failed render: main says so
     } catch (const RunInputError& e) {
         progress.finish();
         std::cerr << "crex run: error: " << e.what() << "\n";
         return kExitInputErrors;
-    } catch (const FrameWriteError& e) {
-        progress.finish();
-        std::cerr << "crex run: error: " << e.what() << "; the frames before it are written\n";
-        return kExitFailure;
     } catch (const std::exception& e) {
         progress.finish();
         std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
         return kExitFailure;
     }
     progress.finish();
+    return status;
+}
+
+// The frames of a camera path: a progress line per frame, the sequence's summary at the end.
+int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path) {
+    r.sequence.path = &path;
+    const bool talk = !r.quiet && r.format != "json";
+    Progress progress(talk);
+    std::vector<FrameRun> frames;
+    const int status = rendering(progress, [&] {
+        try {
+            frames = render_frames(in, run, r.files, r.sequence, progress, [&](const FrameRun& f, size_t index, size_t count) {
+                progress.finish();
+                if (talk) std::cerr << "crex run: " << frame_line(f, index, count) << "\n";
+            });
+        } catch (const FrameWriteError& e) {
+            progress.finish();
+            std::cerr << "crex run: error: " << e.what() << "; the frames before it are written\n";
+            return kExitFailure;
+        }
+        return kExitOk;
+    });
+    if (status != kExitOk) return status;
     // Each warning once, however many frames said it.
     std::vector<std::string> said;
     for (const FrameRun& f : frames)
@@ -419,21 +435,12 @@ int run_request(Request& r) {
     const bool quiet = r.quiet || !group->leads();
     Progress progress(!quiet && r.format != "json", recorder ? &*recorder : nullptr);
     RunOutcome out;
-    try {
-        out = run_resolved(in.plan, *in.scene->scene, std::move(run), *group, progress);
-    } catch (const InternalError&) {
-        progress.finish();
-        throw;  // a bug, not a failed render: main says so
-    } catch (const RunInputError& e) {
-        progress.finish();
-        std::cerr << "crex run: error: " << e.what() << "\n";
-        return kExitInputErrors;
-    } catch (const std::exception& e) {
-        progress.finish();
-        std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
-        return kExitFailure;
-    }
-    progress.finish();
+    if (int status = rendering(progress, [&] {
+            out = run_resolved(in.plan, *in.scene->scene, std::move(run), *group, progress);
+            return kExitOk;
+        });
+        status != kExitOk)
+        return status;
     if (!group->leads() || !out.result) return kExitOk;  // the lead writes the outputs
     RunRecord record;
     record.inputs = &in;
