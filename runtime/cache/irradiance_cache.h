@@ -6,11 +6,12 @@
 /// misses looked up again. Everything that decides a result happens in a fixed order, so
 /// images do not depend on the thread count.
 ///
-/// Each record holds E, the harmonic mean distance R (clamped to [r_min, r_max], never 0),
+/// Each record holds E, the harmonic mean distance R (clamped to [r_min, r_max], never 0, and
+/// gradient-limited),
 /// rotation and translation gradients (Ward and Heckbert 1992), its bounce level and the
 /// accuracy it was made for. A query at accuracy aa uses records of its level made for
-/// aa' <= aa (never records of lower quality) whose Ward weight exceeds 1/aa and that are not
-/// in front of it. Bounces: a level-k hemisphere ray sees emission (not `light` emitters: they
+/// aa' <= aa (never records of lower quality) whose Ward weight w exceeds 1/aa and that are not
+/// in front of it, weighted by w - 1/aa (0 at the edge of a record's reach: no rings). Bounces: a level-k hemisphere ray sees emission (not `light` emitters: they
 /// are direct light), one direct-light sample, and rho/pi E_{k+1} from level k+1 records
 /// (made as needed) up to `bounces`; beyond, the ambient value av. Later levels use fewer
 /// hemisphere rays (ad / 2^k, at least 16), as pbrt's irradiance cache does. Hemisphere rays

@@ -1,5 +1,6 @@
 #include "runtime/cache/irradiance_record.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace crex {
@@ -22,6 +23,14 @@ Vec3 extrapolate(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
         e[c] = std::isfinite(v) ? std::fmax(v, 0.0) : std::fmax(e[c], 0.0);
     }
     return {e[0], e[1], e[2]};
+}
+
+double gradient_limited_radius(const IrradianceRecord& r, double r_min) {
+    const double e = luminance(r.irradiance);
+    const Vec3 g = r.translation[0] * 0.2126 + r.translation[1] * 0.7152 + r.translation[2] * 0.0722;
+    const double slope = length(g);
+    if (!(e > 0) || !(slope > 0) || !std::isfinite(slope)) return r.harmonic_distance;
+    return std::clamp(e / slope, std::min(r_min, r.harmonic_distance), r.harmonic_distance);
 }
 
 bool in_front(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {

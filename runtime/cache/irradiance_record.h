@@ -16,7 +16,7 @@ struct IrradianceRecord {
     Vec3 position;
     Vec3 normal;                      ///< unit
     Vec3 irradiance;                  ///< E, RGB
-    double harmonic_distance = 0;     ///< R_i, clamped to [r_min, r_max]: never 0
+    double harmonic_distance = 0;     ///< R_i, in [r_min, r_max] and gradient-limited: never 0
     std::array<Vec3, 3> rotation{};   ///< rotational gradient of E, per channel (R, G, B)
     std::array<Vec3, 3> translation{};///< translational gradient of E, per channel
     float quality = 1;                ///< the accuracy `aa` of the pixel that asked for it
@@ -31,6 +31,12 @@ double ward_weight(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
 
 /// E of `r` extrapolated to (x, n) with its gradients, clamped at 0 per channel.
 Vec3 extrapolate(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
+
+/// R_i limited by the record's own translational gradient (the gradient limit of Krivanek et
+/// al. 2006): within R_i the gradient may change E's luminance by at most E's luminance, so a
+/// coarse accuracy (`vary ic_radius 0.75 ..`) cannot extrapolate a record across a strong
+/// gradient into blotches; never below `r_min`, never above the record's own R_i.
+double gradient_limited_radius(const IrradianceRecord& r, double r_min);
 
 /// Is `r` "in front" of x (Ward's test: records ahead of the surface along the averaged normal
 /// are not used, they see a different neighbourhood)?

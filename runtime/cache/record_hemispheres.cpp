@@ -331,6 +331,7 @@ std::vector<IrradianceRecord> IrradianceCache::records_from(const Hemispheres& h
         rec.rotation = rot;
         rec.translation = tra;
         if (!is_finite(rec.irradiance)) rec.irradiance = {};
+        rec.harmonic_distance = gradient_limited_radius(rec, r_min_);
         out[s] = rec;
     });
     return out;

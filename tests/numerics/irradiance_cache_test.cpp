@@ -45,6 +45,50 @@ TEST(WardWeight, TheSingularitiesStayFinite) {
     EXPECT_EQ(e.z, 3.0);
 }
 
+// The gradient limit: within R the translational gradient changes E's luminance by at most E,
+// so a coarse accuracy cannot extrapolate a record across a strong gradient.
+TEST(WardWeight, ARecordsRadiusIsLimitedByItsGradient) {
+    IrradianceRecord r = record_at({0, 0, 0}, {0, 0, 1}, 2.0);
+    r.irradiance = {1, 1, 1};
+    EXPECT_EQ(gradient_limited_radius(r, 0.01), 2.0);  // no gradient: R as measured
+    r.translation = {Vec3{4, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 0, 0}};
+    EXPECT_NEAR(gradient_limited_radius(r, 0.01), 0.25, 1e-12);  // |grad E| = 4: R = E / 4
+    EXPECT_NEAR(luminance(extrapolate(r, {0.25, 0, 0}, {0, 0, 1})), 2.0, 1e-12);
+    EXPECT_EQ(gradient_limited_radius(r, 0.5), 0.5);  // never below r_min
+    r.translation = {Vec3{1e300, 0, 0}, Vec3{NAN, 0, 0}, Vec3{0, 0, 0}};
+    EXPECT_EQ(gradient_limited_radius(r, 0.01), 2.0);  // a gradient that is not finite is not used
+    r.irradiance = {};
+    EXPECT_EQ(gradient_limited_radius(r, 0.01), 2.0);  // E = 0: nothing to limit
+}
+
+// Interpolated E is continuous as a point leaves a record's reach: the record's weight falls to
+// 0 at the edge (Ward's 1/d alone entered at 1/aa, and drew rings at coarse accuracies).
+TEST(IrradianceCache, InterpolationIsContinuousAtTheEdgeOfARecordsReach) {
+    Scene scene = testing::furnace_box(0.5, 1.0);
+    RenderScene rs(scene);
+    IcSettings set;
+    set.accuracy = 0.75;
+    IrradianceCache cache(rs, set);
+    IrradianceRecord dark = record_at({0, 0, 0}, {0, 0, 1}, 1.0), bright = record_at({1, 0, 0}, {0, 0, 1}, 1.0);
+    dark.irradiance = {1, 1, 1}, bright.irradiance = {9, 9, 9};
+    dark.quality = bright.quality = 0.75f;
+    cache.insert(dark);
+    cache.insert(bright);
+    // Walk from the dark record towards the bright one, across x = 0.25 where the bright one's
+    // reach (aa R = 0.75) begins: no step between neighbouring points may jump.
+    double previous = -1, largest_step = 0;
+    for (int i = 0; i <= 200; ++i) {
+        const double x = 0.15 + 0.2 * i / 200.0;
+        Vec3 e;
+        ASSERT_TRUE(cache.lookup({x, 0, 0}, {0, 0, 1}, 0.75, 0, e)) << x;
+        if (previous >= 0) largest_step = std::max(largest_step, std::abs(e.x - previous));
+        previous = e.x;
+    }
+    // 200 steps over a rise of at most 8: a smooth curve moves a few hundredths a step; with
+    // Ward's weight alone the bright record entered at once and E jumped by more than 2.
+    EXPECT_LT(largest_step, 0.2);
+}
+
 // A cache on a furnace box (albedo 0.5 walls, emission 1), `divisions` rays a record.
 struct FurnaceCache {
     FurnaceCache(uint32_t divisions, uint32_t bounces) : scene(testing::furnace_box(0.5, 1.0)), rs(scene), cache(rs, settings(divisions, bounces)) {}
