@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "apps/crex/commands.h"
-#include "apps/crex/progress.h"
+#include "runtime/api/console_progress.h"
 #include "base/exit_codes.h"
 #include "base/render_text.h"
 #include "compiler/crex/compile.h"
@@ -35,6 +35,7 @@ struct ReferenceOptions {
     std::string output;
     bool force = false;
     bool quiet = false;
+    std::string progress = "auto";
     std::vector<std::string> windows;  ///< --window X,Y,W,H, repeatable
     std::string windows_rule;          ///< --windows auto
     int window_size = 64;
@@ -138,7 +139,7 @@ int accumulate(const ReferenceOptions& opt) {
         std::cerr << fmt::format("crex reference: error: {}'s header names the crex '{}', which does not compile\n", opt.accumulate, h.crex);
         return kExitInputErrors;
     }
-    Progress progress(!opt.quiet);
+    ConsoleProgress progress(progress_mode(opt.progress, opt.quiet));
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels more;
     try {
@@ -193,7 +194,7 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
     const Scene& scene = *loaded.input->scene;
     const ReferenceSettings defaults;
     const std::optional<sched::Program> program = reference_program(defaults.crex);
-    Progress progress(!opt.quiet);
+    ConsoleProgress progress(progress_mode(opt.progress, opt.quiet));
     ReferencePixels s;
     s.width = width, s.height = height, s.spp = opt.spp, s.seed = opt.seed;
     s.progress = [&](const RunProgress& p) { progress.update(p); };
@@ -276,7 +277,7 @@ int reference(const ReferenceOptions& opt) {
         if (!opt.quiet) std::cerr << "crex reference: cached (key " << key << "); --force renders again\n";
         return kExitOk;
     }
-    Progress progress(!opt.quiet);
+    ConsoleProgress progress(progress_mode(opt.progress, opt.quiet));
     ReferencePixels rp;
     rp.width = s.width, rp.height = s.height, rp.spp = s.spp, rp.seed = s.seed, rp.lw = s.lw, rp.max_depth = s.max_depth;
     rp.progress = [&](const RunProgress& p) { progress.update(p); };
@@ -330,6 +331,9 @@ Runner add_reference_command(CLI::App& app) {
     cmd->add_option("--accumulate", opt->accumulate, "Add --spp independent samples to this reference (windowed or not) and record the total");
     cmd->add_flag("--force", opt->force, "Render even if the cache has it");
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no messages");
+    cmd->add_option("--progress", opt->progress, "Progress on stderr: a redrawn line on a terminal (bar), a line every 10 s once past 5 s elsewhere (plain), or none; auto picks bar or plain")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "bar", "plain", "none"}));
     cmd->footer(R"(
 Renders the scene with (TTMRSGD)* and prints the image's path. The cache is
 $CREX_CACHE/references, else $XDG_CACHE_HOME/crex/references, else ~/.cache/crex/references;

@@ -88,6 +88,9 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--save-profile", opt->profile_out, "Write the measured profile (and this render's time) to FILE");
     cmd->add_option("--format", opt->format, "Summary as text or json (stdout)")->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
+    cmd->add_option("--progress", opt->progress, "Progress on stderr: a redrawn line on a terminal (bar), a line every 10 s once past 5 s elsewhere (plain), or none; auto picks bar or plain")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "bar", "plain", "none"}));
     cmd->add_option("--reference", opt->reference, "Reference image to measure error against during the render (checkpoints), or "
                                                    "'auto' for the cached 'crex reference' of the scene at this size");
     cmd->add_option("--report", opt->report_dir, "Write a report to DIR: checkpoints (JSON, CSV), error plot (SVG), images, plan, "

@@ -1,6 +1,7 @@
 #include "apps/crex/run_command.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -10,7 +11,8 @@
 #include <memory>
 
 #include "apps/crex/cli_values.h"
-#include "apps/crex/progress.h"
+#include "runtime/api/interrupt.h"
+#include "runtime/api/console_progress.h"
 #include "base/check.h"
 #include "base/exit_codes.h"
 #include "base/render_text.h"
@@ -23,6 +25,7 @@
 #include "runtime/report/run_report.h"
 #include "runtime/scene/camera_path_file.h"
 #include "runtime/distributed/distributed.h"
+#include "runtime/distributed/partial_rows.h"
 
 namespace crex::app {
 namespace {
@@ -40,6 +43,7 @@ struct Request {
     std::string budget;     // --budget as given, for what is said about it
     std::string format;     // of the summary: text or json
     bool quiet = false;
+    std::string progress;   // --progress
     int threads = 0;
     double checkpoint_interval = 0.1;
     // --camera-path: frames along a path instead of one image (runtime/api/frame_sequence.h).
@@ -119,6 +123,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.budget = f.budget;
     r.format = f.format;
     r.quiet = f.quiet;
+    r.progress = f.progress;
     r.threads = f.threads;
     r.checkpoint_interval = f.checkpoint_interval;
 
@@ -341,7 +346,7 @@ void say_notes(const RunResult& result) {
 // goes on to main, which says so; input the run cannot use is exit 1, anything else 3. The
 // progress line is cleared either way.
 template <class Render>
-int rendering(Progress& progress, Render&& render) {
+int rendering(ConsoleProgress& progress, Render&& render) {
     int status = kExitOk;
     try {
         status = render();
@@ -365,7 +370,7 @@ int rendering(Progress& progress, Render&& render) {
 int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path) {
     r.sequence.path = &path;
     const bool talk = !r.quiet && r.format != "json";
-    Progress progress(talk);
+    ConsoleProgress progress(progress_mode(r.progress, !talk));
     std::vector<FrameRun> frames;
     const int status = rendering(progress, [&] {
         try {
@@ -396,6 +401,24 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
         std::cout << frames_summary_text(frames);
     }
     return kExitOk;
+}
+
+// Ctrl-C: the image so far goes to NAME.partial.EXT beside each image asked for (the files the
+// user had stay as they were). Maps, report and profile describe a whole render: none is written.
+int write_stopped_render(const Request& r, const RunRecord& record) {
+    RunFiles partial;
+    partial.components = r.files.components;
+    for (const auto& image : r.files.images) partial.images.push_back(distributed::partial_path(image));
+    WrittenRun written;
+    if (std::string error = write_run_files(partial, record, written); !error.empty()) {
+        std::cerr << "crex run: error: interrupted, and the image so far could not be written: " << error << "\n";
+        return kExitFailure;
+    }
+    const RunResult& result = *record.outcome->result;
+    std::cerr << fmt::format("crex run: interrupted after {:.1f} s: wrote the image so far to {} ({} camera samples of the stage running "
+                             "left out)\n",
+                             result.render_seconds, fmt::join(partial.images, ", "), result.stopped_samples);
+    return kExitInterrupted;
 }
 
 // Reads, checks, renders and writes: the lead reads and checks (every process learns its
@@ -433,7 +456,10 @@ int run_request(Request& r) {
     std::optional<CheckpointRecorder> recorder;
     if (lead.reference.image || !r.files.report_dir.empty()) recorder.emplace(r.checkpoint_interval);
     const bool quiet = r.quiet || !group->leads();
-    Progress progress(!quiet && r.format != "json", recorder ? &*recorder : nullptr);
+    // Ctrl-C: the image so far, as NAME.partial.EXT (interrupt.h); one process only.
+    const bool stoppable = !group->distributed();
+    if (stoppable) catch_interrupt();
+    ConsoleProgress progress(progress_mode(r.progress, quiet || r.format == "json"), recorder ? &*recorder : nullptr, stoppable);
     RunOutcome out;
     if (int status = rendering(progress, [&] {
             out = run_resolved(in.plan, *in.scene->scene, std::move(run), *group, progress);
@@ -450,6 +476,7 @@ int run_request(Request& r) {
     record.reference = lead.reference.image;
     record.reference_path = lead.reference.path;
     record.resumed = lead.resumed ? &*lead.resumed : nullptr;
+    if (out.result->stopped) return write_stopped_render(r, record);
     if (r.compare_policies) {  // the same render under every other policy, for the report's plot of all of them
         try {
             record.other_policies = render_other_policies(in.plan, *in.scene->scene, out.run, out.result->policy, r.checkpoint_interval,

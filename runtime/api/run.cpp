@@ -6,13 +6,14 @@
 namespace crex {
 namespace {
 
-// Passes progress on; checkpoints only where a snapshot shows the image (not where other
+// Passes progress and a stop on; checkpoints only where a snapshot shows the image (not where other
 // processes' rows arrive only at exchanges).
 class Forward final : public RunObserver {
 public:
     Forward(RunObserver& inner, bool snapshots) : inner_(inner), snapshots_(snapshots) {}
     void progress(const RunProgress& p) override { inner_.progress(p); }
     CheckpointRecorder* checkpoints() override { return snapshots_ ? inner_.checkpoints() : nullptr; }
+    bool stop_requested() override { return inner_.stop_requested(); }
 
 private:
     RunObserver& inner_;

@@ -36,6 +36,10 @@ public:
     virtual void progress(const RunProgress& p) { (void)p; }
     /// Where image snapshots go during the render, for an error curve; null: none are taken.
     virtual CheckpointRecorder* checkpoints() { return nullptr; }
+    /// Asked before each pass: true ends the render early as a spent budget does (the pass in
+    /// flight finishes, no later stage starts) and the result is the image so far, marked
+    /// `stopped` (Ctrl-C in `crex run`). One process only: a distributed render ignores it.
+    virtual bool stop_requested() { return false; }
 };
 
 /// Progress to a function (none: nobody watching), no checkpoints.

@@ -47,14 +47,19 @@ public:
             render_interleaved();
         } else {
             preview();
+            if (stopping()) {  // the preview is the image so far: its waiting rays stand in
+                stand_ins_->flush(carried_, out_.rays_left);
+                end_of_stages();
+                return finish();
+            }
             // 2-3. Guidance and selective rendering, `rounds` times (the cyclic process, spec
             // §1): each round computes the maps on the image so far and takes the samples its
             // svt asks for by then (a share r / rounds of the way from the preview's spp to the
             // target) beyond what each pixel has; the first round also runs the preview's
             // waiting rays.
             const uint32_t rounds = std::max<uint32_t>(1, s_.rounds ? s_.rounds : plan_rounds(plan_));
-            for (uint32_t round = 1; round <= rounds; ++round) selective_round(round, rounds, guidance_round(round, rounds));
-            if (out_.component_subsample.any() && !budget_.budgeted()) refine_components();
+            for (uint32_t round = 1; round <= rounds && !stopping(); ++round) selective_round(round, rounds, guidance_round(round, rounds));
+            if (out_.component_subsample.any() && !budget_.budgeted() && !stopping()) refine_components();
             end_of_stages();
         }
         return finish();
@@ -81,6 +86,12 @@ private:
     std::vector<float> snapshot() const;       // the image a checkpoint records
     std::vector<float> composite_now() const;  // film + what waiting rays stand in for
     void report_progress(const std::string& step);
+    // Has the observer asked to stop (Ctrl-C)? Then no pass, round or stage starts. Asked
+    // once an image exists; a distributed render goes on (its processes must agree).
+    bool stopping() {
+        if (!out_.stopped && out_.passes > 0 && bands_.empty() && observer_.stop_requested()) out_.stopped = true;
+        return out_.stopped;
+    }
     void stage_end(const std::string& what, const std::string& next);
     double now() const { return clock_(); }
     // A batch of D queries answered here, or by another process of the group.
@@ -141,6 +152,9 @@ private:
     // Progress within the running stage.
     RunProgress progress_;
     uint64_t stage_samples_ = 0, stage_samples_done_ = 0;
+    // Within a pass: its samples and the rays done when it began; the rays a camera sample cost
+    // in the passes before, so the percentage moves during a pass (one pass can be a whole stage).
+    uint64_t pass_samples_ = 0, pass_rays_start_ = 0, samples_in_passes_ = 0, rays_in_passes_ = 0;
     Clock::time_point stage_start_ = Clock::now();
 };
 
@@ -420,7 +434,12 @@ void PlanRun::measure_light_left_out() {
 void PlanRun::report_progress(const std::string& step) {
     progress_.step = step;
     progress_.stage_seconds = seconds_since(stage_start_);
-    progress_.fraction = stage_samples_ ? double(stage_samples_done_) / double(stage_samples_) : 0;
+    double done = static_cast<double>(stage_samples_done_);
+    if (pass_samples_ > 0 && samples_in_passes_ > 0 && rays_in_passes_ > 0 && ex_) {
+        const double expected = static_cast<double>(rays_in_passes_) / static_cast<double>(samples_in_passes_) * static_cast<double>(pass_samples_);
+        done += std::min(0.95, static_cast<double>(ex_->rays_done() - pass_rays_start_) / expected) * static_cast<double>(pass_samples_);
+    }
+    progress_.fraction = stage_samples_ ? done / static_cast<double>(stage_samples_) : 0;
     progress_.rays = ex_ ? ex_->rays_done() : 0;
     observer_.progress(progress_);
 }
@@ -496,7 +515,7 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
             pass.samples = row == passes[i].row_begin ? pass.samples : samples_in(pass, ranges, s_.width);
             const bool first = out_.passes == 0 && pass.first == 0;  // the render's first: there is always an image
             const std::optional<SamplePass> admitted = budget_.admit(pass, ranges, s_.width, now(), first);
-            if (!admitted) {
+            if (!admitted || stopping()) {
                 out_of_time = true;
                 break;
             }
@@ -510,6 +529,7 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
                     for (uint32_t p = 0; p < pass_start_samples_.size(); ++p) pass_start_samples_[p] = out_.film.samples(p);
                 });
             const double t = now();
+            pass_samples_ = pass.samples, pass_rays_start_ = ex_->rays_done();
             // Progressive passes run their crex whole, except the render's first: it always
             // runs (an image in every pixel), so under a budget shorter than it its component
             // rays go in batches like cbtcr's (a 5 % budget overran by 15-65 %).
@@ -521,6 +541,8 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
             pass_start_image_.clear();
             budget_.measured(now() - t, pass.samples);
             stage_samples_done_ += pass.samples;
+            samples_in_passes_ += pass.samples, rays_in_passes_ += ex_->rays_done() - pass_rays_start_;
+            pass_samples_ = 0;
             ++out_.passes;
             row = pass.row_end;
         }
@@ -530,7 +552,7 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
                 out_.bytes_per_sample = bytes;
             }
     }
-    if (out_of_time) out_.budget_stopped_samples += stage_samples_ - stage_samples_done_;
+    if (out_of_time) (out_.stopped ? out_.stopped_samples : out_.budget_stopped_samples) += stage_samples_ - stage_samples_done_;
     report_progress("");
 }
 

@@ -38,6 +38,8 @@ struct RunResult {
     std::array<size_t, kComponentCount> rays_left{};  ///< dropped at the end of passes, per bin
     size_t passes = 0;             ///< sample passes over all stages
     uint64_t budget_stopped_samples = 0;  ///< camera samples the budget left out
+    bool stopped = false;                 ///< the observer asked to stop: the image so far
+    uint64_t stopped_samples = 0;         ///< camera samples the stop left out of its stage
     size_t bytes_per_sample = 0;   ///< what the passes after the first were sized by (0: one pass)
     pipeline::SchedulingPolicy policy = pipeline::SchedulingPolicy::kTasks;  ///< the one used under a budget
     /// The share of the image's light the limits left out, estimated (0..1; issue 37): paths

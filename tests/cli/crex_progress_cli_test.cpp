@@ -1,0 +1,117 @@
+// `crex run` watched as a user watches it (issue 38): off a terminal, progress comes as plain
+// lines once a render runs long; Ctrl-C ends it with the image so far as NAME.partial.EXT and
+// exit 130, the output the user had untouched; --progress none says nothing.
+#include <gtest/gtest.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "runtime/io/image_io.h"
+#include "tests/support/crex_cli.h"
+#include "tests/support/scratch_folder.h"
+
+extern char** environ;
+
+namespace crex {
+namespace {
+
+using testing::crex_cli;
+
+class CrexProgressCli : public testing::ScratchFolderTest {
+protected:
+    CrexProgressCli() : ScratchFolderTest("crex_progress_cli_") {}
+
+    // Starts `crex ARGS` with stderr to a file; its pid.
+    pid_t start(const std::vector<std::string>& args, const std::string& err_file) {
+        std::vector<std::string> argv = {CREX_BINARY};
+        argv.insert(argv.end(), args.begin(), args.end());
+        std::vector<char*> raw;
+        for (auto& a : argv) raw.push_back(a.data());
+        raw.push_back(nullptr);
+        posix_spawn_file_actions_t files;
+        posix_spawn_file_actions_init(&files);
+        posix_spawn_file_actions_addopen(&files, STDERR_FILENO, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+        pid_t pid = -1;
+        const int failed = posix_spawn(&pid, raw[0], &files, nullptr, raw.data(), environ);
+        posix_spawn_file_actions_destroy(&files);
+        return failed ? -1 : pid;
+    }
+    static std::string text_of(const std::string& file) {
+        std::ifstream in(file);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    // Waits up to `seconds` for `pid`: its exit code, -1 if it did not end (then it is killed).
+    static int wait_for(pid_t pid, double seconds) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        int status = 0;
+        while (std::chrono::steady_clock::now() < until) {
+            if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        return -1;
+    }
+};
+
+TEST_F(CrexProgressCli, CtrlCWritesTheImageSoFarAsAPartialFileAndPlainProgressComesOffATerminal) {
+    // An output from before, which must stay as it was.
+    const std::string out = path("x.exr");
+    std::ofstream(out) << "the user's old file";
+    const std::string err = path("err.txt");
+    // Far more samples than the test waits for (only Ctrl-C ends it), in short passes.
+    const pid_t pid = start({"run", "--scene", "builtin:cornell", "--size", "48x48", "--spp", "1000000", "--pass-samples", "4", "-o", out, "--progress", "plain"}, err);
+    ASSERT_GT(pid, 0);
+    // Plain lines begin once the render has run 5 s: wait for the first.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (text_of(err).find("M rays/s") == std::string::npos && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    ASSERT_NE(text_of(err).find("M rays/s"), std::string::npos) << text_of(err);
+    kill(pid, SIGINT);
+    EXPECT_EQ(wait_for(pid, 120), 130) << text_of(err);
+    const std::string said = text_of(err);
+    EXPECT_NE(said.find("crex: "), std::string::npos) << said;  // a plain progress line: "crex: 5 s: render pass 7/1000000 0%, ..."
+    EXPECT_NE(said.find("render"), std::string::npos) << said;
+    EXPECT_NE(said.find("interrupted"), std::string::npos) << said;
+    EXPECT_NE(said.find("x.partial.exr"), std::string::npos) << said;
+    EXPECT_EQ(said.find('\r'), std::string::npos) << "no terminal redraws in a log";
+    // The image so far: whole, finite, lit, with fewer samples than asked; the old file kept.
+    EXPECT_EQ(text_of(out), "the user's old file");
+    int width = 0, height = 0;
+    std::vector<float> rgb;
+    ASSERT_EQ(read_image(path("x.partial.exr"), width, height, rgb), "") << said;
+    EXPECT_EQ(width, 48);
+    double sum = 0;
+    for (float v : rgb) {
+        ASSERT_TRUE(std::isfinite(v));
+        sum += v;
+    }
+    EXPECT_GT(sum, 0);
+}
+
+TEST_F(CrexProgressCli, ProgressNoneAndShortRendersSayNothingOffATerminal) {
+    for (const char* mode : {"none", "plain", "auto"}) {
+        auto r = crex_cli({"run", "--scene", "builtin:cornell", "--size", "16x16", "--spp", "1", "-o", path("y.png"), "--progress", mode});
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_EQ(r.err.find("M rays/s"), std::string::npos) << mode << ": " << r.err;
+    }
+    auto bad = crex_cli({"run", "--scene", "builtin:cornell", "--progress", "loud"});
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("--progress"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace crex
