@@ -358,6 +358,16 @@ class Helps:
         return self.get(("py", script), [sys.executable, script, "--help"])
 
 
+def flags_in_help(cmd, report, program, rc, text, words):
+    """`program --help` exited 0 (`rc`, `text`) and names every flag among `words`."""
+    if rc != 0:
+        report.fail(cmd.where(), f"`{program} --help` exited {rc}\n{tail(text)}")
+        return
+    for f in flags_of(words):
+        if not re.search(r"(?<![\w-])" + re.escape(f) + r"(?![\w-])", text):
+            report.fail(cmd.where(), f"`{program}` has no flag {f} (not in `{program} --help`)\n    in: {cmd.text}")
+
+
 def check_flags(cmd, helps, report):
     """The subcommand exists and every flag the command uses is in its help."""
     args = cmd.crex_args()
@@ -369,12 +379,7 @@ def check_flags(cmd, helps, report):
             report.fail(cmd.where(), f"`crex {sub}`: crex has no subcommand {sub!r} (it has {', '.join(SUBCOMMANDS)})\n    in: {cmd.text}")
             return
         rc, text = helps.crex_help(sub)
-        if rc != 0:
-            report.fail(cmd.where(), f"`crex {sub} --help` exited {rc}\n{tail(text)}")
-            return
-        for f in flags_of(args[1:]):
-            if not re.search(r"(?<![\w-])" + re.escape(f) + r"(?![\w-])", text):
-                report.fail(cmd.where(), f"`crex {sub}` has no flag {f} (not in `crex {sub} --help`)\n    in: {cmd.text}")
+        flags_in_help(cmd, report, f"crex {sub}", rc, text, args[1:])
         return
     i, prog = cmd.program()
     if re.search(r"(^|/)python3$", prog) and i + 1 < len(cmd.words) and cmd.words[i + 1].endswith(".py"):
@@ -383,12 +388,7 @@ def check_flags(cmd, helps, report):
             report.fail(cmd.where(), f"{script} is not a file of the repo\n    in: {cmd.text}")
             return
         rc, text = helps.script_help(script)
-        if rc != 0:
-            report.fail(cmd.where(), f"`python3 {script} --help` exited {rc}\n{tail(text)}")
-            return
-        for f in flags_of(cmd.words[i + 2:]):
-            if not re.search(r"(?<![\w-])" + re.escape(f) + r"(?![\w-])", text):
-                report.fail(cmd.where(), f"{script} has no flag {f} (not in its --help)\n    in: {cmd.text}")
+        flags_in_help(cmd, report, f"python3 {script}", rc, text, cmd.words[i + 2:])
 
 
 def shown_output_matches(shown, actual):
