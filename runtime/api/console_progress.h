@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include "runtime/api/interrupt.h"
@@ -58,14 +59,16 @@ public:
         if (p.fraction > 0 && p.fraction < 1)
             eta = "ETA " + std::to_string(static_cast<long>(p.stage_seconds / p.fraction * (1 - p.fraction) + 0.5)) + " s";
         std::string pass = p.passes > 1 ? "pass " + std::to_string(p.pass) + "/" + std::to_string(p.passes) : "";
-        const double rate = s > 0 ? p.rays / 1e6 / s : 0.0;
+        // The ray rate when the renderer counts its rays (a reference's path tracer does not).
+        char rate[48] = "";
+        if (p.rays > 0 && s > 0) std::snprintf(rate, sizeof rate, "%6.2f M rays/s", static_cast<double>(p.rays) / 1e6 / s);
         if (mode_ == ProgressMode::kBar) {
-            std::fprintf(stderr, "\r\033[K  %-13s %-11s %3.0f%%  %-10s %6.2f M rays/s  %s", p.stage.c_str(), pass.c_str(), 100 * p.fraction,
+            std::fprintf(stderr, "\r\033[K  %-13s %-11s %3.0f%%  %-10s %s  %s", p.stage.c_str(), pass.c_str(), 100 * p.fraction,
                          eta.c_str(), rate, p.step.c_str());
             drawn_ = true;
         } else {
-            std::fprintf(stderr, "crex: %.0f s: %s%s%s %.0f%%%s%s, %.2f M rays/s\n", s, p.stage.c_str(), pass.empty() ? "" : " ",
-                         pass.c_str(), 100 * p.fraction, eta.empty() ? "" : ", ", eta.c_str(), rate);
+            std::fprintf(stderr, "crex: %.0f s: %s%s%s %.0f%%%s%s%s%s\n", s, p.stage.c_str(), pass.empty() ? "" : " ", pass.c_str(),
+                         100 * p.fraction, eta.empty() ? "" : ", ", eta.c_str(), rate[0] ? ", " : "", rate[0] ? rate + std::strspn(rate, " ") : "");
             std::fflush(stderr);
             printed_ = true;
         }

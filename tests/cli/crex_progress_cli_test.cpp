@@ -107,6 +107,7 @@ TEST_F(CrexProgressCli, ProgressNoneAndShortRendersSayNothingOffATerminal) {
         auto r = crex_cli({"run", "--scene", "builtin:cornell", "--size", "16x16", "--spp", "1", "-o", path("y.png"), "--progress", mode});
         EXPECT_EQ(r.exit_code, 0) << r.err;
         EXPECT_EQ(r.err.find("M rays/s"), std::string::npos) << mode << ": " << r.err;
+        EXPECT_EQ(r.err.find("crex: "), std::string::npos) << mode << ": " << r.err;  // no plain progress line either
     }
     auto bad = crex_cli({"run", "--scene", "builtin:cornell", "--progress", "loud"});
     EXPECT_EQ(bad.exit_code, 2);
