@@ -86,6 +86,20 @@ std::optional<sched::Program> reference_program(const std::string& crex_text) {
     return compile_crex(crex, sink).program;
 }
 
+// Runs `render`, clearing the progress line either way; a failure is said and is exit 3.
+template <class Render>
+int rendering(ConsoleProgress& progress, Render&& render) {
+    try {
+        render();
+    } catch (const std::exception& e) {
+        progress.finish();
+        std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
+        return kExitFailure;
+    }
+    progress.finish();
+    return kExitOk;
+}
+
 int write_and_say(const std::string& path, const ReferenceImage& image, const ReferenceOptions& opt, const std::string& what) {
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
@@ -142,14 +156,7 @@ int accumulate(const ReferenceOptions& opt) {
     ConsoleProgress progress(progress_mode(opt.progress, opt.quiet));
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels more;
-    try {
-        more = render_reference_pixels(scene, *program, s);
-    } catch (const std::exception& e) {
-        progress.finish();
-        std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
-        return kExitFailure;
-    }
-    progress.finish();
+    if (int status = rendering(progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
     ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, opt.spp);
     const uint32_t before = h.spp;
     h.spp += opt.spp;
@@ -200,7 +207,7 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     FrameContext context;
     RenderedPixels pixels;
-    try {
+    const int status = rendering(progress, [&] {
         if (opt.context_spp > 0) context = render_frame_context(scene, *program, width, height, opt.context_spp, opt.seed, s.progress);
         if (!opt.windows_rule.empty()) {
             progress.finish();
@@ -215,12 +222,8 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
         }
         s.windows = windows;
         pixels = render_reference_pixels(scene, *program, s);
-    } catch (const std::exception& e) {
-        progress.finish();
-        std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
-        return kExitFailure;
-    }
-    progress.finish();
+    });
+    if (status != kExitOk) return status;
     const WindowAtlas atlas(windows);
     ReferenceImage image;
     image.width = atlas.width, image.height = atlas.height;
@@ -282,14 +285,9 @@ int reference(const ReferenceOptions& opt) {
     rp.width = s.width, rp.height = s.height, rp.spp = s.spp, rp.seed = s.seed, rp.lw = s.lw, rp.max_depth = s.max_depth;
     rp.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels pixels;
-    try {
-        pixels = render_reference_pixels(scene, *reference_program(s.crex), rp);  // the default crex: it compiles
-    } catch (const std::exception& e) {
-        progress.finish();
-        std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
-        return kExitFailure;
-    }
-    progress.finish();
+    if (int status = rendering(progress, [&] { pixels = render_reference_pixels(scene, *reference_program(s.crex), rp); });  // it compiles
+        status != kExitOk)
+        return status;
     ReferenceImage image;
     image.width = s.width, image.height = s.height, image.rgb = std::move(pixels.rgb);
     ReferenceHeader& h = image.header;
