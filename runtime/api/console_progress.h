@@ -13,8 +13,9 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <string>
+
+#include <fmt/format.h>
 
 #include "runtime/api/interrupt.h"
 #include "runtime/driver/run_observer.h"
@@ -60,15 +61,14 @@ public:
             eta = "ETA " + std::to_string(static_cast<long>(p.stage_seconds / p.fraction * (1 - p.fraction) + 0.5)) + " s";
         std::string pass = p.passes > 1 ? "pass " + std::to_string(p.pass) + "/" + std::to_string(p.passes) : "";
         // The ray rate when the renderer counts its rays (a reference's path tracer does not).
-        char rate[48] = "";
-        if (p.rays > 0 && s > 0) std::snprintf(rate, sizeof rate, "%6.2f M rays/s", static_cast<double>(p.rays) / 1e6 / s);
+        const std::string rate = p.rays > 0 && s > 0 ? fmt::format("{:.2f} M rays/s", static_cast<double>(p.rays) / 1e6 / s) : "";
         if (mode_ == ProgressMode::kBar) {
-            std::fprintf(stderr, "\r\033[K  %-13s %-11s %3.0f%%  %-10s %s  %s", p.stage.c_str(), pass.c_str(), 100 * p.fraction,
-                         eta.c_str(), rate, p.step.c_str());
+            std::fprintf(stderr, "\r\033[K  %-13s %-11s %3.0f%%  %-10s %14s  %s", p.stage.c_str(), pass.c_str(), 100 * p.fraction, eta.c_str(),
+                         rate.c_str(), p.step.c_str());
             drawn_ = true;
         } else {
             std::fprintf(stderr, "crex: %.0f s: %s%s%s %.0f%%%s%s%s%s\n", s, p.stage.c_str(), pass.empty() ? "" : " ", pass.c_str(),
-                         100 * p.fraction, eta.empty() ? "" : ", ", eta.c_str(), rate[0] ? ", " : "", rate[0] ? rate + std::strspn(rate, " ") : "");
+                         100 * p.fraction, eta.empty() ? "" : ", ", eta.c_str(), rate.empty() ? "" : ", ", rate.c_str());
             std::fflush(stderr);
             printed_ = true;
         }
