@@ -71,7 +71,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "differs from line 1's"},
         PathCase{"view_degenerate", "-vp 0 0 1 -vd 0 0 1\n", "E306", 1, 1, "parallel to the up vector"},
         PathCase{"view_file_empty", "# nothing but a comment\n", "E304", 1, 1, "at least one line of view options"}),
-    [](const ::testing::TestParamInfo<PathCase>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<PathCase>& p) { return std::string(p.param.name); });
 
 }  // namespace
 }  // namespace crex
