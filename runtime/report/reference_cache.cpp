@@ -5,23 +5,23 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "base/fnv1a.h"
 #include "runtime/scene/load_scene.h"
 
 namespace crex {
 
 namespace {
-std::string fnv1a64(const std::string& text) {
-    uint64_t h = 1469598103934665603ull;
-    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-    return fmt::format("{:016x}", h);
-}
+// Not FNV's offset basis (a digit short), but the one every cached and committed reference's
+// scene hash was made with: changing it would orphan them all.
+constexpr uint64_t kReferenceHashBasis = 1469598103934665603ull;
+std::string reference_hash(const std::string& text) { return hex16(fnv1a64(text, kReferenceHashBasis)); }
 }  // namespace
 
-std::string scene_content_hash(const Scene& scene) { return fnv1a64(scene_json_text(scene)); }
+std::string scene_content_hash(const Scene& scene) { return reference_hash(scene_json_text(scene)); }
 
 std::string reference_key(const Scene& scene, const ReferenceSettings& s) {
-    return fnv1a64(scene_json_text(scene) +
-                   fmt::format("\n{}x{} seed {} crex {} lw {:.17g} max_depth {} v1", s.width, s.height, s.seed, s.crex, s.lw, s.max_depth));
+    return reference_hash(scene_json_text(scene) +
+                          fmt::format("\n{}x{} seed {} crex {} lw {:.17g} max_depth {} v1", s.width, s.height, s.seed, s.crex, s.lw, s.max_depth));
 }
 
 std::string reference_cache_dir() {

@@ -5,20 +5,9 @@
 #include <algorithm>
 #include <map>
 
+#include "base/fnv1a.h"
+
 namespace crex {
-namespace {
-
-// FNV-1a, 64 bit: stable across platforms and runs (std::hash is not).
-uint64_t fnv1a(std::string_view bytes) {
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (unsigned char c : bytes) {
-        h ^= c;
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
-
-}  // namespace
 
 Census take_census(const Scene& scene) {
     Census c;
@@ -57,11 +46,11 @@ Census take_census(const Scene& scene) {
     std::string key = fmt::format("spawnable={};light={};glow={};medium={};tags=", c.spawnable.to_string(),
                                   c.sampled_emitters > 0, c.unsampled_emitters > 0, c.has_medium);
     for (const auto& t : c.tags) key += t + ",";
-    c.hash = fnv1a(key);
+    c.hash = fnv1a64(key);
     return c;
 }
 
-std::string census_hash_hex(uint64_t hash) { return fmt::format("{:016x}", hash); }
+std::string census_hash_hex(uint64_t hash) { return hex16(hash); }
 
 nlohmann::json to_json(const Census& c) {
     nlohmann::json j;
