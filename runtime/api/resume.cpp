@@ -53,12 +53,6 @@ bool parse_rows(const std::string& text, int height, std::vector<char>& rows) {
     return true;
 }
 
-std::string value_of(const ImageMetadata& metadata, const std::string& key) {
-    for (const auto& [k, v] : metadata)
-        if (k == key) return v;
-    return {};
-}
-
 }  // namespace
 
 ImageMetadata partial_identity(const std::string& scene_spec, const PipelinePlan& plan, const RunSettings& settings) {
@@ -101,12 +95,14 @@ ResumeLoad load_resume(const std::string& path, const std::string& scene_spec, c
     int width = 0, height = 0;
     ImageMetadata header;
     if (std::string error = read_image_metadata(path, width, height, header); !error.empty()) return fail(error, true);
-    const std::string rows = value_of(header, "crex:finished_rows");
+    const std::string rows = attribute_text(header, "crex:finished_rows");
     if (rows.empty()) return fail("not a partial image of crex run (its header has no crex:finished_rows)", false);
     // The same run: every attribute the partial recorded about it, and the size.
-    for (const auto& [key, expected] : partial_identity(scene_spec, plan, s)) {
+    for (const ImageAttribute& identity : partial_identity(scene_spec, plan, s)) {
+        const std::string& key = identity.name;
+        const std::string expected = identity.text();
         if (key == "Software") continue;
-        const std::string found = value_of(header, key);
+        const std::string found = attribute_text(header, key);
         if (found == expected) continue;
         const std::string name = key == "crex:version" ? "crex version" : key.substr(key.find(':') + 1);
         std::string what = fmt::format("{} '{}', this run's '{}'", name, found, expected);
@@ -134,7 +130,7 @@ ResumeLoad load_resume(const std::string& path, const std::string& scene_spec, c
         return fail("its pixels do not match its header", true);
     // Its header against its pixels: the digest crex wrote of the finished rows, and every
     // finished pixel finite (a header saying more than the file holds resumed into black rows).
-    const std::string digest = value_of(header, "crex:finished_rows_digest");
+    const std::string digest = attribute_text(header, "crex:finished_rows_digest");
     if (digest != finished_rows_digest(r.rgb, width, r.final_rows))
         return fail_input(digest.empty() ? "its header has no crex:finished_rows_digest: it was not written by this crex's partial writer"
                                          : fmt::format("its crex:finished_rows '{}' names rows its pixels do not hold (their digest differs "

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "base/fnv1a.h"
 #include "base/image_formats.h"
 #include "compiler/plan/emit_plan.h"
 #include "compiler/plan/plan_pipeline.h"
@@ -17,6 +18,7 @@
 #include "runtime/base/output_folder.h"
 #include "runtime/base/output_set.h"
 #include "runtime/io/image_io.h"
+#include "runtime/render/render_scene.h"
 #include "runtime/report/run_report.h"
 
 namespace crex {
@@ -78,6 +80,67 @@ RunFacts run_facts(const RunFiles& files, const RunRecord& record, const Written
     return facts;
 }
 
+namespace {
+
+// What made the image, in its header (EXR, typed: numbers as ints and floats, the view as
+// matrices), so a file found later says how to make it again and where its camera stood.
+ImageMetadata image_header(const RunRecord& record) {
+    const RunInputs& in = *record.inputs;
+    const RunOutcome& outcome = *record.outcome;
+    const RunSettings& rs = outcome.run.settings;
+    const RunResult& result = *outcome.result;
+    const int width = rs.width;
+    int min_spp = INT_MAX, max_spp = 0;
+    for (uint32_t p = 0; p < result.film.pixel_count(); ++p)
+        if (!record.resumed || !record.resumed->final_rows[p / static_cast<uint32_t>(width)]) {  // those rows' samples are not in this film
+            const int spp = static_cast<int>(std::min<uint32_t>(result.film.samples(p), INT_MAX));
+            min_spp = std::min(min_spp, spp), max_spp = std::max(max_spp, spp);
+        }
+    if (min_spp > max_spp) min_spp = max_spp;
+    ImageMetadata metadata = {
+        {"Software", std::string("crex ") + CREX_VERSION},
+        {"crex:version", CREX_VERSION},
+        {"crex:scene", in.scene_spec},
+        {"crex:crex", sched::to_crex(in.plan.program)},
+        {"crex:spp_min", min_spp},
+        {"crex:spp_max", max_spp},
+        {"crex:render_seconds", static_cast<float>(result.render_seconds)},
+        {"chromaticities", kRec709Chromaticities},
+    };
+    // An int where it fits; OpenEXR has no 64-bit integer, so a larger seed is kept as its digits.
+    if (rs.seed <= static_cast<uint64_t>(INT_MAX)) metadata.push_back({"crex:seed", static_cast<int>(rs.seed)});
+    else metadata.push_back({"crex:seed", std::to_string(rs.seed)});
+    if (in.plan.staged) {
+        metadata.push_back({"crex:pipeline", in.plan.name});
+        if (!record.plan_file.empty()) metadata.push_back({"crex:pipeline_file", record.plan_file});
+        // The compiled plan's identity: the same hash means the same steps, maps and settings.
+        metadata.push_back({"crex:pipeline_hash", hex16(fnv1a64(pipeline_plan_to_json(in.plan).dump()))});
+    }
+    if (outcome.run.budget_seconds > 0) metadata.push_back({"crex:budget_seconds", static_cast<float>(outcome.run.budget_seconds)});
+    const Camera& c = in.scene->scene->camera;
+    const CameraRays view(c, rs.width, rs.height, Vec3{});
+    std::array<double, 16> m;
+    auto matrix = [](const std::array<double, 16>& d) {
+        Matrix44 f;
+        std::transform(d.begin(), d.end(), f.m.begin(), [](double v) { return static_cast<float>(v); });
+        return f;
+    };
+    if (view.world_to_camera(m)) metadata.push_back({"worldToCamera", matrix(m)});
+    if (view.world_to_ndc(m)) metadata.push_back({"worldToNDC", matrix(m)});
+    if (record.frame >= 0) {  // which frame of a sequence, and the camera its path gave it (as a RADIANCE view)
+        metadata.push_back({"crex:frame", static_cast<int>(record.frame)});
+        metadata.push_back({"crex:view", fmt::format("-vp {:.9g} {:.9g} {:.9g} -vd {:.9g} {:.9g} {:.9g} -vu {:.9g} {:.9g} {:.9g}",
+                                                     c.position.x, c.position.y, c.position.z, c.direction.x, c.direction.y,
+                                                     c.direction.z, c.up.x, c.up.y, c.up.z)});
+    }
+    if (record.resumed) metadata.push_back({"crex:resumed", fmt::format("rows {} from {}", record.resumed->rows, record.resumed->path)});
+    // A biased render says so: indirect light clamped at this value.
+    if (const double clamp = rs.executor.clamp_indirect; clamp > 0) metadata.push_back({"crex:clamp_indirect", static_cast<float>(clamp)});
+    return metadata;
+}
+
+}  // namespace
+
 std::string write_run_files(const RunFiles& where, const RunRecord& record, WrittenRun& written) {
     const RunInputs& in = *record.inputs;
     const RunOutcome& outcome = *record.outcome;
@@ -98,33 +161,7 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
     std::vector<ImageLayer> layers = {{"", final_image(record)}};
     if (where.components)
         for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.aov_image(a)});
-    // What made the image, in its header (EXR), so a file found later says how to make it again.
-    uint32_t min_spp = UINT32_MAX, max_spp = 0;
-    for (uint32_t p = 0; p < result.film.pixel_count(); ++p)
-        if (!record.resumed || !record.resumed->final_rows[p / static_cast<uint32_t>(width)])  // those rows' samples are not in this film
-            min_spp = std::min(min_spp, result.film.samples(p)), max_spp = std::max(max_spp, result.film.samples(p));
-    ImageMetadata metadata = {
-        {"Software", std::string("crex ") + CREX_VERSION},
-        {"crex:version", CREX_VERSION},
-        {"crex:scene", in.scene_spec},
-        {"crex:crex", sched::to_crex(in.plan.program)},
-        {"crex:spp", min_spp == max_spp ? std::to_string(max_spp) : fmt::format("{}..{}", min_spp, max_spp)},
-        {"crex:seed", std::to_string(rs.seed)},
-        {"crex:render_seconds", fmt::format("{:.6g}", result.render_seconds)},
-    };
-    if (in.plan.staged)
-        metadata.push_back({"crex:pipeline", in.plan.name + (record.plan_file.empty() ? "" : " (" + record.plan_file + ")")});
-    if (outcome.run.budget_seconds > 0) metadata.push_back({"crex:budget_seconds", fmt::format("{:.6g}", outcome.run.budget_seconds)});
-    if (record.frame >= 0) {  // which frame of a sequence, and the camera its path gave it (as a RADIANCE view)
-        const Camera& c = in.scene->scene->camera;
-        metadata.push_back({"crex:frame", std::to_string(record.frame)});
-        metadata.push_back({"crex:view", fmt::format("-vp {:.9g} {:.9g} {:.9g} -vd {:.9g} {:.9g} {:.9g} -vu {:.9g} {:.9g} {:.9g}",
-                                                     c.position.x, c.position.y, c.position.z, c.direction.x, c.direction.y,
-                                                     c.direction.z, c.up.x, c.up.y, c.up.z)});
-    }
-    if (record.resumed) metadata.push_back({"crex:resumed", fmt::format("rows {} from {}", record.resumed->rows, record.resumed->path)});
-    if (const double clamp = rs.executor.clamp_indirect; clamp > 0)
-        metadata.push_back({"crex:clamp_indirect", fmt::format("{:.6g} (biased)", clamp)});
+    const ImageMetadata metadata = image_header(record);
     for (const auto& path : where.images)
         if (std::string error = write_image(files.stage_file(path), width, height, layers, metadata); !error.empty())
             return files.in_user_terms(error);

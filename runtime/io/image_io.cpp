@@ -11,6 +11,8 @@
 #include <mutex>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "base/input_file.h"
 #include "base/install_paths.h"
 
@@ -80,6 +82,23 @@ const Plugin& plugin() {
 }  // namespace
 
 std::string load_image_plugin() { return plugin().error; }
+
+std::string ImageAttribute::text() const {
+    struct Text {
+        std::string operator()(const std::string& s) const { return s; }
+        std::string operator()(int i) const { return std::to_string(i); }
+        std::string operator()(float f) const { return fmt::format("{:.9g}", f); }
+        std::string operator()(const Matrix44& m) const { return fmt::format("{:.9g}", fmt::join(m.m, " ")); }
+        std::string operator()(const Chromaticities& c) const { return fmt::format("{:.9g}", fmt::join(c.xy, " ")); }
+    };
+    return std::visit(Text{}, value);
+}
+
+std::string attribute_text(const ImageMetadata& metadata, const std::string& name) {
+    for (const ImageAttribute& a : metadata)
+        if (a.name == name) return a.text();
+    return {};
+}
 
 std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
                         const ImageMetadata& metadata) {

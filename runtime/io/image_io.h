@@ -7,28 +7,57 @@
 ///    0.18 over the log-average luminance, then the sRGB curve).
 #pragma once
 
+#include <array>
 #include <string>
-#include <utility>
+#include <variant>
 #include <vector>
 
 namespace crex {
 
 struct ImageLayer {
     std::string name;          ///< "" for the composite (channels R, G, B)
-    std::vector<float> rgb;    ///< linear RGB, row-major, top row first
+    std::vector<float> rgb;    ///< linear RGB, row-major, top row first (one value a pixel when `channels` is 1)
     /// rgb already holds display values in [0, 1] (maps, heat pictures): 8-bit formats store
     /// them as they are, without the tone map.
     bool display_referred = false;
+    /// 3: R, G, B a pixel. 1: one value a pixel (a map, a count), stored as one channel: in an
+    /// EXR named after the layer ("Y" for the unnamed one), in a PNG as grey.
+    int channels = 3;
 };
 
 /// The interface version of the image plugin (libcrex_oiio.so): raised whenever the entry
 /// points change, so a plugin from another build is refused instead of called wrongly (an
 /// old binary that loaded a newer plugin crashed at the end of a 40-minute render).
-inline constexpr int kImagePluginAbi = 4;
+inline constexpr int kImagePluginAbi = 5;
 
-/// Attributes stored in the file's header where the format keeps them (EXR: every one, as
-/// strings; "Software" goes where readers look for it): what made the image.
-using ImageMetadata = std::vector<std::pair<std::string, std::string>>;
+/// A 4x4 matrix as OpenEXR's M44f holds it (worldToCamera, worldToNDC): row-major, points as
+/// row vectors (p' = p M), so the translation is the last row.
+struct Matrix44 {
+    std::array<float, 16> m{};
+};
+/// CIE 1931 xy of the red, green and blue primaries and of the white point, in that order
+/// (OpenEXR's "chromaticities").
+struct Chromaticities {
+    std::array<float, 8> xy{};
+};
+/// The colour space of every image crex writes: linear Rec. 709 / sRGB primaries, white D65.
+inline constexpr Chromaticities kRec709Chromaticities{{0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f}};
+
+/// One attribute of an image's header, typed as OpenEXR stores it: a number is an int or a
+/// float that a reader gets as a number, not as text to parse.
+using AttributeValue = std::variant<std::string, int, float, Matrix44, Chromaticities>;
+struct ImageAttribute {
+    std::string name;
+    AttributeValue value;
+    /// The value as text: a string as it is, numbers as they print ("%.9g"), a matrix's or
+    /// the chromaticities' numbers separated by spaces.
+    std::string text() const;
+};
+/// Attributes stored in the file's header where the format keeps them (EXR: every one, typed;
+/// "Software" goes where readers look for it): what made the image.
+using ImageMetadata = std::vector<ImageAttribute>;
+/// The text of the attribute `name` (ImageAttribute::text), or "" when the header has none.
+std::string attribute_text(const ImageMetadata& metadata, const std::string& name);
 
 /// Returns "" on success, else why it failed (nothing is left behind on failure).
 std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
@@ -47,8 +76,9 @@ std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
 double display_exposure(const std::vector<float>& rgb);
 std::vector<float> to_display(const std::vector<float>& rgb, double exposure);
 
-/// Reads an image's size and the string attributes of its header (EXR: every one written by
-/// write_image's `metadata`), without its pixels. Returns "" on success.
+/// Reads an image's size and the attributes of its header (EXR: every one written by
+/// write_image's `metadata`, with its type; attributes of other types come as their text),
+/// without its pixels. Returns "" on success.
 std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata);
 
 /// Reads the layer `layer` of a multi-layer EXR (channels LAYER.R, LAYER.G, LAYER.B, as

@@ -25,6 +25,35 @@ std::string lower_ext(const std::string& path) {
     return e;
 }
 
+// An attribute with the type OpenEXR gives it (OIIO maps int, float, matrix44 and float[8]
+// "chromaticities" to EXR's int, float, M44f and chromaticities).
+void set_attribute(OIIO::ImageSpec& spec, const std::string& name, const AttributeValue& value) {
+    if (const auto* s = std::get_if<std::string>(&value)) spec.attribute(name, *s);
+    else if (const auto* i = std::get_if<int>(&value)) spec.attribute(name, *i);
+    else if (const auto* f = std::get_if<float>(&value)) spec.attribute(name, *f);
+    else if (const auto* m = std::get_if<Matrix44>(&value)) spec.attribute(name, OIIO::TypeMatrix44, m->m.data());
+    else if (const auto* c = std::get_if<Chromaticities>(&value)) spec.attribute(name, OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), c->xy.data());
+}
+
+// The typed value of a header attribute; other types as their text.
+AttributeValue attribute_value(const OIIO::ParamValue& p) {
+    const OIIO::TypeDesc t = p.type();
+    if (t == OIIO::TypeDesc::STRING) return p.get_string();
+    if (t == OIIO::TypeInt) return p.get_int();
+    if (t == OIIO::TypeFloat) return p.get_float();
+    if (t == OIIO::TypeMatrix44) {
+        Matrix44 m;
+        std::copy_n(static_cast<const float*>(p.data()), 16, m.m.begin());
+        return m;
+    }
+    if (t == OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8)) {
+        Chromaticities c;
+        std::copy_n(static_cast<const float*>(p.data()), 8, c.xy.begin());
+        return c;
+    }
+    return p.get_string();
+}
+
 }  // namespace
 
 }  // namespace crex
@@ -39,38 +68,53 @@ std::string write_image(const std::string& path, int width, int height, const st
     auto writer = [&](const std::string& tmp) -> std::string {
         auto out = OIIO::ImageOutput::create(path);  // format from the real name, not the temp
         if (!out) return "no image writer for '" + path + "': " + OIIO::geterror();
+        const size_t np = static_cast<size_t>(width) * static_cast<size_t>(height);
+        // HDR holds RGB only: a one-channel layer goes there as grey.
+        const size_t nlayers = exr ? layers.size() : 1;
         std::vector<std::string> names;
-        std::vector<float> pixels;
-        size_t np = static_cast<size_t>(width) * static_cast<size_t>(height);
-        size_t nlayers = exr ? layers.size() : 1;
-        for (size_t l = 0; l < nlayers; ++l)
-            for (const char* c : {"R", "G", "B"}) names.push_back(layers[l].name.empty() ? c : layers[l].name + "." + c);
-        size_t nc = names.size();
+        std::vector<size_t> first;  // each layer's first channel in a pixel
+        for (size_t l = 0; l < nlayers; ++l) {
+            first.push_back(names.size());
+            if (layers[l].channels == 1 && !hdr) names.push_back(layers[l].name.empty() ? "Y" : layers[l].name);
+            else
+                for (const char* c : {"R", "G", "B"}) names.push_back(layers[l].name.empty() ? c : layers[l].name + "." + c);
+        }
+        const size_t nc = names.size();
         OIIO::ImageSpec spec(width, height, static_cast<int>(nc), exr || hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
         spec.channelnames = names;
         if (exr) spec.attribute("compression", "zip");
-        for (const auto& [key, value] : metadata) spec.attribute(key, value);
+        for (const auto& [key, value] : metadata) set_attribute(spec, key, value);
         if (!out->open(tmp, spec)) return "cannot write '" + path + "': " + out->geterror();
+        auto value = [&](size_t l, size_t p, size_t c) {  // channel c of pixel p of layer l, finite
+            const ImageLayer& layer = layers[l];
+            const float v = layer.channels == 1 ? layer.rgb[p] : layer.rgb[3 * p + c];
+            return std::isfinite(v) ? v : 0.0f;
+        };
         bool ok;
         if (exr || hdr) {
-            pixels.resize(np * nc);
-            for (size_t l = 0; l < nlayers; ++l)
+            std::vector<float> pixels(np * nc);
+            for (size_t l = 0; l < nlayers; ++l) {
+                const size_t width_of = l + 1 < nlayers ? first[l + 1] - first[l] : nc - first[l];
                 for (size_t p = 0; p < np; ++p)
-                    for (size_t c = 0; c < 3; ++c) {
-                        float v = layers[l].rgb[3 * p + c];
-                        pixels[p * nc + 3 * l + c] = std::isfinite(v) ? v : 0.0f;
-                    }
+                    for (size_t c = 0; c < width_of; ++c) pixels[p * nc + first[l] + c] = value(l, p, c);
+            }
             ok = out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
         } else {
+            const ImageLayer& layer = layers.front();
             std::vector<unsigned char> bytes;
-            if (layers.front().display_referred) {
-                bytes.resize(layers.front().rgb.size());
-                for (size_t i = 0; i < bytes.size(); ++i) {
-                    float v = layers.front().rgb[i];
-                    bytes[i] = static_cast<unsigned char>(std::lround(255 * (std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f)));
-                }
+            if (layer.display_referred) {
+                bytes.resize(np * nc);
+                for (size_t p = 0; p < np; ++p)
+                    for (size_t c = 0; c < nc; ++c)
+                        bytes[p * nc + c] = static_cast<unsigned char>(std::lround(255 * std::clamp(value(0, p, c), 0.0f, 1.0f)));
+            } else if (layer.channels == 1) {  // grey through the same tone map as colour
+                std::vector<float> rgb(3 * np);
+                for (size_t p = 0; p < np; ++p) rgb[3 * p] = rgb[3 * p + 1] = rgb[3 * p + 2] = value(0, p, 0);
+                const std::vector<unsigned char> srgb = crex::tone_map_srgb8(rgb);
+                bytes.resize(np);
+                for (size_t p = 0; p < np; ++p) bytes[p] = srgb[3 * p];
             } else {
-                bytes = crex::tone_map_srgb8(layers.front().rgb);
+                bytes = crex::tone_map_srgb8(layer.rgb);
             }
             ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
         }
@@ -140,8 +184,7 @@ std::string read_image_metadata(const std::string& path, int& width, int& height
     const OIIO::ImageSpec& spec = in->spec();
     width = spec.width, height = spec.height;
     metadata.clear();
-    for (const OIIO::ParamValue& p : spec.extra_attribs)
-        if (p.type() == OIIO::TypeDesc::STRING) metadata.push_back({p.name().string(), p.get_string()});
+    for (const OIIO::ParamValue& p : spec.extra_attribs) metadata.push_back({p.name().string(), attribute_value(p)});
     return "";
 }
 

@@ -121,7 +121,8 @@ ImageMetadata reference_metadata(const ReferenceHeader& h) {
 }
 
 std::optional<ReferenceHeader> reference_header(const ImageMetadata& metadata, std::string& error) {
-    std::map<std::string, std::string> m(metadata.begin(), metadata.end());
+    std::map<std::string, std::string> m;
+    for (const ImageAttribute& a : metadata) m[a.name] = a.text();
     error.clear();
     if (!m.count("crex:windows")) return std::nullopt;
     ReferenceHeader h;

@@ -266,6 +266,48 @@ bool CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) c
     return false;
 }
 
+bool CameraRays::world_to_camera(std::array<double, 16>& m) const {
+    if (forward_ == Vec3{} || right_ == Vec3{}) return false;
+    m = {};
+    const Vec3 axes[3] = {right_, up_, forward_};
+    for (int j = 0; j < 3; ++j) {  // column j: the point's coordinate along axis j
+        m[0 * 4 + j] = axes[j].x, m[1 * 4 + j] = axes[j].y, m[2 * 4 + j] = axes[j].z;
+        m[3 * 4 + j] = -dot(axes[j], origin_);
+    }
+    m[15] = 1;
+    return true;
+}
+
+bool CameraRays::world_to_ndc(std::array<double, 16>& m) const {
+    std::array<double, 16> view;
+    if (!world_to_camera(view) || !(ext_x_ > 0) || !(ext_y_ > 0)) return false;
+    // Camera space to NDC, as generate() maps a pixel to a ray: x/z = (2 px/width - 1) ext_x
+    // and y/z = (1 - 2 py/height) ext_y (the parallel view: without the division by z).
+    std::array<double, 16> ndc{};
+    const double sx = 1 / (2 * ext_x_), sy = -1 / (2 * ext_y_);
+    switch (projection_) {
+    case Projection::kPerspective:
+        ndc[0 * 4 + 0] = sx, ndc[2 * 4 + 0] = 0.5;  // x' = x/(2 ext_x) + z/2
+        ndc[1 * 4 + 1] = sy, ndc[2 * 4 + 1] = 0.5;  // y' = -y/(2 ext_y) + z/2
+        ndc[3 * 4 + 2] = 1;                          // z' = 1: z'/w is the inverse depth
+        ndc[2 * 4 + 3] = 1;                          // w = z
+        break;
+    case Projection::kParallel:
+        ndc[0 * 4 + 0] = sx, ndc[3 * 4 + 0] = 0.5;
+        ndc[1 * 4 + 1] = sy, ndc[3 * 4 + 1] = 0.5;
+        ndc[2 * 4 + 2] = 1, ndc[3 * 4 + 3] = 1;
+        break;
+    default: return false;
+    }
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            double sum = 0;
+            for (int k = 0; k < 4; ++k) sum += view[i * 4 + k] * ndc[k * 4 + j];
+            m[i * 4 + j] = sum;
+        }
+    return true;
+}
+
 RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) {
     bool any_texture = false, any_cutout = false;
     for (const Material& m : s.materials) any_texture = any_texture || m.textures.any(), any_cutout = any_cutout || m.opacity < 1;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -219,6 +220,14 @@ public:
     /// False where the projection has no ray (outside a fisheye's circle): `direction` is then
     /// the view direction, and the sample must carry no light.
     bool generate(double px, double py, Vec3& origin, Vec3& direction) const;
+
+    /// The view as OpenEXR's worldToCamera and worldToNDC attributes hold it (RenderMan's
+    /// spaces; row vectors, row-major, p' = p M): camera space has +x right, +y up and +z along
+    /// the view (left-handed); NDC has x and y in [0, 1] across the image from its top-left
+    /// corner once divided by w (perspective: w is the depth, and z/w its inverse). False for
+    /// the projections no matrix holds (fisheyes, panoramas), or a degenerate camera.
+    bool world_to_camera(std::array<double, 16>& m) const;
+    bool world_to_ndc(std::array<double, 16>& m) const;
 
 private:
     Vec3 origin_, forward_, right_, up_;

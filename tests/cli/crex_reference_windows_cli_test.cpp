@@ -48,7 +48,9 @@ protected:
         int w = 0, h = 0;
         ImageMetadata m;
         EXPECT_EQ(read_image_metadata(file, w, h, m), "");
-        return {m.begin(), m.end()};
+        std::map<std::string, std::string> text;
+        for (const ImageAttribute& a : m) text[a.name] = a.text();
+        return text;
     }
 
 };

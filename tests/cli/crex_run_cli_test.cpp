@@ -51,7 +51,8 @@ TEST_F(CrexRunCli, RendersTheDefaultSceneToEveryRequestedFormat) {
 }
 
 // An EXR says what made it: oiiotool --info -v, as a user would look, shows the scene, the
-// crex or pipeline, spp, seed, render time and version.
+// crex or pipeline, spp, seed, render time and version, typed (numbers unquoted), and the
+// view as OpenEXR's matrices with the primaries.
 TEST_F(CrexRunCli, ExrHeadersSayWhatMadeTheImage) {
     if (std::system("oiiotool --help > /dev/null 2>&1") != 0) GTEST_SKIP() << "oiiotool (openimageio-tools) is not installed";
     auto r = crex_cli({"run", "--size", "16x16", "--spp", "3", "--seed", "7", "-e", "(TTD)*", "-o", path("m.exr")});
@@ -59,14 +60,29 @@ TEST_F(CrexRunCli, ExrHeadersSayWhatMadeTheImage) {
     auto oiiotool_info = [](const std::string& file) { return testing::run_command({"/bin/sh", "-c", "oiiotool --info -v '" + file + "'"}); };
     auto info = oiiotool_info(path("m.exr"));
     ASSERT_EQ(info.exit_code, 0) << info.err;
-    for (const char* want : {"crex:scene: \"builtin:cornell\"", "crex:crex: \"(TTD)*\"", "crex:spp: \"3\"", "crex:seed: \"7\"",
-                             "crex:render_seconds:", "crex:version:", "Software: \"crex "})
+    for (const char* want : {"crex:scene: \"builtin:cornell\"", "crex:crex: \"(TTD)*\"", "crex:spp_min: 3\n", "crex:spp_max: 3\n",
+                             "crex:seed: 7\n", "crex:render_seconds: ", "crex:version:", "Software: \"crex ", "worldToCamera: ",
+                             "worldToNDC: ", "chromaticities: 0.64, 0.33, 0.3, 0.6, 0.15, 0.06, 0.3127, 0.329"})
         EXPECT_NE(info.out.find(want), std::string::npos) << want << "\n" << info.out;
     auto pipe = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "16x16", "-o", path("p.exr"), "-q"});
     ASSERT_EQ(pipe.exit_code, 0) << pipe.err;
     auto pinfo = oiiotool_info(path("p.exr"));
-    EXPECT_NE(pinfo.out.find("crex:pipeline: \"sel_rp ("), std::string::npos) << pinfo.out;
-    EXPECT_NE(pinfo.out.find("..16\"\n"), std::string::npos) << pinfo.out;  // selective spp 1 .. 16: a range over the pixels
+    for (const char* want : {"crex:pipeline: \"sel_rp\"", "crex:pipeline_file: \"", "crex:pipeline_hash: \"", "crex:spp_max: 16\n"})
+        EXPECT_NE(pinfo.out.find(want), std::string::npos) << want << "\n" << pinfo.out;
+    // Read back through the library: the types survive; selective spp is a range over the pixels.
+    int w = 0, h = 0;
+    ImageMetadata m;
+    ASSERT_EQ(read_image_metadata(path("p.exr"), w, h, m), "");
+    auto find = [&](const std::string& name) -> AttributeValue {
+        for (const ImageAttribute& a : m)
+            if (a.name == name) return a.value;
+        return std::string("(missing)");
+    };
+    ASSERT_TRUE(std::holds_alternative<int>(find("crex:spp_min"))) << attribute_text(m, "crex:spp_min");
+    EXPECT_LT(std::get<int>(find("crex:spp_min")), 16);
+    EXPECT_TRUE(std::holds_alternative<float>(find("crex:render_seconds")));
+    EXPECT_TRUE(std::holds_alternative<Matrix44>(find("worldToNDC")));
+    EXPECT_TRUE(std::holds_alternative<Chromaticities>(find("chromaticities")));
 }
 
 // --view FILE.vf replaces the scene's camera with RADIANCE's view options, as rpict -vf: the
