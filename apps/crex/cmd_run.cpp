@@ -88,6 +88,7 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--save-profile", opt->profile_out, "Write the measured profile (and this render's time) to FILE");
     cmd->add_option("--format", opt->format, "Summary as text or json (stdout)")->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
+    cmd->add_flag("-v,--verbose", opt->verbose, "Say first what the run will do: the scene as read, the plan, every setting in effect");
     cmd->add_option("--progress", opt->progress, "Progress on stderr: a redrawn line on a terminal (bar), a line every 10 s once past 5 s elsewhere (plain), or none; auto picks bar or plain")
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "bar", "plain", "none"}));

@@ -18,6 +18,7 @@
 #include "base/render_text.h"
 #include "compiler/pipeline/settings_table.h"
 #include "runtime/api/resume.h"
+#include "runtime/api/run_description.h"
 #include "runtime/api/run.h"
 #include "runtime/api/run_outputs.h"
 #include "runtime/api/shared_inputs.h"
@@ -42,7 +43,7 @@ struct Request {
     bool compare_policies = false;
     std::string budget;     // --budget as given, for what is said about it
     std::string format;     // of the summary: text or json
-    bool quiet = false;
+    bool quiet = false, verbose = false;
     std::string progress;   // --progress
     int threads = 0;
     double checkpoint_interval = 0.1;
@@ -122,7 +123,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.compare_policies = f.compare_policies;
     r.budget = f.budget;
     r.format = f.format;
-    r.quiet = f.quiet;
+    r.quiet = f.quiet, r.verbose = f.verbose && !f.quiet;
     r.progress = f.progress;
     r.threads = f.threads;
     r.checkpoint_interval = f.checkpoint_interval;
@@ -447,6 +448,7 @@ int run_request(Request& r) {
     r.options.profile = in.profile;
     r.options.ic_file_bytes = in.ic_file_bytes;
     ResolvedRun run = resolve_run(in.plan, r.options);  // the lead resolved them already: this cannot fail
+    if (r.verbose && group->leads()) std::cerr << describe_run(in, run, r.threads, "crex run: ");
     std::unique_ptr<tbb::global_control> threads;
     if (r.threads > 0)
         threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(r.threads));

@@ -36,6 +36,7 @@ struct RunFlags {
     uint32_t star_cap = sched::kDefaultStarCap;
     std::string format = "text";
     bool quiet = false;
+    bool verbose = false;  ///< -v: the inputs and settings in effect, before the render
     std::string progress = "auto";  ///< --progress auto|bar|plain|none
     std::string budget;
     bool no_budget = false;

@@ -10,24 +10,13 @@
 #include <sstream>
 
 #include "compiler/sched/print.h"
+#include "runtime/api/run_description.h"
 #include "runtime/base/finished_rows_digest.h"
 
 namespace crex {
 namespace {
 
-// The settings that decide a pixel's value beyond the scene, the crex and the seed, as
-// "name value" items joined by ", ": a partial and the run resuming it must agree on each.
-std::string pixel_settings(const RunSettings& s) {
-    const ShadeParams& shade = s.executor.shade;
-    const char* uniform = s.uniform == UniformQuality::kMax ? "max" : s.uniform == UniformQuality::kMin ? "min" : "off";
-    return fmt::format("size {}x{}, spp {}, filter {}, shadow-rays {}, media-samples {}, lw {:g}, max-depth {}, roulette {}, clamp {:g}, "
-                       "ambient {}, importance {:g}, rounds {}, uniform {}",
-                       s.width, s.height, s.spp, s.filter == PixelFilter::kGaussian ? "gaussian" : "box", shade.shadow_rays,
-                       shade.media_samples, shade.weight_limit, shade.max_depth, shade.roulette ? "on" : "off", s.executor.clamp_indirect,
-                       s.ambient_auto ? std::string("auto") : fmt::format("{:g}", s.ambient.x), s.executor.constant_importance,
-                       s.rounds, uniform);
-}
-
+// The items of pixel_settings_text(): a partial and the run resuming it must agree on each.
 std::vector<std::string> items(const std::string& text) {
     std::vector<std::string> out;
     for (size_t at = 0; at <= text.size();) {
@@ -62,7 +51,7 @@ ImageMetadata partial_identity(const std::string& scene_spec, const PipelinePlan
             {"crex:crex", sched::to_crex(plan.program)},
             {"crex:pipeline", plan.staged ? plan.name : "none"},
             {"crex:seed", std::to_string(settings.seed)},
-            {"crex:settings", pixel_settings(settings)}};
+            {"crex:settings", pixel_settings_text(settings)}};
 }
 
 std::string resume_refusal(const PipelinePlan& plan, const RunSettings& settings) {
