@@ -22,6 +22,23 @@ rm share/crex/stdlib/pipelines/sel_rp.pipe
 if "$prefix/bin/crex" check -q mine.pipe 2> check.log; then echo "extends read a stdlib outside the prefix"; exit 1; fi
 grep -q "E210" check.log
 
+# The man page (a section a command, from their --help) and bash completion (which reads the
+# installed tool's help), where man and bash-completion look.
+if command -v help2man > /dev/null; then
+    for c in check scene-info run plan compare reference; do
+        grep -q "^\.SS crex $c" share/man/man1/crex.1 || { echo "the man page has no section for crex $c"; exit 1; }
+    done
+    grep -q -- '--progress' share/man/man1/crex.1 || { echo "the man page lacks crex run's options"; exit 1; }
+fi
+complete_words() {  # what bash completes for the words given, the last one being completed
+    bash -c '. share/bash-completion/completions/crex; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _crex; echo "${COMPREPLY[*]}"' \
+        complete "$prefix/bin/crex" "$@"
+}
+test -s share/doc/crex/crex-language.md || { echo "the guides are not installed"; exit 1; }
+[ "$(complete_words ru)" = run ] || { echo "completion of 'crex ru' gave '$(complete_words ru)'"; exit 1; }
+[ "$(complete_words run --pro)" = "--profile --progress" ] || { echo "completion of 'crex run --pro': '$(complete_words run --pro)'"; exit 1; }
+[ "$(complete_words run --progress p)" = plain ] || { echo "completion of 'crex run --progress p': '$(complete_words run --progress p)'"; exit 1; }
+
 [ -n "$python" ] || exit 0
 # The package imports from the prefix, renders, and writes through the installed plugin.
 PYTHONPATH="$prefix/$python_dir" LD_DEBUG=files "$python" -c "
