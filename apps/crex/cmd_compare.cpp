@@ -49,7 +49,7 @@ std::string attention_weights(const std::string& source, const metrics::Image& r
 
 struct CompareOptions {
     std::string test, reference;
-    std::string metrics = "rmse,relmse,ssim,flip,perr";
+    std::string metrics = "rmse,relmse,ssim,flip,perr,fireflies";
     double perr_threshold = metrics::kDefaultPerrThreshold;
     double ppd = 67.0206;
     std::string flip_out;
@@ -59,17 +59,18 @@ struct CompareOptions {
     std::string format = "text";
 };
 
-const std::vector<std::string> kMetricNames = {"rmse", "relmse", "ssim", "flip", "perr"};
+const std::vector<std::string> kMetricNames = {"rmse", "relmse", "ssim", "flip", "perr", "fireflies"};
 
 // The metrics asked for; false (with the message said) for an unknown one.
 bool metric_choice(const CompareOptions& opt, metrics::MetricChoice& choice) {
     std::stringstream list(opt.metrics);
     for (std::string m; std::getline(list, m, ',');) {
         if (std::find(kMetricNames.begin(), kMetricNames.end(), m) == kMetricNames.end()) {
-            std::cerr << fmt::format("crex compare: error: unknown metric '{}': expected some of rmse,relmse,ssim,flip,perr\n", m);
+            std::cerr << fmt::format("crex compare: error: unknown metric '{}': expected some of rmse,relmse,ssim,flip,perr,fireflies\n", m);
             return false;
         }
-        (m == "rmse" ? choice.rmse : m == "relmse" ? choice.relmse : m == "ssim" ? choice.ssim : m == "flip" ? choice.flip : choice.perr) = true;
+        (m == "rmse" ? choice.rmse : m == "relmse" ? choice.relmse : m == "ssim" ? choice.ssim : m == "flip" ? choice.flip
+                                                                          : m == "perr" ? choice.perr : choice.fireflies) = true;
     }
     choice.perr_threshold = opt.perr_threshold;
     choice.pixels_per_degree = opt.ppd;
@@ -106,6 +107,8 @@ void put_metrics(const metrics::ImageComparison& c, const metrics::MetricChoice&
         j["perr_threshold"] = choice.perr_threshold;
     }
     if (c.aflip) j["aflip"] = *c.aflip;
+    const double mp = static_cast<double>(c.pixels) / 1e6;  // fireflies per megapixel: test, reference
+    if (c.test_fireflies && mp > 0) j["fireflies_per_mp"] = {static_cast<double>(*c.test_fireflies) / mp, static_cast<double>(*c.reference_fireflies) / mp};
 }
 
 int print_result(const CompareOptions& opt, const nlohmann::json& j, bool perceptual) {
@@ -125,6 +128,9 @@ int print_result(const CompareOptions& opt, const nlohmann::json& j, bool percep
     if (j.contains("flip")) std::cout << fmt::format("  flip    {:.6f}   (mean LDR-FLIP, {:.1f} pixels per degree)\n", j["flip"].get<double>(), opt.ppd);
     if (j.contains("perr"))
         std::cout << fmt::format("  perr    {:.3f} %  (pixels with FLIP >= {:g}; not Daly's VDP)\n", j["perr"].get<double>(), opt.perr_threshold);
+    if (j.contains("fireflies_per_mp"))
+        std::cout << fmt::format("  fireflies {:.0f} / {:.0f} per megapixel (test / reference: over 10x their 3x3 median)\n",
+                                 j["fireflies_per_mp"][0].get<double>(), j["fireflies_per_mp"][1].get<double>());
     if (j.contains("aflip"))
         std::cout << fmt::format("  aflip   {:.6f}   (FLIP weighted by {})\n", j["aflip"].get<double>(),
                                  opt.attention == "saliency" ? "the reference's saliency" : opt.attention);
@@ -323,7 +329,7 @@ Runner add_compare_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("compare", "Measure how far an image is from a reference (RMSE, relMSE, SSIM, FLIP, perr)");
     cmd->add_option("test", opt->test, "The image to judge (any format OpenImageIO reads)")->required();
     cmd->add_option("reference", opt->reference, "The reference image, same size")->required();
-    cmd->add_option("--metric", opt->metrics, "Comma-separated metrics: rmse,relmse,ssim,flip,perr")->capture_default_str();
+    cmd->add_option("--metric", opt->metrics, "Comma-separated metrics: rmse,relmse,ssim,flip,perr,fireflies")->capture_default_str();
     cmd->add_option("--perr-threshold", opt->perr_threshold, "FLIP value from which a pixel counts as visibly different")
         ->capture_default_str()
         ->check(number_in(0.0, 1.0));

@@ -10,6 +10,7 @@ ImageComparison compare_images(const Image& test, const Image& reference, const 
     c.pixels = static_cast<size_t>(reference.width) * static_cast<size_t>(reference.height);
     if (choice.rmse) c.rmse = rmse(test, reference);
     if (choice.relmse) c.relmse = relmse(test, reference);
+    if (choice.fireflies) c.test_fireflies = firefly_count(test), c.reference_fireflies = firefly_count(reference);
     const bool perceptual = choice.ssim || choice.flip || choice.perr;
     if (!perceptual && !choice.flip_map && !weights) return c;
     const Image td = display_view(test, view), rd = display_view(reference, view);
@@ -39,6 +40,8 @@ ImageComparison combine(const std::vector<ImageComparison>& parts) {
         if (p.ssim) ssim_sum += n * *p.ssim, ssim_pixels += p.pixels;
         all.ssim_asked |= p.ssim_asked;
         all.weight += p.weight, all.weighted_flip += p.weighted_flip;
+        if (p.test_fireflies) all.test_fireflies = all.test_fireflies.value_or(0) + *p.test_fireflies;
+        if (p.reference_fireflies) all.reference_fireflies = all.reference_fireflies.value_or(0) + *p.reference_fireflies;
     }
     if (parts.empty() || all.pixels == 0) return all;
     const double n = static_cast<double>(all.pixels);

@@ -13,7 +13,7 @@ namespace crex::metrics {
 
 /// Which metrics to compute, and their parameters.
 struct MetricChoice {
-    bool rmse = false, relmse = false, ssim = false, flip = false, perr = false;
+    bool rmse = false, relmse = false, ssim = false, flip = false, perr = false, fireflies = false;
     double perr_threshold = kDefaultPerrThreshold;
     double pixels_per_degree = 67.0206;
     /// The FLIP map is computed anyway when a perceptual metric, weights or the map is asked for.
@@ -30,6 +30,8 @@ struct ImageComparison {
     std::optional<double> aflip;
     double weight = 0, weighted_flip = 0;
     std::vector<float> flip_map;     ///< per pixel, when computed
+    /// firefly_count() of the test image and of the reference, when asked.
+    std::optional<size_t> test_fireflies, reference_fireflies;
 };
 
 /// `test` against `reference` (same size, linear values as read) seen through `view`;

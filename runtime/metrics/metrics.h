@@ -32,6 +32,11 @@ std::optional<double> ssim(const Image& test_display, const Image& reference_dis
 /// `pixels_per_degree` (default: 0.7 m from a 0.7 m wide 3840-pixel monitor, 67.02).
 std::vector<float> flip_map(const Image& test_display, const Image& reference_display, double pixels_per_degree = 67.0206);
 
+/// Fireflies: pixels whose luminance is over 10 times the median of their 3x3 neighbourhood
+/// (edges clamped) and over a hundredth of the image's mean luminance (so that noise in black
+/// regions is not counted). A count; per megapixel it compares images of any size.
+size_t firefly_count(const Image& linear);
+
 inline constexpr double kDefaultPerrThreshold = 0.1;
 /// perr: the percentage of pixels whose FLIP value is at least `threshold` (not Daly's VDP).
 double perr(const std::vector<float>& flip, double threshold = kDefaultPerrThreshold);

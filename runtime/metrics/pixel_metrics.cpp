@@ -1,5 +1,6 @@
 // RMSE, relMSE and SSIM.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -107,6 +108,36 @@ Image display_view(const Image& linear, const DisplayView& view) {
         out.rgb[i] = static_cast<float>(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
     }
     return out;
+}
+
+size_t firefly_count(const Image& img) {
+    const int w = img.width, h = img.height;
+    const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
+    if (n == 0 || img.rgb.size() < 3 * n) return 0;
+    std::vector<double> lum(n);
+    double sum = 0;
+    for (size_t p = 0; p < n; ++p) {
+        const double l = 0.2126 * img.rgb[3 * p] + 0.7152 * img.rgb[3 * p + 1] + 0.0722 * img.rgb[3 * p + 2];
+        lum[p] = std::isfinite(l) ? l : 0.0;
+        sum += lum[p];
+    }
+    const double floor = 0.01 * sum / static_cast<double>(n);
+    size_t count = 0;
+    std::array<double, 9> around;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double l = lum[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)];
+            if (!(l > floor)) continue;
+            size_t k = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int yy = std::clamp(y + dy, 0, h - 1), xx = std::clamp(x + dx, 0, w - 1);
+                    around[k++] = lum[static_cast<size_t>(yy) * static_cast<size_t>(w) + static_cast<size_t>(xx)];
+                }
+            std::nth_element(around.begin(), around.begin() + 4, around.end());
+            count += l > 10 * around[4];
+        }
+    return count;
 }
 
 }  // namespace crex::metrics

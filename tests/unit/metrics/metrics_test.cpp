@@ -114,3 +114,31 @@ TEST(Metrics, DisplayViewIsStated) {
 
 }  // namespace
 }  // namespace crex::metrics
+
+namespace crex::metrics {
+namespace {
+
+// A firefly is a pixel over 10x the median of its 3x3 neighbourhood: three spikes on a
+// gradient are counted, a 5x bump, the gradient's own steps, a spike in the corner (its
+// clamped neighbourhood) and dark noise below a hundredth of the mean are judged as such.
+TEST(Metrics, FirefliesAreThePixelsFarOverTheirNeighbourhoodsMedian) {
+    Image img{32, 24, std::vector<float>(32 * 24 * 3)};
+    auto set = [&](int x, int y, float v) {
+        for (int c = 0; c < 3; ++c) img.rgb[3 * static_cast<size_t>(y * 32 + x) + static_cast<size_t>(c)] = v;
+    };
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 32; ++x) set(x, y, 0.5f + 0.02f * static_cast<float>(x));
+    EXPECT_EQ(firefly_count(img), 0u);
+    set(5, 5, 40), set(20, 10, 30), set(0, 0, 100);  // fireflies
+    set(10, 20, 4);                                   // 5x its neighbours: not one
+    EXPECT_EQ(firefly_count(img), 3u);
+    for (int y = 12; y < 24; ++y)
+        for (int x = 0; x < 8; ++x) set(x, y, 0);  // a black region with a faint speck
+    set(3, 18, 0.002f);                             // under a hundredth of the mean: noise, not a firefly
+    EXPECT_EQ(firefly_count(img), 3u);
+    set(3, 18, 5);  // a bright speck in the black: a firefly
+    EXPECT_EQ(firefly_count(img), 4u);
+}
+
+}  // namespace
+}  // namespace crex::metrics
