@@ -87,10 +87,6 @@ size_t pass_bytes(size_t fixed, size_t held, const RenderScene& scene, int width
     return max_memory > used + row ? max_memory - used : row;
 }
 
-namespace {
-constexpr uint32_t kProgressivePasses = 16;
-}  // namespace
-
 StagePasses::StagePasses(int width, int height, const SampleRanges& ranges, PassLimits limits, bool budgeted, uint32_t pass_samples)
     : width_(width), height_(height), ranges_(ranges), limits_(limits), full_bytes_(limits.bytes), replan_(!budgeted && !pass_samples) {
     limits_.bytes_per_sample = kBytesPerSample;
@@ -102,17 +98,6 @@ StagePasses::StagePasses(int width, int height, const SampleRanges& ranges, Pass
     // keeps many more rays in flight the first pass is an eighth of the room, and the rest is
     // planned again on the rays it actually held.
     if (replan_) limits_.bytes = std::max<size_t>(limits_.bytes / 8, limits_.bytes_per_sample);
-    // A stage of many samples a pixel goes in kProgressivePasses passes or more: every pass
-    // that ends gives each pixel its samples finished, so the image, its error curve and the
-    // progress move through the stage instead of all at its end (a 16-spp selective stage in
-    // one pass kept the curve flat for 80 % of a run). Passes of a whole frame's sample cost
-    // next to nothing of their own: the same samples in the same order make the same image.
-    if (replan_) {
-        uint32_t deepest = ranges_.end > ranges_.first ? ranges_.end - ranges_.first : 0;
-        const size_t pixels = std::max(ranges_.start_of.size(), ranges_.end_of.size());
-        for (size_t p = 0; p < pixels; ++p) deepest = std::max(deepest, ranges_.stop(p) - std::min(ranges_.start(p), ranges_.stop(p)));
-        limits_.max_samples = std::max<uint32_t>(1, (deepest + kProgressivePasses - 1) / kProgressivePasses);
-    }
     passes_ = plan_sample_passes(width, height, ranges_, limits_);
 }
 
