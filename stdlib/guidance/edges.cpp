@@ -16,11 +16,13 @@ Raster edges(const Raster& display) {
     Raster y = gaussian_blur(luminance(display), 1.0), gx, gy;
     sobel(y, gx, gy);
     Raster m(y.width, y.height, 1);
-    for (size_t i = 0; i < m.v.size(); ++i) m.v[i] = std::hypot(gx.v[i], gy.v[i]);
-    std::vector<float> sorted = m.v;
-    size_t k = sorted.empty() ? 0 : (sorted.size() - 1) * 99 / 100;
-    if (!sorted.empty()) std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
-    float scale = sorted.empty() ? 0.0f : sorted[k];
+    // hypot of floats, as glibc's hypotf computes it (exact squares in double), without its
+    // call per pixel: this loop vectorises.
+    for (size_t i = 0; i < m.v.size(); ++i) {
+        double a = gx.v[i], b = gy.v[i];
+        m.v[i] = static_cast<float>(std::sqrt(a * a + b * b));
+    }
+    float scale = m.v.empty() ? 0.0f : nth_smallest(m.v, (m.v.size() - 1) * 99 / 100);
     if (!(scale > 0)) {
         normalise_max(m);
         return m;
@@ -32,16 +34,23 @@ Raster edges(const Raster& display) {
 
 Raster radiance_difference(const Raster& display) {
     Raster y = luminance(display);
+    const size_t w = static_cast<size_t>(y.width), h = static_cast<size_t>(y.height);
     Raster m(y.width, y.height, 1);
-    for (int py = 0; py < y.height; ++py)
-        for (int px = 0; px < y.width; ++px) {
-            float c = y.at(px, py), d = 0;
-            d = std::max(d, std::fabs(c - y.clamped(px - 1, py)));
-            d = std::max(d, std::fabs(c - y.clamped(px + 1, py)));
-            d = std::max(d, std::fabs(c - y.clamped(px, py - 1)));
-            d = std::max(d, std::fabs(c - y.clamped(px, py + 1)));
-            m.at(px, py) = d;
+    for (size_t py = 0; py < h; ++py) {
+        // Borders are clamped: the missing neighbour is the pixel itself, a difference of 0.
+        const float* c = &y.v[py * w];
+        const float* up = py > 0 ? c - w : c;
+        const float* down = py + 1 < h ? c + w : c;
+        float* out = &m.v[py * w];
+        for (size_t px = 0; px < w; ++px) {
+            float left = c[px > 0 ? px - 1 : px], right = c[px + 1 < w ? px + 1 : px], d = 0;
+            d = std::max(d, std::fabs(c[px] - left));
+            d = std::max(d, std::fabs(c[px] - right));
+            d = std::max(d, std::fabs(c[px] - up[px]));
+            d = std::max(d, std::fabs(c[px] - down[px]));
+            out[px] = d;
         }
+    }
     normalise_max(m);
     return m;
 }

@@ -17,11 +17,8 @@ Raster noise_map(const Raster& display_high, const Raster& display_low) {
         m.v[p] = std::isfinite(d) ? d : 0.0f;
     }
     m = gaussian_blur(m, 1.0);
-    std::vector<float> sorted = m.v;
-    if (sorted.empty()) return m;
-    size_t k = std::min(sorted.size() - 1, static_cast<size_t>(0.98 * static_cast<double>(sorted.size())));
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
-    float scale = sorted[k];
+    if (m.v.empty()) return m;
+    float scale = nth_smallest(m.v, std::min(m.v.size() - 1, static_cast<size_t>(0.98 * static_cast<double>(m.v.size()))));
     for (float& v : m.v) v = scale > 0 ? v / scale : 0.0f;
     clamp01(m);
     return m;

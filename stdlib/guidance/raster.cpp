@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace crex::guidance {
 
@@ -18,17 +19,32 @@ Raster luminance(const Raster& rgb) {
     return y;
 }
 
+// These run over every map, several times: written as comparisons and selects, without
+// calls, so that they vectorise. NaN fails every comparison.
 void clamp01(Raster& map) {
-    for (float& x : map.v) x = std::isnan(x) ? 0.0f : std::clamp(x, 0.0f, 1.0f);
+    for (float& x : map.v) x = x >= 0.0f ? (x <= 1.0f ? x : 1.0f) : 0.0f;
+}
+
+float finite_max(const std::vector<float>& v) {
+    constexpr float kLargest = std::numeric_limits<float>::max();
+    float mx = 0;
+#pragma omp simd reduction(max : mx)
+    for (size_t i = 0; i < v.size(); ++i) mx = std::max(mx, std::fabs(v[i]) <= kLargest ? v[i] : 0.0f);
+    return mx;
 }
 
 void normalise_max(Raster& map) {
-    float mx = 0;
-    for (float x : map.v)
-        if (std::isfinite(x)) mx = std::max(mx, x);
-    if (mx > 0)
-        for (float& x : map.v) x = std::isfinite(x) ? x / mx : (x > 0 ? 1.0f : 0.0f);
-    clamp01(map);
+    constexpr float kLargest = std::numeric_limits<float>::max();
+    float mx = finite_max(map.v);
+    if (!(mx > 0)) {
+        clamp01(map);
+        return;
+    }
+    for (float& x : map.v) {
+        float scaled = x / mx;  // for every x, so that no branch stops the loop vectorising
+        scaled = std::fabs(x) <= kLargest ? scaled : (x > 0 ? 1.0f : 0.0f);
+        x = scaled >= 0.0f ? (scaled <= 1.0f ? scaled : 1.0f) : 0.0f;  // clamp01
+    }
 }
 
 }  // namespace crex::guidance

@@ -38,5 +38,11 @@ Raster luminance(const Raster& rgb);
 /// becomes 0. Every operator ends with this or an explicit clamp, so maps are always in [0, 1].
 void normalise_max(Raster& map);
 void clamp01(Raster& map);
+/// The largest finite value, or 0 when none is positive.
+float finite_max(const std::vector<float>& values);
+
+/// The k-th smallest of `values` (k < size), the value std::nth_element would put at k, for
+/// percentiles. Linear time and no copy when no value is negative or NaN, as in a map.
+float nth_smallest(const std::vector<float>& values, size_t k);
 
 }  // namespace crex::guidance
