@@ -3,6 +3,8 @@
 // which is what foveal vision is measured in.
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "stdlib/guidance/filters.h"
 #include "stdlib/guidance/operators.h"
@@ -14,19 +16,67 @@ double ViewGeometry::visual_angle(double d_pixels) const {
     return std::atan(d_pixels / (std::max(view_distance, 1e-6) * display_width_pixels));
 }
 
+namespace {
+
+// A map value as a function of the squared distance to the nearest feature, d2, which the
+// distance transform gives as an integer: each distinct d2 is evaluated once (an atan), not
+// once per pixel. Past the foveal radius every value is the one at "no feature at all".
+template <class F>
+class ByDistance {
+public:
+    ByDistance(F f, const ViewGeometry& view, double fovea) : f_(std::move(f)), far_(f_(kNoFeature)) {
+        double w = std::max(view.width - 1, 0), h = std::max(view.height - 1, 0);
+        double largest = w * w + h * h;  // no two pixels are farther apart
+        double size = largest + 1;
+        if (!(fovea > 0)) {
+            size = 1;  // only d2 = 0 is on the object
+        } else if (fovea < std::numbers::pi / 2) {
+            // Past radius^2 + 1 the angle exceeds the fovea by far more than rounding.
+            double radius = std::tan(fovea) * std::max(view.view_distance, 1e-6) * std::max(1, view.width);
+            size = std::min(size, std::floor(radius * radius) + 2);
+        }
+        table_.assign(static_cast<size_t>(size), std::numeric_limits<float>::quiet_NaN());
+    }
+    /// Distances at or past this many pixels all have the far value.
+    double reach() const { return std::sqrt(static_cast<double>(table_.size())); }
+    float far() const { return far_; }
+    float operator()(double d2) {
+        if (!(d2 < static_cast<double>(table_.size()))) return far_;
+        float& v = table_[static_cast<size_t>(d2)];
+        if (std::isnan(v)) v = f_(d2);
+        return v;
+    }
+
+private:
+    F f_;
+    float far_;
+    std::vector<float> table_;  // NaN: not evaluated yet
+};
+
+}  // namespace
+
 Raster task_map(const std::vector<std::vector<bool>>& covered, const std::vector<double>& value, const ViewGeometry& view,
                 double fovea, double base) {
-    Raster m(view.width, view.height, 1, static_cast<float>(std::clamp(base, 0.0, 1.0)));
+    const double low = std::clamp(base, 0.0, 1.0);
+    Raster m(view.width, view.height, 1, static_cast<float>(low));
     for (size_t s = 0; s < covered.size(); ++s) {
-        double v = std::clamp(value[s], 0.0, 1.0);
-        std::vector<double> d2 = squared_distance_transform(covered[s], view.width, view.height);
-        for (size_t i = 0; i < m.v.size(); ++i) {
-            double angle = view.visual_angle(std::sqrt(d2[i]));
-            // Linear from v on the object to base at the foveal radius; never below base.
-            double t = fovea > 0 ? std::clamp(angle / fovea, 0.0, 1.0) : (d2[i] > 0 ? 1.0 : 0.0);
-            double here = v + (std::clamp(base, 0.0, 1.0) - v) * t;
-            m.v[i] = std::max(m.v[i], static_cast<float>(here));
-        }
+        const double v = std::clamp(value[s], 0.0, 1.0);
+        ByDistance value_at(
+            [&](double d2) {
+                double angle = view.visual_angle(std::sqrt(d2));
+                // Linear from v on the object to base at the foveal radius; never below base.
+                double t = fovea > 0 ? std::clamp(angle / fovea, 0.0, 1.0) : (d2 > 0 ? 1.0 : 0.0);
+                return static_cast<float>(v + (low - v) * t);
+            },
+            view, fovea);
+        squared_distance_rows(covered[s], view.width, view.height, value_at.reach(), [&](int y, const double* d2) {
+            float* row = &m.v[static_cast<size_t>(y) * static_cast<size_t>(view.width)];
+            if (!d2) {
+                for (size_t x = 0; x < static_cast<size_t>(view.width); ++x) row[x] = std::max(row[x], value_at.far());
+                return;
+            }
+            for (size_t x = 0; x < static_cast<size_t>(view.width); ++x) row[x] = std::max(row[x], value_at(d2[x]));
+        });
     }
     clamp01(m);
     return m;
@@ -40,30 +90,23 @@ float QBuffer::request(size_t pixel, float quality) {
 }
 
 Raster distractor_map(const std::vector<bool>& detectable, const ViewGeometry& view, double fovea, std::vector<float>* granted) {
-    const int w = view.width, h = view.height;
-    QBuffer qbuffer(static_cast<size_t>(w) * static_cast<size_t>(h));
-    if (granted) granted->assign(qbuffer.qualities().size(), 0.0f);
-    // Radius in pixels of the foveal disc around a detected pixel.
-    double radius = std::tan(std::max(fovea, 0.0)) * std::max(view.view_distance, 1e-6) * w;
-    int r = static_cast<int>(std::ceil(radius));
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (!detectable[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)]) continue;
-            for (int dy = -r; dy <= r; ++dy)
-                for (int dx = -r; dx <= r; ++dx) {
-                    int qx = x + dx, qy = y + dy;
-                    if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
-                    double angle = view.visual_angle(std::hypot(dx, dy));
-                    double quality = fovea > 0 ? 1 - angle / fovea : (dx == 0 && dy == 0 ? 1 : 0);
-                    if (quality <= 0) continue;
-                    size_t p = static_cast<size_t>(qy) * static_cast<size_t>(w) + static_cast<size_t>(qx);
-                    float extra = qbuffer.request(p, static_cast<float>(quality));
-                    if (granted) (*granted)[p] += extra;
-                }
-        }
-    Raster m(w, h, 1);
-    m.v = qbuffer.qualities();
+    // Every detectable pixel requests 1 - angle / fovea of the pixels around it through the
+    // q-buffer, which keeps each pixel's highest request: the one from the nearest detectable
+    // pixel. So the buffer's end state is a function of that distance, and the total granted
+    // to a pixel is that highest request.
+    ByDistance quality_at(
+        [&](double d2) {
+            double quality = fovea > 0 ? 1 - view.visual_angle(std::sqrt(d2)) / fovea : (d2 == 0 ? 1 : 0);
+            return static_cast<float>(std::max(quality, 0.0));
+        },
+        view, fovea);
+    Raster m(view.width, view.height, 1);
+    squared_distance_rows(detectable, view.width, view.height, quality_at.reach(), [&](int y, const double* d2) {
+        float* row = &m.v[static_cast<size_t>(y) * static_cast<size_t>(view.width)];
+        for (size_t x = 0; x < static_cast<size_t>(view.width); ++x) row[x] = d2 ? quality_at(d2[x]) : quality_at.far();
+    });
     clamp01(m);
+    if (granted) *granted = m.v;
     return m;
 }
 
