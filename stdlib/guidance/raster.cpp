@@ -33,9 +33,10 @@ float finite_max(const std::vector<float>& v) {
     return mx;
 }
 
-void normalise_max(Raster& map) {
+void normalise_max(Raster& map) { normalise_max(map, finite_max(map.v)); }
+
+void normalise_max(Raster& map, float mx) {
     constexpr float kLargest = std::numeric_limits<float>::max();
-    float mx = finite_max(map.v);
     if (!(mx > 0)) {
         clamp01(map);
         return;

@@ -37,6 +37,8 @@ Raster luminance(const Raster& rgb);
 /// Scales a map so its maximum is 1 (an all-zero map stays zero) and clamps to [0, 1]; NaN
 /// becomes 0. Every operator ends with this or an explicit clamp, so maps are always in [0, 1].
 void normalise_max(Raster& map);
+/// The same with the maximum already known: `max` is finite_max(map.v).
+void normalise_max(Raster& map, float max);
 void clamp01(Raster& map);
 /// The largest finite value, or 0 when none is positive.
 float finite_max(const std::vector<float>& values);

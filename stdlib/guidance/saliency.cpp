@@ -25,8 +25,9 @@ namespace {
 void add_normalised(Raster& acc, Raster& m) {
     // Differences below 1e-4 display units are float rounding of flat regions, not features:
     // scaling them up to 1 would make a flat image salient everywhere.
-    if (finite_max(m.v) < 1e-4f) return;
-    normalise_max(m);
+    const float mx = finite_max(m.v);
+    if (mx < 1e-4f) return;
+    normalise_max(m, mx);
     // A local maximum is a pixel no neighbour exceeds (borders clamped), that is one equal to
     // the maximum of its 3x3 neighbourhood: maxima of three along the rows, then down them.
     const size_t w = static_cast<size_t>(m.width), h = static_cast<size_t>(m.height);
