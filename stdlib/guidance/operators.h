@@ -63,7 +63,8 @@ Raster distractor_map(const std::vector<bool>& detectable, const ViewGeometry& v
                       std::vector<float>* granted = nullptr);
 
 /// IM(w, op) of weighted maps (thesis 4.8): op "+" sums w_i m_i, "max" takes the largest
-/// w_i m_i, "*" multiplies them; clamped to [0, 1].
+/// w_i m_i, "*" multiplies them; clamped to [0, 1]. In a sum, maps that are 0 everywhere hand
+/// their weight to the others (the weights of the rest are scaled to the same total).
 Raster importance(const std::vector<const Raster*>& maps, const std::vector<double>& weights, const std::string& op);
 
 /// Where the image is still noisy, as a viewer would see it: from the displayed (tone-mapped)

@@ -191,6 +191,27 @@ TEST(Importance, MatchesTheFormulaForEachOperator) {
     for (float x : over.v) EXPECT_LE(x, 1.0f);
 }
 
+TEST(Importance, AMapZeroEverywhereHandsItsWeightToTheOthersInASum) {
+    // cbtcr's importance(task 0.5, sal 0.5, op "+") on a scene with nothing tagged: saliency
+    // alone, so its `{TTMRSGD}2` reaches D (at half weight it never passed 4/7).
+    Raster task(4, 4), sal(4, 4);
+    for (size_t i = 0; i < sal.v.size(); ++i) sal.v[i] = static_cast<float>(i) / 15.0f;
+    Raster plus = importance({&task, &sal}, {0.5, 0.5}, "+");
+    for (size_t i = 0; i < sal.v.size(); ++i) EXPECT_NEAR(plus.v[i], sal.v[i], 1e-6) << i;
+    // Three maps, one empty: the other two share the total weight in their own proportion.
+    Raster other(4, 4, 1, 0.25f);
+    Raster three = importance({&task, &sal, &other}, {0.2, 0.3, 0.1}, "+");
+    for (size_t i = 0; i < sal.v.size(); ++i) EXPECT_NEAR(three.v[i], std::min(1.0, 1.5 * (0.3 * sal.v[i] + 0.1 * 0.25)), 1e-6) << i;
+    // Products and maxima are as written: a zero map there means what it says.
+    Raster prod = importance({&task, &sal}, {0.5, 0.5}, "*");
+    for (float x : prod.v) EXPECT_EQ(x, 0.0f);
+    Raster mx = importance({&task, &sal}, {0.5, 0.5}, "max");
+    for (size_t i = 0; i < sal.v.size(); ++i) EXPECT_NEAR(mx.v[i], 0.5 * sal.v[i], 1e-6);
+    // Every map empty: zero, not a division by zero.
+    Raster none = importance({&task, &task}, {0.5, 0.5}, "+");
+    for (float x : none.v) EXPECT_EQ(x, 0.0f);
+}
+
 TEST(Utilities, ConstantThresholdBlurAndNormalise) {
     Raster c = constant_map(4, 3, 0.25);
     for (float x : c.v) EXPECT_EQ(x, 0.25f);
