@@ -138,6 +138,17 @@ void Executor::run_camera_rays(const RayBatch& camera_rays) {
     if (options_.checkpoint) options_.checkpoint("camera rays", true);
 }
 
+void Executor::note_modulated(const sched::Node& node, double index, size_t found, size_t taken, double highest) {
+    const std::string where = node.where.to_string();
+    auto& steps = stats_.modulated;
+    auto it = std::find_if(steps.begin(), steps.end(), [&](const ModulatedStep& m) { return m.where == where; });
+    if (it == steps.end()) it = steps.insert(steps.end(), {where, node.component, index, modulate_n_, 0, 0, 0});
+    it->index = std::min(it->index, index);
+    it->found += found;
+    it->taken += taken;
+    it->highest_importance = std::max(it->highest_importance, highest);
+}
+
 bool Executor::exec(const sched::Node& node) {
     size_t c = static_cast<size_t>(node.component);
     RayBatch& bin = bins_[c];
@@ -157,10 +168,14 @@ bool Executor::exec(const sched::Node& node) {
         double index = node.first_index;
         for (const auto& [stride, iteration] : strides_) index += stride * static_cast<double>(iteration);
         RayBatch keep;
+        double highest = 0;
         for (size_t i = 0; i < bin.size(); ++i) {
-            bool run = index < std::ceil(importance(bin.pixel[i]) * modulate_n_);
+            const double imp = importance(bin.pixel[i]);
+            highest = std::max(highest, imp);
+            bool run = index < std::ceil(imp * modulate_n_);
             (run ? take : keep).push(bin.get(i));
         }
+        if (!bin.empty()) note_modulated(node, index, bin.size(), take.size(), highest);
         bin = std::move(keep);
     } else {
         std::swap(take, bin);  // the bin continues in the spare's memory

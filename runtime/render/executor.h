@@ -57,6 +57,17 @@ struct SkippedTask {
     double remaining = 0;   ///< seconds left when it was considered
 };
 
+/// A component occurrence inside `{ }` (by its place in the crex): the rays it found in its bin
+/// and took, and the highest importance among those found. One that found rays and never took
+/// any is W405: its map never reached the importance it needs.
+struct ModulatedStep {
+    std::string where;
+    Component component = Component::kD;
+    double index = 0, occurrences = 0;  ///< 0-based occurrence i of n: runs where I > i / n
+    uint64_t found = 0, taken = 0;
+    double highest_importance = 0;
+};
+
 /// A choice of the queues policy: the batch it took and what each queue was worth then.
 struct QueueChoice {
     Component component;
@@ -76,6 +87,7 @@ struct ExecutorStats {
     std::vector<StepRecord> steps;
     std::vector<SkippedTask> skipped;
     std::vector<QueueChoice> queue_choices;
+    std::vector<ModulatedStep> modulated;
 };
 
 struct ExecutorOptions {
@@ -191,6 +203,7 @@ private:
     RayBatch spare_;  // memory for the next step's bin (see exec())
     bool deferring_ = false;
     // Inside a Modulate: its n, and the (stride, iteration) of the repeats between it and the step.
+    void note_modulated(const sched::Node& node, double index, size_t found, size_t taken, double highest);
     double modulate_n_ = 0;
     bool in_modulate_ = false;
     std::vector<std::pair<double, uint64_t>> strides_;
