@@ -60,6 +60,15 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
         ->allow_extra_args(false);
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
+    cmd->add_option("--budget-floor", opt->budget_floor, "A budget below the pipeline's floor (its coarsest preview and guidance, "
+                                                         "from --profile): refuse it naming the floor (exit 2), or ok: render anyway "
+                                                         "and report it broken")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"refuse", "ok"}));
+    cmd->add_option("--preview-stride", opt->preview_stride, "A pipeline's preview at every K-th pixel of every K-th row, the others "
+                                                             "interpolated for guidance and rendered by the selective stage (default: "
+                                                             "1, or under a budget with --profile the K whose preview fits 15 % of it)")
+        ->check(whole_number_in(1, 64));
     cmd->add_option("--ic-share", opt->ic_share, "Under mpirun with a cache, how ranks share it: none (each its own), central "
                                                  "(records go through rank 0, also during the render), broadcast (records go to "
                                                  "every rank after the preview and before each later round), component (the highest "

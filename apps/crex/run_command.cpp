@@ -99,6 +99,8 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     o.no_budget = f.no_budget;
     if (!f.policy.empty()) o.policy = pipeline::scheduling_policy_from_name(f.policy);
     if (f.rounds) o.rounds = f.rounds;
+    if (f.preview_stride) o.preview_stride = f.preview_stride;
+    o.budget_floor_ok = f.budget_floor == "ok";
     o.shadow_rays = f.shadow_rays;
     o.media_samples = f.media_samples;
     o.roulette = !f.no_roulette;
@@ -229,6 +231,9 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     std::optional<ResolvedRun> run;
     try {
         run = resolve_run(in.plan, r.options);
+    } catch (const BudgetBelowFloor& e) {  // a budget no render of this pipeline can meet: the budget is the usage error
+        std::cerr << fmt::format("{}: error: budget: {}\n", e.where.empty() ? "crex run" : e.where, e.what());
+        return kExitUsage;
     } catch (const RunOptionError& e) {  // said where the setting comes from: the pipeline's line, or the flag
         if (e.where.empty()) {
             std::cerr << fmt::format("crex run: error: --budget {}: {}\n", r.budget, e.what());

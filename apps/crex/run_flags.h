@@ -64,6 +64,8 @@ struct RunFlags {
     double max_memory_mib = double(kDefaultMaxMemory >> 20);
     uint32_t pass_samples = 0;
     uint32_t rounds = 0;
+    uint32_t preview_stride = 0;  ///< 0: every pixel, or under a budget what the profile sizes
+    std::string budget_floor = "refuse";  ///< refuse | ok: render a budget below the pipeline's floor anyway
     std::string camera_path;  ///< --camera-path FILE: render frames along it
     std::string frames;       ///< --frames A..B[:STEP] ("": every frame of the path)
     double fps = 30;

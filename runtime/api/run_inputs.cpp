@@ -91,7 +91,7 @@ std::unique_ptr<PipelineInput> load_pipeline_input(std::unique_ptr<SourceFile> s
 
 std::string read_profile(const std::string& json_text, ProfileInput& out, const std::string& path) {
     out.path = path;
-    return Profile::from_json_text(json_text, out.profile, &out.full_render_seconds, path.empty() ? "<profile>" : path);
+    return Profile::from_json_text(json_text, out.profile, &out.full_render_seconds, path.empty() ? "<profile>" : path, &out.stages);
 }
 
 namespace {

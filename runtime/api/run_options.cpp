@@ -3,13 +3,45 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+
 namespace crex {
 
-std::string profile_json_text(const Profile& profile, double full_render_seconds) {
+std::string profile_json_text(const Profile& profile, double full_render_seconds, const StageCosts& stages) {
     auto j = nlohmann::json::parse(profile.to_json_text());
     j["full_render_seconds"] = full_render_seconds;
+    if (stages.known())
+        j["stages"] = {{"preview_seconds", stages.preview_seconds},
+                       {"preview_samples", stages.preview_samples},
+                       {"guidance_seconds", stages.guidance_seconds},
+                       {"pixels", stages.pixels}};
     return j.dump(2) + "\n";
 }
+
+namespace {
+
+// Where a budget was set, for what is said about it: "" for --budget, else the plan's line.
+std::string budget_origin(const RunOptions& o, const PlanBudget& budget) {
+    return o.budget ? "" : budget.where.known() ? budget.where.to_string() : "the plan";
+}
+
+// A budget below the pipeline's floor (fixed_costs.h) is refused, unless the caller says to
+// render anyway.
+void refuse_below_floor(ResolvedRun& run, const RunOptions& o, const std::string& where) {
+    const RunSettings& rs = run.settings;
+    run.fixed_costs = predict_fixed_costs(run.predicted->stages, rs.width, rs.height, rs.spp);
+    if (!run.fixed_costs || run.budget_seconds >= run.fixed_costs->floor_seconds) return;
+    const double floor = run.fixed_costs->floor_seconds, full = run.predicted->full_render_seconds;
+    const std::string share = full > 0 ? fmt::format(" ({:.1f} % of the profiled full render)", 100 * floor / full) : "";
+    if (!o.budget_floor_ok)
+        throw BudgetBelowFloor(fmt::format("{:.3g} s is below the smallest budget this pipeline can meet, {:.3g} s{}: {}; give a "
+                                           "budget of at least that, or --budget-floor ok to render anyway (the budget will be broken)",
+                                           run.budget_seconds, floor, share, describe_fixed_costs(*run.fixed_costs)),
+                               where, floor);
+    run.below_floor = true;
+}
+
+}  // namespace
 
 ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
     const PlanSettings& ps = plan.settings;
@@ -49,7 +81,7 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
         run.budget_seconds = budget->amount;
         if (budget->percent) {
             const double full = run.predicted ? run.predicted->full_render_seconds : 0;
-            const std::string where = o.budget ? "" : budget->where.known() ? budget->where.to_string() : "the plan";
+            const std::string where = budget_origin(o, *budget);
             if (!(full > 0) && !run.predicted)
                 throw RunOptionError("a budget in % needs the time of a full render: render once without a budget with "
                                      "--save-profile FILE, then pass --profile FILE (or --no-budget)",
@@ -63,6 +95,9 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
         }
     }
     rs.executor.budget_seconds = run.budget_seconds;
+    // A pipeline's preview: the caller's stride, else coarse to fine under a budget (0), else every pixel.
+    rs.preview_stride = o.preview_stride ? std::max<uint32_t>(1, *o.preview_stride) : budget && plan.staged ? 0 : 1;
+    if (budget && plan.staged && run.predicted) refuse_below_floor(run, o, budget_origin(o, *budget));
     // Where the limits W404 names were set: the plan's line, unless an option overrides it.
     auto at = [](bool overridden, const SourceLocation& where) { return overridden || !where.known() ? std::string() : where.to_string(); };
     run.limits_set_at = {at(o.max_depth.has_value(), ps.max_depth_at), at(o.lw.has_value(), ps.lw_at), at(o.ab.has_value(), ps.ab_at)};

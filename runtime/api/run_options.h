@@ -14,6 +14,7 @@
 
 #include "compiler/plan/pipeline_plan.h"
 #include "runtime/driver/run_plan.h"
+#include "runtime/api/fixed_costs.h"
 #include "runtime/render/profile.h"
 
 namespace crex {
@@ -30,6 +31,7 @@ struct AmbientStandIn {
 struct ProfileInput {
     Profile profile;
     double full_render_seconds = 0;
+    StageCosts stages;  ///< a pipeline's preview and guidance in that render
     std::string path;  ///< the file it was read from, for what is said about it
 };
 
@@ -40,7 +42,7 @@ struct LimitOrigins {
 };
 
 /// The JSON text `--save-profile` writes (run_inputs.h's read_profile() reads it back).
-std::string profile_json_text(const Profile& profile, double full_render_seconds);
+std::string profile_json_text(const Profile& profile, double full_render_seconds, const StageCosts& stages = {});
 
 struct RunOptions {
     // The plan's settings, overridden; unset: the plan's own, else the default named.
@@ -56,6 +58,11 @@ struct RunOptions {
     bool no_budget = false;                     ///< the plan's budget ignored too
     std::optional<pipeline::SchedulingPolicy> policy;  ///< the plan's, else RunSettings::policy's default
     std::optional<uint32_t> rounds;             ///< the plan's, else 1
+    /// The preview at every k-th pixel; unset: every pixel, or under a budget coarse to fine
+    /// within a share of it (runtime/driver/preview_levels.h).
+    std::optional<uint32_t> preview_stride;
+    /// Render a budget below the pipeline's floor anyway (it will be broken) instead of refusing it.
+    bool budget_floor_ok = false;
     // Settings a plan does not have.
     uint32_t shadow_rays = 1;
     uint32_t media_samples = 1;
@@ -81,6 +88,9 @@ struct ResolvedRun {
     double budget_seconds = 0;            ///< 0: none
     std::optional<ProfileInput> predicted;
     LimitOrigins limits_set_at;
+    /// Under a budget with a profile of the pipeline's stages: its floor (fixed_costs.h).
+    std::optional<FixedCosts> fixed_costs;
+    bool below_floor = false;      ///< rendered under a budget below its floor (--budget-floor ok)
 };
 
 /// A setting that cannot be resolved (a budget in % without a profile's full render time):
@@ -92,7 +102,15 @@ struct RunOptionError : std::invalid_argument {
     bool in_input_file = false;  ///< what an input file (the profile) lacks, not the setting itself
 };
 
-/// Throws RunOptionError (a budget in % without a profile's full render time).
+/// A budget below what the pipeline can possibly do (its coarsest preview and guidance):
+/// refused before rendering (exit 2), naming the smallest budget it can meet.
+struct BudgetBelowFloor : RunOptionError {
+    BudgetBelowFloor(const std::string& what, std::string at, double floor)
+        : RunOptionError(what, std::move(at)), floor_seconds(floor) {}
+    double floor_seconds;
+};
+
+/// Throws RunOptionError (a budget in % without a profile's full render time; BudgetBelowFloor).
 ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& options);
 
 }  // namespace crex

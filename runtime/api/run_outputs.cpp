@@ -72,6 +72,9 @@ RunFacts run_facts(const RunFiles& files, const RunRecord& record, const Written
     facts.maps_dir = files.maps_dir;
     facts.report_dir = files.report_dir;
     facts.predicted = record.outcome->run.predicted ? &record.outcome->run.predicted->profile : nullptr;
+    facts.preview_stride = result.preview_stride;
+    facts.budget_floor = record.outcome->run.fixed_costs ? record.outcome->run.fixed_costs->floor_seconds : 0;
+    facts.below_floor = record.outcome->run.below_floor;
     if (written) {
         facts.pictures = &written->pictures;
         facts.curve = &written->curve;
@@ -153,8 +156,15 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
     if (!where.profile.empty()) {
         // A budgeted render is not a full one: the profile's own full render time is kept.
         const auto& predicted = outcome.run.predicted;
-        const double full = outcome.run.budget_seconds > 0 ? (predicted ? predicted->full_render_seconds : 0) : result.render_seconds;
-        std::string error = write_file_atomically(files.stage_file(where.profile), profile_json_text(outcome.measured, full));
+        const bool full_render = !(outcome.run.budget_seconds > 0);
+        const double full = full_render ? result.render_seconds : predicted ? predicted->full_render_seconds : 0;
+        // So are its stage costs (what a later budget sizes the preview from): this render's
+        // when it is a full one of a pipeline, else the profile's own.
+        StageCosts stages = predicted ? predicted->stages : StageCosts{};
+        if (full_render && result.staged)
+            stages = {result.preview_seconds, result.preview_samples, result.guidance_seconds,
+                      static_cast<uint64_t>(width) * static_cast<uint64_t>(height)};
+        std::string error = write_file_atomically(files.stage_file(where.profile), profile_json_text(outcome.measured, full, stages));
         if (!error.empty()) return fmt::format("cannot write profile '{}': {}", where.profile, files.in_user_terms(error));
     }
 

@@ -111,6 +111,8 @@ nlohmann::json run_summary_json(const RunFacts& f) {
                        {"preview_rays", f.piped->preview_rays},
                        {"selective_rays", f.piped->selective_rays}};
         j["preview_percent_of_time"] = r.render_seconds > 0 ? 100 * f.piped->preview_seconds / r.render_seconds : 0.0;
+        j["preview_stride"] = f.preview_stride;
+        j["preview_samples"] = f.piped->preview_samples;
         nlohmann::json maps = nlohmann::json::array();
         for (const auto& m : f.piped->maps) maps.push_back(m.first);
         j["maps"] = maps;
@@ -156,6 +158,8 @@ nlohmann::json run_summary_json(const RunFacts& f) {
         j["overshoot_percent"] = (r.render_seconds - f.budget) / f.budget * 100;
         j["policy"] = std::string(pipeline::name_of(r.policy));
         j["camera_samples_left_out"] = r.budget_stopped_samples;
+        if (f.budget_floor > 0) j["budget_floor_seconds"] = f.budget_floor;  // at least this (fixed_costs.h)
+        j["budget_below_floor"] = f.below_floor;  // rendered anyway: the budget is broken
         nlohmann::json skipped = nlohmann::json::array();
         for (const auto& sk : st.skipped)
             skipped.push_back({{"task", sk.what}, {"predicted_seconds", sk.predicted}, {"remaining_seconds", sk.remaining}});
@@ -231,6 +235,12 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
                            r.budget_stopped_samples == 1 ? "" : "s");
         for (const auto& sk : st.skipped)
             out << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
+        if (f.piped && f.preview_stride > 1)
+            out << fmt::format("  the preview rendered every {}{} pixel within {:.0f} % of the budget; the selective stage the rest\n",
+                               f.preview_stride, f.preview_stride == 2 ? "nd" : "th", 100 * kPreviewShare);
+        if (f.below_floor)
+            out << fmt::format("  budget BROKEN: {:.3f} s is below this pipeline's floor of {:.3f} s (--budget-floor ok)\n", f.budget,
+                               f.budget_floor);
     }
     if (f.predicted) {
         std::string line;

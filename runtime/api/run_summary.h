@@ -40,6 +40,9 @@ struct RunFacts {
     std::string reference;
     std::string report_dir;
     const Profile* predicted = nullptr;  ///< the --profile the run predicted from
+    uint32_t preview_stride = 1;         ///< the preview at every k-th pixel
+    double budget_floor = 0;             ///< the smallest budget the pipeline can meet (0: unknown)
+    bool below_floor = false;            ///< rendered under a budget below it (--budget-floor ok)
 };
 
 /// Per component (and "camera"): how far the profile's cost per ray was from this run's

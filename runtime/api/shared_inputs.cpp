@@ -34,7 +34,7 @@ nlohmann::json inputs_as_data(const RunInputs& in, std::string& ic_bytes) {
     data["scene_spec"] = in.scene_spec;
     data["scene_source"] = in.scene->scene->source;
     if (in.profile)  // as read: the others parse it alike
-        data["profile"] = profile_json_text(in.profile->profile, in.profile->full_render_seconds);
+        data["profile"] = profile_json_text(in.profile->profile, in.profile->full_render_seconds, in.profile->stages);
     if (in.ic_file_bytes) {
         ic_bytes = *in.ic_file_bytes;
         data["ic_file_bytes"] = true;

@@ -102,6 +102,8 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
             std::string letter(1, kComponentTable[c].letter);
             if (read.count(letter)) in.buffers[letter] = film.aov_image(aov_of(static_cast<Component>(c)));
         }
+        // A strided preview's pixels without samples: interpolated as the preview image is.
+        for (auto& [name, buffer] : in.buffers) out.fill_unsampled_preview(buffer);
         PixelProbe probe;
         if (needs_probe(plan)) {
             probe = probe_pixels(ctx.render_scene, w, h);

@@ -19,6 +19,7 @@
 #include "runtime/driver/capict_refinement.h"
 #include "runtime/driver/guidance_phase.h"
 #include "runtime/driver/pass_sizing.h"
+#include "runtime/driver/preview_levels.h"
 #include "runtime/driver/row_bands.h"
 #include "runtime/driver/sample_passes.h"
 #include "runtime/render/render_scene.h"
@@ -258,14 +259,54 @@ void PlanRun::render_interleaved() {
 
 void PlanRun::preview() {
     // 1. Pre-selective: the rays each pass leaves waiting are carried to the selective stage.
-    run_samples("pre-selective", {0, s_.spp, {}, {}}, [&] {
+    auto carry = [&] {
         ex_->run_stage(plan_.program.preselective);
         for (size_t c = 0; c < kComponentCount; ++c) {
             RayBatch& bin = ex_->bins()[c];
             carried_[c].append(bin, 0, bin.size());
             bin.clear();
         }
-    });
+    };
+    // A strided preview renders the corners of a grid only, the others interpolated (issue
+    // 34). Under a budget (stride 0: automatic) it goes coarse to fine: every 8th pixel, which
+    // always runs, then the corners of every 4th, 2nd and every pixel, each level admitted
+    // while its cost, predicted from the level before, keeps the preview within kPreviewShare
+    // of the budget (a cache's records make a sparse preview's cost per sample far higher than
+    // a full one's, so no profile predicts it). capict tracks every pixel's branches from the
+    // preview on, and processes sharing rows must agree on the grid: both render every pixel.
+    const bool auto_stride = s_.preview_stride == 0 && budget_.budgeted() && bands_.empty();
+    const uint32_t fixed = s_.preview_stride == 0 ? 1 : s_.preview_stride;
+    std::vector<uint32_t> levels = auto_stride ? std::vector<uint32_t>{kCoarsestPreviewStride} : std::vector<uint32_t>{fixed};
+    while (auto_stride && levels.back() > 1) levels.push_back(levels.back() / 2);
+    if (subsampled_components(plan_) != 0) levels = {1};
+    const size_t pixels = out_.film.pixel_count();
+    std::optional<SubsampleGrid> done;  // the grid whose corners have their samples
+    double per_sample = 0;
+    for (const uint32_t stride : levels) {
+        if (done) {
+            const uint64_t samples = preview_samples_at(s_.width, s_.height, s_.spp, stride) -
+                                     preview_samples_at(s_.width, s_.height, s_.spp, out_.preview_stride);
+            if (!budget_.fits(now(), 0) || now() + per_sample * static_cast<double>(samples) > kPreviewShare * s_.executor.budget_seconds)
+                break;
+        }
+        std::optional<SubsampleGrid> grid;
+        SampleRanges ranges{0, s_.spp, {}, {}};
+        if (stride > 1 || done) {
+            grid.emplace(s_.width, s_.height, std::vector<double>(pixels, static_cast<double>(stride)));
+            ranges.start_of.assign(pixels, 0);
+            ranges.end_of.resize(pixels);
+            for (uint32_t p = 0; p < pixels; ++p) ranges.end_of[p] = grid->rendered(p) && !(done && done->rendered(p)) ? s_.spp : 0;
+        }
+        const double t = now();
+        const uint64_t before = ex_->stats().camera.rays;
+        run_samples("pre-selective", ranges, carry);
+        const uint64_t traced = ex_->stats().camera.rays - before;
+        if (traced > 0) per_sample = (now() - t) / static_cast<double>(traced);
+        done = std::move(grid);
+        out_.preview_stride = stride;
+        if (stopping()) break;
+    }
+    if (done && out_.preview_stride > 1) out_.preview_grid = std::move(done);
     // The preview's image: the rays it carries to the selective stage stand in as av (D's)
     // until they run. The stand-ins are shared with the film's rows, so that guidance sees the
     // same preview on every process (the stand-ins are still zero: the preview drops no ray,
@@ -276,15 +317,17 @@ void PlanRun::preview() {
     add_ambient(carried_[static_cast<size_t>(Component::kD)], s_.ambient, preview_ambient_);
     share_with_other_processes(RowExchange::kPreview, preview_ambient_);
     out_.preview = out_.film.composite(&preview_ambient_);
-    out_.preview_seconds = seconds_since(t0_);
+    out_.fill_unsampled_preview(out_.preview);
+    out_.preview_seconds = now();  // on the budget's clock: a saved profile sizes later previews from it
     out_.preview_rays = total_rays(ex_->stats());
+    out_.preview_samples = ex_->stats().camera.rays;
     if (cache_) out_.ic_preview_records = cache_->records().size();
     stage_end("end of the pre-selective stage", "guidance");
 }
 
 SelectiveSetup PlanRun::guidance_round(uint32_t round, uint32_t rounds) {
     const std::string label = rounds > 1 ? fmt::format(" (round {}/{})", round, rounds) : "";
-    auto t_guidance = Clock::now();
+    const double t_guidance = now();
     progress_ = {};
     progress_.stage = "guidance" + label;
     report_progress("maps");
@@ -295,7 +338,7 @@ SelectiveSetup PlanRun::guidance_round(uint32_t round, uint32_t rounds) {
     SelectiveSetup sel = round == 1 ? run_guidance(ctx, out_.preview, preview_ambient_, out_, surfaces_)
                                     : run_guidance(ctx, out_.film.composite(&stand_ins_->ambient()), stand_ins_->ambient(), out_, surfaces_);
     if (round == 1) preview_ambient_ = {};  // the maps have seen the preview
-    out_.guidance_seconds += seconds_since(t_guidance);
+    out_.guidance_seconds += now() - t_guidance;
     stage_end("end of guidance" + label, "selective");
     return sel;
 }
@@ -337,7 +380,12 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
     ranges.end_of.resize(pixels);
     for (size_t p = 0; p < pixels; ++p) {
         ranges.start_of[p] = out_.film.samples(static_cast<uint32_t>(p));
-        double target = sel.spp_end[p] <= s_.spp ? 0 : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
+        // A pixel a strided preview left out gets at least the preview's samples (unless a
+        // `subsample` variable interpolates it).
+        const bool left_out = out_.preview_grid && !out_.preview_grid->rendered(static_cast<uint32_t>(p)) &&
+                              !(out_.subsample && !out_.subsample->rendered(static_cast<uint32_t>(p)));
+        const double base = left_out ? s_.spp : 0;
+        double target = sel.spp_end[p] <= s_.spp ? base : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
         ranges.end_of[p] = static_cast<uint32_t>(std::ceil(target - 1e-9));
     }
     last_stage_ = round == rounds;
@@ -400,6 +448,7 @@ RunResult PlanRun::finish() {
     std::set<std::string> said;
     for (const auto& w : ex_->warnings())
         if (said.insert(w).second) out_.warnings.push_back(w);
+    for (std::string& w : modulation_warnings(out_.stats, plan_, s_.executor.constant_importance)) out_.warnings.push_back(std::move(w));
     out_.render_seconds = clock_();
     out_.render_cpu_seconds = process_cpu_seconds() - cpu_at_start_;
     out_.render_thread_seconds = out_.render_seconds * tbb::this_task_arena::max_concurrency();
@@ -468,6 +517,7 @@ std::vector<float> PlanRun::composite_now() const {
     std::vector<double> ambient = stand_ins_->if_stopped_now(out_.film, ex_->stats(), ex_->bins(), carried_);
     out_.component_subsample.add_stand_ins(out_.film, ambient);
     std::vector<float> rgb = out_.film.composite(&ambient);
+    out_.fill_unsampled_preview(rgb);
     if (out_.subsample) out_.subsample->fill(rgb);
     return rgb;
 }
@@ -666,6 +716,23 @@ void PlanRun::redo_preview_direct_light(const SelectiveSetup& sel) {
 }
 
 }  // namespace
+
+std::vector<std::string> modulation_warnings(const ExecutorStats& stats, const PipelinePlan& plan, double constant_importance) {
+    std::string map = fmt::format("the constant importance {:g} (--importance)", constant_importance);
+    for (const PlanMap& m : plan.maps)
+        if (m.id == plan.modulation_map) map = fmt::format("the map '{}'", m.defines.empty() ? m.name : m.defines);
+    std::vector<std::string> out;
+    for (const ModulatedStep& m : stats.modulated) {
+        if (m.found == 0 || m.taken > 0) continue;
+        const char c = component_letter(m.component);
+        out.push_back(fmt::format("{}: warning[W405]: {} inside '{{ }}' ran no ray: as occurrence {:g} of {:g} it runs where the importance "
+                                  "is above {:g}/{:g} = {:.3f}, and {} reached at most {:.3f} where {} had rays; raise the map (or its "
+                                  "weight) or put {} earlier inside the braces",
+                                  m.where, c, m.index + 1, m.occurrences, m.index, m.occurrences, m.index / m.occurrences, map,
+                                  m.highest_importance, c, c));
+    }
+    return out;
+}
 
 IcSettings plan_cache_settings(const PipelinePlan& plan, IcSettings ics) {
     for (const PlanVariable& v : plan.variables)

@@ -8,6 +8,7 @@ std::vector<float> RunResult::image() const {
     std::vector<double> stand_in = ambient;
     component_subsample.add_stand_ins(film, stand_in);
     std::vector<float> rgb = film.composite(&stand_in);
+    fill_unsampled_preview(rgb);
     if (subsample) subsample->fill(rgb);
     return rgb;
 }
@@ -26,8 +27,13 @@ std::vector<float> RunResult::aov_image(size_t aov) const {
                     rgb[3 * p + k] = std::isfinite(v) ? v : 0.0f;
                 }
     }
+    fill_unsampled_preview(rgb);
     if (subsample) subsample->fill(rgb);
     return rgb;
+}
+
+void RunResult::fill_unsampled_preview(std::vector<float>& values) const {
+    if (preview_grid) preview_grid->fill_unsampled(values, [this](uint32_t p) { return film.samples(p) > 0; });
 }
 
 }  // namespace crex

@@ -61,6 +61,9 @@ struct RunResult {
     std::vector<float> preview;    ///< linear RGB at the end of the pre-selective stage
     std::vector<std::pair<std::string, guidance::Raster>> maps;  ///< name ("sal", or a node id), map
     std::optional<SubsampleGrid> subsample;
+    /// A preview at every k-th pixel (RunSettings::preview_stride): the grid its pixels are the
+    /// corners of. Pixels still without samples at the end are interpolated from it.
+    std::optional<SubsampleGrid> preview_grid;
     ComponentSubsampling component_subsample;  ///< capict's grids, one per component varied
     size_t refinements = 0;        ///< capict: rounds of splitting squares whose corners differ
     double preview_seconds = 0, guidance_seconds = 0, selective_seconds = 0;
@@ -72,11 +75,15 @@ struct RunResult {
     size_t direct_light_redone = 0;
     uint64_t direct_light_redone_shadow_rays = 0;
     uint64_t preview_rays = 0, selective_rays = 0;
+    uint64_t preview_samples = 0;  ///< the preview's camera samples
+    uint32_t preview_stride = 1;   ///< the preview rendered every k-th pixel (preview_levels.h)
 
     /// The final image: the composite plus the ambient stand-in, sub-sampled pixels interpolated.
     std::vector<float> image() const;
     /// One AOV of the final image, interpolated like it.
     std::vector<float> aov_image(size_t aov) const;
+    /// A strided preview's pixels that no stage rendered, interpolated (any floats per pixel).
+    void fill_unsampled_preview(std::vector<float>& values) const;
 };
 
 }  // namespace crex

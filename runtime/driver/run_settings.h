@@ -59,6 +59,11 @@ struct RunSettings {
     uint32_t pass_samples = 0;  ///< samples per pixel per pass at most (0: as many as fit)
     UniformQuality uniform = UniformQuality::kOff;
     uint32_t rounds = 0;        ///< rounds of guidance and selective rendering (0: the plan's, else 1)
+    /// A pipeline's preview renders only every `preview_stride`-th pixel of every
+    /// `preview_stride`-th row (and the last row and column); guidance sees the others
+    /// interpolated, and the selective stage renders them. 0: automatic, coarse to fine under a
+    /// budget (preview_levels.h), else every pixel.
+    uint32_t preview_stride = 1;
     /// How a budget is spent (--policy); unset: the plan's, else the default of spec/pipeline.md
     /// §7: whole tasks for a pipeline without `vary`, queues for one with, and progressive
     /// passes for a plain crex (a plan with no name).

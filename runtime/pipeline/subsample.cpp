@@ -55,4 +55,33 @@ void SubsampleGrid::fill(std::vector<float>& rgb) const {
         }
 }
 
+void SubsampleGrid::fill_unsampled(std::vector<float>& values, const std::function<bool(uint32_t)>& sampled) const {
+    const size_t pixels = corner_.size();
+    if (pixels == 0 || values.size() % pixels != 0) return;
+    const size_t channels = values.size() / pixels;
+    const std::vector<float> src = values;
+    for (uint32_t p = 0; p < pixels; ++p) {
+        if (sampled(p)) continue;
+        auto [x0, y0, x1, y1] = square_[p];
+        const int x = static_cast<int>(p % static_cast<uint32_t>(width_)), y = static_cast<int>(p / static_cast<uint32_t>(width_));
+        const double tx = x1 > x0 ? double(x - x0) / double(x1 - x0) : 0.0, ty = y1 > y0 ? double(y - y0) / double(y1 - y0) : 0.0;
+        const std::array<std::pair<uint32_t, double>, 4> corners = {{
+            {static_cast<uint32_t>(y0 * width_ + x0), (1 - tx) * (1 - ty)},
+            {static_cast<uint32_t>(y0 * width_ + x1), tx * (1 - ty)},
+            {static_cast<uint32_t>(y1 * width_ + x0), (1 - tx) * ty},
+            {static_cast<uint32_t>(y1 * width_ + x1), tx * ty},
+        }};
+        double total = 0;
+        for (const auto& [q, wq] : corners)
+            if (q != p && wq > 0 && sampled(q)) total += wq;
+        if (!(total > 0)) continue;
+        for (size_t c = 0; c < channels; ++c) {
+            double v = 0;
+            for (const auto& [q, wq] : corners)
+                if (q != p && wq > 0 && sampled(q)) v += wq * static_cast<double>(src[q * channels + c]);
+            values[p * channels + c] = static_cast<float>(v / total);
+        }
+    }
+}
+
 }  // namespace crex

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace crex {
@@ -21,6 +22,12 @@ public:
     size_t rendered_count() const;
     /// Replaces every non-corner pixel of `rgb` (3 floats per pixel) by its interpolation.
     void fill(std::vector<float>& rgb) const;
+    /// Replaces each pixel without samples (`sampled(p)` false) by the bilinear interpolation of
+    /// those of its square's corners that have samples, their weights renormalised; a pixel
+    /// none of whose corners has any keeps its value. `values` holds the same number of floats
+    /// for every pixel. (A preview rendered at the corners only, whose other pixels the
+    /// selective stage fills, may be cut short by a budget: issue 34.)
+    void fill_unsampled(std::vector<float>& values, const std::function<bool(uint32_t)>& sampled) const;
     /// x0, y0, x1, y1 of the final square `pixel` lies in (its corners are rendered).
     std::array<uint16_t, 4> square(uint32_t pixel) const { return square_[pixel]; }
     int width() const { return width_; }

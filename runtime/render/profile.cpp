@@ -23,7 +23,8 @@ std::string Profile::to_json_text() const {
     return j.dump(2) + "\n";
 }
 
-std::string Profile::from_json_text(const std::string& text, Profile& out, double* full_render_seconds, const std::string& name) {
+std::string Profile::from_json_text(const std::string& text, Profile& out, double* full_render_seconds, const std::string& name,
+                                    StageCosts* stages) {
     const SourceFile file(name, text);
     auto at = [&](const SourceSpan& span, const std::string& what) { return format_location(span) + ": " + what; };
     if (text.find_first_not_of(" \t\r\n") == std::string::npos)
@@ -71,8 +72,24 @@ std::string Profile::from_json_text(const std::string& text, Profile& out, doubl
             if (!c) return at(doc.key_span(pointer), "seconds_per_ray: unknown component '" + key + "': expected camera, D, G, S, T, R or M");
             load(p.cost_[static_cast<size_t>(*c)], v);
         }
+    StageCosts st;
+    if (const auto* g = field("stages")) {
+        if (!g->is_object()) return at(doc.span("/stages"), "stages: expected an object of the pipeline's stage costs");
+        auto stage = [&](const char* key, double& v, const NumberRange& range) -> std::string {
+            if (!g->contains(key)) return "";
+            return number(std::string("/stages/") + key, g->at(key), range, v);
+        };
+        const NumberRange seconds{0, kMaxFullRenderSeconds, false}, count{0, 1e15, true};
+        double samples = 0, pixels = 0;
+        for (const std::string& e : {stage("preview_seconds", st.preview_seconds, seconds), stage("preview_samples", samples, count),
+                                     stage("guidance_seconds", st.guidance_seconds, seconds), stage("pixels", pixels, count)})
+            if (!e.empty()) return e;
+        st.preview_samples = static_cast<uint64_t>(samples);
+        st.pixels = static_cast<uint64_t>(pixels);
+    }
     out = p;
     if (full_render_seconds) *full_render_seconds = full;
+    if (stages) *stages = st;
     return "";
 }
 

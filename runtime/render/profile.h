@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -15,6 +16,17 @@
 #include "base/components.h"
 
 namespace crex {
+
+/// What a pipeline's fixed stages cost in the render a profile was saved from (issue 34): a
+/// budget schedules them too, so the preview is sized and a budget below the pipeline's floor
+/// refused from these. Zeros: unknown (a plain crex, or an older profile).
+struct StageCosts {
+    double preview_seconds = 0;    ///< the pre-selective stage
+    uint64_t preview_samples = 0;  ///< its camera samples
+    double guidance_seconds = 0;   ///< every round's maps
+    uint64_t pixels = 0;           ///< of the frame guidance ran on
+    bool known() const { return preview_samples > 0 && pixels > 0; }
+};
 
 class Profile {
 public:
@@ -30,10 +42,10 @@ public:
     /// JSON text of the profile; from_json_text reads it back. Returns "" on success, else why
     /// not, located ("p.json:3:26: ...") in a file named `name`. A saved profile may also hold
     /// the time of the full render it came from (budgets in %): into `full_render_seconds`
-    /// (0 when it holds none).
+    /// (0 when it holds none); and a pipeline's stage costs ("stages"): into `stages`.
     std::string to_json_text() const;
     static std::string from_json_text(const std::string& text, Profile& out, double* full_render_seconds = nullptr,
-                                      const std::string& name = "<profile>");
+                                      const std::string& name = "<profile>", StageCosts* stages = nullptr);
     /// The largest full_render_seconds a profile may hold (11.6 days, the longest budget).
     static constexpr double kMaxFullRenderSeconds = 1e6;
     /// Seconds per ray above this are no measurement (a ray of crex takes microseconds).
