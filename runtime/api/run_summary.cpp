@@ -236,7 +236,8 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
         for (const auto& sk : st.skipped)
             out << fmt::format("    skipped {} (predicted {:.3f} s, {:.3f} s left)\n", sk.what, sk.predicted, sk.remaining);
         if (f.piped && f.preview_stride > 1)
-            out << fmt::format("  the preview rendered every {}{} pixel within {:.0f} % of the budget; the selective stage the rest\n",
+            out << fmt::format("  the preview stopped at every {}{} pixel (finer levels only within {:.0f} % of the budget; the "
+                               "coarsest always runs); the selective stage renders the rest\n",
                                f.preview_stride, f.preview_stride == 2 ? "nd" : "th", 100 * kPreviewShare);
         if (f.below_floor)
             out << fmt::format("  budget BROKEN: {:.3f} s is below this pipeline's floor of {:.3f} s (--budget-floor ok)\n", f.budget,

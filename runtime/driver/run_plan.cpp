@@ -374,6 +374,29 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
         for (size_t c = 0; c < kComponentCount; ++c) std::swap(ex_->bins()[c], carried_[c]);
         run_selective();
         for (RayBatch& b : carried_) b = RayBatch();
+        // A strided preview's pixels go on coarse to fine over the whole image (every 4th,
+        // 2nd, then every pixel), so a budget that ends among them leaves a finer grid to
+        // interpolate, not rows at the top rendered and the rest at the preview's grid.
+        for (uint32_t filled = out_.preview_stride; out_.preview_grid && filled > 1 && !budget_.spent(now()) && !stopping();) {
+            const uint32_t stride = filled / 2;
+            SubsampleGrid grid(s_.width, s_.height, std::vector<double>(pixels, static_cast<double>(stride)));
+            SampleRanges level{0, s_.spp, std::vector<uint32_t>(pixels, 0), std::vector<uint32_t>(pixels, 0)};
+            for (uint32_t p = 0; p < pixels; ++p)
+                if (grid.rendered(p) && out_.film.samples(p) == 0 && !(out_.subsample && !out_.subsample->rendered(p)))
+                    level.end_of[p] = s_.spp;
+            const uint64_t left_out = out_.budget_stopped_samples;
+            run_samples("selective: the preview's pixels", level, [&] {
+                ex_->run_stage(plan_.program.preselective);
+                run_selective();
+            });
+            if (out_.budget_stopped_samples != left_out) {  // cut short: counted with the stage's own below
+                out_.budget_stopped_samples = left_out;
+                break;
+            }
+            filled = stride;
+            if (stride > 1) out_.preview_grid = std::move(grid);
+            else out_.preview_grid.reset();
+        }
     }
     SampleRanges ranges;
     ranges.start_of.resize(pixels);

@@ -112,7 +112,8 @@ TEST(StridedPreview, RendersTheCornersOnlyAndGuidanceSeesTheRestInterpolated) {
     const RunResult r = run_plan(scene, plan, s);
     const SubsampleGrid grid(33, 17, std::vector<double>(33 * 17, 4.0));
     EXPECT_EQ(r.preview_samples, grid.rendered_count());
-    ASSERT_TRUE(r.preview_grid);
+    EXPECT_EQ(r.preview_stride, 4u);
+    EXPECT_FALSE(r.preview_grid) << "every pixel was rendered: nothing is left to interpolate";
     // The preview guidance saw: every pixel between corners is the bilinear mix of its square's.
     std::vector<float> corners_only = r.preview;
     grid.fill(corners_only);
@@ -141,12 +142,22 @@ TEST(StridedPreview, UnderABudgetThePreviewGoesCoarseToFineWithinItsShare) {
         const RunResult r = run_plan(scene, plan, cut);
         EXPECT_EQ(r.preview_stride, stride) << share_of_preview;
         EXPECT_EQ(r.preview_samples, preview_samples_at(w, h, 1, stride));
-        EXPECT_EQ(r.preview_grid.has_value(), stride > 1);
         // Within its share, except the coarsest level, which always runs.
         if (stride < kCoarsestPreviewStride) {
             EXPECT_LE(r.preview_seconds, kPreviewShare * budget * 1.0001) << share_of_preview;
         }
         EXPECT_LE(r.render_seconds, 1.02 * budget) << share_of_preview;
+        if (share_of_preview == 0.02) {
+            // The selective stage went on coarse to fine over the whole image: every 4th pixel
+            // everywhere, and the budget ended among every 2nd, not at a row of the 8-grid.
+            ASSERT_TRUE(r.preview_grid);
+            const SubsampleGrid fourth(w, h, std::vector<double>(size_t{w} * h, 4.0));
+            for (uint32_t p = 0; p < r.film.pixel_count(); ++p) {
+                if (!fourth.rendered(p)) continue;
+                ASSERT_GE(r.film.samples(p), 1u) << p;
+            }
+            EXPECT_GT(r.budget_stopped_samples, 0u);
+        }
         // An image in every pixel: the ones the budget left without samples are interpolated.
         const std::vector<float> img = r.image();
         size_t dark = 0, full_dark = 0;
