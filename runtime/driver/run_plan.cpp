@@ -100,6 +100,12 @@ private:
         return [this](const std::vector<IcQuery>& q, std::vector<Vec3>& e) { group_.answer_queries(*cache_, q, e); };
     }
     void reanswer_preview_queries(const SelectiveSetup& sel);
+    // A level of a strided preview (preview_levels.h): the corners of `grid` with no sample
+    // yet, save the pixels a `subsample` variable interpolates; `samples` gets their count.
+    SampleRanges unsampled_corners(const SubsampleGrid& grid, uint64_t& samples) const;
+    SubsampleGrid preview_grid(uint32_t stride) const {
+        return SubsampleGrid(s_.width, s_.height, std::vector<double>(out_.film.pixel_count(), static_cast<double>(stride)));
+    }
     void redo_preview_direct_light(const SelectiveSetup& sel);
 
     // Distributed rendering: rows (and the cache's records) exchanged with the other processes,
@@ -275,38 +281,28 @@ void PlanRun::preview() {
     // a full one's, so no profile predicts it). capict tracks every pixel's branches from the
     // preview on, and processes sharing rows must agree on the grid: both render every pixel.
     const bool auto_stride = s_.preview_stride == 0 && budget_.budgeted() && bands_.empty();
-    const uint32_t fixed = s_.preview_stride == 0 ? 1 : s_.preview_stride;
-    std::vector<uint32_t> levels = auto_stride ? std::vector<uint32_t>{kCoarsestPreviewStride} : std::vector<uint32_t>{fixed};
+    std::vector<uint32_t> levels = {auto_stride ? kCoarsestPreviewStride : std::max<uint32_t>(1, s_.preview_stride)};
     while (auto_stride && levels.back() > 1) levels.push_back(levels.back() / 2);
     if (subsampled_components(plan_) != 0) levels = {1};
-    const size_t pixels = out_.film.pixel_count();
-    std::optional<SubsampleGrid> done;  // the grid whose corners have their samples
-    double per_sample = 0;
-    for (const uint32_t stride : levels) {
-        if (done) {
-            const uint64_t samples = preview_samples_at(s_.width, s_.height, s_.spp, stride) -
-                                     preview_samples_at(s_.width, s_.height, s_.spp, out_.preview_stride);
-            if (!budget_.fits(now(), 0) || now() + per_sample * static_cast<double>(samples) > kPreviewShare * s_.executor.budget_seconds)
-                break;
+    if (levels == std::vector<uint32_t>{1}) {  // every pixel
+        run_samples("pre-selective", {0, s_.spp, {}, {}}, carry);
+    } else {
+        double per_sample = 0;
+        for (size_t i = 0; i < levels.size() && !stopping(); ++i) {
+            SubsampleGrid grid = preview_grid(levels[i]);
+            uint64_t samples = 0;
+            const SampleRanges ranges = unsampled_corners(grid, samples);
+            if (i > 0 && now() + per_sample * static_cast<double>(samples) > kPreviewShare * s_.executor.budget_seconds) break;
+            const double t = now();
+            const uint64_t before = ex_->stats().camera.rays;
+            run_samples("pre-selective", ranges, carry);
+            const uint64_t traced = ex_->stats().camera.rays - before;
+            if (traced > 0) per_sample = (now() - t) / static_cast<double>(traced);
+            out_.preview_stride = levels[i];
+            if (levels[i] > 1) out_.preview_grid = std::move(grid);
+            else out_.preview_grid.reset();
         }
-        std::optional<SubsampleGrid> grid;
-        SampleRanges ranges{0, s_.spp, {}, {}};
-        if (stride > 1 || done) {
-            grid.emplace(s_.width, s_.height, std::vector<double>(pixels, static_cast<double>(stride)));
-            ranges.start_of.assign(pixels, 0);
-            ranges.end_of.resize(pixels);
-            for (uint32_t p = 0; p < pixels; ++p) ranges.end_of[p] = grid->rendered(p) && !(done && done->rendered(p)) ? s_.spp : 0;
-        }
-        const double t = now();
-        const uint64_t before = ex_->stats().camera.rays;
-        run_samples("pre-selective", ranges, carry);
-        const uint64_t traced = ex_->stats().camera.rays - before;
-        if (traced > 0) per_sample = (now() - t) / static_cast<double>(traced);
-        done = std::move(grid);
-        out_.preview_stride = stride;
-        if (stopping()) break;
     }
-    if (done && out_.preview_stride > 1) out_.preview_grid = std::move(done);
     // The preview's image: the rays it carries to the selective stage stand in as av (D's)
     // until they run. The stand-ins are shared with the film's rows, so that guidance sees the
     // same preview on every process (the stand-ins are still zero: the preview drops no ray,
@@ -378,14 +374,11 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
         // 2nd, then every pixel), so a budget that ends among them leaves a finer grid to
         // interpolate, not rows at the top rendered and the rest at the preview's grid.
         for (uint32_t filled = out_.preview_stride; out_.preview_grid && filled > 1 && !budget_.spent(now()) && !stopping();) {
-            const uint32_t stride = filled / 2;
-            SubsampleGrid grid(s_.width, s_.height, std::vector<double>(pixels, static_cast<double>(stride)));
-            SampleRanges level{0, s_.spp, std::vector<uint32_t>(pixels, 0), std::vector<uint32_t>(pixels, 0)};
-            for (uint32_t p = 0; p < pixels; ++p)
-                if (grid.rendered(p) && out_.film.samples(p) == 0 && !(out_.subsample && !out_.subsample->rendered(p)))
-                    level.end_of[p] = s_.spp;
+            filled /= 2;
+            SubsampleGrid grid = preview_grid(filled);
+            uint64_t samples = 0;
             const uint64_t left_out = out_.budget_stopped_samples;
-            run_samples("selective: the preview's pixels", level, [&] {
+            run_samples("selective: the preview's pixels", unsampled_corners(grid, samples), [&] {
                 ex_->run_stage(plan_.program.preselective);
                 run_selective();
             });
@@ -393,8 +386,7 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
                 out_.budget_stopped_samples = left_out;
                 break;
             }
-            filled = stride;
-            if (stride > 1) out_.preview_grid = std::move(grid);
+            if (filled > 1) out_.preview_grid = std::move(grid);
             else out_.preview_grid.reset();
         }
     }
@@ -403,12 +395,7 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
     ranges.end_of.resize(pixels);
     for (size_t p = 0; p < pixels; ++p) {
         ranges.start_of[p] = out_.film.samples(static_cast<uint32_t>(p));
-        // A pixel a strided preview left out gets at least the preview's samples (unless a
-        // `subsample` variable interpolates it).
-        const bool left_out = out_.preview_grid && !out_.preview_grid->rendered(static_cast<uint32_t>(p)) &&
-                              !(out_.subsample && !out_.subsample->rendered(static_cast<uint32_t>(p)));
-        const double base = left_out ? s_.spp : 0;
-        double target = sel.spp_end[p] <= s_.spp ? base : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
+        double target = sel.spp_end[p] <= s_.spp ? 0 : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
         ranges.end_of[p] = static_cast<uint32_t>(std::ceil(target - 1e-9));
     }
     last_stage_ = round == rounds;
@@ -668,6 +655,18 @@ void PlanRun::balance_bands(const SampleRanges& all_rows, bool worked_since_exch
     // Work done since the last exchange is in the old bands' rows: shared before they change.
     if (worked_since_exchange) share_with_other_processes(RowExchange::kNewBands, stand_ins_->ambient());
     bands_ = std::move(split);
+}
+
+SampleRanges PlanRun::unsampled_corners(const SubsampleGrid& grid, uint64_t& samples) const {
+    const size_t pixels = out_.film.pixel_count();
+    SampleRanges level{0, s_.spp, std::vector<uint32_t>(pixels, 0), std::vector<uint32_t>(pixels, 0)};
+    samples = 0;
+    for (uint32_t p = 0; p < pixels; ++p)
+        if (grid.rendered(p) && out_.film.samples(p) == 0 && !(out_.subsample && !out_.subsample->rendered(p))) {
+            level.end_of[p] = s_.spp;
+            samples += s_.spp;
+        }
+    return level;
 }
 
 void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
