@@ -434,7 +434,7 @@ def print_tables(name, size, ref_text, uniform, rows):
 def why_slower(r, uniform):
     """Why a pipeline is slower than uniform rendering at its FLIP, from what was measured:
     its renderer at full quality (gold) against uniform at gold's FLIP, and its preview's time
-    against uniform's whole render. Empty at 1x or above."""
+    against uniform's whole render. At 1x or above, only a floor effect (floor_effect) or nothing."""
     eq, t, c = r["uniform_seconds_at_flip"], r["seconds"], r["vs_reference"]
     floor = floor_effect(r, uniform)
     if eq is not None and eq[0] / t >= 1:
