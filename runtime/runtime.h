@@ -16,6 +16,7 @@
 
 #include "base/render_text.h"
 #include "compiler/compiler.h"
+#include "runtime/api/equal_time.h"
 #include "runtime/api/resume.h"
 #include "runtime/api/run.h"
 #include "runtime/api/run_inputs.h"

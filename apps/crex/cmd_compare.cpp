@@ -13,12 +13,12 @@
 #include "apps/crex/commands.h"
 #include "base/exit_codes.h"
 #include "runtime/base/output_folder.h"
+#include "runtime/api/equal_time.h"
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/image_comparison.h"
 #include "runtime/metrics/metrics.h"
 #include "runtime/reference/windowed_image.h"
-#include "stdlib/guidance/operators.h"
 
 namespace crex::app {
 namespace {
@@ -27,11 +27,7 @@ namespace {
 // displayed, or a map from a file (a task map written by `crex run --maps`; its first channel).
 std::string attention_weights(const std::string& source, const metrics::Image& reference_display, std::vector<float>& weights) {
     if (source == "saliency") {
-        guidance::Raster rgb(reference_display.width, reference_display.height, 3);
-        rgb.v = reference_display.rgb;
-        weights = guidance::saliency(rgb).v;
-        // A featureless reference draws the eye nowhere in particular: every pixel counts alike.
-        if (std::none_of(weights.begin(), weights.end(), [](float w) { return w > 0; })) std::fill(weights.begin(), weights.end(), 1.0f);
+        weights = saliency_weights(reference_display);
         return "";
     }
     int w = 0, h = 0;

@@ -88,6 +88,9 @@ Runner add_run_command(CLI::App& app) {
         ->allow_extra_args(false);
     cmd->add_flag("--compare-policies", opt->compare_policies, "Under a budget with a reference: render again under every other "
                                                                "--policy and plot all their errors against time in the report");
+    cmd->add_flag("--equal-time", opt->equal_time, "A pipeline with a reference: render uniformly (the default crex) in the pipeline's "
+                                                   "render time and score both against the reference (FLIP, and aFLIP by the pipeline's "
+                                                   "task map, else the reference's saliency); the report shows them side by side");
     cmd->add_option("--policy", opt->policy,
                     "How a budget is spent: tasks (whole components, thesis 5.4), batches (rays by pixel importance, 5.5), "
                     "queues (8.3: the next batch from the component whose rays bring the most light per second), progressive (whole passes); default: the pipeline's, else tasks for a "

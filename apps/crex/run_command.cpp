@@ -40,7 +40,7 @@ struct Request {
     RunFiles files;         // the flags' outputs; the plan's apply where none was given
     std::string reference;  // --reference: a path or "auto" ("": the plan's)
     std::string resume;     // --resume: a partial image to finish
-    bool compare_policies = false;
+    bool compare_policies = false, equal_time = false;
     std::string budget;     // --budget as given, for what is said about it
     std::string format;     // of the summary: text or json
     bool quiet = false, verbose = false;
@@ -123,6 +123,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.reference = f.reference;
     r.resume = f.resume;
     r.compare_policies = f.compare_policies;
+    r.equal_time = f.equal_time;
     r.budget = f.budget;
     r.format = f.format;
     r.quiet = f.quiet, r.verbose = f.verbose && !f.quiet;
@@ -147,7 +148,8 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.sequence.plan_file = f.plan;
     if (!f.camera_path.empty()) {
         for (const auto& [given, flag] : {std::pair{!f.view.empty(), "--view"}, std::pair{!f.resume.empty(), "--resume"},
-                                          std::pair{f.compare_policies, "--compare-policies"}, std::pair{!f.report_dir.empty(), "--report"},
+                                          std::pair{f.compare_policies, "--compare-policies"}, std::pair{f.equal_time, "--equal-time"},
+                                          std::pair{!f.report_dir.empty(), "--report"},
                                           std::pair{!f.maps_dir.empty(), "--maps"}, std::pair{!f.reference.empty(), "--reference"},
                                           std::pair{!f.profile_out.empty(), "--save-profile"}})
             if (given)
@@ -321,7 +323,8 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
             return refuse("cannot resume a run with --report and --reference: the error curve of a resumed run would measure rows "
                           "it did not render",
                           kExitUsage);
-        if (r.compare_policies) return refuse("cannot resume a run with --compare-policies", kExitUsage);
+        if (r.compare_policies || r.equal_time)
+            return refuse(fmt::format("cannot resume a run with {}", r.equal_time ? "--equal-time" : "--compare-policies"), kExitUsage);
         ResumeLoad load = load_resume(r.resume, in.scene_spec, in.plan, s);
         if (!load.rows) return refuse(load.error, load.io ? kExitFailure : load.bad_file ? kExitInputErrors : kExitUsage);
         r.options.final_rows = load.rows->final_rows;
@@ -330,6 +333,11 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     if (r.compare_policies && (!(run->budget_seconds > 0) || !lead.reference.image)) {
         std::cerr << "crex run: error: --compare-policies needs a budget (--budget or the pipeline's) and a reference "
                      "(--reference, or --report with a cached reference)\n";
+        return kExitUsage;
+    }
+    if (r.equal_time && (!in.plan.staged || !lead.reference.image)) {
+        std::cerr << "crex run: error: --equal-time needs a pipeline (a .pipe file or its kept plan) and a reference (--reference, "
+                     "the pipeline's, or --report with a cached reference)\n";
         return kExitUsage;
     }
     return kExitOk;
@@ -435,9 +443,9 @@ int run_request(Request& r) {
         if (group->leads()) std::cerr << "crex run: error: under mpirun, --camera-path is not supported yet: render the frames in one process\n";
         return kExitUsage;
     }
-    if (group->distributed() && (r.compare_policies || !r.resume.empty())) {  // every rank refuses alike; the lead says so
+    if (group->distributed() && (r.compare_policies || r.equal_time || !r.resume.empty())) {  // every rank refuses alike; the lead says so
         if (group->leads())
-            std::cerr << (r.compare_policies ? "crex run: error: under mpirun, --compare-policies is not supported yet\n"
+            std::cerr << (r.resume.empty() ? "crex run: error: under mpirun, --compare-policies and --equal-time are not supported yet\n"
                                              : "crex run: error: under mpirun, --resume is not supported yet: resume in one process "
                                                "(the same command without mpirun)\n");
         return kExitUsage;
@@ -496,6 +504,11 @@ int run_request(Request& r) {
             return kExitFailure;
         }
     }
+    if (r.equal_time) {  // uniform rendering given the pipeline's time, scored beside it when the files are written
+        if (!quiet && r.format != "json")
+            std::cerr << fmt::format("crex run: rendering uniformly in the same time ({:.2f} s)\n", out.result->render_seconds);
+        record.equal_time = render_uniform_in_equal_time(*in.scene->scene, out.run.settings, out.result->render_seconds);
+    }
     say_notes(*out.result);
     if (lead.resumed) say_resumed(*lead.resumed, out.run.settings, *out.result, std::cerr);
     for (const auto& w : out.result->warnings) std::cerr << w << "\n";
@@ -509,6 +522,7 @@ int run_request(Request& r) {
         return kExitOk;
     }
     if (!r.quiet) print_run_summary(run_facts(r.files, record, &written), std::cout);
+    if (!r.quiet && written.summary.contains("equal_time")) print_equal_time(written.summary["equal_time"], std::cout);
     return kExitOk;
 }
 

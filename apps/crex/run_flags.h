@@ -41,6 +41,7 @@ struct RunFlags {
     std::string budget;
     bool no_budget = false;
     bool compare_policies = false;
+    bool equal_time = false;
     std::string ic_share = "component";  ///< under mpirun with a cache: none, central, broadcast or component
     double rank_timeout = 600;  ///< under mpirun: seconds a rank waits for another before the run is aborted
     std::string resume;  ///< --resume NAME.partial.exr: render only the rows that file does not hold

@@ -186,6 +186,14 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
     }
 
     written.summary = run_summary_json(run_facts(where, record, &written));  // --format json's, and the report's
+    std::optional<EqualTimeScore> equal;  // --equal-time: both images scored, as a viewer sees them
+    if (record.equal_time && record.reference) {
+        std::string attention;
+        const metrics::DisplayView view{true, display_exposure(record.reference->rgb)};
+        const std::vector<float> weights = equal_time_attention(in.plan, result.maps, *record.reference, view, attention);
+        equal = score_equal_time(layers.front().rgb, *record.equal_time, *record.reference, weights, attention);
+        written.summary["equal_time"] = equal_time_json(*record.equal_time, *equal);
+    }
     if (record.checkpoints) {
         RunReport report;
         if (!where.report_dir.empty()) {  // replaced whole: no picture of an earlier run stays
@@ -213,6 +221,14 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
                 report.images.push_back({"component " + aov_name(a), std::move(aov)});
         }
         report.maps = result.maps;
+        if (equal)
+            report.equal_time = RunReport::EqualTime{
+                fmt::format("pipeline {}, {:.3f} s", in.plan.name, result.render_seconds),
+                fmt::format("uniform {}, {:.3f} s, {:.1f} spp", record.equal_time->crex, record.equal_time->render_seconds,
+                            record.equal_time->mean_spp),
+                fmt::format("Uniform rendering (crex {}{}) had the pipeline's render time as its budget. aFLIP weighs each pixel's FLIP by {}.",
+                            record.equal_time->crex, record.equal_time->irradiance_cache ? ", through the cache" : "", equal->attention),
+                layers.front().rgb, record.equal_time->image, equal->pipeline.flip_map, equal->uniform.flip_map};
         report.pictures = staged_pictures.written;
         report.picture_scales = staged_pictures.heat_scale;
         if (in.plan.staged) {

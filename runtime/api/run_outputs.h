@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/api/equal_time.h"
 #include "runtime/api/resume.h"
 #include "runtime/api/run.h"
 #include "runtime/api/run_inputs.h"
@@ -43,6 +44,7 @@ struct RunRecord {
     std::optional<metrics::Image> reference;      ///< the error curve's
     std::string reference_path;
     std::vector<PolicyRun> other_policies;        ///< the same render under other policies
+    std::optional<EqualTimeRun> equal_time;       ///< uniform rendering in the same time (--equal-time)
     const ResumedRows* resumed = nullptr;         ///< rows taken from a partial image
     int64_t frame = -1;                           ///< a frame of a sequence (frame_sequence.h): its number; -1 none
 };

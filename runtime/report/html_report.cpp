@@ -81,6 +81,7 @@ body { font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #202124; 
 h1 { font-size: 20px; } h2 { font-size: 16px; margin-top: 28px; }
 table { border-collapse: collapse; } td, th { border: 1px solid #ddd; padding: 4px 10px; text-align: left; }
 .images { display: flex; flex-wrap: wrap; gap: 16px; }
+.pair { display: grid; grid-template-columns: repeat(2, max-content); gap: 16px; }
 figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
 .scale { display: flex; align-items: center; gap: 6px; font-size: 11px; color: #555; margin: 2px 0; }
 .ramp { flex: 1; height: 10px; border: 1px solid #ccc; }
@@ -95,14 +96,14 @@ img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
     if (!page.plot_svg.empty()) html += "<h2>Error against time</h2>\n<div class=\"plot\">\n" + inline_svg(page.plot_svg) + "</div>\n";
     if (!page.policy_plot_svg.empty())
         html += "<h2>Every budget policy, same budget</h2>\n<div class=\"plot\">\n" + inline_svg(page.policy_plot_svg) + "</div>\n";
-    html += "<h2>Images</h2>\n<div class=\"images\">\n";
-    for (const auto& img : page.images) {
+    // One picture with its caption and, for a heat map, its colour bar; false if unreadable.
+    auto figure = [&](const ReportImage& img) {
         std::ifstream in(img.png_path, std::ios::binary);
         std::stringstream bytes;
         bytes << in.rdbuf();
         if (!in) {
             error = "cannot read " + img.png_path + " for the report";
-            return "";
+            return false;
         }
         std::string bar;
         if (img.scale)
@@ -111,7 +112,17 @@ img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
                               img.scale->unit.empty() ? "" : " " + escape(img.scale->unit));
         html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\">{2}<figcaption>{0}</figcaption></figure>\n",
                             escape(img.title), base64(bytes.str()), bar);
+        return true;
+    };
+    if (!page.equal_time.empty()) {
+        html += "<h2>Equal time: the pipeline beside uniform rendering</h2>\n<p>" + escape(page.equal_time_note) + "</p>\n<div class=\"pair\">\n";
+        for (const auto& img : page.equal_time)
+            if (!figure(img)) return "";
+        html += "</div>\n";
     }
+    html += "<h2>Images</h2>\n<div class=\"images\">\n";
+    for (const auto& img : page.images)
+        if (!figure(img)) return "";
     html += "</div>\n<h2>Plan</h2>\n<div class=\"plan\">\n";
     html += page.plan_svg.empty() ? "<pre>" + escape(page.plan_dot) + "</pre>\n" : inline_svg(page.plan_svg);
     html += "</div>\n</body>\n</html>\n";

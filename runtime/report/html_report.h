@@ -33,6 +33,10 @@ struct ReportPage {
     std::string plan_svg;  ///< Graphviz's SVG of the plan, or "" to show plan_dot as text
     std::string plan_dot;
     std::vector<ReportImage> images;
+    /// `crex run --equal-time`: the pipeline and uniform rendering in the same time, and their
+    /// FLIP maps, two a row (pipeline left); `equal_time_note` says what was compared.
+    std::vector<ReportImage> equal_time;
+    std::string equal_time_note;
 };
 
 /// In the head of every report page: a folder whose index.html carries it is a crex report,

@@ -112,6 +112,23 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
         if (std::string e = write_image(path, r.width, r.height, {{"", to_display(rgb, *exposure), true}}); !e.empty()) return e;
         page.images.push_back({title, path, std::nullopt});
     }
+    // --equal-time: the two images in one exposure, and where each differs from the reference.
+    if (const auto& e = r.equal_time) {
+        page.equal_time_note = e->note;
+        auto add = [&](const std::string& title, const std::string& file, const std::vector<float>& rgb) {
+            std::string path = (fs::path(r.dir) / "images" / file).string();
+            std::string err = write_image(path, r.width, r.height, {{"", rgb, true}});
+            page.equal_time.push_back({title, path, std::nullopt});
+            return err;
+        };
+        auto heat = [](const std::vector<float>& flip) { return heat_colours(std::vector<double>(flip.begin(), flip.end()), 1.0); };
+        for (std::string e2 : {add(e->pipeline_title, "equal_time_pipeline.png", to_display(e->pipeline, *exposure)),
+                               add(e->uniform_title, "equal_time_uniform.png", to_display(e->uniform, *exposure)),
+                               add("FLIP of the pipeline against the reference", "equal_time_pipeline_flip.png", heat(e->pipeline_flip)),
+                               add("FLIP of uniform rendering against the reference", "equal_time_uniform_flip.png", heat(e->uniform_flip))})
+            if (!e2.empty()) return e2;
+        for (size_t i = 2; i < 4; ++i) page.equal_time[i].scale = ColourScale{0, 1, heat_css_gradient(), ""};
+    }
     // Where the final image differs from the reference, as a viewer sees it.
     if (r.reference && !r.images.empty() && r.images.front().first == "final image") {
         metrics::Image final_image{r.width, r.height, r.images.front().second};
@@ -167,6 +184,17 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
         row("display", r.view.describe());
     } else {
         row("reference", "none: no error curve (give --reference FILE, or make one with 'crex reference' and use --reference auto)");
+    }
+    if (s.contains("equal_time")) {
+        const auto& e = s["equal_time"];
+        auto figures = [](const nlohmann::json& x) {
+            return fmt::format("FLIP {:.4f}{}", x["flip"].get<double>(),
+                               x["aflip"].is_null() ? "" : fmt::format(", aFLIP {:.4f}", x["aflip"].get<double>()));
+        };
+        row("equal time", fmt::format("{:.3f} s each; aFLIP weighted by {}", e["seconds"].get<double>(), e["attention"].get<std::string>()));
+        row("equal time: pipeline", figures(e["pipeline"]));
+        row("equal time: uniform", fmt::format("{} (crex {}, {:.1f} spp on average)", figures(e["uniform"]), e["uniform"]["crex"].get<std::string>(),
+                                   e["uniform"]["spp"]["mean"].get<double>()));
     }
     page.plot_svg = plot;
     std::string html = render_report_html(page, error);

@@ -36,6 +36,13 @@ struct RunReport {
     std::string policy;  ///< the budget policy this run used
     /// The same render under the other policies: drawn with this one on one plot.
     std::vector<std::pair<std::string, const std::vector<Checkpoint>*>> other_policies;
+    /// `--equal-time`: the pipeline's image and uniform rendering's in the same time (linear
+    /// RGB), with their FLIP maps against the reference; shown as a pair, `note` above them.
+    struct EqualTime {
+        std::string pipeline_title, uniform_title, note;
+        std::vector<float> pipeline, uniform, pipeline_flip, uniform_flip;
+    };
+    std::optional<EqualTime> equal_time;
 };
 
 /// "" when `dir` may become a report, replacing what it holds: it does not exist, is an empty

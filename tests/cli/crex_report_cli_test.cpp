@@ -177,6 +177,41 @@ TEST(ReferenceCli, AnExistingOutputIsReusedOnlyWhenItIsThisReference) {
     fs::remove_all(dir);
 }
 
+// --equal-time (issue 38): uniform rendering gets the pipeline's render time, both are scored
+// against the reference with the pipeline's task map as attention, and the report shows the pair.
+TEST_F(ReportCli, EqualTimeScoresThePipelineBesideUniformRendering) {
+    const std::string scene = CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json";
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/sel_task.pipe";
+    ASSERT_EQ(crex_cli({"run", "--scene", scene, "--size", "40x24", "--spp", "64", "-o", path("ref.exr"), "-q"}).exit_code, 0);
+    auto r = crex_cli({"run", pipe, "--scene", scene, "--size", "40x24", "--no-budget", "--reference", path("ref.exr"), "--equal-time",
+                       "--report", path("rep"), "-o", path("sel.exr"), "--format", "json", "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("equal_time")) << r.out.substr(0, 400);
+    const auto& e = j["equal_time"];
+    EXPECT_EQ(e["seconds"].get<double>(), j["render_seconds"].get<double>());  // the budget is the pipeline's time
+    EXPECT_NE(e["attention"].get<std::string>().find("task map 'task'"), std::string::npos) << e.dump();
+    // The pipeline's figure is its final image's: the error curve ends on it.
+    EXPECT_DOUBLE_EQ(e["pipeline"]["flip"].get<double>(), j["error_curve"].back()["flip"].get<double>());
+    EXPECT_GE(e["uniform"]["spp"]["min"].get<int>(), 1);
+    // The task pipeline spends its samples where the task map is high, uniform rendering does
+    // not: measured with the task map's weights, the pipeline's error shrinks against its plain
+    // FLIP much more than uniform rendering's (measured ratios: 0.51 against 0.93).
+    const double pipeline_ratio = e["pipeline"]["aflip"].get<double>() / e["pipeline"]["flip"].get<double>();
+    const double uniform_ratio = e["uniform"]["aflip"].get<double>() / e["uniform"]["flip"].get<double>();
+    EXPECT_LT(pipeline_ratio, 0.8 * uniform_ratio) << e.dump();
+    for (const char* png : {"equal_time_pipeline.png", "equal_time_uniform.png", "equal_time_pipeline_flip.png", "equal_time_uniform_flip.png"})
+        EXPECT_TRUE(fs::exists(dir_ / "rep" / "images" / png)) << png;
+    EXPECT_NE(slurp(dir_ / "rep" / "index.html").find("Equal time: the pipeline beside uniform rendering"), std::string::npos);
+    // Nothing to compare against, or nothing selective to compare: usage errors, before rendering.
+    auto no_reference = crex_cli({"run", pipe, "--scene", scene, "--size", "40x24", "--equal-time", "-o", path("x.exr"), "-q"});
+    EXPECT_EQ(no_reference.exit_code, 2);
+    EXPECT_NE(no_reference.err.find("--equal-time needs a pipeline"), std::string::npos) << no_reference.err;
+    auto plain = crex_cli({"run", "--scene", scene, "--size", "40x24", "--reference", path("ref.exr"), "--equal-time", "-o", path("y.exr"), "-q"});
+    EXPECT_EQ(plain.exit_code, 2);
+    EXPECT_FALSE(fs::exists(path("x.exr")) || fs::exists(path("y.exr")));
+}
+
 // A budgeted run's report with --compare-policies: the same render under every policy, all
 // their errors against time on one plot (issue 15).
 TEST(PolicyReportCli, EveryPolicyOnOnePlot) {
