@@ -129,8 +129,8 @@ Runner add_run_command(CLI::App& app) {
         ->capture_default_str()
         ->check(number_in(0.0, 1e6));
     cmd->add_option("--caustic-photons", opt->caustic_photons,
-                    "Photons aimed at mirrors, glass and dielectrics for the cache's caustics (0: the records' hemisphere rays "
-                    "find them, noisily)")
+                    "Photons aimed at mirrors, glass and dielectrics for a caustic map: the light of lamps through them onto "
+                    "diffuse surfaces, for the cache and for path tracing alike (0: found by rays, with fireflies)")
         ->capture_default_str()
         ->check(whole_number_in(0, 20000000));
     cmd->add_option("--ic-file", opt->ic_file, "Load the irradiance cache from FILE if it exists, save it there after the render (implies --ic)");

@@ -445,7 +445,8 @@ int run_request(Request& r) {
     }
     if (group->distributed() && (r.compare_policies || r.equal_time || !r.resume.empty())) {  // every rank refuses alike; the lead says so
         if (group->leads())
-            std::cerr << (r.resume.empty() ? "crex run: error: under mpirun, --compare-policies and --equal-time are not supported yet\n"
+            std::cerr << (r.resume.empty() ? fmt::format("crex run: error: under mpirun, {} is not supported yet\n",
+                                                         r.compare_policies ? "--compare-policies" : "--equal-time")
                                              : "crex run: error: under mpirun, --resume is not supported yet: resume in one process "
                                                "(the same command without mpirun)\n");
         return kExitUsage;

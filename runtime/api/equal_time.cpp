@@ -44,6 +44,7 @@ EqualTimeRun render_uniform_in_equal_time(const Scene& scene, const RunSettings&
     s.max_memory = pipeline.max_memory;
     s.pass_samples = pipeline.pass_samples;
     s.texture_filter_width = pipeline.texture_filter_width;
+    s.caustic_photons = pipeline.caustic_photons;
     out.irradiance_cache = s.irradiance_cache.has_value();
     out.budget_seconds = seconds;
 

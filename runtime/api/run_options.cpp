@@ -72,6 +72,7 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
     rs.rounds = o.rounds.value_or(0);  // 0: the plan's rounds, else 1 (run_plan.h)
     rs.uniform = o.uniform;
     rs.final_rows = o.final_rows;
+    rs.caustic_photons = o.caustic_photons;
     if (o.policy) rs.policy = *o.policy;
 
     // The budget, and the profile it is predicted from.

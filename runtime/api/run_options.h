@@ -75,7 +75,7 @@ struct RunOptions {
     uint32_t pass_samples = 0;
     bool irradiance_cache = false;              ///< D through the cache even when the plan has none
     double ar = 128;
-    uint32_t caustic_photons = 200000;
+    uint32_t caustic_photons = 200000;         ///< the caustic map's (RunSettings::caustic_photons); 0: none
     std::string ic_file;                        ///< load the cache from it, save it there (implies the cache)
     std::optional<std::string> ic_file_bytes;   ///< `ic_file` read already (the lead process read it)
     std::optional<ProfileInput> profile;        ///< what a budget is predicted from

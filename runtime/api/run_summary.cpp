@@ -201,7 +201,7 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
         out << fmt::format("rendered {} with {} at {}x{}, {} spp\n", f.scene, sched::to_crex(*f.program), f.width,
                            f.height, f.spp);
     }
-    out << fmt::format("  scene load {:.3f} s, BVH build {:.3f} s, render {:.3f} s ({:.2f} M rays/s) in {} sample pass{}\n",
+    out << fmt::format("  scene load {:.3f} s, setup (BVH, caustic map) {:.3f} s, render {:.3f} s ({:.2f} M rays/s) in {} sample pass{}\n",
                        f.load_seconds, r.setup_seconds, r.render_seconds,
                        r.render_seconds > 0 ? total_rays(st) / 1e6 / r.render_seconds : 0.0, r.passes, r.passes == 1 ? "" : "es");
     if (f.piped) {

@@ -73,6 +73,11 @@ struct RunSettings {
     /// last round's selective samples; the preview and earlier rounds are rendered whole, since
     /// guidance sees the whole image). Those rows of the result are the caller's to replace.
     std::vector<char> final_rows;
+    /// Without an irradiance cache: photons for a caustic map (runtime/cache/caustic_photons.h)
+    /// that gives the light of paths L S+ D at diffuse hits, instead of D rays that find a lamp
+    /// through mirrors and glass (fireflies); used when the plan executes D rays and the scene
+    /// has mirrors, glass or trans surfaces. 0: those paths are path traced.
+    uint32_t caustic_photons = 0;
 };
 
 /// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot

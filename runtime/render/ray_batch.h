@@ -25,6 +25,10 @@ enum RayFlags : uint8_t {
     /// from one (a reflection in a mirror, the floor through glass). Direct light there takes
     /// the pixel's shadow rays; deeper hits take one (shadow_rays_at).
     kRaySeenByCamera = 0x40,
+    /// Left a diffuse lobe and has passed only S, T, R or M lobes since, in a render whose
+    /// caustics come from a photon map (ShadeParams::caustic_irradiance): a `light` emitter it
+    /// reaches is light the map gave at the diffuse hit it left, so it brings nothing here.
+    kRayCausticPath = 0x80,
 };
 inline constexpr unsigned kRayBranchShift = 3;
 

@@ -17,10 +17,18 @@ namespace crex {
 // bounded and the estimate unbiased.
 constexpr double kMinWeightLimit = 1e-4;
 
+// Beyond the camera's own hits the caustic map answers one diffuse lobe in this many, its
+// answer weighted up as much (unbiased): each answer is a nearest-neighbour search, and at
+// every hit they made a default render 2.5 times slower. The map's answer is smooth, so the
+// extra variance is small beside the fireflies it replaces; at camera hits, where a caustic
+// is seen sharp, every lobe asks.
+constexpr double kDeepCausticLookups = 0.25;
+
 int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
                    const ShadeParams& params, SpawnScratch& scratch) {
     const std::array<Lobe, kMaxLobes>& lobes = scratch.lobes;
     int n = scatter(b, f, random, scratch.lobes);
+    scratch.caustic = {};
     if (ray.depth + 1u > params.max_depth) {  // what the children would have carried is left out
         for (int l = 0; l < n; ++l) {
             const Vec3 beta = ray.beta * lobes[static_cast<size_t>(l)].weight;
@@ -37,6 +45,14 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         if (st > 0 && (lobe.component == Component::kS || lobe.component == Component::kG) && max_component(lobe.weight) < st)
             continue;
         Vec3 beta = ray.beta * lobe.weight;
+        // The caustic map's light at this diffuse lobe, whatever becomes of its ray below: the
+        // map's estimate stands for every path L S+ D through it (kRayCausticPath).
+        const bool photon_caustics = params.caustic_irradiance && !params.ic_queries;
+        if (photon_caustics && lobe.component == Component::kD && is_finite(beta)) {
+            const double asked = ray.depth == 0 ? 1.0 : kDeepCausticLookups;
+            if (asked >= 1 || random(RandomUse::kCausticLookup, static_cast<uint32_t>(l)) < asked)
+                scratch.caustic += beta * params.caustic_irradiance(f.position, lobe.transmits ? -f.shading : f.shading) * (kInvPi / asked);
+        }
         double mx = max_component(beta);
         if (!(mx > 0) || !is_finite(beta)) continue;
         if (mx < weight_limit) {
@@ -61,8 +77,9 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
             c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
             c.direction = lobe.direction;
             const bool seen = lobe.delta && (ray.depth == 0 || (ray.flags & kRaySeenByCamera));
+            const bool caustic_path = photon_caustics && (lobe.component == Component::kD || (lobe.delta && (ray.flags & kRayCausticPath)));
             c.flags = static_cast<uint8_t>((lobe.delta ? kRayFromDeltaLobe : 0) | (seen ? kRaySeenByCamera : 0) | (ray.flags & kRayOddSample) |
-                                           branch);
+                                           (caustic_path ? kRayCausticPath : 0) | branch);
         }
         c.beta = beta;
         c.pixel = ray.pixel;
@@ -341,7 +358,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 Bsdf textured;
                 const Bsdf& b = surface_at(scene, h.hit, f, textured);
                 const HitRandom random(ray.path, ray.depth);
-                Vec3 c = b.emits ? ray.beta * emitted(b, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
+                // A `light` reached along a caustic path is the photon map's, given at the diffuse hit.
+                const bool photons_gave_it = (ray.flags & kRayCausticPath) && b.type == MaterialType::kLight;
+                Vec3 c = b.emits && !photons_gave_it ? ray.beta * emitted(b, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
                 out.contribution[i] = is_finite(c) ? c : Vec3{};
                 if (camera) out.emission[i] = out.contribution[i];
                 if (lights && b.direct_response) {
@@ -358,6 +377,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     }
                 }
                 int spawned = spawn_children(b, f, ray, random, eps, params, spawn);
+                if (is_finite(spawn.caustic)) out.contribution[i] += spawn.caustic;
                 for (size_t l = 0; l < static_cast<size_t>(spawned); ++l)
                     spawned_rays[static_cast<size_t>(spawn.components[l])].push_back(spawn.children[l]);
             }

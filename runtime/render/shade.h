@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "runtime/render/bsdf.h"
@@ -37,6 +38,12 @@ struct ShadeParams {
     /// per-pixel table, its maximum.
     uint32_t media_samples = 1;
     const std::vector<uint16_t>* media_samples_per_pixel = nullptr;  ///< each <= media_samples
+    /// Path tracing without the cache: the caustic photon map's irradiance at a point, on the
+    /// side a unit normal points to (runtime/cache/caustic_photons.h). Set, a hit's diffuse lobe
+    /// adds the light of paths L S+ D from the map, and its D ray reaching a `light` emitter
+    /// through mirrors and glass alone brings nothing (kRayCausticPath): those rare rays onto a
+    /// small lamp's image were the fireflies of a default render. Unset: path traced.
+    std::function<Vec3(const Vec3&, const Vec3&)> caustic_irradiance;
 };
 
 /// Shadow rays for the direct light at a hit of a ray of `pixel` with `flags`: the pixel's
@@ -158,6 +165,9 @@ struct SpawnScratch {
     /// not spawned, summed over the hits shaded with this scratch: past max_depth, and below
     /// lw without roulette (roulette's ends are unbiased: the survivors carry their weight).
     double cut_by_depth = 0, cut_by_weight = 0;
+    /// The hit's light of paths L S+ D from the caustic map (ShadeParams::caustic_irradiance),
+    /// set by each call: its diffuse lobes' weight times the irradiance over pi.
+    Vec3 caustic;
 };
 
 /// Spawns the children of one hit into `out.children` (at most kMaxLobes); returns how many,

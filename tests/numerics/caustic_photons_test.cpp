@@ -258,5 +258,34 @@ TEST(IrradianceCache, AFileMadeWithoutTheCausticMapIsRefusedByOneWithIt) {
     std::filesystem::remove(path);
 }
 
+// Path tracing without the cache takes the same map (RunSettings::caustic_photons): a ceiling
+// lit only by a lamp's image in a mirror comes out as bright as path tracing makes it (counted
+// once: the D rays that find the image through the mirror bring nothing), and at 16 spp without
+// the fireflies of the rare D rays that do find it.
+TEST(CausticPhotons, PathTracingTakesAMirrorsCausticFromTheMap) {
+    Scene s = mirror_under_lamp();
+    s.camera.position = {0, 1.5, 1.5};  // above the lamp's dark back, looking up at the ceiling
+    s.camera.direction = {0, 1, -0.6};
+    s.camera.vfov_deg = 70;
+    auto rendered = [&](uint32_t photons, uint32_t spp) {
+        RunSettings o;
+        o.width = o.height = 16;
+        o.spp = spp;
+        o.caustic_photons = photons;
+        return render(s, testing::lower_or_die("(TTMRSGD)*"), o).image();
+    };
+    // 4096 spp: about 800 D rays find the image over the frame, so its mean is within 4 %.
+    const std::vector<float> traced = rendered(0, 4096), mapped = rendered(200000, 16), traced16 = rendered(0, 16);
+    const double truth = testing::mean_luminance(traced);
+    ASSERT_GT(truth, 0.0);
+    EXPECT_NEAR(testing::mean_luminance(mapped), truth, 0.12 * truth);  // counted twice, it would be twice as bright
+    auto rms_from_traced = [&](const std::vector<float>& img) {
+        double sum = 0;
+        for (size_t i = 0; i < img.size(); ++i) sum += (img[i] - traced[i]) * (img[i] - traced[i]);
+        return std::sqrt(sum / static_cast<double>(img.size()));
+    };
+    EXPECT_LT(rms_from_traced(mapped), 0.5 * rms_from_traced(traced16));
+}
+
 }  // namespace
 }  // namespace crex
