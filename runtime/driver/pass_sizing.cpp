@@ -87,10 +87,21 @@ size_t pass_bytes(size_t fixed, size_t held, const RenderScene& scene, int width
     return max_memory > used + row ? max_memory - used : row;
 }
 
-StagePasses::StagePasses(int width, int height, const SampleRanges& ranges, PassLimits limits, bool budgeted, uint32_t pass_samples)
+uint32_t progressive_pass_samples(const SampleRanges& frame) {
+    // Sized on where the samples end, which every process of a group knows alike (the targets
+    // guidance set from the whole image), not on where they start: a process's film holds the
+    // samples of its own rows only, and a size it alone saw would split its passes differently
+    // from one process's and change the order of a pixel's sums.
+    uint32_t deepest = frame.end_of.empty() ? frame.end : 0;
+    for (uint32_t stop : frame.end_of) deepest = std::max(deepest, stop);
+    return deepest > 1 ? (deepest + kProgressivePasses - 1) / kProgressivePasses : 0;
+}
+
+StagePasses::StagePasses(int width, int height, const SampleRanges& ranges, PassLimits limits, bool budgeted, uint32_t pass_samples,
+                         uint32_t progressive)
     : width_(width), height_(height), ranges_(ranges), limits_(limits), full_bytes_(limits.bytes), replan_(!budgeted && !pass_samples) {
     limits_.bytes_per_sample = kBytesPerSample;
-    limits_.max_samples = pass_samples;
+    limits_.max_samples = pass_samples ? pass_samples : progressive;
     // Under a budget, camera samples are scheduled work (issue 15): one sample index a pass,
     // each admitted on the cost per sample measured so far (budget_admission.h).
     if (budgeted) limits_.max_samples = 1;

@@ -576,7 +576,11 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
     const size_t fixed = fixed_bytes(out_.film.pixel_count(), out_.film.tracked_branches(), out_.staged && out_.preview.empty());
     PassLimits limits;
     limits.bytes = pass_bytes(fixed, held, *rs_, s_.width, s_.max_memory);
-    StagePasses stage_passes(s_.width, s_.height, ranges, limits, budget_.budgeted(), s_.pass_samples);
+    // Progressive passes (pass_sizing.h), sized on the whole frame so that every process of a
+    // group splits its samples as one process would (a pixel's sum in the same order). Not with
+    // a cache: records made in one pass answer the next, so the split would change the image.
+    const uint32_t progressive = cache_ ? 0 : progressive_pass_samples(wanted);
+    StagePasses stage_passes(s_.width, s_.height, ranges, limits, budget_.budgeted(), s_.pass_samples, progressive);
     std::vector<SamplePass>& passes = stage_passes.passes();
     ex_->reset_peak_rays_held();
     for (const SamplePass& p : passes) {

@@ -87,7 +87,7 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    nlohmann::json reported_against_one_process(const std::vector<std::string>& args);
+    nlohmann::json reported_against_one_process(const std::vector<std::string>& args, double relative = 0);
     fs::path dir_;
 };
 
@@ -737,7 +737,8 @@ TEST_F(MpiRun, EachRankSpendsTheBudgetOnItsOwnBand) {
 // which the 2-rank image equals: error 0.
 // `args` once in one process (one.exr), then on 2 ranks with that image as the reference and
 // a report (two.exr, report/): the 2-rank run's JSON summary, after checking it is the same image.
-nlohmann::json MpiRun::reported_against_one_process(const std::vector<std::string>& args) {
+// `relative`: how far a value may be from one process's (0: bit for bit).
+nlohmann::json MpiRun::reported_against_one_process(const std::vector<std::string>& args, double relative) {
     std::vector<std::string> a = args;
     a.insert(a.end(), {"-q", "-o", path("one.exr")});
     auto one = testing::crex_cli(a);
@@ -746,7 +747,10 @@ nlohmann::json MpiRun::reported_against_one_process(const std::vector<std::strin
     a.insert(a.end(), {"--reference", path("one.exr"), "--report", path("report"), "--format", "json", "-o", path("two.exr")});
     auto two = mpirun(2, a);
     EXPECT_EQ(two.exit_code, 0) << two.err;
-    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    const std::vector<float> a2 = pixels(path("two.exr")), a1 = pixels(path("one.exr"));
+    if (relative == 0) EXPECT_EQ(a2, a1);
+    EXPECT_EQ(a2.size(), a1.size());
+    for (size_t i = 0; relative > 0 && i < std::min(a1.size(), a2.size()); ++i) EXPECT_NEAR(a2[i], a1[i], relative * std::fabs(a1[i]) + 1e-12) << i;
     EXPECT_TRUE(fs::exists(path("report/index.html")));
     return nlohmann::json::parse(two.out, nullptr, false);
 }
@@ -766,9 +770,12 @@ TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
 // A pipeline exchanges rows after its preview and after each round but the last: there rank
 // 0's film holds every rank's rows, and each exchange is a point of the error curve before
 // the end. sel_rp in 2 rounds: the preview, round 1, the end, with the error falling to 0
-// (the reference is the single-process image).
+// (the reference is the single-process image). Its selective stages go in progressive passes,
+// one sample index each, and after round 1 a pixel's later passes may land on another rank
+// than in one process: the image is one process's up to the order of the film's sums (1e-6
+// relative; measured RMSE 2e-10).
 TEST_F(MpiRun, RankZeroReportsTheErrorAtEveryExchangeOfRows) {
-    const auto j = reported_against_one_process({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "24x18", "--rounds", "2"});
+    const auto j = reported_against_one_process({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "24x18", "--rounds", "2"}, 1e-6);
     ASSERT_TRUE(j.is_object());
     const auto& curve = j["error_curve"];
     ASSERT_EQ(curve.size(), 3u) << j.dump();
@@ -778,7 +785,7 @@ TEST_F(MpiRun, RankZeroReportsTheErrorAtEveryExchangeOfRows) {
     // The preview is far from the final image, round 1 nearer, the end is it.
     EXPECT_GT(curve[0]["rmse"].get<double>(), curve[1]["rmse"].get<double>()) << j.dump();
     EXPECT_GT(curve[1]["rmse"].get<double>(), 0.0);
-    EXPECT_EQ(curve[2]["rmse"].get<double>(), 0.0);
+    EXPECT_LT(curve[2]["rmse"].get<double>(), 1e-6);
     EXPECT_LE(curve[0]["seconds"].get<double>(), curve[1]["seconds"].get<double>());
 }
 

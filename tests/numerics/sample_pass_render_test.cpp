@@ -36,7 +36,7 @@ void expect_same_image(const std::vector<float>& a, const std::vector<float>& b,
 TEST(SamplePassRender, PassesOfOneThreeAndAllSamplesGiveTheSameImage) {
     Scene s = *builtin_scene("cornell");
     sched::Program p = testing::lower_or_die("(TTMRSGD)*");
-    RunResult all = render(s, p, settings(7, 0));
+    RunResult all = render(s, p, settings(7, 7));
     RunResult ones = render(s, p, settings(7, 1));
     RunResult threes = render(s, p, settings(7, 3));
     EXPECT_EQ(all.passes, 1u);
@@ -87,7 +87,7 @@ TEST(SamplePassRender, SelectiveSamplesContinueThePreviewAcrossPasses) {
 })",
                                       take_census(s).spawnable);
     ASSERT_TRUE(planned.plan) << (planned.diagnostics.empty() ? "" : planned.diagnostics[0].message);
-    RunSettings one = settings(2, 0), many = settings(2, 1);
+    RunSettings one = settings(2, 9), many = settings(2, 1);
     RunResult a = run_plan(s, *planned.plan, one), b = run_plan(s, *planned.plan, many);
     EXPECT_GT(b.passes, a.passes);
     uint32_t most = 0;
@@ -117,7 +117,7 @@ TEST(CyclicProcess, RoundsWithAConstantMapTakeTheSameSamplesAsOneRound) {
 })",
                                       take_census(s).spawnable);
     ASSERT_TRUE(planned.plan);
-    RunSettings one = settings(1, 0), three = settings(1, 0);
+    RunSettings one = settings(1, 9), three = settings(1, 9);  // each stage in one pass
     three.rounds = 3;
     RunResult a = run_plan(s, *planned.plan, one), b = run_plan(s, *planned.plan, three);
     for (uint32_t p = 0; p < a.film.pixel_count(); ++p) ASSERT_EQ(a.film.samples(p), 5u);

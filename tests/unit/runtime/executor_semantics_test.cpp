@@ -71,13 +71,14 @@ Scene glossy_room() {
 
 TEST(ExecutorSemantics, DeferredGroupHoldsSpawnedRaysBack) {
     Scene s = glossy_room();
+    // One sample a pixel: one pass, so the steps' counts are the whole render's.
     // G rays waiting after the camera rays alone, and after camera rays then D:
-    size_t g_from_camera = testing::render_crex(s, "", 8, 2).rays_left[static_cast<size_t>(Component::kG)];
-    size_t g_after_d = testing::render_crex(s, "D", 8, 2).rays_left[static_cast<size_t>(Component::kG)];
+    size_t g_from_camera = testing::render_crex(s, "", 8, 1).rays_left[static_cast<size_t>(Component::kG)];
+    size_t g_after_d = testing::render_crex(s, "D", 8, 1).rays_left[static_cast<size_t>(Component::kG)];
     ASSERT_GT(g_after_d, g_from_camera);
 
-    RunResult inherit = testing::render_crex(s, "(DGS)G", 8, 2);
-    RunResult deferred = testing::render_crex(s, "<DGS>G", 8, 2);
+    RunResult inherit = testing::render_crex(s, "(DGS)G", 8, 1);
+    RunResult deferred = testing::render_crex(s, "<DGS>G", 8, 1);
     auto first_g = [](const RunResult& r) {
         for (const auto& st : r.stats.steps)
             if (st.component == Component::kG) return st.rays;
@@ -89,7 +90,7 @@ TEST(ExecutorSemantics, DeferredGroupHoldsSpawnedRaysBack) {
     // ...and reach the final G once the group has ended.
     EXPECT_EQ(deferred.stats.steps.back().component, Component::kG);
     EXPECT_EQ(deferred.stats.steps.back().rays, g_after_d - g_from_camera + /* children of the first G */
-                                                    (testing::render_crex(s, "G", 8, 2).rays_left[static_cast<size_t>(Component::kG)]));
+                                                    (testing::render_crex(s, "G", 8, 1).rays_left[static_cast<size_t>(Component::kG)]));
 }
 
 TEST(ExecutorSemantics, ModulationFollowsTheCeilRuleOnAStepMap) {
