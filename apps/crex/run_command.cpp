@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 
 #include "apps/crex/cli_values.h"
@@ -159,30 +158,6 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     return std::nullopt;
 }
 
-// Two outputs named by one path (`-o X -o X`, `-o X --save-profile X`): the second replaced the
-// first and the commit then said "cannot move 'X' into place: No such file or directory" after
-// the old X was gone. Compared as absolute, normalised paths, before anything renders.
-std::string same_output_twice(const RunFiles& files, const std::string& ic_file) {
-    std::vector<std::pair<std::string, std::string>> named;  // (flag, path)
-    for (const auto& o : files.images) named.push_back({"-o", o});
-    if (!files.profile.empty()) named.push_back({"--save-profile", files.profile});
-    if (!ic_file.empty()) named.push_back({"--ic-file", ic_file});
-    if (!files.maps_dir.empty()) named.push_back({"--maps", files.maps_dir});
-    if (!files.report_dir.empty()) named.push_back({"--report", files.report_dir});
-    std::map<std::string, size_t> seen;
-    for (size_t i = 0; i < named.size(); ++i) {
-        std::error_code ec;
-        std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(named[i].second, ec), ec);
-        std::string key = (p.filename().empty() ? p.parent_path() : p).lexically_normal().string();
-        auto [it, fresh] = seen.try_emplace(key, i);
-        if (fresh) continue;
-        const auto& first = named[it->second];
-        return fmt::format("{} {} and {} {} name the same path: each output needs its own", first.first, first.second, named[i].first,
-                           named[i].second);
-    }
-    return "";
-}
-
 // What only the lead does before anything renders: it reads the inputs and checks everything
 // that can fail, so that every process learns the verdict before it starts.
 struct LeadChecks {
@@ -270,31 +245,11 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
             std::cerr << "crex run: error: " << error << "\n";
             return kExitFailure;
         }
-    // Every output is checked before anything renders: a bad second -o used to be found after
-    // the render, with the first image already written.
-    for (const auto& path : files.images)
-        if (std::string error = check_output_path(path); !error.empty()) {
-            std::cerr << "crex run: error: " << error << "\n";
-            return kExitFailure;
-        }
-    for (const auto& path : {files.maps_dir, files.report_dir, files.profile, r.input.ic_file})
-        if (std::string error = path.empty() ? "" : missing_output_folder(path); !error.empty()) {
-            std::cerr << "crex run: error: " << error << "\n";
-            return kExitFailure;
-        }
-    std::error_code ec;
-    if (!files.maps_dir.empty() && std::filesystem::exists(files.maps_dir, ec) && !std::filesystem::is_directory(files.maps_dir, ec)) {
-        std::cerr << fmt::format("crex run: error: --maps {}: is a file; give a directory\n", files.maps_dir);
-        return kExitFailure;
-    }
-    // The report replaces its folder whole, so that folder must be a report (or new, or empty).
-    if (std::string refusal = files.report_dir.empty() ? "" : report_folder_refusal(files.report_dir); !refusal.empty()) {
+    // Every output is checked before anything renders (run_outputs.h).
+    bool usage = false;
+    if (std::string refusal = outputs_refusal(files, r.input.ic_file, usage); !refusal.empty()) {
         std::cerr << "crex run: error: " << refusal << "\n";
-        return kExitFailure;
-    }
-    if (std::string clash = same_output_twice(files, r.input.ic_file); !clash.empty()) {
-        std::cerr << "crex run: error: " << clash << "\n";
-        return kExitUsage;
+        return usage ? kExitUsage : kExitFailure;
     }
     // The reference of the error curve: with --reference (or the pipeline's), or for a report.
     const std::string reference = r.reference.empty() ? in.plan.settings.reference : r.reference;

@@ -8,6 +8,7 @@
 #include <climits>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
 #include "base/fnv1a.h"
 #include "base/image_formats.h"
@@ -143,6 +144,43 @@ ImageMetadata image_header(const RunRecord& record) {
 }
 
 }  // namespace
+
+std::string same_output_twice(const RunFiles& files, const std::string& ic_file) {
+    std::vector<std::pair<std::string, std::string>> named;  // (flag, path)
+    for (const auto& o : files.images) named.push_back({"-o", o});
+    if (!files.profile.empty()) named.push_back({"--save-profile", files.profile});
+    if (!ic_file.empty()) named.push_back({"--ic-file", ic_file});
+    if (!files.maps_dir.empty()) named.push_back({"--maps", files.maps_dir});
+    if (!files.report_dir.empty()) named.push_back({"--report", files.report_dir});
+    std::map<std::string, size_t> seen;
+    for (size_t i = 0; i < named.size(); ++i) {
+        std::error_code ec;
+        std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(named[i].second, ec), ec);
+        std::string key = (p.filename().empty() ? p.parent_path() : p).lexically_normal().string();
+        auto [it, fresh] = seen.try_emplace(key, i);
+        if (fresh) continue;
+        const auto& first = named[it->second];
+        return fmt::format("{} {} and {} {} name the same path: each output needs its own", first.first, first.second, named[i].first,
+                           named[i].second);
+    }
+    return "";
+}
+
+std::string outputs_refusal(const RunFiles& files, const std::string& ic_file, bool& usage) {
+    usage = false;
+    for (const auto& path : files.images)
+        if (std::string error = check_output_path(path); !error.empty()) return error;
+    for (const auto& path : {files.maps_dir, files.report_dir, files.profile, ic_file})
+        if (std::string error = path.empty() ? "" : missing_output_folder(path); !error.empty()) return error;
+    std::error_code ec;
+    if (!files.maps_dir.empty() && std::filesystem::exists(files.maps_dir, ec) && !std::filesystem::is_directory(files.maps_dir, ec))
+        return fmt::format("--maps {}: is a file; give a directory", files.maps_dir);
+    // The report replaces its folder whole, so that folder must be a report (or new, or empty).
+    if (std::string refusal = files.report_dir.empty() ? "" : report_folder_refusal(files.report_dir); !refusal.empty()) return refusal;
+    std::string clash = same_output_twice(files, ic_file);
+    usage = !clash.empty();
+    return clash;
+}
 
 std::string write_run_files(const RunFiles& where, const RunRecord& record, WrittenRun& written) {
     const RunInputs& in = *record.inputs;
