@@ -143,8 +143,8 @@ ImageMetadata image_header(const RunRecord& record) {
     return metadata;
 }
 
-}  // namespace
-
+// `-o X -o X` once wrote the second over the first, and the commit then failed after the old X
+// was gone: outputs are compared as absolute, normalised paths, before rendering.
 std::string same_output_twice(const RunFiles& files, const std::string& ic_file) {
     std::vector<std::pair<std::string, std::string>> named;  // (flag, path)
     for (const auto& o : files.images) named.push_back({"-o", o});
@@ -165,6 +165,8 @@ std::string same_output_twice(const RunFiles& files, const std::string& ic_file)
     }
     return "";
 }
+
+}  // namespace
 
 std::string outputs_refusal(const RunFiles& files, const std::string& ic_file, bool& usage) {
     usage = false;

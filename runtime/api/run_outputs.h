@@ -35,11 +35,6 @@ struct RunFiles {
 /// not made (runtime/base/output_folder.h: only default outputs' folders are).
 std::string check_output_path(const std::string& path);
 
-/// "" when every output of `files` (and the cache file `ic_file`) has a path of its own, else
-/// which two name one path: `-o X -o X` once wrote the second over the first, and the commit
-/// then failed after the old X was gone. Compared as absolute, normalised paths, before rendering.
-std::string same_output_twice(const RunFiles& files, const std::string& ic_file);
-
 /// "" when every output of `files` (and the cache file `ic_file`) can be written, else why not,
 /// checked before rendering: an image's format or folder (a bad second -o was once found
 /// after the first was written), a missing folder, --maps naming a file, a report folder that

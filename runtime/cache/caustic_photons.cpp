@@ -148,6 +148,16 @@ struct CausticPhotons::Tree {
 
 CausticPhotons::~CausticPhotons() = default;
 
+std::unique_ptr<CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed) {
+    if (photons == 0) return nullptr;
+    CausticPhotonSettings cs;
+    cs.photons = photons;
+    cs.seed = seed;
+    auto map = std::make_unique<CausticPhotons>(scene, cs);
+    if (map->empty()) return nullptr;
+    return map;
+}
+
 CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSettings& settings)
     : neighbours_(std::clamp(settings.neighbours, 1u, 1024u)) {
     const double extent = scene.embree->extent();

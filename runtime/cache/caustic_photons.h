@@ -76,4 +76,9 @@ private:
     uint64_t rays_ = 0;
 };
 
+/// The map of `photons` photons, or null when there would be nothing in it (0 photons, no delta
+/// shape or trans surface, or no lamp): the one way both path tracing and the irradiance cache
+/// build theirs.
+std::unique_ptr<CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed);
+
 }  // namespace crex

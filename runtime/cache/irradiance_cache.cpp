@@ -33,12 +33,8 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     for (double c = top; c >= 2 * 1e-3 * r_min_ && cell_size_.size() < 24; c /= 2) cell_size_.push_back(c);
     if (settings.caustic_photons > 0) {
         const auto start = std::chrono::steady_clock::now();
-        CausticPhotonSettings cs;
-        cs.photons = settings.caustic_photons;
-        cs.seed = settings.seed;
-        caustics_ = std::make_unique<CausticPhotons>(scene, cs);
-        if (caustics_->empty()) caustics_.reset();  // no delta shape or no emitter: nothing to add
-        else stats_.caustic_photons = caustics_->size();
+        caustics_ = build_caustic_photons(scene, settings.caustic_photons, settings.seed);
+        if (caustics_) stats_.caustic_photons = caustics_->size();
         stats_.caustic_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
 }

@@ -199,12 +199,9 @@ void PlanRun::start() {
     // the scene (0.35 s for 200,000 photons in the Cornell box) that no budget can trim.
     if (!s_.irradiance_cache && s_.caustic_photons > 0 && executes_d(plan_.program)) {
         const auto t_map = Clock::now();
-        CausticPhotonSettings cs;
-        cs.photons = s_.caustic_photons;
-        cs.seed = s_.seed;
-        caustics_ = std::make_unique<CausticPhotons>(*rs_, cs);
-        if (caustics_->empty()) caustics_.reset();  // no mirror, glass or trans surface, or no lamp: no such paths
-        else caustic_lookup_ = [map = caustics_.get()](const Vec3& x, const Vec3& n) { return map->irradiance(x, n); };
+        caustics_ = build_caustic_photons(*rs_, s_.caustic_photons, s_.seed);
+        if (caustics_)  // else no mirror, glass or trans surface, or no lamp: no such paths
+            caustic_lookup_ = [map = caustics_.get()](const Vec3& x, const Vec3& n) { return map->irradiance(x, n); };
         out_.setup_seconds += seconds_since(t_map);
     }
     // One clock from the first camera ray for every stage (spec §7); reports pause it while

@@ -37,6 +37,7 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         return 0;
     }
     const double weight_limit = std::max(params.weight_limit, kMinWeightLimit);
+    const bool photon_caustics = params.caustic_irradiance && !params.ic_queries;
     int out = 0;
     double st = params.specular_threshold_per_pixel ? (*params.specular_threshold_per_pixel)[ray.pixel] : params.specular_threshold;
     for (int l = 0; l < n; ++l) {
@@ -47,7 +48,6 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         Vec3 beta = ray.beta * lobe.weight;
         // The caustic map's light at this diffuse lobe, whatever becomes of its ray below: the
         // map's estimate stands for every path L S+ D through it (kRayCausticPath).
-        const bool photon_caustics = params.caustic_irradiance && !params.ic_queries;
         if (photon_caustics && lobe.component == Component::kD && is_finite(beta)) {
             const double asked = ray.depth == 0 ? 1.0 : kDeepCausticLookups;
             if (asked >= 1 || random(RandomUse::kCausticLookup, static_cast<uint32_t>(l)) < asked)
