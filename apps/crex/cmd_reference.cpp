@@ -88,7 +88,7 @@ std::optional<sched::Program> reference_program(const std::string& crex_text) {
 
 // Runs `render`, clearing the progress line either way; a failure is said and is exit 3.
 template <class Render>
-int rendering(ConsoleProgress& progress, Render&& render) {
+int reference_rendering(ConsoleProgress& progress, Render&& render) {
     try {
         render();
     } catch (const std::exception& e) {
@@ -156,7 +156,7 @@ int accumulate(const ReferenceOptions& opt) {
     ConsoleProgress progress(progress_mode(opt.progress, opt.quiet));
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels more;
-    if (int status = rendering(progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
+    if (int status = reference_rendering(progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
     ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, opt.spp);
     const uint32_t before = h.spp;
     h.spp += opt.spp;
@@ -207,7 +207,7 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     FrameContext context;
     RenderedPixels pixels;
-    const int status = rendering(progress, [&] {
+    const int status = reference_rendering(progress, [&] {
         if (opt.context_spp > 0) context = render_frame_context(scene, *program, width, height, opt.context_spp, opt.seed, s.progress);
         if (!opt.windows_rule.empty()) {
             progress.finish();
@@ -285,7 +285,7 @@ int reference(const ReferenceOptions& opt) {
     rp.width = s.width, rp.height = s.height, rp.spp = s.spp, rp.seed = s.seed, rp.lw = s.lw, rp.max_depth = s.max_depth;
     rp.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels pixels;
-    if (int status = rendering(progress, [&] { pixels = render_reference_pixels(scene, *reference_program(s.crex), rp); });  // it compiles
+    if (int status = reference_rendering(progress, [&] { pixels = render_reference_pixels(scene, *reference_program(s.crex), rp); });  // it compiles
         status != kExitOk)
         return status;
     ReferenceImage image;

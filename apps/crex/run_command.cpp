@@ -315,7 +315,7 @@ void say_notes(const RunResult& result) {
 // goes on to main, which says so; input the run cannot use is exit 1, anything else 3. The
 // progress line is cleared either way.
 template <class Render>
-int rendering(ConsoleProgress& progress, Render&& render) {
+int run_rendering(ConsoleProgress& progress, Render&& render) {
     int status = kExitOk;
     try {
         status = render();
@@ -341,7 +341,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
     const bool talk = !r.quiet && r.format != "json";
     ConsoleProgress progress(progress_mode(r.progress, !talk));
     std::vector<FrameRun> frames;
-    const int status = rendering(progress, [&] {
+    const int status = run_rendering(progress, [&] {
         try {
             frames = render_frames(in, run, r.files, r.sequence, progress, [&](const FrameRun& f, size_t index, size_t count) {
                 progress.finish();
@@ -432,7 +432,7 @@ int run_request(Request& r) {
     if (stoppable) catch_interrupt();
     ConsoleProgress progress(progress_mode(r.progress, quiet || r.format == "json"), recorder ? &*recorder : nullptr, stoppable);
     RunOutcome out;
-    if (int status = rendering(progress, [&] {
+    if (int status = run_rendering(progress, [&] {
             out = run_resolved(in.plan, *in.scene->scene, std::move(run), *group, progress);
             return kExitOk;
         });

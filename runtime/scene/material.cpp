@@ -8,7 +8,7 @@
 namespace crex {
 namespace {
 
-constexpr std::array<std::pair<MaterialType, std::string_view>, 10> kNames = {{
+constexpr std::array<std::pair<MaterialType, std::string_view>, 10> kMaterialNames = {{
     {MaterialType::kVoid, "void"},
     {MaterialType::kPlastic, "plastic"},
     {MaterialType::kMetal, "metal"},
@@ -41,9 +41,9 @@ void set(ComponentSet& s, Component c) { s.set(static_cast<size_t>(c)); }
 
 }  // namespace
 
-std::string_view material_type_name(MaterialType t) { return name_in(kNames, t); }
+std::string_view material_type_name(MaterialType t) { return name_in(kMaterialNames, t); }
 
-std::optional<MaterialType> material_type_from_name(std::string_view name) { return value_in(kNames, name); }
+std::optional<MaterialType> material_type_from_name(std::string_view name) { return value_in(kMaterialNames, name); }
 
 std::string_view projection_name(Projection p) { return name_in(kProjections, p); }
 std::optional<Projection> projection_from_name(std::string_view name) { return value_in(kProjections, name); }

@@ -1,5 +1,6 @@
 #include "runtime/scene/shapes.h"
 
+#include "runtime/base/sampling.h"
 #include <fmt/format.h>
 
 #include <cmath>
@@ -10,7 +11,7 @@
 namespace crex {
 namespace {
 
-constexpr std::array<std::pair<ShapeType, std::string_view>, 7> kNames = {{
+constexpr std::array<std::pair<ShapeType, std::string_view>, 7> kShapeNames = {{
     {ShapeType::kSphere, "sphere"},
     {ShapeType::kPolygon, "polygon"},
     {ShapeType::kMesh, "mesh"},
@@ -20,7 +21,6 @@ constexpr std::array<std::pair<ShapeType, std::string_view>, 7> kNames = {{
     {ShapeType::kCylinder, "cylinder"},
 }};
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Newell's method: a robust normal (times twice the area) for any planar polygon.
 Vec3 newell_normal(const std::vector<Vec3>& v) {
@@ -78,9 +78,9 @@ void tessellate_band(TriangleMesh& out, const Vec3& c0, const Vec3& c1, const Ve
 
 }  // namespace
 
-std::string_view shape_type_name(ShapeType t) { return name_in(kNames, t); }
+std::string_view shape_type_name(ShapeType t) { return name_in(kShapeNames, t); }
 
-std::optional<ShapeType> shape_type_from_name(std::string_view name) { return value_in(kNames, name); }
+std::optional<ShapeType> shape_type_from_name(std::string_view name) { return value_in(kShapeNames, name); }
 
 std::vector<std::array<uint32_t, 3>> triangulate_polygon(const std::vector<Vec3>& vertices) {
     // Ear clipping that also takes RADIANCE's polygons with holes: a hole is a loop of

@@ -1,12 +1,12 @@
 #include "runtime/scene/sky_model.h"
 
+#include "runtime/base/sampling.h"
 #include <algorithm>
 #include <cmath>
 
 namespace crex {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double safe_acos(double x) { return std::acos(std::clamp(x, -1.0, 1.0)); }
 

@@ -105,17 +105,17 @@ TEST(PlanReader, AnyValueOfAnyTypeIsAcceptedOrALocatedE401) {
     EXPECT_GT(refused, reads / 2);  // most damage is refused, not silently read
 }
 
-struct Case {
+struct PlanDamage {
     const char* name;
     std::function<void(json&)> damage;
     const char* at;       // the plan text the error points at (its first characters)
     const char* message;  // part of the message
 };
 
-class PlanReaderDiagnostic : public ::testing::TestWithParam<Case> {};
+class PlanReaderDiagnostic : public ::testing::TestWithParam<PlanDamage> {};
 
 TEST_P(PlanReaderDiagnostic, IsALocatedE401) {
-    const Case& c = GetParam();
+    const PlanDamage& c = GetParam();
     json j = golden("prog_dis_all.cornell");
     c.damage(j);
     Read r = read(j.dump(2));
@@ -130,53 +130,53 @@ TEST_P(PlanReaderDiagnostic, IsALocatedE401) {
 INSTANTIATE_TEST_SUITE_P(
     EveryDamage, PlanReaderDiagnostic,
     ::testing::Values(
-        Case{"version_as_text", [](json& j) { j["version"] = "1"; }, "\"1\"", "expected the integer 2"},
-        Case{"old_version", [](json& j) { j["version"] = 1; }, "1", "this crex reads plan version 2"},
-        Case{"component_as_number", [](json& j) { j["stages"]["preselective"]["children"][0]["children"][0]["children"][0]["component"] = 3; }, "3",
+        PlanDamage{"version_as_text", [](json& j) { j["version"] = "1"; }, "\"1\"", "expected the integer 2"},
+        PlanDamage{"old_version", [](json& j) { j["version"] = 1; }, "1", "this crex reads plan version 2"},
+        PlanDamage{"component_as_number", [](json& j) { j["stages"]["preselective"]["children"][0]["children"][0]["children"][0]["component"] = 3; }, "3",
              "expected a component letter"},
-        Case{"count_not_whole", [](json& j) {
+        PlanDamage{"count_not_whole", [](json& j) {
                  j["stages"]["selective"] = {{"op", "seq"}, {"children", {{{"op", "repeat"}, {"count", 2.5},
                                                                           {"children", {{{"op", "exec"}, {"component", "T"}}}}}}}};
              }, "2.5", "a whole number"},
-        Case{"no_nodes", [](json& j) { j["nodes"] = json::array(); j["edges"] = json::array(); j["variables"] = json::array(); },
+        PlanDamage{"no_nodes", [](json& j) { j["nodes"] = json::array(); j["edges"] = json::array(); j["variables"] = json::array(); },
              "[]", "no 'camera' node"},
-        Case{"selective_node_missing", [](json& j) {
+        PlanDamage{"selective_node_missing", [](json& j) {
                  auto& n = j["nodes"];
                  for (size_t i = 0; i < n.size(); ++i)
                      if (n[i]["id"] == "selective") n.erase(i);
              }, "[", "no 'selective' node"},
-        Case{"dangling_edge", [](json& j) { j["edges"][0]["to"] = "nowhere"; }, "\"nowhere\"", "no node 'nowhere'"},
-        Case{"cycle", [](json& j) { j["edges"].push_back({{"from", "selective"}, {"to", "preselective"}, {"kind", "bin"}}); },
+        PlanDamage{"dangling_edge", [](json& j) { j["edges"][0]["to"] = "nowhere"; }, "\"nowhere\"", "no node 'nowhere'"},
+        PlanDamage{"cycle", [](json& j) { j["edges"].push_back({{"from", "selective"}, {"to", "preselective"}, {"kind", "bin"}}); },
              "{", "closes a cycle"},
-        Case{"duplicate_node", [](json& j) { j["nodes"][3]["id"] = "camera"; }, "\"camera\"", "defined twice"},
-        Case{"node_param_unknown", [](json& j) { j["nodes"][3]["params"]["fovea"] = "2 deg"; }, "\"2 deg\"",
+        PlanDamage{"duplicate_node", [](json& j) { j["nodes"][3]["id"] = "camera"; }, "\"camera\"", "defined twice"},
+        PlanDamage{"node_param_unknown", [](json& j) { j["nodes"][3]["params"]["fovea"] = "2 deg"; }, "\"2 deg\"",
              "unknown node parameter 'fovea'"},
-        Case{"crex_param_not_text", [](json& j) { j["nodes"][1]["params"]["crex"] = 7; }, "7", "expected the stage's crex"},
-        Case{"spp_zero", [](json& j) { j["settings"]["spp"] = 0; }, "0", "whole number from 1 to 1048576"},
-        Case{"lw_above_one", [](json& j) { j["settings"]["lw"] = 2; }, "2", "a number from 0 to 1"},
-        Case{"ad_zero", [](json& j) { j["settings"]["ad"] = 0; }, "0", "whole number from 1 to 65536"},
-        Case{"image_fraction", [](json& j) { j["settings"]["image"] = {{"width", 32.5}, {"height", 32}}; }, "32.5", "whole number"},
-        Case{"budget_huge", [](json& j) { j["settings"]["budget"] = {{"seconds", 1e300}}; }, "1e+300", "a time in (0, 1e+06] s"},
-        Case{"unknown_policy", [](json& j) { j["settings"]["policy"] = "nosuch"; }, "\"nosuch\"", "unknown scheduling policy"},
-        Case{"unknown_setting", [](json& j) { j["settings"]["spp_max"] = 3; }, "3", "unknown setting 'spp_max'"},
-        Case{"variable_out_of_range", [](json& j) { j["variables"][0]["to"] = 1e9; }, "1000000000", "in [1, 1048576] for spp"},
-        Case{"variable_unknown", [](json& j) { j["variables"][0]["variable"] = "rays"; }, "\"rays\"", "unknown selective variable"},
-        Case{"variable_component_not_subsample", [](json& j) { j["variables"][0]["component"] = "D"; }, "\"D\"", "only subsample takes one"},
-        Case{"variable_component_unknown", [](json& j) { j["variables"][0]["component"] = "Q"; }, "\"Q\"", "'Q' is not a component"},
-        Case{"refine_without_component", [](json& j) { j["variables"][0]["refine"] = 0.5; }, "0.5", "refine applies to one component"},
-        Case{"modulation_unknown", [](json& j) { j["variables"][0]["modulation"] = "cubic"; }, "\"cubic\"", "unknown modulation function"},
-        Case{"variable_map_dangling", [](json& j) { j["variables"][0]["map"] = "map.nosuch"; }, "\"map.nosuch\"", "no node 'map.nosuch'"},
-        Case{"map_unknown_operator", [](json& j) { j["maps"][0]["operator"] = "salience"; }, "\"salience\"",
+        PlanDamage{"crex_param_not_text", [](json& j) { j["nodes"][1]["params"]["crex"] = 7; }, "7", "expected the stage's crex"},
+        PlanDamage{"spp_zero", [](json& j) { j["settings"]["spp"] = 0; }, "0", "whole number from 1 to 1048576"},
+        PlanDamage{"lw_above_one", [](json& j) { j["settings"]["lw"] = 2; }, "2", "a number from 0 to 1"},
+        PlanDamage{"ad_zero", [](json& j) { j["settings"]["ad"] = 0; }, "0", "whole number from 1 to 65536"},
+        PlanDamage{"image_fraction", [](json& j) { j["settings"]["image"] = {{"width", 32.5}, {"height", 32}}; }, "32.5", "whole number"},
+        PlanDamage{"budget_huge", [](json& j) { j["settings"]["budget"] = {{"seconds", 1e300}}; }, "1e+300", "a time in (0, 1e+06] s"},
+        PlanDamage{"unknown_policy", [](json& j) { j["settings"]["policy"] = "nosuch"; }, "\"nosuch\"", "unknown scheduling policy"},
+        PlanDamage{"unknown_setting", [](json& j) { j["settings"]["spp_max"] = 3; }, "3", "unknown setting 'spp_max'"},
+        PlanDamage{"variable_out_of_range", [](json& j) { j["variables"][0]["to"] = 1e9; }, "1000000000", "in [1, 1048576] for spp"},
+        PlanDamage{"variable_unknown", [](json& j) { j["variables"][0]["variable"] = "rays"; }, "\"rays\"", "unknown selective variable"},
+        PlanDamage{"variable_component_not_subsample", [](json& j) { j["variables"][0]["component"] = "D"; }, "\"D\"", "only subsample takes one"},
+        PlanDamage{"variable_component_unknown", [](json& j) { j["variables"][0]["component"] = "Q"; }, "\"Q\"", "'Q' is not a component"},
+        PlanDamage{"refine_without_component", [](json& j) { j["variables"][0]["refine"] = 0.5; }, "0.5", "refine applies to one component"},
+        PlanDamage{"modulation_unknown", [](json& j) { j["variables"][0]["modulation"] = "cubic"; }, "\"cubic\"", "unknown modulation function"},
+        PlanDamage{"variable_map_dangling", [](json& j) { j["variables"][0]["map"] = "map.nosuch"; }, "\"map.nosuch\"", "no node 'map.nosuch'"},
+        PlanDamage{"map_unknown_operator", [](json& j) { j["maps"][0]["operator"] = "salience"; }, "\"salience\"",
              "unknown guidance operator 'salience'"},
-        Case{"map_input_dangling", [](json& j) { j["maps"][0]["inputs"][0]["node"] = "buffer.nosuch"; }, "\"buffer.nosuch\"",
+        PlanDamage{"map_input_dangling", [](json& j) { j["maps"][0]["inputs"][0]["node"] = "buffer.nosuch"; }, "\"buffer.nosuch\"",
              "not a map, a buffer or the preview"},
-        Case{"map_depends_on_itself", [](json& j) { j["maps"][0]["inputs"][0]["node"] = j["maps"][0]["id"]; }, "\"map.sal\"",
+        PlanDamage{"map_depends_on_itself", [](json& j) { j["maps"][0]["inputs"][0]["node"] = j["maps"][0]["id"]; }, "\"map.sal\"",
              "depends on itself"},
-        Case{"map_fovea_in_degrees", [](json& j) { j["maps"][0]["params"]["fovea"] = 200; }, "200", "radians in (0, pi)"},
-        Case{"map_unknown_buffer", [](json& j) { j["buffers"][0]["buffer"] = "indirect"; }, "\"indirect\"", "unknown buffer"},
-        Case{"negative_weight", [](json& j) { j["edges"].push_back({{"from", "map.sal"}, {"to", "map.dl"}, {"kind", "map"}, {"weight", -1}}); },
+        PlanDamage{"map_fovea_in_degrees", [](json& j) { j["maps"][0]["params"]["fovea"] = 200; }, "200", "radians in (0, pi)"},
+        PlanDamage{"map_unknown_buffer", [](json& j) { j["buffers"][0]["buffer"] = "indirect"; }, "\"indirect\"", "unknown buffer"},
+        PlanDamage{"negative_weight", [](json& j) { j["edges"].push_back({{"from", "map.sal"}, {"to", "map.dl"}, {"kind", "map"}, {"weight", -1}}); },
              "-1", "weight >= 0"}),
-    [](const ::testing::TestParamInfo<Case>& p) { return std::string(p.param.name); });
+    [](const ::testing::TestParamInfo<PlanDamage>& p) { return std::string(p.param.name); });
 
 }  // namespace
 }  // namespace crex

@@ -12,7 +12,7 @@
 namespace crex {
 namespace {
 
-constexpr int kSize = 24;
+constexpr int kStandInSize = 24;
 
 double luminance(const std::vector<float>& rgb, size_t p) {
     return 0.2126 * rgb[3 * p] + 0.7152 * rgb[3 * p + 1] + 0.0722 * rgb[3 * p + 2];
@@ -34,12 +34,12 @@ TEST(AmbientStandIn, SkippedComponentsNeverLeaveAPixelBlackThatTheFullRenderLigh
     Scene s = *builtin_scene("cornell");
     PipelinePlan plan = skip_everything_after_tt(s);
     RunSettings o;
-    o.width = o.height = kSize;
+    o.width = o.height = kStandInSize;
     o.spp = 2;
     RunResult dark = run_plan(s, plan, o);  // av = 0: skipped work is black
     o.ambient_auto = true;
     RunResult stood_in = run_plan(s, plan, o);
-    RunResult full = testing::render_crex(s, "(TTMRSGD)*", kSize, 16);
+    RunResult full = testing::render_crex(s, "(TTMRSGD)*", kStandInSize, 16);
     std::vector<float> a = stood_in.image(), d = dark.image(), f = full.image();
     size_t lit = 0, black_dark = 0;
     double sum_a = 0, sum_f = 0;
@@ -71,7 +71,7 @@ TEST(AmbientStandIn, MeasuredFromTheComponentsOwnRaysWhereSomeRan) {
                                       take_census(s).spawnable);
     ASSERT_TRUE(planned.plan);
     RunSettings o;
-    o.width = o.height = kSize;
+    o.width = o.height = kStandInSize;
     o.spp = 4;
     o.ambient_auto = true;
     RunResult r = run_plan(s, *planned.plan, o);

@@ -12,16 +12,14 @@
 #include "runtime/driver/run_plan.h"
 #include "runtime/pipeline/subsample.h"
 #include "runtime/scene/census.h"
+#include "tests/support/fake_clock.h"
 #include "tests/support/plan_helpers.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
 namespace {
 
-struct FakeClock {
-    uint64_t rays = 0;
-    double now() const { return static_cast<double>(rays) * 1e-6; }
-};
+using testing::FakeClock;
 
 RunSettings with_clock(FakeClock& clock, Profile* profile, int w, int h) {
     RunSettings o;
@@ -33,11 +31,7 @@ RunSettings with_clock(FakeClock& clock, Profile* profile, int w, int h) {
     return o;
 }
 
-PipelinePlan plan_for(const std::string& text, const Scene& scene) {
-    auto r = testing::plan_text("test.pipe", text, take_census(scene).spawnable);
-    if (!r.plan) throw std::runtime_error("pipeline does not plan: " + (r.diagnostics.empty() ? "" : r.diagnostics[0].message));
-    return *r.plan;
-}
+using testing::plan_for;
 
 const char* kProgressive =
     "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(0.5) }\n"

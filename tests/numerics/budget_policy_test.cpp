@@ -10,6 +10,7 @@
 #include "runtime/driver/run_plan.h"
 #include "runtime/render/profile.h"
 #include "runtime/scene/load_scene.h"
+#include "tests/support/fake_clock.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -17,10 +18,7 @@ namespace {
 
 using Policy = pipeline::SchedulingPolicy;
 
-struct FakeClock {
-    uint64_t rays = 0;
-    double now() const { return static_cast<double>(rays) * 1e-6; }
-};
+using testing::FakeClock;
 
 RunSettings settings(FakeClock& clock, Profile* profile) {
     RunSettings o;

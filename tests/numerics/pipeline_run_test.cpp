@@ -20,11 +20,7 @@ Scene load(const std::string& spec) {
     return *r.scene;
 }
 
-PipelinePlan plan_for(const std::string& text, const Scene& scene) {
-    auto r = testing::plan_text("test.pipe", text, take_census(scene).spawnable);
-    if (!r.plan) throw std::runtime_error("pipeline does not plan: " + (r.diagnostics.empty() ? "" : r.diagnostics[0].message));
-    return *r.plan;
-}
+using testing::plan_for;
 
 RunResult run(const Scene& scene, const PipelinePlan& plan, int w, int h, uint32_t preview_spp = 1) {
     RunSettings o;

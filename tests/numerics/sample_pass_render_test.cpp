@@ -17,11 +17,11 @@
 namespace crex {
 namespace {
 
-constexpr int kSize = 16;
+constexpr int kPassSize = 16;
 
 RunSettings settings(uint32_t spp, uint32_t pass_samples) {
     RunSettings o;
-    o.width = o.height = kSize;
+    o.width = o.height = kPassSize;
     o.spp = spp;
     o.seed = 3;
     o.pass_samples = pass_samples;
@@ -54,7 +54,7 @@ TEST(SamplePassRender, BandsOfRowsUnderATinyMemoryLimitGiveTheSameImage) {
     RunSettings tiny = settings(3, 0);
     tiny.max_memory = 1;  // below anything: one row per pass
     RunResult banded = render(s, p, tiny);
-    EXPECT_EQ(banded.passes, 3u * kSize);
+    EXPECT_EQ(banded.passes, 3u * kPassSize);
     // The limit cannot be kept, and the run says so.
     EXPECT_TRUE(std::any_of(banded.notes.begin(), banded.notes.end(),
                             [](const std::string& n) { return n.find("more than --max-memory") != std::string::npos; }));
@@ -152,7 +152,7 @@ TEST(CyclicProcess, LaterRoundsFollowTheNoiseOfTheImageSoFar) {
 TEST(NoiseEstimate, HalfBuffersShrinkLikeOneOverTheSquareRootOfTheSamples) {
     Scene s = *builtin_scene("cornell");
     auto mean_noise = [&](uint32_t spp) {
-        RunResult r = testing::render_crex(s, "(TTMRSGD)*", kSize, spp, 5);
+        RunResult r = testing::render_crex(s, "(TTMRSGD)*", kPassSize, spp, 5);
         std::vector<float> n = r.film.noise_image();
         double sum = 0;
         for (float v : n) {

@@ -5,8 +5,10 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
+#include "base/components.h"
 #include "compiler/pipeline/check.h"
 #include "compiler/pipeline/parse.h"
 #include "compiler/pipeline/resolve.h"
@@ -49,6 +51,20 @@ inline PlannedPipeline plan_text(const std::string& name, const std::string& tex
             }
     r.diagnostics = sink.sorted();
     return r;
+}
+
+/// The bins of component letters ("DS": diffuse and specular).
+inline BinSet bins(const std::string& letters) {
+    BinSet b;
+    for (char c : letters) b.set(static_cast<size_t>(*component_from_letter(c)));
+    return b;
+}
+
+/// The plan of pipeline `text` for `scene`; throws when it does not plan.
+inline PipelinePlan plan_for(const std::string& text, const Scene& scene) {
+    auto r = plan_text("test.pipe", text, take_census(scene).spawnable);
+    if (!r.plan) throw std::runtime_error("pipeline does not plan: " + (r.diagnostics.empty() ? "" : r.diagnostics[0].message));
+    return *r.plan;
 }
 
 }  // namespace crex::testing

@@ -15,6 +15,13 @@
 
 namespace crex::testing {
 
+/// The scene's shape called `name`, or null.
+inline const Shape* shape_named(const Scene& s, const std::string& name) {
+    for (const auto& shape : s.shapes)
+        if (shape.name == name) return &shape;
+    return nullptr;
+}
+
 struct SceneResult : Diagnosed {
     std::unique_ptr<SceneSources> sources = std::make_unique<SceneSources>();
     std::optional<Scene> scene;

@@ -1,5 +1,6 @@
 #include "runtime/scene/radiance/sky_generators.h"
 
+#include "runtime/base/sampling.h"
 #include <fmt/format.h>
 
 #include <cctype>
@@ -11,7 +12,6 @@
 namespace crex::radiance {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180;
 // Luminous efficacies RADIANCE converts photometric sky and sun values with (lm/W).
 constexpr double kSkyEfficacy = 203, kSunEfficacy = 208;

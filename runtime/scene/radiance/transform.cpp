@@ -1,5 +1,6 @@
 #include "runtime/scene/radiance/transform.h"
 
+#include "runtime/base/sampling.h"
 #include <fmt/format.h>
 
 #include <cmath>
@@ -10,7 +11,6 @@
 namespace crex::radiance {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // The largest -i count we repeat: a transform applied more often than this is a typo (and
 // would take as long as its count).

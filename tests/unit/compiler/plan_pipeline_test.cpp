@@ -26,11 +26,7 @@ bool edge(const PipelinePlan& p, const std::string& from, const std::string& to,
     return false;
 }
 
-BinSet bins(const std::string& letters) {
-    BinSet b;
-    for (char c : letters) b.set(static_cast<size_t>(*component_from_letter(c)));
-    return b;
-}
+using testing::bins;
 
 TEST(PlanPipeline, NormativeExampleIsATypedGraph) {
     auto r = testing::plan_text("examples/pipelines/cornell_prog.pipe",

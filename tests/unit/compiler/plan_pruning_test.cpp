@@ -7,16 +7,13 @@
 #include "compiler/sched/print.h"
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
+#include "tests/support/plan_helpers.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
 namespace {
 
-BinSet bins(const std::string& letters) {
-    BinSet b;
-    for (char c : letters) b.set(static_cast<size_t>(*component_from_letter(c)));
-    return b;
-}
+using testing::bins;
 
 std::string pruned_text(const std::string& crex, const std::string& spawnable) {
     return sched::to_crex(prune_dead_steps(testing::lower_or_die(crex), bins(spawnable)));

@@ -103,11 +103,7 @@ std::string room_gltf() {
   )" + kBufferViews + ",\n  " + buffers() + "}";
 }
 
-const Shape* shape_named(const Scene& s, const std::string& name) {
-    for (const auto& shape : s.shapes)
-        if (shape.name == name) return &shape;
-    return nullptr;
-}
+using testing::shape_named;
 
 TEST(SceneGltf, NodeTransformsApplyDownTheTree) {
     write("wood grain.png", "not read here");

@@ -25,11 +25,7 @@ void expect_near(const Vec3& a, const Vec3& b, double tol, const std::string& wh
     EXPECT_NEAR(a.z, b.z, tol) << what;
 }
 
-const Shape* shape_named(const Scene& s, const std::string& name) {
-    for (const auto& sh : s.shapes)
-        if (sh.name == name) return &sh;
-    return nullptr;
-}
+using testing::shape_named;
 
 // A directory of scene files for one test, removed afterwards.
 class SceneDir {
