@@ -45,7 +45,9 @@ TEST(CameraMatrices, APointThroughAPixelProjectsBackToIt) {
                 const auto cam = times({p.x, p.y, p.z}, to_camera);
                 EXPECT_GT(cam[2], 0);  // in front of the camera: +z along the view
                 EXPECT_NEAR(cam[3], 1, 1e-12);
-                if (projection == Projection::kPerspective) EXPECT_NEAR(cam[2], ndc[3], 1e-9);  // w is the depth
+                if (projection == Projection::kPerspective) {
+                    EXPECT_NEAR(cam[2], ndc[3], 1e-9);  // w is the depth
+                }
             }
         }
         // Right of centre is +x, above is +y.
