@@ -29,6 +29,16 @@ std::optional<DiagnosticCodeInfo> find_diagnostic_code(std::string_view code) {
     return std::nullopt;
 }
 
+Diagnostic run_diagnostic(std::string_view code, std::string where, std::string message) {
+    Diagnostic d;
+    d.code = std::string(code);
+    auto info = find_diagnostic_code(code);
+    d.severity = info ? info->severity : Severity::kError;
+    d.where = std::move(where);
+    d.message = std::move(message);
+    return d;
+}
+
 Diagnostic& DiagnosticSink::report(std::string_view code, SourceSpan span, std::string message) {
     Diagnostic d;
     d.code = std::string(code);
@@ -66,7 +76,7 @@ void DiagnosticSink::withdraw(std::string_view code) {
 std::vector<Diagnostic> DiagnosticSink::sorted() const {
     std::vector<Diagnostic> out = diagnostics_;
     auto key = [](const Diagnostic& d) {
-        return std::make_tuple(d.span.file ? d.span.file->name() : std::string(), d.span.begin,
+        return std::make_tuple(d.span.file ? d.span.file->name() : d.where, d.span.begin,
                                d.span.end, d.code, d.message);
     };
     std::stable_sort(out.begin(), out.end(),

@@ -29,7 +29,14 @@ struct Diagnostic {
     std::string message;
     std::vector<DiagnosticNote> notes;
     std::string help;  ///< a suggested fix, printed as "= help: ..."
+    /// Where, as text, when there is no span to quote: a run's diagnostics point at positions
+    /// the plan kept ("cornell.pipe:20:15"; the source text is gone by then), at an option, or
+    /// at the command ("crex run"), or at a file (a texture that cannot be read).
+    std::string where;
 };
+
+/// A diagnostic of the runtime: severity from the code table, placed by `where` (no span).
+Diagnostic run_diagnostic(std::string_view code, std::string where, std::string message);
 
 /// Entry of the code table.
 struct DiagnosticCodeInfo {

@@ -22,6 +22,7 @@ void put_span(nlohmann::json& j, const SourceSpan& span) {
 nlohmann::json to_json(const Diagnostic& d) {
     nlohmann::json j;
     put_span(j, d.span);
+    if (!d.span.valid() && !d.where.empty()) j["where"] = d.where;
     j["code"] = d.code;
     j["severity"] = std::string(severity_name(d.severity));
     j["message"] = d.message;

@@ -1,6 +1,7 @@
 /// \file render_json.h
 /// Diagnostics for tools (`--format json`): one object per diagnostic with
-/// {file, line, col, end_line, end_col, code, severity, message, notes, help}.
+/// {file, line, col, end_line, end_col, code, severity, message, notes, help}; a run's
+/// diagnostics have "file": null and say "where" instead.
 /// Lines and columns are 1-based, columns in code points; end_col is one past the span.
 #pragma once
 

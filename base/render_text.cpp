@@ -83,7 +83,8 @@ std::string render_text(const Diagnostic& d) {
     std::string out;
     std::string head = d.code.empty() ? std::string(severity_name(d.severity))
                                       : fmt::format("{}[{}]", severity_name(d.severity), d.code);
-    out += fmt::format("{}: {}: {}\n", format_location(d.span), head, printable(d.message));
+    const std::string where = d.span.valid() || d.where.empty() ? format_location(d.span) : printable(d.where);
+    out += fmt::format("{}: {}: {}\n", where, head, printable(d.message));
     render_snippet(out, d.span);
     for (const auto& note : d.notes) {
         if (!note.span.valid()) {  // a note about the whole diagnostic, not a place

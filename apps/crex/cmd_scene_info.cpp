@@ -47,14 +47,14 @@ Stats scene_stats(const Scene& s) {
 std::string vec_text(const Vec3& v) { return fmt::format("({:g}, {:g}, {:g})", v.x, v.y, v.z); }
 
 // The images the materials use, opened (headers only) through the texture backend.
-std::vector<TextureImage> texture_images(const Scene& scene, std::vector<std::string>& warnings) {
+std::vector<TextureImage> texture_images(const Scene& scene, std::vector<Diagnostic>& warnings) {
     bool any = false;
     for (const auto& m : scene.materials) any = any || m.textures.any();
     if (!any) return {};
     try {
         return SurfaceTextures(scene, texture_cache_bytes(0), warnings).stats().images;
     } catch (const std::exception& e) {
-        warnings.push_back(e.what());
+        warnings.push_back(run_diagnostic("W310", "crex scene-info", e.what()));  // no image plugin, say
         return {};
     }
 }
@@ -178,10 +178,9 @@ int run_scene_info(const SceneInfoOptions& opt) {
     }
     Census census = take_census(*scene);
     Stats st = scene_stats(*scene);
-    std::vector<std::string> texture_warnings;
+    std::vector<Diagnostic> texture_warnings;
     const std::vector<TextureImage> images = texture_images(*scene, texture_warnings);
-    if (opt.format == "text")
-        for (const auto& w : texture_warnings) std::cerr << "crex scene-info: warning: " << w << "\n";
+    if (opt.format == "text") std::cerr << render_text(texture_warnings);
     if (opt.format == "json") {
         nlohmann::json out;
         out["diagnostics"] = to_json(diagnostics);

@@ -300,9 +300,9 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
 
 // Notes and warnings of the runtime, each note once in first-said order: every round of the
 // cyclic process may say the same thing.
-void say_notes(const RunResult& result) {
+void say_notes(const std::vector<std::string>& notes) {
     std::vector<std::pair<std::string, int>> said;
-    for (const auto& note : result.notes) {
+    for (const auto& note : notes) {
         auto it = std::find_if(said.begin(), said.end(), [&](const auto& s) { return s.first == note; });
         if (it == said.end()) said.emplace_back(note, 1);
         else ++it->second;
@@ -355,12 +355,15 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
         return kExitOk;
     });
     if (status != kExitOk) return status;
-    // Each warning once, however many frames said it.
-    std::vector<std::string> said;
-    for (const FrameRun& f : frames)
-        for (const std::string& w : f.warnings)
-            if (std::find(said.begin(), said.end(), w) == said.end()) said.push_back(w);
-    for (const std::string& w : said) std::cerr << (w.rfind("note: ", 0) == 0 ? "crex run: " : "") << w << "\n";
+    // Each note and warning once, however many frames said it.
+    std::vector<std::string> notes;
+    DiagnosticSink warnings;
+    for (const FrameRun& f : frames) {
+        notes.insert(notes.end(), f.notes.begin(), f.notes.end());
+        for (const Diagnostic& w : f.warnings) warnings.add(w);
+    }
+    say_notes(notes);
+    std::cerr << render_text(warnings.sorted());
     if (r.format == "json") {
         nlohmann::json j = frames_json(frames, r.sequence.fps);
         j["camera_path"] = r.camera_path;
@@ -465,9 +468,9 @@ int run_request(Request& r) {
             std::cerr << fmt::format("crex run: rendering uniformly in the same time ({:.2f} s)\n", out.result->render_seconds);
         record.equal_time = render_uniform_in_equal_time(*in.scene->scene, out.run.settings, out.result->render_seconds);
     }
-    say_notes(*out.result);
+    say_notes(out.result->notes);
     if (lead.resumed) say_resumed(*lead.resumed, out.run.settings, *out.result, std::cerr);
-    for (const auto& w : out.result->warnings) std::cerr << w << "\n";
+    std::cerr << render_text(out.result->warnings);
     WrittenRun written;
     if (std::string error = write_run_files(r.files, record, written); !error.empty()) {
         std::cerr << "crex run: error: " << error << "\n";

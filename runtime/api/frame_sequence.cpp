@@ -98,7 +98,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         f.rays = total_rays(result.stats);
         f.render_seconds = result.render_seconds;
         f.warnings = result.warnings;
-        for (const std::string& note : result.notes) f.warnings.push_back("note: " + note);
+        f.notes = result.notes;
         RunRecord record;
         record.inputs = &in;
         record.outcome = &outcome;

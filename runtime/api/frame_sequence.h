@@ -57,7 +57,8 @@ struct FrameRun {
     size_t records_made = 0;
     uint64_t rays = 0;
     std::vector<std::string> files;
-    std::vector<std::string> warnings;  ///< the frame's runtime warnings and notes
+    std::vector<Diagnostic> warnings;   ///< the frame's runtime warnings
+    std::vector<std::string> notes;     ///< and notes (RunResult::notes)
 };
 
 /// A frame's files could not be written; the frames before it are kept.

@@ -59,7 +59,7 @@ RunOutcome run_resolved(const PipelinePlan& plan, const Scene& scene, ResolvedRu
         throw;
     }
     s.executor.profile = nullptr;
-    for (std::string& w : light_left_out_warnings(*out.result, s.executor.shade, s.irradiance_cache ? &*s.irradiance_cache : nullptr,
+    for (Diagnostic& w : light_left_out_warnings(*out.result, s.executor.shade, s.irradiance_cache ? &*s.irradiance_cache : nullptr,
                                                   out.run.limits_set_at))
         out.result->warnings.push_back(std::move(w));
     group.end(s, *out.result);

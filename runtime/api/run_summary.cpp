@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "base/render_json.h"
 #include "compiler/pipeline/settings_table.h"
 #include "compiler/sched/print.h"
 
@@ -19,14 +20,15 @@ nlohmann::json curve_json(const std::vector<CurvePoint>& curve) {
     return cj;
 }
 
-std::vector<std::string> light_left_out_warnings(const RunResult& r, const ShadeParams& shade, const IcSettings* ic,
+std::vector<Diagnostic> light_left_out_warnings(const RunResult& r, const ShadeParams& shade, const IcSettings* ic,
                                                  const LimitOrigins& origins) {
-    std::vector<std::string> out;
+    std::vector<Diagnostic> out;
     auto say = [&](double share, const std::string& origin, const std::string& what, const std::string& fix) {
         if (!(share > kLightLeftOutWarning)) return;
-        out.push_back(fmt::format("{}: warning[W404]: {} left out about {:.3g} % of the image's light (estimated; more than {:g} %): "
-                                  "the image is darker than the scene; {}",
-                                  origin.empty() ? "crex run" : origin, what, 100 * share, 100 * kLightLeftOutWarning, fix));
+        out.push_back(run_diagnostic("W404", origin.empty() ? "crex run" : origin,
+                                     fmt::format("{} left out about {:.3g} % of the image's light (estimated; more than {:g} %): "
+                                                 "the image is darker than the scene; {}",
+                                                 what, 100 * share, 100 * kLightLeftOutWarning, fix)));
     };
     say(r.light_cut_by_depth, origins.max_depth, fmt::format("paths ended at max-depth {}", shade.max_depth),
         shade.max_depth < 65535 ? fmt::format("raise --max-depth (e.g. --max-depth {}; at most 65535)", std::min<uint32_t>(65535, shade.max_depth * 4 + 4))
@@ -99,7 +101,7 @@ nlohmann::json run_summary_json(const RunFacts& f) {
                                                             {"rays_left", r.rays_left[c]}};
     }
     j["components"] = comps;
-    j["warnings"] = r.warnings;
+    j["warnings"] = to_json(r.warnings);
     // Estimated shares of the image's light the limits left out (run_plan.h).
     j["light_left_out"] = {{"max_depth", r.light_cut_by_depth}, {"lw", r.light_cut_by_weight}, {"ab", r.light_cut_by_cache}};
     j["passes"] = r.passes;

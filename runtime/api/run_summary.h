@@ -56,7 +56,7 @@ void print_run_summary(const RunFacts& f, std::ostream& out);
 /// (RunResult::light_cut_by_*): where the limit was set (the pipeline's line, else the
 /// command line) and which flag raises it.
 inline constexpr double kLightLeftOutWarning = 0.01;
-std::vector<std::string> light_left_out_warnings(const RunResult& r, const ShadeParams& shade, const IcSettings* ic,
+std::vector<Diagnostic> light_left_out_warnings(const RunResult& r, const ShadeParams& shade, const IcSettings* ic,
                                                  const LimitOrigins& origins);
 
 /// The error curve's entries for the JSON summary.

@@ -476,11 +476,12 @@ RunResult PlanRun::finish() {
     out_.row_bands = bands_;
     out_.ambient = std::move(stand_ins_->ambient());
     if (!bands_.empty()) group_.final_image(out_.image(), s_.width);
-    // Passes repeat a step's warning (a '*' cap hit in every pass): each is said once.
-    std::set<std::string> said;
-    for (const auto& w : ex_->warnings())
-        if (said.insert(w).second) out_.warnings.push_back(w);
-    for (std::string& w : modulation_warnings(out_.stats, plan_, s_.executor.constant_importance)) out_.warnings.push_back(std::move(w));
+    // Passes repeat a step's warning (a '*' cap hit in every pass): the sink keeps each once.
+    DiagnosticSink said;
+    for (const Diagnostic& w : out_.warnings) said.add(w);  // the textures'
+    for (const Diagnostic& w : ex_->warnings()) said.add(w);
+    for (Diagnostic& w : modulation_warnings(out_.stats, plan_, s_.executor.constant_importance)) said.add(std::move(w));
+    out_.warnings = said.sorted();
     out_.render_seconds = clock_();
     out_.render_cpu_seconds = process_cpu_seconds() - cpu_at_start_;
     out_.render_thread_seconds = out_.render_seconds * tbb::this_task_arena::max_concurrency();
@@ -765,19 +766,20 @@ void PlanRun::redo_preview_direct_light(const SelectiveSetup& sel) {
 
 }  // namespace
 
-std::vector<std::string> modulation_warnings(const ExecutorStats& stats, const PipelinePlan& plan, double constant_importance) {
+std::vector<Diagnostic> modulation_warnings(const ExecutorStats& stats, const PipelinePlan& plan, double constant_importance) {
     std::string map = fmt::format("the constant importance {:g} (--importance)", constant_importance);
     for (const PlanMap& m : plan.maps)
         if (m.id == plan.modulation_map) map = fmt::format("the map '{}'", m.defines.empty() ? m.name : m.defines);
-    std::vector<std::string> out;
+    std::vector<Diagnostic> out;
     for (const ModulatedStep& m : stats.modulated) {
         if (m.found == 0 || m.taken > 0) continue;
         const char c = component_letter(m.component);
-        out.push_back(fmt::format("{}: warning[W405]: {} inside '{{ }}' ran no ray: as occurrence {:g} of {:g} it runs where the importance "
-                                  "is above {:g}/{:g} = {:.3f}, and {} reached at most {:.3f} where {} had rays; raise the map (or its "
-                                  "weight) or put {} earlier inside the braces",
-                                  m.where, c, m.index + 1, m.occurrences, m.index, m.occurrences, m.index / m.occurrences, map,
-                                  m.highest_importance, c, c));
+        out.push_back(run_diagnostic("W405", m.where,
+                                     fmt::format("{} inside '{{ }}' ran no ray: as occurrence {:g} of {:g} it runs where the importance "
+                                                 "is above {:g}/{:g} = {:.3f}, and {} reached at most {:.3f} where {} had rays; raise the "
+                                                 "map (or its weight) or put {} earlier inside the braces",
+                                                 c, m.index + 1, m.occurrences, m.index, m.occurrences, m.index / m.occurrences, map,
+                                                 m.highest_importance, c, c)));
     }
     return out;
 }

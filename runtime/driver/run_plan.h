@@ -65,7 +65,7 @@ bool has_guidance(const PipelinePlan& plan);
 
 /// W405 for each occurrence inside `{ }` that found rays in its bin and ran none of them: the
 /// map modulating the braces (or the constant --importance) never reached what it needs.
-std::vector<std::string> modulation_warnings(const ExecutorStats& stats, const PipelinePlan& plan, double constant_importance);
+std::vector<Diagnostic> modulation_warnings(const ExecutorStats& stats, const PipelinePlan& plan, double constant_importance);
 
 /// Rays executed in total (camera rays and every component's).
 uint64_t total_rays(const ExecutorStats& stats);

@@ -26,7 +26,7 @@ struct RunResult {
     Film film;
     std::vector<double> ambient;   ///< per pixel RGB, sample-summed: av for D rays never executed
     ExecutorStats stats;
-    std::vector<std::string> warnings;
+    std::vector<Diagnostic> warnings;  ///< each once, in (where, code) order
     std::vector<std::string> notes;  ///< what the runtime did not execute, and why
     /// With ambient_auto: the radiance that stood in for each component's unexecuted rays.
     std::array<Vec3, kComponentCount> auto_ambient{};

@@ -459,8 +459,8 @@ bool Executor::run(const sched::Node& node) {
         bool any = false;
         for (uint32_t k = 0;; ++k) {
             if (k >= node.cap) {
-                warnings_.push_back(fmt::format("{}: warning[W401]: '*' stopped after {} iterations (the cap) with work left",
-                                                node.where.to_string(), node.cap));
+                warnings_.push_back(run_diagnostic("W401", node.where.to_string(),
+                                                   fmt::format("'*' stopped after {} iterations (the cap) with work left", node.cap)));
                 break;
             }
             bool work = run(node.children.front());

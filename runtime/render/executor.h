@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "base/diagnostic.h"
 #include "compiler/sched/program.h"
 #include "runtime/render/film.h"
 #include "runtime/render/profile.h"
@@ -172,7 +173,7 @@ public:
     /// camera samples holds in flight (its memory), measured rather than modelled.
     size_t peak_rays_held() const { return peak_rays_held_; }
     void reset_peak_rays_held() { peak_rays_held_ = 0; }
-    const std::vector<std::string>& warnings() const { return warnings_; }
+    const std::vector<Diagnostic>& warnings() const { return warnings_; }
 
 private:
     bool exec(const sched::Node& node);
@@ -208,7 +209,7 @@ private:
     bool in_modulate_ = false;
     std::vector<std::pair<double, uint64_t>> strides_;
     ExecutorStats stats_;
-    std::vector<std::string> warnings_;
+    std::vector<Diagnostic> warnings_;
     uint64_t rays_done_ = 0;
     ShadeOutput shade_;  // reused for every chunk
     bool in_admitted_group_ = false;

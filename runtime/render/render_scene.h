@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "base/diagnostic.h"
 #include "runtime/render/bsdf.h"
 #include "runtime/render/medium.h"
 #include "runtime/render/surface.h"
@@ -250,7 +251,7 @@ struct RenderScene {
     /// Where texture lookups filter: the camera's pixel footprint (set_view()); without it,
     /// lookups are the sharpest (tests that never set an image size).
     PixelFootprint footprint;
-    std::vector<std::string> warnings;  ///< textures that cannot be read (they render magenta)
+    std::vector<Diagnostic> warnings;  ///< textures that cannot be read (they render magenta)
 
     explicit RenderScene(const Scene& s, size_t texture_cache_bytes = kDefaultTextureCacheBytes);
     /// Texture filtering for images of width x height through the scene's camera, over

@@ -46,7 +46,7 @@ uint64_t TextureImage::memory_bytes() const {
     return top + top / 3;
 }
 
-SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<std::string>& warnings) : scene_(scene) {
+SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings) : scene_(scene) {
     bool referenced = false;
     for (const Material& m : scene.materials) referenced = referenced || m.textures.any();
     if (referenced) {  // the image plugin only when there are images
@@ -76,7 +76,7 @@ SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::ve
 SurfaceTextures::~SurfaceTextures() = default;
 
 SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene,
-                                                 std::vector<std::string>& warnings) {
+                                                 std::vector<Diagnostic>& warnings) {
     const bool colour = kind == SlotKind::kColour;
     Slot slot;
     if (!ref) return slot;
@@ -95,7 +95,8 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
         }
         int id = -1;
         if (image.error.empty()) id = backend_->open(name, bytes, image.info, image.error);
-        if (id < 0) warnings.push_back(fmt::format("texture '{}' cannot be read ({}): it renders magenta where it gives a colour", name, image.error));
+        if (id < 0)
+            warnings.push_back(run_diagnostic("W310", name, fmt::format("texture cannot be read ({}): it renders magenta where it gives a colour", image.error)));
         ids_.push_back(id);
         images_.push_back(image);
         index = images_.size() - 1;
@@ -110,9 +111,10 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
     const int needed = kind == SlotKind::kVector ? 3 : 1;
     if (ref->channel + needed > image.info.channels) {
         if (kind != SlotKind::kOpacity)
-            warnings.push_back(fmt::format("texture '{}' has {} channel{}, not channel {}{}: the material's constant is used instead", name,
-                                           image.info.channels, image.info.channels == 1 ? "" : "s", ref->channel,
-                                           needed > 1 ? fmt::format(" and the {} after it", needed - 1) : ""));
+            warnings.push_back(run_diagnostic("W311", name,
+                                              fmt::format("texture has {} channel{}, not channel {}{}: the material's constant is used instead",
+                                                          image.info.channels, image.info.channels == 1 ? "" : "s", ref->channel,
+                                                          needed > 1 ? fmt::format(" and the {} after it", needed - 1) : "")));
         slot.image = kNone;
         return slot;
     }

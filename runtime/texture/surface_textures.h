@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "base/diagnostic.h"
 #include "runtime/io/texture_backend.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/scene.h"
@@ -66,7 +67,7 @@ class SurfaceTextures {
 public:
     /// Opens every image the materials reference. `warnings`: one line per image that cannot
     /// be read. Throws std::runtime_error when the image plugin cannot be loaded at all.
-    SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<std::string>& warnings);
+    SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings);
     ~SurfaceTextures();
 
     /// Has material `m` any texture (else its constants are all there is)?
@@ -105,7 +106,7 @@ private:
     /// What a slot reads: a colour (1 channel replicated, or 3), a number, a normal (3) or an
     /// opacity (a missing alpha channel is opaque).
     enum class SlotKind { kColour, kScalar, kVector, kOpacity };
-    Slot open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene, std::vector<std::string>& warnings);
+    Slot open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene, std::vector<Diagnostic>& warnings);
     /// (s, t) and footprint of `slot` at `p`.
     TextureLookup coordinates(const Slot& slot, const SurfacePoint& p) const;
     /// A filtered lookup of `n` channels (1 or 3); false when the slot's image cannot be read.

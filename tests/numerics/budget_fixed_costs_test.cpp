@@ -177,7 +177,7 @@ TEST(ModulatedSteps, AComponentTheMapNeverReachesIsW405NamingTheMap) {
     const RunResult r = run_plan(scene, plan, s);
     std::vector<std::string> w405;
     for (const auto& w : r.warnings)
-        if (w.find("W405") != std::string::npos) w405.push_back(w);
+        if (w.code == "W405") w405.push_back(w.message);
     ASSERT_FALSE(w405.empty());
     bool d_named = false;
     for (const auto& w : w405) {

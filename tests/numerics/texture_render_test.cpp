@@ -142,7 +142,9 @@ TEST(TexturedPlane, AMissingTextureIsMagentaNotGrey) {
     const Scene s = plane_under_sky(texture((scratch() / "no_such_texture.png").string()));
     RunResult r = testing::render_crex(s, "D", 8, 1);
     ASSERT_FALSE(r.warnings.empty());
-    EXPECT_NE(r.warnings[0].find("magenta"), std::string::npos) << r.warnings[0];
+    EXPECT_EQ(r.warnings[0].code, "W310");
+    EXPECT_NE(r.warnings[0].where.find("no_such_texture.png"), std::string::npos) << r.warnings[0].where;
+    EXPECT_NE(r.warnings[0].message.find("magenta"), std::string::npos) << r.warnings[0].message;
     const Vec3 p = pixel(r.image(), 8, 4, 4);
     EXPECT_NEAR(p.x, 1, 1e-6);
     EXPECT_NEAR(p.y, 0, 1e-6);

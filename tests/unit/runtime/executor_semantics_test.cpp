@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "base/render_text.h"
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
 #include "tests/support/test_scenes.h"
@@ -189,8 +190,10 @@ TEST(ExecutorSemantics, StarCapStopsWithW401) {
     RunResult r = render(facing_mirrors(1.0), *c.program, o);
     EXPECT_EQ(r.stats.components[static_cast<size_t>(Component::kM)].executions, 10u);
     ASSERT_EQ(r.warnings.size(), 1u);
-    EXPECT_NE(r.warnings[0].find("W401"), std::string::npos);
-    EXPECT_NE(r.warnings[0].find("<t>:1:1"), std::string::npos) << r.warnings[0];
+    EXPECT_EQ(r.warnings[0].code, "W401");
+    EXPECT_EQ(r.warnings[0].severity, Severity::kWarning);  // from the code table
+    EXPECT_EQ(r.warnings[0].where, "<t>:1:1");
+    EXPECT_EQ(render_text(r.warnings[0]), "<t>:1:1: warning[W401]: '*' stopped after 10 iterations (the cap) with work left\n");
 }
 
 TEST(ExecutorSemantics, AmbientStandsInForWaitingDiffuseRaysOnly) {
