@@ -16,13 +16,19 @@ double ward_weight(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
 }
 
 Vec3 extrapolate(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
-    Vec3 turn = cross(r.normal, n), shift = x - r.position;
-    double e[3] = {r.irradiance.x, r.irradiance.y, r.irradiance.z};
-    for (int c = 0; c < 3; ++c) {
-        double v = e[c] + dot(turn, r.rotation[static_cast<size_t>(c)]) + dot(shift, r.translation[static_cast<size_t>(c)]);
-        e[c] = std::isfinite(v) ? std::fmax(v, 0.0) : std::fmax(e[c], 0.0);
+    const Vec3 turn = cross(r.normal, n), shift = x - r.position;
+    Vec3 change{};
+    double* c[3] = {&change.x, &change.y, &change.z};
+    for (size_t k = 0; k < 3; ++k) {
+        const double v = dot(turn, r.rotation[k]) + dot(shift, r.translation[k]);
+        *c[k] = std::isfinite(v) ? v : 0.0;
     }
-    return {e[0], e[1], e[2]};
+    // The first-order change, scaled down (all channels alike: the hue stays) where it would
+    // move E's luminance by more than kMaxGradientChange of it.
+    const double e = luminance(r.irradiance), moved = std::fabs(luminance(change));
+    if (moved > kMaxGradientChange * e) change = change * (kMaxGradientChange * e / moved);
+    return {std::fmax(r.irradiance.x + change.x, 0.0), std::fmax(r.irradiance.y + change.y, 0.0),
+            std::fmax(r.irradiance.z + change.z, 0.0)};
 }
 
 double gradient_limited_radius(const IrradianceRecord& r, double r_min) {

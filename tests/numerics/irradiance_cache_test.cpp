@@ -36,7 +36,8 @@ TEST(WardWeight, TheSingularitiesStayFinite) {
     IrradianceRecord zero = record_at({0, 0, 0}, {0, 0, 1}, 0.0);  // a record with R = 0 is never used
     EXPECT_EQ(ward_weight(zero, {0, 0, 0}, {0, 0, 1}), 0.0);
     EXPECT_EQ(ward_weight(r, {NAN, 0, 0}, {0, 0, 1}), 0.0);
-    // Gradients that would extrapolate below zero are clamped; NaN gradients fall back to E.
+    // A change beyond kMaxGradientChange of E's luminance is scaled down, channels alike, and
+    // what is still below zero is clamped; NaN gradient terms are left out.
     IrradianceRecord g = r;
     g.translation = {Vec3{-100, 0, 0}, Vec3{NAN, 0, 0}, Vec3{0, 0, 0}};
     Vec3 e = extrapolate(g, {1, 0, 0}, {0, 0, 1});
@@ -53,7 +54,9 @@ TEST(WardWeight, ARecordsRadiusIsLimitedByItsGradient) {
     EXPECT_EQ(gradient_limited_radius(r, 0.01), 2.0);  // no gradient: R as measured
     r.translation = {Vec3{4, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 0, 0}};
     EXPECT_NEAR(gradient_limited_radius(r, 0.01), 0.25, 1e-12);  // |grad E| = 4: R = E / 4
-    EXPECT_NEAR(luminance(extrapolate(r, {0.25, 0, 0}, {0, 0, 1})), 2.0, 1e-12);
+    EXPECT_NEAR(luminance(extrapolate(r, {0.25, 0, 0}, {0, 0, 1})), 1 + kMaxGradientChange, 1e-12);  // not 2: bounded
+    EXPECT_NEAR(luminance(extrapolate(r, {0.05, 0, 0}, {0, 0, 1})), 1.2, 1e-12);  // within the bound: the gradient as it is
+    EXPECT_NEAR(luminance(extrapolate(r, {-0.25, 0, 0}, {0, 0, 1})), 1 - kMaxGradientChange, 1e-12);  // darker alike
     EXPECT_EQ(gradient_limited_radius(r, 0.5), 0.5);  // never below r_min
     r.translation = {Vec3{1e300, 0, 0}, Vec3{NAN, 0, 0}, Vec3{0, 0, 0}};
     EXPECT_EQ(gradient_limited_radius(r, 0.01), 2.0);  // a gradient that is not finite is not used
