@@ -17,9 +17,9 @@ namespace crex {
 struct FixedCosts {
     double coarsest_preview_seconds = 0;  ///< the preview at every kCoarsestPreviewStride-th pixel
     double guidance_seconds = 0;
-    /// The smallest budget the pipeline can meet: its coarsest preview and guidance. A lower
-    /// bound: the preview is predicted at the profile's cost per sample, and a sparse preview
-    /// with an irradiance cache makes more records per sample than a full one.
+    /// The smallest budget the pipeline can meet: its coarsest preview and guidance. The
+    /// preview is predicted from the profile's: its fixed part, a record per sample (up to the
+    /// full preview's records) with a cache, and the rest per sample.
     double floor_seconds = 0;
 };
 

@@ -14,7 +14,10 @@ std::string profile_json_text(const Profile& profile, double full_render_seconds
         j["stages"] = {{"preview_seconds", stages.preview_seconds},
                        {"preview_samples", stages.preview_samples},
                        {"guidance_seconds", stages.guidance_seconds},
-                       {"pixels", stages.pixels}};
+                       {"pixels", stages.pixels},
+                       {"preview_fixed_seconds", stages.preview_fixed_seconds},
+                       {"preview_records", stages.preview_records},
+                       {"preview_record_seconds", stages.preview_record_seconds}};
     return j.dump(2) + "\n";
 }
 

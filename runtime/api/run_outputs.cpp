@@ -203,7 +203,8 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
         StageCosts stages = predicted ? predicted->stages : StageCosts{};
         if (full_render && result.staged)
             stages = {result.preview_seconds, result.preview_samples, result.guidance_seconds,
-                      static_cast<uint64_t>(width) * static_cast<uint64_t>(height)};
+                      static_cast<uint64_t>(width) * static_cast<uint64_t>(height), result.ic_stats.caustic_seconds,
+                      result.ic_preview_records, result.ic_preview_record_seconds};
         std::string error = write_file_atomically(files.stage_file(where.profile), profile_json_text(outcome.measured, full, stages));
         if (!error.empty()) return fmt::format("cannot write profile '{}': {}", where.profile, files.in_user_terms(error));
     }

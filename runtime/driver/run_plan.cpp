@@ -338,7 +338,10 @@ void PlanRun::preview() {
     out_.preview_seconds = now();  // on the budget's clock: a saved profile sizes later previews from it
     out_.preview_rays = total_rays(ex_->stats());
     out_.preview_samples = ex_->stats().camera.rays;
-    if (cache_) out_.ic_preview_records = cache_->records().size();
+    if (cache_) {
+        out_.ic_preview_records = cache_->records().size();
+        out_.ic_preview_record_seconds = cache_->stats().record_seconds;
+    }
     stage_end("end of the pre-selective stage", "guidance");
 }
 

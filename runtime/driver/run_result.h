@@ -70,6 +70,7 @@ struct RunResult {
     /// The progressive selective cache (thesis 8.2): records made in the preview, preview D
     /// samples answered again at a finer accuracy in the selective stage, records made then.
     size_t ic_preview_records = 0, ic_reprocessed = 0, ic_selective_records = 0;
+    double ic_preview_record_seconds = 0;  ///< making the preview's records
     /// Progressive direct light (thesis 8.2): preview samples whose camera-hit direct light was
     /// estimated again with their pixel's shadow_rays, and the shadow rays that took.
     size_t direct_light_redone = 0;

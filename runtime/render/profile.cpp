@@ -80,12 +80,16 @@ std::string Profile::from_json_text(const std::string& text, Profile& out, doubl
             return number(std::string("/stages/") + key, g->at(key), range, v);
         };
         const NumberRange seconds{0, kMaxFullRenderSeconds, false}, count{0, 1e15, true};
-        double samples = 0, pixels = 0;
+        double samples = 0, pixels = 0, records = 0;
         for (const std::string& e : {stage("preview_seconds", st.preview_seconds, seconds), stage("preview_samples", samples, count),
-                                     stage("guidance_seconds", st.guidance_seconds, seconds), stage("pixels", pixels, count)})
+                                     stage("guidance_seconds", st.guidance_seconds, seconds), stage("pixels", pixels, count),
+                                     stage("preview_fixed_seconds", st.preview_fixed_seconds, seconds),
+                                     stage("preview_records", records, count),
+                                     stage("preview_record_seconds", st.preview_record_seconds, seconds)})
             if (!e.empty()) return e;
         st.preview_samples = static_cast<uint64_t>(samples);
         st.pixels = static_cast<uint64_t>(pixels);
+        st.preview_records = static_cast<uint64_t>(records);
     }
     out = p;
     if (full_render_seconds) *full_render_seconds = full;

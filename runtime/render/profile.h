@@ -25,6 +25,12 @@ struct StageCosts {
     uint64_t preview_samples = 0;  ///< its camera samples
     double guidance_seconds = 0;   ///< every round's maps
     uint64_t pixels = 0;           ///< of the frame guidance ran on
+    // With an irradiance cache (else 0): what a sparse preview pays that a full one spreads
+    // over all its samples. The cache's caustic map is built on the clock, once; and a sample
+    // far from the others makes a record of its own.
+    double preview_fixed_seconds = 0;   ///< the cache's caustic map
+    uint64_t preview_records = 0;       ///< cache records the preview made
+    double preview_record_seconds = 0;  ///< making them (their hemispheres and deeper bounces)
     bool known() const { return preview_samples > 0 && pixels > 0; }
 };
 

@@ -61,6 +61,44 @@ TEST(FixedCosts, TheFloorIsTheCoarsestPreviewAndGuidanceAtTheProfilesCosts) {
     EXPECT_FALSE(predict_fixed_costs(StageCosts{}, w, h, 1));
 }
 
+// With an irradiance cache a sparse preview pays its caustic map whole and a record for each of
+// its samples (up to the full preview's records), not the full preview's cost per sample.
+TEST(FixedCosts, ACachedPreviewPaysItsMapAndARecordASample) {
+    const int w = 128, h = 96;
+    const uint64_t n = preview_samples_at(w, h, 1, kCoarsestPreviewStride);
+    // 1 s for every pixel: 0.2 s the caustic map, 0.6 s 2,000 records, 0.2 s the rest.
+    StageCosts stages{1.0, uint64_t{w} * h, 0.05, uint64_t{w} * h, 0.2, 2000, 0.6};
+    const FixedCosts c = *predict_fixed_costs(stages, w, h, 1);
+    const double expected = 0.2 + 0.2 / double(w * h) * double(n) + 0.6 / 2000 * double(std::min<uint64_t>(n, 2000));
+    EXPECT_NEAR(c.coarsest_preview_seconds, expected, 1e-12);
+    const double per_sample_alone = 1.0 / double(w * h) * double(n);  // what the old prediction said
+    EXPECT_GT(c.coarsest_preview_seconds, 2 * per_sample_alone);
+    // Fewer records than sparse samples: each is paid once.
+    stages.preview_records = 10;
+    EXPECT_NEAR(predict_fixed_costs(stages, w, h, 1)->coarsest_preview_seconds, 0.2 + 0.2 / double(w * h) * double(n) + 0.6, 1e-12);
+    // Parts that add up to more than the preview (a damaged profile) are clamped to it.
+    stages.preview_fixed_seconds = 5, stages.preview_record_seconds = 5;
+    EXPECT_NEAR(predict_fixed_costs(stages, w, h, 1)->coarsest_preview_seconds, 1.0, 1e-12);
+}
+
+TEST(FixedCosts, ASavedProfileKeepsTheCachesPreviewCosts) {
+    const StageCosts stages{1.5, 1000, 0.05, 1000, 0.25, 300, 0.75};
+    Profile profile, back;
+    double full = 0;
+    StageCosts read;
+    ASSERT_EQ(Profile::from_json_text(profile_json_text(profile, 4.0, stages), back, &full, "p.json", &read), "");
+    EXPECT_EQ(full, 4.0);
+    EXPECT_EQ(read.preview_fixed_seconds, 0.25);
+    EXPECT_EQ(read.preview_records, 300u);
+    EXPECT_EQ(read.preview_record_seconds, 0.75);
+    // A profile saved before them reads as no cache: the floor is the cost per sample alone.
+    StageCosts old;
+    ASSERT_EQ(Profile::from_json_text(R"({"format": "crex-profile", "version": 1, "seconds_per_ray": {}, "full_render_seconds": 4,
+        "stages": {"preview_seconds": 1.5, "preview_samples": 1000, "guidance_seconds": 0.05, "pixels": 1000}})", back, &full, "p.json", &old), "");
+    EXPECT_EQ(old.preview_records, 0u);
+    EXPECT_EQ(old.preview_fixed_seconds, 0.0);
+}
+
 TEST(FixedCosts, ABudgetBelowThePipelinesFloorIsRefusedNamingTheFloor) {
     Scene scene = *builtin_scene("cornell");
     PipelinePlan plan = plan_for(kProgressive, scene);
