@@ -95,7 +95,9 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
             static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)), static_cast<int>(std::floor(x.z / cell))));
         if (!entries) continue;
         for (const GridEntry& g : *entries) {
-            if (g.quality > aa + 1e-6) continue;  // never from records of lower quality
+            // A record made for a coarser accuracy is used too: Ward's test at this lookup's
+            // accuracy already keeps it within aa R_i of its site. (Refusing such records drew a
+            // sharp band where the `ic` map first lifted a pixel above the preview's accuracy.)
             // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test, first
             // on the entry (in float, with a margin), then exactly on the record.
             const float dx = xf - g.x, dy = yf - g.y, dz = zf - g.z, reach = aa_f * g.radius + position_slack_;
