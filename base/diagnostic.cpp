@@ -40,12 +40,8 @@ Diagnostic run_diagnostic(std::string_view code, std::string where, std::string 
 }
 
 Diagnostic& DiagnosticSink::report(std::string_view code, SourceSpan span, std::string message) {
-    Diagnostic d;
-    d.code = std::string(code);
-    auto info = find_diagnostic_code(code);
-    d.severity = info ? info->severity : Severity::kError;
+    Diagnostic d = run_diagnostic(code, {}, std::move(message));
     d.span = span;
-    d.message = std::move(message);
     add(std::move(d));
     if (diagnostics_.empty() || dropped_ > 0) {
         overflow_ = Diagnostic{};

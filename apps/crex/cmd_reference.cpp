@@ -14,6 +14,7 @@
 #include "compiler/crex/compile.h"
 #include "runtime/io/image_io.h"
 #include "apps/crex/cli_values.h"
+#include "apps/crex/guarded_rendering.h"
 #include "runtime/api/run_inputs.h"
 #include "runtime/api/run_outputs.h"
 #include "runtime/base/atomic_file.h"
@@ -86,20 +87,6 @@ std::optional<sched::Program> reference_program(const std::string& crex_text) {
     return compile_crex(crex, sink).program;
 }
 
-// Runs `render`, clearing the progress line either way; a failure is said and is exit 3.
-template <class Render>
-int reference_rendering(ConsoleProgress& progress, Render&& render) {
-    try {
-        render();
-    } catch (const std::exception& e) {
-        progress.finish();
-        std::cerr << "crex reference: error: rendering failed: " << e.what() << "\n";
-        return kExitFailure;
-    }
-    progress.finish();
-    return kExitOk;
-}
-
 int write_and_say(const std::string& path, const ReferenceImage& image, const ReferenceOptions& opt, const std::string& what) {
     std::error_code ec;
     std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
@@ -156,7 +143,7 @@ int accumulate(const ReferenceOptions& opt) {
     ConsoleProgress progress(progress_mode(opt.progress, opt.quiet));
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels more;
-    if (int status = reference_rendering(progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
+    if (int status = guarded_rendering("crex reference", progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
     ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, opt.spp);
     const uint32_t before = h.spp;
     h.spp += opt.spp;
@@ -207,7 +194,7 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     FrameContext context;
     RenderedPixels pixels;
-    const int status = reference_rendering(progress, [&] {
+    const int status = guarded_rendering("crex reference", progress, [&] {
         if (opt.context_spp > 0) context = render_frame_context(scene, *program, width, height, opt.context_spp, opt.seed, s.progress);
         if (!opt.windows_rule.empty()) {
             progress.finish();
@@ -285,7 +272,7 @@ int reference(const ReferenceOptions& opt) {
     rp.width = s.width, rp.height = s.height, rp.spp = s.spp, rp.seed = s.seed, rp.lw = s.lw, rp.max_depth = s.max_depth;
     rp.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels pixels;
-    if (int status = reference_rendering(progress, [&] { pixels = render_reference_pixels(scene, *reference_program(s.crex), rp); });  // it compiles
+    if (int status = guarded_rendering("crex reference", progress, [&] { pixels = render_reference_pixels(scene, *reference_program(s.crex), rp); });  // it compiles
         status != kExitOk)
         return status;
     ReferenceImage image;

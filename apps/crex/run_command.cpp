@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "apps/crex/cli_values.h"
+#include "apps/crex/guarded_rendering.h"
 #include "runtime/api/interrupt.h"
 #include "runtime/api/console_progress.h"
 #include "base/check.h"
@@ -311,37 +312,13 @@ void say_notes(const std::vector<std::string>& notes) {
         std::cerr << "crex run: note: " << note << (times > 1 ? fmt::format(" ({} times)", times) : "") << "\n";
 }
 
-// Runs `render` (it returns an exit status) and says why it failed as `crex run` does: a bug
-// goes on to main, which says so; input the run cannot use is exit 1, anything else 3. The
-// progress line is cleared either way.
-template <class Render>
-int run_rendering(ConsoleProgress& progress, Render&& render) {
-    int status = kExitOk;
-    try {
-        status = render();
-    } catch (const InternalError&) {
-        progress.finish();
-        throw;  // a bug, not a failed render: main says so
-    } catch (const RunInputError& e) {
-        progress.finish();
-        std::cerr << "crex run: error: " << e.what() << "\n";
-        return kExitInputErrors;
-    } catch (const std::exception& e) {
-        progress.finish();
-        std::cerr << "crex run: error: rendering failed: " << e.what() << "\n";
-        return kExitFailure;
-    }
-    progress.finish();
-    return status;
-}
-
 // The frames of a camera path: a progress line per frame, the sequence's summary at the end.
 int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path) {
     r.sequence.path = &path;
     const bool talk = !r.quiet && r.format != "json";
     ConsoleProgress progress(progress_mode(r.progress, !talk));
     std::vector<FrameRun> frames;
-    const int status = run_rendering(progress, [&] {
+    const int status = guarded_rendering("crex run", progress, [&] {
         try {
             frames = render_frames(in, run, r.files, r.sequence, progress, [&](const FrameRun& f, size_t index, size_t count) {
                 progress.finish();
@@ -435,7 +412,7 @@ int run_request(Request& r) {
     if (stoppable) catch_interrupt();
     ConsoleProgress progress(progress_mode(r.progress, quiet || r.format == "json"), recorder ? &*recorder : nullptr, stoppable);
     RunOutcome out;
-    if (int status = run_rendering(progress, [&] {
+    if (int status = guarded_rendering("crex run", progress, [&] {
             out = run_resolved(in.plan, *in.scene->scene, std::move(run), *group, progress);
             return kExitOk;
         });

@@ -75,7 +75,7 @@ void IrradianceCache::insert(const IrradianceRecord& r) {
                 if (grids_[r.level].empty()) grids_[r.level].resize(cell_size_.size());
                 grids_[r.level][L].at(cell_key(x, y, z))
                     .push_back({static_cast<float>(r.position.x), static_cast<float>(r.position.y), static_cast<float>(r.position.z),
-                                static_cast<float>(r.harmonic_distance), r.quality, index});
+                                static_cast<float>(r.harmonic_distance), index});
             }
 }
 

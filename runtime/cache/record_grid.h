@@ -1,13 +1,13 @@
 /// \file record_grid.h
 /// The irradiance cache's spatial index: a hierarchy of uniform grids (level L has cells of
 /// top / 2^L), each a hash table from cell to the records that reach into it, with what a
-/// lookup tests first (position, R, quality) copied beside each record's index.
+/// lookup tests first (position and R) copied beside each record's index.
 ///
 /// Why not std::unordered_map: its prime-sized buckets cost a 64-bit division per probe and
 /// a node per cell, and the first test read a 232-byte record per candidate (perf put a
 /// quarter of `crex run --ic --spp 16` on the Cornell box in lookups). Here a cell is found
 /// by linear probing in a power-of-two table, and candidates that fail the distance test are
-/// rejected from 24 contiguous bytes: the same records in the same order, 4 % less wall time
+/// rejected from 20 contiguous bytes: the same records in the same order, 4 % less wall time
 /// (farm-bench, 7 pairs). What remains is the cache miss on each level's cell; visiting the
 /// queries in Morton order to share them cost more in sorting than it saved.
 #pragma once
@@ -24,7 +24,6 @@ namespace crex {
 struct GridEntry {
     float x, y, z;    ///< position (local coordinates), rounded
     float radius;     ///< harmonic distance R
-    float quality;    ///< the record's accuracy (exact: the record's own float)
     uint32_t index;   ///< into the cache's records
 };
 
