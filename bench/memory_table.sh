@@ -2,7 +2,7 @@
 # Peak memory of `crex run` against image size and samples (issue 13): plain crex and a stdlib
 # pipeline, with the default --max-memory (1 GiB). Prints a markdown table. Slow (minutes per
 # row on 2 cores); never in CI.
-#   bash bench/memory_table.sh [path/to/crex]
+#   bash bench/memory_table.sh [path/to/crex]    (ROWS=crex, pipelines or large: one group)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CREX=${1:-build/release/apps/crex/crex}
@@ -22,6 +22,11 @@ rows=${ROWS:-all}
 if [ "$rows" = all ] || [ "$rows" = crex ]; then
   for spp in 1 16 256 1024; do row "(TTMRSGD)* builtin:cornell 512x512, $spp spp" --size 512x512 --spp "$spp"; done
   row "(TTMRSGD)* builtin:cornell 1920x1080, 64 spp" --size 1920x1080 --spp 64
+fi
+if [ "$rows" = large ]; then  # issue 40: frames whose film alone used to pass the limit (an hour)
+  for size in 2048x2048 3840x2160; do
+    for spp in 1 64; do row "(TTMRSGD)* builtin:cornell $size, $spp spp" --size "$size" --spp "$spp"; done
+  done
 fi
 if [ "$rows" = all ] || [ "$rows" = pipelines ]; then
   for spp in 1 16 256; do row "gold.pipe builtin:cornell 512x512, $spp spp" stdlib/pipelines/gold.pipe --size 512x512 --spp "$spp"; done

@@ -71,6 +71,7 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
     rs.executor.clamp_indirect = o.clamp;
     rs.executor.constant_importance = o.importance;
     rs.max_memory = o.max_memory;
+    rs.component_images = o.component_images;
     rs.pass_samples = o.pass_samples;
     rs.rounds = o.rounds.value_or(0);  // 0: the plan's rounds, else 1 (run_plan.h)
     rs.uniform = o.uniform;

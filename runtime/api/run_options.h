@@ -72,6 +72,7 @@ struct RunOptions {
     PixelFilter filter = PixelFilter::kBox;
     UniformQuality uniform = UniformQuality::kOff;
     size_t max_memory = kDefaultMaxMemory;
+    bool component_images = true;               ///< RunSettings::component_images
     uint32_t pass_samples = 0;
     bool irradiance_cache = false;              ///< D through the cache even when the plan has none
     double ar = 128;

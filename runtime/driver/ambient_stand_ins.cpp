@@ -29,7 +29,8 @@ Vec3 found_by(const Film& film, size_t c, size_t p0, size_t p1) {
 }  // namespace
 
 AmbientStandIns::AmbientStandIns(size_t pixels, const Vec3& av, bool automatic)
-    : pixels_(pixels), av_(av), automatic_(automatic), ambient_(3 * pixels, 0.0) {}
+    // Decided from the settings alone, so alike on every process of a group.
+    : pixels_(pixels), av_(av), automatic_(automatic), ambient_(per_pixel(av, automatic) ? 3 * pixels : 0, 0.0) {}
 
 void AmbientStandIns::keep_every_component() {
     if (automatic_)

@@ -23,6 +23,10 @@ public:
     /// `pixels` of the image; `av` the stand-in radiance unless `automatic`.
     AmbientStandIns(size_t pixels, const Vec3& av, bool automatic);
 
+    /// Whether the stand-ins have a per-pixel buffer at all: not when nothing would stand in
+    /// (`--ambient 0`, not automatic), where it would be zeros the size of the film's sums.
+    static bool per_pixel(const Vec3& av, bool automatic) { return automatic || max_component(av) > 0; }
+
     /// Distributed rendering with automatic stand-ins: every component's throughput kept from
     /// the start, so that each process shares its rows alike (a pixel's may have been left by
     /// the process whose band held it before).

@@ -48,6 +48,14 @@ bool two_samples_somewhere(const Film& film) {
 
 }  // namespace
 
+std::set<std::string> guidance_reads(const PipelinePlan& plan) {
+    std::set<std::string> read;
+    for (const PlanBuffer& b : plan.buffers) read.insert(b.buffer);
+    for (const PlanMap& m : plan.maps)
+        if (m.op == pipeline::GuidanceOperator::kNoise) read.insert("noise");
+    return read;
+}
+
 SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>& image, const std::vector<double>& stand_ins,
                             RunResult& out, std::optional<PixelProbe>& surfaces) {
     const RunSettings& s = ctx.settings;
@@ -79,11 +87,7 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
         in.width = w, in.height = h;
         in.preview = image;
         in.scene = &ctx.scene;
-        // Only the buffers the plan reads: at 1920x1080 all ten took 250 MB.
-        std::set<std::string> read;
-        for (const PlanBuffer& b : plan.buffers) read.insert(b.buffer);
-        for (const PlanMap& m : plan.maps)
-            if (m.op == pipeline::GuidanceOperator::kNoise) read.insert("noise");
+        const std::set<std::string> read = guidance_reads(plan);
         if (read.count("noise")) in.buffers["noise"] = film.noise_image();
         if (read.count("direct") || read.count("emission")) {
             std::vector<float> camera_aov = film.aov_image(kCameraAov), emission = film.emission_image();
@@ -93,7 +97,7 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
         }
         if (read.count("ambient")) {
             std::vector<float> a(3 * pixels, 0.0f);
-            for (uint32_t p = 0; p < pixels; ++p)
+            for (uint32_t p = 0; p < pixels && !stand_ins.empty(); ++p)
                 for (size_t c = 0; c < 3; ++c)
                     a[3 * p + c] = film.samples(p) ? static_cast<float>(stand_ins[3 * p + c] / film.samples(p)) : 0.0f;
             in.buffers["ambient"] = std::move(a);

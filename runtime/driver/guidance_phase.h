@@ -7,6 +7,8 @@
 
 #include <cstdint>
 #include <optional>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "compiler/plan/pipeline_plan.h"
@@ -30,6 +32,10 @@ struct SelectiveSetup {
     std::vector<float> ic_accuracy, ic_priority;
     std::vector<float> modulation;  ///< I(p) of `{ }`
 };
+
+/// The film buffers the plan's guidance reads: "noise", "direct", "emission", "ambient" and
+/// component letters (only these are made: at 1920x1080 all ten took 250 MB).
+std::set<std::string> guidance_reads(const PipelinePlan& plan);
 
 /// What guidance is computed for.
 struct GuidanceContext {

@@ -26,16 +26,25 @@ inline constexpr size_t kBytesPerSample = 512;
 /// capict: the components whose first-bounce branches the film tracks (their `subsample(X)`).
 uint8_t subsampled_components(const PipelinePlan& plan);
 
-/// What a render holds whatever its passes: the process's baseline, the film and its ambient
-/// stand-ins, guidance's buffers while they are to come (`guidance`), the output images.
-size_t fixed_bytes(size_t pixels, uint8_t tracked_branches, bool guidance);
+/// What a render holds beside its passes' rays: the process's baseline, the film (its
+/// `layout` and capict's branches), the ambient stand-ins (`ambient`), and for a pipeline
+/// (`staged`) its preview image, maps and per-pixel settings.
+size_t resident_bytes(size_t pixels, const FilmLayout& layout, uint8_t tracked_branches, bool ambient, bool staged);
+
+/// What a render holds whatever its passes, at its peak: resident_bytes() and the larger of
+/// guidance's buffers and the output images, which are made between passes and after them.
+size_t fixed_bytes(size_t pixels, const FilmLayout& layout, uint8_t tracked_branches, bool staged, bool ambient);
+
+/// The run keeps per-pixel ambient stand-ins: they are automatic, or `--ambient` is not 0.
+bool keeps_ambient(const RunSettings& settings);
 
 /// Throws std::runtime_error for a render whose film and buffers alone need more than the
 /// machine has free, before anything is allocated.
 void refuse_what_cannot_fit(const PipelinePlan& plan, const RunSettings& settings);
 
-/// A note when what no pass size can shrink is over `max_memory` ("": it is not).
-std::string memory_over_limit_note(size_t pixels, const PipelinePlan& plan, size_t max_memory);
+/// A note when what no pass size can shrink is over the run's --max-memory ("": it is not),
+/// with the limit that would hold it.
+std::string memory_over_limit_note(const PipelinePlan& plan, const RunSettings& settings);
 
 /// Bytes the next pass's rays may take: `max_memory` less what the process holds (`fixed`,
 /// `held` by rays carried over, the scene's triangles), at least one row of `width` samples.
@@ -61,11 +70,13 @@ public:
     std::vector<SamplePass>& passes() { return passes_; }
 
     /// After the first pass, which held `peak_rays_held` rays at most: the rest planned again on
-    /// what its samples really took, when the first pass covered whole rows and more follow.
-    /// Returns the bytes a sample was sized by (0: not planned again).
+    /// what its samples really took, when more follow (a first pass of some rows only: the
+    /// later passes merged). Returns the bytes a sample was sized by (0: not planned again).
     size_t replan_after_first(uint64_t peak_rays_held, size_t pixels);
 
 private:
+    void merge_later_passes();
+
     int width_, height_;
     SampleRanges ranges_;
     PassLimits limits_;

@@ -19,6 +19,7 @@
 #include "runtime/driver/cache_file.h"
 #include "runtime/driver/capict_refinement.h"
 #include "runtime/driver/guidance_phase.h"
+#include "runtime/driver/film_layout.h"
 #include "runtime/driver/pass_sizing.h"
 #include "runtime/driver/preview_levels.h"
 #include "runtime/driver/row_bands.h"
@@ -48,7 +49,7 @@ class PlanRun {
 public:
     PlanRun(const Scene& scene, const PipelinePlan& plan, const RunSettings& settings, ProcessGroup& group, RunObserver& observer)
         : scene_(scene), plan_(plan), s_(settings), group_(group), observer_(observer), recorder_(observer.checkpoints()),
-          budget_(settings.executor.budget_seconds), out_(settings.width, settings.height) {}
+          budget_(settings.executor.budget_seconds), out_(settings.width, settings.height, film_layout(plan, settings)) {}
 
     RunResult execute() {
         start();
@@ -193,7 +194,7 @@ void PlanRun::start() {
         throw RunInputError("only a plain crex renders windows of the frame, not a pipeline");
     if (s_.uniform != UniformQuality::kOff && !has_guidance(plan_))
         out_.notes.push_back("--uniform has no effect: the plan varies nothing");
-    if (std::string note = memory_over_limit_note(pixels, plan_, s_.max_memory); !note.empty()) out_.notes.push_back(note);
+    if (std::string note = memory_over_limit_note(plan_, s_); !note.empty()) out_.notes.push_back(note);
 
     // Path tracing's caustic map, built before the clock starts as the BVH is: a fixed cost of
     // the scene (0.35 s for 200,000 photons in the Cornell box) that no budget can trim.
@@ -570,11 +571,12 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
     const SampleRanges& wanted = resumed ? unfinished : all_rows;
     const SampleRanges restricted = some_rows ? only_rows(wanted, s_.width, s_.height, first_row(), end_row()) : SampleRanges{};
     const SampleRanges& ranges = some_rows ? restricted : wanted;
-    // What the process holds beside the passes' rays (scene, film, carried rays) and what is
-    // still to come (guidance's buffers, the output images).
+    // What the process holds beside the passes' rays (scene, film, carried rays). Guidance's
+    // buffers and the output images are made when no pass runs.
     size_t held = 0;
     for (const RayBatch& b : carried_) held += b.size() * kBytesPerSample / 2;
-    const size_t fixed = fixed_bytes(out_.film.pixel_count(), out_.film.tracked_branches(), out_.staged && out_.preview.empty());
+    const size_t fixed = resident_bytes(out_.film.pixel_count(), out_.film.layout(), out_.film.tracked_branches(),
+                                        !stand_ins_->ambient().empty(), out_.staged);
     PassLimits limits;
     limits.bytes = pass_bytes(fixed, held, *rs_, s_.width, s_.max_memory);
     // Progressive passes (pass_sizing.h), sized on the whole frame so that every process of a

@@ -22,7 +22,7 @@
 namespace crex {
 
 struct RunResult {
-    RunResult(int width, int height) : film(width, height) {}
+    RunResult(int width, int height, FilmLayout layout = {}) : film(width, height, layout) {}
     Film film;
     std::vector<double> ambient;   ///< per pixel RGB, sample-summed: av for D rays never executed
     ExecutorStats stats;

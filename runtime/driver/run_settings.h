@@ -53,6 +53,10 @@ struct RunSettings {
     /// after its first carry their records in `ic_records`, the file holds the last frame's).
     bool ic_file_read = true;
     size_t max_memory = kDefaultMaxMemory;  ///< the process's memory the passes are sized for
+    /// Every component's image is wanted (RunResult::aov_image): the film keeps every buffer.
+    /// false: only those the render reads itself (film_layout.h), so a 3840x2160 film is a
+    /// seventh of the size; aov_image() of another component is empty.
+    bool component_images = true;
     /// Texture lookups filter over this many pixels' footprint (0: none, the sharpest lookups:
     /// tests show what filtering prevents).
     double texture_filter_width = 1;

@@ -113,6 +113,7 @@ std::vector<uint8_t> ComponentSubsampling::refine(Component c, double threshold,
 void ComponentSubsampling::add_stand_ins(const Film& film, std::vector<double>& sums) const {
     if (!any()) return;
     const std::vector<double> add = stand_ins(film);
+    if (sums.empty()) sums.assign(add.size(), 0.0);  // a render without ambient stand-ins
     for (size_t i = 0; i < sums.size() && i < add.size(); ++i) sums[i] += add[i];
 }
 

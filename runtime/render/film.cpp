@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/check.h"
+
 namespace crex {
 
 std::string aov_name(size_t aov) {
@@ -13,14 +15,18 @@ std::string aov_name(size_t aov) {
     return std::string(1, kComponentTable[aov - 1].letter);
 }
 
-Film::Film(int width, int height) : width_(width), height_(height) {
-    for (auto& s : sums_) s.assign(3 * pixel_count(), 0.0);
+Film::Film(int width, int height, FilmLayout layout) : width_(width), height_(height), layout_(layout) {
+    layout_.aovs |= 1u;  // the camera's sum holds what has no sum of its own
+    for (size_t a = 0; a < kAovCount; ++a)
+        if (layout_.keeps(a)) sums_[a].assign(3 * pixel_count(), 0.0);
     samples_.assign(pixel_count(), 0);
     rays_.assign(pixel_count(), 0);
     components_.assign(pixel_count(), 0);
-    emission_.assign(3 * pixel_count(), 0.0);
-    odd_.assign(3 * pixel_count(), 0.0);
-    odd_samples_.assign(pixel_count(), 0);
+    if (layout_.emission) emission_.assign(3 * pixel_count(), 0.0);
+    if (layout_.noise) {
+        odd_.assign(3 * pixel_count(), 0.0);
+        odd_samples_.assign(pixel_count(), 0);
+    }
 }
 
 void Film::add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, const Vec3* value, const Vec3* emission, size_t n) {
@@ -39,14 +45,17 @@ void Film::add_rays(size_t aov, const uint32_t* pixel, const uint8_t* flags, con
     });
 }
 
-size_t Film::bytes_per_pixel(uint8_t tracked) {
+size_t Film::bytes_per_pixel(const FilmLayout& layout, uint8_t tracked) {
     constexpr size_t rgb = 3 * sizeof(double);
-    size_t branches = 0;
+    size_t bytes = rgb;  // the camera's sum
+    for (size_t a = 1; a < kAovCount; ++a)
+        if (layout.keeps(a)) bytes += rgb;
+    bytes += 2 * sizeof(uint32_t) + sizeof(uint8_t);  // sample and ray counts, component bits
+    if (layout.emission) bytes += rgb;
+    if (layout.noise) bytes += rgb + sizeof(uint32_t);
     for (size_t c = 0; c < kComponentCount; ++c)
-        if (tracked >> c & 1u) branches += 5 * rgb;
-    // The AOVs' sums, emission, the odd half-buffer; sample, ray and odd-sample counts; the
-    // component bits.
-    return kAovCount * rgb + 2 * rgb + 3 * sizeof(uint32_t) + sizeof(uint8_t) + branches;
+        if (tracked >> c & 1u) bytes += 5 * rgb;
+    return bytes;
 }
 
 void Film::track_branches(uint8_t mask) {
@@ -58,6 +67,7 @@ void Film::track_branches(uint8_t mask) {
 }
 
 Vec3 Film::pixel_value(size_t aov, uint32_t pixel) const {
+    CREX_CHECK(layout_.keeps(aov));
     double n = samples_[pixel];
     if (n <= 0) return {};
     const double* p = &sums_[aov][3 * static_cast<size_t>(pixel)];
@@ -76,6 +86,7 @@ float finite_or_zero(double v) {
 }  // namespace
 
 std::vector<float> Film::aov_image(size_t aov) const {
+    if (!layout_.keeps(aov)) return {};
     std::vector<float> out(3 * pixel_count());
     for (uint32_t p = 0; p < pixel_count(); ++p) {
         Vec3 v = pixel_value(aov, p);
@@ -87,6 +98,7 @@ std::vector<float> Film::aov_image(size_t aov) const {
 }
 
 std::vector<float> Film::emission_image() const {
+    CREX_CHECK(layout_.emission);
     std::vector<float> out(3 * pixel_count());
     for (uint32_t p = 0; p < pixel_count(); ++p) {
         double n = samples_[p];
@@ -97,13 +109,15 @@ std::vector<float> Film::emission_image() const {
 }
 
 std::vector<float> Film::noise_image() const {
+    CREX_CHECK(layout_.noise);
     std::vector<float> out(3 * pixel_count(), 0.0f);
     for (uint32_t p = 0; p < pixel_count(); ++p) {
         double odd = odd_samples_[p], even = double(samples_[p]) - odd;
         if (odd <= 0 || even <= 0) continue;
         for (size_t c = 0; c < 3; ++c) {
             double total = 0;
-            for (const auto& s : sums_) total += s[3 * p + c];
+            for (const auto& s : sums_)
+                if (!s.empty()) total += s[3 * p + c];
             double o = odd_[3 * p + c];
             out[3 * p + c] = finite_or_zero(std::fabs((total - o) / even - o / odd) / 2);
         }
@@ -118,8 +132,9 @@ std::vector<float> Film::composite(const std::vector<double>* ambient) const {
         if (n <= 0) continue;
         for (int c = 0; c < 3; ++c) {
             double sum = 0;
-            for (const auto& s : sums_) sum += s[3 * p + static_cast<size_t>(c)];
-            if (ambient) sum += (*ambient)[3 * p + static_cast<size_t>(c)];
+            for (const auto& s : sums_)
+                if (!s.empty()) sum += s[3 * p + static_cast<size_t>(c)];
+            if (ambient && !ambient->empty()) sum += (*ambient)[3 * p + static_cast<size_t>(c)];
             out[3 * p + static_cast<size_t>(c)] = finite_or_zero(sum / n);
         }
     }

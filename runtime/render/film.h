@@ -20,9 +20,24 @@ inline size_t aov_of(Component c) { return 1 + static_cast<size_t>(c); }
 inline constexpr size_t kCameraAov = 0;
 std::string aov_name(size_t aov);  ///< "camera", "D", ...
 
+/// Which of the film's optional per-pixel buffers a render makes (issue 40: a 3840x2160 film
+/// with all of them held 1.9 GB). What a buffer a run leaves out would have held goes where
+/// the composite still counts it, so the final image is the same either way.
+struct FilmLayout {
+    /// Bit a: AOV a has a sum of its own (bit 0, the camera's, always). A contribution to an AOV
+    /// without one is added to the camera's sum: then the camera AOV is "the rest".
+    uint8_t aovs = (1u << kAovCount) - 1;
+    bool emission = true;  ///< emitters seen directly (guidance's `emission` and `direct`)
+    bool noise = true;     ///< the odd half-buffer and its counts (guidance's `noise`)
+    /// Only what the composite, the sample counts and the rays picture need.
+    static FilmLayout minimal() { return {1u, false, false}; }
+    bool keeps(size_t aov) const { return (aovs >> aov & 1u) != 0; }
+    bool keeps_every_aov() const { return aovs == (1u << kAovCount) - 1; }
+};
+
 class Film {
 public:
-    Film(int width, int height);
+    Film(int width, int height, FilmLayout layout = {});
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -31,8 +46,8 @@ public:
     /// Adds a ray's contribution; `flags` are the ray's: from an odd camera sample it goes to
     /// the odd half-buffer too (the noise estimate), and to its branch's sum if that is tracked.
     void add(size_t aov, uint32_t pixel, const Vec3& value, uint8_t flags = 0) {
-        add_to(sums_[aov], pixel, value);
-        if (flags & kRayOddSample) add_to(odd_, pixel, value);
+        add_to(sums_[layout_.keeps(aov) ? aov : kCameraAov], pixel, value);
+        if ((flags & kRayOddSample) && layout_.noise) add_to(odd_, pixel, value);
         if (const unsigned b = (flags & kRayBranchMask) >> kRayBranchShift; b && (tracked_ >> (b - 1) & 1u)) {
             add_to(branch_[b - 1], pixel, value);
             if (flags & kRayOddSample) add_to(branch_odd_[b - 1], pixel, value);
@@ -66,7 +81,7 @@ public:
     /// One camera sample of `pixel` was taken (odd: an odd sample index).
     void add_sample(uint32_t pixel, bool odd) {
         ++samples_[pixel];
-        odd_samples_[pixel] += odd ? 1 : 0;
+        if (layout_.noise) odd_samples_[pixel] += odd ? 1 : 0;
     }
     /// For each i < n: add(aov, pixel[i], value[i], flags[i] & kRayOddSample) and
     /// count_ray(aov, pixel[i]). With `emission` the rays are camera rays, one per sample:
@@ -86,6 +101,7 @@ public:
     /// Light seen directly by camera rays from emitters (a part of the camera AOV), for the
     /// guidance buffers `emission` and `direct` (= camera - emission).
     void add_emission(uint32_t pixel, const Vec3& value) {
+        if (!layout_.emission) return;
         double* p = &emission_[3 * static_cast<size_t>(pixel)];
         p[0] += value.x, p[1] += value.y, p[2] += value.z;
     }
@@ -95,26 +111,32 @@ public:
     std::vector<float> noise_image() const;
     uint32_t samples(uint32_t pixel) const { return samples_[pixel]; }
 
-    /// Linear RGB of one AOV (divided by the pixel's sample count), row-major, top row first.
+    const FilmLayout& layout() const { return layout_; }
+    /// Linear RGB of one AOV (divided by the pixel's sample count), row-major, top row first;
+    /// empty for an AOV the layout has no sum for.
     std::vector<float> aov_image(size_t aov) const;
     /// The composite: the sum of every AOV plus `ambient` (already per pixel, same scale).
     std::vector<float> composite(const std::vector<double>* ambient = nullptr) const;
-    Vec3 pixel_value(size_t aov, uint32_t pixel) const;
+    Vec3 pixel_value(size_t aov, uint32_t pixel) const;  ///< an AOV the layout keeps
 
     /// Bytes a pixel of a film holds (every buffer below), with the branches of the components
     /// in `tracked` (capict): what a render's memory model counts before the film exists.
-    static size_t bytes_per_pixel(uint8_t tracked = 0);
+    static size_t bytes_per_pixel(const FilmLayout& layout, uint8_t tracked = 0);
     /// Calls f(data, bytes per pixel) for every per-pixel buffer (row-major, so rows
     /// [r0, r1) are bytes [r0 w b, r1 w b) of each): how distributed rendering shares rows.
+    /// Buffers the layout leaves out are not visited (every process of a group has one layout).
     template <typename F>
     void for_each_buffer(F&& f) {
-        for (auto& s : sums_) f(static_cast<void*>(s.data()), 3 * sizeof(double));
+        for (auto& s : sums_)
+            if (!s.empty()) f(static_cast<void*>(s.data()), 3 * sizeof(double));
         f(static_cast<void*>(samples_.data()), sizeof(uint32_t));
         f(static_cast<void*>(rays_.data()), sizeof(uint32_t));
         f(static_cast<void*>(components_.data()), sizeof(uint8_t));
-        f(static_cast<void*>(emission_.data()), 3 * sizeof(double));
-        f(static_cast<void*>(odd_.data()), 3 * sizeof(double));
-        f(static_cast<void*>(odd_samples_.data()), sizeof(uint32_t));
+        if (layout_.emission) f(static_cast<void*>(emission_.data()), 3 * sizeof(double));
+        if (layout_.noise) {
+            f(static_cast<void*>(odd_.data()), 3 * sizeof(double));
+            f(static_cast<void*>(odd_samples_.data()), sizeof(uint32_t));
+        }
         for (size_t c = 0; c < kComponentCount; ++c)
             if (tracked_ >> c & 1u)
                 for (auto* v : {&branch_[c], &first_run_[c], &first_all_[c], &branch_odd_[c], &first_run_odd_[c]})
@@ -131,7 +153,8 @@ private:
         return {p[0], p[1], p[2]};
     }
     int width_, height_;
-    std::array<std::vector<double>, kAovCount> sums_;
+    FilmLayout layout_;
+    std::array<std::vector<double>, kAovCount> sums_;  // empty: the AOV's light is in the camera's
     std::vector<uint32_t> samples_;
     std::vector<uint32_t> rays_;
     std::vector<uint8_t> components_;

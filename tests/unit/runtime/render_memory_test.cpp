@@ -25,16 +25,34 @@ TEST(MemoryAvailable, ThisMachineSaysSomething) {
     EXPECT_GT(*bytes, size_t{64} << 20);
 }
 
-// The model counts what the film allocates: every buffer for_each_buffer shares, with and
-// without capict's tracked branches.
+// The model counts what the film allocates: every buffer for_each_buffer shares, in every
+// layout, with and without capict's tracked branches.
 TEST(FilmBytes, CountEveryPerPixelBuffer) {
-    for (uint8_t tracked : {uint8_t{0}, uint8_t{0b1}, uint8_t{0b1011}}) {
-        Film film(5, 3);
-        if (tracked) film.track_branches(tracked);
-        size_t per_pixel = 0;
-        film.for_each_buffer([&](void*, size_t bytes) { per_pixel += bytes; });
-        EXPECT_EQ(Film::bytes_per_pixel(tracked), per_pixel) << int(tracked);
+    const FilmLayout d_only{0b011, false, true};
+    for (const FilmLayout& layout : {FilmLayout{}, FilmLayout::minimal(), d_only})
+        for (uint8_t tracked : {uint8_t{0}, uint8_t{0b1}, uint8_t{0b1011}}) {
+            Film film(5, 3, layout);
+            if (tracked) film.track_branches(tracked);
+            size_t per_pixel = 0;
+            film.for_each_buffer([&](void*, size_t bytes) { per_pixel += bytes; });
+            EXPECT_EQ(Film::bytes_per_pixel(layout, tracked), per_pixel) << int(tracked) << " " << int(layout.aovs);
+        }
+    EXPECT_EQ(Film::bytes_per_pixel(FilmLayout{}) - Film::bytes_per_pixel(FilmLayout::minimal()), (6 + 2) * 24u + 4u);
+}
+
+// A film without a component's sum adds that component's light to the camera's: the
+// composite is the same, and the component's image is empty.
+TEST(FilmLayout, LightOfAnAovWithoutASumGoesToTheComposite) {
+    Film every(2, 1), minimal(2, 1, FilmLayout::minimal());
+    for (Film* f : {&every, &minimal}) {
+        f->add_sample(0, false), f->add_sample(1, true);
+        f->add(kCameraAov, 0, {1, 2, 3}), f->add(aov_of(Component::kD), 0, {0.5, 0.25, 0.125});
+        f->add(aov_of(Component::kS), 1, {2, 0, 1}, kRayOddSample);
     }
+    EXPECT_EQ(every.composite(), minimal.composite());
+    EXPECT_TRUE(minimal.aov_image(aov_of(Component::kD)).empty());
+    EXPECT_EQ(every.aov_image(aov_of(Component::kD))[0], 0.5f);
+    EXPECT_EQ(minimal.aov_image(kCameraAov)[0], 1.5f);  // "the rest": the camera's and D's
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <map>
 
+#include "runtime/driver/pass_sizing.h"
 #include "runtime/driver/sample_passes.h"
 
 namespace crex {
@@ -75,6 +76,31 @@ TEST(SamplePasses, BandsOfRowsWhenOneSampleOfEveryPixelIsTooMuch) {
         EXPECT_LE(p.samples * limits.bytes_per_sample, limits.bytes);
     }
     expect_exact_cover(10, 8, 0, 2, {}, passes);
+}
+
+// A frame too large for one sample of every pixel in the first pass's eighth of the room:
+// after it, the later passes (planned at an eighth too) merge up to the whole room, each
+// pixel still taking its samples in order, every sample once. (Before, they stayed at an
+// eighth: 5,568 passes at 3840x2160, 64 spp, the process at 385 MB of 1 GiB.)
+TEST(StagePasses, AfterAFirstBandTheLaterPassesMergeUpToTheRoom) {
+    const int w = 10, h = 64;
+    PassLimits limits{static_cast<size_t>(w) * 8 * kBytesPerSample, 0, 0};  // eight rows of one sample
+    StagePasses stage(w, h, {0, 3, {}, {}}, limits, false, 0);
+    const size_t planned = stage.passes().size();
+    ASSERT_EQ(stage.passes()[0].row_end - stage.passes()[0].row_begin, 1);  // an eighth: one row
+    const SamplePass first = stage.passes()[0];
+    EXPECT_EQ(stage.replan_after_first(/*peak_rays_held=*/w, static_cast<size_t>(w) * h), kBytesPerSample);
+    const std::vector<SamplePass>& passes = stage.passes();
+    EXPECT_EQ(passes[0].row_end, first.row_end);
+    EXPECT_LT(passes.size(), planned / 4);
+    for (size_t i = 1; i < passes.size(); ++i) EXPECT_LE(passes[i].samples * kBytesPerSample, limits.bytes);
+    expect_exact_cover(w, h, 0, 3, {}, passes);
+    std::vector<uint32_t> next(static_cast<size_t>(w) * h, 0);  // each pixel's samples in order
+    for (const SamplePass& p : passes)
+        for (int y = p.row_begin; y < p.row_end; ++y) {
+            ASSERT_EQ(next[static_cast<size_t>(y) * w], p.first) << "row " << y;
+            next[static_cast<size_t>(y) * w] = p.end;
+        }
 }
 
 TEST(SamplePasses, PerPixelEndsContinueFromTheFirstSampleAndSkipPixelsThatAskForNone) {
