@@ -6,8 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
+#include "runtime/api/frame_flicker.h"
 #include "runtime/driver/process_group.h"
+#include "runtime/io/image_io.h"
+#include "runtime/texture/surface_textures.h"
 
 namespace crex {
 namespace {
@@ -71,6 +75,12 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     // What every frame starts from: the sequence's cache (a file's bytes, records given), then
     // each frame's records when carried. The file is read once: later frames only save to it.
     ResolvedRun next = run;
+    // Flicker: what each pixel centre sees, traced in a scene of its own (built once: the
+    // scene does not move), and the frame rendered before, to warp onto the next.
+    std::unique_ptr<RenderScene> probe_scene;
+    std::optional<FrameGeometry> previous_geometry;
+    std::vector<float> previous_image;  // display values
+    double exposure = 0;                // the first frame rendered sets it for all
     for (size_t index = 0; index < frames.size(); ++index) {
         FrameRun f;
         f.frame = frames[index];
@@ -83,6 +93,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         f.skipped = !o.force && !f.files.empty() &&
                     std::all_of(f.files.begin(), f.files.end(), [&](const std::string& p) { return std::filesystem::exists(p, ec); });
         if (f.skipped) {
+            previous_geometry.reset();
             out.push_back(f);
             if (done) done(out.back(), index, frames.size());
             continue;
@@ -108,6 +119,20 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         if (std::string error = write_run_files(frame_files, record, written); !error.empty())
             throw FrameWriteError(fmt::format("frame {}: {}", f.frame, error));
         f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (o.flicker) {  // after the frame's time is taken: not part of it
+            if (!probe_scene) probe_scene = std::make_unique<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));
+            FrameGeometry geometry = frame_geometry(*probe_scene, next.settings.width, next.settings.height);
+            std::vector<float> linear = result.image();
+            if (!(exposure > 0)) exposure = display_exposure(linear);
+            std::vector<float> image = to_display(linear, exposure);
+            if (previous_geometry)
+                if (auto flicker = frame_flicker(*previous_geometry, previous_image, geometry, image, probe_scene->embree->origin_offset())) {
+                    f.flicker = flicker->difference;
+                    f.flicker_matched = flicker->matched;
+                }
+            previous_geometry = std::move(geometry);
+            previous_image = std::move(image);
+        }
         // The next frame starts from this one's cache, never from the file again (it holds
         // this frame's records now: --ic-file saves after every frame).
         next.settings.ic_file_read = false;
@@ -134,6 +159,7 @@ nlohmann::json frames_json(const std::vector<FrameRun>& frames, double fps) {
             j["records_made"] = f.records_made;
             j["records_reused"] = f.records_reused;
             j["rays"] = f.rays;
+            if (f.flicker) j["flicker"] = {{"display_difference", *f.flicker}, {"matched", f.flicker_matched}};
             ++rendered;
             seconds += f.seconds;
             made += f.records_made;
@@ -150,6 +176,7 @@ std::string frame_line(const FrameRun& f, size_t index, size_t count) {
     std::string line = fmt::format("{}: {:.2f} s", head, f.seconds);
     if (f.records_made || f.records_reused)
         line += fmt::format(", {} new records, {} reused", grouped(f.records_made), grouped(f.records_reused));
+    if (f.flicker) line += fmt::format(", flicker {:.4f} ({:.0f} % of pixels matched)", *f.flicker, 100 * f.flicker_matched);
     return line;
 }
 
@@ -171,6 +198,13 @@ std::string frames_summary_text(const std::vector<FrameRun>& frames) {
                             grouped(static_cast<uint64_t>(std::llround(made / n))),
                             seconds > 0 ? fmt::format(" ({:.1f}x faster than the first)", first.seconds / (seconds / n)) : "");
     }
+    double flicker = 0;
+    size_t measured = 0;
+    for (const FrameRun* f : rendered)
+        if (f->flicker) flicker += *f->flicker, ++measured;
+    if (measured)
+        text += fmt::format("  flicker (mean display difference from the frame before, warped onto it): {:.4f} on average over {} frame{}\n",
+                            flicker / double(measured), measured, measured == 1 ? "" : "s");
     const FrameRun& last = *rendered.back();
     for (size_t k = 0; k < first.files.size() && k < last.files.size(); ++k)  // one line per -o, not per frame
         text += first.frame == last.frame ? fmt::format("  wrote {}\n", first.files[k])

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,6 +45,7 @@ struct SequenceOptions {
     bool force = false;        ///< render frames whose files exist too
     bool carry_cache = true;   ///< false: every frame starts from the cache the sequence started with
     std::string plan_file;     ///< the pipeline or plan file run, for the images' headers ("" for a crex)
+    bool flicker = true;       ///< measure each frame's flicker against the frame rendered before it (frame_flicker.h)
 };
 
 /// What one frame did.
@@ -56,6 +58,11 @@ struct FrameRun {
     size_t records_reused = 0;   ///< cache records it started with (carried, or from the cache file)
     size_t records_made = 0;
     uint64_t rays = 0;
+    /// Mean display difference from the frame rendered just before it, warped onto this one
+    /// (frame_flicker.h), and the fraction of pixels that could be matched; none for the first
+    /// frame rendered, after a skipped one, or where no pixel matched.
+    std::optional<double> flicker;
+    double flicker_matched = 0;
     std::vector<std::string> files;
     std::vector<Diagnostic> warnings;   ///< the frame's runtime warnings
     std::vector<std::string> notes;     ///< and notes (RunResult::notes)

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <string>
 
+#include "runtime/api/frame_flicker.h"
 #include "runtime/api/frame_sequence.h"
+#include "runtime/scene/load_scene.h"
 #include "runtime/io/image_io.h"
 #include "runtime/scene/camera_path_file.h"
 #include "tests/support/scratch_folder.h"
@@ -94,6 +96,52 @@ TEST_F(FrameSequence, CarriedCacheGivesTheColdImageWithFewerRecords) {
     const double d = mean_relative(warm, fresh);
     EXPECT_LT(d, 0.02) << "carried against cold";
     EXPECT_GT(mean_relative(image("carried", 0), fresh), 0.2) << "frame 0 is another view";
+}
+
+// Flicker (frame_flicker.h) is noise that changes between frames: path traced (no cache, so
+// every pixel's noise is its own), frames at 16 spp flicker less than at 2 spp. Noise alone
+// would give sqrt(8) = 2.8; sub-pixel shifts at edges add a floor the same at any spp (at
+// 32x24 a large share): measured 0.036 against 0.019 (1.9x), so the bound is 1.5. (At 160x120,
+// 4, 16 and 64 spp gave 0.038, 0.019 and 0.010: 2x for every 4x, as noise should.)
+TEST_F(FrameSequence, FlickerFallsWithSamplesAndTheFirstFrameHasNone) {
+    run_.settings.irradiance_cache.reset();
+    auto flicker_at = [&](uint32_t spp) {
+        run_.settings.spp = spp;
+        const auto frames = render("spp" + std::to_string(spp), {0, 2, 1}, true);
+        EXPECT_FALSE(frames[0].flicker.has_value()) << "nothing before the first frame";
+        double sum = 0;
+        for (size_t i = 1; i < frames.size(); ++i) {
+            EXPECT_TRUE(frames[i].flicker.has_value());
+            EXPECT_GT(frames[i].flicker_matched, 0.5);  // frames 0.2 m apart see mostly the same points
+            sum += frames[i].flicker.value_or(0);
+        }
+        return sum / 2;
+    };
+    const double few = flicker_at(2), many = flicker_at(16);
+    EXPECT_GT(few, 0);
+    EXPECT_GT(few / many, 1.5) << "2 spp: " << few << ", 16 spp: " << many;
+}
+
+// Two frames from one camera match every pixel that sees something, each with itself: the
+// flicker is then the plain mean display difference of the two images.
+TEST(FrameFlicker, OneCameraTwiceIsThePixelwiseDifference) {
+    const Scene scene = *builtin_scene("cornell");
+    const RenderScene rs(scene);
+    const int w = 16, h = 12;
+    const FrameGeometry g = frame_geometry(rs, w, h);
+    std::vector<float> a(3 * w * h), b(3 * w * h);
+    double expected = 0;
+    size_t seen = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        a[i] = static_cast<float>((i * 37 % 101) / 100.0), b[i] = static_cast<float>((i * 53 % 97) / 96.0);
+        if (g.shape[i / 3] >= 0) expected += std::abs(double(a[i]) - b[i]), seen += i % 3 == 0;
+    }
+    ASSERT_GT(seen, size_t(w * h / 2));
+    const auto f = frame_flicker(g, b, g, a, rs.embree->origin_offset());
+    ASSERT_TRUE(f.has_value());
+    EXPECT_NEAR(f->difference, expected / (3.0 * double(seen)), 1e-9);
+    EXPECT_DOUBLE_EQ(f->matched, double(seen) / (w * h));
+    EXPECT_EQ(frame_flicker(g, a, g, a, rs.embree->origin_offset())->difference, 0.0);
 }
 
 }  // namespace
