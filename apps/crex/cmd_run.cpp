@@ -163,6 +163,13 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_flag("--force", opt->force, "With --frames: render frames whose files exist too");
     cmd->add_flag("--no-carry-cache", opt->no_carry_cache, "With --frames: start every frame from an empty irradiance cache (or "
                                                            "the --ic-file's) instead of the frame before's: what carrying it saves");
+    cmd->add_option("--high-quality-frames", opt->high_quality_frames,
+                    "With a pipeline's --frames: these frames (FIRST..LAST[:STEP] or N, comma-separated) render at high quality, "
+                    "every selective variable at its maximum (as --uniform max); the others selectively (the thesis's Case II)")
+        ->allow_extra_args(false);
+    cmd->add_flag("--high-quality-without-distractors", opt->high_quality_without_distractors,
+                  "With a pipeline's --frames: a frame that shows no shape tagged as an on-screen distractor renders at high "
+                  "quality, one that shows one selectively (Case II: the distractor draws the eye)");
     cmd->footer(R"(
 Camera rays are traced first; then the crex runs over the component bins (D G S T R M) and
 rays still waiting when it ends are dropped (--ambient stands in for waiting D rays).
@@ -184,6 +191,9 @@ Examples:
   crex run --size 512x512 --resume out/render.partial.exr   finish a run that failed under mpirun
   crex run --scene examples/scenes/corridor/scene.json --camera-path examples/paths/corridor_walk.json \
       --frames 0..59 --ic --size 320x240 --spp 4 -o out/walk.png          a walk, NAME.0000.png to NAME.0059.png
+  crex run stdlib/pipelines/prog_all.pipe --scene examples/scenes/corridor/scene.json \
+      --camera-path examples/paths/corridor_walk.json --frames 0..59 --high-quality-without-distractors -o out/walk.png
+                                                    Case II: frames without the poster on screen at high quality
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
     return [opt, crex, size, spp, seed, lw, max_depth, aa, ab, ad] {

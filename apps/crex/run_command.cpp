@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "apps/crex/cli_values.h"
 #include "apps/crex/guarded_rendering.h"
@@ -134,8 +135,20 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     // A sequence: its flags, and what it does not write per frame yet.
     if (!f.frames.empty() && f.camera_path.empty())
         return usage("--frames needs --camera-path FILE: the camera of each frame comes from a path");
-    if (f.camera_path.empty() && (f.force || f.no_carry_cache))
-        return usage(fmt::format("{} is for frames along a camera path: give --camera-path FILE", f.force ? "--force" : "--no-carry-cache"));
+    for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"},
+                                      std::pair{!f.high_quality_frames.empty(), "--high-quality-frames"},
+                                      std::pair{f.high_quality_without_distractors, "--high-quality-without-distractors"}})
+        if (given && f.camera_path.empty()) return usage(fmt::format("{} is for frames along a camera path: give --camera-path FILE", flag));
+    if (!f.high_quality_frames.empty()) {
+        std::string item;
+        for (std::istringstream list(f.high_quality_frames); std::getline(list, item, ',');) {
+            FrameRange range;
+            if (std::string error = parse_frame_range(item, range); !error.empty())
+                return usage(fmt::format("--high-quality-frames {}: '{}': {}", f.high_quality_frames, item, error));
+            r.sequence.high_quality.push_back(range);
+        }
+    }
+    r.sequence.high_quality_without_distractors = f.high_quality_without_distractors;
     r.camera_path = f.camera_path;
     if (!f.frames.empty()) {
         FrameRange range;
@@ -230,6 +243,11 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     if (files.images.empty()) files.images = defaults = {"out/render.exr", "out/render.png"};
     if (!r.camera_path.empty()) {
         if (int status = read_camera_path_file(r, lead); status != kExitOk) return status;
+        if ((!r.sequence.high_quality.empty() || r.sequence.high_quality_without_distractors) && !in.plan.staged) {
+            std::cerr << "crex run: error: frames tagged high quality need a pipeline (a .pipe file or its kept plan): a plain "
+                         "crex has no selective variables to raise\n";
+            return kExitUsage;
+        }
         if (!in.plan.outputs.report.empty() || in.plan.outputs.maps || !in.plan.settings.reference.empty())
             std::cerr << "crex run: note: the pipeline's report, maps and reference are not made per frame yet; a sequence writes "
                          "its images\n";

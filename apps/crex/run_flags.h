@@ -72,6 +72,8 @@ struct RunFlags {
     double fps = 30;
     bool force = false;       ///< render frames whose files exist too
     bool no_carry_cache = false;
+    std::string high_quality_frames;          ///< --high-quality-frames A..B[:S],... (Case II)
+    bool high_quality_without_distractors = false;  ///< --high-quality-without-distractors
     // Which flags were given (they override the pipeline's settings).
     bool size_given = false, spp_given = false, seed_given = false, lw_given = false, max_depth_given = false,
          aa_given = false, ab_given = false, ad_given = false;

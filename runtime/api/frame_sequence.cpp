@@ -29,6 +29,22 @@ std::string grouped(uint64_t n) {
 // A frame's time on the path.
 double frame_time(int64_t frame, double fps) { return double(frame) / fps; }
 
+bool tagged_high_quality(const std::vector<FrameRange>& ranges, int64_t frame) {
+    for (const FrameRange& r : ranges)
+        if (frame >= r.first && frame <= r.last && r.step > 0 && (frame - r.first) % r.step == 0) return true;
+    return false;
+}
+
+// A pixel centre sees a shape tagged as an on-screen distractor.
+bool shows_a_distractor(const Scene& scene, const FrameGeometry& g) {
+    for (const int32_t shape : g.shape)
+        if (shape >= 0 && static_cast<size_t>(shape) < scene.shapes.size()) {
+            const auto& tag = scene.shapes[static_cast<size_t>(shape)].tag;
+            if (tag && tag->distractor) return true;
+        }
+    return false;
+}
+
 // The scene's camera as it was, whatever happens to the frames.
 struct CameraRestore {
     Scene& scene;
@@ -98,8 +114,21 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             if (done) done(out.back(), index, frames.size());
             continue;
         }
-        const auto start = std::chrono::steady_clock::now();
         scene.camera = o.path->camera_at(f.time, scene_camera);
+        // What the frame's pixel centres see: for its flicker and its distractors (not counted
+        // in the frame's time: one ray a pixel, in a scene built once).
+        std::optional<FrameGeometry> geometry;
+        if (o.flicker || o.high_quality_without_distractors) {
+            if (!probe_scene) probe_scene = std::make_unique<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));
+            geometry = frame_geometry(*probe_scene, next.settings.width, next.settings.height);
+        }
+        f.high_quality = tagged_high_quality(o.high_quality, f.frame);
+        if (o.high_quality_without_distractors) {
+            f.distractor_on_screen = shows_a_distractor(scene, *geometry);
+            f.high_quality = f.high_quality || !*f.distractor_on_screen;
+        }
+        next.settings.uniform = f.high_quality ? UniformQuality::kMax : run.settings.uniform;
+        const auto start = std::chrono::steady_clock::now();
         f.records_reused = next.settings.ic_records.size();
         LocalGroup one;
         RunOutcome outcome = run_resolved(in.plan, scene, next, one, observer);
@@ -120,17 +149,15 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             throw FrameWriteError(fmt::format("frame {}: {}", f.frame, error));
         f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (o.flicker) {  // after the frame's time is taken: not part of it
-            if (!probe_scene) probe_scene = std::make_unique<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));
-            FrameGeometry geometry = frame_geometry(*probe_scene, next.settings.width, next.settings.height);
             std::vector<float> linear = result.image();
             if (!(exposure > 0)) exposure = display_exposure(linear);
             std::vector<float> image = to_display(linear, exposure);
             if (previous_geometry)
-                if (auto flicker = frame_flicker(*previous_geometry, previous_image, geometry, image, probe_scene->embree->origin_offset())) {
+                if (auto flicker = frame_flicker(*previous_geometry, previous_image, *geometry, image, probe_scene->embree->origin_offset())) {
                     f.flicker = flicker->difference;
                     f.flicker_matched = flicker->matched;
                 }
-            previous_geometry = std::move(geometry);
+            previous_geometry = std::move(*geometry);
             previous_image = std::move(image);
         }
         // The next frame starts from this one's cache, never from the file again (it holds
@@ -160,6 +187,8 @@ nlohmann::json frames_json(const std::vector<FrameRun>& frames, double fps) {
             j["records_reused"] = f.records_reused;
             j["rays"] = f.rays;
             if (f.flicker) j["flicker"] = {{"display_difference", *f.flicker}, {"matched", f.flicker_matched}};
+            j["quality"] = f.high_quality ? "high" : "selective";
+            if (f.distractor_on_screen) j["distractor_on_screen"] = *f.distractor_on_screen;
             ++rendered;
             seconds += f.seconds;
             made += f.records_made;
@@ -174,6 +203,7 @@ std::string frame_line(const FrameRun& f, size_t index, size_t count) {
     const std::string head = fmt::format("frame {}/{} ({:04d})", index + 1, count, f.frame);
     if (f.skipped) return head + ": skipped, its files exist (--force renders it again)";
     std::string line = fmt::format("{}: {:.2f} s", head, f.seconds);
+    if (f.high_quality) line += f.distractor_on_screen ? ", high quality (no distractor on screen)" : ", high quality";
     if (f.records_made || f.records_reused)
         line += fmt::format(", {} new records, {} reused", grouped(f.records_made), grouped(f.records_reused));
     if (f.flicker) line += fmt::format(", flicker {:.4f} ({:.0f} % of pixels matched)", *f.flicker, 100 * f.flicker_matched);

@@ -46,6 +46,13 @@ struct SequenceOptions {
     bool carry_cache = true;   ///< false: every frame starts from the cache the sequence started with
     std::string plan_file;     ///< the pipeline or plan file run, for the images' headers ("" for a crex)
     bool flicker = true;       ///< measure each frame's flicker against the frame rendered before it (frame_flicker.h)
+    /// Case II of the thesis (4.5): frames tagged high quality render with every selective
+    /// variable at its maximum (as `--uniform max`), the others selectively. Tagged by range,
+    /// and, with `high_quality_without_distractors`, every frame that shows no shape tagged
+    /// as an on-screen distractor (where nothing draws the eye away, the viewer would see
+    /// what selective rendering leaves out).
+    std::vector<FrameRange> high_quality;
+    bool high_quality_without_distractors = false;
 };
 
 /// What one frame did.
@@ -63,6 +70,8 @@ struct FrameRun {
     /// frame rendered, after a skipped one, or where no pixel matched.
     std::optional<double> flicker;
     double flicker_matched = 0;
+    bool high_quality = false;                  ///< rendered as `--uniform max` (SequenceOptions::high_quality)
+    std::optional<bool> distractor_on_screen;   ///< looked for (high_quality_without_distractors)
     std::vector<std::string> files;
     std::vector<Diagnostic> warnings;   ///< the frame's runtime warnings
     std::vector<std::string> notes;     ///< and notes (RunResult::notes)

@@ -126,6 +126,40 @@ TEST_F(CrexFramesCli, ViewFileLinesAreFrames) {
     EXPECT_FALSE(std::filesystem::exists(path("f.0002.png")));
 }
 
+// Case II (thesis 4.5): frames tagged high quality render with every selective variable at its
+// maximum, the others selectively; by range, or by whether a tagged distractor is on screen.
+// The pipeline's selective stage takes 1 spp where its map is 0 and 4 at its maximum, so a
+// high-quality frame traces about four times the rays of the same frame rendered selectively.
+TEST_F(CrexFramesCli, FramesTaggedHighQualityRenderAtTheMaximum) {
+    const std::string pipe = write("t.pipe", "pipeline t {\n  preselective { spp 1 }\n  guidance { m = constant(0) }\n"
+                                             "  selective { vary spp 1 .. 4 by m }\n}\n");
+    const std::string walk_file = CREX_SOURCE_DIR "/examples/paths/corridor_walk.json";
+    auto frames_of = [&](std::vector<std::string> more) {
+        std::vector<std::string> args = {"run", pipe, "--scene", kCorridor, "--size", "24x16", "--camera-path", walk_file,
+                                         "--force", "--format", "json", "-o", path("f.png")};
+        args.insert(args.end(), more.begin(), more.end());
+        auto r = crex_cli(args);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(r.out.empty() ? "{}" : r.out).value("frames", nlohmann::json::array());
+    };
+    const auto plain = frames_of({"--frames", "0..54:54"});
+    const auto ranged = frames_of({"--frames", "0..54:54", "--high-quality-frames", "1..5,54"});
+    ASSERT_EQ(plain.size(), 2u);
+    ASSERT_EQ(ranged.size(), 2u);
+    EXPECT_EQ(ranged[0]["quality"], "selective");
+    EXPECT_EQ(ranged[1]["quality"], "high");
+    EXPECT_EQ(ranged[0]["rays"], plain[0]["rays"]) << "an untagged frame is the plain one";
+    EXPECT_GT(ranged[1]["rays"].get<double>(), 3 * plain[1]["rays"].get<double>());
+    // Frame 0 looks down the corridor at the poster (tagged a distractor); frame 54 has passed it.
+    const auto by_distractor = frames_of({"--frames", "0..54:54", "--high-quality-without-distractors"});
+    ASSERT_EQ(by_distractor.size(), 2u);
+    EXPECT_EQ(by_distractor[0]["distractor_on_screen"], true);
+    EXPECT_EQ(by_distractor[0]["quality"], "selective");
+    EXPECT_EQ(by_distractor[1]["distractor_on_screen"], false);
+    EXPECT_EQ(by_distractor[1]["quality"], "high");
+    EXPECT_EQ(by_distractor[1]["rays"], ranged[1]["rays"]);
+}
+
 TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
     const std::string path_file = walk();
     struct Case {
@@ -142,6 +176,9 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
         {{"--camera-path", path_file, "--frames", "25..31"}, 2, "it has frames 0..30 (0 s to 1 s)"},
         {{"--camera-path", path_file, "--view", path_file}, 2, "--view does not go with --camera-path"},
         {{"--camera-path", path("missing.json")}, 3, "--camera-path"},
+        {{"--high-quality-frames", "1"}, 2, "--high-quality-frames is for frames along a camera path"},
+        {{"--camera-path", path_file, "--high-quality-frames", "0..2,x"}, 2, "'x': expected"},
+        {{"--camera-path", path_file, "--frames", "0", "--high-quality-frames", "0"}, 2, "need a pipeline"},
         {{"--camera-path", write("bad.json", "{\"keys\": [\n  {\"time\": 0, \"position\": [0, 1], \"look_at\": [0, 0, 0]}]}")}, 1,
          "bad.json:2:27: error[E302]"},
     };
