@@ -248,6 +248,7 @@ RunOptions options_of(const py::dict& kw) {
     }
     if (auto v = get("irradiance_cache")) o.irradiance_cache = v->cast<bool>();
     if (auto v = get("max_memory_mib")) o.max_memory = static_cast<size_t>(v->cast<double>() * double(1 << 20));
+    if (auto v = get("components")) o.component_images = v->cast<bool>();
     return o;
 }
 
@@ -295,8 +296,8 @@ py::dict run(const PythonPlan& p, const py::object& scene_given, py::object prog
     }
     py::dict result;
     result["image"] = image_array(r.image(), w, h);
-    py::dict components;
-    for (size_t a = 0; a < kAovCount; ++a) components[py::str(aov_name(a))] = image_array(r.aov_image(a), w, h);
+    py::dict components;  // none with components=False: the film kept no sum per component
+    for (size_t a = 0; a < kAovCount && options.component_images; ++a) components[py::str(aov_name(a))] = image_array(r.aov_image(a), w, h);
     result["components"] = components;
     py::dict maps;
     for (const auto& [name, raster] : r.maps) maps[py::str(name)] = image_array(raster.v, raster.width, raster.height, raster.channels);

@@ -53,7 +53,8 @@ def run(plan, scene=None, *, progress=None, output=None, **options):
     Options override the plan's settings: size=(width, height), spp, seed, lw, max_depth,
     rounds, ambient (a radiance, or "auto"), budget (seconds), no_budget, policy ("tasks",
     "batches", "queues", "progressive"), shadow_rays, uniform ("min", "max"),
-    irradiance_cache, max_memory_mib. `progress(info)` is called now and then with a dict
+    irradiance_cache, max_memory_mib, components (default True; False: no per-component images,
+    and a film a seventh of the size, for large frames). `progress(info)` is called now and then with a dict
     (stage, fraction, pass, passes, rays, step); raising from it stops the render. `output`: an
     image path (or a list of them) written once the render is done, all or none.
     """

@@ -96,6 +96,17 @@ def test_progress_is_reported_and_can_stop_the_render():
         crex.run("(TTMRSGD)*", size=(64, 64), spp=4096, progress=stop)
 
 
+def test_without_components_the_image_is_the_same_and_no_component_is_given():
+    # components=False: the film keeps one sum for all the light (a seventh of the memory),
+    # so the composite is the same up to the order of the additions.
+    full = crex.run("(TTMRSGD)*", size=(16, 12), spp=2, seed=5)
+    lean = crex.run("(TTMRSGD)*", size=(16, 12), spp=2, seed=5, components=False)
+    assert lean.components == {}
+    assert len(full.components) == 7
+    assert np.allclose(lean.image, full.image, rtol=1e-6, atol=1e-7)
+    assert lean.image.max() > 0
+
+
 def test_a_run_gives_components_maps_samples_and_the_summary(tmp_path):
     plan = crex.compile(SEL_RP, scene="builtin:cornell")
     assert plan.staged and plan.name == "sel_rp"

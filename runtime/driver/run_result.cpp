@@ -15,6 +15,7 @@ std::vector<float> RunResult::image() const {
 
 std::vector<float> RunResult::aov_image(size_t aov) const {
     std::vector<float> rgb = film.aov_image(aov);
+    if (rgb.empty()) return rgb;  // the film kept no sum for it (RunSettings::component_images)
     // capict: a component's image takes its branch's interpolation (the whole branch, also what
     // it found through other components' rays below the first bounce), so the images still add
     // up to the final image.
