@@ -29,12 +29,6 @@ std::string grouped(uint64_t n) {
 // A frame's time on the path.
 double frame_time(int64_t frame, double fps) { return double(frame) / fps; }
 
-bool tagged_high_quality(const std::vector<FrameRange>& ranges, int64_t frame) {
-    for (const FrameRange& r : ranges)
-        if (frame >= r.first && frame <= r.last && r.step > 0 && (frame - r.first) % r.step == 0) return true;
-    return false;
-}
-
 // A pixel centre sees a shape tagged as an on-screen distractor.
 bool shows_a_distractor(const Scene& scene, const FrameGeometry& g) {
     for (const int32_t shape : g.shape)
@@ -122,7 +116,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             if (!probe_scene) probe_scene = std::make_unique<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));
             geometry = frame_geometry(*probe_scene, next.settings.width, next.settings.height);
         }
-        f.high_quality = tagged_high_quality(o.high_quality, f.frame);
+        f.high_quality = std::any_of(o.high_quality.begin(), o.high_quality.end(), [&](const FrameRange& r) { return r.contains(f.frame); });
         if (o.high_quality_without_distractors) {
             f.distractor_on_screen = shows_a_distractor(scene, *geometry);
             f.high_quality = f.high_quality || !*f.distractor_on_screen;

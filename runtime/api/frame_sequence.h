@@ -26,6 +26,7 @@ namespace crex {
 struct FrameRange {
     int64_t first = 0, last = 0, step = 1;
     std::vector<int64_t> frames() const;
+    bool contains(int64_t frame) const { return step > 0 && frame >= first && frame <= last && (frame - first) % step == 0; }
 };
 
 /// The frames a path at `fps` covers: those whose time f / fps lies within its keys' span.
