@@ -155,7 +155,8 @@ Runner add_run_command(CLI::App& app) {
                                                        "(docs/animation.md); each -o NAME.EXT becomes NAME.0000.EXT, NAME.0001.EXT, ...")
         ->allow_extra_args(false);
     cmd->add_option("--frames", opt->frames, "The frames to render, FIRST..LAST[:STEP] (frame f at f / fps seconds on the path; "
-                                             "default: every frame of the path); frames whose files exist are skipped")
+                                             "default: every frame of the path); frames whose files exist are skipped; under mpirun each process "
+                                             "renders a run of consecutive frames")
         ->allow_extra_args(false);
     cmd->add_option("--fps", opt->fps, "Frames per second along the camera path (a view file's line k is frame k at any fps)")
         ->capture_default_str()

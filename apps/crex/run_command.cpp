@@ -178,6 +178,7 @@ struct LeadChecks {
     ReferenceInput reference;
     std::optional<ResumedRows> resumed;
     std::optional<CameraPath> path;  // --camera-path
+    std::string path_text;           // its file, for the other processes
 };
 
 // The camera path, its diagnostics said; the frames checked against it (every frame of the
@@ -189,6 +190,7 @@ int read_camera_path_file(Request& r, LeadChecks& lead) {
         std::cerr << fmt::format("crex run: error: --camera-path: {}\n", error);
         return kExitFailure;
     }
+    lead.path_text = *text;
     const SourceFile file(r.camera_path, std::move(*text));
     DiagnosticSink sink;
     lead.path = read_camera_path(file, r.sequence.fps, sink);
@@ -331,25 +333,48 @@ void say_notes(const std::vector<std::string>& notes) {
 }
 
 // The frames of a camera path: a progress line per frame, the sequence's summary at the end.
-int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path) {
+// Under mpirun each process renders a share of the frames (render_frames); the lead says them all.
+int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path, ProcessGroup& group) {
     r.sequence.path = &path;
-    const bool talk = !r.quiet && r.format != "json";
+    const bool talk = !r.quiet && r.format != "json" && group.leads();
     ConsoleProgress progress(progress_mode(r.progress, !talk));
     std::vector<FrameRun> frames;
-    const int status = guarded_rendering("crex run", progress, [&] {
-        try {
-            frames = render_frames(in, run, r.files, r.sequence, progress, [&](const FrameRun& f, size_t index, size_t count) {
+    auto render = [&] {
+        frames = render_frames(
+            in, run, r.files, r.sequence, progress,
+            [&](const FrameRun& f, size_t index, size_t count) {
                 progress.finish();
                 if (talk) std::cerr << "crex run: " << frame_line(f, index, count) << "\n";
-            });
+            },
+            &group);
+    };
+    if (group.distributed()) {  // a process that fails ends every one, named: the lead would wait for its frames
+        try {
+            render();
+        } catch (const InternalError& e) {
+            group.fail(ProcessFailure::kInternal, e.what());
+        } catch (const RunInputError& e) {
+            group.fail(ProcessFailure::kInput, e.what());
         } catch (const FrameWriteError& e) {
-            progress.finish();
-            std::cerr << "crex run: error: " << e.what() << "; the frames before it are written\n";
-            return kExitFailure;
+            group.fail(ProcessFailure::kRender, std::string(e.what()) + "; the frames before it are written");
+        } catch (const std::exception& e) {
+            group.fail(ProcessFailure::kRender, e.what());
         }
-        return kExitOk;
-    });
-    if (status != kExitOk) return status;
+        progress.finish();
+        if (!group.leads()) return kExitOk;
+    } else if (const int status = guarded_rendering("crex run", progress, [&] {
+                   try {
+                       render();
+                   } catch (const FrameWriteError& e) {
+                       progress.finish();
+                       std::cerr << "crex run: error: " << e.what() << "; the frames before it are written\n";
+                       return kExitFailure;
+                   }
+                   return kExitOk;
+               });
+               status != kExitOk) {
+        return status;
+    }
     // Each note and warning once, however many frames said it.
     std::vector<std::string> notes;
     DiagnosticSink warnings;
@@ -362,10 +387,14 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
     if (r.format == "json") {
         nlohmann::json j = frames_json(frames, r.sequence.fps);
         j["camera_path"] = r.camera_path;
+        j["processes"] = group.processes();
         j["scene"] = in.scene_spec;
         std::cout << j.dump(2) << "\n";
     } else if (!r.quiet) {
         std::cout << frames_summary_text(frames);
+        if (group.distributed())
+            std::cout << fmt::format("  on {} processes, each a run of consecutive frames with its own cache (the lead's saved)\n",
+                                     group.processes());
     }
     return kExitOk;
 }
@@ -392,10 +421,6 @@ int write_stopped_render(const Request& r, const RunRecord& record) {
 // verdict), every process renders its part, the lead writes and says what happened.
 int run_request(Request& r) {
     std::unique_ptr<ProcessGroup> group = make_process_group(r.distributed);
-    if (group->distributed() && !r.camera_path.empty()) {
-        if (group->leads()) std::cerr << "crex run: error: under mpirun, --camera-path is not supported yet: render the frames in one process\n";
-        return kExitUsage;
-    }
     if (group->distributed() && (r.compare_policies || r.equal_time || !r.resume.empty())) {  // every rank refuses alike; the lead says so
         if (group->leads())
             std::cerr << (r.resume.empty() ? fmt::format("crex run: error: under mpirun, {} is not supported yet\n",
@@ -423,9 +448,26 @@ int run_request(Request& r) {
     std::unique_ptr<tbb::global_control> threads;
     if (r.threads > 0)
         threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(r.threads));
+    if (!r.camera_path.empty()) {
+        // The lead read and checked the path and chose the frames; the others take both as data.
+        nlohmann::json shared;
+        if (group->leads())
+            shared = {{"text", lead.path_text}, {"first", r.sequence.frames.first}, {"last", r.sequence.frames.last}, {"step", r.sequence.frames.step}};
+        shared = nlohmann::json::parse(group->share_from_lead(shared.dump(), "the camera path"));
+        if (!group->leads()) {
+            DiagnosticSink unsaid;  // said by the lead
+            lead.path = read_camera_path(SourceFile(r.camera_path, shared["text"].get<std::string>()), r.sequence.fps, unsaid);
+            if (!lead.path) {
+                group->fail(ProcessFailure::kInternal, "the camera path the lead read does not read here");
+                return kExitFailure;
+            }
+            r.sequence.frames = {shared["first"].get<int64_t>(), shared["last"].get<int64_t>(), shared["step"].get<int64_t>()};
+        }
+        return run_sequence(r, in, run, *lead.path, *group);
+    }
+    // One image from here: should the group fail, the lead writes the rows it finished.
     group->keep_partial_outputs(r.files.images, run.settings.width, run.settings.height,
                                 partial_identity(in.scene_spec, in.plan, run.settings));
-    if (lead.path) return run_sequence(r, in, run, *lead.path);
     std::optional<CheckpointRecorder> recorder;
     if (lead.reference.image || !r.files.report_dir.empty()) recorder.emplace(r.checkpoint_interval);
     const bool quiet = r.quiet || !group->leads();

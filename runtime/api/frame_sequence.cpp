@@ -75,23 +75,50 @@ std::string frame_file_name(const std::string& path, int64_t frame) {
     return (p.parent_path() / fmt::format("{}.{:04d}{}", p.stem().string(), frame, p.extension().string())).string();
 }
 
+std::pair<size_t, size_t> frame_share(size_t frames, int processes, int index) {
+    const size_t p = static_cast<size_t>(std::max(1, processes)), i = static_cast<size_t>(std::clamp(index, 0, std::max(1, processes) - 1));
+    return {frames * i / p, frames * (i + 1) / p};
+}
+
 std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const RunFiles& files, const SequenceOptions& o,
-                                    RunObserver& observer, const std::function<void(const FrameRun&, size_t, size_t)>& done) {
+                                    RunObserver& observer, const std::function<void(const FrameRun&, size_t, size_t)>& done,
+                                    ProcessGroup* group) {
+    LocalGroup alone;
+    ProcessGroup& processes = group ? *group : alone;
     Scene& scene = *in.scene->scene;
     CameraRestore restore{scene, scene.camera};
     const Camera scene_camera = scene.camera;
     const std::vector<int64_t> frames = o.frames.frames();
+    const auto [first_index, end_index] = frame_share(frames.size(), processes.processes(), processes.process_index());
     std::vector<FrameRun> out;
+    // Each frame is said once, on the lead: its own as they end, the others' as they arrive.
+    size_t heard = 0;
+    auto hear = [&](const std::string& bytes) {
+        const nlohmann::json j = nlohmann::json::parse(bytes);
+        out.push_back(frame_from_json(j));
+        ++heard;
+        if (done) done(out.back(), j.at("index").get<size_t>(), frames.size());
+    };
+    auto frame_done = [&](size_t index) {
+        if (!processes.leads()) {
+            processes.tell_lead(frame_to_json(out.back(), index).dump(), fmt::format("what frame {} did", out.back().frame));
+            return;
+        }
+        if (done) done(out.back(), index, frames.size());
+        while (auto bytes = processes.heard_by_lead(false, "what a frame did")) hear(*bytes);
+    };
     // What every frame starts from: the sequence's cache (a file's bytes, records given), then
-    // each frame's records when carried. The file is read once: later frames only save to it.
+    // each frame's records when carried. The file is read once: later frames only save to it,
+    // and only the lead's frames (one process writes the file).
     ResolvedRun next = run;
+    if (!processes.leads()) next.settings.ic_file.clear();
     // Flicker: what each pixel centre sees, traced in a scene of its own (built once: the
     // scene does not move), and the frame rendered before, to warp onto the next.
     std::unique_ptr<RenderScene> probe_scene;
     std::optional<FrameGeometry> previous_geometry;
     std::vector<float> previous_image;  // display values
     double exposure = 0;                // the first frame rendered sets it for all
-    for (size_t index = 0; index < frames.size(); ++index) {
+    for (size_t index = first_index; index < end_index; ++index) {
         FrameRun f;
         f.frame = frames[index];
         f.time = frame_time(f.frame, o.fps);
@@ -105,7 +132,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         if (f.skipped) {
             previous_geometry.reset();
             out.push_back(f);
-            if (done) done(out.back(), index, frames.size());
+            frame_done(index);
             continue;
         }
         scene.camera = o.path->camera_at(f.time, scene_camera);
@@ -162,9 +189,65 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             next.settings.ic_file_bytes.reset();
         }
         out.push_back(std::move(f));
-        if (done) done(out.back(), index, frames.size());
+        frame_done(index);
+    }
+    if (processes.leads()) {  // the other processes' frames, each said as it arrives
+        const size_t others = frames.size() - (end_index - first_index);
+        while (heard < others)
+            if (auto bytes = processes.heard_by_lead(true, "what a frame of its share did")) hear(*bytes);
+        std::stable_sort(out.begin(), out.end(), [](const FrameRun& a, const FrameRun& b) { return a.frame < b.frame; });
     }
     return out;
+}
+
+nlohmann::json frame_json(const FrameRun& f) {
+    nlohmann::json j = {{"frame", f.frame}, {"time", f.time}, {"skipped", f.skipped}, {"files", f.files}};
+    if (f.skipped) return j;
+    j["seconds"] = f.seconds;
+    j["render_seconds"] = f.render_seconds;
+    j["records_made"] = f.records_made;
+    j["records_reused"] = f.records_reused;
+    j["rays"] = f.rays;
+    if (f.flicker) j["flicker"] = {{"display_difference", *f.flicker}, {"matched", f.flicker_matched}};
+    j["quality"] = f.high_quality ? "high" : "selective";
+    if (f.distractor_on_screen) j["distractor_on_screen"] = *f.distractor_on_screen;
+    return j;
+}
+
+nlohmann::json frame_to_json(const FrameRun& f, size_t index) {
+    nlohmann::json j = frame_json(f);
+    j["index"] = index;
+    nlohmann::json warnings = nlohmann::json::array();
+    for (const Diagnostic& w : f.warnings) warnings.push_back({{"code", w.code}, {"where", w.where}, {"message", w.message}, {"help", w.help}});
+    j["warnings"] = std::move(warnings);
+    j["notes"] = f.notes;
+    return j;
+}
+
+FrameRun frame_from_json(const nlohmann::json& j) {
+    FrameRun f;
+    f.frame = j.at("frame").get<int64_t>();
+    f.time = j.at("time").get<double>();
+    f.skipped = j.at("skipped").get<bool>();
+    f.files = j.at("files").get<std::vector<std::string>>();
+    f.notes = j.value("notes", std::vector<std::string>{});
+    for (const auto& w : j.value("warnings", nlohmann::json::array())) {
+        f.warnings.push_back(run_diagnostic(w.at("code").get<std::string>(), w.at("where").get<std::string>(), w.at("message").get<std::string>()));
+        f.warnings.back().help = w.value("help", "");
+    }
+    if (f.skipped) return f;
+    f.seconds = j.at("seconds").get<double>();
+    f.render_seconds = j.at("render_seconds").get<double>();
+    f.records_made = j.at("records_made").get<size_t>();
+    f.records_reused = j.at("records_reused").get<size_t>();
+    f.rays = j.at("rays").get<uint64_t>();
+    if (j.contains("flicker")) {
+        f.flicker = j["flicker"].at("display_difference").get<double>();
+        f.flicker_matched = j["flicker"].at("matched").get<double>();
+    }
+    f.high_quality = j.value("quality", "") == "high";
+    if (j.contains("distractor_on_screen")) f.distractor_on_screen = j["distractor_on_screen"].get<bool>();
+    return f;
 }
 
 nlohmann::json frames_json(const std::vector<FrameRun>& frames, double fps) {
@@ -173,16 +256,8 @@ nlohmann::json frames_json(const std::vector<FrameRun>& frames, double fps) {
     double seconds = 0;
     uint64_t made = 0;
     for (const FrameRun& f : frames) {
-        nlohmann::json j = {{"frame", f.frame}, {"time", f.time}, {"skipped", f.skipped}, {"files", f.files}};
+        nlohmann::json j = frame_json(f);
         if (!f.skipped) {
-            j["seconds"] = f.seconds;
-            j["render_seconds"] = f.render_seconds;
-            j["records_made"] = f.records_made;
-            j["records_reused"] = f.records_reused;
-            j["rays"] = f.rays;
-            if (f.flicker) j["flicker"] = {{"display_difference", *f.flicker}, {"matched", f.flicker_matched}};
-            j["quality"] = f.high_quality ? "high" : "selective";
-            if (f.distractor_on_screen) j["distractor_on_screen"] = *f.distractor_on_screen;
             ++rendered;
             seconds += f.seconds;
             made += f.records_made;

@@ -13,11 +13,13 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "runtime/api/run.h"
 #include "runtime/api/run_inputs.h"
 #include "runtime/api/run_outputs.h"
+#include "runtime/driver/process_group.h"
 #include "runtime/scene/camera_path.h"
 
 namespace crex {
@@ -83,14 +85,30 @@ struct FrameWriteError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Renders the frames of `options` with `run`'s settings, in one process, each frame's images
-/// in `files.images` renamed by frame_file_name() (only images: maps, reports and profiles are
+/// The frames [first, end) of a sequence of `frames` that process `index` of `processes`
+/// renders: contiguous shares of (nearly) equal length, so that each process's cache carries
+/// from a frame to its neighbour, and its flicker is measured between neighbours.
+std::pair<size_t, size_t> frame_share(size_t frames, int processes, int index);
+
+/// Renders the frames of `options` with `run`'s settings, each frame's images in
+/// `files.images` renamed by frame_file_name() (only images: maps, reports and profiles are
 /// not per frame yet). `in`'s scene camera is set per frame and restored before returning.
 /// `observer` watches each frame's render; `done(frame, index, count)` is called after each
-/// frame, skipped ones too. Throws what run_resolved() throws, and FrameWriteError.
+/// frame, skipped ones too. With `group` (several processes, e.g. under mpirun), each process
+/// renders its frame_share() whole, carrying its own cache; the lead alone saves the cache
+/// file, hears of every frame (`done` there is called for all, as they end) and returns them
+/// all, the others return their own. Throws what run_resolved() throws, and FrameWriteError.
 std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const RunFiles& files, const SequenceOptions& options,
                                     RunObserver& observer,
-                                    const std::function<void(const FrameRun&, size_t index, size_t count)>& done = nullptr);
+                                    const std::function<void(const FrameRun&, size_t index, size_t count)>& done = nullptr,
+                                    ProcessGroup* group = nullptr);
+
+/// One frame as `--format json` gives it.
+nlohmann::json frame_json(const FrameRun& f);
+/// One frame as a process tells the lead (frame_json with its index in the sequence, its
+/// warnings and notes), and back.
+nlohmann::json frame_to_json(const FrameRun& f, size_t index);
+FrameRun frame_from_json(const nlohmann::json& j);
 
 /// The sequence as `--format json` gives it: per frame its seconds, records made and reused,
 /// rays and files; with totals.

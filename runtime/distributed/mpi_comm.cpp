@@ -135,36 +135,46 @@ void all_ranks_arrive(const std::string& point) {
 }
 
 namespace {
-constexpr int kBytesTag = 7304;                // send_bytes on MPI_COMM_WORLD
 constexpr size_t kBytesPiece = size_t{1} << 30;  // MPI counts are ints
 }  // namespace
 
-void send_bytes(int to, const std::string& bytes, const std::string& what) {
+void send_bytes(int to, const std::string& bytes, const std::string& what, int tag) {
     unsigned long long size = bytes.size();
     std::vector<MPI_Request> requests(1);
-    MPI_Isend(&size, 1, MPI_UNSIGNED_LONG_LONG, to, kBytesTag, MPI_COMM_WORLD, &requests[0]);
+    MPI_Isend(&size, 1, MPI_UNSIGNED_LONG_LONG, to, tag, MPI_COMM_WORLD, &requests[0]);
     for (size_t at = 0; at < bytes.size(); at += kBytesPiece) {
         requests.emplace_back();
-        MPI_Isend(bytes.data() + at, static_cast<int>(std::min(kBytesPiece, bytes.size() - at)), MPI_CHAR, to, kBytesTag, MPI_COMM_WORLD,
+        MPI_Isend(bytes.data() + at, static_cast<int>(std::min(kBytesPiece, bytes.size() - at)), MPI_CHAR, to, tag, MPI_COMM_WORLD,
                   &requests.back());
     }
     wait_requests(requests, rank_timeout(), [&] { return fmt::format("rank {} did not take {}", to, what); });
 }
 
-std::string receive_bytes(int from, const std::string& what) {
+std::string receive_bytes(int from, const std::string& what, int tag) {
     auto late = [&] { return fmt::format("rank {} did not send {}", from, what); };
     unsigned long long size = 0;
     std::vector<MPI_Request> request(1);
-    MPI_Irecv(&size, 1, MPI_UNSIGNED_LONG_LONG, from, kBytesTag, MPI_COMM_WORLD, &request[0]);
+    MPI_Irecv(&size, 1, MPI_UNSIGNED_LONG_LONG, from, tag, MPI_COMM_WORLD, &request[0]);
     wait_requests(request, rank_timeout(), late);
     std::string bytes(static_cast<size_t>(size), '\0');
     for (size_t at = 0; at < bytes.size(); at += kBytesPiece) {  // in order: same source and tag
         request.assign(1, MPI_REQUEST_NULL);
-        MPI_Irecv(bytes.data() + at, static_cast<int>(std::min(kBytesPiece, bytes.size() - at)), MPI_CHAR, from, kBytesTag,
+        MPI_Irecv(bytes.data() + at, static_cast<int>(std::min(kBytesPiece, bytes.size() - at)), MPI_CHAR, from, tag,
                   MPI_COMM_WORLD, &request[0]);
         wait_requests(request, rank_timeout(), late);
     }
     return bytes;
+}
+
+std::optional<std::string> receive_bytes_from_any(int tag, bool wait, const std::string& what) {
+    if (!g_started) return std::nullopt;
+    int flag = 0;
+    MPI_Status status;
+    auto arrived = [&] { return MPI_Iprobe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, &status), flag != 0; };
+    if (wait) wait_until(arrived, rank_timeout(), [&] { return fmt::format("no rank sent {}", what); });
+    else if (!arrived()) return std::nullopt;
+    // The size and then the bytes, from the one sender: messages of one source and tag keep their order.
+    return receive_bytes(status.MPI_SOURCE, what, tag);
 }
 
 std::string share_from_rank0(std::string text, const std::string& what) {
@@ -220,8 +230,9 @@ void sum_over_row_ranks(const Distribution&, std::vector<double>&) {}
 void share_cache_records(const Distribution&, IrradianceCache&, size_t&) {}
 void all_ranks_arrive(const std::string&) {}
 std::string share_from_rank0(std::string text, const std::string&) { return text; }
-void send_bytes(int, const std::string&, const std::string&) {}
-std::string receive_bytes(int, const std::string&) { return {}; }
+void send_bytes(int, const std::string&, const std::string&, int) {}
+std::string receive_bytes(int, const std::string&, int) { return {}; }
+std::optional<std::string> receive_bytes_from_any(int, bool, const std::string&) { return std::nullopt; }
 double sum_over_ranks(double value) { return value; }
 double max_over_ranks(double value) { return value; }
 double seconds_waiting_for_ranks() { return 0; }

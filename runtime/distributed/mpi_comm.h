@@ -6,6 +6,7 @@
 /// one-process answer.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,9 +56,15 @@ void share_cache_records(const Distribution& d, IrradianceCache& cache, size_t& 
 std::string share_from_rank0(std::string text, const std::string& what);
 
 /// `bytes` from this rank to world rank `to`, and their receipt there (point to point, any
-/// size, bounded; `what` names them in a timeout's error).
-void send_bytes(int to, const std::string& bytes, const std::string& what);
-std::string receive_bytes(int from, const std::string& what);
+/// size, bounded; `what` names them in a timeout's error). `tag` keeps one kind of message
+/// apart from the others.
+constexpr int kBytesTag = 7304;
+constexpr int kFrameTag = 7305;  ///< what a frame of a sequence did (MpiGroup::tell_lead)
+void send_bytes(int to, const std::string& bytes, const std::string& what, int tag = kBytesTag);
+std::string receive_bytes(int from, const std::string& what, int tag = kBytesTag);
+/// The next bytes any rank sent with `tag`, if some have arrived; with `wait`, waits for them
+/// (bounded). Not distributed: none.
+std::optional<std::string> receive_bytes_from_any(int tag, bool wait, const std::string& what);
 
 /// Every rank (of all) reached `point`, bounded like every wait: before the last collectives.
 void all_ranks_arrive(const std::string& point);

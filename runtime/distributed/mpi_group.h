@@ -30,6 +30,12 @@ public:
     bool distributed() const override { return ranks_.active(); }
     bool leads() const override { return ranks_.rank == 0; }
     std::string share_from_lead(std::string bytes, const std::string& what) override;
+    int processes() const override { return ranks_.size; }
+    int process_index() const override { return ranks_.rank; }
+    void tell_lead(const std::string& bytes, const std::string& what) override { send_bytes(0, bytes, what, kFrameTag); }
+    std::optional<std::string> heard_by_lead(bool wait, const std::string& what) override {
+        return receive_bytes_from_any(kFrameTag, wait, what);
+    }
     void keep_partial_outputs(const std::vector<std::string>& outputs, int width, int height, const ImageMetadata& identity) override;
     void begin(const PipelinePlan& plan, RunSettings& settings, bool record_exchanges) override;
     /// A PA rank of IcShare::kComponent: it answers irradiance queries instead of rendering.

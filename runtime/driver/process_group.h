@@ -9,6 +9,7 @@
 /// implementations depend on the driver, never the other way round.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,20 @@ public:
     virtual std::string share_from_lead(std::string bytes, const std::string& what) {
         (void)what;
         return bytes;
+    }
+    /// How many processes there are, and this one's place among them (0 for the lead): a
+    /// sequence's frames are split among them (frame_sequence.h), each frame rendered whole
+    /// by one process.
+    virtual int processes() const { return 1; }
+    virtual int process_index() const { return 0; }
+    /// A process other than the lead tells it `bytes` (what one of its frames did). Bounded
+    /// like every wait; small messages do not wait for the lead to be listening.
+    virtual void tell_lead(const std::string& bytes, const std::string& what) { (void)bytes, (void)what; }
+    /// On the lead: the next `bytes` another process told it, if one has arrived; with `wait`,
+    /// waits for one (bounded: a process silent past the timeout ends the run, named).
+    virtual std::optional<std::string> heard_by_lead(bool wait, const std::string& what) {
+        (void)wait, (void)what;
+        return std::nullopt;
     }
     /// Where the rows this process finished are written should the group fail before the
     /// outputs (each of `outputs` as NAME.partial.EXT), with `identity` in their header.

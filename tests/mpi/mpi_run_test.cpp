@@ -7,6 +7,7 @@
 // error naming it, and rank 0 writes the rows it finished (mpirun's SIGTERM); a stopped rank
 // (renderer or PA) is named by --rank-timeout; none leaves a process or a half-written output.
 // --resume finishes a partial image in one process: the uninterrupted image, exactly.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -792,6 +793,51 @@ TEST_F(MpiRun, RankZeroReportsTheErrorAtEveryExchangeOfRows) {
 }
 
 // Still refused under mpirun (once, exit 2): each rank would render the whole image again.
+// A sequence's frames split among the ranks (issue 36), each a run of consecutive frames:
+// without a cache every frame is the single-process frame, pixel for pixel; rank 0 says every
+// frame, and saves the cache file alone.
+TEST_F(MpiRun, AFrameRangeRendersTheSingleProcessFrames) {
+    const std::string walk = CREX_SOURCE_DIR "/examples/paths/corridor_walk.json";
+    const std::string corridor = CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json";
+    auto args = [&](const std::string& out) {
+        return std::vector<std::string>{"run", "--scene", corridor, "--camera-path", walk, "--frames", "0..4", "--size", "24x16",
+                                        "--spp", "2", "-o", path(out)};
+    };
+    auto one_args = args("one.exr");
+    one_args.push_back("-q");
+    auto one = testing::crex_cli(one_args);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    for (int ranks : {2, 3}) {
+        const std::string stem = "n" + std::to_string(ranks);
+        auto n_args = args(stem + ".exr");
+        n_args.insert(n_args.end(), {"--format", "json"});
+        auto n = mpirun(ranks, n_args);
+        ASSERT_EQ(n.exit_code, 0) << ranks << " ranks: " << n.err;
+        const auto j = nlohmann::json::parse(n.out, nullptr, false);
+        ASSERT_TRUE(j.is_object()) << n.out;
+        EXPECT_EQ(j["processes"].get<int>(), ranks);
+        ASSERT_EQ(j["frames"].size(), 5u);
+        for (int f = 0; f <= 4; ++f) {
+            EXPECT_EQ(j["frames"][f]["frame"].get<int>(), f);
+            const std::string name = fmt::format(".{:04d}.exr", f);
+            EXPECT_EQ(pixels(path(stem + name)), pixels(path("one" + name))) << ranks << " ranks, frame " << f;
+        }
+    }
+    // With a cache, each rank carries its own; the file is rank 0's, written whole.
+    auto cached = args("c.exr");
+    cached.insert(cached.end(), {"--ic", "--ic-file", path("walk.ic"), "-q"});
+    auto c = mpirun(2, cached);
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    auto again = args("x.exr");
+    *std::find(again.begin(), again.end(), "0..4") = "0";
+    again.insert(again.end(), {"--ic", "--ic-file", path("walk.ic"), "--format", "json"});
+    auto check = testing::crex_cli(again);
+    ASSERT_EQ(check.exit_code, 0) << check.err;
+    const auto reread = nlohmann::json::parse(check.out, nullptr, false);
+    ASSERT_TRUE(reread.is_object()) << check.out;
+    EXPECT_GT(reread["frames"][0]["records_reused"].get<size_t>(), 0u) << check.out;
+}
+
 TEST_F(MpiRun, ComparingPoliciesIsRefusedOnceWithExitTwo) {
     auto ref = testing::crex_cli({"run", "--size", "8x8", "-q", "-o", path("ref.exr")});
     ASSERT_EQ(ref.exit_code, 0) << ref.err;

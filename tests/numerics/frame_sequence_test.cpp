@@ -3,6 +3,7 @@
 // noise, for far fewer new records.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -142,6 +143,60 @@ TEST(FrameFlicker, OneCameraTwiceIsThePixelwiseDifference) {
     EXPECT_NEAR(f->difference, expected / (3.0 * double(seen)), 1e-9);
     EXPECT_DOUBLE_EQ(f->matched, double(seen) / (w * h));
     EXPECT_EQ(frame_flicker(g, a, g, a, rs.embree->origin_offset())->difference, 0.0);
+}
+
+// Under mpirun each process renders a run of consecutive frames: every frame once, in order,
+// shares of nearly equal length (tests/mpi: the frames equal one process's).
+TEST(FrameShare, EveryFrameOnceInRunsOfNearlyEqualLength) {
+    for (size_t frames : {0, 1, 5, 7, 90})
+        for (int processes : {1, 2, 3, 8}) {
+            size_t next = 0, shortest = frames, longest = 0;
+            for (int p = 0; p < processes; ++p) {
+                const auto [first, end] = frame_share(frames, processes, p);
+                EXPECT_EQ(first, next) << frames << " frames, process " << p << " of " << processes;
+                ASSERT_LE(first, end);
+                shortest = std::min(shortest, end - first), longest = std::max(longest, end - first);
+                next = end;
+            }
+            EXPECT_EQ(next, frames) << frames << " frames on " << processes;
+            EXPECT_LE(longest - shortest, 1u) << frames << " frames on " << processes;
+        }
+}
+
+// What a process tells the lead of a frame is the frame, warnings and notes included.
+TEST(FrameShare, AFrameToldToTheLeadIsTheFrame) {
+    FrameRun f;
+    f.frame = 12, f.time = 0.4, f.seconds = 1.5, f.render_seconds = 1.25, f.records_made = 321, f.records_reused = 4000;
+    f.rays = 123456789012, f.flicker = 0.0123, f.flicker_matched = 0.96, f.high_quality = true, f.distractor_on_screen = false;
+    f.files = {"out/a.0012.exr", "out/a.0012.png"};
+    f.notes = {"a note"};
+    f.warnings.push_back(run_diagnostic("W401", "walk.pipe:3:5", "a step leaves D without rays"));
+    const nlohmann::json told = frame_to_json(f, 7);
+    EXPECT_EQ(told["index"].get<size_t>(), 7u);
+    const FrameRun back = frame_from_json(nlohmann::json::parse(told.dump()));
+    EXPECT_EQ(back.frame, f.frame);
+    EXPECT_EQ(back.time, f.time);
+    EXPECT_EQ(back.seconds, f.seconds);
+    EXPECT_EQ(back.render_seconds, f.render_seconds);
+    EXPECT_EQ(back.records_made, f.records_made);
+    EXPECT_EQ(back.records_reused, f.records_reused);
+    EXPECT_EQ(back.rays, f.rays);
+    EXPECT_EQ(back.flicker, f.flicker);
+    EXPECT_EQ(back.flicker_matched, f.flicker_matched);
+    EXPECT_EQ(back.high_quality, f.high_quality);
+    EXPECT_EQ(back.distractor_on_screen, f.distractor_on_screen);
+    EXPECT_EQ(back.files, f.files);
+    EXPECT_EQ(back.notes, f.notes);
+    ASSERT_EQ(back.warnings.size(), 1u);
+    EXPECT_EQ(back.warnings[0].code, "W401");
+    EXPECT_EQ(back.warnings[0].where, "walk.pipe:3:5");
+    EXPECT_EQ(back.warnings[0].message, f.warnings[0].message);
+    EXPECT_EQ(back.warnings[0].severity, f.warnings[0].severity);
+    FrameRun skipped;
+    skipped.frame = 3, skipped.skipped = true, skipped.files = {"x.0003.exr"};
+    const FrameRun skipped_back = frame_from_json(frame_to_json(skipped, 0));
+    EXPECT_TRUE(skipped_back.skipped);
+    EXPECT_EQ(skipped_back.files, skipped.files);
 }
 
 }  // namespace
