@@ -26,6 +26,7 @@
 #include "runtime/base/output_folder.h"
 #include "runtime/report/run_report.h"
 #include "runtime/scene/camera_path_file.h"
+#include "runtime/scene/gltf/gltf_camera_path.h"
 #include "runtime/distributed/distributed.h"
 #include "runtime/distributed/partial_rows.h"
 
@@ -185,14 +186,24 @@ struct LeadChecks {
 // path when none were given). An exit status, or kExitOk.
 int read_camera_path_file(Request& r, LeadChecks& lead) {
     std::string error;
-    auto text = read_input(r.camera_path, error);
+    std::optional<std::string> text = read_input(r.camera_path, error);
     if (!text) {
         std::cerr << fmt::format("crex run: error: --camera-path: {}\n", error);
         return kExitFailure;
     }
+    DiagnosticSink sink;
+    if (is_gltf_path(r.camera_path)) {  // its camera's animation, as a path of keys
+        SceneSources sources;
+        text = gltf_camera_path_json(r.camera_path, r.input.camera, sources, sink);
+        if (!text) {
+            std::cerr << render_text(sink.sorted());
+            std::cerr << fmt::format("crex run: {} error{} in the camera path; nothing rendered\n", sink.error_count(),
+                                     sink.error_count() == 1 ? "" : "s");
+            return kExitInputErrors;
+        }
+    }
     lead.path_text = *text;
     const SourceFile file(r.camera_path, std::move(*text));
-    DiagnosticSink sink;
     lead.path = read_camera_path(file, r.sequence.fps, sink);
     std::cerr << render_text(sink.sorted());
     if (!lead.path || sink.has_errors()) {

@@ -322,4 +322,19 @@ std::vector<uint32_t> read_indices(const Document& doc, int index, const std::st
     return out;
 }
 
+std::vector<int> scene_roots(const tinygltf::Model& m) {
+    if (!m.scenes.empty()) {
+        const size_t s = m.defaultScene >= 0 && static_cast<size_t>(m.defaultScene) < m.scenes.size() ? size_t(m.defaultScene) : 0;
+        return m.scenes[s].nodes;
+    }
+    std::vector<bool> child(m.nodes.size(), false);
+    for (const auto& n : m.nodes)
+        for (int c : n.children)
+            if (c >= 0 && static_cast<size_t>(c) < child.size()) child[size_t(c)] = true;
+    std::vector<int> roots;
+    for (size_t i = 0; i < m.nodes.size(); ++i)
+        if (!child[i]) roots.push_back(static_cast<int>(i));
+    return roots;
+}
+
 }  // namespace crex::gltf

@@ -52,6 +52,9 @@ std::optional<Document> read_document(const std::string& path, SceneSources& sou
 /// applied. Empty with an error reported at `pointer` when the accessor is unusable.
 std::vector<double> read_accessor(const Document& doc, int index, int components, const std::string& pointer, DiagnosticSink& sink);
 
+/// The default scene's root nodes, or, without scenes, every node no other node has as a child.
+std::vector<int> scene_roots(const tinygltf::Model& model);
+
 /// Integer elements (indices) of accessor `index`; the same checks.
 std::vector<uint32_t> read_indices(const Document& doc, int index, const std::string& pointer, DiagnosticSink& sink);
 

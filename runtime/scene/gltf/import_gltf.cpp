@@ -17,6 +17,7 @@
 
 #include "runtime/scene/gltf/gltf_document.h"
 #include "runtime/scene/gltf/gltf_materials.h"
+#include "runtime/scene/gltf/gltf_transform.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/shapes.h"
@@ -25,64 +26,11 @@ namespace crex {
 namespace {
 
 using gltf::Document;
+using gltf::Mat4;
+using gltf::local_transform;
 
 // A directional light's disk: the sun's angular diameter (glTF's lights have no size).
 constexpr double kSunAngleDeg = 0.53;
-
-/// Column-major 4x4 (glTF's order): m[column * 4 + row].
-struct Mat4 {
-    std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    Mat4 operator*(const Mat4& o) const {
-        Mat4 r;
-        for (int c = 0; c < 4; ++c)
-            for (int row = 0; row < 4; ++row) {
-                double s = 0;
-                for (int k = 0; k < 4; ++k) s += m[size_t(k * 4 + row)] * o.m[size_t(c * 4 + k)];
-                r.m[size_t(c * 4 + row)] = s;
-            }
-        return r;
-    }
-    Vec3 point(const Vec3& p) const {
-        return {m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12], m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13],
-                m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14]};
-    }
-    Vec3 vector(const Vec3& v) const {
-        return {m[0] * v.x + m[4] * v.y + m[8] * v.z, m[1] * v.x + m[5] * v.y + m[9] * v.z, m[2] * v.x + m[6] * v.y + m[10] * v.z};
-    }
-    double det3() const {
-        return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) + m[8] * (m[1] * m[6] - m[5] * m[2]);
-    }
-    /// Normals: the inverse transpose of the upper 3x3 (its cofactor matrix, up to the
-    /// determinant's scale, which normalising removes; its sign is kept).
-    Vec3 normal(const Vec3& n) const {
-        const Vec3 c0{m[0], m[1], m[2]}, c1{m[4], m[5], m[6]}, c2{m[8], m[9], m[10]};
-        const Vec3 r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
-        Vec3 out = r0 * n.x + r1 * n.y + r2 * n.z;
-        return normalize_or_zero(det3() < 0 ? -out : out);
-    }
-};
-
-Mat4 local_transform(const tinygltf::Node& n) {
-    Mat4 t;
-    if (n.matrix.size() == 16) {
-        for (size_t i = 0; i < 16; ++i) t.m[i] = n.matrix[i];
-        return t;
-    }
-    Mat4 translate, rotate, scale;
-    if (n.translation.size() == 3) translate.m[12] = n.translation[0], translate.m[13] = n.translation[1], translate.m[14] = n.translation[2];
-    if (n.rotation.size() == 4) {
-        double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
-        const double len = std::sqrt(x * x + y * y + z * z + w * w);
-        if (len > 0 && std::isfinite(len)) x /= len, y /= len, z /= len, w /= len;
-        else x = y = z = 0, w = 1;
-        rotate.m = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
-                    2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
-                    2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
-                    0,                       0,                       0,                       1};
-    }
-    if (n.scale.size() == 3) scale.m[0] = n.scale[0], scale.m[5] = n.scale[1], scale.m[10] = n.scale[2];
-    return translate * rotate * scale;
-}
 
 // A tag from a node: extras {"task": 0..3, "distractor": bool, "tag": name}, or a name
 // "task3:cup" / "distractor:tv".
@@ -127,21 +75,8 @@ public:
         scene_.materials = materials_.materials;
         used_.assign(materials_.materials.size(), false);
 
-        // The default scene's roots, or every node no other node has as a child.
-        std::vector<int> roots;
-        if (!m.scenes.empty()) {
-            const size_t s = m.defaultScene >= 0 && static_cast<size_t>(m.defaultScene) < m.scenes.size() ? size_t(m.defaultScene) : 0;
-            roots = m.scenes[s].nodes;
-        } else {
-            std::vector<bool> child(m.nodes.size(), false);
-            for (const auto& n : m.nodes)
-                for (int c : n.children)
-                    if (c >= 0 && static_cast<size_t>(c) < child.size()) child[size_t(c)] = true;
-            for (size_t i = 0; i < m.nodes.size(); ++i)
-                if (!child[i]) roots.push_back(static_cast<int>(i));
-        }
         visited_.assign(m.nodes.size(), false);
-        for (int r : roots) visit(r, Mat4{}, std::nullopt, 0, "/scenes");
+        for (int r : gltf::scene_roots(m)) visit(r, Mat4{}, std::nullopt, 0, "/scenes");
         if (sink_.error_count() != errors) return std::nullopt;
         add_lights();
         // Only the materials some shape uses (and the lights'): the census counts used ones anyway.

@@ -6,7 +6,13 @@
 #include <cmath>
 #include <string>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
 #include "runtime/scene/camera_path_file.h"
+#include "runtime/scene/gltf/gltf_camera_path.h"
 
 namespace crex {
 namespace {
@@ -143,6 +149,85 @@ TEST(CameraPath, ViewFileGivesEachLinesView) {
         EXPECT_LT(mid.hfov_deg, 60);
         EXPECT_DOUBLE_EQ(path.end_time(), 2 / fps);
     }
+}
+
+// A glTF camera on a rig: the rig turns 90 degrees about y (rotation, LINEAR: slerped) while
+// the camera on it moves from 5 to 4 m in front of the rig's centre (translation, LINEAR), over
+// one second, with a triangle to look at. The camera's world transform composes both.
+const char* kRiggedCamera = R"({
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0, 2]}],
+  "nodes": [
+    {"name": "rig", "children": [1]},
+    {"name": "eye", "camera": 0, "translation": [0, 0, 5]},
+    {"name": "tri", "mesh": 0}
+  ],
+  "cameras": [{"name": "dolly", "type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 3}}]}],
+  "animations": [{
+    "samplers": [{"input": 0, "output": 1, "interpolation": "LINEAR"}, {"input": 0, "output": 2}],
+    "channels": [{"sampler": 0, "target": {"node": 0, "path": "rotation"}},
+                 {"sampler": 1, "target": {"node": 1, "path": "translation"}}]
+  }],
+  "buffers": [{"byteLength": 100, "uri": "data:application/octet-stream;base64,AAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAPMENT8AAAAA8wQ1PwAAAAAAAAAAAACgQAAAAAAAAAAAAACAQAAAgL8AAIC/AAAAwAAAgD8AAIC/AAAAwAAAAAAAAIA/AAAAwA=="}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 8}, {"buffer": 0, "byteOffset": 8, "byteLength": 32},
+                  {"buffer": 0, "byteOffset": 40, "byteLength": 24}, {"buffer": 0, "byteOffset": 64, "byteLength": 36}],
+  "accessors": [
+    {"bufferView": 0, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0], "max": [1]},
+    {"bufferView": 1, "componentType": 5126, "count": 2, "type": "VEC4"},
+    {"bufferView": 2, "componentType": 5126, "count": 2, "type": "VEC3"},
+    {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3", "min": [-1, -1, -2], "max": [1, 1, -2]}
+  ]
+})";
+
+TEST(CameraPath, GltfAnimationMovesTheCameraAsGltfSays) {
+    const auto dir = std::filesystem::temp_directory_path() / ("crex_gltf_path_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string file = (dir / "rig.gltf").string();
+    std::ofstream(file) << kRiggedCamera;
+    SceneSources sources;
+    DiagnosticSink sink;
+    const auto text = gltf_camera_path_json(file, "", sources, sink);
+    ASSERT_TRUE(text.has_value()) << (sink.diagnostics().empty() ? "" : sink.diagnostics()[0].message);
+    const CameraPath path = read_path(*text);
+    EXPECT_DOUBLE_EQ(path.start_time(), 0);
+    EXPECT_DOUBLE_EQ(path.end_time(), 1);
+    const double kPi = 3.14159265358979323846;
+    for (double t : {0.0, 0.25, 0.5, 0.53, 0.9, 1.0}) {
+        // The rig at angle 90 t degrees (slerp between two rotations about y is linear in angle),
+        // the eye at 5 - t on the rig's +z.
+        const double angle = kPi / 2 * t, d = 5 - t;
+        const Vec3 want_position{d * std::sin(angle), 0, d * std::cos(angle)}, want_direction{-std::sin(angle), 0, -std::cos(angle)};
+        const Camera c = path.camera_at(t, Camera{});
+        // Keys every 1/8 s: exact there, and within a sample's chord of the arc between them.
+        const double tolerance = std::fmod(t * 8, 1.0) == 0 ? 1e-6 : 2e-3;
+        EXPECT_NEAR(c.position.x, want_position.x, tolerance * 5) << "t = " << t;
+        EXPECT_NEAR(c.position.y, want_position.y, 1e-9) << "t = " << t;
+        EXPECT_NEAR(c.position.z, want_position.z, tolerance * 5) << "t = " << t;
+        const Vec3 dir = normalize_or_zero(c.direction);
+        EXPECT_NEAR(dir.x, want_direction.x, tolerance) << "t = " << t;
+        EXPECT_NEAR(dir.z, want_direction.z, tolerance) << "t = " << t;
+        EXPECT_NEAR(c.vfov_deg, 0.8 * 180 / kPi, 1e-9);
+    }
+    // By name and by index as --camera takes them; a name that is not there is located.
+    EXPECT_TRUE(gltf_camera_path_json(file, "dolly", sources, sink).has_value());
+    EXPECT_TRUE(gltf_camera_path_json(file, "0", sources, sink).has_value());
+    DiagnosticSink missing;
+    EXPECT_FALSE(gltf_camera_path_json(file, "crane", sources, missing).has_value());
+    ASSERT_EQ(missing.error_count(), 1u);
+    EXPECT_NE(missing.diagnostics()[0].message.find("its cameras are 0 'dolly'"), std::string::npos) << missing.diagnostics()[0].message;
+    // A camera no animation moves is refused, located at its node.
+    std::string still = kRiggedCamera;
+    still.replace(still.find("\"node\": 0"), 9, "\"node\": 2");
+    still.replace(still.find("\"node\": 1"), 9, "\"node\": 2");
+    std::ofstream(file) << still;
+    DiagnosticSink not_moving;
+    EXPECT_FALSE(gltf_camera_path_json(file, "", sources, not_moving).has_value());
+    ASSERT_EQ(not_moving.error_count(), 1u);
+    EXPECT_NE(not_moving.diagnostics()[0].message.find("is not animated"), std::string::npos) << not_moving.diagnostics()[0].message;
+    EXPECT_TRUE(SourceLocation::of(not_moving.diagnostics()[0].span).known());
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace
