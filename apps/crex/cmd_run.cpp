@@ -168,6 +168,10 @@ Runner add_run_command(CLI::App& app) {
                     "With a pipeline's --frames: these frames (FIRST..LAST[:STEP] or N, comma-separated) render at high quality, "
                     "every selective variable at its maximum (as --uniform max); the others selectively (the thesis's Case II)")
         ->allow_extra_args(false);
+    cmd->add_option("--sequence-budget", opt->sequence_budget,
+                    "With --frames: a time budget for the whole sequence (10s, 500ms; wall clock, each process its share's): "
+                    "each frame gets what is left over the frames left, less a frame's set-up and writing as last measured")
+        ->allow_extra_args(false);
     cmd->add_flag("--high-quality-without-distractors", opt->high_quality_without_distractors,
                   "With a pipeline's --frames: a frame that shows no shape tagged as an on-screen distractor renders at high "
                   "quality, one that shows one selectively (Case II: the distractor draws the eye)");

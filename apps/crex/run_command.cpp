@@ -5,9 +5,11 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <regex>
 #include <sstream>
 
 #include "apps/crex/cli_values.h"
@@ -138,7 +140,8 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
         return usage("--frames needs --camera-path FILE: the camera of each frame comes from a path");
     for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"},
                                       std::pair{!f.high_quality_frames.empty(), "--high-quality-frames"},
-                                      std::pair{f.high_quality_without_distractors, "--high-quality-without-distractors"}})
+                                      std::pair{f.high_quality_without_distractors, "--high-quality-without-distractors"},
+                                      std::pair{!f.sequence_budget.empty(), "--sequence-budget"}})
         if (given && f.camera_path.empty()) return usage(fmt::format("{} is for frames along a camera path: give --camera-path FILE", flag));
     if (!f.high_quality_frames.empty()) {
         std::string item;
@@ -150,6 +153,18 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
         }
     }
     r.sequence.high_quality_without_distractors = f.high_quality_without_distractors;
+    if (!f.sequence_budget.empty()) {
+        // The driver is set up as for a budget of the whole (coarse-to-fine previews, the
+        // policy); each frame's own is set as the sequence goes (frame_sequence.h).
+        PlanBudget budget;
+        if (std::string error = parse_budget(f.sequence_budget, budget); !error.empty())
+            return usage(fmt::format("--sequence-budget {}: {}", f.sequence_budget, error));
+        if (budget.percent) return usage(fmt::format("--sequence-budget {}: give the sequence's time in seconds (10s, 500ms)", f.sequence_budget));
+        if (!f.budget.empty() || f.no_budget)
+            return usage(fmt::format("--sequence-budget does not go with {}: it sets every frame's budget", f.no_budget ? "--no-budget" : "--budget"));
+        r.sequence.budget_seconds = budget.amount;
+        o.budget = budget;
+    }
     r.camera_path = f.camera_path;
     if (!f.frames.empty()) {
         FrameRange range;
@@ -256,6 +271,16 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     if (files.images.empty()) files.images = defaults = {"out/render.exr", "out/render.png"};
     if (!r.camera_path.empty()) {
         if (int status = read_camera_path_file(r, lead); status != kExitOk) return status;
+        const double frames = static_cast<double>(r.sequence.frames.frames().size());
+        if (r.sequence.budget_seconds > 0 && run->fixed_costs && !r.options.budget_floor_ok &&
+            r.sequence.budget_seconds / frames < run->fixed_costs->floor_seconds) {
+            std::cerr << fmt::format("crex run: error: --sequence-budget: {:.3g} s over {} frames is {:.3g} s a frame, below the smallest "
+                                     "budget this pipeline can meet, {:.3g} s: give at least {:.3g} s, or --budget-floor ok to render "
+                                     "anyway (the budget will be broken)\n",
+                                     r.sequence.budget_seconds, frames, r.sequence.budget_seconds / frames, run->fixed_costs->floor_seconds,
+                                     run->fixed_costs->floor_seconds * frames);
+            return kExitUsage;
+        }
         if ((!r.sequence.high_quality.empty() || r.sequence.high_quality_without_distractors) && !in.plan.staged) {
             std::cerr << "crex run: error: frames tagged high quality need a pipeline (a .pipe file or its kept plan): a plain "
                          "crex has no selective variables to raise\n";
@@ -331,13 +356,17 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
 }
 
 // Notes and warnings of the runtime, each note once in first-said order: every round of the
-// cyclic process may say the same thing.
+// cyclic process may say the same thing, and every frame of a sequence the same thing with its
+// own figures (then the first is said, with how many said it).
 void say_notes(const std::vector<std::string>& notes) {
+    static const std::regex figures("[0-9][0-9.,e+-]*");
     std::vector<std::pair<std::string, int>> said;
+    std::vector<std::string> shapes;
     for (const auto& note : notes) {
-        auto it = std::find_if(said.begin(), said.end(), [&](const auto& s) { return s.first == note; });
-        if (it == said.end()) said.emplace_back(note, 1);
-        else ++it->second;
+        const std::string shape = std::regex_replace(note, figures, "#");
+        auto it = std::find(shapes.begin(), shapes.end(), shape);
+        if (it == shapes.end()) said.emplace_back(note, 1), shapes.push_back(shape);
+        else ++said[static_cast<size_t>(it - shapes.begin())].second;
     }
     for (const auto& [note, times] : said)
         std::cerr << "crex run: note: " << note << (times > 1 ? fmt::format(" ({} times)", times) : "") << "\n";
@@ -350,6 +379,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
     const bool talk = !r.quiet && r.format != "json" && group.leads();
     ConsoleProgress progress(progress_mode(r.progress, !talk));
     std::vector<FrameRun> frames;
+    const auto start = std::chrono::steady_clock::now();
     auto render = [&] {
         frames = render_frames(
             in, run, r.files, r.sequence, progress,
@@ -386,6 +416,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
                status != kExitOk) {
         return status;
     }
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // Each note and warning once, however many frames said it.
     std::vector<std::string> notes;
     DiagnosticSink warnings;
@@ -399,10 +430,14 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
         nlohmann::json j = frames_json(frames, r.sequence.fps);
         j["camera_path"] = r.camera_path;
         j["processes"] = group.processes();
+        if (r.sequence.budget_seconds > 0) j["sequence_budget"] = {{"seconds", r.sequence.budget_seconds}, {"took", took}};
         j["scene"] = in.scene_spec;
         std::cout << j.dump(2) << "\n";
     } else if (!r.quiet) {
         std::cout << frames_summary_text(frames);
+        if (r.sequence.budget_seconds > 0)
+            std::cout << fmt::format("  sequence budget {:.2f} s: took {:.2f} s ({:+.1f} %)\n", r.sequence.budget_seconds, took,
+                                     100 * (took / r.sequence.budget_seconds - 1));
         if (group.distributed())
             std::cout << fmt::format("  on {} processes, each a run of consecutive frames with its own cache (the lead's saved)\n",
                                      group.processes());

@@ -75,6 +75,13 @@ std::string frame_file_name(const std::string& path, int64_t frame) {
     return (p.parent_path() / fmt::format("{}.{:04d}{}", p.stem().string(), frame, p.extension().string())).string();
 }
 
+double frame_budget(double total, double spent, double overhead, size_t frames_left, size_t frames) {
+    const double least = total / static_cast<double>(std::max<size_t>(1, frames)) * 1e-3;
+    if (frames_left == 0) return least;
+    const double share = (total - spent) / static_cast<double>(frames_left) - std::max(0.0, overhead);
+    return std::isfinite(share) ? std::max(share, least) : least;
+}
+
 std::pair<size_t, size_t> frame_share(size_t frames, int processes, int index) {
     const size_t p = static_cast<size_t>(std::max(1, processes)), i = static_cast<size_t>(std::clamp(index, 0, std::max(1, processes) - 1));
     return {frames * i / p, frames * (i + 1) / p};
@@ -112,6 +119,9 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     // and only the lead's frames (one process writes the file).
     ResolvedRun next = run;
     if (!processes.leads()) next.settings.ic_file.clear();
+    // A sequence budget is wall clock: what this process has spent since its first frame.
+    const auto sequence_start = std::chrono::steady_clock::now();
+    double spent = 0, overhead = 0;
     // Flicker: what each pixel centre sees, traced in a scene of its own (built once: the
     // scene does not move), and the frame rendered before, to warp onto the next.
     std::unique_ptr<RenderScene> probe_scene;
@@ -135,6 +145,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             frame_done(index);
             continue;
         }
+        spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - sequence_start).count();
         scene.camera = o.path->camera_at(f.time, scene_camera);
         // What the frame's pixel centres see: for its flicker and its distractors (not counted
         // in the frame's time: one ray a pixel, in a scene built once).
@@ -149,6 +160,10 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             f.high_quality = f.high_quality || !*f.distractor_on_screen;
         }
         next.settings.uniform = f.high_quality ? UniformQuality::kMax : run.settings.uniform;
+        if (o.budget_seconds > 0) {
+            f.budget_seconds = frame_budget(o.budget_seconds, spent, overhead, end_index - index, end_index - first_index);
+            next.settings.executor.budget_seconds = f.budget_seconds;
+        }
         const auto start = std::chrono::steady_clock::now();
         f.records_reused = next.settings.ic_records.size();
         LocalGroup one;
@@ -169,6 +184,10 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         if (std::string error = write_run_files(frame_files, record, written); !error.empty())
             throw FrameWriteError(fmt::format("frame {}: {}", f.frame, error));
         f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        // A frame's set-up and writing, the least seen since the first (whose own holds one-time
+        // costs, 0.33 s against 0.05 s on the corridor); what is spent corrects the rest.
+        const double frame_overhead = std::max(0.0, f.seconds - f.render_seconds);
+        if (index > first_index) overhead = index == first_index + 1 ? frame_overhead : std::min(overhead, frame_overhead);
         if (o.flicker) {  // after the frame's time is taken: not part of it
             std::vector<float> linear = result.image();
             if (!(exposure > 0)) exposure = display_exposure(linear);
@@ -211,6 +230,7 @@ nlohmann::json frame_json(const FrameRun& f) {
     if (f.flicker) j["flicker"] = {{"display_difference", *f.flicker}, {"matched", f.flicker_matched}};
     j["quality"] = f.high_quality ? "high" : "selective";
     if (f.distractor_on_screen) j["distractor_on_screen"] = *f.distractor_on_screen;
+    if (f.budget_seconds > 0) j["budget_seconds"] = f.budget_seconds;
     return j;
 }
 
@@ -247,6 +267,7 @@ FrameRun frame_from_json(const nlohmann::json& j) {
     }
     f.high_quality = j.value("quality", "") == "high";
     if (j.contains("distractor_on_screen")) f.distractor_on_screen = j["distractor_on_screen"].get<bool>();
+    f.budget_seconds = j.value("budget_seconds", 0.0);
     return f;
 }
 
@@ -272,6 +293,7 @@ std::string frame_line(const FrameRun& f, size_t index, size_t count) {
     const std::string head = fmt::format("frame {}/{} ({:04d})", index + 1, count, f.frame);
     if (f.skipped) return head + ": skipped, its files exist (--force renders it again)";
     std::string line = fmt::format("{}: {:.2f} s", head, f.seconds);
+    if (f.budget_seconds > 0) line += fmt::format(" (render budget {:.2f} s, rendered {:.2f} s)", f.budget_seconds, f.render_seconds);
     if (f.high_quality) line += f.distractor_on_screen ? ", high quality (no distractor on screen)" : ", high quality";
     if (f.records_made || f.records_reused)
         line += fmt::format(", {} new records, {} reused", grouped(f.records_made), grouped(f.records_reused));

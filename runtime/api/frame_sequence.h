@@ -56,7 +56,16 @@ struct SequenceOptions {
     /// what selective rendering leaves out).
     std::vector<FrameRange> high_quality;
     bool high_quality_without_distractors = false;
+    /// A time budget for the whole sequence, wall clock (0: none; each process has all of it
+    /// for its share of the frames): each frame's budget is frame_budget().
+    double budget_seconds = 0;
 };
+
+/// A frame's render budget under a sequence budget of `total` seconds: what is left after
+/// the `spent` seconds of the frames before, over the `frames_left` (this one included), less
+/// `overhead` (a frame's set-up and writing, as the last frame measured it); at least a
+/// thousandth of an even share, so that a late sequence still renders each frame's preview.
+double frame_budget(double total, double spent, double overhead, size_t frames_left, size_t frames);
 
 /// What one frame did.
 struct FrameRun {
@@ -76,6 +85,7 @@ struct FrameRun {
     bool high_quality = false;                  ///< rendered as `--uniform max` (SequenceOptions::high_quality)
     std::optional<bool> distractor_on_screen;   ///< looked for (high_quality_without_distractors)
     std::vector<std::string> files;
+    double budget_seconds = 0;          ///< its render budget under a sequence budget (0: none)
     std::vector<Diagnostic> warnings;   ///< the frame's runtime warnings
     std::vector<std::string> notes;     ///< and notes (RunResult::notes)
 };

@@ -160,6 +160,27 @@ TEST_F(CrexFramesCli, FramesTaggedHighQualityRenderAtTheMaximum) {
     EXPECT_EQ(by_distractor[1]["rays"], ranged[1]["rays"]);
 }
 
+// --sequence-budget: each frame's render budget is what is left over the frames left (its
+// arithmetic: FrameBudget in tests/numerics); the first frame gets an even share.
+TEST_F(CrexFramesCli, ASequenceBudgetGivesEachFrameItsShareOfWhatIsLeft) {
+    auto r = crex_cli(run_args({"--camera-path", walk(), "--frames", "0..3", "--sequence-budget", "4s", "--format", "json"}));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["frames"].size(), 4u);
+    EXPECT_NEAR(j["frames"][0]["budget_seconds"].get<double>(), 1.0, 0.01);  // less the moments before it
+    double spent = 0;
+    for (size_t i = 0; i < 4; ++i) {
+        const auto& f = j["frames"][i];
+        ASSERT_TRUE(f.contains("budget_seconds")) << f;
+        EXPECT_GT(f["budget_seconds"].get<double>(), 0) << f;
+        // Never more than an even share of what was left when the frame began.
+        EXPECT_LE(f["budget_seconds"].get<double>(), (4 - spent) / double(4 - i) + 1e-9) << f;
+        spent += f["seconds"].get<double>();
+    }
+    EXPECT_DOUBLE_EQ(j["sequence_budget"]["seconds"].get<double>(), 4.0);
+    EXPECT_GE(j["sequence_budget"]["took"].get<double>(), spent);
+}
+
 TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
     const std::string path_file = walk();
     struct Case {
@@ -181,6 +202,10 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
         {{"--camera-path", path_file, "--frames", "0", "--high-quality-frames", "0"}, 2, "need a pipeline"},
         {{"--camera-path", write("bad.json", "{\"keys\": [\n  {\"time\": 0, \"position\": [0, 1], \"look_at\": [0, 0, 0]}]}")}, 1,
          "bad.json:2:27: error[E302]"},
+        {{"--sequence-budget", "2s"}, 2, "--sequence-budget is for frames along a camera path"},
+        {{"--camera-path", path_file, "--sequence-budget", "10%"}, 2, "give the sequence's time in seconds"},
+        {{"--camera-path", path_file, "--sequence-budget", "2s", "--budget", "1s"}, 2, "--sequence-budget does not go with --budget"},
+        {{"--camera-path", path_file, "--sequence-budget", "soon"}, 2, "--sequence-budget soon"},
     };
     for (const Case& c : cases) {
         auto r = crex_cli(run_args(c.args));

@@ -1,7 +1,8 @@
 // libFuzzer target: any bytes as a glTF 2.0 file (.glb when they start with "glTF", else
 // .gltf). Invariants: no crash, hang or sanitizer report; a scene only when there are no
 // errors, and then only finite vertices, per-vertex attributes that match, materials that
-// exist and texture references to images that exist.
+// exist and texture references to images that exist. Its camera animation, read as a camera
+// path, likewise never crashes.
 #include <unistd.h>
 
 #include <cmath>
@@ -13,6 +14,8 @@
 #include <fstream>
 #include <string>
 
+#include "runtime/scene/camera_path_file.h"
+#include "runtime/scene/gltf/gltf_camera_path.h"
 #include "runtime/scene/load_scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -24,6 +27,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
     SceneSources sources;
     DiagnosticSink sink;
+    // Its camera animation, read as a path: no crash, and a path text only without errors.
+    DiagnosticSink path_sink;
+    if (auto text = gltf_camera_path_json(file.string(), "", sources, path_sink)) {
+        if (path_sink.has_errors()) std::abort();
+        DiagnosticSink read_sink;
+        (void)read_camera_path(SourceFile("path.json", *text), 30, read_sink);
+    }
     std::optional<Scene> s = import_gltf(file.string(), sink, sources);
     if (s.has_value() && sink.has_errors()) std::abort();
     if (!s) return 0;

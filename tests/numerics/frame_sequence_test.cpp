@@ -163,10 +163,23 @@ TEST(FrameShare, EveryFrameOnceInRunsOfNearlyEqualLength) {
         }
 }
 
+// A sequence budget: an even share at first; a frame after slow ones gets less, after fast
+// ones more; set-up and writing come off each frame's render budget; never nothing.
+TEST(FrameBudget, WhatIsLeftOverTheFramesLeft) {
+    EXPECT_DOUBLE_EQ(frame_budget(10, 0, 0, 10, 10), 1.0);
+    EXPECT_DOUBLE_EQ(frame_budget(10, 4, 0, 8, 10), 0.75);   // two frames took 2 s each
+    EXPECT_DOUBLE_EQ(frame_budget(10, 1, 0, 8, 10), 1.125);  // two took 0.5 s each
+    EXPECT_DOUBLE_EQ(frame_budget(10, 1, 0.125, 8, 10), 1.0);
+    EXPECT_DOUBLE_EQ(frame_budget(10, 12, 0, 3, 10), 1e-3);  // over already: a thousandth of a share
+    EXPECT_DOUBLE_EQ(frame_budget(10, 0, 0, 0, 10), 1e-3);
+    EXPECT_TRUE(std::isfinite(frame_budget(10, std::nan(""), 0, 3, 10)));
+}
+
 // What a process tells the lead of a frame is the frame, warnings and notes included.
 TEST(FrameShare, AFrameToldToTheLeadIsTheFrame) {
     FrameRun f;
     f.frame = 12, f.time = 0.4, f.seconds = 1.5, f.render_seconds = 1.25, f.records_made = 321, f.records_reused = 4000;
+    f.budget_seconds = 0.75;
     f.rays = 123456789012, f.flicker = 0.0123, f.flicker_matched = 0.96, f.high_quality = true, f.distractor_on_screen = false;
     f.files = {"out/a.0012.exr", "out/a.0012.png"};
     f.notes = {"a note"};
@@ -186,6 +199,7 @@ TEST(FrameShare, AFrameToldToTheLeadIsTheFrame) {
     EXPECT_EQ(back.high_quality, f.high_quality);
     EXPECT_EQ(back.distractor_on_screen, f.distractor_on_screen);
     EXPECT_EQ(back.files, f.files);
+    EXPECT_EQ(back.budget_seconds, f.budget_seconds);
     EXPECT_EQ(back.notes, f.notes);
     ASSERT_EQ(back.warnings.size(), 1u);
     EXPECT_EQ(back.warnings[0].code, "W401");

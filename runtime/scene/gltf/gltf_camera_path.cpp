@@ -18,7 +18,8 @@ namespace {
 using gltf::Document;
 using gltf::Mat4;
 
-constexpr int kStepsBetweenKeys = 8;  // samples per span of the animation's own keys
+constexpr int kStepsBetweenKeys = 8;     // samples per span of the animation's own keys
+constexpr size_t kMostKeyTimes = 100000;  // an hour at 24 fps has 86,400
 constexpr double kPi = 3.14159265358979323846;
 
 // One animated property of one node: its key times and values (CUBICSPLINE: in-tangent,
@@ -230,6 +231,11 @@ std::optional<std::string> gltf_camera_path_json(const std::string& path, const 
         }
         return world;
     };
+    if (times.size() > kMostKeyTimes) {  // samples and keys grow with them: bounded memory on any file
+        sink.report("E303", doc->at(fmt::format("/animations/{}", animation)),
+                    fmt::format("{} key times move camera '{}': at most {} are read", times.size(), name, kMostKeyTimes));
+        return std::nullopt;
+    }
     std::vector<double> at(times.begin(), times.end()), samples;
     for (size_t i = 0; i + 1 < at.size(); ++i)
         for (int k = 0; k < kStepsBetweenKeys; ++k) samples.push_back(at[i] + (at[i + 1] - at[i]) * k / kStepsBetweenKeys);
