@@ -200,6 +200,8 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             previous_geometry = std::move(*geometry);
             previous_image = std::move(image);
         }
+        // The caustic map does not depend on the camera: every frame after takes this one's.
+        next.settings.caustic_map = outcome.result->caustic_map;
         // The next frame starts from this one's cache, never from the file again (it holds
         // this frame's records now: --ic-file saves after every frame).
         next.settings.ic_file_read = false;

@@ -19,7 +19,8 @@ double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-
 
 }  // namespace
 
-IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings) : scene_(scene), settings_(settings) {
+IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings, std::shared_ptr<const CausticPhotons> caustics)
+    : scene_(scene), settings_(settings) {
     double extent = scene.embree->extent();
     r_min_ = settings.min_radius > 0 ? settings.min_radius : extent / (settings.resolution > 0 ? settings.resolution : 2000);
     r_max_ = settings.max_radius > 0 ? settings.max_radius : 0.25 * extent;
@@ -31,7 +32,10 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
     double top = 2 * r_max_;
     for (double c = top; c >= 2 * 1e-3 * r_min_ && cell_size_.size() < 24; c /= 2) cell_size_.push_back(c);
-    if (settings.caustic_photons > 0) {
+    if (settings.caustic_photons > 0 && caustics) {  // carried: the photons do not depend on the camera
+        caustics_ = std::move(caustics);
+        stats_.caustic_photons = caustics_->size();
+    } else if (settings.caustic_photons > 0) {
         const auto start = std::chrono::steady_clock::now();
         caustics_ = build_caustic_photons(scene, settings.caustic_photons, settings.seed);
         if (caustics_) stats_.caustic_photons = caustics_->size();

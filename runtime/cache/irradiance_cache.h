@@ -83,7 +83,9 @@ struct IcStats {
 
 class IrradianceCache {
 public:
-    IrradianceCache(const RenderScene& scene, const IcSettings& settings);
+    /// `caustics`: a map built already for this scene, `settings.caustic_photons` and seed (a
+    /// sequence's frames share one); null: the cache builds its own when the settings ask.
+    IrradianceCache(const RenderScene& scene, const IcSettings& settings, std::shared_ptr<const CausticPhotons> caustics = nullptr);
     ~IrradianceCache();
 
     /// E at every query of `level`, creating the records that are missing.
@@ -100,6 +102,8 @@ public:
     const IcStats& stats() const { return stats_; }
     double min_radius() const { return r_min_; }
     double max_radius() const { return r_max_; }
+    /// The caustic map it adds to D (null: none).
+    const std::shared_ptr<const CausticPhotons>& caustic_map() const { return caustics_; }
 
     /// Persistence (reuse across frames and runs), in the format of irradiance_cache_file.h:
     /// load() refuses a file made with other settings or another scene extent, and damaged
@@ -138,7 +142,7 @@ private:
     // One hierarchy per bounce level: a lookup never scans another bounce's records.
     std::vector<std::vector<CellTable>> grids_;
     IcStats stats_;
-    std::unique_ptr<CausticPhotons> caustics_;  ///< null when off or the scene has no caustics
+    std::shared_ptr<const CausticPhotons> caustics_;  ///< null when off or the scene has no caustics
     std::function<void(const IcStats&)> progress_;
 };
 

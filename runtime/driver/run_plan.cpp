@@ -157,7 +157,7 @@ private:
     std::vector<uint32_t> pass_start_samples_;
     std::optional<IrradianceCache> cache_;
     // Path tracing without the cache: caustics from a photon map (RunSettings::caustic_photons).
-    std::unique_ptr<CausticPhotons> caustics_;
+    std::shared_ptr<const CausticPhotons> caustics_;
     std::function<Vec3(const Vec3&, const Vec3&)> caustic_lookup_;  ///< empty: path traced
     std::vector<IcAnswer> preview_answers_;
     uint32_t preview_shadow_rays_ = 1;  ///< the base quality the preview's hits were shaded at
@@ -200,7 +200,7 @@ void PlanRun::start() {
     // the scene (0.35 s for 200,000 photons in the Cornell box) that no budget can trim.
     if (!s_.irradiance_cache && s_.caustic_photons > 0 && executes_d(plan_.program)) {
         const auto t_map = Clock::now();
-        caustics_ = build_caustic_photons(*rs_, s_.caustic_photons, s_.seed);
+        caustics_ = s_.caustic_map ? s_.caustic_map : std::shared_ptr<const CausticPhotons>(build_caustic_photons(*rs_, s_.caustic_photons, s_.seed));
         if (caustics_)  // else no mirror, glass or trans surface, or no lamp: no such paths
             caustic_lookup_ = [map = caustics_.get()](const Vec3& x, const Vec3& n) { return map->irradiance(x, n); };
         out_.setup_seconds += seconds_since(t_map);
@@ -241,7 +241,7 @@ void PlanRun::start() {
         // The store of D's irradiance: a plan varying ic_radius starts at its `from` accuracy.
         IcSettings ics = plan_cache_settings(plan_, *s_.irradiance_cache);
         base_aa_ = ics.accuracy;
-        cache_.emplace(*rs_, ics);
+        cache_.emplace(*rs_, ics, s_.caustic_map);
         cache_->set_progress([this](const IcStats& st) {
             report_progress(fmt::format("D: irradiance cache, {} records, {:.1f} M hemisphere rays", st.records, st.hemisphere_rays / 1e6));
         });
@@ -490,6 +490,7 @@ RunResult PlanRun::finish() {
     out_.render_cpu_seconds = process_cpu_seconds() - cpu_at_start_;
     out_.render_thread_seconds = out_.render_seconds * tbb::this_task_arena::max_concurrency();
     if (rs_->textures) out_.textures = rs_->textures->stats();
+    out_.caustic_map = cache_ ? cache_->caustic_map() : caustics_;
     if (cache_) {
         out_.ic_records = cache_->records();
         out_.ic_stats = cache_->stats();

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <optional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -53,6 +54,9 @@ struct RunResult {
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
     IcStats ic_stats;
     size_t ic_loaded = 0;          ///< records read from `ic_file`
+    /// The caustic map the render used (the cache's or path tracing's; null: none): a later
+    /// render of the same scene and settings can take it (RunSettings::caustic_map).
+    std::shared_ptr<const CausticPhotons> caustic_map;
     /// Distributed rendering: the split of the render's last stage (row_bands.h); empty in one process.
     std::vector<int> row_bands;
 

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -82,6 +83,10 @@ struct RunSettings {
     /// through mirrors and glass (fireflies); used when the plan executes D rays and the scene
     /// has mirrors, glass or trans surfaces. 0: those paths are path traced.
     uint32_t caustic_photons = 0;
+    /// A caustic map built already for this scene, photon count and seed (RunResult::caustic_map
+    /// of an earlier render: a sequence's frames share one, the photons do not depend on the
+    /// camera); null: built here when one is needed.
+    std::shared_ptr<const CausticPhotons> caustic_map;
 };
 
 /// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot
