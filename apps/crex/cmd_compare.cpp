@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include <iostream>
@@ -14,6 +15,8 @@
 #include "base/exit_codes.h"
 #include "runtime/base/output_folder.h"
 #include "runtime/api/equal_time.h"
+#include "runtime/api/frame_sequence.h"
+#include "runtime/api/sequence_flicker.h"
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/image_comparison.h"
@@ -53,6 +56,9 @@ struct CompareOptions {
     bool assume_display = false;  ///< compare a tone-mapped file with a linear one by tone-mapping the linear one
     double exposure = 0;          ///< --exposure: the tone map's exposure for both (0: the reference's)
     std::string format = "text";
+    std::string frames;        ///< --frames A..B[:S]: TEST and REFERENCE name sequences
+    bool flicker = false;      ///< --flicker: each sequence's flicker too
+    std::string flicker_scene; ///< the scene to trace the frames in ("": their headers')
 };
 
 const std::vector<std::string> kMetricNames = {"rmse", "relmse", "ssim", "flip", "perr", "fireflies"};
@@ -242,9 +248,130 @@ int compare_on_windows(const CompareOptions& opt, const metrics::MetricChoice& c
     return print_result(opt, j, choice.ssim || choice.flip || choice.perr);
 }
 
+// Two sequences frame by frame (issue 36): TEST and REFERENCE as `crex run -o` names them
+// (walk.exr: walk.0000.exr, ...). Every frame of the range must be in the test sequence; a
+// reference may hold some (a frame every tenth): the others have no error. With --flicker,
+// each sequence's flicker from frame to frame, traced from the frames' own headers.
+int compare_frames(const CompareOptions& opt, const metrics::MetricChoice& choice) {
+    FrameRange range;
+    if (std::string error = parse_frame_range(opt.frames, range); !error.empty()) {
+        std::cerr << fmt::format("crex compare: error: --frames {}: {}\n", opt.frames, error);
+        return kExitUsage;
+    }
+    std::vector<int64_t> frames = range.frames(), with_reference;
+    std::vector<std::string> tests, references;
+    for (int64_t f : frames) {
+        tests.push_back(frame_file_name(opt.test, f));
+        if (!std::filesystem::exists(tests.back())) {
+            std::cerr << fmt::format("crex compare: error: frame {} of the test sequence, {}, does not exist\n", f, tests.back());
+            return kExitFailure;
+        }
+        if (std::filesystem::exists(frame_file_name(opt.reference, f))) {
+            with_reference.push_back(f);
+            references.push_back(frame_file_name(opt.reference, f));
+        }
+    }
+    if (references.empty() && !opt.flicker) {
+        std::cerr << fmt::format("crex compare: error: no frame of {} .. {} has a reference ({} ...): nothing to compare\n", tests.front(),
+                                 tests.back(), frame_file_name(opt.reference, frames.front()));
+        return kExitFailure;
+    }
+    nlohmann::json list = nlohmann::json::array(), sums = nlohmann::json::object();
+    size_t scored = 0;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        nlohmann::json one = {{"frame", frames[i]}, {"test", tests[i]}};
+        const auto r = std::find(with_reference.begin(), with_reference.end(), frames[i]);
+        if (r != with_reference.end()) {
+            const std::string& ref_path = references[static_cast<size_t>(r - with_reference.begin())];
+            metrics::Image test, ref;
+            bool test_ldr = false, ref_ldr = false;
+            if (int status = read_for_comparison(tests[i], test, test_ldr); status != kExitOk) return status;
+            if (int status = read_for_comparison(ref_path, ref, ref_ldr); status != kExitOk) return status;
+            if (test.width != ref.width || test.height != ref.height || test_ldr != ref_ldr) {
+                std::cerr << fmt::format("crex compare: error: frame {}: {} is {}x{}{} but {} is {}x{}{}\n", frames[i], tests[i], test.width,
+                                         test.height, test_ldr ? " (8-bit)" : "", ref_path, ref.width, ref.height, ref_ldr ? " (8-bit)" : "");
+                return kExitInputErrors;
+            }
+            const metrics::DisplayView view{!(test_ldr && ref_ldr), opt.exposure > 0 ? opt.exposure : display_exposure(ref.rgb)};
+            one["reference"] = ref_path;
+            put_metrics(metrics::compare_images(test, ref, view, choice, nullptr), choice, one);
+            for (auto& [key, value] : one.items())
+                if (value.is_number() && key != "frame" && key != "perr_threshold") sums[key] = sums.value(key, 0.0) + value.get<double>();
+            ++scored;
+        }
+        list.push_back(std::move(one));
+    }
+    nlohmann::json j = {{"test", opt.test}, {"reference", opt.reference}, {"frames", list}, {"scored", scored}};
+    nlohmann::json mean = nlohmann::json::object();
+    for (auto& [key, value] : sums.items()) mean[key] = value.get<double>() / static_cast<double>(scored);
+    j["mean"] = mean;
+    if (opt.flicker) {
+        nlohmann::json flicker;
+        for (const bool of_reference : {false, true}) {
+            SequenceFlicker seq;
+            const std::vector<int64_t>& numbers = of_reference ? with_reference : frames;
+            if (std::string error = sequence_flicker(of_reference ? references : tests, numbers, opt.flicker_scene, seq); !error.empty()) {
+                std::cerr << fmt::format("crex compare: error: --flicker: {}\n", error);
+                return kExitInputErrors;
+            }
+            double sum = 0;
+            size_t measured = 0;
+            for (size_t i = 0; i < seq.frames.size(); ++i) {
+                if (!seq.frames[i]) continue;
+                sum += seq.frames[i]->difference, ++measured;
+                if (!of_reference) j["frames"][i]["flicker"] = {{"display_difference", seq.frames[i]->difference}, {"matched", seq.frames[i]->matched}};
+            }
+            if (measured) flicker[of_reference ? "reference" : "test"] = {{"mean", sum / static_cast<double>(measured)}, {"frames", measured}};
+            flicker["scene"] = seq.scene;
+        }
+        j["flicker"] = flicker;
+    }
+    if (opt.format == "json") {
+        std::cout << j.dump(2) << "\n";
+        return kExitOk;
+    }
+    std::cout << fmt::format("{} against {}, frames {}..{}: {} with a reference\n", opt.test, opt.reference, frames.front(), frames.back(), scored);
+    std::vector<std::string> keys;
+    for (const std::string& k : {"rmse", "relmse", "ssim", "flip", "perr"})
+        if (mean.contains(k)) keys.push_back(k);
+    std::string head = "  frame";
+    for (const auto& k : keys) head += fmt::format(" {:>10}", k);
+    if (opt.flicker) head += fmt::format(" {:>10}", "flicker");
+    std::cout << head << "\n";
+    for (const auto& one : j["frames"]) {
+        std::string line = fmt::format("  {:5d}", one["frame"].get<int64_t>());
+        for (const auto& k : keys) line += one.contains(k) ? fmt::format(" {:>10.6f}", one[k].get<double>()) : fmt::format(" {:>10}", "-");
+        if (opt.flicker)
+            line += one.contains("flicker") ? fmt::format(" {:>10.6f}", one["flicker"]["display_difference"].get<double>()) : fmt::format(" {:>10}", "-");
+        std::cout << line << "\n";
+    }
+    std::string line = "  mean ";
+    for (const auto& k : keys) line += fmt::format(" {:>10.6f}", mean[k].get<double>());
+    if (opt.flicker && j["flicker"].contains("test")) line += fmt::format(" {:>10.6f}", j["flicker"]["test"]["mean"].get<double>());
+    std::cout << line << "\n";
+    if (opt.flicker && j["flicker"].contains("reference"))
+        std::cout << fmt::format("  the reference's own flicker: {:.6f} over {} frames\n", j["flicker"]["reference"]["mean"].get<double>(),
+                                 j["flicker"]["reference"]["frames"].get<size_t>());
+    if (opt.flicker)
+        std::cout << "  flicker: mean display difference from the frame before, warped onto it through the scene "
+                  << j["flicker"]["scene"].get<std::string>() << "\n";
+    return kExitOk;
+}
+
 int compare(const CompareOptions& opt) {
     metrics::MetricChoice choice;
     if (!metric_choice(opt, choice)) return kExitUsage;
+    if (opt.frames.empty() && (opt.flicker || !opt.flicker_scene.empty())) {
+        std::cerr << "crex compare: error: --flicker is for sequences: give --frames A..B\n";
+        return kExitUsage;
+    }
+    if (!opt.frames.empty()) {
+        if (!opt.flip_out.empty() || !opt.attention.empty() || opt.assume_display) {
+            std::cerr << "crex compare: error: --frames compares sequences: --flip-map, --attention and --assume-display are for one image\n";
+            return kExitUsage;
+        }
+        return compare_frames(opt, choice);
+    }
     if (std::string missing = opt.flip_out.empty() ? "" : missing_output_folder(opt.flip_out); !missing.empty()) {
         std::cerr << "crex compare: error: " << missing << "\n";  // before the work, as crex run says it
         return kExitFailure;
@@ -339,6 +466,14 @@ Runner add_compare_command(CLI::App& app) {
     cmd->add_flag("--assume-display", opt->assume_display,
                   "Compare a tone-mapped file (PNG) with a linear one (EXR) by tone-mapping the linear one as crex writes PNGs");
     cmd->add_option("--format", opt->format, "Output as text or json")->check(CLI::IsMember({"text", "json"}));
+    cmd->add_option("--frames", opt->frames,
+                    "Compare two sequences, FIRST..LAST[:STEP]: TEST and REFERENCE are names as crex run -o gives them (walk.exr: "
+                    "walk.0000.exr, ...); frames without a reference file are listed without an error")
+        ->allow_extra_args(false);
+    cmd->add_flag("--flicker", opt->flicker,
+                  "With --frames: each sequence's flicker, the mean display difference from the frame before warped onto it, "
+                  "traced in the scene and views the frames' headers name");
+    cmd->add_option("--flicker-scene", opt->flicker_scene, "With --flicker: trace the frames in this scene instead of their headers'");
     cmd->footer(R"(
 RMSE and relMSE compare linear radiance. SSIM, FLIP and perr compare what a viewer sees:
 LDR files (PNG, JPEG) as stored; HDR files (EXR, HDR) both through the tone map of spec
@@ -358,6 +493,7 @@ Examples:
   crex compare a.png b.png --metric flip,perr --flip-map flip.png
   crex compare a.exr ref.exr --format json
   crex compare a.exr ref.exr --attention saliency        FLIP where a viewer looks
+  crex compare out/walk.exr refs/walk.exr --frames 0..59 --metric flip --flicker
 
 Exit status: 0 compared, 1 images of different sizes or kinds, 2 usage, 3 an image cannot be read or written.)");
     return [opt] { return compare(*opt); };

@@ -133,9 +133,12 @@ ImageMetadata image_header(const RunRecord& record) {
     if (view.world_to_ndc(m)) metadata.push_back({"worldToNDC", matrix(m)});
     if (record.frame >= 0) {  // which frame of a sequence, and the camera its path gave it (as a RADIANCE view)
         metadata.push_back({"crex:frame", static_cast<int>(record.frame)});
-        metadata.push_back({"crex:view", fmt::format("-vp {:.9g} {:.9g} {:.9g} -vd {:.9g} {:.9g} {:.9g} -vu {:.9g} {:.9g} {:.9g}",
+        // With the path's field of view (crex compare --flicker traces each frame from this).
+        std::string fov = c.vfov_deg > 0 ? fmt::format(" -vv {:.9g}", c.vfov_deg) : "";
+        if (c.hfov_deg > 0) fov += fmt::format(" -vh {:.9g}", c.hfov_deg);
+        metadata.push_back({"crex:view", fmt::format("-vp {:.9g} {:.9g} {:.9g} -vd {:.9g} {:.9g} {:.9g} -vu {:.9g} {:.9g} {:.9g}{}",
                                                      c.position.x, c.position.y, c.position.z, c.direction.x, c.direction.y,
-                                                     c.direction.z, c.up.x, c.up.y, c.up.z)});
+                                                     c.direction.z, c.up.x, c.up.y, c.up.z, fov)});
     }
     if (record.resumed) metadata.push_back({"crex:resumed", fmt::format("rows {} from {}", record.resumed->rows, record.resumed->path)});
     // A biased render says so: indirect light clamped at this value.

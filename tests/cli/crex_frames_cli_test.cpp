@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "runtime/api/frame_sequence.h"
 #include "runtime/io/image_io.h"
 #include "tests/support/crex_cli.h"
 #include "tests/support/scratch_folder.h"
@@ -32,6 +33,7 @@ protected:
             {"time": 0, "position": [0, 1.6, 9.5], "look_at": [0, 1.4, 0]},
             {"time": 1, "position": [0, 1.6, 3.5], "look_at": [0, 1.4, -6]}]})");
     }
+    static std::string frame_file(const std::string& name, int64_t frame) { return frame_file_name(name, frame); }
     std::vector<std::string> run_args(std::vector<std::string> more) {
         std::vector<std::string> args = {"run", "--scene", kCorridor, "--size", "24x16", "--spp", "1", "-o", path("f.png")};
         args.insert(args.end(), more.begin(), more.end());
@@ -179,6 +181,48 @@ TEST_F(CrexFramesCli, ASequenceBudgetGivesEachFrameItsShareOfWhatIsLeft) {
     }
     EXPECT_DOUBLE_EQ(j["sequence_budget"]["seconds"].get<double>(), 4.0);
     EXPECT_GE(j["sequence_budget"]["took"].get<double>(), spent);
+}
+
+// `crex compare --frames`: two sequences frame by frame, a reference with some frames only;
+// --flicker traced from the frames' headers is the flicker crex run measured as it rendered.
+TEST_F(CrexFramesCli, CompareScoresSequencesAndTheirFlickerFromTheFiles) {
+    const std::string walk_file = walk();
+    auto test = crex_cli({"run", "--scene", kCorridor, "--size", "24x16", "--spp", "2", "--camera-path", walk_file, "--frames", "0..3",
+                          "-o", path("t.exr"), "--format", "json"});
+    ASSERT_EQ(test.exit_code, 0) << test.err;
+    auto ref = crex_cli({"run", "--scene", kCorridor, "--size", "24x16", "--spp", "16", "--camera-path", walk_file, "--frames", "0..2:2",
+                         "-o", path("r.exr"), "-q"});
+    ASSERT_EQ(ref.exit_code, 0) << ref.err;
+    auto c = crex_cli({"compare", path("t.exr"), path("r.exr"), "--frames", "0..3", "--metric", "rmse,flip", "--flicker", "--format", "json"});
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    const auto j = nlohmann::json::parse(c.out);
+    const auto rendered = nlohmann::json::parse(test.out);
+    ASSERT_EQ(j["frames"].size(), 4u);
+    EXPECT_EQ(j["scored"].get<size_t>(), 2u);
+    double flip = 0;
+    for (int f = 0; f < 4; ++f) {
+        const auto& one = j["frames"][f];
+        EXPECT_EQ(one.contains("flip"), f % 2 == 0) << one;  // the reference has frames 0 and 2
+        if (one.contains("flip")) {
+            // The same figure as comparing the two files alone.
+            auto alone = crex_cli({"compare", frame_file(path("t.exr"), f), frame_file(path("r.exr"), f), "--metric", "flip", "--format", "json"});
+            EXPECT_DOUBLE_EQ(one["flip"].get<double>(), nlohmann::json::parse(alone.out)["flip"].get<double>());
+            flip += one["flip"].get<double>() / 2;
+        }
+        const auto& run_frame = rendered["frames"][f];
+        EXPECT_EQ(one.contains("flicker"), run_frame.contains("flicker")) << one;
+        if (one.contains("flicker"))
+            EXPECT_NEAR(one["flicker"]["display_difference"].get<double>(), run_frame["flicker"]["display_difference"].get<double>(),
+                        1e-3 * run_frame["flicker"]["display_difference"].get<double>() + 1e-6);
+    }
+    EXPECT_DOUBLE_EQ(j["mean"]["flip"].get<double>(), flip);
+    EXPECT_FALSE(j["flicker"].contains("reference"));  // frames 0 and 2 do not follow each other
+    // A test frame missing is named; --flicker without --frames is a usage error.
+    auto missing = crex_cli({"compare", path("t.exr"), path("r.exr"), "--frames", "0..4"});
+    EXPECT_EQ(missing.exit_code, 3);
+    EXPECT_NE(missing.err.find("t.0004.exr"), std::string::npos) << missing.err;
+    auto alone = crex_cli({"compare", frame_file(path("t.exr"), 0), frame_file(path("r.exr"), 0), "--flicker"});
+    EXPECT_EQ(alone.exit_code, 2) << alone.err;
 }
 
 TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
