@@ -172,6 +172,10 @@ Runner add_run_command(CLI::App& app) {
                     "With --frames: a time budget for the whole sequence (10s, 500ms; wall clock, each process its share's): "
                     "each frame gets what is left over the frames left, less a frame's set-up and writing as last measured")
         ->allow_extra_args(false);
+    cmd->add_option("--video", opt->video,
+                    "With --frames: also a preview video of the sequence (.mp4, .mov or .mkv; H.264 by ffmpeg, which must be "
+                    "installed), made from the first -o image of every frame, at --fps")
+        ->allow_extra_args(false);
     cmd->add_flag("--high-quality-without-distractors", opt->high_quality_without_distractors,
                   "With a pipeline's --frames: a frame that shows no shape tagged as an on-screen distractor renders at high "
                   "quality, one that shows one selectively (Case II: the distractor draws the eye)");

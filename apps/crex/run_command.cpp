@@ -26,6 +26,7 @@
 #include "runtime/api/run_outputs.h"
 #include "runtime/api/shared_inputs.h"
 #include "runtime/base/output_folder.h"
+#include "runtime/io/video_file.h"
 #include "runtime/report/run_report.h"
 #include "runtime/scene/camera_path_file.h"
 #include "runtime/scene/gltf/gltf_camera_path.h"
@@ -53,6 +54,7 @@ struct Request {
     double checkpoint_interval = 0.1;
     // --camera-path: frames along a path instead of one image (runtime/api/frame_sequence.h).
     std::string camera_path;
+    std::string video;  // --video: the sequence's frames as a video (runtime/io/video_file.h)
     std::optional<FrameRange> frames;  // unset: every frame of the path
     SequenceOptions sequence;
 };
@@ -141,7 +143,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"},
                                       std::pair{!f.high_quality_frames.empty(), "--high-quality-frames"},
                                       std::pair{f.high_quality_without_distractors, "--high-quality-without-distractors"},
-                                      std::pair{!f.sequence_budget.empty(), "--sequence-budget"}})
+                                      std::pair{!f.sequence_budget.empty(), "--sequence-budget"}, std::pair{!f.video.empty(), "--video"}})
         if (given && f.camera_path.empty()) return usage(fmt::format("{} is for frames along a camera path: give --camera-path FILE", flag));
     if (!f.high_quality_frames.empty()) {
         std::string item;
@@ -153,6 +155,13 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
         }
     }
     r.sequence.high_quality_without_distractors = f.high_quality_without_distractors;
+    if (!f.video.empty()) {  // before anything renders: a video that cannot be made is said now
+        if (std::string error = check_video_path(f.video); !error.empty()) return usage("--video " + error);
+        if (find_video_encoder().empty())
+            return usage("--video needs ffmpeg, which is not installed (Debian package ffmpeg); the frames alone need no --video");
+        if (std::string missing = missing_output_folder(f.video); !missing.empty()) return usage("--video: " + missing);
+        r.video = f.video;
+    }
     if (!f.sequence_budget.empty()) {
         // The driver is set up as for a budget of the whole (coarse-to-fine previews, the
         // policy); each frame's own is set as the sequence goes (frame_sequence.h).
@@ -441,6 +450,16 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
         if (group.distributed())
             std::cout << fmt::format("  on {} processes, each a run of consecutive frames with its own cache (the lead's saved)\n",
                                      group.processes());
+    }
+    if (!r.video.empty()) {  // from the first image of every frame, rendered or skipped
+        std::vector<std::string> images;
+        for (const FrameRun& f : frames)
+            if (!f.files.empty()) images.push_back(f.files.front());
+        if (std::string error = write_video(r.video, images, r.sequence.fps); !error.empty()) {
+            std::cerr << "crex run: error: --video: " << error << "; the frames are written\n";
+            return kExitFailure;
+        }
+        if (!r.quiet && r.format != "json") std::cout << fmt::format("  wrote {} ({} frames at {:g} fps)\n", r.video, images.size(), r.sequence.fps);
     }
     return kExitOk;
 }

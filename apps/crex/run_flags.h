@@ -75,6 +75,7 @@ struct RunFlags {
     std::string high_quality_frames;          ///< --high-quality-frames A..B[:S],... (Case II)
     bool high_quality_without_distractors = false;  ///< --high-quality-without-distractors
     std::string sequence_budget;              ///< --sequence-budget TIME: the whole sequence's
+    std::string video;                        ///< --video FILE: the sequence as a video (ffmpeg)
     // Which flags were given (they override the pipeline's settings).
     bool size_given = false, spp_given = false, seed_given = false, lw_given = false, max_depth_given = false,
          aa_given = false, ab_given = false, ad_given = false;

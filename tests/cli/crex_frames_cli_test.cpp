@@ -10,6 +10,7 @@
 
 #include "runtime/api/frame_sequence.h"
 #include "runtime/io/image_io.h"
+#include "runtime/io/video_file.h"
 #include "tests/support/crex_cli.h"
 #include "tests/support/scratch_folder.h"
 
@@ -225,6 +226,28 @@ TEST_F(CrexFramesCli, CompareScoresSequencesAndTheirFlickerFromTheFiles) {
     EXPECT_EQ(alone.exit_code, 2) << alone.err;
 }
 
+// --video: the frames as H.264 through ffmpeg (a package CI installs; optional for users),
+// one video frame per frame of the sequence, skipped ones included, nothing left on failure.
+TEST_F(CrexFramesCli, VideoHoldsEveryFrame) {
+    if (find_video_encoder().empty()) GTEST_SKIP() << "ffmpeg is not installed (tools/debian-packages.txt lists it)";
+    const std::string walk_file = walk();
+    auto first = crex_cli(run_args({"--camera-path", walk_file, "--frames", "0..1", "-q"}));
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    auto r = crex_cli(run_args({"--camera-path", walk_file, "--frames", "0..4", "--video", path("walk.mp4")}));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("wrote " + path("walk.mp4") + " (5 frames at 30 fps)"), std::string::npos) << r.out;
+    auto probe = testing::run_command({"/usr/bin/ffprobe", "-v", "error", "-count_frames", "-show_entries", "stream=nb_read_frames,width,height",
+                                       "-of", "csv=p=0", path("walk.mp4")});
+    EXPECT_EQ(probe.out, "24,16,5\n") << probe.err;
+    // A container it does not write, and a folder that does not exist, are refused before rendering.
+    auto avi = crex_cli(run_args({"--camera-path", walk_file, "--frames", "0", "--force", "--video", path("walk.avi")}));
+    EXPECT_EQ(avi.exit_code, 2);
+    EXPECT_NE(avi.err.find(".mp4, .mov or .mkv"), std::string::npos) << avi.err;
+    auto nowhere = crex_cli(run_args({"--camera-path", walk_file, "--frames", "0", "--force", "--video", path("no/such/walk.mp4")}));
+    EXPECT_EQ(nowhere.exit_code, 2) << nowhere.err;
+    EXPECT_FALSE(std::filesystem::exists(path("walk.avi")));
+}
+
 TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
     const std::string path_file = walk();
     struct Case {
@@ -247,6 +270,7 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
         {{"--camera-path", write("bad.json", "{\"keys\": [\n  {\"time\": 0, \"position\": [0, 1], \"look_at\": [0, 0, 0]}]}")}, 1,
          "bad.json:2:27: error[E302]"},
         {{"--sequence-budget", "2s"}, 2, "--sequence-budget is for frames along a camera path"},
+        {{"--video", path("v.mp4")}, 2, "--video is for frames along a camera path"},
         {{"--camera-path", path_file, "--sequence-budget", "10%"}, 2, "give the sequence's time in seconds"},
         {{"--camera-path", path_file, "--sequence-budget", "2s", "--budget", "1s"}, 2, "--sequence-budget does not go with --budget"},
         {{"--camera-path", path_file, "--sequence-budget", "soon"}, 2, "--sequence-budget soon"},
