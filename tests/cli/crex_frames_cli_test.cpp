@@ -170,7 +170,10 @@ TEST_F(CrexFramesCli, ASequenceBudgetGivesEachFrameItsShareOfWhatIsLeft) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j["frames"].size(), 4u);
-    EXPECT_NEAR(j["frames"][0]["budget_seconds"].get<double>(), 1.0, 0.01);  // less the moments before it
+    // An even share, less the moments before the first frame (a loaded CI machine can stall
+    // for tens of milliseconds there: the bound is loose, a wrong share is not within it).
+    EXPECT_LE(j["frames"][0]["budget_seconds"].get<double>(), 1.0);
+    EXPECT_GT(j["frames"][0]["budget_seconds"].get<double>(), 0.75);
     double spent = 0;
     for (size_t i = 0; i < 4; ++i) {
         const auto& f = j["frames"][i];
