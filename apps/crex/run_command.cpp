@@ -243,6 +243,18 @@ int read_camera_path_file(Request& r, LeadChecks& lead) {
     return kExitOk;
 }
 
+// A sequence with a budget in % and no profile to take it of: its first frame renders whole and
+// its profile sizes the frames after (SequenceOptions::budget_of_first_frame). Decided alike on
+// every process, from the plan they share.
+void budget_of_first_frame(Request& r, const PipelinePlan& plan) {
+    if (r.camera_path.empty() || r.options.profile || r.sequence.budget_of_first_frame) return;
+    const std::optional<PlanBudget> budget = r.options.no_budget ? std::nullopt : r.options.budget ? r.options.budget : plan.settings.budget;
+    if (!budget || !budget->percent) return;
+    r.sequence.budget_of_first_frame = r.options;
+    r.options.budget.reset();
+    r.options.no_budget = true;
+}
+
 int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     DiagnosticSink sink;
     in = load_run_inputs(r.input, sink);
@@ -256,6 +268,7 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
         return kExitInputErrors;
     }
     r.options.profile = in.profile;
+    budget_of_first_frame(r, in.plan);
     std::optional<ResolvedRun> run;
     try {
         run = resolve_run(in.plan, r.options);
@@ -508,6 +521,7 @@ int run_request(Request& r) {
     // film is 1.9 GB with them, 270 MB without). From the shared plan, so alike on every process.
     r.options.component_images =
         r.files.components || in.plan.outputs.components || !r.files.report_dir.empty() || !in.plan.outputs.report.empty();
+    budget_of_first_frame(r, in.plan);
     ResolvedRun run = resolve_run(in.plan, r.options);  // the lead resolved them already: this cannot fail
     if (r.verbose && group->leads()) std::cerr << describe_run(in, run, r.threads, "crex run: ");
     std::unique_ptr<tbb::global_control> threads;

@@ -122,6 +122,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     // A sequence budget is wall clock: what this process has spent since its first frame.
     const auto sequence_start = std::chrono::steady_clock::now();
     double spent = 0, overhead = 0;
+    std::optional<ProfileInput> carried_profile;  // a budget in % of the first frame (SequenceOptions::budget_of_first_frame)
     // Flicker: what each pixel centre sees, traced in a scene of its own (built once: the
     // scene does not move), and the frame rendered before, to warp onto the next.
     std::unique_ptr<RenderScene> probe_scene;
@@ -163,6 +164,8 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         if (o.budget_seconds > 0) {
             f.budget_seconds = frame_budget(o.budget_seconds, spent, overhead, end_index - index, end_index - first_index);
             next.settings.executor.budget_seconds = f.budget_seconds;
+        } else if (carried_profile) {
+            f.budget_seconds = next.budget_seconds;
         }
         const auto start = std::chrono::steady_clock::now();
         f.records_reused = next.settings.ic_records.size();
@@ -202,6 +205,17 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         }
         // The caustic map does not depend on the camera: every frame after takes this one's.
         next.settings.caustic_map = outcome.result->caustic_map;
+        if (o.budget_of_first_frame) {  // the first frame's full time, every frame's measurements
+            if (!carried_profile)
+                carried_profile = ProfileInput{outcome.measured, result.render_seconds,
+                                               measured_stage_costs(result, next.settings.width, next.settings.height), "the first frame"};
+            else
+                carried_profile->profile = outcome.measured;
+            RunOptions options = *o.budget_of_first_frame;
+            options.profile = carried_profile;
+            options.budget_floor_ok = true;  // a sequence under way is not stopped: the frame is rendered and said to break it
+            resolve_budget(next, in.plan, options);  // the budget, its profile and the preview's stride only
+        }
         // The next frame starts from this one's cache, never from the file again (it holds
         // this frame's records now: --ic-file saves after every frame).
         next.settings.ic_file_read = false;

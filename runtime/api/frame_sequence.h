@@ -59,6 +59,12 @@ struct SequenceOptions {
     /// A time budget for the whole sequence, wall clock (0: none; each process has all of it
     /// for its share of the frames): each frame's budget is frame_budget().
     double budget_seconds = 0;
+    /// A budget in % without a profile to take it of (`--budget 25%` and no --profile): the
+    /// first frame each process renders renders whole, and its profile (its full time, its
+    /// stages, and every later frame's measurements folded in) sizes each later frame's
+    /// budget, as the thesis's profile spans an animation (5.4). The options the budget is
+    /// resolved from (their budget, floor rule, stride); unset: none.
+    std::optional<RunOptions> budget_of_first_frame;
 };
 
 /// A frame's render budget under a sequence budget of `total` seconds: what is left after

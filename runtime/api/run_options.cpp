@@ -46,6 +46,38 @@ void refuse_below_floor(ResolvedRun& run, const RunOptions& o, const std::string
 
 }  // namespace
 
+void resolve_budget(ResolvedRun& run, const PipelinePlan& plan, const RunOptions& o) {
+    const PlanSettings& ps = plan.settings;
+    RunSettings& rs = run.settings;
+    // The budget, and the profile it is predicted from.
+    run.predicted = o.profile;
+    run.budget_seconds = 0;
+    run.fixed_costs.reset();
+    run.below_floor = false;
+    const std::optional<PlanBudget> budget = o.no_budget ? std::nullopt : o.budget ? o.budget : ps.budget;
+    if (budget) {
+        run.budget_seconds = budget->amount;
+        if (budget->percent) {
+            const double full = run.predicted ? run.predicted->full_render_seconds : 0;
+            const std::string where = budget_origin(o, *budget);
+            if (!(full > 0) && !run.predicted)
+                throw RunOptionError("a budget in % needs the time of a full render: render once without a budget with "
+                                     "--save-profile FILE, then pass --profile FILE (or --no-budget)",
+                                     where);
+            if (!(full > 0))
+                throw RunOptionError(fmt::format("the profile '{}' holds no full render time (\"full_render_seconds\" above 0): save it "
+                                                 "again with --save-profile from a render without a budget, or give the budget in seconds",
+                                                 run.predicted->path),
+                                     where, true);
+            run.budget_seconds = budget->amount / 100 * full;
+        }
+    }
+    rs.executor.budget_seconds = run.budget_seconds;
+    // A pipeline's preview: the caller's stride, else coarse to fine under a budget (0), else every pixel.
+    rs.preview_stride = o.preview_stride ? std::max<uint32_t>(1, *o.preview_stride) : budget && plan.staged ? 0 : 1;
+    if (budget && plan.staged && run.predicted) refuse_below_floor(run, o, budget_origin(o, *budget));
+}
+
 ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
     const PlanSettings& ps = plan.settings;
     ResolvedRun run;
@@ -79,30 +111,7 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
     rs.caustic_photons = o.caustic_photons;
     if (o.policy) rs.policy = *o.policy;
 
-    // The budget, and the profile it is predicted from.
-    run.predicted = o.profile;
-    const std::optional<PlanBudget> budget = o.no_budget ? std::nullopt : o.budget ? o.budget : ps.budget;
-    if (budget) {
-        run.budget_seconds = budget->amount;
-        if (budget->percent) {
-            const double full = run.predicted ? run.predicted->full_render_seconds : 0;
-            const std::string where = budget_origin(o, *budget);
-            if (!(full > 0) && !run.predicted)
-                throw RunOptionError("a budget in % needs the time of a full render: render once without a budget with "
-                                     "--save-profile FILE, then pass --profile FILE (or --no-budget)",
-                                     where);
-            if (!(full > 0))
-                throw RunOptionError(fmt::format("the profile '{}' holds no full render time (\"full_render_seconds\" above 0): save it "
-                                                 "again with --save-profile from a render without a budget, or give the budget in seconds",
-                                                 run.predicted->path),
-                                     where, true);
-            run.budget_seconds = budget->amount / 100 * full;
-        }
-    }
-    rs.executor.budget_seconds = run.budget_seconds;
-    // A pipeline's preview: the caller's stride, else coarse to fine under a budget (0), else every pixel.
-    rs.preview_stride = o.preview_stride ? std::max<uint32_t>(1, *o.preview_stride) : budget && plan.staged ? 0 : 1;
-    if (budget && plan.staged && run.predicted) refuse_below_floor(run, o, budget_origin(o, *budget));
+    resolve_budget(run, plan, o);
     // Where the limits W404 names were set: the plan's line, unless an option overrides it.
     auto at = [](bool overridden, const SourceLocation& where) { return overridden || !where.known() ? std::string() : where.to_string(); };
     run.limits_set_at = {at(o.max_depth.has_value(), ps.max_depth_at), at(o.lw.has_value(), ps.lw_at), at(o.ab.has_value(), ps.ab_at)};

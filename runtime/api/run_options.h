@@ -114,4 +114,9 @@ struct BudgetBelowFloor : RunOptionError {
 /// Throws RunOptionError (a budget in % without a profile's full render time; BudgetBelowFloor).
 ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& options);
 
+/// The budget part of resolve_run(): `run`'s budget, profile, floor and preview stride from
+/// `options` (a sequence re-resolves it per frame from the profile it carries). Throws as
+/// resolve_run().
+void resolve_budget(ResolvedRun& run, const PipelinePlan& plan, const RunOptions& options);
+
 }  // namespace crex

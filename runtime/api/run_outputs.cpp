@@ -187,6 +187,12 @@ std::string outputs_refusal(const RunFiles& files, const std::string& ic_file, b
     return clash;
 }
 
+StageCosts measured_stage_costs(const RunResult& result, int width, int height) {
+    return {result.preview_seconds, result.preview_samples, result.guidance_seconds,
+            static_cast<uint64_t>(width) * static_cast<uint64_t>(height), result.ic_stats.caustic_seconds,
+            result.ic_preview_records, result.ic_preview_record_seconds};
+}
+
 std::string write_run_files(const RunFiles& where, const RunRecord& record, WrittenRun& written) {
     const RunInputs& in = *record.inputs;
     const RunOutcome& outcome = *record.outcome;
@@ -204,10 +210,7 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
         // So are its stage costs (what a later budget sizes the preview from): this render's
         // when it is a full one of a pipeline, else the profile's own.
         StageCosts stages = predicted ? predicted->stages : StageCosts{};
-        if (full_render && result.staged)
-            stages = {result.preview_seconds, result.preview_samples, result.guidance_seconds,
-                      static_cast<uint64_t>(width) * static_cast<uint64_t>(height), result.ic_stats.caustic_seconds,
-                      result.ic_preview_records, result.ic_preview_record_seconds};
+        if (full_render && result.staged) stages = measured_stage_costs(result, width, height);
         std::string error = write_file_atomically(files.stage_file(where.profile), profile_json_text(outcome.measured, full, stages));
         if (!error.empty()) return fmt::format("cannot write profile '{}': {}", where.profile, files.in_user_terms(error));
     }

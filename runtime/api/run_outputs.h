@@ -65,6 +65,10 @@ struct WrittenRun {
     PictureSummary pictures;         ///< the pictures written to `maps_dir`, where they are now
 };
 
+/// A pipeline's preview and guidance as a full render of it measured them (what a profile keeps
+/// for a later budget to size its preview from).
+StageCosts measured_stage_costs(const RunResult& result, int width, int height);
+
 /// Writes `files`, all or none. Returns "" or what failed (nothing written then).
 std::string write_run_files(const RunFiles& files, const RunRecord& record, WrittenRun& written);
 

@@ -251,6 +251,28 @@ TEST_F(CrexFramesCli, VideoHoldsEveryFrame) {
     EXPECT_FALSE(std::filesystem::exists(path("walk.avi")));
 }
 
+// --budget N% and no profile: the first frame renders whole and its profile sizes the rest
+// (thesis 5.4), each later frame's budget N % of the first frame's render.
+TEST_F(CrexFramesCli, ABudgetInPercentIsOfTheFirstFramesFullRender) {
+    const std::string pipe = CREX_SOURCE_DIR "/stdlib/pipelines/prog_tc.pipe";
+    auto r = crex_cli({"run", pipe, "--scene", kCorridor, "--size", "24x16", "--camera-path", walk(), "--frames", "0..2", "--budget",
+                       "50%", "-o", path("p.exr"), "--format", "json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["frames"].size(), 3u);
+    EXPECT_FALSE(j["frames"][0].contains("budget_seconds")) << j["frames"][0];
+    const double full = j["frames"][0]["render_seconds"].get<double>();
+    for (int f = 1; f < 3; ++f) EXPECT_DOUBLE_EQ(j["frames"][f]["budget_seconds"].get<double>(), 0.5 * full) << j["frames"][f];
+    // With a profile given, every frame's budget is of that profile, the first's too.
+    auto save = crex_cli({"run", pipe, "--scene", kCorridor, "--size", "24x16", "--save-profile", path("prof.json"), "--no-budget", "-o", path("one.exr"), "-q"});
+    ASSERT_EQ(save.exit_code, 0) << save.err;
+    auto given = crex_cli({"run", pipe, "--scene", kCorridor, "--size", "24x16", "--camera-path", walk(), "--frames", "0..1", "--budget",
+                           "50%", "--profile", path("prof.json"), "--budget-floor", "ok", "--force", "-o", path("p.exr"), "--format", "json"});
+    ASSERT_EQ(given.exit_code, 0) << given.err;
+    const auto g = nlohmann::json::parse(given.out);
+    EXPECT_FALSE(g["frames"][0].contains("budget_seconds"));  // a --budget of every frame is not a sequence's: its JSON has none
+}
+
 TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
     const std::string path_file = walk();
     struct Case {
