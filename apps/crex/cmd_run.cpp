@@ -57,7 +57,8 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_option("--star-cap", opt->star_cap, "Iteration cap of '*' per entry (W401 when hit)")
         ->capture_default_str()
         ->check(whole_number_in(1, 4294967295.0));
-    cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile")
+    cmd->add_option("--budget", opt->budget, "Time budget: 10s, 500ms, or 25% of the full render time in --profile (along a camera path without "
+                                              "one: of the first frame, rendered whole; docs/animation.md)")
         ->allow_extra_args(false);
     cmd->add_flag("--no-budget", opt->no_budget, "Ignore the pipeline's budget: render everything");
     cmd->add_option("--budget-floor", opt->budget_floor, "A budget below the pipeline's floor (its coarsest preview and guidance, "
