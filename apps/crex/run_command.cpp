@@ -461,7 +461,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
             std::cout << fmt::format("  sequence budget {:.2f} s: took {:.2f} s ({:+.1f} %)\n", r.sequence.budget_seconds, took,
                                      100 * (took / r.sequence.budget_seconds - 1));
         if (group.distributed())
-            std::cout << fmt::format("  on {} processes, each a run of consecutive frames with its own cache (the lead's saved)\n",
+            std::cout << fmt::format("  on {} processes, each a run of consecutive frames, their caches' new records shared after each frame\n",
                                      group.processes());
     }
     if (!r.video.empty()) {  // from the first image of every frame, rendered or skipped

@@ -6,7 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <cstring>
 #include <memory>
+#include <type_traits>
 
 #include "runtime/api/frame_flicker.h"
 #include "runtime/driver/process_group.h"
@@ -123,6 +125,29 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     const auto sequence_start = std::chrono::steady_clock::now();
     double spent = 0, overhead = 0;
     std::optional<ProfileInput> carried_profile;  // a budget in % of the first frame (SequenceOptions::budget_of_first_frame)
+    // Several processes carrying caches share them (the thesis's broadcast, 6.2): after each
+    // step of their shares, every process's new records go to every other, so that a process
+    // starting in the middle of the walk soon holds what the others made. One exchange per
+    // step of the longest share, every process taking part in each.
+    size_t most_frames = 0;
+    for (int p = 0; p < processes.processes(); ++p) {
+        const auto [first, end] = frame_share(frames.size(), processes.processes(), p);
+        most_frames = std::max(most_frames, end - first);
+    }
+    const bool share_caches = processes.processes() > 1 && o.carry_cache && next.settings.irradiance_cache.has_value();
+    auto share_records = [&](const std::vector<IrradianceRecord>& mine) {
+        if (!share_caches) return;
+        static_assert(std::is_trivially_copyable_v<IrradianceRecord>);
+        const std::string bytes(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(IrradianceRecord));
+        const std::vector<std::string> all = processes.all_share(bytes, "the exchange of a frame's irradiance records");
+        for (size_t p = 0; p < all.size(); ++p) {
+            if (static_cast<int>(p) == processes.process_index()) continue;
+            const size_t n = all[p].size() / sizeof(IrradianceRecord);
+            const size_t at = next.settings.ic_records.size();
+            next.settings.ic_records.resize(at + n);
+            std::memcpy(static_cast<void*>(next.settings.ic_records.data() + at), all[p].data(), n * sizeof(IrradianceRecord));
+        }
+    };
     // Flicker: what each pixel centre sees, traced in a scene of its own (built once: the
     // scene does not move), and the frame rendered before, to warp onto the next.
     std::unique_ptr<RenderScene> probe_scene;
@@ -140,10 +165,12 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         std::error_code ec;
         f.skipped = !o.force && !f.files.empty() &&
                     std::all_of(f.files.begin(), f.files.end(), [&](const std::string& p) { return std::filesystem::exists(p, ec); });
+        std::vector<IrradianceRecord> made;  // this frame's records, for the other processes
         if (f.skipped) {
             previous_geometry.reset();
             out.push_back(f);
             frame_done(index);
+            share_records({});
             continue;
         }
         spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - sequence_start).count();
@@ -222,10 +249,17 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         if (o.carry_cache && next.settings.irradiance_cache) {
             next.settings.ic_records = std::move(outcome.result->ic_records);
             next.settings.ic_file_bytes.reset();
+            // The frame's own records are the cache's last (those it started with come first).
+            const size_t own = std::min<size_t>(result.ic_stats.records, next.settings.ic_records.size());
+            made.assign(next.settings.ic_records.end() - static_cast<std::ptrdiff_t>(own), next.settings.ic_records.end());
         }
         out.push_back(std::move(f));
         frame_done(index);
+        share_records(made);
     }
+    // A process with a shorter share takes part in the last exchange too.
+    for (size_t step = end_index - first_index; step < most_frames; ++step) share_records({});
+    if (!processes.leads()) processes.told_lead("what this process's frames did");
     if (processes.leads()) {  // the other processes' frames, each said as it arrives
         const size_t others = frames.size() - (end_index - first_index);
         while (heard < others)

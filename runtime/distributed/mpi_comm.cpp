@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 
 #ifdef CREX_WITH_MPI
 #include <mpi.h>
@@ -166,6 +167,63 @@ std::string receive_bytes(int from, const std::string& what, int tag) {
     return bytes;
 }
 
+namespace {
+// Sends posted and not yet known to be taken: their sizes and bytes must live until then.
+struct PostedSend {
+    unsigned long long size = 0;
+    std::string bytes;
+    std::vector<MPI_Request> requests;
+};
+std::vector<std::unique_ptr<PostedSend>> g_posted;
+}  // namespace
+
+void post_bytes(int to, const std::string& bytes, int tag) {
+    if (!g_started) return;
+    auto send = std::make_unique<PostedSend>();
+    send->size = bytes.size();
+    send->bytes = bytes;
+    send->requests.resize(1);
+    MPI_Isend(&send->size, 1, MPI_UNSIGNED_LONG_LONG, to, tag, MPI_COMM_WORLD, &send->requests[0]);
+    for (size_t at = 0; at < send->bytes.size(); at += kBytesPiece) {
+        send->requests.emplace_back();
+        MPI_Isend(send->bytes.data() + at, static_cast<int>(std::min(kBytesPiece, send->bytes.size() - at)), MPI_CHAR, to, tag,
+                  MPI_COMM_WORLD, &send->requests.back());
+    }
+    g_posted.push_back(std::move(send));
+}
+
+void wait_for_posted(const std::string& what) {
+    for (auto& send : g_posted) wait_requests(send->requests, rank_timeout(), [&] { return "rank 0 did not take " + what; });
+    g_posted.clear();
+}
+
+std::vector<std::string> all_gather_bytes(const std::string& bytes, const std::string& point) {
+    if (!g_started) return {bytes};
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    arrive(MPI_COMM_WORLD, point);
+    auto late = [&] { return "a rank stalled in " + point; };
+    const long long mine = static_cast<long long>(bytes.size());
+    std::vector<long long> sizes(static_cast<size_t>(ranks));
+    std::vector<MPI_Request> request(1);
+    MPI_Iallgather(&mine, 1, MPI_LONG_LONG, sizes.data(), 1, MPI_LONG_LONG, MPI_COMM_WORLD, &request[0]);
+    wait_requests(request, rank_timeout(), late);
+    // Each rank's bytes broadcast from it in turn (any size: MPI counts are ints, so in pieces).
+    std::vector<std::string> out(static_cast<size_t>(ranks));
+    int me = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &me);
+    for (int r = 0; r < ranks; ++r) {
+        std::string& b = out[static_cast<size_t>(r)];
+        b = r == me ? bytes : std::string(static_cast<size_t>(sizes[static_cast<size_t>(r)]), '\0');
+        for (size_t at = 0; at < b.size(); at += kBytesPiece) {
+            request.assign(1, MPI_REQUEST_NULL);
+            MPI_Ibcast(b.data() + at, static_cast<int>(std::min(kBytesPiece, b.size() - at)), MPI_CHAR, r, MPI_COMM_WORLD, &request[0]);
+            wait_requests(request, rank_timeout(), late);
+        }
+    }
+    return out;
+}
+
 std::optional<std::string> receive_bytes_from_any(int tag, bool wait, const std::string& what) {
     if (!g_started) return std::nullopt;
     int flag = 0;
@@ -233,6 +291,9 @@ std::string share_from_rank0(std::string text, const std::string&) { return text
 void send_bytes(int, const std::string&, const std::string&, int) {}
 std::string receive_bytes(int, const std::string&, int) { return {}; }
 std::optional<std::string> receive_bytes_from_any(int, bool, const std::string&) { return std::nullopt; }
+std::vector<std::string> all_gather_bytes(const std::string& bytes, const std::string&) { return {bytes}; }
+void post_bytes(int, const std::string&, int) {}
+void wait_for_posted(const std::string&) {}
 double sum_over_ranks(double value) { return value; }
 double max_over_ranks(double value) { return value; }
 double seconds_waiting_for_ranks() { return 0; }

@@ -62,9 +62,18 @@ constexpr int kBytesTag = 7304;
 constexpr int kFrameTag = 7305;  ///< what a frame of a sequence did (MpiGroup::tell_lead)
 void send_bytes(int to, const std::string& bytes, const std::string& what, int tag = kBytesTag);
 std::string receive_bytes(int from, const std::string& what, int tag = kBytesTag);
+/// `bytes` to rank `to` without waiting for it to take them (kept until it does), so that a
+/// rank that tells and then joins a collective cannot wait on a receiver that is in the same
+/// collective; wait_for_posted() completes every such send (bounded).
+void post_bytes(int to, const std::string& bytes, int tag);
+void wait_for_posted(const std::string& what);
 /// The next bytes any rank sent with `tag`, if some have arrived; with `wait`, waits for them
 /// (bounded). Not distributed: none.
 std::optional<std::string> receive_bytes_from_any(int tag, bool wait, const std::string& what);
+
+/// Every rank's `bytes` on every rank, in rank order (all ranks of the world; collective and
+/// bounded: `point` names the exchange in a timeout's error). Not distributed: its own.
+std::vector<std::string> all_gather_bytes(const std::string& bytes, const std::string& point);
 
 /// Every rank (of all) reached `point`, bounded like every wait: before the last collectives.
 void all_ranks_arrive(const std::string& point);

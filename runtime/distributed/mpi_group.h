@@ -32,7 +32,12 @@ public:
     std::string share_from_lead(std::string bytes, const std::string& what) override;
     int processes() const override { return ranks_.size; }
     int process_index() const override { return ranks_.rank; }
-    void tell_lead(const std::string& bytes, const std::string& what) override { send_bytes(0, bytes, what, kFrameTag); }
+    void tell_lead(const std::string& bytes, const std::string& what) override {
+        (void)what;
+        post_bytes(0, bytes, kFrameTag);
+    }
+    void told_lead(const std::string& what) override { wait_for_posted(what); }
+    std::vector<std::string> all_share(const std::string& bytes, const std::string& what) override { return all_gather_bytes(bytes, what); }
     std::optional<std::string> heard_by_lead(bool wait, const std::string& what) override {
         return receive_bytes_from_any(kFrameTag, wait, what);
     }

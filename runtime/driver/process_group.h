@@ -99,9 +99,17 @@ public:
     /// by one process.
     virtual int processes() const { return 1; }
     virtual int process_index() const { return 0; }
-    /// A process other than the lead tells it `bytes` (what one of its frames did). Bounded
-    /// like every wait; small messages do not wait for the lead to be listening.
+    /// Every process's `bytes`, in process order, on every process (collective; bounded):
+    /// the records each frame made, so that every process's cache holds every process's.
+    virtual std::vector<std::string> all_share(const std::string& bytes, const std::string& what) {
+        (void)what;
+        return {bytes};
+    }
+    /// A process other than the lead tells it `bytes` (what one of its frames did), without
+    /// waiting for the lead to take them (it may be in a collective this process joins next);
+    /// told_lead() waits until the lead has taken all (bounded).
     virtual void tell_lead(const std::string& bytes, const std::string& what) { (void)bytes, (void)what; }
+    virtual void told_lead(const std::string& what) { (void)what; }
     /// On the lead: the next `bytes` another process told it, if one has arrived; with `wait`,
     /// waits for one (bounded: a process silent past the timeout ends the run, named).
     virtual std::optional<std::string> heard_by_lead(bool wait, const std::string& what) {

@@ -823,11 +823,22 @@ TEST_F(MpiRun, AFrameRangeRendersTheSingleProcessFrames) {
             EXPECT_EQ(pixels(path(stem + name)), pixels(path("one" + name))) << ranks << " ranks, frame " << f;
         }
     }
-    // With a cache, each rank carries its own; the file is rank 0's, written whole.
+    // With a cache, the ranks share each frame's records after every step of their shares
+    // (0-1 and 2-4 here): frame 1 starts from frames 0 and 2's records, frame 4 from those of
+    // 0 to 3. The file is rank 0's, written whole.
     auto cached = args("c.exr");
-    cached.insert(cached.end(), {"--ic", "--ic-file", path("walk.ic"), "-q"});
+    cached.insert(cached.end(), {"--ic", "--ic-file", path("walk.ic"), "--format", "json"});
     auto c = mpirun(2, cached);
     ASSERT_EQ(c.exit_code, 0) << c.err;
+    const auto cj = nlohmann::json::parse(c.out, nullptr, false);
+    ASSERT_TRUE(cj.is_object()) << c.out;
+    auto made = [&](int f) { return cj["frames"][f]["records_made"].get<size_t>(); };
+    auto reused = [&](int f) { return cj["frames"][f]["records_reused"].get<size_t>(); };
+    EXPECT_EQ(reused(0), 0u);
+    EXPECT_EQ(reused(2), 0u);
+    EXPECT_EQ(reused(1), made(0) + made(2));
+    EXPECT_EQ(reused(3), made(0) + made(2));
+    EXPECT_EQ(reused(4), made(0) + made(1) + made(2) + made(3));
     auto again = args("x.exr");
     *std::find(again.begin(), again.end(), "0..4") = "0";
     again.insert(again.end(), {"--ic", "--ic-file", path("walk.ic"), "--format", "json"});
