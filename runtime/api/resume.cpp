@@ -12,6 +12,7 @@
 #include "compiler/sched/print.h"
 #include "runtime/api/run_description.h"
 #include "runtime/base/finished_rows_digest.h"
+#include "runtime/base/file_extension.h"
 
 namespace crex {
 namespace {
@@ -78,8 +79,7 @@ ResumeLoad load_resume(const std::string& path, const std::string& scene_spec, c
         return out;
     };
     if (std::string why = resume_refusal(plan, s); !why.empty()) return fail("cannot resume a run with " + why, false);
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = lower_extension(path);
     if (ext != ".exr") return fail("give the .exr partial image (the rows as rendered; other formats are tone-mapped or rounded)", false);
     int width = 0, height = 0;
     ImageMetadata header;

@@ -17,14 +17,14 @@
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/radiance_view.h"
+#include "runtime/base/file_extension.h"
 
 namespace crex {
 
 std::optional<std::string> read_input(const std::string& path, std::string& error) { return read_input_file(path, error, kMaxTextInputBytes); }
 
 std::string input_kind(const std::string& path, const std::string& text) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string ext = lower_extension(path);
     if (ext == ".rad" || ext == ".obj" || ext == ".mtl") return "a scene";
     if (ext == ".vf") return "a RADIANCE view file";
     const size_t first = text.find_first_not_of(" \t\r\n");

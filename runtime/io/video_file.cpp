@@ -18,17 +18,12 @@
 
 #include "runtime/base/atomic_file.h"
 #include "runtime/io/image_io.h"
+#include "runtime/base/file_extension.h"
 
 extern char** environ;
 
 namespace crex {
 namespace {
-
-std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
 
 // ffmpeg's name for the container of an extension ("" for none it is given).
 std::string container(const std::string& path) {

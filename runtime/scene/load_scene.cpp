@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "base/input_file.h"
+#include "runtime/base/file_extension.h"
 
 namespace crex {
 namespace {
@@ -18,12 +19,6 @@ std::optional<std::string> read_file(const std::string& path, std::string& error
     auto text = read_input_file(path, error, kMaxDataInputBytes);
     if (!text && error.rfind("cannot read '", 0) == 0) error = "cannot read scene" + error.substr(std::string("cannot read").size());
     return text;
-}
-
-std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
 }
 
 // RADIANCE's library path (RAYPATH, ':'-separated), where files named without a directory

@@ -11,6 +11,7 @@
 
 #include "runtime/scene/gltf/gltf_document.h"
 #include "runtime/scene/gltf/gltf_transform.h"
+#include "runtime/base/file_extension.h"
 
 namespace crex {
 namespace {
@@ -108,15 +109,13 @@ void find_cameras(const tinygltf::Model& m, int node, std::vector<int>& chain, s
 
 std::string camera_name(const tinygltf::Model& m, int node, size_t index) {
     const tinygltf::Node& n = m.nodes[size_t(node)];
-    const tinygltf::Camera& c = m.cameras[size_t(n.camera)];
-    return !c.name.empty() ? c.name : !n.name.empty() ? n.name : fmt::format("camera{}", index);
+    return gltf::camera_name(m.cameras[size_t(n.camera)], n, index);
 }
 
 }  // namespace
 
 bool is_gltf_path(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+    const std::string ext = lower_extension(path);
     return ext == ".gltf" || ext == ".glb";
 }
 

@@ -322,6 +322,10 @@ std::vector<uint32_t> read_indices(const Document& doc, int index, const std::st
     return out;
 }
 
+std::string camera_name(const tinygltf::Camera& camera, const tinygltf::Node& node, size_t index) {
+    return !camera.name.empty() ? camera.name : !node.name.empty() ? node.name : fmt::format("camera{}", index);
+}
+
 std::vector<int> scene_roots(const tinygltf::Model& m) {
     if (!m.scenes.empty()) {
         const size_t s = m.defaultScene >= 0 && static_cast<size_t>(m.defaultScene) < m.scenes.size() ? size_t(m.defaultScene) : 0;

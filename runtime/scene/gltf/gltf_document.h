@@ -52,6 +52,10 @@ std::optional<Document> read_document(const std::string& path, SceneSources& sou
 /// applied. Empty with an error reported at `pointer` when the accessor is unusable.
 std::vector<double> read_accessor(const Document& doc, int index, int components, const std::string& pointer, DiagnosticSink& sink);
 
+/// A camera's name as `--camera` takes it: the camera's own name, else its node's, else
+/// "camera" and its index among the scene's cameras.
+std::string camera_name(const tinygltf::Camera& camera, const tinygltf::Node& node, size_t index);
+
 /// The default scene's root nodes, or, without scenes, every node no other node has as a child.
 std::vector<int> scene_roots(const tinygltf::Model& model);
 

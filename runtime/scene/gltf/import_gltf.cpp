@@ -252,7 +252,7 @@ private:
             return;
         }
         NamedCamera named;
-        named.name = !c.name.empty() ? c.name : !node.name.empty() ? node.name : fmt::format("camera{}", scene_.cameras.size());
+        named.name = gltf::camera_name(c, node, scene_.cameras.size());
         named.camera.position = world.point({0, 0, 0});
         named.camera.direction = world.vector({0, 0, -1});
         named.camera.up = world.vector({0, 1, 0});
