@@ -75,6 +75,11 @@ std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
 /// image, and linear RGB to display values in [0, 1] (Reinhard, then the sRGB curve).
 double display_exposure(const std::vector<float>& rgb);
 std::vector<float> to_display(const std::vector<float>& rgb, double exposure);
+/// An image as read_image() gave it, as a viewer sees it (display values in [0, 1]): an 8-bit
+/// file (`ldr`: read_image linearised it) as stored, linear radiance through to_display() with
+/// `exposure`, which is set from this image when not above 0, so that the frames of a sequence
+/// can all be seen through the first one's (an exposure that changed would flicker).
+std::vector<float> as_displayed(const std::vector<float>& rgb, bool ldr, double& exposure);
 
 /// Reads an image's size and the attributes of its header (EXR: every one written by
 /// write_image's `metadata`, with its type; attributes of other types come as their text),

@@ -38,6 +38,16 @@ std::vector<float> to_display(const std::vector<float>& rgb, double exposure) {
     return out;
 }
 
+std::vector<float> as_displayed(const std::vector<float>& rgb, bool ldr, double& exposure) {
+    if (!ldr) {
+        if (!(exposure > 0)) exposure = display_exposure(rgb);
+        return to_display(rgb, exposure);
+    }
+    std::vector<float> out(rgb.size());  // back through the sRGB curve read_image undid
+    for (size_t i = 0; i < rgb.size(); ++i) out[i] = static_cast<float>(srgb_encode(rgb[i]));
+    return out;
+}
+
 std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb) {
     std::vector<float> d = to_display(rgb, display_exposure(rgb));
     std::vector<unsigned char> out(d.size());

@@ -31,20 +31,10 @@ std::string container(const std::string& path) {
     return ext == ".mp4" ? "mp4" : ext == ".mov" ? "mov" : ext == ".mkv" ? "matroska" : "";
 }
 
-// A frame as 8-bit sRGB: a display-referred file as stored (read_image linearised it), linear
-// radiance through the tone map with `exposure` (set by the first frame read).
+// A frame as 8-bit sRGB, as a viewer sees it (as_displayed).
 std::vector<unsigned char> display_bytes(const std::vector<float>& rgb, bool ldr, double& exposure) {
-    std::vector<unsigned char> out(rgb.size());
-    if (ldr) {
-        for (size_t i = 0; i < rgb.size(); ++i) {
-            const double v = std::clamp(static_cast<double>(rgb[i]), 0.0, 1.0);
-            const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
-            out[i] = static_cast<unsigned char>(std::lround(255 * std::clamp(s, 0.0, 1.0)));
-        }
-        return out;
-    }
-    if (!(exposure > 0)) exposure = display_exposure(rgb);
-    const std::vector<float> d = to_display(rgb, exposure);
+    const std::vector<float> d = as_displayed(rgb, ldr, exposure);
+    std::vector<unsigned char> out(d.size());
     for (size_t i = 0; i < d.size(); ++i) out[i] = static_cast<unsigned char>(std::lround(255 * std::clamp(static_cast<double>(d[i]), 0.0, 1.0)));
     return out;
 }
