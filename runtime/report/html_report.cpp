@@ -11,7 +11,24 @@
 namespace crex {
 namespace {
 
-std::string escape(const std::string& s) {
+constexpr const char* kStyle = R"(<style>
+body { font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #202124; }
+h1 { font-size: 20px; } h2 { font-size: 16px; margin-top: 28px; }
+table { border-collapse: collapse; } td, th { border: 1px solid #ddd; padding: 4px 10px; text-align: left; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+.images { display: flex; flex-wrap: wrap; gap: 16px; }
+.pair { display: grid; grid-template-columns: repeat(2, max-content); gap: 16px; }
+figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
+.scale { display: flex; align-items: center; gap: 6px; font-size: 11px; color: #555; margin: 2px 0; }
+.ramp { flex: 1; height: 10px; border: 1px solid #ccc; }
+img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
+.plan svg { max-width: 100%; height: auto; }
+</style>
+)";
+
+}  // namespace
+
+std::string html_escape(const std::string& s) {
     std::string out;
     for (char c : s) {
         switch (c) {
@@ -31,6 +48,8 @@ std::string inline_svg(const std::string& svg) {
     return at == std::string::npos ? svg : svg.substr(at);
 }
 
+namespace {
+
 constexpr const char* kScript = R"(<script>
 window.addEventListener('load', () => {
   const imgs = Array.from(document.images);
@@ -40,6 +59,8 @@ window.addEventListener('load', () => {
   const plot = document.getElementById('error-plot');
   b.plotCurves = plot ? plot.querySelectorAll('polyline.curve').length : 0;
   b.plotWidth = plot ? Math.round(plot.getBoundingClientRect().width) : 0;
+  b.plots = document.querySelectorAll('.plot svg').length;
+  b.plotsCurves = document.querySelectorAll('.plot svg polyline.curve').length;
   // A picture of one colour (a black component, an empty map) says nothing: count them.
   let blank = 0;
   for (const i of imgs) {
@@ -56,8 +77,8 @@ window.addEventListener('load', () => {
   b.imagesBlank = blank;
   // Text that overlaps other text in the plot (tick and stage labels, the legend).
   let overlaps = 0;
-  if (plot) {
-    const boxes = Array.from(plot.querySelectorAll('text')).map(t => t.getBoundingClientRect());
+  for (const one of document.querySelectorAll('.plot svg')) {
+    const boxes = Array.from(one.querySelectorAll('text')).map(t => t.getBoundingClientRect());
     for (let m = 0; m < boxes.length; m++)
       for (let n = m + 1; n < boxes.length; n++) {
         const a = boxes[m], q = boxes[n];
@@ -75,47 +96,15 @@ window.addEventListener('load', () => {
 }  // namespace
 
 std::string render_report_html(const ReportPage& page, std::string& error) {
-    std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n" + std::string(kReportMarker) + "\n<title>" + escape(page.title) + "</title>\n";
-    html += R"(<style>
-body { font-family: Helvetica, Arial, sans-serif; margin: 24px; color: #202124; }
-h1 { font-size: 20px; } h2 { font-size: 16px; margin-top: 28px; }
-table { border-collapse: collapse; } td, th { border: 1px solid #ddd; padding: 4px 10px; text-align: left; }
-.images { display: flex; flex-wrap: wrap; gap: 16px; }
-.pair { display: grid; grid-template-columns: repeat(2, max-content); gap: 16px; }
-figure { margin: 0; } figcaption { font-size: 12px; color: #555; }
-.scale { display: flex; align-items: center; gap: 6px; font-size: 11px; color: #555; margin: 2px 0; }
-.ramp { flex: 1; height: 10px; border: 1px solid #ccc; }
-img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
-.plan svg { max-width: 100%; height: auto; }
-</style>
-)";
-    html += kScript;
-    html += "</head>\n<body>\n<h1>" + escape(page.title) + "</h1>\n<h2>Summary</h2>\n<table>\n";
-    for (const auto& [k, v] : page.summary) html += "<tr><th>" + escape(k) + "</th><td>" + escape(v) + "</td></tr>\n";
+    std::string html = report_page_start(page.title) + "<h2>Summary</h2>\n<table>\n";
+    for (const auto& [k, v] : page.summary) html += "<tr><th>" + html_escape(k) + "</th><td>" + html_escape(v) + "</td></tr>\n";
     html += "</table>\n";
     if (!page.plot_svg.empty()) html += "<h2>Error against time</h2>\n<div class=\"plot\">\n" + inline_svg(page.plot_svg) + "</div>\n";
     if (!page.policy_plot_svg.empty())
         html += "<h2>Every budget policy, same budget</h2>\n<div class=\"plot\">\n" + inline_svg(page.policy_plot_svg) + "</div>\n";
-    // One picture with its caption and, for a heat map, its colour bar; false if unreadable.
-    auto figure = [&](const ReportImage& img) {
-        std::ifstream in(img.png_path, std::ios::binary);
-        std::stringstream bytes;
-        bytes << in.rdbuf();
-        if (!in) {
-            error = "cannot read " + img.png_path + " for the report";
-            return false;
-        }
-        std::string bar;
-        if (img.scale)
-            bar = fmt::format("<div class=\"scale\"><span>{}</span><div class=\"ramp\" style=\"background: {}\"></div><span>{}{}</span></div>",
-                              tick_label(img.scale->lo), img.scale->gradient, tick_label(img.scale->hi),
-                              img.scale->unit.empty() ? "" : " " + escape(img.scale->unit));
-        html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\">{2}<figcaption>{0}</figcaption></figure>\n",
-                            escape(img.title), base64(bytes.str()), bar);
-        return true;
-    };
+    auto figure = [&](const ReportImage& img) { return append_report_figure(img, html, error); };
     if (!page.equal_time.empty()) {
-        html += "<h2>Equal time: the pipeline beside uniform rendering</h2>\n<p>" + escape(page.equal_time_note) + "</p>\n<div class=\"pair\">\n";
+        html += "<h2>Equal time: the pipeline beside uniform rendering</h2>\n<p>" + html_escape(page.equal_time_note) + "</p>\n<div class=\"pair\">\n";
         for (const auto& img : page.equal_time)
             if (!figure(img)) return "";
         html += "</div>\n";
@@ -124,9 +113,32 @@ img { image-rendering: pixelated; min-width: 192px; border: 1px solid #ccc; }
     for (const auto& img : page.images)
         if (!figure(img)) return "";
     html += "</div>\n<h2>Plan</h2>\n<div class=\"plan\">\n";
-    html += page.plan_svg.empty() ? "<pre>" + escape(page.plan_dot) + "</pre>\n" : inline_svg(page.plan_svg);
+    html += page.plan_svg.empty() ? "<pre>" + html_escape(page.plan_dot) + "</pre>\n" : inline_svg(page.plan_svg);
     html += "</div>\n</body>\n</html>\n";
     return html;
+}
+
+std::string report_page_start(const std::string& title) {
+    return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n" + std::string(kReportMarker) + "\n<title>" +
+           html_escape(title) + "</title>\n" + kStyle + kScript + "</head>\n<body>\n<h1>" + html_escape(title) + "</h1>\n";
+}
+
+bool append_report_figure(const ReportImage& img, std::string& html, std::string& error) {
+    std::ifstream in(img.png_path, std::ios::binary);
+    std::stringstream bytes;
+    bytes << in.rdbuf();
+    if (!in) {
+        error = "cannot read " + img.png_path + " for the report";
+        return false;
+    }
+    std::string bar;
+    if (img.scale)
+        bar = fmt::format("<div class=\"scale\"><span>{}</span><div class=\"ramp\" style=\"background: {}\"></div><span>{}{}</span></div>",
+                          tick_label(img.scale->lo), img.scale->gradient, tick_label(img.scale->hi),
+                          img.scale->unit.empty() ? "" : " " + html_escape(img.scale->unit));
+    html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\">{2}<figcaption>{0}</figcaption></figure>\n",
+                        html_escape(img.title), base64(bytes.str()), bar);
+    return true;
 }
 
 }  // namespace crex

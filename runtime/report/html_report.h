@@ -46,4 +46,13 @@ inline constexpr const char* kReportMarker = "<meta name=\"generator\" content=\
 /// Returns the page; `error` names an image that could not be read.
 std::string render_report_html(const ReportPage& page, std::string& error);
 
+/// The parts every report page is made of, for pages of other shapes (a sequence's,
+/// sequence_report.h): text made safe for HTML; the page's head (marker, style, the checking
+/// script) and the start of its body with the title; an SVG made fit to sit inside HTML; one
+/// picture as a <figure> with its PNG embedded (false, and `error`, when it cannot be read).
+std::string html_escape(const std::string& s);
+std::string report_page_start(const std::string& title);
+std::string inline_svg(const std::string& svg);
+bool append_report_figure(const ReportImage& img, std::string& html, std::string& error);
+
 }  // namespace crex

@@ -41,6 +41,26 @@ std::vector<StageLabel> stage_labels(const std::vector<std::pair<double, std::st
 
 namespace {
 
+// An <svg> of W x H with a white ground and the two axes of a plot area (left, top, pw x ph).
+std::string svg_frame(const std::string& id, double W, double H, double left, double top, double pw, double ph) {
+    std::string svg = fmt::format(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"{}\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
+        "font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
+        id, W, H, W, H);
+    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"black\"/>\n", left, top, top + ph);
+    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"black\"/>\n", left, top + ph, left + pw);
+    return svg;
+}
+
+// A legend row right of the plot area (which ends at x0), at height y.
+std::string legend_entry(double x0, double y, const std::string& colour, const std::string& text, const std::string& legend_id) {
+    return fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"{3}\" stroke-width=\"3\"/>\n", x0 + 12, y, x0 + 32, colour) +
+           fmt::format("<text{} x=\"{}\" y=\"{}\">{}</text>\n", legend_id.empty() ? "" : " id=\"" + legend_id + "\"", x0 + 38, y + 4, text);
+}
+
+// A mean as people read it: 1052 as "1052", 0.0037634 as "0.00376".
+std::string mean_text(double v) { return std::fabs(v) >= 100 ? fmt::format("{:.0f}", v) : fmt::format("{:.3g}", v); }
+
 struct PlotLine {
     std::string name, colour;
     std::vector<std::pair<double, double>> points;  ///< (seconds, error); non-finite errors skipped
@@ -73,12 +93,7 @@ std::string log_plot_svg(const std::string& id, const std::string& y_label, cons
         return top + ph * (1 - (l - d0) / (d1 - d0));
     };
 
-    std::string svg = fmt::format(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" id=\"{}\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
-        "font-family=\"Helvetica,Arial,sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
-        id, W, H, W, H);
-    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"black\"/>\n", left, top, top + ph);
-    svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"black\"/>\n", left, top + ph, left + pw);
+    std::string svg = svg_frame(id, W, H, left, top, pw, ph);
     for (double t : xt)
         svg += fmt::format("<text class=\"xtick\" x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x(t), top + ph + 16, tick_label(t));
     for (int d = d0; d <= d1; ++d) {
@@ -105,11 +120,7 @@ std::string log_plot_svg(const std::string& id, const std::string& y_label, cons
                            l.x + 10, top + 4, l.text);
     int row = 0;
     auto legend = [&](const std::string& colour, const std::string& text, const std::string& legend_id) {
-        double ly = top + 14 + 18 * row++;
-        svg += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{2}\" y2=\"{1}\" stroke=\"{3}\" stroke-width=\"3\"/>\n", left + pw + 12, ly,
-                           left + pw + 32, colour);
-        svg += fmt::format("<text{} x=\"{}\" y=\"{}\">{}</text>\n", legend_id.empty() ? "" : " id=\"" + legend_id + "\"", left + pw + 38,
-                           ly + 4, text);
+        svg += legend_entry(left + pw, top + 14 + 18 * row++, colour, text, legend_id);
     };
     for (const auto& l : lines) {
         std::string pts;
@@ -168,6 +179,55 @@ std::string policy_plot_svg(const std::vector<std::pair<std::string, std::vector
         lines.push_back(std::move(l));
     }
     return log_plot_svg("policy-plot", "FLIP against the reference (log)", lines, budget, {});
+}
+
+std::string series_plot_svg(const std::string& id, const std::string& x_label, const std::string& y_label, const std::vector<PlotSeries>& series) {
+    const double W = 760, H = 300, left = 64, right = 240, top = 20, bottom = 50;
+    const double pw = W - left - right, ph = H - top - bottom;
+    double x0 = INFINITY, x1 = -INFINITY, ymax = 0;
+    for (const auto& s : series)
+        for (const auto& [px, py] : s.points) {
+            x0 = std::min(x0, px), x1 = std::max(x1, px);
+            if (std::isfinite(py)) ymax = std::max(ymax, py);
+        }
+    if (!(x0 <= x1)) x0 = 0, x1 = 1;
+    if (x1 - x0 < 1) x1 = x0 + 1;  // one frame: a point in the middle of a unit span
+    const std::vector<double> yt = nice_ticks(ymax > 0 ? ymax : 1, 4);
+    const double ytop = std::max(yt.back(), ymax > 0 ? ymax : 1);
+    // Frame ticks: whole numbers in 1-2-5 steps from the first frame.
+    std::vector<double> xt;
+    for (double t : nice_ticks(x1 - x0, 6))
+        if (t == std::round(t)) xt.push_back(x0 + t);
+    auto x = [&](double v) { return left + pw * (v - x0) / (x1 - x0); };
+    auto y = [&](double v) { return top + ph * (1 - std::clamp(v, 0.0, ytop) / ytop); };
+    std::string svg = svg_frame(id, W, H, left, top, pw, ph);
+    for (double t : xt)
+        svg += fmt::format("<text class=\"xtick\" x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x(t), top + ph + 16, tick_label(t));
+    for (double v : yt) {
+        svg += fmt::format("<text class=\"ytick\" x=\"{}\" y=\"{:.1f}\" text-anchor=\"end\">{}</text>\n", left - 6, y(v) + 4, tick_label(v));
+        if (v > 0) svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"#ddd\"/>\n", left + 1, y(v), left + pw);
+    }
+    svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", left + pw / 2, H - 12, x_label);
+    svg += fmt::format("<text x=\"16\" y=\"{}\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">{}</text>\n", top + ph / 2,
+                       top + ph / 2, y_label);
+    int row = 0;
+    for (const auto& s : series) {
+        std::string pts, dots;
+        double sum = 0;
+        size_t n = 0;
+        for (const auto& [px, py] : s.points) {
+            if (!std::isfinite(py)) continue;
+            pts += fmt::format("{:.2f},{:.2f} ", x(px), y(py));
+            if (s.dots) dots += fmt::format("<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3\" fill=\"{}\"/>\n", x(px), y(py), s.colour);
+            sum += py, ++n;
+        }
+        if (n == 0) continue;
+        svg += fmt::format("<polyline class=\"curve\" data-series=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\"{} points=\"{}\"/>\n",
+                           s.name, s.colour, s.dashed ? 1.5 : 2, s.dashed ? " stroke-dasharray=\"5 4\"" : "", pts) + dots;
+        svg += legend_entry(left + pw, top + 14 + 18 * row++, s.colour, fmt::format("{} (mean {})", s.name, mean_text(sum / static_cast<double>(n))), "");
+    }
+    svg += "</svg>\n";
+    return svg;
 }
 
 }  // namespace crex

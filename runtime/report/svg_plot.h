@@ -21,6 +21,19 @@ std::string error_plot_svg(const std::vector<CurvePoint>& curve, std::optional<d
 /// error against time on one plot (crex run --compare-policies).
 std::string policy_plot_svg(const std::vector<std::pair<std::string, std::vector<CurvePoint>>>& runs, std::optional<double> budget_seconds);
 
+/// One line of a plot over frames: (x, y) points in order; points whose y is not finite are
+/// left out (the line joins its neighbours), each point is marked when `dots`.
+struct PlotSeries {
+    std::string name, colour;
+    std::vector<std::pair<double, double>> points;
+    bool dots = false;
+    bool dashed = false;
+};
+
+/// Values against frame number on linear axes (y from 0 past the largest value), as a
+/// standalone SVG with the given id; each series in the legend with its mean.
+std::string series_plot_svg(const std::string& id, const std::string& x_label, const std::string& y_label, const std::vector<PlotSeries>& series);
+
 /// Round axis ticks from 0 past `max`: steps of 1, 2 or 5 times a power of ten, about `about`
 /// of them; and how a tick is written (no trailing zeros: 0.2, 1.5, 10).
 std::vector<double> nice_ticks(double max, int about);

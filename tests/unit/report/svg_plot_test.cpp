@@ -2,9 +2,11 @@
 // axis that ends at the render's own time.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
 
+#include "runtime/report/sequence_report.h"
 #include "runtime/report/svg_plot.h"
 
 namespace crex {
@@ -63,6 +65,42 @@ TEST(ErrorPlot, AxisEndsAtTheRenderAndABudgetFarBeyondIsInTheLegend) {
     EXPECT_NE(svg.find("(log)"), std::string::npos);
     EXPECT_NE(svg.find(">0.01<"), std::string::npos);  // a decade tick: absolute values
     EXPECT_EQ(svg.find("its largest value"), std::string::npos);
+}
+
+// A plot over frames: a point not measured (the first frame's flicker) is left out, not drawn at
+// 0; frame ticks are whole frames; the legend gives each line's mean over its measured points.
+TEST(SeriesPlot, LeavesOutWhatWasNotMeasuredAndTicksWholeFrames) {
+    PlotSeries flicker{"flicker", "#9334e6", {{10, NAN}, {11, 0.004}, {12, 0.002}, {13, 0.003}}, true};
+    const std::string svg = series_plot_svg("quality-plot", "frame", "difference", {flicker});
+    EXPECT_NE(svg.find("id=\"quality-plot\""), std::string::npos);
+    const std::regex points("points=\"([^\"]*)\"");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(svg, m, points));
+    const std::string p = m[1];
+    EXPECT_EQ(std::count(p.begin(), p.end(), ','), 3);  // three measured points, frame 10 left out
+    EXPECT_NE(svg.find("flicker (mean 0.003)"), std::string::npos) << svg;
+    const std::regex xtick("class=\"xtick\"[^>]*>([^<]+)<");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), xtick); it != std::sregex_iterator(); ++it) {
+        const double t = std::stod((*it)[1]);
+        EXPECT_EQ(t, std::round(t)) << (*it)[1];
+        EXPECT_GE(t, 10);
+        EXPECT_LE(t, 13);
+    }
+    size_t circles = 0;
+    for (size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1)) ++circles;
+    EXPECT_EQ(circles, 3u);
+}
+
+TEST(SequenceReport, TheStripHoldsTheFirstAndLastFramesEvenlySpaced) {
+    EXPECT_EQ(strip_frames(0, 12), std::vector<size_t>{});
+    EXPECT_EQ(strip_frames(1, 12), std::vector<size_t>{0});
+    EXPECT_EQ(strip_frames(5, 12), (std::vector<size_t>{0, 1, 2, 3, 4}));
+    EXPECT_EQ(strip_frames(61, 5), (std::vector<size_t>{0, 15, 30, 45, 60}));
+    const auto many = strip_frames(1000, 12);
+    ASSERT_EQ(many.size(), 12u);
+    EXPECT_EQ(many.front(), 0u);
+    EXPECT_EQ(many.back(), 999u);
+    EXPECT_EQ(strip_frames(7, 1), std::vector<size_t>{0});
 }
 
 }  // namespace
