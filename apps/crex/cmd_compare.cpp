@@ -332,7 +332,7 @@ int compare_frames(const CompareOptions& opt, const metrics::MetricChoice& choic
     }
     std::cout << fmt::format("{} against {}, frames {}..{}: {} with a reference\n", opt.test, opt.reference, frames.front(), frames.back(), scored);
     std::vector<std::string> keys;
-    for (const std::string& k : {"rmse", "relmse", "ssim", "flip", "perr"})
+    for (const char* k : {"rmse", "relmse", "ssim", "flip", "perr"})
         if (mean.contains(k)) keys.push_back(k);
     std::string head = "  frame";
     for (const auto& k : keys) head += fmt::format(" {:>10}", k);

@@ -106,9 +106,12 @@ Runner add_run_command(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::IsMember({"auto", "bar", "plain", "none"}));
     cmd->add_option("--reference", opt->reference, "Reference image to measure error against during the render (checkpoints), or "
-                                                   "'auto' for the cached 'crex reference' of the scene at this size");
+                                                   "'auto' for the cached 'crex reference' of the scene at this size. With "
+                                                   "--camera-path: a reference sequence (ref.exr: ref.0000.exr, ...), each frame it "
+                                                   "has scored");
     cmd->add_option("--report", opt->report_dir, "Write a report to DIR: checkpoints (JSON, CSV), error plot (SVG), images, plan, "
-                                                 "and one self-contained index.html. It replaces DIR whole, so DIR must be new, "
+                                                 "and one self-contained index.html (with --camera-path: time, flicker and error per "
+                                                 "frame, the frames, the video). It replaces DIR whole, so DIR must be new, "
                                                  "empty or an earlier report");
     cmd->add_option("--checkpoint-interval", opt->checkpoint_interval, "Seconds between checkpoints within long steps (also at "
                                                                        "every step and stage boundary)")

@@ -26,6 +26,7 @@
 #include "runtime/api/run_outputs.h"
 #include "runtime/api/shared_inputs.h"
 #include "runtime/base/output_folder.h"
+#include "runtime/api/sequence_outputs.h"
 #include "runtime/io/video_file.h"
 #include "runtime/report/run_report.h"
 #include "runtime/scene/camera_path_file.h"
@@ -184,15 +185,17 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.sequence.force = f.force;
     r.sequence.carry_cache = !f.no_carry_cache;
     r.sequence.plan_file = f.plan;
+    if (!f.camera_path.empty()) r.sequence.reference = f.reference;  // a sequence's: each frame it has is scored
     if (!f.camera_path.empty()) {
         for (const auto& [given, flag] : {std::pair{!f.view.empty(), "--view"}, std::pair{!f.resume.empty(), "--resume"},
                                           std::pair{f.compare_policies, "--compare-policies"}, std::pair{f.equal_time, "--equal-time"},
-                                          std::pair{!f.report_dir.empty(), "--report"},
-                                          std::pair{!f.maps_dir.empty(), "--maps"}, std::pair{!f.reference.empty(), "--reference"},
+                                          std::pair{!f.maps_dir.empty(), "--maps"}, std::pair{f.reference == "auto", "--reference auto"},
                                           std::pair{!f.profile_out.empty(), "--save-profile"}})
             if (given)
-                return usage(fmt::format("{} does not go with --camera-path yet: a sequence writes its images only{}", flag,
-                                         std::string(flag) == "--view" ? " (the path gives every frame's view)" : ""));
+                return usage(fmt::format("{} does not go with --camera-path yet: a sequence writes its images and its report{}", flag,
+                                         std::string(flag) == "--view"             ? " (the path gives every frame's view)"
+                                         : std::string(flag) == "--reference auto" ? " (give the reference sequence's name)"
+                                                                                   : ""));
     }
     return std::nullopt;
 }
@@ -308,12 +311,16 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
                          "crex has no selective variables to raise\n";
             return kExitUsage;
         }
-        if (!in.plan.outputs.report.empty() || in.plan.outputs.maps || !in.plan.settings.reference.empty())
-            std::cerr << "crex run: note: the pipeline's report, maps and reference are not made per frame yet; a sequence writes "
-                         "its images\n";
-        in.plan.outputs.report.clear();
+        if (in.plan.outputs.maps || !in.plan.settings.reference.empty())
+            std::cerr << "crex run: note: the pipeline's maps and reference are not made per frame yet; a sequence writes its images "
+                         "and its report\n";
         in.plan.outputs.maps = false;
         in.plan.settings.reference.clear();
+        if (!r.reference.empty())  // a sequence: each frame it has is scored (frame_sequence.h)
+            if (std::string error = check_sequence_reference(r.reference, r.sequence.frames, s.width, s.height); !error.empty()) {
+                std::cerr << "crex run: error: --reference " << r.reference << ": " << error << "\n";
+                return kExitFailure;
+            }
     }
     if (files.report_dir.empty() && !in.plan.outputs.report.empty()) defaults.push_back(files.report_dir = in.plan.outputs.report);
     if (files.maps_dir.empty() && in.plan.outputs.maps)
@@ -332,7 +339,7 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     }
     // The reference of the error curve: with --reference (or the pipeline's), or for a report.
     const std::string reference = r.reference.empty() ? in.plan.settings.reference : r.reference;
-    if (!reference.empty() || !files.report_dir.empty()) {
+    if ((!reference.empty() || !files.report_dir.empty()) && r.camera_path.empty()) {
         lead.reference = load_reference(reference, *in.scene->scene, in.scene_spec, s.width, s.height);
         if (!lead.reference.error.empty()) {
             std::cerr << "crex run: error: " << lead.reference.error << "\n";
@@ -464,16 +471,15 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
             std::cout << fmt::format("  on {} processes, each a run of consecutive frames, their caches' new records shared after each frame\n",
                                      group.processes());
     }
-    if (!r.video.empty()) {  // from the first image of every frame, rendered or skipped
-        std::vector<std::string> images;
-        for (const FrameRun& f : frames)
-            if (!f.files.empty()) images.push_back(f.files.front());
-        if (std::string error = write_video(r.video, images, r.sequence.fps); !error.empty()) {
-            std::cerr << "crex run: error: --video: " << error << "; the frames are written\n";
-            return kExitFailure;
-        }
-        if (!r.quiet && r.format != "json") std::cout << fmt::format("  wrote {} ({} frames at {:g} fps)\n", r.video, images.size(), r.sequence.fps);
+    std::vector<std::string> wrote;
+    const SequenceDescription described{r.camera_path,       r.sequence.reference, r.sequence.fps, run.settings.width, run.settings.height,
+                                        group.processes(), r.sequence.budget_seconds, took};
+    if (std::string error = write_sequence_outputs({r.video, r.files.report_dir}, frames, in, described, wrote); !error.empty()) {
+        std::cerr << "crex run: error: " << error << "; the frames are written\n";
+        return kExitFailure;
     }
+    if (!r.quiet && r.format != "json")
+        for (const auto& line : wrote) std::cout << "  wrote " << line << "\n";
     return kExitOk;
 }
 

@@ -12,7 +12,9 @@
 
 #include "runtime/api/frame_flicker.h"
 #include "runtime/driver/process_group.h"
+#include "runtime/base/file_extension.h"
 #include "runtime/io/image_io.h"
+#include "runtime/metrics/image_comparison.h"
 #include "runtime/texture/surface_textures.h"
 
 namespace crex {
@@ -48,7 +50,44 @@ struct CameraRestore {
     ~CameraRestore() { scene.camera = saved; }
 };
 
+// Scores `f` against its frame of `reference`, if that exists (checked before rendering:
+// check_sequence_reference), through the reference's exposure as `crex compare` does.
+void score_against_reference(FrameRun& f, const std::string& reference, const std::vector<float>& image, int width, int height) {
+    const std::string path = frame_file_name(reference, f.frame);
+    std::error_code ec;
+    if (reference.empty() || !std::filesystem::exists(path, ec)) return;
+    metrics::Image ref, test{width, height, image};
+    if (std::string error = read_image(path, ref.width, ref.height, ref.rgb); !error.empty())
+        throw FrameWriteError(fmt::format("frame {}: its reference: {}", f.frame, error));
+    if (ref.width != width || ref.height != height)
+        throw FrameWriteError(fmt::format("frame {}: its reference {} is {}x{}, the frame {}x{}", f.frame, path, ref.width, ref.height, width, height));
+    metrics::MetricChoice choice;
+    choice.flip = choice.relmse = true;
+    const metrics::ImageComparison c = metrics::compare_images(test, ref, {true, display_exposure(ref.rgb)}, choice);
+    f.flip = c.flip, f.relmse = c.relmse, f.reference = path;
+}
+
 }  // namespace
+
+std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height) {
+    size_t found = 0;
+    for (int64_t frame : range.frames()) {
+        const std::string path = frame_file_name(reference, frame);
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) continue;
+        const std::string ext = lower_extension(path);
+        if (ext != ".exr" && ext != ".hdr")
+            return fmt::format("{} is not linear radiance: a reference sequence is EXR or HDR files (crex run --camera-path ... --spp 256 -o ref.exr makes one)", path);
+        int w = 0, h = 0;
+        ImageMetadata metadata;
+        if (std::string error = read_image_metadata(path, w, h, metadata); !error.empty()) return error;
+        if (w != width || h != height) return fmt::format("{} is {}x{}, the frames {}x{}", path, w, h, width, height);
+        ++found;
+    }
+    if (found == 0)
+        return fmt::format("no frame of {} .. {} exists (looked for {} ...)", range.first, range.last, frame_file_name(reference, range.first));
+    return "";
+}
 
 std::vector<int64_t> FrameRange::frames() const {
     std::vector<int64_t> out;
@@ -218,8 +257,10 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         // costs, 0.33 s against 0.05 s on the corridor); what is spent corrects the rest.
         const double frame_overhead = std::max(0.0, f.seconds - f.render_seconds);
         if (index > first_index) overhead = index == first_index + 1 ? frame_overhead : std::min(overhead, frame_overhead);
-        if (o.flicker) {  // after the frame's time is taken: not part of it
-            std::vector<float> linear = result.image();
+        // Scored after the frame's time is taken: not part of it.
+        const std::vector<float> linear = o.flicker || !o.reference.empty() ? result.image() : std::vector<float>{};
+        score_against_reference(f, o.reference, linear, next.settings.width, next.settings.height);
+        if (o.flicker) {
             if (!(exposure > 0)) exposure = display_exposure(linear);
             std::vector<float> image = to_display(linear, exposure);
             if (previous_geometry)
@@ -281,6 +322,7 @@ nlohmann::json frame_json(const FrameRun& f) {
     j["quality"] = f.high_quality ? "high" : "selective";
     if (f.distractor_on_screen) j["distractor_on_screen"] = *f.distractor_on_screen;
     if (f.budget_seconds > 0) j["budget_seconds"] = f.budget_seconds;
+    if (f.flip) j["error"] = {{"flip", *f.flip}, {"relmse", f.relmse ? nlohmann::json(*f.relmse) : nlohmann::json(nullptr)}, {"reference", f.reference}};
     return j;
 }
 
@@ -318,6 +360,11 @@ FrameRun frame_from_json(const nlohmann::json& j) {
     f.high_quality = j.value("quality", "") == "high";
     if (j.contains("distractor_on_screen")) f.distractor_on_screen = j["distractor_on_screen"].get<bool>();
     f.budget_seconds = j.value("budget_seconds", 0.0);
+    if (j.contains("error")) {
+        f.flip = j["error"].at("flip").get<double>();
+        if (!j["error"].at("relmse").is_null()) f.relmse = j["error"]["relmse"].get<double>();
+        f.reference = j["error"].at("reference").get<std::string>();
+    }
     return f;
 }
 
@@ -348,6 +395,7 @@ std::string frame_line(const FrameRun& f, size_t index, size_t count) {
     if (f.records_made || f.records_reused)
         line += fmt::format(", {} new records, {} reused", grouped(f.records_made), grouped(f.records_reused));
     if (f.flicker) line += fmt::format(", flicker {:.4f} ({:.0f} % of pixels matched)", *f.flicker, 100 * f.flicker_matched);
+    if (f.flip) line += fmt::format(", FLIP {:.4f} against its reference", *f.flip);
     return line;
 }
 

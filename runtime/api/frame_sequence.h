@@ -65,7 +65,15 @@ struct SequenceOptions {
     /// budget, as the thesis's profile spans an animation (5.4). The options the budget is
     /// resolved from (their budget, floor rule, stride); unset: none.
     std::optional<RunOptions> budget_of_first_frame;
+    /// A reference sequence named as `-o` names frames (ref.exr: ref.0000.exr, ...): each
+    /// frame it has is scored against (FLIP and relMSE, through the reference's exposure, as
+    /// `crex compare` does). "" for none; check_sequence_reference() before rendering.
+    std::string reference;
 };
+
+/// "" when `reference` (SequenceOptions::reference) has at least one frame of `range`, each
+/// of them a linear image (EXR or HDR) of width x height; else what is wrong.
+std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height);
 
 /// A frame's render budget under a sequence budget of `total` seconds: what is left after
 /// the `spent` seconds of the frames before, over the `frames_left` (this one included), less
@@ -92,6 +100,9 @@ struct FrameRun {
     std::optional<bool> distractor_on_screen;   ///< looked for (high_quality_without_distractors)
     std::vector<std::string> files;
     double budget_seconds = 0;          ///< its render budget under a sequence budget (0: none)
+    /// Against its frame of SequenceOptions::reference, where that has one.
+    std::optional<double> flip, relmse;
+    std::string reference;
     std::vector<Diagnostic> warnings;   ///< the frame's runtime warnings
     std::vector<std::string> notes;     ///< and notes (RunResult::notes)
 };

@@ -278,14 +278,7 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
                 layers.front().rgb, record.equal_time->image, equal->pipeline.flip_map, equal->uniform.flip_map};
         report.pictures = staged_pictures.written;
         report.picture_scales = staged_pictures.heat_scale;
-        if (in.plan.staged) {
-            report.plan_dot = pipeline_plan_to_dot(in.plan);
-        } else {
-            CrexPlan cp;
-            cp.source = in.source->text();
-            cp.program = in.plan.program;
-            report.plan_dot = plan_to_dot(cp);
-        }
+        report.plan_dot = plan_dot_of(in);
         if (where.report_dir.empty()) {  // a reference without a report: the curve only, in the summary
             if (record.reference) written.curve = error_curve(record.checkpoints->checkpoints(), *record.reference, report.view);
         } else if (std::string error = write_run_report(report, written.curve); !error.empty()) {
@@ -298,6 +291,14 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
         if (!where.report_dir.empty()) written.summary["report"] = (std::filesystem::path(where.report_dir) / "index.html").string();
     }
     return files.commit();
+}
+
+std::string plan_dot_of(const RunInputs& in) {
+    if (in.plan.staged) return pipeline_plan_to_dot(in.plan);
+    CrexPlan cp;
+    cp.source = in.source ? in.source->text() : sched::to_crex(in.plan.program);
+    cp.program = in.plan.program;
+    return plan_to_dot(cp);
 }
 
 }  // namespace crex

@@ -55,6 +55,9 @@ struct RunRecord {
     int64_t frame = -1;                           ///< a frame of a sequence (frame_sequence.h): its number; -1 none
 };
 
+/// The plan as a report draws it (Graphviz DOT): the pipeline's stages, or the crex's plan.
+std::string plan_dot_of(const RunInputs& in);
+
 /// The final image as written: the result's, with a resumed run's final rows taken in.
 std::vector<float> final_image(const RunRecord& record);
 

@@ -1,6 +1,7 @@
 // `crex run --camera-path FILE --frames A..B` as a user runs it (issue 36): a file per frame
 // and output, a rerun that skips finished frames without touching them, --force to redo them,
 // a progress line per frame, JSON per frame, and usage errors for what does not go together.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -215,9 +216,10 @@ TEST_F(CrexFramesCli, CompareScoresSequencesAndTheirFlickerFromTheFiles) {
         }
         const auto& run_frame = rendered["frames"][f];
         EXPECT_EQ(one.contains("flicker"), run_frame.contains("flicker")) << one;
-        if (one.contains("flicker"))
+        if (one.contains("flicker")) {
             EXPECT_NEAR(one["flicker"]["display_difference"].get<double>(), run_frame["flicker"]["display_difference"].get<double>(),
                         1e-3 * run_frame["flicker"]["display_difference"].get<double>() + 1e-6);
+        }
     }
     EXPECT_DOUBLE_EQ(j["mean"]["flip"].get<double>(), flip);
     EXPECT_FALSE(j["flicker"].contains("reference"));  // frames 0 and 2 do not follow each other
@@ -227,6 +229,47 @@ TEST_F(CrexFramesCli, CompareScoresSequencesAndTheirFlickerFromTheFiles) {
     EXPECT_NE(missing.err.find("t.0004.exr"), std::string::npos) << missing.err;
     auto alone = crex_cli({"compare", frame_file(path("t.exr"), 0), frame_file(path("r.exr"), 0), "--flicker"});
     EXPECT_EQ(alone.exit_code, 2) << alone.err;
+}
+
+// --reference with a path names a sequence: each frame it has is scored as `crex compare`
+// scores the two files, the others not; --report draws time, flicker and error per frame.
+TEST_F(CrexFramesCli, AReferenceSequenceScoresTheFramesItHasAndTheReportShowsThem) {
+    const std::string walk_file = walk();
+    auto ref = crex_cli({"run", "--scene", kCorridor, "--size", "24x16", "--spp", "16", "--camera-path", walk_file, "--frames", "0..2:2",
+                         "-o", path("r.exr"), "-q"});
+    ASSERT_EQ(ref.exit_code, 0) << ref.err;
+    auto r = crex_cli({"run", "--scene", kCorridor, "--size", "24x16", "--spp", "2", "--camera-path", walk_file, "--frames", "0..3", "-o",
+                       path("t.exr"), "--reference", path("r.exr"), "--report", path("rep"), "--format", "json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["frames"].size(), 4u);
+    for (int f = 0; f < 4; ++f) {
+        const auto& one = j["frames"][f];
+        ASSERT_EQ(one.contains("error"), f % 2 == 0) << one;  // the reference has frames 0 and 2
+        if (!one.contains("error")) continue;
+        EXPECT_EQ(one["error"]["reference"].get<std::string>(), frame_file(path("r.exr"), f));
+        auto alone = crex_cli({"compare", frame_file(path("t.exr"), f), frame_file(path("r.exr"), f), "--metric", "flip,relmse", "--format", "json"});
+        ASSERT_EQ(alone.exit_code, 0) << alone.err;
+        const auto c = nlohmann::json::parse(alone.out);
+        EXPECT_DOUBLE_EQ(one["error"]["flip"].get<double>(), c["flip"].get<double>());
+        EXPECT_DOUBLE_EQ(one["error"]["relmse"].get<double>(), c["relmse"].get<double>());
+        EXPECT_GT(one["error"]["flip"].get<double>(), 0);  // 2 spp against 16: not the same picture
+    }
+    // The report: a row per frame in its data, a picture per frame in its strip, the page last.
+    std::ifstream csv(path("rep/frames.csv"));
+    size_t lines = 0;
+    for (std::string line; std::getline(csv, line);) ++lines;
+    EXPECT_EQ(lines, 5u);
+    for (int f = 0; f < 4; ++f) EXPECT_TRUE(std::filesystem::exists(path(fmt::format("rep/frames/frame_{:04d}.png", f)))) << f;
+    const std::string page = bytes(path("rep/index.html"));
+    EXPECT_NE(page.find("id=\"time-plot\""), std::string::npos);
+    EXPECT_NE(page.find("data-series=\"FLIP vs reference\""), std::string::npos);
+    // A reference of another size is refused before anything renders.
+    auto other = crex_cli({"run", "--scene", kCorridor, "--size", "32x16", "--spp", "1", "--camera-path", walk_file, "--frames", "0..3",
+                           "-o", path("u.exr"), "--reference", path("r.exr")});
+    EXPECT_EQ(other.exit_code, 3);
+    EXPECT_NE(other.err.find("is 24x16, the frames 32x16"), std::string::npos) << other.err;
+    EXPECT_FALSE(std::filesystem::exists(frame_file(path("u.exr"), 0)));
 }
 
 // --video: the frames as H.264 through ffmpeg (a package CI installs; optional for users),
@@ -299,6 +342,8 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
         {{"--camera-path", path_file, "--sequence-budget", "10%"}, 2, "give the sequence's time in seconds"},
         {{"--camera-path", path_file, "--sequence-budget", "2s", "--budget", "1s"}, 2, "--sequence-budget does not go with --budget"},
         {{"--camera-path", path_file, "--sequence-budget", "soon"}, 2, "--sequence-budget soon"},
+        {{"--camera-path", path_file, "--reference", "auto"}, 2, "give the reference sequence's name"},
+        {{"--camera-path", path_file, "--frames", "0..2", "--reference", path("none.exr")}, 3, "no frame of 0 .. 2 exists"},
     };
     for (const Case& c : cases) {
         auto r = crex_cli(run_args(c.args));

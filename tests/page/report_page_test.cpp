@@ -58,5 +58,34 @@ TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
     fs::remove_all(dir);
 }
 
+// A sequence's page (issue 36): every frame of its strip decodes and none is blank; the three
+// plots over frames draw their lines (time: whole frame and render; flicker; records) with no
+// label over another.
+TEST(ReportPage, ASequencesPageShowsItsFramesAndPlots) {
+    ASSERT_TRUE(fs::exists("/usr/bin/chromium")) << "the page test needs Debian's chromium (tools/debian-packages.txt)";
+    fs::path dir = fs::temp_directory_path() / ("crex_sequence_page_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "walk.json") << R"({"keys": [
+        {"time": 0, "position": [0, 1.6, 9.5], "look_at": [0, 1.4, 0]},
+        {"time": 1, "position": [0, 1.6, 3.5], "look_at": [0, 1.4, -6]}]})";
+    auto run = testing::crex_cli({"run", "--scene", CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json", "--ic", "--size", "48x32",
+                                  "--spp", "2", "--camera-path", (dir / "walk.json").string(), "--frames", "0..4", "-o",
+                                  (dir / "w.png").string(), "--report", (dir / "report").string(), "-q"});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    auto page = testing::run_command({"/usr/bin/chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                                      "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                                      "--user-data-dir=" + (dir / "chromium").string(), "--virtual-time-budget=10000", "--dump-dom",
+                                      "file://" + (dir / "report" / "index.html").string()});
+    ASSERT_EQ(page.exit_code, 0) << page.err;
+    EXPECT_NE(page.out.find("data-ready=\"yes\""), std::string::npos) << page.out.substr(0, 400);
+    EXPECT_EQ(body_attribute(page.out, "data-images-total"), 5);
+    EXPECT_EQ(body_attribute(page.out, "data-images-loaded"), 5);
+    EXPECT_EQ(body_attribute(page.out, "data-images-blank"), 0);
+    EXPECT_EQ(body_attribute(page.out, "data-plots"), 3);
+    EXPECT_EQ(body_attribute(page.out, "data-plots-curves"), 4);
+    EXPECT_EQ(body_attribute(page.out, "data-plot-overlaps"), 0);
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace crex
