@@ -338,20 +338,25 @@ py::dict compare(const py::array_t<float, py::array::c_style | py::array::forcec
     test.rgb = rgb_of(test_array, test.width, test.height);
     ref.rgb = rgb_of(reference_array, ref.width, ref.height);
     if (test.width != ref.width || test.height != ref.height) throw std::invalid_argument("the images differ in size");
-    // Linear radiance, both seen through the reference's exposure (as `crex compare` sees EXRs).
-    const metrics::DisplayView view{true, display_exposure(ref.rgb)};
-    const metrics::Image td = metrics::display_view(test, view), rd = metrics::display_view(ref, view);
-    std::optional<std::vector<float>> flip;
-    py::dict out;
+    // Linear radiance, both seen through the reference's exposure, as `crex compare` sees EXRs
+    // (the same metrics::compare_images).
+    metrics::MetricChoice choice;
     for (const auto& m : wanted) {
-        if ((m == "flip" || m == "perr") && !flip) flip = metrics::flip_map(td, rd);
-        if (m == "rmse") out["rmse"] = metrics::rmse(test, ref);
-        else if (m == "relmse") out["relmse"] = metrics::relmse(test, ref);
-        else if (m == "ssim") out["ssim"] = metrics::ssim(td, rd) ? py::cast(*metrics::ssim(td, rd)) : py::none();
-        else if (m == "flip") out["flip"] = metrics::mean(*flip);
-        else if (m == "perr") out["perr"] = metrics::perr(*flip);
+        if (m == "rmse") choice.rmse = true;
+        else if (m == "relmse") choice.relmse = true;
+        else if (m == "ssim") choice.ssim = true;
+        else if (m == "flip") choice.flip = true;
+        else if (m == "perr") choice.perr = true;
         else throw std::invalid_argument("unknown metric '" + m + "': expected some of rmse, relmse, ssim, flip, perr");
     }
+    const metrics::ImageComparison c = metrics::compare_images(test, ref, {true, display_exposure(ref.rgb)}, choice);
+    py::dict out;
+    auto put = [&](const char* name, const std::optional<double>& v) { out[name] = v ? py::cast(*v) : py::none(); };
+    if (choice.rmse) put("rmse", c.rmse);
+    if (choice.relmse) put("relmse", c.relmse);
+    if (choice.ssim) put("ssim", c.ssim);
+    if (choice.flip) put("flip", c.flip);
+    if (choice.perr) put("perr", c.perr);
     return out;
 }
 

@@ -2,8 +2,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
-#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include <iostream>
@@ -13,38 +11,10 @@
 #include "apps/crex/cli_values.h"
 #include "apps/crex/commands.h"
 #include "base/exit_codes.h"
-#include "runtime/base/output_folder.h"
-#include "runtime/api/equal_time.h"
-#include "runtime/api/frame_sequence.h"
-#include "runtime/api/sequence_flicker.h"
-#include "runtime/io/heat_map.h"
-#include "runtime/io/image_io.h"
-#include "runtime/metrics/image_comparison.h"
-#include "runtime/metrics/metrics.h"
-#include "runtime/reference/windowed_image.h"
+#include "runtime/api/compare_files.h"
 
 namespace crex::app {
 namespace {
-
-// Where a viewer looks, as weights per pixel: the Itti-Koch saliency of the reference as
-// displayed, or a map from a file (a task map written by `crex run --maps`; its first channel).
-std::string attention_weights(const std::string& source, const metrics::Image& reference_display, std::vector<float>& weights) {
-    if (source == "saliency") {
-        weights = saliency_weights(reference_display);
-        return "";
-    }
-    int w = 0, h = 0;
-    bool ldr = false;
-    std::vector<float> rgb;
-    std::string error = read_image(source, w, h, rgb, &ldr);
-    if (!error.empty()) return error;
-    if (w != reference_display.width || h != reference_display.height)
-        return fmt::format("the attention map {} is {}x{} but the reference is {}x{}", source, w, h, reference_display.width,
-                           reference_display.height);
-    weights.resize(static_cast<size_t>(w) * static_cast<size_t>(h));
-    for (size_t i = 0; i < weights.size(); ++i) weights[i] = rgb[3 * i];
-    return "";
-}
 
 struct CompareOptions {
     std::string test, reference;
@@ -80,44 +50,7 @@ bool metric_choice(const CompareOptions& opt, metrics::MetricChoice& choice) {
     return true;
 }
 
-// Reads an image for comparison; "" or why not (NaN or Inf make every metric 'nan' and the
-// comparison say nothing, with exit 0: refused, exit 1).
-int read_for_comparison(const std::string& path, metrics::Image& img, bool& ldr) {
-    std::string error = read_image(path, img.width, img.height, img.rgb, &ldr);
-    if (!error.empty()) {
-        std::cerr << "crex compare: error: " << error << "\n";
-        return kExitFailure;
-    }
-    size_t bad = 0;
-    for (float v : img.rgb) bad += !std::isfinite(v);
-    if (bad > 0) {
-        std::cerr << fmt::format("crex compare: error: {} holds {} non-finite value{} (NaN or Inf): nothing to compare\n", path, bad,
-                                 bad == 1 ? "" : "s");
-        return kExitInputErrors;
-    }
-    return kExitOk;
-}
-
-// The metrics of `c` into `j` (as JSON keys), those asked for.
-void put_metrics(const metrics::ImageComparison& c, const metrics::MetricChoice& choice, nlohmann::json& j) {
-    if (choice.rmse && c.rmse) j["rmse"] = *c.rmse;
-    if (choice.relmse && c.relmse) j["relmse"] = *c.relmse;
-    if (choice.ssim) j["ssim"] = c.ssim ? nlohmann::json(*c.ssim) : nlohmann::json(nullptr);
-    if (choice.flip && c.flip) j["flip"] = *c.flip;
-    if (choice.perr && c.perr) {
-        j["perr"] = *c.perr;
-        j["perr_threshold"] = choice.perr_threshold;
-    }
-    if (c.aflip) j["aflip"] = *c.aflip;
-    const double mp = static_cast<double>(c.pixels) / 1e6;  // fireflies per megapixel: test, reference
-    if (c.test_fireflies && mp > 0) j["fireflies_per_mp"] = {static_cast<double>(*c.test_fireflies) / mp, static_cast<double>(*c.reference_fireflies) / mp};
-}
-
 int print_result(const CompareOptions& opt, const nlohmann::json& j, bool perceptual) {
-    if (opt.format == "json") {
-        std::cout << j.dump(2) << "\n";
-        return kExitOk;
-    }
     std::cout << fmt::format("{} against {} ({}x{})\n", opt.test, opt.reference, j["size"][0].get<int>(), j["size"][1].get<int>());
     if (j.contains("windows"))
         std::cout << fmt::format("  on {} windows of the {}x{} frame ({} pixels), {} spp\n", j["windows"].size(), j["frame"][0].get<int>(),
@@ -145,192 +78,12 @@ int print_result(const CompareOptions& opt, const nlohmann::json& j, bool percep
     return kExitOk;
 }
 
-int write_flip_map(const std::string& path, int width, int height, const std::vector<float>& flip) {
-    std::vector<double> values(flip.begin(), flip.end());
-    ImageLayer layer{"", heat_colours(values, 1.0), true};
-    std::string error = write_image(path, width, height, {layer});
-    if (!error.empty()) {
-        std::cerr << "crex compare: error: " << error << "\n";
-        return kExitFailure;
-    }
-    return kExitOk;
-}
-
-// Against a windowed reference (issue 32): the test image's pixels at the windows (an image
-// of the whole frame, or a windowed image with the same windows), each window compared as an
-// image of its own, all seen through the whole frame's exposure the reference recorded.
-int compare_on_windows(const CompareOptions& opt, const metrics::MetricChoice& choice, const ReferenceImage& ref) {
-    const ReferenceHeader& h = ref.header;
-    const WindowAtlas atlas(h.windows);
-    metrics::Image test;
-    bool test_ldr = false;
-    if (int status = read_for_comparison(opt.test, test, test_ldr); status != kExitOk) return status;
-    if (test_ldr) {
-        std::cerr << fmt::format("crex compare: error: {} is display-referred (8-bit), but the windowed reference {} holds linear radiance: "
-                                 "compare the render's linear image (.exr)\n", opt.test, opt.reference);
-        return kExitInputErrors;
-    }
-    std::vector<float> test_atlas;
-    std::optional<ReferenceImage> test_ref;
-    if (test.width == h.frame_width && test.height == h.frame_height) {
-        test_atlas = atlas.pack(test.rgb, test.width);
-    } else if (read_reference_image(opt.test, test_ref).empty() && test_ref && test_ref->header.windows == h.windows &&
-               test_ref->header.frame_width == h.frame_width && test_ref->header.frame_height == h.frame_height) {
-        test_atlas = test.rgb;
-    } else {
-        std::cerr << fmt::format("crex compare: error: {} is {}x{}, but the reference {} holds windows of a {}x{} frame: compare an image of "
-                                 "the whole frame (or a windowed reference with the same windows)\n",
-                                 opt.test, test.width, test.height, opt.reference, h.frame_width, h.frame_height);
-        return kExitInputErrors;
-    }
-    std::vector<float> weights;  // one a pixel of the atlas
-    if (opt.attention == "saliency") {
-        if (ref.attention.empty()) {
-            std::cerr << fmt::format("crex compare: error: the windowed reference {} holds no saliency of its frame (layer '{}'): "
-                                     "give the attention map as a file\n", opt.reference, kAttentionLayer);
-            return kExitInputErrors;
-        }
-        weights = ref.attention;
-    } else if (!opt.attention.empty()) {
-        int w = 0, hgt = 0;
-        std::vector<float> rgb;
-        if (std::string error = read_image(opt.attention, w, hgt, rgb); !error.empty()) {
-            std::cerr << "crex compare: error: " << error << "\n";
-            return kExitFailure;
-        }
-        if (w != h.frame_width || hgt != h.frame_height) {
-            std::cerr << fmt::format("crex compare: error: the attention map {} is {}x{} but the reference's frame is {}x{}\n", opt.attention, w,
-                                     hgt, h.frame_width, h.frame_height);
-            return kExitFailure;
-        }
-        std::vector<float> map(rgb.size() / 3);
-        for (size_t i = 0; i < map.size(); ++i) map[i] = rgb[3 * i];
-        weights = atlas.pack(map, w, 1);
-    }
-    const metrics::DisplayView view{true, opt.exposure > 0 ? opt.exposure : h.exposure > 0 ? h.exposure : display_exposure(ref.rgb)};
-    std::vector<metrics::ImageComparison> parts;
-    nlohmann::json windows = nlohmann::json::array();
-    std::vector<float> flip_atlas(static_cast<size_t>(atlas.width) * static_cast<size_t>(atlas.height), 0.0f);
-    for (size_t i = 0; i < h.windows.size(); ++i) {
-        const PixelWindow& w = h.windows[i];
-        const metrics::Image t{w.width, w.height, atlas.window(test_atlas, i)}, r{w.width, w.height, atlas.window(ref.rgb, i)};
-        const std::vector<float> wi = weights.empty() ? std::vector<float>{} : atlas.window(weights, i, 1);
-        parts.push_back(metrics::compare_images(t, r, view, choice, weights.empty() ? nullptr : &wi));
-        nlohmann::json one;
-        one["window"] = {w.x, w.y, w.width, w.height};
-        put_metrics(parts.back(), choice, one);
-        windows.push_back(one);
-        for (int y = 0; y < w.height && !parts.back().flip_map.empty(); ++y)
-            std::copy_n(parts.back().flip_map.begin() + static_cast<std::ptrdiff_t>(y) * w.width, w.width,
-                        flip_atlas.begin() + static_cast<std::ptrdiff_t>(y) * atlas.width + atlas.column[i]);
-    }
-    const metrics::ImageComparison all = metrics::combine(parts);
-    if (!weights.empty() && !all.aflip) {
-        std::cerr << fmt::format("crex compare: error: the attention map {} is zero at every window: nothing to weight by\n", opt.attention);
-        return kExitInputErrors;
-    }
-    nlohmann::json j;
-    j["test"] = opt.test;
-    j["reference"] = opt.reference;
-    j["size"] = {atlas.width, atlas.height};
-    j["frame"] = {h.frame_width, h.frame_height};
-    j["pixels"] = all.pixels;
-    j["reference_spp"] = h.spp;
-    j["display"] = fmt::format("HDR inputs tone-mapped with {} exposure {:.6g}, Reinhard, sRGB curve; each window compared as an image of its own",
-                               opt.exposure > 0 ? "the given" : "the whole frame's", view.exposure);
-    put_metrics(all, choice, j);
-    if (!opt.attention.empty()) j["attention"] = opt.attention;
-    j["windows"] = windows;
-    if (!opt.flip_out.empty()) {
-        if (int status = write_flip_map(opt.flip_out, atlas.width, atlas.height, flip_atlas); status != kExitOk) return status;
-        j["flip_map"] = opt.flip_out;
-    }
-    return print_result(opt, j, choice.ssim || choice.flip || choice.perr);
-}
-
-// Two sequences frame by frame (issue 36): TEST and REFERENCE as `crex run -o` names them
-// (walk.exr: walk.0000.exr, ...). Every frame of the range must be in the test sequence; a
-// reference may hold some (a frame every tenth): the others have no error. With --flicker,
-// each sequence's flicker from frame to frame, traced from the frames' own headers.
-int compare_frames(const CompareOptions& opt, const metrics::MetricChoice& choice) {
-    FrameRange range;
-    if (std::string error = parse_frame_range(opt.frames, range); !error.empty()) {
-        std::cerr << fmt::format("crex compare: error: --frames {}: {}\n", opt.frames, error);
-        return kExitUsage;
-    }
-    std::vector<int64_t> frames = range.frames(), with_reference;
-    std::vector<std::string> tests, references;
-    for (int64_t f : frames) {
-        tests.push_back(frame_file_name(opt.test, f));
-        if (!std::filesystem::exists(tests.back())) {
-            std::cerr << fmt::format("crex compare: error: frame {} of the test sequence, {}, does not exist\n", f, tests.back());
-            return kExitFailure;
-        }
-        if (std::filesystem::exists(frame_file_name(opt.reference, f))) {
-            with_reference.push_back(f);
-            references.push_back(frame_file_name(opt.reference, f));
-        }
-    }
-    if (references.empty() && !opt.flicker) {
-        std::cerr << fmt::format("crex compare: error: no frame of {} .. {} has a reference ({} ...): nothing to compare\n", tests.front(),
-                                 tests.back(), frame_file_name(opt.reference, frames.front()));
-        return kExitFailure;
-    }
-    nlohmann::json list = nlohmann::json::array(), sums = nlohmann::json::object();
-    size_t scored = 0;
-    for (size_t i = 0; i < frames.size(); ++i) {
-        nlohmann::json one = {{"frame", frames[i]}, {"test", tests[i]}};
-        const auto r = std::find(with_reference.begin(), with_reference.end(), frames[i]);
-        if (r != with_reference.end()) {
-            const std::string& ref_path = references[static_cast<size_t>(r - with_reference.begin())];
-            metrics::Image test, ref;
-            bool test_ldr = false, ref_ldr = false;
-            if (int status = read_for_comparison(tests[i], test, test_ldr); status != kExitOk) return status;
-            if (int status = read_for_comparison(ref_path, ref, ref_ldr); status != kExitOk) return status;
-            if (test.width != ref.width || test.height != ref.height || test_ldr != ref_ldr) {
-                std::cerr << fmt::format("crex compare: error: frame {}: {} is {}x{}{} but {} is {}x{}{}\n", frames[i], tests[i], test.width,
-                                         test.height, test_ldr ? " (8-bit)" : "", ref_path, ref.width, ref.height, ref_ldr ? " (8-bit)" : "");
-                return kExitInputErrors;
-            }
-            const metrics::DisplayView view{!(test_ldr && ref_ldr), opt.exposure > 0 ? opt.exposure : display_exposure(ref.rgb)};
-            one["reference"] = ref_path;
-            put_metrics(metrics::compare_images(test, ref, view, choice, nullptr), choice, one);
-            for (auto& [key, value] : one.items())
-                if (value.is_number() && key != "frame" && key != "perr_threshold") sums[key] = sums.value(key, 0.0) + value.get<double>();
-            ++scored;
-        }
-        list.push_back(std::move(one));
-    }
-    nlohmann::json j = {{"test", opt.test}, {"reference", opt.reference}, {"frames", list}, {"scored", scored}};
-    nlohmann::json mean = nlohmann::json::object();
-    for (auto& [key, value] : sums.items()) mean[key] = value.get<double>() / static_cast<double>(scored);
-    j["mean"] = mean;
-    if (opt.flicker) {
-        nlohmann::json flicker;
-        for (const bool of_reference : {false, true}) {
-            SequenceFlicker seq;
-            const std::vector<int64_t>& numbers = of_reference ? with_reference : frames;
-            if (std::string error = sequence_flicker(of_reference ? references : tests, numbers, opt.flicker_scene, seq); !error.empty()) {
-                std::cerr << fmt::format("crex compare: error: --flicker: {}\n", error);
-                return kExitInputErrors;
-            }
-            double sum = 0;
-            size_t measured = 0;
-            for (size_t i = 0; i < seq.frames.size(); ++i) {
-                if (!seq.frames[i]) continue;
-                sum += seq.frames[i]->difference, ++measured;
-                if (!of_reference) j["frames"][i]["flicker"] = {{"display_difference", seq.frames[i]->difference}, {"matched", seq.frames[i]->matched}};
-            }
-            if (measured) flicker[of_reference ? "reference" : "test"] = {{"mean", sum / static_cast<double>(measured)}, {"frames", measured}};
-            flicker["scene"] = seq.scene;
-        }
-        j["flicker"] = flicker;
-    }
-    if (opt.format == "json") {
-        std::cout << j.dump(2) << "\n";
-        return kExitOk;
-    }
-    std::cout << fmt::format("{} against {}, frames {}..{}: {} with a reference\n", opt.test, opt.reference, frames.front(), frames.back(), scored);
+// Two sequences frame by frame: a row per frame, the means, each sequence's flicker.
+int print_frames(const CompareOptions& opt, const nlohmann::json& j) {
+    const auto& frames = j["frames"];
+    const auto& mean = j["mean"];
+    std::cout << fmt::format("{} against {}, frames {}..{}: {} with a reference\n", opt.test, opt.reference, frames.front()["frame"].get<int64_t>(),
+                             frames.back()["frame"].get<int64_t>(), j["scored"].get<size_t>());
     std::vector<std::string> keys;
     for (const char* k : {"rmse", "relmse", "ssim", "flip", "perr"})
         if (mean.contains(k)) keys.push_back(k);
@@ -338,7 +91,7 @@ int compare_frames(const CompareOptions& opt, const metrics::MetricChoice& choic
     for (const auto& k : keys) head += fmt::format(" {:>10}", k);
     if (opt.flicker) head += fmt::format(" {:>10}", "flicker");
     std::cout << head << "\n";
-    for (const auto& one : j["frames"]) {
+    for (const auto& one : frames) {
         std::string line = fmt::format("  {:5d}", one["frame"].get<int64_t>());
         for (const auto& k : keys) line += one.contains(k) ? fmt::format(" {:>10.6f}", one[k].get<double>()) : fmt::format(" {:>10}", "-");
         if (opt.flicker)
@@ -359,8 +112,9 @@ int compare_frames(const CompareOptions& opt, const metrics::MetricChoice& choic
 }
 
 int compare(const CompareOptions& opt) {
-    metrics::MetricChoice choice;
-    if (!metric_choice(opt, choice)) return kExitUsage;
+    CompareRequest request{opt.test, opt.reference, {}, opt.attention, opt.flip_out, opt.exposure, opt.assume_display, std::nullopt,
+                           opt.flicker, opt.flicker_scene};
+    if (!metric_choice(opt, request.choice)) return kExitUsage;
     if (opt.frames.empty() && (opt.flicker || !opt.flicker_scene.empty())) {
         std::cerr << "crex compare: error: --flicker is for sequences: give --frames A..B\n";
         return kExitUsage;
@@ -370,79 +124,23 @@ int compare(const CompareOptions& opt) {
             std::cerr << "crex compare: error: --frames compares sequences: --flip-map, --attention and --assume-display are for one image\n";
             return kExitUsage;
         }
-        return compare_frames(opt, choice);
-    }
-    if (std::string missing = opt.flip_out.empty() ? "" : missing_output_folder(opt.flip_out); !missing.empty()) {
-        std::cerr << "crex compare: error: " << missing << "\n";  // before the work, as crex run says it
-        return kExitFailure;
-    }
-    {
-        std::optional<ReferenceImage> windowed;
-        if (std::string error = read_reference_image(opt.reference, windowed); !error.empty() && error.find("header") != std::string::npos) {
-            std::cerr << "crex compare: error: " << error << "\n";
-            return kExitInputErrors;
-        }
-        if (windowed && !windowed->header.whole_frame()) return compare_on_windows(opt, choice, *windowed);
-    }
-    metrics::Image test, ref;
-    bool test_ldr = false, ref_ldr = false;
-    if (int status = read_for_comparison(opt.test, test, test_ldr); status != kExitOk) return status;
-    if (int status = read_for_comparison(opt.reference, ref, ref_ldr); status != kExitOk) return status;
-    if (test.width != ref.width || test.height != ref.height) {
-        std::cerr << fmt::format("crex compare: error: {} is {}x{} but the reference {} is {}x{}\n", opt.test, test.width, test.height,
-                                 opt.reference, ref.width, ref.height);
-        return kExitInputErrors;
-    }
-    // A tone-mapped picture (PNG) and linear radiance (EXR) hold different things: comparing
-    // them as they are tone-mapped the PNG a second time (perr 99.9 % for the same render).
-    std::string display_note;
-    if (test_ldr != ref_ldr) {
-        const std::string& ldr = test_ldr ? opt.test : opt.reference;
-        const std::string& hdr = test_ldr ? opt.reference : opt.test;
-        if (!opt.assume_display) {
-            std::cerr << fmt::format("crex compare: error: {} is display-referred (8-bit, already tone-mapped) but {} holds linear "
-                                     "radiance: their values mean different things\n  = help: compare two linear files (.exr), or "
-                                     "pass --assume-display to tone-map {} as crex writes PNGs and compare what a viewer sees\n",
-                                     ldr, hdr, hdr);
-            return kExitInputErrors;
-        }
-        // The linear one as crex would have written it as a PNG (its own exposure), kept as
-        // linearised sRGB like an 8-bit file read back; then both are compared as stored.
-        metrics::Image& lin = test_ldr ? ref : test;
-        for (float& v : lin.rgb = to_display(lin.rgb, display_exposure(lin.rgb))) {
-            double d = std::clamp(static_cast<double>(v), 0.0, 1.0);
-            v = static_cast<float>(d <= 0.04045 ? d / 12.92 : std::pow((d + 0.055) / 1.055, 2.4));
-        }
-        test_ldr = ref_ldr = true;
-        display_note = fmt::format("{} tone-mapped as crex writes PNGs (--assume-display), then both as stored (sRGB)", hdr);
-    }
-    // HDR if both images are: both are then seen through the reference's exposure (or --exposure).
-    metrics::DisplayView view{!(test_ldr && ref_ldr), opt.exposure > 0 ? opt.exposure : display_exposure(ref.rgb)};
-    std::vector<float> weights;
-    if (!opt.attention.empty()) {
-        std::string error = attention_weights(opt.attention, metrics::display_view(ref, view), weights);
-        if (!error.empty()) {
-            std::cerr << "crex compare: error: " << error << "\n";
-            return kExitFailure;
+        request.frames.emplace();
+        if (std::string error = parse_frame_range(opt.frames, *request.frames); !error.empty()) {
+            std::cerr << fmt::format("crex compare: error: --frames {}: {}\n", opt.frames, error);
+            return kExitUsage;
         }
     }
-    const metrics::ImageComparison c = metrics::compare_images(test, ref, view, choice, opt.attention.empty() ? nullptr : &weights);
-    if (!opt.attention.empty() && !c.aflip) {
-        std::cerr << fmt::format("crex compare: error: the attention map {} is zero everywhere: nothing to weight by\n", opt.attention);
-        return kExitInputErrors;
+    const CompareOutcome out = compare_files(request);
+    if (out.status != kExitOk) {
+        std::cerr << "crex compare: error: " << out.error << (out.error.empty() || out.error.back() != '\n' ? "\n" : "");
+        return out.status;
     }
-    nlohmann::json j;
-    j["test"] = opt.test;
-    j["reference"] = opt.reference;
-    j["size"] = {ref.width, ref.height};
-    j["display"] = display_note.empty() ? view.describe() : display_note;
-    put_metrics(c, choice, j);
-    if (!opt.attention.empty()) j["attention"] = opt.attention;
-    if (!opt.flip_out.empty()) {
-        if (int status = write_flip_map(opt.flip_out, ref.width, ref.height, c.flip_map); status != kExitOk) return status;
-        j["flip_map"] = opt.flip_out;
+    if (opt.format == "json") {
+        std::cout << out.result.dump(2) << "\n";
+        return kExitOk;
     }
-    return print_result(opt, j, choice.ssim || choice.flip || choice.perr);
+    if (request.frames) return print_frames(opt, out.result);
+    return print_result(opt, out.result, request.choice.ssim || request.choice.flip || request.choice.perr);
 }
 
 }  // namespace
