@@ -33,8 +33,16 @@ std::vector<float> RunResult::aov_image(size_t aov) const {
     return rgb;
 }
 
-void RunResult::fill_unsampled_preview(std::vector<float>& values) const {
-    if (preview_grid) preview_grid->fill_unsampled(values, [this](uint32_t p) { return film.samples(p) > 0; });
+std::vector<uint8_t> RunResult::sampled_pixels() const {
+    std::vector<uint8_t> sampled(film.pixel_count());
+    for (uint32_t p = 0; p < sampled.size(); ++p) sampled[p] = film.samples(p) > 0;
+    return sampled;
+}
+
+void RunResult::fill_unsampled_preview(std::vector<float>& values, const SubsampleGrid::Fill* fill) const {
+    if (!preview_grid) return;
+    if (fill) SubsampleGrid::apply(*fill, values);
+    else preview_grid->fill_unsampled(values, sampled_pixels());
 }
 
 }  // namespace crex

@@ -88,7 +88,10 @@ struct RunResult {
     /// One AOV of the final image, interpolated like it.
     std::vector<float> aov_image(size_t aov) const;
     /// A strided preview's pixels that no stage rendered, interpolated (any floats per pixel).
-    void fill_unsampled_preview(std::vector<float>& values) const;
+    /// `fill`: preview_grid's unsampled_fill(sampled_pixels()), made once for many buffers.
+    void fill_unsampled_preview(std::vector<float>& values, const SubsampleGrid::Fill* fill = nullptr) const;
+    /// 1 for each pixel with a sample.
+    std::vector<uint8_t> sampled_pixels() const;
 };
 
 }  // namespace crex

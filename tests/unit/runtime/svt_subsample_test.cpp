@@ -46,6 +46,41 @@ TEST(Subsample, UniformSpacingRendersTheLatticeAndInterpolatesLinearImagesExactl
     for (size_t i = 0; i < rgb.size(); ++i) EXPECT_NEAR(filled[i], rgb[i], 1e-4) << i;
 }
 
+// A strided preview's pixels without samples (issue 34): a linear image is rebuilt exactly from
+// the corners that have samples, in every channel; a corner without samples is left out and
+// the others' weights renormalised; a pixel none of whose corners has samples keeps its value;
+// the weights made once give the same on a second buffer.
+TEST(Subsample, UnsampledPixelsTakeTheirSampledCornersOnce) {
+    const int w = 17, h = 9;
+    SubsampleGrid grid(w, h, std::vector<double>(static_cast<size_t>(w * h), 8.0));
+    std::vector<uint8_t> sampled(static_cast<size_t>(w * h), 0);
+    for (uint32_t p = 0; p < sampled.size(); ++p) sampled[p] = grid.rendered(p);
+    std::vector<float> two(sampled.size() * 2, -1.0f);  // two channels: 2x + y and 7
+    for (uint32_t p = 0; p < sampled.size(); ++p)
+        if (sampled[p]) two[2 * p] = static_cast<float>(2 * (p % w) + p / w), two[2 * p + 1] = 7.0f;
+    const SubsampleGrid::Fill fill = grid.unsampled_fill(sampled);
+    std::vector<float> again = two;
+    SubsampleGrid::apply(fill, two);
+    for (uint32_t p = 0; p < sampled.size(); ++p) {
+        EXPECT_NEAR(two[2 * p], 2.0 * (p % w) + p / w, 1e-4) << p;
+        EXPECT_NEAR(two[2 * p + 1], 7.0, 1e-5) << p;
+    }
+    grid.fill_unsampled(again, sampled);
+    EXPECT_EQ(again, two);
+    // The corner (8, 8) without samples: (4, 8) on the bottom edge between (0, 8) and (8, 8)
+    // takes (0, 8) alone; with none of its corners sampled, (12, 4) keeps its value.
+    std::vector<uint8_t> fewer = sampled;
+    const auto at = [&](int x, int y) { return static_cast<size_t>(y * w + x); };
+    for (int x : {8, 16})
+        for (int y : {0, 8}) fewer[at(x, y)] = 0;
+    fewer[at(8, 8)] = 0;
+    std::vector<float> one(sampled.size(), 5.0f);
+    one[at(0, 8)] = 3.0f;
+    grid.fill_unsampled(one, fewer);
+    EXPECT_FLOAT_EQ(one[at(4, 8)], 3.0f);
+    EXPECT_FLOAT_EQ(one[at(12, 4)], 5.0f);
+}
+
 TEST(Subsample, SquaresSplitWhereAPixelAsksForFinerSpacing) {
     const int w = 17, h = 17;
     std::vector<double> spacing(w * h, 8);
