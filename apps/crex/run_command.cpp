@@ -102,7 +102,6 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
         o.budget = budget;
     }
     o.no_budget = f.no_budget;
-    if (!f.policy.empty()) o.policy = pipeline::scheduling_policy_from_name(f.policy);
     if (f.rounds) o.rounds = f.rounds;
     if (f.preview_stride) o.preview_stride = f.preview_stride;
     o.budget_floor_ok = f.budget_floor == "ok";
@@ -154,13 +153,6 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
         }
     }
     r.sequence.high_quality_without_distractors = f.high_quality_without_distractors;
-    if (!f.video.empty()) {  // before anything renders: a video that cannot be made is said now
-        if (std::string error = check_video_path(f.video); !error.empty()) return usage("--video " + error);
-        if (find_video_encoder().empty())
-            return usage("--video needs ffmpeg, which is not installed (Debian package ffmpeg); the frames alone need no --video");
-        if (std::string missing = missing_output_folder(f.video); !missing.empty()) return usage("--video: " + missing);
-        r.video = f.video;
-    }
     if (!f.sequence_budget.empty()) {
         // The driver is set up as for a budget of the whole (coarse-to-fine previews, the
         // policy); each frame's own is set as the sequence goes (frame_sequence.h).
@@ -178,6 +170,15 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
         FrameRange range;
         if (std::string error = parse_frame_range(f.frames, range); !error.empty()) return usage(fmt::format("--frames {}: {}", f.frames, error));
         r.frames = range;
+    }
+    // Checked after every value is parsed (cli_values.h), so that the flags pass each file once.
+    if (!f.policy.empty()) o.policy = pipeline::scheduling_policy_from_name(f.policy);
+    if (!f.video.empty()) {  // before anything renders: a video that cannot be made is said now
+        if (std::string error = check_video_path(f.video); !error.empty()) return usage("--video " + error);
+        if (find_video_encoder().empty())
+            return usage("--video needs ffmpeg, which is not installed (Debian package ffmpeg); the frames alone need no --video");
+        if (std::string missing = missing_output_folder(f.video); !missing.empty()) return usage("--video: " + missing);
+        r.video = f.video;
     }
     r.sequence.fps = f.fps;
     r.sequence.force = f.force;
