@@ -22,6 +22,14 @@ int body_attribute(const std::string& dom, const std::string& name) {
     return std::stoi(m[1]);
 }
 
+// The page's DOM after its script ran, as headless Chromium leaves it (profile under `dir`).
+testing::CommandResult dump_dom(const fs::path& dir, const fs::path& page) {
+    return testing::run_command({"/usr/bin/chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                                 "--user-data-dir=" + (dir / "chromium").string(), "--virtual-time-budget=10000", "--dump-dom",
+                                 "file://" + page.string()});
+}
+
 TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
     ASSERT_TRUE(fs::exists("/usr/bin/chromium")) << "the page test needs Debian's chromium (tools/debian-packages.txt)";
     fs::path dir = fs::temp_directory_path() / ("crex_page_" + std::to_string(::getpid()));
@@ -32,10 +40,7 @@ TEST(ReportPage, OpensInChromiumWithEveryImageAndAFallingPlot) {
                                   (dir / "r.exr").string(), "--reference", "auto", "--report", (dir / "report").string(),
                                   "--maps", (dir / "maps").string(), "-q"});
     ASSERT_EQ(run.exit_code, 0) << run.err;
-    auto page = testing::run_command({"/usr/bin/chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                                      "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                                      "--user-data-dir=" + (dir / "chromium").string(), "--virtual-time-budget=10000", "--dump-dom",
-                                      "file://" + (dir / "report" / "index.html").string()});
+    auto page = dump_dom(dir, dir / "report" / "index.html");
     ASSERT_EQ(page.exit_code, 0) << page.err;
     EXPECT_NE(page.out.find("data-ready=\"yes\""), std::string::npos) << page.out.substr(0, 400);
     int total = body_attribute(page.out, "data-images-total"), loaded = body_attribute(page.out, "data-images-loaded");
@@ -72,10 +77,7 @@ TEST(ReportPage, ASequencesPageShowsItsFramesAndPlots) {
                                   "--spp", "2", "--camera-path", (dir / "walk.json").string(), "--frames", "0..4", "-o",
                                   (dir / "w.png").string(), "--report", (dir / "report").string(), "-q"});
     ASSERT_EQ(run.exit_code, 0) << run.err;
-    auto page = testing::run_command({"/usr/bin/chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                                      "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                                      "--user-data-dir=" + (dir / "chromium").string(), "--virtual-time-budget=10000", "--dump-dom",
-                                      "file://" + (dir / "report" / "index.html").string()});
+    auto page = dump_dom(dir, dir / "report" / "index.html");
     ASSERT_EQ(page.exit_code, 0) << page.err;
     EXPECT_NE(page.out.find("data-ready=\"yes\""), std::string::npos) << page.out.substr(0, 400);
     EXPECT_EQ(body_attribute(page.out, "data-images-total"), 5);
