@@ -155,3 +155,22 @@ TEST(SceneRadianceDegeneracy, ADegenerateEmitterPolygonIsDroppedNotFatal) {
 
 }  // namespace
 }  // namespace crex
+
+namespace crex {
+namespace {
+
+// W308's test for a polygon its triangles cover only in part: a wall a few millimetres out of
+// its plane (the published Cornell box's red wall: x from 549.6 to 556 mm over a 559 x 549 mm
+// wall) is covered whole; a bow tie crossing itself is not.
+TEST(PolygonCover, AWallSlightlyOutOfItsPlaneIsCoveredWholeABowTieIsNot) {
+    Shape wall;
+    wall.type = ShapeType::kPolygon;
+    wall.vertices = {{552.8, 0, 0}, {549.6, 0, 559.2}, {556, 548.8, 559.2}, {556, 548.8, 0}};
+    EXPECT_TRUE(polygon_fully_triangulated(wall));
+    Shape bow = wall;
+    bow.vertices = {{0, 0, 0}, {2, 2, 0}, {2, 0, 0}, {0, 1, 0}};
+    EXPECT_FALSE(polygon_fully_triangulated(bow));
+}
+
+}  // namespace
+}  // namespace crex
