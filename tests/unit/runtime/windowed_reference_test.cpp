@@ -120,13 +120,14 @@ TEST(ReferenceWindows, TheRuleCoversEveryKindTheRoomHas) {
     EXPECT_GT(pixels_of(by_kind["distractor"], [](const Tag& t) { return t.distractor; }), 10u);
 }
 
-// Every reference committed under bench/refs/ was rendered from its scene as it is now: the
-// hash of the scene's content it records still matches (a changed scene makes it stale).
+// Every reference committed under bench/refs/ (windows of the frame-size tables) and
+// bench/peer/refs/ (the peer comparison's, docs/peer.md) was rendered from its scene as it is
+// now: the hash of the scene's content it records still matches (a changed scene makes it stale).
 TEST(CommittedReferences, EachStillMatchesItsScenesHash) {
     namespace fs = std::filesystem;
-    const fs::path dir = fs::path(CREX_SOURCE_DIR) / "bench/refs";
     size_t checked = 0;
-    for (const auto& entry : fs::directory_iterator(dir)) {
+    for (const char* folder : {"bench/refs", "bench/peer/refs"})
+    for (const auto& entry : fs::directory_iterator(fs::path(CREX_SOURCE_DIR) / folder)) {
         if (entry.path().extension() != ".exr") continue;
         int w = 0, h = 0;
         ImageMetadata metadata;
@@ -148,7 +149,7 @@ TEST(CommittedReferences, EachStillMatchesItsScenesHash) {
         ++checked;
     }
     // None committed yet: say so rather than pass silently.
-    if (checked == 0) GTEST_SKIP() << "no reference committed under " << dir << " yet";
+    if (checked == 0) GTEST_SKIP() << "no reference committed under bench/refs or bench/peer/refs yet";
 }
 
 }  // namespace
