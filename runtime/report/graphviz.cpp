@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <iostream>
 #include <vector>
 
@@ -76,6 +78,17 @@ std::string draw_graph(const std::string& dot_text, const std::string& format, c
     }
     fs::remove(input, ec);
     return error;
+}
+
+std::string write_plan_files(const std::string& dot_text, const std::string& dir, std::string& svg) {
+    svg.clear();
+    const std::filesystem::path folder(dir);
+    if (std::string error = write_file_atomically((folder / "plan.dot").string(), dot_text); !error.empty()) return error;
+    const std::string drawn = (folder / "plan.svg").string();
+    if (!draw_graph(dot_text, "svg", drawn).empty()) return "";
+    std::ifstream in(drawn, std::ios::binary);
+    svg.assign(std::istreambuf_iterator<char>(in), {});
+    return "";
 }
 
 }  // namespace crex

@@ -14,4 +14,9 @@ namespace crex {
 /// installed (said with the package to install), or what it said on failing.
 std::string draw_graph(const std::string& dot_text, const std::string& format, const std::string& output_path);
 
+/// A report's plan: `dot_text` written to DIR/plan.dot and drawn to DIR/plan.svg. Returns ""
+/// or why plan.dot could not be written; `svg` gets the drawing, or "" when Graphviz could not
+/// draw it (the page then shows the DOT text).
+std::string write_plan_files(const std::string& dot_text, const std::string& dir, std::string& svg);
+
 }  // namespace crex

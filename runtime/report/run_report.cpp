@@ -20,13 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 std::string safe_name(std::string s) {
     for (char& c : s)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
@@ -155,9 +148,7 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
 
     // The plan, drawn by Graphviz when it is installed.
     page.plan_dot = r.plan_dot;
-    std::string dot = (fs::path(r.dir) / "plan.dot").string(), svg = (fs::path(r.dir) / "plan.svg").string();
-    if (std::string e = write_file_atomically(dot, r.plan_dot); !e.empty()) return e;
-    if (draw_graph(r.plan_dot, "svg", svg).empty()) page.plan_svg = read_file(svg);  // else the page shows the DOT text
+    if (std::string e = write_plan_files(r.plan_dot, r.dir, page.plan_svg); !e.empty()) return e;  // no drawing: the page shows the DOT
 
     // Summary rows.
     auto row = [&](const std::string& k, const std::string& v) { page.summary.push_back({k, v}); };

@@ -222,17 +222,9 @@ std::string write_sequence_report(const SequenceReport& r) {
     }
     html += "</table>\n";
     if (!r.plan_dot.empty()) {
-        const std::string dot = (dir / "plan.dot").string(), svg = (dir / "plan.svg").string();
-        if (std::string e = write_file_atomically(dot, r.plan_dot); !e.empty()) return e;
-        html += "<h2>Plan</h2>\n<div class=\"plan\">\n";
-        if (draw_graph(r.plan_dot, "svg", svg).empty()) {
-            std::ifstream in(svg, std::ios::binary);
-            std::stringstream text;
-            text << in.rdbuf();
-            html += inline_svg(text.str());
-        } else {
-            html += "<pre>" + html_escape(r.plan_dot) + "</pre>\n";
-        }
+        std::string svg;
+        if (std::string e = write_plan_files(r.plan_dot, r.dir, svg); !e.empty()) return e;
+        html += "<h2>Plan</h2>\n<div class=\"plan\">\n" + (svg.empty() ? "<pre>" + html_escape(r.plan_dot) + "</pre>\n" : inline_svg(svg));
         html += "</div>\n";
     }
     html += "</body>\n</html>\n";
