@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "runtime/render/camera_samples.h"
 
 namespace crex {
@@ -12,18 +15,23 @@ namespace {
 
 // ambient += av x the throughput left unexecuted per pixel (RGB).
 void add_stand_in(const std::vector<float>& left, const Vec3& av, std::vector<double>& ambient) {
-    for (size_t i = 0; i < left.size() && i < ambient.size(); ++i) ambient[i] += (i % 3 == 0 ? av.x : i % 3 == 1 ? av.y : av.z) * left[i];
+    // Every pixel its own sum, so threads change no bit; at the end of a render this is on
+    // the budget's clock.
+    const size_t pixels = std::min(left.size(), ambient.size()) / 3;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 13), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = 3 * r.begin(); i < 3 * r.end(); i += 3) {
+            ambient[i] += av.x * left[i];
+            ambient[i + 1] += av.y * left[i + 1];
+            ambient[i + 2] += av.z * left[i + 2];
+        }
+    });
 }
 
-// What the executed rays of component c found in pixels [p0, p1) (sample-summed RGB).
+// What the executed rays of component c found in pixels [p0, p1) (sample-summed RGB). The
+// film's sums as they are: dividing each pixel by its count and multiplying back was most of
+// a short render's end (6 ms at 384x288).
 Vec3 found_by(const Film& film, size_t c, size_t p0, size_t p1) {
-    const size_t aov = aov_of(static_cast<Component>(c));
-    double found[3] = {0, 0, 0};
-    for (size_t p = p0; p < p1; ++p) {
-        Vec3 v = film.pixel_value(aov, static_cast<uint32_t>(p)) * double(film.samples(static_cast<uint32_t>(p)));
-        found[0] += v.x, found[1] += v.y, found[2] += v.z;
-    }
-    return {found[0], found[1], found[2]};
+    return film.aov_total(aov_of(static_cast<Component>(c)), static_cast<uint32_t>(p0), static_cast<uint32_t>(p1));
 }
 
 }  // namespace

@@ -111,10 +111,9 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
             const SubsampleGrid::Fill fill = out.preview_grid->unsampled_fill(out.sampled_pixels());
             for (auto& [name, buffer] : in.buffers) out.fill_unsampled_preview(buffer, &fill);
         }
-        PixelProbe probe;
-        if (needs_probe(plan)) {
-            probe = probe_pixels(ctx.render_scene, w, h);
-            in.probe = &probe;
+        if (needs_probe(plan)) {  // the camera does not move between rounds: probed once a run
+            if (!surfaces) surfaces = probe_pixels(ctx.render_scene, w, h);
+            in.probe = &*surfaces;
         }
         graph.emplace(plan, std::move(in));
         out.maps.clear();  // a later round's maps replace the earlier ones
@@ -169,8 +168,8 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
                 out.subsample.emplace(w, h, variable_values(var.from, var.to, var.modulation, m, true));
                 break;
             }
-            if (!surfaces) {  // capict: which corners see a pixel's surface, probed once
-                surfaces = probe_pixels(ctx.render_scene, w, h);
+            if (!out.component_subsample.has_surfaces()) {  // capict: which corners see a pixel's surface
+                if (!surfaces) surfaces = probe_pixels(ctx.render_scene, w, h);
                 out.component_subsample.set_surfaces(*surfaces);
             }
             out.component_subsample.build(*var.component, w, h, variable_values(var.from, var.to, var.modulation, m, true), film);

@@ -48,7 +48,8 @@ struct GuidanceContext {
 
 /// The maps of `ctx.plan` on `image` (with `stand_ins`, the per-pixel ambient stand-ins that go
 /// with it, sample-summed) and the svt's values. Records the maps, the sub-sampling grids and
-/// what it did not execute (notes) in `out`; `surfaces`: capict's pixel probe, made once.
+/// what it did not execute (notes) in `out`; `surfaces`: what each pixel centre sees (the
+/// task and distractor maps', capict's), probed the first time a round needs it.
 SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>& image, const std::vector<double>& stand_ins,
                             RunResult& out, std::optional<PixelProbe>& surfaces);
 

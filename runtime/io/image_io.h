@@ -75,6 +75,8 @@ std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
 /// image, and linear RGB to display values in [0, 1] (Reinhard, then the sRGB curve).
 double display_exposure(const std::vector<float>& rgb);
 std::vector<float> to_display(const std::vector<float>& rgb, double exposure);
+/// The same on `count` values, for callers that split an image between threads.
+void to_display(const float* rgb, float* out, size_t count, double exposure);
 /// An image as read_image() gave it, as a viewer sees it (display values in [0, 1]): an 8-bit
 /// file (`ldr`: read_image linearised it) as stored, linear radiance through to_display() with
 /// `exposure`, which is set from this image when not above 0, so that the frames of a sequence

@@ -28,13 +28,17 @@ double display_exposure(const std::vector<float>& rgb) {
     return 0.18 / std::fmax(log_avg, 1e-12);
 }
 
-std::vector<float> to_display(const std::vector<float>& rgb, double exposure) {
-    std::vector<float> out(rgb.size());
-    for (size_t i = 0; i < rgb.size(); ++i) {
+void to_display(const float* rgb, float* out, size_t count, double exposure) {
+    for (size_t i = 0; i < count; ++i) {
         double v = std::isfinite(rgb[i]) ? std::fmax(rgb[i] * exposure, 0.0) : 0.0;
         v = v / (1 + v);  // Reinhard: keeps highlights from clipping hard
         out[i] = static_cast<float>(srgb_encode(v));
     }
+}
+
+std::vector<float> to_display(const std::vector<float>& rgb, double exposure) {
+    std::vector<float> out(rgb.size());
+    to_display(rgb.data(), out.data(), rgb.size(), exposure);
     return out;
 }
 

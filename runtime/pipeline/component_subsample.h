@@ -30,6 +30,7 @@ public:
     /// What each pixel centre sees (shape, normal, distance), for which corners a pixel may
     /// take light from. Without it, any corner of its square.
     void set_surfaces(const PixelProbe& probe);
+    bool has_surfaces() const { return !surfaces_.shape.empty(); }
     /// Component c's grid from the spacing each pixel asks for. A pixel where the preview (in
     /// `film`) spawned rays into c but no corner of its square on its surface did has nothing
     /// to interpolate from: its square is split until the pixel is a corner.

@@ -7,6 +7,10 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "base/check.h"
 #include "runtime/io/image_io.h"
 #include "runtime/pipeline/svt.h"
 #include "stdlib/guidance/filters.h"
@@ -27,7 +31,12 @@ GuidanceGraph::GuidanceGraph(const PipelinePlan& plan, GuidanceInputs inputs) : 
 
 Raster GuidanceGraph::display(const std::vector<float>& linear) const {
     Raster r(in_.width, in_.height, 3);
-    r.v = to_display(linear, exposure_);
+    // In parallel: the sRGB curve's pow was a third of a small pipeline's guidance (7.5 ms of
+    // 24 at 384x288). Each value is its own, so the split changes no bit.
+    CREX_CHECK_EQ(linear.size(), r.v.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, linear.size(), 1 << 14), [&](const tbb::blocked_range<size_t>& b) {
+        to_display(linear.data() + b.begin(), r.v.data() + b.begin(), b.size(), exposure_);
+    });
     return r;
 }
 

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "runtime/trace/trace_batch.h"
 
 namespace crex {
@@ -20,51 +23,59 @@ RTCRayHit make_ray(const Vec3& o, const Vec3& d, unsigned id) {
 PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mirror_bounces) {
     PixelProbe probe;
     probe.width = width, probe.height = height;
-    size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+    const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
     probe.shape.assign(n, -1);
     probe.detected.assign(n, -1);
     probe.distance.assign(n, std::numeric_limits<float>::infinity());
     probe.normal.assign(n, Vec3{});
-    CameraRays camera(scene.scene.camera, width, height, scene.embree->origin_offset());
-    std::vector<Vec3> origin(n), dir(n);
-    std::vector<size_t> active;
-    active.reserve(n);
-    for (size_t p = 0; p < n; ++p) {
-        // A pixel outside a fisheye's circle sees nothing.
-        if (camera.generate(static_cast<double>(p % static_cast<size_t>(width)) + 0.5,
-                            static_cast<double>(p / static_cast<size_t>(width)) + 0.5, origin[p], dir[p]))
-            active.push_back(p);
-    }
-    for (int bounce = 0; bounce <= mirror_bounces && !active.empty(); ++bounce) {
-        std::vector<RTCRayHit> batch(active.size());
-        for (size_t i = 0; i < active.size(); ++i) batch[i] = make_ray(origin[active[i]], dir[active[i]], static_cast<unsigned>(i));
-        intersect_batch(*scene.embree, batch.data(), batch.size(), bounce == 0);
-        std::vector<size_t> next;
-        for (size_t i = 0; i < active.size(); ++i) {
-            size_t p = active[i];
-            const RTCRayHit& h = batch[i];
-            if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-            const GeometryInfo& g = scene.embree->geometries()[h.hit.geomID];
-            int32_t shape = static_cast<int32_t>(g.shape);
-            if (bounce == 0) {
-                probe.shape[p] = shape, probe.distance[p] = h.ray.tfar;
-                const Vec3 ng = normalize_or_zero(Vec3{h.hit.Ng_x, h.hit.Ng_y, h.hit.Ng_z});
-                probe.normal[p] = dot(ng, dir[p]) > 0 ? -ng : ng;
-            }
-            probe.detected[p] = shape;
-            if (scene.material_of(h.hit.geomID).type != MaterialType::kMirror) continue;
-            // Continue as the mirror's reflection.
-            Vec3 ng = normalize_or_zero(Vec3{h.hit.Ng_x, h.hit.Ng_y, h.hit.Ng_z});
-            if (ng == Vec3{}) continue;
-            Vec3 d = dir[p];
-            Vec3 hit = origin[p] + d * static_cast<double>(h.ray.tfar);
-            Vec3 r = d - ng * (2 * dot(d, ng));
-            origin[p] = hit + ng * (dot(r, ng) > 0 ? 1.0 : -1.0) * scene.embree->ray_epsilon();
-            dir[p] = normalize_or_zero(r);
-            next.push_back(p);
+    const CameraRays camera(scene.scene.camera, width, height, scene.embree->origin_offset());
+    // Blocks of neighbouring pixels, each traced to the end on one thread: their rays stay
+    // coherent and in cache, and nothing is shared between blocks (this ran single-threaded
+    // over the whole frame and was most of a short pipeline's guidance).
+    constexpr size_t kBlock = 1024;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kBlock), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<size_t> active, next;
+        std::vector<Vec3> origin(range.size()), dir(range.size());
+        std::vector<RTCRayHit> batch;
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+            // A pixel outside a fisheye's circle sees nothing.
+            const size_t i = p - range.begin();
+            if (camera.generate(static_cast<double>(p % static_cast<size_t>(width)) + 0.5,
+                                static_cast<double>(p / static_cast<size_t>(width)) + 0.5, origin[i], dir[i]))
+                active.push_back(i);
         }
-        active = std::move(next);
-    }
+        RTCIntersectContext context;
+        for (int bounce = 0; bounce <= mirror_bounces && !active.empty(); ++bounce) {
+            batch.resize(active.size());
+            for (size_t k = 0; k < active.size(); ++k) batch[k] = make_ray(origin[active[k]], dir[active[k]], static_cast<unsigned>(k));
+            rtcInitIntersectContext(&context);
+            context.flags = bounce == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+            rtcIntersect1M(scene.embree->handle(), &context, batch.data(), static_cast<unsigned>(batch.size()), sizeof(RTCRayHit));
+            next.clear();
+            for (size_t k = 0; k < active.size(); ++k) {
+                const size_t i = active[k], p = range.begin() + i;
+                const RTCRayHit& h = batch[k];
+                if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                const GeometryInfo& g = scene.embree->geometries()[h.hit.geomID];
+                const int32_t shape = static_cast<int32_t>(g.shape);
+                const Vec3 ng = normalize_or_zero(Vec3{h.hit.Ng_x, h.hit.Ng_y, h.hit.Ng_z});
+                if (bounce == 0) {
+                    probe.shape[p] = shape, probe.distance[p] = h.ray.tfar;
+                    probe.normal[p] = dot(ng, dir[i]) > 0 ? -ng : ng;
+                }
+                probe.detected[p] = shape;
+                if (scene.material_of(h.hit.geomID).type != MaterialType::kMirror || ng == Vec3{}) continue;
+                // Continue as the mirror's reflection.
+                const Vec3 d = dir[i];
+                const Vec3 hit = origin[i] + d * static_cast<double>(h.ray.tfar);
+                const Vec3 r = d - ng * (2 * dot(d, ng));
+                origin[i] = hit + ng * (dot(r, ng) > 0 ? 1.0 : -1.0) * scene.embree->ray_epsilon();
+                dir[i] = normalize_or_zero(r);
+                next.push_back(i);
+            }
+            std::swap(active, next);
+        }
+    });
     return probe;
 }
 

@@ -74,6 +74,15 @@ Vec3 Film::pixel_value(size_t aov, uint32_t pixel) const {
     return {p[0] / n, p[1] / n, p[2] / n};
 }
 
+Vec3 Film::aov_total(size_t aov, uint32_t p0, uint32_t p1) const {
+    if (!layout_.keeps(aov)) return {};
+    const std::vector<double>& sums = sums_[aov];
+    double total[3] = {0, 0, 0};
+    for (size_t i = 3 * static_cast<size_t>(p0); i < 3 * static_cast<size_t>(p1); i += 3)
+        total[0] += sums[i], total[1] += sums[i + 1], total[2] += sums[i + 2];
+    return {total[0], total[1], total[2]};
+}
+
 namespace {
 
 // The image never carries NaN or Inf: a non-finite value (which shading guards against) would

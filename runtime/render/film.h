@@ -118,6 +118,9 @@ public:
     /// The composite: the sum of every AOV plus `ambient` (already per pixel, same scale).
     std::vector<float> composite(const std::vector<double>* ambient = nullptr) const;
     Vec3 pixel_value(size_t aov, uint32_t pixel) const;  ///< an AOV the layout keeps
+    /// An AOV's sample sums over pixels [p0, p1) (not divided by sample counts); 0 for an AOV
+    /// the layout has no sum for.
+    Vec3 aov_total(size_t aov, uint32_t p0, uint32_t p1) const;
 
     /// Bytes a pixel of a film holds (every buffer below), with the branches of the components
     /// in `tracked` (capict): what a render's memory model counts before the film exists.
