@@ -21,14 +21,18 @@ std::optional<FixedCosts> predict_fixed_costs(const StageCosts& stages, int widt
     const uint64_t samples = preview_samples_at(width, height, spp, kCoarsestPreviewStride);
     const double sparse_records = static_cast<double>(std::min(samples, stages.preview_records));
     c.coarsest_preview_seconds = fixed + per_sample * static_cast<double>(samples) + per_record * sparse_records;
-    c.guidance_seconds = stages.guidance_seconds / static_cast<double>(stages.pixels) * static_cast<double>(width) * static_cast<double>(height);
-    c.floor_seconds = c.coarsest_preview_seconds + c.guidance_seconds;
+    // Guidance and the end go over every pixel whatever the preview sampled.
+    const double pixel_share = static_cast<double>(width) * static_cast<double>(height) / static_cast<double>(stages.pixels);
+    c.guidance_seconds = stages.guidance_seconds * pixel_share;
+    c.end_seconds = stages.end_seconds * pixel_share;
+    c.floor_seconds = c.coarsest_preview_seconds + c.guidance_seconds + c.end_seconds;
     return c;
 }
 
 std::string describe_fixed_costs(const FixedCosts& c) {
-    return fmt::format("the preview at every {}th pixel {:.3g} s and guidance {:.3g} s (from the profile's stage costs)",
-                       kCoarsestPreviewStride, c.coarsest_preview_seconds, c.guidance_seconds);
+    return fmt::format("the preview at every {}th pixel {:.3g} s, guidance {:.3g} s and the render's end {:.3g} s (from the profile's "
+                       "stage costs)",
+                       kCoarsestPreviewStride, c.coarsest_preview_seconds, c.guidance_seconds, c.end_seconds);
 }
 
 }  // namespace crex

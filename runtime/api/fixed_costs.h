@@ -17,7 +17,8 @@ namespace crex {
 struct FixedCosts {
     double coarsest_preview_seconds = 0;  ///< the preview at every kCoarsestPreviewStride-th pixel
     double guidance_seconds = 0;
-    /// The smallest budget the pipeline can meet: its coarsest preview and guidance. The
+    double end_seconds = 0;  ///< the render's end after its last stage (RunSettings::end_seconds)
+    /// The smallest budget the pipeline can meet: its coarsest preview, guidance and end. The
     /// preview is predicted from the profile's: its fixed part, a record per sample (up to the
     /// full preview's records) with a cache, and the rest per sample.
     double floor_seconds = 0;
@@ -27,7 +28,7 @@ struct FixedCosts {
 /// (nullopt: the profile does not hold them).
 std::optional<FixedCosts> predict_fixed_costs(const StageCosts& stages, int width, int height, uint32_t spp);
 
-/// "the coarsest preview 0.021 s and guidance 0.05 s (from the profile's stage costs)".
+/// "the preview at every 8th pixel 0.021 s, guidance 0.05 s and the render's end 0.003 s (from the profile's stage costs)".
 std::string describe_fixed_costs(const FixedCosts& costs);
 
 }  // namespace crex

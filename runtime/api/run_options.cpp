@@ -17,7 +17,8 @@ std::string profile_json_text(const Profile& profile, double full_render_seconds
                        {"pixels", stages.pixels},
                        {"preview_fixed_seconds", stages.preview_fixed_seconds},
                        {"preview_records", stages.preview_records},
-                       {"preview_record_seconds", stages.preview_record_seconds}};
+                       {"preview_record_seconds", stages.preview_record_seconds},
+                       {"end_seconds", stages.end_seconds}};
     return j.dump(2) + "\n";
 }
 
@@ -75,7 +76,11 @@ void resolve_budget(ResolvedRun& run, const PipelinePlan& plan, const RunOptions
     rs.executor.budget_seconds = run.budget_seconds;
     // A pipeline's preview: the caller's stride, else coarse to fine under a budget (0), else every pixel.
     rs.preview_stride = o.preview_stride ? std::max<uint32_t>(1, *o.preview_stride) : budget && plan.staged ? 0 : 1;
-    if (budget && plan.staged && run.predicted) refuse_below_floor(run, o, budget_origin(o, *budget));
+    rs.end_seconds = 0;
+    if (budget && plan.staged && run.predicted) {
+        refuse_below_floor(run, o, budget_origin(o, *budget));
+        if (run.fixed_costs) rs.end_seconds = std::min(run.fixed_costs->end_seconds, run.budget_seconds / 2);
+    }
 }
 
 ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {

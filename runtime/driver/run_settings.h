@@ -69,6 +69,9 @@ struct RunSettings {
     /// interpolated, and the selective stage renders them. 0: automatic, coarse to fine under a
     /// budget (preview_levels.h), else every pixel.
     uint32_t preview_stride = 1;
+    /// Under a budget: the render's end after its last stage (stand-ins, warnings) as a
+    /// profile predicts it; the stages stop that much before the budget, so the run ends on it.
+    double end_seconds = 0;
     /// How a budget is spent (--policy); unset: the plan's, else the default of spec/pipeline.md
     /// §7: whole tasks for a pipeline without `vary`, queues for one with, and progressive
     /// passes for a plain crex (a plan with no name).

@@ -31,6 +31,9 @@ struct StageCosts {
     double preview_fixed_seconds = 0;   ///< the cache's caustic map
     uint64_t preview_records = 0;       ///< cache records the preview made
     double preview_record_seconds = 0;  ///< making them (their hemispheres and deeper bounces)
+    /// The render's end, after its last stage (the stand-ins of rays left unexecuted, the
+    /// warnings): on the clock, so a budget keeps it back (0 in a profile saved before it).
+    double end_seconds = 0;
     bool known() const { return preview_samples > 0 && pixels > 0; }
 };
 

@@ -59,6 +59,11 @@ TEST(FixedCosts, TheFloorIsTheCoarsestPreviewAndGuidanceAtTheProfilesCosts) {
     EXPECT_NEAR(big.coarsest_preview_seconds, 2.0 * double(preview_samples_at(2 * w, 2 * h, 1, 8)) / double(w * h), 1e-12);
     // No stage costs (a plain crex's profile, or an older one): no floor is known.
     EXPECT_FALSE(predict_fixed_costs(StageCosts{}, w, h, 1));
+    // The render's end after its last stage is in the floor too, and goes with the pixels.
+    StageCosts with_end = stages;
+    with_end.end_seconds = 0.01;
+    EXPECT_NEAR(predict_fixed_costs(with_end, w, h, 1)->floor_seconds, c.floor_seconds + 0.01, 1e-12);
+    EXPECT_NEAR(predict_fixed_costs(with_end, 2 * w, 2 * h, 2)->end_seconds, 0.04, 1e-12);
 }
 
 // With an irradiance cache a sparse preview pays its caustic map whole and a record for each of
@@ -82,7 +87,7 @@ TEST(FixedCosts, ACachedPreviewPaysItsMapAndARecordASample) {
 }
 
 TEST(FixedCosts, ASavedProfileKeepsTheCachesPreviewCosts) {
-    const StageCosts stages{1.5, 1000, 0.05, 1000, 0.25, 300, 0.75};
+    const StageCosts stages{1.5, 1000, 0.05, 1000, 0.25, 300, 0.75, 0.125};
     Profile profile, back;
     double full = 0;
     StageCosts read;
@@ -91,12 +96,54 @@ TEST(FixedCosts, ASavedProfileKeepsTheCachesPreviewCosts) {
     EXPECT_EQ(read.preview_fixed_seconds, 0.25);
     EXPECT_EQ(read.preview_records, 300u);
     EXPECT_EQ(read.preview_record_seconds, 0.75);
+    EXPECT_EQ(read.end_seconds, 0.125);
     // A profile saved before them reads as no cache: the floor is the cost per sample alone.
     StageCosts old;
     ASSERT_EQ(Profile::from_json_text(R"({"format": "crex-profile", "version": 1, "seconds_per_ray": {}, "full_render_seconds": 4,
         "stages": {"preview_seconds": 1.5, "preview_samples": 1000, "guidance_seconds": 0.05, "pixels": 1000}})", back, &full, "p.json", &old), "");
     EXPECT_EQ(old.preview_records, 0u);
     EXPECT_EQ(old.preview_fixed_seconds, 0.0);
+    EXPECT_EQ(old.end_seconds, 0.0);
+}
+
+// The stand-ins and warnings after the last stage are on the clock: the stages stop early by
+// what the profile predicts for them, so the run as a whole ends on its budget (a fixed 3-6 ms
+// there was most of the overshoot of budgets near 0.05 s).
+TEST(FixedCosts, TheStagesStopEarlyByTheRendersPredictedEnd) {
+    Scene scene = *builtin_scene("cornell");
+    PipelinePlan plan = plan_for(kProgressive, scene);
+    RunOptions o;
+    o.width = 48, o.height = 32;
+    ProfileInput profile;
+    profile.full_render_seconds = 4;
+    profile.stages = {0.01, 48 * 32, 0.001, 48 * 32};
+    profile.stages.end_seconds = 0.02;
+    o.profile = profile;
+    PlanBudget budget;
+    budget.amount = 1;
+    o.budget = budget;
+    EXPECT_NEAR(resolve_run(plan, o).settings.end_seconds, 0.02, 1e-12);
+    o.budget->amount = 0.03;  // at most half the budget is kept back
+    o.budget_floor_ok = true;
+    EXPECT_NEAR(resolve_run(plan, o).settings.end_seconds, 0.015, 1e-12);
+
+    // Under an injected clock (rays x 1 us) the end costs nothing: the run ends where its
+    // stages stopped, the budget less the end kept back.
+    FakeClock c1;
+    Profile costs;
+    const RunResult full = run_plan(scene, plan, with_clock(c1, &costs, 48, 32));
+    const double b = 0.5 * full.render_seconds;
+    for (const double end : {0.0, 0.3 * b}) {
+        FakeClock c2;
+        RunSettings cut = with_clock(c2, &costs, 48, 32);
+        cut.executor.budget_seconds = b;
+        cut.preview_stride = 0;
+        cut.end_seconds = end;
+        const RunResult r = run_plan(scene, plan, cut);
+        EXPECT_LE(r.render_seconds, 1.02 * (b - end)) << end;
+        EXPECT_GE(r.render_seconds, 0.9 * (b - end)) << end;
+        EXPECT_GE(r.end_seconds, 0.0);
+    }
 }
 
 TEST(FixedCosts, ABudgetBelowThePipelinesFloorIsRefusedNamingTheFloor) {

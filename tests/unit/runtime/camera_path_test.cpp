@@ -205,9 +205,9 @@ TEST(CameraPath, GltfAnimationMovesTheCameraAsGltfSays) {
         EXPECT_NEAR(c.position.x, want_position.x, tolerance * 5) << "t = " << t;
         EXPECT_NEAR(c.position.y, want_position.y, 1e-9) << "t = " << t;
         EXPECT_NEAR(c.position.z, want_position.z, tolerance * 5) << "t = " << t;
-        const Vec3 dir = normalize_or_zero(c.direction);
-        EXPECT_NEAR(dir.x, want_direction.x, tolerance) << "t = " << t;
-        EXPECT_NEAR(dir.z, want_direction.z, tolerance) << "t = " << t;
+        const Vec3 looking = normalize_or_zero(c.direction);
+        EXPECT_NEAR(looking.x, want_direction.x, tolerance) << "t = " << t;
+        EXPECT_NEAR(looking.z, want_direction.z, tolerance) << "t = " << t;
         EXPECT_NEAR(c.vfov_deg, 0.8 * 180 / kPi, 1e-9);
     }
     // By name and by index as --camera takes them; a name that is not there is located.
