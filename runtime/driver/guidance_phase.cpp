@@ -107,7 +107,7 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
             if (read.count(letter)) in.buffers[letter] = film.aov_image(aov_of(static_cast<Component>(c)));
         }
         // A strided preview's pixels without samples: interpolated as the preview image is.
-        if (out.preview_grid) {
+        if (out.preview_grid && !in.buffers.empty()) {
             const SubsampleGrid::Fill fill = out.preview_grid->unsampled_fill(out.sampled_pixels());
             for (auto& [name, buffer] : in.buffers) out.fill_unsampled_preview(buffer, &fill);
         }

@@ -58,6 +58,48 @@ void SubsampleGrid::fill(std::vector<float>& rgb) const {
         }
 }
 
+// Pixel p's square's corners that have samples, with their bilinear weights renormalised over
+// them; false where p has samples or no corner has (it keeps its value).
+bool SubsampleGrid::corner_weights(size_t p, const std::vector<uint8_t>& sampled, std::array<uint32_t, 4>& from,
+                                   std::array<float, 4>& weight) const {
+    from = {}, weight = {};
+    if (sampled[p]) return false;
+    const size_t w = static_cast<size_t>(width_), x = p % w, y = p / w;
+    const auto [x0, y0, x1, y1] = square_[p];
+    const double tx = x1 > x0 ? double(x - x0) / double(x1 - x0) : 0.0, ty = y1 > y0 ? double(y - y0) / double(y1 - y0) : 0.0;
+    const std::array<std::pair<size_t, double>, 4> corners = {{
+        {y0 * w + x0, (1 - tx) * (1 - ty)},
+        {y0 * w + x1, tx * (1 - ty)},
+        {y1 * w + x0, (1 - tx) * ty},
+        {y1 * w + x1, tx * ty},
+    }};
+    double total = 0;
+    for (const auto& [q, wq] : corners)
+        if (q != p && wq > 0 && sampled[q]) total += wq;
+    if (!(total > 0)) return false;
+    for (size_t k = 0; k < 4; ++k) {
+        const auto& [q, wq] = corners[k];
+        if (q != p && wq > 0 && sampled[q]) from[k] = static_cast<uint32_t>(q), weight[k] = static_cast<float>(wq / total);
+    }
+    return true;
+}
+
+namespace {
+
+// values[p] = the weighted corners, every channel. Only pixels without samples are written,
+// and only pixels with samples read: in place.
+void blend_corners(size_t p, const std::array<uint32_t, 4>& from, const std::array<float, 4>& weight, size_t channels,
+                   std::vector<float>& values) {
+    for (size_t c = 0; c < channels; ++c) {
+        double v = 0;
+        for (size_t k = 0; k < 4; ++k)
+            if (weight[k] > 0) v += static_cast<double>(weight[k]) * static_cast<double>(values[from[k] * channels + c]);
+        values[p * channels + c] = static_cast<float>(v);
+    }
+}
+
+}  // namespace
+
 SubsampleGrid::Fill SubsampleGrid::unsampled_fill(const std::vector<uint8_t>& sampled) const {
     Fill fill;
     const size_t pixels = corner_.size();
@@ -65,32 +107,8 @@ SubsampleGrid::Fill SubsampleGrid::unsampled_fill(const std::vector<uint8_t>& sa
     fill.pixels = pixels;
     fill.from.resize(pixels);  // dense, so that rows are made in parallel
     fill.weight.resize(pixels);
-    const size_t w = static_cast<size_t>(width_);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, static_cast<size_t>(height_), 8), [&](const tbb::blocked_range<size_t>& rows) {
-        for (size_t y = rows.begin(); y < rows.end(); ++y)
-            for (size_t x = 0; x < w; ++x) {
-                const size_t p = y * w + x;
-                std::array<uint32_t, 4>& from = fill.from[p];
-                std::array<float, 4>& weight = fill.weight[p];
-                from = {}, weight = {};
-                if (sampled[p]) continue;
-                const auto [x0, y0, x1, y1] = square_[p];
-                const double tx = x1 > x0 ? double(x - x0) / double(x1 - x0) : 0.0, ty = y1 > y0 ? double(y - y0) / double(y1 - y0) : 0.0;
-                const std::array<std::pair<size_t, double>, 4> corners = {{
-                    {y0 * w + x0, (1 - tx) * (1 - ty)},
-                    {y0 * w + x1, tx * (1 - ty)},
-                    {y1 * w + x0, (1 - tx) * ty},
-                    {y1 * w + x1, tx * ty},
-                }};
-                double total = 0;
-                for (const auto& [q, wq] : corners)
-                    if (q != p && wq > 0 && sampled[q]) total += wq;
-                if (!(total > 0)) continue;  // no corner with samples: it keeps its value
-                for (size_t k = 0; k < 4; ++k) {
-                    const auto& [q, wq] = corners[k];
-                    if (q != p && wq > 0 && sampled[q]) from[k] = static_cast<uint32_t>(q), weight[k] = static_cast<float>(wq / total);
-                }
-            }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t p = r.begin(); p < r.end(); ++p) corner_weights(p, sampled, fill.from[p], fill.weight[p]);
     });
     return fill;
 }
@@ -98,23 +116,26 @@ SubsampleGrid::Fill SubsampleGrid::unsampled_fill(const std::vector<uint8_t>& sa
 void SubsampleGrid::apply(const Fill& fill, std::vector<float>& values) {
     if (fill.pixels == 0 || values.size() % fill.pixels != 0) return;
     const size_t channels = values.size() / fill.pixels;
-    // Only pixels without samples are written, and only pixels with samples read: in place.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, fill.pixels, 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t p = r.begin(); p < r.end(); ++p) {
             const std::array<float, 4>& weight = fill.weight[p];
-            if (!(weight[0] > 0 || weight[1] > 0 || weight[2] > 0 || weight[3] > 0)) continue;
-            for (size_t c = 0; c < channels; ++c) {
-                double v = 0;
-                for (size_t k = 0; k < 4; ++k)
-                    if (weight[k] > 0) v += static_cast<double>(weight[k]) * static_cast<double>(values[fill.from[p][k] * channels + c]);
-                values[p * channels + c] = static_cast<float>(v);
-            }
+            if (weight[0] > 0 || weight[1] > 0 || weight[2] > 0 || weight[3] > 0) blend_corners(p, fill.from[p], weight, channels, values);
         }
     });
 }
 
 void SubsampleGrid::fill_unsampled(std::vector<float>& values, const std::vector<uint8_t>& sampled) const {
-    apply(unsampled_fill(sampled), values);
+    // Used once: the weights are made as they are applied, with no per-pixel table (the
+    // table was most of the 5 ms a strided preview's fill took at 384x288).
+    const size_t pixels = corner_.size();
+    if (sampled.size() != pixels || pixels == 0 || values.size() % pixels != 0) return;
+    const size_t channels = values.size() / pixels;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        std::array<uint32_t, 4> from;
+        std::array<float, 4> weight;
+        for (size_t p = r.begin(); p < r.end(); ++p)
+            if (corner_weights(p, sampled, from, weight)) blend_corners(p, from, weight, channels, values);
+    });
 }
 
 }  // namespace crex

@@ -43,6 +43,7 @@ public:
     int height() const { return height_; }
 
 private:
+    bool corner_weights(size_t p, const std::vector<uint8_t>& sampled, std::array<uint32_t, 4>& from, std::array<float, 4>& weight) const;
     void split(int x0, int y0, int size, const std::vector<double>& spacing);
     int width_, height_;
     std::vector<bool> corner_;
