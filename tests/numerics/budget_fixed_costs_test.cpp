@@ -33,6 +33,21 @@ RunSettings with_clock(FakeClock& clock, Profile* profile, int w, int h) {
 
 using testing::plan_for;
 
+// A `width` x `height` run under a budget of `seconds`, with a profile of a 4 s full render
+// whose stages cost `stages`.
+RunOptions budgeted_options(int width, int height, const StageCosts& stages, double seconds) {
+    RunOptions o;
+    o.width = width, o.height = height;
+    ProfileInput profile;
+    profile.full_render_seconds = 4;
+    profile.stages = stages;
+    o.profile = profile;
+    PlanBudget budget;
+    budget.amount = seconds;
+    o.budget = budget;
+    return o;
+}
+
 const char* kProgressive =
     "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(0.5) }\n"
     " selective { vary spp 1 .. 4 by c }\n}\n";
@@ -112,16 +127,9 @@ TEST(FixedCosts, ASavedProfileKeepsTheCachesPreviewCosts) {
 TEST(FixedCosts, TheStagesStopEarlyByTheRendersPredictedEnd) {
     Scene scene = *builtin_scene("cornell");
     PipelinePlan plan = plan_for(kProgressive, scene);
-    RunOptions o;
-    o.width = 48, o.height = 32;
-    ProfileInput profile;
-    profile.full_render_seconds = 4;
-    profile.stages = {0.01, 48 * 32, 0.001, 48 * 32};
-    profile.stages.end_seconds = 0.02;
-    o.profile = profile;
-    PlanBudget budget;
-    budget.amount = 1;
-    o.budget = budget;
+    StageCosts stages{0.01, 48 * 32, 0.001, 48 * 32};
+    stages.end_seconds = 0.02;
+    RunOptions o = budgeted_options(48, 32, stages, 1.0);
     EXPECT_NEAR(resolve_run(plan, o).settings.end_seconds, 0.02, 1e-12);
     o.budget->amount = 0.03;  // at most half the budget is kept back
     o.budget_floor_ok = true;
@@ -149,16 +157,9 @@ TEST(FixedCosts, TheStagesStopEarlyByTheRendersPredictedEnd) {
 TEST(FixedCosts, ABudgetBelowThePipelinesFloorIsRefusedNamingTheFloor) {
     Scene scene = *builtin_scene("cornell");
     PipelinePlan plan = plan_for(kProgressive, scene);
-    RunOptions o;
-    o.width = 128, o.height = 96;
-    ProfileInput profile;
-    profile.full_render_seconds = 4;
-    profile.stages = {1.0, 128 * 96, 0.05, 128 * 96};
-    o.profile = profile;
-    PlanBudget budget;
-    budget.amount = 0.04;  // below the floor: the coarsest preview (~0.02 s) and guidance (0.05 s)
-    o.budget = budget;
-    const double floor = predict_fixed_costs(profile.stages, 128, 96, 1)->floor_seconds;
+    // 0.04 s is below the floor: the coarsest preview (~0.02 s) and guidance (0.05 s).
+    RunOptions o = budgeted_options(128, 96, {1.0, 128 * 96, 0.05, 128 * 96}, 0.04);
+    const double floor = predict_fixed_costs(o.profile->stages, 128, 96, 1)->floor_seconds;
     try {
         resolve_run(plan, o);
         FAIL() << "a budget below the floor was not refused";
