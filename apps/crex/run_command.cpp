@@ -105,6 +105,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     if (f.rounds) o.rounds = f.rounds;
     if (f.preview_stride) o.preview_stride = f.preview_stride;
     o.budget_floor_ok = f.budget_floor == "ok";
+    o.saves_profile = !f.profile_out.empty();
     o.shadow_rays = f.shadow_rays;
     o.media_samples = f.media_samples;
     o.roulette = !f.no_roulette;
@@ -522,8 +523,7 @@ int run_request(Request& r) {
     if (in.status != kExitOk) return in.status;
     r.options.profile = in.profile;
     r.options.ic_file_bytes = in.ic_file_bytes;
-    // The film keeps every buffer only for what shows the components (issue 40: a 3840x2160
-    // film is 1.9 GB with them, 270 MB without). From the shared plan, so alike on every process.
+    // Every film buffer only to show components (4K: 1.9 GB, else 270 MB); from the shared plan, so alike on every rank.
     r.options.component_images =
         r.files.components || in.plan.outputs.components || !r.files.report_dir.empty() || !in.plan.outputs.report.empty();
     budget_of_first_frame(r, in.plan);

@@ -20,9 +20,11 @@ std::optional<FixedCosts> predict_fixed_costs(const StageCosts& stages, int widt
     const double per_record = stages.preview_records > 0 ? records / static_cast<double>(stages.preview_records) : 0.0;
     const uint64_t samples = preview_samples_at(width, height, spp, kCoarsestPreviewStride);
     const double sparse_records = static_cast<double>(std::min(samples, stages.preview_records));
-    c.coarsest_preview_seconds = fixed + per_sample * static_cast<double>(samples) + per_record * sparse_records;
-    // Guidance and the end go over every pixel whatever the preview sampled.
+    // Guidance, the end and a strided preview's bookkeeping go over every pixel whatever the
+    // preview sampled.
     const double pixel_share = static_cast<double>(width) * static_cast<double>(height) / static_cast<double>(stages.pixels);
+    c.coarsest_preview_seconds = fixed + per_sample * static_cast<double>(samples) + per_record * sparse_records +
+                                 stages.strided_preview_seconds * pixel_share;
     c.guidance_seconds = stages.guidance_seconds * pixel_share;
     c.end_seconds = stages.end_seconds * pixel_share;
     c.floor_seconds = c.coarsest_preview_seconds + c.guidance_seconds + c.end_seconds;

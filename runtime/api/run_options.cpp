@@ -18,7 +18,8 @@ std::string profile_json_text(const Profile& profile, double full_render_seconds
                        {"preview_fixed_seconds", stages.preview_fixed_seconds},
                        {"preview_records", stages.preview_records},
                        {"preview_record_seconds", stages.preview_record_seconds},
-                       {"end_seconds", stages.end_seconds}};
+                       {"end_seconds", stages.end_seconds},
+                       {"strided_preview_seconds", stages.strided_preview_seconds}};
     return j.dump(2) + "\n";
 }
 
@@ -77,6 +78,7 @@ void resolve_budget(ResolvedRun& run, const PipelinePlan& plan, const RunOptions
     // A pipeline's preview: the caller's stride, else coarse to fine under a budget (0), else every pixel.
     rs.preview_stride = o.preview_stride ? std::max<uint32_t>(1, *o.preview_stride) : budget && plan.staged ? 0 : 1;
     rs.end_seconds = 0;
+    rs.time_strided_preview = o.saves_profile && plan.staged && !budget;
     if (budget && plan.staged && run.predicted) {
         refuse_below_floor(run, o, budget_origin(o, *budget));
         if (run.fixed_costs) rs.end_seconds = std::min(run.fixed_costs->end_seconds, run.budget_seconds / 2);

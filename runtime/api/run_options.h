@@ -63,6 +63,9 @@ struct RunOptions {
     std::optional<uint32_t> preview_stride;
     /// Render a budget below the pipeline's floor anyway (it will be broken) instead of refusing it.
     bool budget_floor_ok = false;
+    /// The run's profile will be saved (`--save-profile`): a pipeline's full render then also
+    /// times what a strided preview does per pixel, for the floor (RunSettings::time_strided_preview).
+    bool saves_profile = false;
     // Settings a plan does not have.
     uint32_t shadow_rays = 1;
     uint32_t media_samples = 1;

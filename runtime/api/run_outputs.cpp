@@ -190,7 +190,8 @@ std::string outputs_refusal(const RunFiles& files, const std::string& ic_file, b
 StageCosts measured_stage_costs(const RunResult& result, int width, int height) {
     return {result.preview_seconds, result.preview_samples, result.guidance_seconds,
             static_cast<uint64_t>(width) * static_cast<uint64_t>(height), result.ic_stats.caustic_seconds,
-            result.ic_preview_records, result.ic_preview_record_seconds, result.end_seconds};
+            result.ic_preview_records, result.ic_preview_record_seconds, result.end_seconds,
+            result.strided_preview_seconds};
 }
 
 std::string write_run_files(const RunFiles& where, const RunRecord& record, WrittenRun& written) {

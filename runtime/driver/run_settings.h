@@ -72,6 +72,10 @@ struct RunSettings {
     /// Under a budget: the render's end after its last stage (stand-ins, warnings) as a
     /// profile predicts it; the stages stop that much before the budget, so the run ends on it.
     double end_seconds = 0;
+    /// A pipeline's full render whose profile is saved: after the clock stops, time the work a
+    /// preview at every kCoarsestPreviewStride-th pixel does per pixel of the frame (its grid
+    /// and sample ranges, the composite, the fill), which the floor adds to its samples' cost.
+    bool time_strided_preview = false;
     /// How a budget is spent (--policy); unset: the plan's, else the default of spec/pipeline.md
     /// §7: whole tasks for a pipeline without `vary`, queues for one with, and progressive
     /// passes for a plain crex (a plan with no name).

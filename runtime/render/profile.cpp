@@ -86,7 +86,8 @@ std::string Profile::from_json_text(const std::string& text, Profile& out, doubl
                                      stage("preview_fixed_seconds", st.preview_fixed_seconds, seconds),
                                      stage("preview_records", records, count),
                                      stage("preview_record_seconds", st.preview_record_seconds, seconds),
-                                     stage("end_seconds", st.end_seconds, seconds)})
+                                     stage("end_seconds", st.end_seconds, seconds),
+                                     stage("strided_preview_seconds", st.strided_preview_seconds, seconds)})
             if (!e.empty()) return e;
         st.preview_samples = static_cast<uint64_t>(samples);
         st.pixels = static_cast<uint64_t>(pixels);

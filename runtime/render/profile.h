@@ -34,6 +34,9 @@ struct StageCosts {
     /// The render's end, after its last stage (the stand-ins of rays left unexecuted, the
     /// warnings): on the clock, so a budget keeps it back (0 in a profile saved before it).
     double end_seconds = 0;
+    /// A preview at every 8th pixel's work per pixel of the frame rather than per sample (grid,
+    /// sample ranges, composite, fill), timed in the full render (0: not timed).
+    double strided_preview_seconds = 0;
     bool known() const { return preview_samples > 0 && pixels > 0; }
 };
 

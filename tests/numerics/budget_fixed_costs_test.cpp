@@ -9,6 +9,7 @@
 
 #include "runtime/api/fixed_costs.h"
 #include "runtime/api/run_options.h"
+#include "runtime/api/run_outputs.h"
 #include "runtime/driver/run_plan.h"
 #include "runtime/pipeline/subsample.h"
 #include "runtime/scene/census.h"
@@ -79,6 +80,11 @@ TEST(FixedCosts, TheFloorIsTheCoarsestPreviewAndGuidanceAtTheProfilesCosts) {
     with_end.end_seconds = 0.01;
     EXPECT_NEAR(predict_fixed_costs(with_end, w, h, 1)->floor_seconds, c.floor_seconds + 0.01, 1e-12);
     EXPECT_NEAR(predict_fixed_costs(with_end, 2 * w, 2 * h, 2)->end_seconds, 0.04, 1e-12);
+    // So is a strided preview's work per pixel of the frame, in its coarsest preview.
+    StageCosts with_bookkeeping = stages;
+    with_bookkeeping.strided_preview_seconds = 0.003;
+    EXPECT_NEAR(predict_fixed_costs(with_bookkeeping, 2 * w, 2 * h, 2)->coarsest_preview_seconds,
+                big.coarsest_preview_seconds + 4 * 0.003, 1e-12);
 }
 
 // With an irradiance cache a sparse preview pays its caustic map whole and a record for each of
@@ -102,7 +108,7 @@ TEST(FixedCosts, ACachedPreviewPaysItsMapAndARecordASample) {
 }
 
 TEST(FixedCosts, ASavedProfileKeepsTheCachesPreviewCosts) {
-    const StageCosts stages{1.5, 1000, 0.05, 1000, 0.25, 300, 0.75, 0.125};
+    const StageCosts stages{1.5, 1000, 0.05, 1000, 0.25, 300, 0.75, 0.125, 0.0625};
     Profile profile, back;
     double full = 0;
     StageCosts read;
@@ -112,6 +118,7 @@ TEST(FixedCosts, ASavedProfileKeepsTheCachesPreviewCosts) {
     EXPECT_EQ(read.preview_records, 300u);
     EXPECT_EQ(read.preview_record_seconds, 0.75);
     EXPECT_EQ(read.end_seconds, 0.125);
+    EXPECT_EQ(read.strided_preview_seconds, 0.0625);
     // A profile saved before them reads as no cache: the floor is the cost per sample alone.
     StageCosts old;
     ASSERT_EQ(Profile::from_json_text(R"({"format": "crex-profile", "version": 1, "seconds_per_ray": {}, "full_render_seconds": 4,
@@ -119,6 +126,33 @@ TEST(FixedCosts, ASavedProfileKeepsTheCachesPreviewCosts) {
     EXPECT_EQ(old.preview_records, 0u);
     EXPECT_EQ(old.preview_fixed_seconds, 0.0);
     EXPECT_EQ(old.end_seconds, 0.0);
+    EXPECT_EQ(old.strided_preview_seconds, 0.0);
+}
+
+// A full render whose profile is saved times a strided preview's bookkeeping after its clock
+// stopped, on copies: the image and the render's time are those of a run that does not.
+TEST(FixedCosts, AProfiledFullRenderTimesAStridedPreviewWithoutTouchingTheImage) {
+    Scene scene = *builtin_scene("cornell");
+    PipelinePlan plan = plan_for(kProgressive, scene);
+    RunOptions o;
+    o.width = 40, o.height = 24;
+    EXPECT_FALSE(resolve_run(plan, o).settings.time_strided_preview);
+    o.saves_profile = true;
+    EXPECT_TRUE(resolve_run(plan, o).settings.time_strided_preview);
+    const RunResult plain = run_plan(scene, plan, [&] {
+        RunSettings s = resolve_run(plan, o).settings;
+        s.time_strided_preview = false;
+        return s;
+    }());
+    const RunResult timed = run_plan(scene, plan, resolve_run(plan, o).settings);
+    EXPECT_EQ(plain.strided_preview_seconds, 0.0);
+    EXPECT_GT(timed.strided_preview_seconds, 0.0);
+    EXPECT_EQ(timed.image(), plain.image());
+    EXPECT_GT(measured_stage_costs(timed, 40, 24).strided_preview_seconds, 0.0);
+    // Under a budget nothing is timed: the budget's own preview is what it is.
+    o.budget = PlanBudget{};
+    o.budget->amount = 10;
+    EXPECT_FALSE(resolve_run(plan, o).settings.time_strided_preview);
 }
 
 // The stand-ins and warnings after the last stage are on the clock: the stages stop early by
