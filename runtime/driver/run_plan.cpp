@@ -504,11 +504,12 @@ RunResult PlanRun::finish() {
     for (Diagnostic& w : modulation_warnings(out_.stats, plan_, s_.executor.constant_importance)) said.add(std::move(w));
     out_.warnings = said.sorted();
     out_.render_seconds = clock_();
-    out_.end_seconds = std::max(0.0, now() - end_start);
-    if (s_.time_strided_preview && out_.staged && !out_.preview.empty() && !budget_.budgeted())
-        out_.strided_preview_seconds = time_strided_preview();
+    out_.end_seconds = std::max(0.0, out_.render_seconds - end_start);
     out_.render_cpu_seconds = process_cpu_seconds() - cpu_at_start_;
     out_.render_thread_seconds = out_.render_seconds * tbb::this_task_arena::max_concurrency();
+    // After the render's wall and CPU time are taken: this is not part of the render.
+    if (s_.time_strided_preview && out_.staged && !out_.preview.empty() && !budget_.budgeted())
+        out_.strided_preview_seconds = time_strided_preview();
     if (rs_->textures) out_.textures = rs_->textures->stats();
     out_.caustic_map = cache_ ? cache_->caustic_map() : caustics_;
     if (cache_) {

@@ -44,13 +44,10 @@ PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mir
                                 static_cast<double>(p / static_cast<size_t>(width)) + 0.5, origin[i], dir[i]))
                 active.push_back(i);
         }
-        RTCIntersectContext context;
         for (int bounce = 0; bounce <= mirror_bounces && !active.empty(); ++bounce) {
             batch.resize(active.size());
             for (size_t k = 0; k < active.size(); ++k) batch[k] = make_ray(origin[active[k]], dir[active[k]], static_cast<unsigned>(k));
-            rtcInitIntersectContext(&context);
-            context.flags = bounce == 0 ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-            rtcIntersect1M(scene.embree->handle(), &context, batch.data(), static_cast<unsigned>(batch.size()), sizeof(RTCRayHit));
+            intersect_batch(*scene.embree, batch.data(), batch.size(), bounce == 0);  // one chunk: kBlock is trace_batch's
             next.clear();
             for (size_t k = 0; k < active.size(); ++k) {
                 const size_t i = active[k], p = range.begin() + i;
