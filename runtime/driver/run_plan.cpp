@@ -383,7 +383,7 @@ SelectiveSetup PlanRun::guidance_round(uint32_t round, uint32_t rounds) {
 void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSetup& sel) {
     const std::string label = rounds > 1 ? fmt::format(" (round {}/{})", round, rounds) : "";
     const size_t pixels = out_.film.pixel_count();
-    auto t_selective = Clock::now();
+    const double t_selective = now();  // the render's clock, as the other stages: paused while a report copies a snapshot
     ShadeParams shade = sel.shade;
     shade.caustic_irradiance = caustic_lookup_;
     if (!sel.shadow_rays.empty()) shade.shadow_rays_per_pixel = &sel.shadow_rays;
@@ -450,7 +450,7 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
         run_selective();
     });
     last_stage_ = false;
-    out_.selective_seconds += seconds_since(t_selective);
+    out_.selective_seconds += now() - t_selective;
     if (round < rounds) stage_end("end of selective rendering" + label, "guidance");
 }
 
