@@ -63,6 +63,27 @@ std::vector<float> pixels(const std::string& path) {
     return rgb;
 }
 
+// The single-process image, as far as Embree's ray streams allow: a stream traces its rays in
+// packets whose members depend on which rays are traced together, and a ray's hit can differ in
+// its last bit with its companions. Traced one at a time (rtcIntersect1) the band-split images
+// are bit for bit the single-process ones, but bench/render_bench traced 12-39 % slower. So:
+// every value within a relative 1e-5 (a wrong sample or a lost pass moves a pixel by far more),
+// and at most one value in a hundred differs at all.
+::testing::AssertionResult same_image_up_to_traversal(const std::vector<float>& got, const std::vector<float>& want) {
+    if (got.size() != want.size()) return ::testing::AssertionFailure() << got.size() << " values against " << want.size();
+    size_t differ = 0;
+    for (size_t i = 0; i < got.size(); ++i) {
+        if (got[i] == want[i]) continue;
+        ++differ;
+        const double tolerance = 1e-5 * std::max(std::abs(double(want[i])), 1e-3);
+        if (!(std::abs(double(got[i]) - double(want[i])) <= tolerance))
+            return ::testing::AssertionFailure() << "value " << i << ": " << got[i] << " against " << want[i];
+    }
+    if (differ * 100 > got.size())
+        return ::testing::AssertionFailure() << differ << " of " << got.size() << " values differ, more than one in a hundred";
+    return ::testing::AssertionSuccess();
+}
+
 // The shell command of `crex run ARGS` on 2 ranks with the test hooks `env` ("NAME=value ...",
 // each passed to every rank with -x), under timeout(1): a run that hangs ends the test (exit
 // 124) instead of CI.
@@ -101,7 +122,7 @@ TEST_F(MpiRun, ACrexRendersTheSingleProcessImageAtAnyRankCount) {
         a.insert(a.end(), {"-o", path("n.exr")});
         auto n = mpirun(ranks, a);
         ASSERT_EQ(n.exit_code, 0) << ranks << " ranks: " << n.err;
-        EXPECT_EQ(pixels(path("n.exr")), pixels(path("one.exr"))) << ranks << " ranks";
+        EXPECT_TRUE(same_image_up_to_traversal(pixels(path("n.exr")), pixels(path("one.exr")))) << ranks << " ranks";
     }
 }
 
@@ -112,7 +133,7 @@ TEST_F(MpiRun, APipelineWithoutACacheRendersTheSingleProcessImage) {
     ASSERT_EQ(one.exit_code, 0) << one.err;
     auto two = mpirun(2, {"run", pipe, "--size", "24x16", "-q", "-o", path("two.exr")});
     ASSERT_EQ(two.exit_code, 0) << two.err;
-    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    EXPECT_TRUE(same_image_up_to_traversal(pixels(path("two.exr")), pixels(path("one.exr"))));
 }
 
 // The rows in each band of the last stage, from rank 0's note in the JSON summary.
@@ -153,7 +174,7 @@ TEST_F(MpiRun, BandsBalancedBySamplesRenderTheSingleProcessImage) {
         a.insert(a.end(), {"-o", path("n.exr")});
         auto n = mpirun(ranks, a);
         ASSERT_EQ(n.exit_code, 0) << n.err;
-        EXPECT_EQ(pixels(path("n.exr")), pixels(path("one.exr")));
+        EXPECT_TRUE(same_image_up_to_traversal(pixels(path("n.exr")), pixels(path("one.exr"))));
         const std::vector<int> rows = last_stage_band_rows(n.out);
         ASSERT_EQ(rows.size(), static_cast<size_t>(ranks)) << n.out;
         EXPECT_EQ(std::accumulate(rows.begin(), rows.end(), 0), height);
@@ -213,7 +234,7 @@ TEST_F(MpiRun, OnlyRankZeroReadsThePipelineAndTheScene) {
     auto two = mpirun_each({"run", pipe, "--scene", scene, "--size", "24x16", "-q", "-o", path("two.exr")},
                            {"run", path("missing.pipe"), "--scene", path("missing.json"), "--size", "24x16", "-q", "-o", path("two.exr")});
     ASSERT_EQ(two.exit_code, 0) << two.err;
-    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    EXPECT_TRUE(same_image_up_to_traversal(pixels(path("two.exr")), pixels(path("one.exr"))));
 }
 
 // A kept plan (JSON) and a RADIANCE scene with a view file, read by rank 0 only: the plan goes
@@ -229,7 +250,7 @@ TEST_F(MpiRun, AKeptPlanAndARadianceSceneWithAViewRenderTheSingleProcessImage) {
                            {"run", path("no-plan.json"), "--scene", path("no.rad"), "--view", path("no.vf"), "--size", "20x18", "--spp", "2", "-q",
                             "-o", path("two.exr")});
     ASSERT_EQ(two.exit_code, 0) << two.err;
-    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    EXPECT_TRUE(same_image_up_to_traversal(pixels(path("two.exr")), pixels(path("one.exr"))));
 }
 
 // A scene of a JSON file with an OBJ mesh (and its .mtl), and the OBJ itself: rank 0 loads
@@ -246,7 +267,7 @@ TEST_F(MpiRun, AnObjMeshSceneIsSentInline) {
         auto two = mpirun_each({"run", "--scene", scene, "--size", "16x12", "--spp", "2", "-q", "-o", path("two.exr")},
                                {"run", "--scene", path("none.json"), "--size", "16x12", "--spp", "2", "-q", "-o", path("two.exr")});
         ASSERT_EQ(two.exit_code, 0) << scene << ": " << two.err;
-        EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr"))) << scene;
+        EXPECT_TRUE(same_image_up_to_traversal(pixels(path("two.exr")), pixels(path("one.exr")))) << scene;
         fs::remove(path("two.exr"));
     }
 }
@@ -264,7 +285,7 @@ TEST_F(MpiRun, ANameThatIsNotUtf8StillReachesTheOtherRanks) {
     a.push_back(path("two.exr"));
     auto two = mpirun(2, a);
     ASSERT_EQ(two.exit_code, 0) << two.err;
-    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    EXPECT_TRUE(same_image_up_to_traversal(pixels(path("two.exr")), pixels(path("one.exr"))));
 }
 
 // An error in the input is rank 0's to say, once, with its location; every rank exits 1.
@@ -381,7 +402,7 @@ TEST_F(MpiRun, AKilledRankHasRankZeroWriteItsFinishedRows) {
     // And resumable: the same command with --resume renders rows 12..24 and writes the whole.
     auto resumed = testing::crex_cli({"run", "--size", "33x25", "--spp", "2", "-q", "--resume", partial, "-o", out});
     ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-    EXPECT_EQ(pixels(out), pixels(path("one.exr")));
+    EXPECT_TRUE(same_image_up_to_traversal(pixels(out), pixels(path("one.exr"))));
 }
 
 TEST_F(MpiRun, AStoppedRankEndsTheRunNamedWithinTheTimeout) {
@@ -643,7 +664,7 @@ TEST_F(MpiRun, ComponentSharingOnTwoRanksRendersTheSingleProcessImage) {
     auto two = mpirun(2, a);
     ASSERT_EQ(two.exit_code, 0) << two.err;
     EXPECT_NE(two.err.find("1 PA rank(s) answering irradiance queries, 1 PR rank(s)"), std::string::npos) << two.err;
-    EXPECT_EQ(pixels(path("two.exr")), pixels(path("one.exr")));
+    EXPECT_TRUE(same_image_up_to_traversal(pixels(path("two.exr")), pixels(path("one.exr"))));
 }
 
 // --ic-file under component: rank 0 reads it and the PA loads the bytes rank 0 sent; at the
