@@ -142,7 +142,7 @@ nlohmann::json run_summary_json(const RunFacts& f) {
                                  {"records_made", ic.records}, {"records_loaded", f.ic_loaded},
                                  {"lookups", ic.lookups}, {"interpolated_at_first_lookup", ic.interpolated},
                                  {"hemisphere_rays", ic.hemisphere_rays}, {"rounds", ic.rounds},
-                                 {"caustic_photons", ic.caustic_photons}, {"caustic_map_seconds", ic.caustic_seconds},
+                                 {"caustic_photons", ic.caustic_photons}, {"caustic_map_seconds", r.caustic_map_seconds + ic.caustic_seconds},
                                  {"lookup_seconds", ic.lookup_seconds}, {"record_seconds", ic.record_seconds},
                                  {"caustic_lookup_seconds", ic.caustic_lookup_seconds}};
         if (f.piped) {

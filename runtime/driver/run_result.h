@@ -31,7 +31,8 @@ struct RunResult {
     std::vector<std::string> notes;  ///< what the runtime did not execute, and why
     /// With ambient_auto: the radiance that stood in for each component's unexecuted rays.
     std::array<Vec3, kComponentCount> auto_ambient{};
-    double setup_seconds = 0;      ///< Embree scene and BVH build (and opening the textures)
+    double setup_seconds = 0;      ///< Embree scene and BVH build (and opening the textures, the caustic map)
+    double caustic_map_seconds = 0;  ///< building the caustic map (path tracing's or the cache's), in setup_seconds
     double render_seconds = 0;     ///< from the first camera ray
     double render_cpu_seconds = 0; ///< the process's CPU time over the same span (all threads)
     double render_thread_seconds = 0;  ///< render_seconds times the worker threads it had

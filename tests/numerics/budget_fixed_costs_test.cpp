@@ -216,6 +216,31 @@ TEST(FixedCosts, ABudgetBelowThePipelinesFloorIsRefusedNamingTheFloor) {
     EXPECT_EQ(resolve_run(plan, o).settings.preview_stride, 1u);
 }
 
+// The cache's caustic map is scene set-up, as the BVH and path tracing's map are: built before
+// the clock (the photons do not depend on the camera), so a budget does not pay it and the
+// floor holds no fixed part for it. The image is the one a map carried in gives.
+TEST(FixedCosts, TheCachesCausticMapIsBuiltBeforeTheClock) {
+    Scene scene = *builtin_scene("cornell");  // a glass sphere: the map has photons
+    PipelinePlan plan = plan_for(kProgressive, scene);
+    RunSettings s;
+    s.width = 24, s.height = 16;
+    IcSettings ic;
+    ic.divisions = 16, ic.bounces = 1, ic.caustic_photons = 4000;
+    s.irradiance_cache = ic;
+    const RunResult built = run_plan(scene, plan, s);
+    ASSERT_TRUE(built.caustic_map);
+    EXPECT_GT(built.caustic_map->size(), 0u);
+    EXPECT_GT(built.caustic_map_seconds, 0.0);
+    EXPECT_GE(built.setup_seconds, built.caustic_map_seconds);
+    EXPECT_EQ(built.ic_stats.caustic_seconds, 0.0) << "nothing of the map on the render's clock";
+    EXPECT_EQ(measured_stage_costs(built, 24, 16).preview_fixed_seconds, 0.0);
+    RunSettings carried = s;
+    carried.caustic_map = built.caustic_map;
+    const RunResult again = run_plan(scene, plan, carried);
+    EXPECT_EQ(again.caustic_map_seconds, 0.0) << "a map carried in is not built";
+    EXPECT_EQ(again.image(), built.image());
+}
+
 TEST(StridedPreview, RendersTheCornersOnlyAndGuidanceSeesTheRestInterpolated) {
     Scene scene = *builtin_scene("cornell");
     PipelinePlan plan = plan_for(kProgressive, scene);
