@@ -57,7 +57,7 @@ std::set<std::string> guidance_reads(const PipelinePlan& plan) {
 }
 
 SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>& image, const std::vector<double>& stand_ins,
-                            RunResult& out, std::optional<PixelProbe>& surfaces) {
+                            RunResult& out, std::optional<PixelProbe>& surfaces, uint32_t grid_stride) {
     const RunSettings& s = ctx.settings;
     const PipelinePlan& plan = ctx.plan;
     const int w = s.width, h = s.height;
@@ -75,6 +75,8 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
     if (plan.settings.selective_spp) std::fill(sel.spp_end.begin(), sel.spp_end.end(), std::max(s0, *plan.settings.selective_spp));
 
     // The maps: computed by the guidance graph, or constant under --uniform.
+    std::optional<GuidanceGrid> grid;  // before the graph, which points at them
+    std::optional<PixelProbe> grid_probe;
     std::optional<GuidanceGraph> graph;
     std::optional<guidance::Raster> constant;
     if (s.uniform != UniformQuality::kOff) {
@@ -111,7 +113,12 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
             const SubsampleGrid::Fill fill = out.preview_grid->unsampled_fill(out.sampled_pixels());
             for (auto& [name, buffer] : in.buffers) out.fill_unsampled_preview(buffer, &fill);
         }
-        if (needs_probe(plan)) {  // the camera does not move between rounds: probed once a run
+        if (needs_probe(plan) && grid_stride > 1) {  // after a strided preview: its grid's pixels
+            grid.emplace(w, h, grid_stride);
+            grid_probe = probe_pixels(ctx.render_scene, w, h, grid->columns(), grid->rows());
+            in.probe = &*grid_probe;
+            in.grid = &*grid;
+        } else if (needs_probe(plan)) {  // the camera does not move between rounds: probed once a run
             if (!surfaces) surfaces = probe_pixels(ctx.render_scene, w, h);
             in.probe = &*surfaces;
         }

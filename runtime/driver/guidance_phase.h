@@ -50,7 +50,9 @@ struct GuidanceContext {
 /// with it, sample-summed) and the svt's values. Records the maps, the sub-sampling grids and
 /// what it did not execute (notes) in `out`; `surfaces`: what each pixel centre sees (the
 /// task and distractor maps', capict's), probed the first time a round needs it.
+/// `grid_stride` > 1: `image` is a preview sampled at that stride; the maps of what pixels see
+/// are made on its grid and spread over the frame (guidance_grid.h).
 SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>& image, const std::vector<double>& stand_ins,
-                            RunResult& out, std::optional<PixelProbe>& surfaces);
+                            RunResult& out, std::optional<PixelProbe>& surfaces, uint32_t grid_stride = 1);
 
 }  // namespace crex

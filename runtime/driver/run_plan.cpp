@@ -383,7 +383,8 @@ SelectiveSetup PlanRun::guidance_round(uint32_t round, uint32_t rounds) {
     // The image the maps see: the preview (with its carried D rays' stand-ins, shared with its
     // rows), or, in a later round, once the carried rays have run, the image so far.
     const GuidanceContext ctx{plan_, scene_, *rs_, s_, cache_.has_value()};
-    SelectiveSetup sel = round == 1 ? run_guidance(ctx, out_.preview, preview_ambient_, out_, surfaces_)
+    const uint32_t grid_stride = out_.preview_grid ? out_.preview_stride : 1;  // the preview's pixels left out
+    SelectiveSetup sel = round == 1 ? run_guidance(ctx, out_.preview, preview_ambient_, out_, surfaces_, grid_stride)
                                     : run_guidance(ctx, out_.film.composite(&stand_ins_->ambient()), stand_ins_->ambient(), out_, surfaces_);
     if (round == 1) preview_ambient_ = {};  // the maps have seen the preview
     out_.guidance_seconds += now() - t_guidance;

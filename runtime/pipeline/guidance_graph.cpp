@@ -95,6 +95,8 @@ Raster GuidanceGraph::evaluate(const PlanMap& node) {
     const std::string_view op_name = pipeline::name_of(op);
     const PlanMapParams& params = node.params;
     if (pipeline::signature(op).needs_scene && (!in_.scene || !in_.probe)) throw std::runtime_error(node.name + " needs the scene");
+    // A map of what the probe's pixels see, over the frame: spread when they are a grid's.
+    auto on_frame = [&](Raster m) { return in_.grid ? in_.grid->spread(m) : m; };
     // One case per pipeline::GuidanceOperator, no default: -Werror=switch (CMakeLists.txt) makes a
     // new operator without an implementation here a compile error.
     using G = pipeline::GuidanceOperator;
@@ -131,7 +133,7 @@ Raster GuidanceGraph::evaluate(const PlanMap& node) {
     }
     case G::kTaskMap: {
         const PixelProbe& probe = *in_.probe;
-        guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
+        const guidance::ViewGeometry view{probe.width, probe.height, in_.scene->camera.view_distance};
         std::vector<bool> selected;
         bool named = false;
         for (const PlanMapInput& in : inputs)
@@ -152,11 +154,11 @@ Raster GuidanceGraph::evaluate(const PlanMap& node) {
             if (task <= 0 && named) task = 3;
             if (task > 0) covered[static_cast<size_t>(std::min(task, 3) - 1)][p] = true;
         }
-        return guidance::task_map(covered, value, view, params.fovea.value_or(kDefaultFovea));
+        return on_frame(guidance::task_map(covered, value, view, params.fovea.value_or(kDefaultFovea)));
     }
     case G::kDistractors: {
         const PixelProbe& probe = *in_.probe;
-        guidance::ViewGeometry view{w, h, in_.scene->camera.view_distance};
+        const guidance::ViewGeometry view{probe.width, probe.height, in_.scene->camera.view_distance};
         std::vector<bool> selected;
         for (const PlanMapInput& in : inputs)
             if (is_objects(in.node)) selected = objects(in.node);
@@ -167,7 +169,7 @@ Raster GuidanceGraph::evaluate(const PlanMap& node) {
         std::vector<bool> detectable(probe.detected.size(), false);
         for (size_t p = 0; p < detectable.size(); ++p)
             detectable[p] = probe.detected[p] >= 0 && selected[static_cast<size_t>(probe.detected[p])];
-        return guidance::distractor_map(detectable, view, params.fovea.value_or(kDefaultFovea));
+        return on_frame(guidance::distractor_map(detectable, view, params.fovea.value_or(kDefaultFovea)));
     }
     case G::kNoise: {
         // The image so far at its pixels' mean plus and minus their standard error (the film's
@@ -185,7 +187,7 @@ Raster GuidanceGraph::evaluate(const PlanMap& node) {
         const PixelProbe& probe = *in_.probe;
         // Fraction of the light leaving the first surface that reaches the camera through the
         // scene's homogeneous medium: exp(-sigma_t d), luminance-weighted.
-        Raster m(w, h, 1, 1.0f);
+        Raster m(probe.width, probe.height, 1, 1.0f);
         if (in_.scene->medium) {
             const Vec3& e = in_.scene->medium->extinction;
             double sigma = 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
@@ -193,7 +195,7 @@ Raster GuidanceGraph::evaluate(const PlanMap& node) {
                 m.v[p] = sigma > 0 ? static_cast<float>(std::exp(-sigma * static_cast<double>(probe.distance[p]))) : 1.0f;
         }
         guidance::clamp01(m);
-        return m;
+        return on_frame(m);
     }
     }
     throw std::runtime_error(fmt::format("this runtime has no guidance operator '{}'", op_name));

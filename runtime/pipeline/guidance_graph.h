@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "compiler/plan/pipeline_plan.h"
+#include "runtime/pipeline/guidance_grid.h"
 #include "runtime/pipeline/pixel_probe.h"
 #include "runtime/scene/scene.h"
 #include "stdlib/guidance/raster.h"
@@ -22,6 +23,9 @@ struct GuidanceInputs {
     std::map<std::string, std::vector<float>> buffers;    ///< "direct", "emission", "ambient", "D".."M": linear RGB
     const Scene* scene = nullptr;
     const PixelProbe* probe = nullptr;
+    /// Set after a strided preview: `probe` is of this grid's pixels, and the maps of what the
+    /// pixels see (task map, distractors, X-map) are made on the grid and spread over the frame.
+    const GuidanceGrid* grid = nullptr;
 };
 
 class GuidanceGraph {

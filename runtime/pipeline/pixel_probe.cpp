@@ -1,5 +1,6 @@
 #include "runtime/pipeline/pixel_probe.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -21,9 +22,17 @@ RTCRayHit make_ray(const Vec3& o, const Vec3& d, unsigned id) {
 }  // namespace
 
 PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mirror_bounces) {
+    std::vector<int> xs(static_cast<size_t>(std::max(width, 0))), ys(static_cast<size_t>(std::max(height, 0)));
+    for (size_t x = 0; x < xs.size(); ++x) xs[x] = static_cast<int>(x);
+    for (size_t y = 0; y < ys.size(); ++y) ys[y] = static_cast<int>(y);
+    return probe_pixels(scene, width, height, xs, ys, mirror_bounces);
+}
+
+PixelProbe probe_pixels(const RenderScene& scene, int width, int height, const std::vector<int>& xs, const std::vector<int>& ys,
+                        int mirror_bounces) {
     PixelProbe probe;
-    probe.width = width, probe.height = height;
-    const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+    probe.width = static_cast<int>(xs.size()), probe.height = static_cast<int>(ys.size());
+    const size_t n = xs.size() * ys.size();
     probe.shape.assign(n, -1);
     probe.detected.assign(n, -1);
     probe.distance.assign(n, std::numeric_limits<float>::infinity());
@@ -40,8 +49,8 @@ PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mir
         for (size_t p = range.begin(); p < range.end(); ++p) {
             // A pixel outside a fisheye's circle sees nothing.
             const size_t i = p - range.begin();
-            if (camera.generate(static_cast<double>(p % static_cast<size_t>(width)) + 0.5,
-                                static_cast<double>(p / static_cast<size_t>(width)) + 0.5, origin[i], dir[i]))
+            if (camera.generate(static_cast<double>(xs[p % xs.size()]) + 0.5, static_cast<double>(ys[p / xs.size()]) + 0.5, origin[i],
+                                dir[i]))
                 active.push_back(i);
         }
         for (int bounce = 0; bounce <= mirror_bounces && !active.empty(); ++bounce) {

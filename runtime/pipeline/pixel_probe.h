@@ -23,5 +23,9 @@ struct PixelProbe {
 
 /// `mirror_bounces`: how many mirror reflections a detectable ray follows.
 PixelProbe probe_pixels(const RenderScene& scene, int width, int height, int mirror_bounces = 4);
+/// The same through the centres of a `width` x `height` frame's pixels in columns `xs` and rows
+/// `ys` only (a strided preview's grid, guidance_grid.h): a probe of xs.size() x ys.size() pixels.
+PixelProbe probe_pixels(const RenderScene& scene, int width, int height, const std::vector<int>& xs, const std::vector<int>& ys,
+                        int mirror_bounces = 4);
 
 }  // namespace crex
