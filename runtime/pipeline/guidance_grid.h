@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "runtime/pipeline/subsample.h"
 #include "stdlib/guidance/raster.h"
 
 namespace crex {
@@ -24,12 +25,14 @@ public:
     /// The frame's columns and rows the grid holds, in order.
     const std::vector<int>& columns() const { return xs_; }
     const std::vector<int>& rows() const { return ys_; }
-    /// A grid-sized map spread over the frame: each pixel bilinear between its square's corners.
+    /// A grid-sized map spread over the frame: each pixel bilinear between its square's corners,
+    /// as the preview's own pixels are (SubsampleGrid::fill_unsampled).
     guidance::Raster spread(const guidance::Raster& map) const;
 
 private:
-    int frame_width_, frame_height_;
+    SubsampleGrid preview_;  // the preview's grid at this stride: its corners are this grid
     std::vector<int> xs_, ys_;
+    std::vector<uint8_t> corners_;  // per frame pixel: 1 on the grid
 };
 
 }  // namespace crex
