@@ -72,29 +72,4 @@ bool parse_ambient(const std::string& text, AmbientStandIn& ambient) {
     }
 }
 
-std::string parse_frame_range(const std::string& text, FrameRange& range) {
-    const std::string expected = "expected FIRST..LAST or FIRST..LAST:STEP (whole frame numbers from 0, e.g. 0..59 or 0..59:2), or one frame";
-    // Whole numbers only, of at most 7 digits: frame 9,999,999 at 30 fps is over three days in.
-    auto whole = [](const std::string& s, int64_t& v, int64_t lo) {
-        if (s.empty() || s.size() > 7 || s.find_first_not_of("0123456789") != std::string::npos) return false;
-        v = std::stoll(s);
-        return v >= lo;
-    };
-    std::string span = text;
-    range.step = 1;
-    if (size_t colon = text.find(':'); colon != std::string::npos) {
-        span = text.substr(0, colon);
-        if (!whole(text.substr(colon + 1), range.step, 1)) return expected + "; STEP from 1";
-    }
-    const size_t dots = span.find("..");
-    if (dots == std::string::npos) {
-        if (!whole(span, range.first, 0)) return expected;
-        range.last = range.first;
-        return "";
-    }
-    if (!whole(span.substr(0, dots), range.first, 0) || !whole(span.substr(dots + 2), range.last, 0)) return expected;
-    if (range.last < range.first) return fmt::format("the last frame {} is before the first {}", range.last, range.first);
-    return "";
-}
-
 }  // namespace crex::app

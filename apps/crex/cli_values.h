@@ -33,7 +33,4 @@ std::string parse_budget(const std::string& text, PlanBudget& budget);
 /// --ambient: "auto", or a radiance from 0 to 1e30.
 bool parse_ambient(const std::string& text, AmbientStandIn& ambient);
 
-/// --frames: "FIRST..LAST", "FIRST..LAST:STEP" or one frame "N"; "" or what is wrong.
-std::string parse_frame_range(const std::string& text, FrameRange& range);
-
 }  // namespace crex::app

@@ -168,6 +168,10 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_flag("--force", opt->force, "With --frames: render frames whose files exist too");
     cmd->add_flag("--no-carry-cache", opt->no_carry_cache, "With --frames: start every frame from an empty irradiance cache (or "
                                                            "the --ic-file's) instead of the frame before's: what carrying it saves");
+    cmd->add_option("--reuse-frames", opt->reuse_frames, "With --frames: each frame inherits the one before's light where its pixels "
+                                                         "see the same diffuse or glossy point, up to N samples' worth, and takes that many fewer "
+                                                         "of its own (at least one): faster frames, less flicker, a lag of up to N frames")
+        ->check(number_in(0, 1e4));
     cmd->add_option("--high-quality-frames", opt->high_quality_frames,
                     "With a pipeline's --frames: these frames (FIRST..LAST[:STEP] or N, comma-separated) render at high quality, "
                     "every selective variable at its maximum (as --uniform max); the others selectively (the thesis's Case II)")

@@ -139,20 +139,13 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     // A sequence: its flags, and what it does not write per frame yet.
     if (!f.frames.empty() && f.camera_path.empty())
         return usage("--frames needs --camera-path FILE: the camera of each frame comes from a path");
-    for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"},
+    for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"}, std::pair{f.reuse_frames > 0, "--reuse-frames"},
                                       std::pair{!f.high_quality_frames.empty(), "--high-quality-frames"},
                                       std::pair{f.high_quality_without_distractors, "--high-quality-without-distractors"},
                                       std::pair{!f.sequence_budget.empty(), "--sequence-budget"}, std::pair{!f.video.empty(), "--video"}})
         if (given && f.camera_path.empty()) return usage(fmt::format("{} is for frames along a camera path: give --camera-path FILE", flag));
-    if (!f.high_quality_frames.empty()) {
-        std::string item;
-        for (std::istringstream list(f.high_quality_frames); std::getline(list, item, ',');) {
-            FrameRange range;
-            if (std::string error = parse_frame_range(item, range); !error.empty())
-                return usage(fmt::format("--high-quality-frames {}: '{}': {}", f.high_quality_frames, item, error));
-            r.sequence.high_quality.push_back(range);
-        }
-    }
+    if (std::string error = parse_frame_ranges(f.high_quality_frames, r.sequence.high_quality); !error.empty())
+        return usage(fmt::format("--high-quality-frames {}: {}", f.high_quality_frames, error));
     r.sequence.high_quality_without_distractors = f.high_quality_without_distractors;
     if (!f.sequence_budget.empty()) {
         // The driver is set up as for a budget of the whole (coarse-to-fine previews, the
@@ -184,6 +177,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.sequence.fps = f.fps;
     r.sequence.force = f.force;
     r.sequence.carry_cache = !f.no_carry_cache;
+    r.sequence.reuse_frames = static_cast<float>(f.reuse_frames);
     r.sequence.plan_file = f.plan;
     if (!f.camera_path.empty()) r.sequence.reference = f.reference;  // a sequence's: each frame it has is scored
     if (!f.camera_path.empty()) {

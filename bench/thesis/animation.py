@@ -4,7 +4,10 @@ buys uniform rendering and stdlib pipelines, in seconds per frame, records made 
 flicker and error.
 
 For every configuration the walk is rendered twice, with the cache carried and cold
-(--no-carry-cache), each in one `crex run --camera-path ... --format json`. Per configuration:
+(--no-carry-cache), each in one `crex run --camera-path ... --format json`; with
+--reuse-frames N, the cached configurations once more with frames inheriting the frame
+before's light (`crex run --reuse-frames N`, cache carried; its "cold" walk carries no cache
+but still inherits). Per configuration:
 the first frame's seconds, the mean of the others, their ratio; records made in the first
 frame and per later frame; the whole walk carried over cold; the mean flicker (the display
 difference from the frame before, warped onto it: docs/animation.md); and FLIP against
@@ -33,6 +36,7 @@ def main():
     ap.add_argument("--spp", type=int, default=4, help="uniform rendering's samples per pixel")
     ap.add_argument("--pipelines", default="prog_all,adaptive", help="stdlib pipelines, comma-separated")
     ap.add_argument("--reference-every", type=int, default=5, help="a reference frame every N frames")
+    ap.add_argument("--reuse-frames", type=int, default=8, help="also each cached configuration with --reuse-frames N (0: not)")
     a = ap.parse_args()
     out = os.path.join(a.out, "animation")
     os.makedirs(out, exist_ok=True)
@@ -57,6 +61,9 @@ def main():
     configs = [(f"uniform {a.spp} spp, path traced", f"uniform_pt", ["--spp", str(a.spp)]),
                (f"uniform {a.spp} spp, --ic", f"uniform_ic", ["--spp", str(a.spp), "--ic"])]
     configs += [(p, p, [os.path.join(ROOT, "stdlib/pipelines", p + ".pipe")]) for p in a.pipelines.split(",") if p]
+    if a.reuse_frames > 0:
+        configs += [(f"{label}, --reuse-frames {a.reuse_frames}", f"{name}_reuse", args + ["--reuse-frames", str(a.reuse_frames)])
+                    for label, name, args in configs[1:]]
 
     rows = []
     for label, name, args in configs:
@@ -73,6 +80,7 @@ def main():
         rows.append({
             "label": label,
             "first_s": frames[0]["seconds"],
+            "rest_stages": {k: statistics.mean(f["stages"][k] for f in rest) for k in rest[0]["stages"]} if rest else {},
             "rest_s": statistics.mean(f["seconds"] for f in rest) if rest else float("nan"),
             "first_records": frames[0]["records_made"],
             "rest_records": statistics.mean(f["records_made"] for f in rest) if rest else 0,

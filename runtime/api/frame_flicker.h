@@ -13,20 +13,9 @@
 #include <optional>
 #include <vector>
 
-#include "runtime/base/vec3.h"
-#include "runtime/render/render_scene.h"
+#include "runtime/api/frame_geometry.h"
 
 namespace crex {
-
-/// What the camera (the scene's, as it is now) sees through each pixel centre: the point, in
-/// the render scene's local coordinates, and its shape (-1: nothing).
-struct FrameGeometry {
-    int width = 0, height = 0;
-    Camera camera;
-    std::vector<Vec3> point;
-    std::vector<int32_t> shape;
-};
-FrameGeometry frame_geometry(const RenderScene& scene, int width, int height);
 
 struct FrameFlicker {
     double difference = 0;  ///< mean over matched pixels and channels of |a - b|, display values in [0, 1]
@@ -35,9 +24,7 @@ struct FrameFlicker {
 
 /// `image` against `previous_image` warped onto it, both display values (to_display() with
 /// one exposure: an exposure that changes would count as flicker); nullopt when no pixel matches
-/// (or a projection without a matrix: the fisheyes). A pixel matches where its point projects
-/// into the previous frame onto a pixel that saw the same shape within two pixel footprints
-/// (at least 1 %) of the point's distance from the previous camera.
+/// (or a projection without a matrix: the fisheyes). Pixels match as previous_pixels() says.
 std::optional<FrameFlicker> frame_flicker(const FrameGeometry& previous, const std::vector<float>& previous_image,
                                           const FrameGeometry& current, const std::vector<float>& image, const Vec3& origin_offset);
 

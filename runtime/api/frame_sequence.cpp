@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <cstring>
 #include <memory>
+#include <sstream>
 #include <type_traits>
 
 #include "runtime/api/frame_flicker.h"
+#include "runtime/api/frame_reuse.h"
 #include "runtime/driver/process_group.h"
 #include "runtime/base/file_extension.h"
 #include "runtime/io/image_io.h"
@@ -86,6 +88,41 @@ std::string check_sequence_reference(const std::string& reference, const FrameRa
     }
     if (found == 0)
         return fmt::format("no frame of {} .. {} exists (looked for {} ...)", range.first, range.last, frame_file_name(reference, range.first));
+    return "";
+}
+
+std::string parse_frame_range(const std::string& text, FrameRange& range) {
+    const std::string expected = "expected FIRST..LAST or FIRST..LAST:STEP (whole frame numbers from 0, e.g. 0..59 or 0..59:2), or one frame";
+    // Whole numbers only, of at most 7 digits: frame 9,999,999 at 30 fps is over three days in.
+    auto whole = [](const std::string& s, int64_t& v, int64_t lo) {
+        if (s.empty() || s.size() > 7 || s.find_first_not_of("0123456789") != std::string::npos) return false;
+        v = std::stoll(s);
+        return v >= lo;
+    };
+    std::string span = text;
+    range.step = 1;
+    if (size_t colon = text.find(':'); colon != std::string::npos) {
+        span = text.substr(0, colon);
+        if (!whole(text.substr(colon + 1), range.step, 1)) return expected + "; STEP from 1";
+    }
+    const size_t dots = span.find("..");
+    if (dots == std::string::npos) {
+        if (!whole(span, range.first, 0)) return expected;
+        range.last = range.first;
+        return "";
+    }
+    if (!whole(span.substr(0, dots), range.first, 0) || !whole(span.substr(dots + 2), range.last, 0)) return expected;
+    if (range.last < range.first) return fmt::format("the last frame {} is before the first {}", range.last, range.first);
+    return "";
+}
+
+std::string parse_frame_ranges(const std::string& text, std::vector<FrameRange>& ranges) {
+    std::string item;
+    for (std::istringstream list(text); std::getline(list, item, ',');) {
+        FrameRange range;
+        if (std::string error = parse_frame_range(item, range); !error.empty()) return fmt::format("'{}': {}", item, error);
+        ranges.push_back(range);
+    }
     return "";
 }
 
@@ -192,6 +229,10 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     std::unique_ptr<RenderScene> probe_scene;
     std::optional<FrameGeometry> previous_geometry;
     std::vector<float> previous_image;  // display values
+    // --reuse-frames: the frame before's light and sample counts, and which shapes inherit.
+    const bool reusing = o.reuse_frames > 0;
+    std::optional<PixelHistory> previous_history;
+    std::vector<char> inherits;
     double exposure = 0;                // the first frame rendered sets it for all
     for (size_t index = first_index; index < end_index; ++index) {
         FrameRun f;
@@ -207,6 +248,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         std::vector<IrradianceRecord> made;  // this frame's records, for the other processes
         if (f.skipped) {
             previous_geometry.reset();
+            previous_history.reset();
             out.push_back(f);
             frame_done(index);
             share_records({});
@@ -215,12 +257,28 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - sequence_start).count();
         scene.camera = o.path->camera_at(f.time, scene_camera);
         // What the frame's pixel centres see: for its flicker and its distractors (not counted
-        // in the frame's time: one ray a pixel, in a scene built once).
+        // in the frame's time: one ray a pixel, in a scene built once), and for the light it
+        // inherits (counted: the frame needs it).
+        const auto before_geometry = std::chrono::steady_clock::now();
         std::optional<FrameGeometry> geometry;
-        if (o.flicker || o.high_quality_without_distractors) {
+        if (o.flicker || o.high_quality_without_distractors || reusing) {
             if (!probe_scene) probe_scene = std::make_unique<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));
             geometry = frame_geometry(*probe_scene, next.settings.width, next.settings.height);
         }
+        next.settings.history.reset();
+        if (reusing && previous_history && previous_geometry) {
+            if (inherits.empty()) inherits = shapes_that_inherit(scene);
+            const std::vector<PixelTaps> from = previous_taps(*previous_geometry, *geometry, probe_scene->embree->origin_offset());
+            auto history = std::make_shared<PixelHistory>(inherited_history(*previous_history, from, geometry->shape, inherits, o.reuse_frames));
+            size_t inherited = 0;
+            double samples = 0;
+            for (const float w : history->weight)
+                if (w > 0) ++inherited, samples += w;
+            f.inherited_pixels = static_cast<double>(inherited) / static_cast<double>(std::max<size_t>(1, history->weight.size()));
+            f.inherited_samples = inherited ? samples / static_cast<double>(inherited) : 0;
+            next.settings.history = std::move(history);
+        }
+        const double reuse_seconds = reusing ? std::chrono::duration<double>(std::chrono::steady_clock::now() - before_geometry).count() : 0;
         f.high_quality = std::any_of(o.high_quality.begin(), o.high_quality.end(), [&](const FrameRange& r) { return r.contains(f.frame); });
         if (o.high_quality_without_distractors) {
             f.distractor_on_screen = shows_a_distractor(scene, *geometry);
@@ -242,6 +300,8 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         f.records_made = result.ic_stats.records;
         f.rays = total_rays(result.stats);
         f.render_seconds = result.render_seconds;
+        f.setup_seconds = result.setup_seconds;
+        f.preview_seconds = result.preview_seconds, f.guidance_seconds = result.guidance_seconds, f.selective_seconds = result.selective_seconds;
         f.warnings = result.warnings;
         f.notes = result.notes;
         RunRecord record;
@@ -252,7 +312,12 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         WrittenRun written;
         if (std::string error = write_run_files(frame_files, record, written); !error.empty())
             throw FrameWriteError(fmt::format("frame {}: {}", f.frame, error));
-        f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (reusing) {  // what the next frame inherits: this one's image and counts (timed: the frame's work)
+            const auto t = std::chrono::steady_clock::now();
+            previous_history = history_of(result.image(), result.film, result.history.get());
+            f.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+        }
+        f.seconds += reuse_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         // A frame's set-up and writing, the least seen since the first (whose own holds one-time
         // costs, 0.33 s against 0.05 s on the corridor); what is spent corrects the rest.
         const double frame_overhead = std::max(0.0, f.seconds - f.render_seconds);
@@ -268,9 +333,9 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
                     f.flicker = flicker->difference;
                     f.flicker_matched = flicker->matched;
                 }
-            previous_geometry = std::move(*geometry);
             previous_image = std::move(image);
         }
+        if (geometry) previous_geometry = std::move(*geometry);
         // The caustic map does not depend on the camera: every frame after takes this one's.
         next.settings.caustic_map = outcome.result->caustic_map;
         if (o.budget_of_first_frame) {  // the first frame's full time, every frame's measurements
@@ -315,9 +380,12 @@ nlohmann::json frame_json(const FrameRun& f) {
     if (f.skipped) return j;
     j["seconds"] = f.seconds;
     j["render_seconds"] = f.render_seconds;
+    j["stages"] = {{"setup_seconds", f.setup_seconds}, {"preview_seconds", f.preview_seconds}, {"guidance_seconds", f.guidance_seconds},
+                   {"selective_seconds", f.selective_seconds}};
     j["records_made"] = f.records_made;
     j["records_reused"] = f.records_reused;
     j["rays"] = f.rays;
+    if (f.inherited_pixels > 0) j["inherited"] = {{"pixels", f.inherited_pixels}, {"samples", f.inherited_samples}};
     if (f.flicker) j["flicker"] = {{"display_difference", *f.flicker}, {"matched", f.flicker_matched}};
     j["quality"] = f.high_quality ? "high" : "selective";
     if (f.distractor_on_screen) j["distractor_on_screen"] = *f.distractor_on_screen;
@@ -350,9 +418,18 @@ FrameRun frame_from_json(const nlohmann::json& j) {
     if (f.skipped) return f;
     f.seconds = j.at("seconds").get<double>();
     f.render_seconds = j.at("render_seconds").get<double>();
+    if (j.contains("stages")) {
+        const nlohmann::json& st = j["stages"];
+        f.setup_seconds = st.value("setup_seconds", 0.0), f.preview_seconds = st.value("preview_seconds", 0.0);
+        f.guidance_seconds = st.value("guidance_seconds", 0.0), f.selective_seconds = st.value("selective_seconds", 0.0);
+    }
     f.records_made = j.at("records_made").get<size_t>();
     f.records_reused = j.at("records_reused").get<size_t>();
     f.rays = j.at("rays").get<uint64_t>();
+    if (j.contains("inherited")) {
+        f.inherited_pixels = j["inherited"].at("pixels").get<double>();
+        f.inherited_samples = j["inherited"].at("samples").get<double>();
+    }
     if (j.contains("flicker")) {
         f.flicker = j["flicker"].at("display_difference").get<double>();
         f.flicker_matched = j["flicker"].at("matched").get<double>();
@@ -394,6 +471,8 @@ std::string frame_line(const FrameRun& f, size_t index, size_t count) {
     if (f.high_quality) line += f.distractor_on_screen ? ", high quality (no distractor on screen)" : ", high quality";
     if (f.records_made || f.records_reused)
         line += fmt::format(", {} new records, {} reused", grouped(f.records_made), grouped(f.records_reused));
+    if (f.inherited_pixels > 0)
+        line += fmt::format(", {:.0f} % of pixels inherited {:.1f} samples", 100 * f.inherited_pixels, f.inherited_samples);
     if (f.flicker) line += fmt::format(", flicker {:.4f} ({:.0f} % of pixels matched)", *f.flicker, 100 * f.flicker_matched);
     if (f.flip) line += fmt::format(", FLIP {:.4f} against its reference", *f.flip);
     return line;

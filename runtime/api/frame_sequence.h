@@ -31,6 +31,11 @@ struct FrameRange {
     bool contains(int64_t frame) const { return step > 0 && frame >= first && frame <= last && (frame - first) % step == 0; }
 };
 
+/// "FIRST..LAST", "FIRST..LAST:STEP" or one frame "N" (`--frames`); "" or what is wrong.
+std::string parse_frame_range(const std::string& text, FrameRange& range);
+/// Ranges separated by commas (`--high-quality-frames 0..9,20`); "" or what is wrong, with the item.
+std::string parse_frame_ranges(const std::string& text, std::vector<FrameRange>& ranges);
+
 /// The frames a path at `fps` covers: those whose time f / fps lies within its keys' span.
 FrameRange path_frames(const CameraPath& path, double fps);
 
@@ -69,6 +74,10 @@ struct SequenceOptions {
     /// frame it has is scored against (FLIP and relMSE, through the reference's exposure, as
     /// `crex compare` does). "" for none; check_sequence_reference() before rendering.
     std::string reference;
+    /// `--reuse-frames N` (frame_reuse.h): every frame after the first inherits the one
+    /// before's light where its pixels see the same point, up to N samples' worth, and takes
+    /// that many fewer of its own (at least one). 0: none; each frame renders alone.
+    float reuse_frames = 0;
 };
 
 /// "" when `reference` (SequenceOptions::reference) has at least one frame of `range`, each
@@ -88,9 +97,14 @@ struct FrameRun {
     bool skipped = false;        ///< its files existed
     double seconds = 0;          ///< the whole frame: scene set-up, render, files written
     double render_seconds = 0;   ///< from its first camera ray
+    /// Of those: set-up (scene, BVH, caustic map) and a pipeline's stages (0 for a plain crex).
+    double setup_seconds = 0, preview_seconds = 0, guidance_seconds = 0, selective_seconds = 0;
     size_t records_reused = 0;   ///< cache records it started with (carried, or from the cache file)
     size_t records_made = 0;
     uint64_t rays = 0;
+    /// The share of pixels that inherited samples from the frame before (reuse_frames), and
+    /// their mean inherited count.
+    double inherited_pixels = 0, inherited_samples = 0;
     /// Mean display difference from the frame rendered just before it, warped onto this one
     /// (frame_flicker.h), and the fraction of pixels that could be matched; none for the first
     /// frame rendered, after a skipped one, or where no pixel matched.

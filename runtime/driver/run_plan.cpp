@@ -125,6 +125,13 @@ private:
         return SubsampleGrid(s_.width, s_.height, std::vector<double>(out_.film.pixel_count(), static_cast<double>(stride)));
     }
     void redo_preview_direct_light(const SelectiveSetup& sel);
+    // A pixel whose only samples of its own are the preview's, the rest inherited from the
+    // frame before (RunSettings::history): the inherited samples have the quality its map
+    // asks for; its preview sample, a small share of the pixel, keeps the preview's.
+    bool inherits_its_quality(const SelectiveSetup& sel, size_t p) const {
+        if (!s_.history || !(s_.history->samples(p) > 0)) return false;
+        return own_samples(std::max(s_.spp, sel.spp_end[p]), s_.history->samples(p)) <= s_.spp;
+    }
 
     // Distributed rendering: rows (and the cache's records) exchanged with the other processes,
     // the work since the last exchange done in the bands of `bands_`; `ambient`: the stand-ins
@@ -289,7 +296,12 @@ void PlanRun::render_interleaved() {
     // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
     const sched::Program& program = plan_.program;
     last_stage_ = true;
-    const SampleRanges every_pixel{s_.first_sample, s_.first_sample + s_.spp, {}, {}};
+    SampleRanges every_pixel{s_.first_sample, s_.first_sample + s_.spp, {}, {}};
+    if (s_.history) {  // what a pixel inherits it does not take again; one sample of its own at least
+        every_pixel.end_of.resize(out_.film.pixel_count());
+        for (size_t p = 0; p < every_pixel.end_of.size(); ++p)
+            every_pixel.end_of[p] = every_pixel.first + own_samples(s_.spp, s_.history->samples(p));
+    }
     run_samples("render", s_.windows.empty() ? every_pixel : only_windows(every_pixel, s_.width, s_.height, s_.windows), [&] {
         if (recorder_) recorder_->set_stage("preselective");
         ex_->run_stage(program.preselective);
@@ -450,7 +462,8 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
     for (size_t p = 0; p < pixels; ++p) {
         ranges.start_of[p] = out_.film.samples(static_cast<uint32_t>(p));
         double target = sel.spp_end[p] <= s_.spp ? 0 : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
-        ranges.end_of[p] = static_cast<uint32_t>(std::ceil(target - 1e-9));
+        if (s_.history) target -= s_.history->samples(p);  // inherited samples count (the preview's stay: at least one own)
+        ranges.end_of[p] = static_cast<uint32_t>(std::max(0.0, std::ceil(target - 1e-9)));
     }
     last_stage_ = round == rounds;
     // Distributed: bands of about the same camera samples for this round. In round 1 the work
@@ -524,6 +537,7 @@ RunResult PlanRun::finish() {
         out_.strided_preview_seconds = time_strided_preview();
     if (rs_->textures) out_.textures = rs_->textures->stats();
     out_.caustic_map = cache_ ? cache_->caustic_map() : caustics_;
+    out_.history = s_.history;
     if (cache_) {
         out_.ic_records = cache_->records();
         out_.ic_stats = cache_->stats();
@@ -760,7 +774,7 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     std::vector<const IcAnswer*> from;
     for (const auto& a : preview_answers_) {
         uint32_t p = a.query.pixel;
-        if (!(sel.ic_accuracy[p] < a.accuracy - 1e-9)) continue;
+        if (!(sel.ic_accuracy[p] < a.accuracy - 1e-9) || inherits_its_quality(sel, p)) continue;
         again.push_back({a.query.origin, normalize_or_zero(a.query.direction), sel.ic_accuracy[p], sel.ic_priority[p], a.query.path});
         from.push_back(&a);
     }

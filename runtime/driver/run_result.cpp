@@ -8,6 +8,7 @@ std::vector<float> RunResult::image() const {
     std::vector<double> stand_in = ambient;
     component_subsample.add_stand_ins(film, stand_in);
     std::vector<float> rgb = film.composite(&stand_in);
+    if (history) blend_history(rgb, film, *history);
     fill_unsampled_preview(rgb);
     if (subsample) subsample->fill(rgb);
     return rgb;

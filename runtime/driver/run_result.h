@@ -13,6 +13,7 @@
 
 #include "compiler/pipeline/settings_table.h"
 #include "runtime/cache/irradiance_cache.h"
+#include "runtime/driver/pixel_history.h"
 #include "runtime/pipeline/component_subsample.h"
 #include "runtime/pipeline/subsample.h"
 #include "runtime/render/executor.h"
@@ -58,6 +59,9 @@ struct RunResult {
     /// The caustic map the render used (the cache's or path tracing's; null: none): a later
     /// render of the same scene and settings can take it (RunSettings::caustic_map).
     std::shared_ptr<const CausticPhotons> caustic_map;
+    /// What the pixels inherited from the frame before (RunSettings::history): image() blends
+    /// it in; the components' images are the frame's own samples. Null: nothing.
+    std::shared_ptr<const PixelHistory> history;
     /// Distributed rendering: the split of the render's last stage (row_bands.h); empty in one process.
     std::vector<int> row_bands;
 

@@ -14,6 +14,7 @@
 
 #include "compiler/pipeline/settings_table.h"
 #include "runtime/cache/irradiance_cache.h"
+#include "runtime/driver/pixel_history.h"
 #include "runtime/driver/sample_passes.h"
 #include "runtime/render/camera_samples.h"
 #include "runtime/render/executor.h"
@@ -94,6 +95,10 @@ struct RunSettings {
     /// of an earlier render: a sequence's frames share one, the photons do not depend on the
     /// camera); null: built here when one is needed.
     std::shared_ptr<const CausticPhotons> caustic_map;
+    /// Samples each pixel inherits from the frame before (pixel_history.h; a sequence's
+    /// `--reuse-frames`): it takes that many fewer of its own, at least one, and the image
+    /// blends them in. Null: none.
+    std::shared_ptr<const PixelHistory> history;
 };
 
 /// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot

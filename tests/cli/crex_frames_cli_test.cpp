@@ -164,6 +164,29 @@ TEST_F(CrexFramesCli, FramesTaggedHighQualityRenderAtTheMaximum) {
     EXPECT_EQ(by_distractor[1]["rays"], ranged[1]["rays"]);
 }
 
+// --reuse-frames: frames after the first say what share of their pixels inherited how many
+// samples, and trace fewer rays than they would alone; the first inherits nothing.
+TEST_F(CrexFramesCli, ReusedFramesSayWhatTheyInherited) {
+    auto frames_of = [&](std::vector<std::string> more) {
+        std::vector<std::string> args = {"run", "--scene", kCorridor, "--size", "48x32", "--spp", "8", "-o", path("r.png"), "--camera-path",
+                                         walk(), "--frames", "0..1", "--force", "--format", "json"};
+        args.insert(args.end(), more.begin(), more.end());
+        auto r = crex_cli(args);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(r.out.empty() ? "{}" : r.out).value("frames", nlohmann::json::array());
+    };
+    const auto alone = frames_of({}), reused = frames_of({"--reuse-frames", "8"});
+    ASSERT_EQ(reused.size(), 2u);
+    ASSERT_EQ(alone.size(), 2u);
+    EXPECT_FALSE(reused[0].contains("inherited"));
+    EXPECT_EQ(reused[0]["rays"], alone[0]["rays"]);
+    ASSERT_TRUE(reused[1].contains("inherited"));
+    EXPECT_GT(reused[1]["inherited"]["pixels"].get<double>(), 0.1);
+    EXPECT_LE(reused[1]["inherited"]["samples"].get<double>(), 8.0);
+    EXPECT_LT(reused[1]["rays"].get<double>(), alone[1]["rays"].get<double>());
+    EXPECT_TRUE(reused[1]["stages"].contains("selective_seconds"));
+}
+
 // --sequence-budget: each frame's render budget is what is left over the frames left (its
 // arithmetic: FrameBudget in tests/numerics); the first frame gets an even share.
 TEST_F(CrexFramesCli, ASequenceBudgetGivesEachFrameItsShareOfWhatIsLeft) {
@@ -339,6 +362,8 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
          "bad.json:2:27: error[E302]"},
         {{"--sequence-budget", "2s"}, 2, "--sequence-budget is for frames along a camera path"},
         {{"--video", path("v.mp4")}, 2, "--video is for frames along a camera path"},
+        {{"--reuse-frames", "8"}, 2, "--reuse-frames is for frames along a camera path"},
+        {{"--camera-path", path_file, "--reuse-frames", "-1"}, 2, "--reuse-frames"},
         {{"--camera-path", path_file, "--sequence-budget", "10%"}, 2, "give the sequence's time in seconds"},
         {{"--camera-path", path_file, "--sequence-budget", "2s", "--budget", "1s"}, 2, "--sequence-budget does not go with --budget"},
         {{"--camera-path", path_file, "--sequence-budget", "soon"}, 2, "--sequence-budget soon"},

@@ -1,0 +1,49 @@
+/// \file pixel_history.h
+/// Samples a frame inherits from the frame before (issue 36, `--reuse-frames`): the previous
+/// frame's final value at the surface point each pixel sees, counted as some of the pixel's
+/// samples. A pixel that inherits h of them takes h fewer of its own (at least one), and its
+/// image is its own samples' mean and the inherited value, weighted by their counts: the
+/// temporal accumulation of real-time renderers, with the count capped so that what a frame
+/// inherits fades. Inherited light is the light of a point seen from where the camera was a
+/// frame ago: right for light that does not depend on the view, so frame_reuse.h lets only
+/// surfaces without an ideal specular lobe inherit.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "runtime/render/film.h"
+
+namespace crex {
+
+struct PixelHistory {
+    std::vector<float> rgb;     ///< per pixel RGB radiance (linear)
+    std::vector<float> weight;  ///< per pixel, the samples the value counts as (0: none)
+    float samples(size_t pixel) const { return pixel < weight.size() ? weight[pixel] : 0.0f; }
+};
+
+/// Of `spp` samples a pixel is to have, those it takes itself when it inherits `inherited`:
+/// the rest, and at least one (new light at every pixel every frame).
+inline uint32_t own_samples(uint32_t spp, float inherited) {
+    const double rest = std::ceil(static_cast<double>(spp) - static_cast<double>(std::max(0.0f, inherited)) - 1e-9);
+    return spp == 0 ? 0 : static_cast<uint32_t>(std::clamp(rest, 1.0, static_cast<double>(spp)));
+}
+
+/// How far an inherited value may lie from the mean of its pixel's neighbourhood in this
+/// frame, in the neighbourhood's standard deviations (blend_history).
+inline constexpr double kHistoryClip = 1.5;
+
+/// Folds `history` into the composite `rgb` of `film` (per pixel mean radiance): each pixel
+/// with its own samples n and an inherited weight h becomes (n rgb + h value) / (n + h), the
+/// value first clipped to its 3x3 neighbourhood's mean +- kHistoryClip standard deviations of
+/// this frame's own pixels (the variance clipping of temporal anti-aliasing). Pixels without
+/// samples of their own are left to whatever fills them.
+void blend_history(std::vector<float>& rgb, const Film& film, const PixelHistory& history);
+
+/// The samples each pixel of `image` (the frame's final image, history blended in) counts as
+/// for the frame after: its own and what it inherited; 0 where it has none of its own.
+PixelHistory history_of(const std::vector<float>& image, const Film& film, const PixelHistory* inherited);
+
+}  // namespace crex
