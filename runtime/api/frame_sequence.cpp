@@ -69,6 +69,23 @@ void score_against_reference(FrameRun& f, const std::string& reference, const st
     f.flip = c.flip, f.relmse = c.relmse, f.reference = path;
 }
 
+// A restart's first frame inherits from the finished frame before it, read back from its
+// file (EXR or HDR: a PNG holds display values, not light), every pixel counted at the cap,
+// as nearly every pixel of a walk is after a frame or two: so a restarted walk goes on as it
+// would have. Nothing when the file is not linear light of the frame's size.
+std::optional<PixelHistory> history_from_file(const std::string& file, int width, int height, float most) {
+    const std::string ext = lower_extension(file);
+    if (ext != ".exr" && ext != ".hdr") return std::nullopt;
+    PixelHistory h;
+    int w = 0, ht = 0;
+    if (!read_image(file, w, ht, h.rgb).empty() || w != width || ht != height) return std::nullopt;
+    h.weight.assign(static_cast<size_t>(w) * static_cast<size_t>(ht), most);
+    for (size_t p = 0; p < h.weight.size(); ++p)
+        for (size_t c = 0; c < 3; ++c)
+            if (!std::isfinite(h.rgb[3 * p + c])) h.weight[p] = 0;
+    return h;
+}
+
 }  // namespace
 
 std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height) {
@@ -255,6 +272,14 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             continue;
         }
         spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - sequence_start).count();
+        if (reusing && !previous_history && index > first_index && out.back().skipped && !out.back().files.empty()) {
+            // Restarted: the finished frame before is read back, and what it saw traced again.
+            if ((previous_history = history_from_file(out.back().files.front(), next.settings.width, next.settings.height, o.reuse_frames))) {
+                scene.camera = o.path->camera_at(out.back().time, scene_camera);
+                if (!probe_scene) probe_scene = std::make_unique<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));
+                previous_geometry = frame_geometry(*probe_scene, next.settings.width, next.settings.height);
+            }
+        }
         scene.camera = o.path->camera_at(f.time, scene_camera);
         // What the frame's pixel centres see: for its flicker and its distractors (not counted
         // in the frame's time: one ray a pixel, in a scene built once), and for the light it
