@@ -17,6 +17,7 @@ SequenceFrameRow report_row(const FrameRun& f) {
     row.frame = f.frame, row.time = f.time, row.skipped = f.skipped, row.high_quality = f.high_quality;
     row.seconds = f.seconds, row.render_seconds = f.render_seconds, row.budget_seconds = f.budget_seconds;
     row.records_made = f.records_made, row.records_reused = f.records_reused, row.rays = f.rays;
+    row.inherited_pixels = f.inherited_pixels;
     row.flicker = f.flicker, row.flip = f.flip, row.relmse = f.relmse;
     if (!f.files.empty()) row.image = f.files.front();
     return row;

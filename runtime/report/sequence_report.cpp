@@ -55,11 +55,11 @@ std::string write_strip_frame(const std::string& image, const std::string& out, 
 }
 
 std::string frames_csv(const std::vector<SequenceFrameRow>& frames) {
-    std::string csv = "frame,time,skipped,high_quality,seconds,render_seconds,budget_seconds,records_made,records_reused,rays,flicker,flip,relmse,image\n";
+    std::string csv = "frame,time,skipped,high_quality,seconds,render_seconds,budget_seconds,records_made,records_reused,rays,inherited_pixels,flicker,flip,relmse,image\n";
     auto opt = [](const std::optional<double>& v) { return v ? fmt::format("{:.6g}", *v) : std::string(); };
     for (const auto& f : frames)
-        csv += fmt::format("{},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{},{},{},{},{},{},{}\n", f.frame, f.time, f.skipped ? 1 : 0, f.high_quality ? 1 : 0,
-                           f.seconds, f.render_seconds, f.budget_seconds, f.records_made, f.records_reused, f.rays, opt(f.flicker),
+        csv += fmt::format("{},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{},{},{},{:.6g},{},{},{},{}\n", f.frame, f.time, f.skipped ? 1 : 0, f.high_quality ? 1 : 0,
+                           f.seconds, f.render_seconds, f.budget_seconds, f.records_made, f.records_reused, f.rays, f.inherited_pixels, opt(f.flicker),
                            opt(f.flip), opt(f.relmse), f.image);
     return csv;
 }
@@ -71,7 +71,7 @@ nlohmann::json frames_data(const std::vector<SequenceFrameRow>& frames) {
         list.push_back({{"frame", f.frame}, {"time", f.time}, {"skipped", f.skipped}, {"high_quality", f.high_quality},
                         {"seconds", f.seconds}, {"render_seconds", f.render_seconds}, {"budget_seconds", f.budget_seconds},
                         {"records_made", f.records_made}, {"records_reused", f.records_reused}, {"rays", f.rays},
-                        {"flicker", opt(f.flicker)}, {"flip", opt(f.flip)}, {"relmse", opt(f.relmse)}, {"image", f.image}});
+                        {"inherited_pixels", f.inherited_pixels}, {"flicker", opt(f.flicker)}, {"flip", opt(f.flip)}, {"relmse", opt(f.relmse)}, {"image", f.image}});
     return list;
 }
 
@@ -95,6 +95,11 @@ std::vector<std::pair<std::string, std::string>> measured_rows(const SequenceRep
         rows.push_back({"time per frame", line});
         rows.push_back({"frames' time in all", fmt::format("{:.2f} s", total)});
         rows.push_back({"cache records made", fmt::format("{}", made)});
+        double inherited = 0;
+        for (const auto* f : rendered) inherited += f->inherited_pixels;
+        if (inherited > 0 && rendered.size() > 1)
+            rows.push_back({"pixels that inherited", fmt::format("{:.0f} % of each frame after the first, on average (--reuse-frames)",
+                                                                 100 * inherited / static_cast<double>(rendered.size() - 1))});
     }
     auto mean_of = [&](auto get, const char* what, const char* name) {
         double sum = 0;
@@ -209,14 +214,15 @@ std::string write_sequence_report(const SequenceReport& r) {
     html += "</div>\n";
     if (!r.video.empty()) html += "<h2>Video</h2>\n" + video_html(r.video);
     html += "<h2>Every frame</h2>\n<table>\n<tr><th>frame</th><th>time on the path</th><th>seconds</th><th>render</th><th>budget</th>"
-            "<th>records made</th><th>reused</th><th>rays</th><th>flicker</th><th>FLIP</th><th>relMSE</th><th>quality</th></tr>\n";
+            "<th>records made</th><th>reused</th><th>rays</th><th>inherited</th><th>flicker</th><th>FLIP</th><th>relMSE</th><th>quality</th></tr>\n";
     for (const auto& f : r.frames) {
         auto num = [](const std::string& v) { return "<td class=\"num\">" + v + "</td>"; };
         html += "<tr>" + num(fmt::format("{}", f.frame)) + num(fmt::format("{:.3f} s", f.time)) +
-                (f.skipped ? std::string("<td colspan=\"6\">skipped: its files existed</td>")
+                (f.skipped ? std::string("<td colspan=\"7\">skipped: its files existed</td>")
                            : num(fmt::format("{:.3f}", f.seconds)) + num(fmt::format("{:.3f}", f.render_seconds)) +
                                  num(f.budget_seconds > 0 ? fmt::format("{:.3f}", f.budget_seconds) : "-") +
-                                 num(fmt::format("{}", f.records_made)) + num(fmt::format("{}", f.records_reused)) + num(fmt::format("{}", f.rays))) +
+                                 num(fmt::format("{}", f.records_made)) + num(fmt::format("{}", f.records_reused)) + num(fmt::format("{}", f.rays)) +
+                                 num(f.inherited_pixels > 0 ? fmt::format("{:.0f} %", 100 * f.inherited_pixels) : "-")) +
                 num(figure_text(f.flicker, "{:.4f}")) + num(figure_text(f.flip, "{:.4f}")) + num(figure_text(f.relmse, "{:.4g}")) + "<td>" +
                 (f.skipped ? "" : f.high_quality ? "high" : "selective") + "</td></tr>\n";
     }

@@ -24,6 +24,7 @@ struct SequenceFrameRow {
     double seconds = 0, render_seconds = 0, budget_seconds = 0;  ///< budget 0: none
     size_t records_made = 0, records_reused = 0;
     uint64_t rays = 0;
+    double inherited_pixels = 0;         ///< share of pixels that inherited samples (--reuse-frames)
     std::optional<double> flicker;       ///< display difference from the frame before it
     std::optional<double> flip, relmse;  ///< against the reference's frame, where it has one
     std::string image;                   ///< the frame's first image file ("": none)
