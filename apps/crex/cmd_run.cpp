@@ -211,6 +211,9 @@ Examples:
   crex run stdlib/pipelines/prog_all.pipe --scene examples/scenes/corridor/scene.json \
       --camera-path examples/paths/corridor_walk.json --frames 0..59 --high-quality-without-distractors -o out/walk.png
                                                     Case II: frames without the poster on screen at high quality
+  crex run stdlib/pipelines/prog_all.pipe --scene examples/scenes/corridor/scene.json \
+      --camera-path examples/paths/corridor_walk.json --frames 0..59 --reuse-frames 8 -o out/walk.exr
+                                                    each frame inherits up to 8 samples from the one before
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
     return [opt, crex, size, spp, seed, lw, max_depth, aa, ab, ad] {
