@@ -66,4 +66,13 @@ PixelHistory inherited_history(const PixelHistory& previous, const std::vector<P
     return out;
 }
 
+std::pair<double, double> inherited_share(const PixelHistory& history) {
+    size_t inherited = 0;
+    double samples = 0;
+    for (const float w : history.weight)
+        if (w > 0) ++inherited, samples += w;
+    return {static_cast<double>(inherited) / static_cast<double>(std::max<size_t>(1, history.weight.size())),
+            inherited ? samples / static_cast<double>(inherited) : 0.0};
+}
+
 }  // namespace crex

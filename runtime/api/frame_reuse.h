@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "runtime/api/frame_geometry.h"
@@ -25,5 +26,9 @@ std::vector<char> shapes_that_inherit(const Scene& scene);
 /// inherit; else nothing.
 PixelHistory inherited_history(const PixelHistory& previous, const std::vector<PixelTaps>& from, const std::vector<int32_t>& shape,
                                const std::vector<char>& inherits, float most);
+
+/// The share of pixels that inherit anything, and their mean inherited count (what a frame
+/// says it inherited).
+std::pair<double, double> inherited_share(const PixelHistory& history);
 
 }  // namespace crex

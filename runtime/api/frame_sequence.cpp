@@ -9,6 +9,7 @@
 #include <cstring>
 #include <memory>
 #include <sstream>
+#include <tuple>
 #include <type_traits>
 
 #include "runtime/api/frame_flicker.h"
@@ -295,12 +296,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             if (inherits.empty()) inherits = shapes_that_inherit(scene);
             const std::vector<PixelTaps> from = previous_taps(*previous_geometry, *geometry, probe_scene->embree->origin_offset());
             auto history = std::make_shared<PixelHistory>(inherited_history(*previous_history, from, geometry->shape, inherits, o.reuse_frames));
-            size_t inherited = 0;
-            double samples = 0;
-            for (const float w : history->weight)
-                if (w > 0) ++inherited, samples += w;
-            f.inherited_pixels = static_cast<double>(inherited) / static_cast<double>(std::max<size_t>(1, history->weight.size()));
-            f.inherited_samples = inherited ? samples / static_cast<double>(inherited) : 0;
+            std::tie(f.inherited_pixels, f.inherited_samples) = inherited_share(*history);
             next.settings.history = std::move(history);
         }
         const double reuse_seconds = reusing ? std::chrono::duration<double>(std::chrono::steady_clock::now() - before_geometry).count() : 0;
