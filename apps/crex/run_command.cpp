@@ -139,7 +139,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     // A sequence: its flags, and what it does not write per frame yet.
     if (!f.frames.empty() && f.camera_path.empty())
         return usage("--frames needs --camera-path FILE: the camera of each frame comes from a path");
-    for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"}, std::pair{f.reuse_frames > 0, "--reuse-frames"},
+    for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"}, std::pair{f.reuse_frames > 0, "--reuse-frames"}, std::pair{f.seed_per_frame, "--seed-per-frame"},
                                       std::pair{!f.high_quality_frames.empty(), "--high-quality-frames"},
                                       std::pair{f.high_quality_without_distractors, "--high-quality-without-distractors"},
                                       std::pair{!f.sequence_budget.empty(), "--sequence-budget"}, std::pair{!f.video.empty(), "--video"}})
@@ -178,6 +178,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     r.sequence.force = f.force;
     r.sequence.carry_cache = !f.no_carry_cache;
     r.sequence.reuse_frames = static_cast<float>(f.reuse_frames);
+    r.sequence.seed_per_frame = f.seed_per_frame;
     r.sequence.plan_file = f.plan;
     if (!f.camera_path.empty()) r.sequence.reference = f.reference;  // a sequence's: each frame it has is scored
     if (!f.camera_path.empty()) {

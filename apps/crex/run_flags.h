@@ -73,6 +73,7 @@ struct RunFlags {
     bool force = false;       ///< render frames whose files exist too
     bool no_carry_cache = false;
     double reuse_frames = 0;  ///< --reuse-frames N: samples a pixel may inherit from the frame before
+    bool seed_per_frame = false;  ///< --seed-per-frame: new noise every frame
     std::string high_quality_frames;          ///< --high-quality-frames A..B[:S],... (Case II)
     bool high_quality_without_distractors = false;  ///< --high-quality-without-distractors
     std::string sequence_budget;              ///< --sequence-budget TIME: the whole sequence's

@@ -16,6 +16,7 @@
 #include "runtime/api/frame_reuse.h"
 #include "runtime/driver/process_group.h"
 #include "runtime/base/file_extension.h"
+#include "runtime/base/sampling.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/image_comparison.h"
 #include "runtime/texture/surface_textures.h"
@@ -31,6 +32,12 @@ std::string grouped(uint64_t n) {
         out += digits[i];
     }
     return out;
+}
+
+// The seed of a frame that inherits: the run's seed and the frame's number mixed, kept to the
+// 53 bits a seed may have everywhere it is written (JSON, --seed) so a frame can be redone alone.
+uint64_t frame_seed(uint64_t seed, int64_t frame) {
+    return hash_combine(seed, static_cast<uint64_t>(frame)) & ((uint64_t{1} << 53) - 1);
 }
 
 // A frame's time on the path.
@@ -292,6 +299,10 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             geometry = frame_geometry(*probe_scene, next.settings.width, next.settings.height);
         }
         next.settings.history.reset();
+        // Each frame its own samples when it inherits: with the seed of the frame before, a
+        // pixel's new samples would repeat the pattern its inherited ones were drawn from, and
+        // the camera's motion would drag that fixed pattern across the surfaces as streaks.
+        next.settings.seed = reusing || o.seed_per_frame ? frame_seed(run.settings.seed, f.frame) : run.settings.seed;
         if (reusing && previous_history && previous_geometry) {
             if (inherits.empty()) inherits = shapes_that_inherit(scene);
             const std::vector<PixelTaps> from = previous_taps(*previous_geometry, *geometry, probe_scene->embree->origin_offset());

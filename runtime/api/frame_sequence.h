@@ -78,6 +78,12 @@ struct SequenceOptions {
     /// before's light where its pixels see the same point, up to N samples' worth, and takes
     /// that many fewer of its own (at least one). 0: none; each frame renders alone.
     float reuse_frames = 0;
+    /// `--seed-per-frame`: each frame its own seed (the run's and the frame number mixed), so
+    /// its noise is new every frame rather than a pattern fixed to the screen that the scene
+    /// moves behind. Always so for frames that inherit (reuse_frames): their own samples must
+    /// not repeat the ones they inherit. A frame's seed depends on its number alone, so a frame
+    /// rendered by itself is the frame of the walk.
+    bool seed_per_frame = false;
 };
 
 /// "" when `reference` (SequenceOptions::reference) has at least one frame of `range`, each

@@ -165,7 +165,8 @@ TEST_F(CrexFramesCli, FramesTaggedHighQualityRenderAtTheMaximum) {
 }
 
 // --reuse-frames: frames after the first say what share of their pixels inherited how many
-// samples, and trace fewer rays than they would alone; the first inherits nothing.
+// samples, and trace fewer rays than they would alone; the first inherits nothing, and with
+// --seed-per-frame (which --reuse-frames implies) traces the very rays of a frame alone.
 TEST_F(CrexFramesCli, ReusedFramesSayWhatTheyInherited) {
     auto frames_of = [&](std::vector<std::string> more) {
         std::vector<std::string> args = {"run", "--scene", kCorridor, "--size", "48x32", "--spp", "8", "-o", path("r.png"), "--camera-path",
@@ -175,7 +176,7 @@ TEST_F(CrexFramesCli, ReusedFramesSayWhatTheyInherited) {
         EXPECT_EQ(r.exit_code, 0) << r.err;
         return nlohmann::json::parse(r.out.empty() ? "{}" : r.out).value("frames", nlohmann::json::array());
     };
-    const auto alone = frames_of({}), reused = frames_of({"--reuse-frames", "8"});
+    const auto alone = frames_of({"--seed-per-frame"}), reused = frames_of({"--reuse-frames", "8"});
     ASSERT_EQ(reused.size(), 2u);
     ASSERT_EQ(alone.size(), 2u);
     EXPECT_FALSE(reused[0].contains("inherited"));
@@ -364,6 +365,7 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
         {{"--video", path("v.mp4")}, 2, "--video is for frames along a camera path"},
         {{"--reuse-frames", "8"}, 2, "--reuse-frames is for frames along a camera path"},
         {{"--camera-path", path_file, "--reuse-frames", "-1"}, 2, "--reuse-frames"},
+        {{"--seed-per-frame"}, 2, "--seed-per-frame is for frames along a camera path"},
         {{"--camera-path", path_file, "--sequence-budget", "10%"}, 2, "give the sequence's time in seconds"},
         {{"--camera-path", path_file, "--sequence-budget", "2s", "--budget", "1s"}, 2, "--sequence-budget does not go with --budget"},
         {{"--camera-path", path_file, "--sequence-budget", "soon"}, 2, "--sequence-budget soon"},
