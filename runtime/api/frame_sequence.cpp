@@ -344,9 +344,11 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         WrittenRun written;
         if (std::string error = write_run_files(frame_files, record, written); !error.empty())
             throw FrameWriteError(fmt::format("frame {}: {}", f.frame, error));
+        // The final image, composited once for what follows (each composite blends the history).
+        const std::vector<float> linear = reusing || o.flicker || !o.reference.empty() ? result.image() : std::vector<float>{};
         if (reusing) {  // what the next frame inherits: this one's image and counts (timed: the frame's work)
             const auto t = std::chrono::steady_clock::now();
-            previous_history = history_of(result.image(), result.film, result.history.get());
+            previous_history = history_of(linear, result.film, result.history.get());
             f.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
         }
         f.seconds += reuse_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -355,7 +357,6 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         const double frame_overhead = std::max(0.0, f.seconds - f.render_seconds);
         if (index > first_index) overhead = index == first_index + 1 ? frame_overhead : std::min(overhead, frame_overhead);
         // Scored after the frame's time is taken: not part of it.
-        const std::vector<float> linear = o.flicker || !o.reference.empty() ? result.image() : std::vector<float>{};
         score_against_reference(f, o.reference, linear, next.settings.width, next.settings.height);
         if (o.flicker) {
             if (!(exposure > 0)) exposure = display_exposure(linear);
