@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "runtime/pipeline/pixel_probe.h"
 
 namespace crex {
@@ -115,44 +118,47 @@ std::vector<PixelTaps> previous_taps(const FrameGeometry& previous, const FrameG
     std::vector<PixelTaps> out(n);
     const Reprojection r(previous, current, origin_offset);
     if (!r.ok()) return out;
-    for (size_t p = 0; p < n; ++p) {
-        double fx = 0, fy = 0;
-        if (current.shape[p] < 0 || !r.project(current.point[p], fx, fy)) continue;
-        // The four pixel centres around the point, weighted bilinearly, every one of them
-        // inside the same shape (as the pixel is here): where a pixel's light is a blend
-        // across an edge, the blend moves with the camera and is not inherited.
-        if (!interior(current, static_cast<int>(p % static_cast<size_t>(current.width)), static_cast<int>(p / static_cast<size_t>(current.width))))
-            continue;
-        const double cx = fx - 0.5, cy = fy - 0.5;
-        const double x0 = std::floor(cx), y0 = std::floor(cy);
-        if (!(x0 >= -1 && y0 >= -1 && x0 < previous.width && y0 < previous.height)) continue;
-        const double tx = cx - x0, ty = cy - y0;
-        PixelTaps taps;
-        double total = 0, depth = 0, nearest = 1e300, farthest = 0;
-        size_t k = 0;
-        bool every_tap = true;
-        for (int dy = 0; dy < 2 && every_tap; ++dy)
-            for (int dx = 0; dx < 2 && every_tap; ++dx) {
-                const int px = static_cast<int>(x0) + dx, py = static_cast<int>(y0) + dy;
-                const double w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
-                if (!(w > 1e-6)) continue;
-                every_tap = r.saw_shape(px, py, current.shape[p]) && interior(previous, px, py);
-                const int32_t q = py * previous.width + px;
-                const double d = r.depth(previous.point[static_cast<size_t>(q)]);
-                taps.pixel[k] = q;
-                taps.weight[k] = static_cast<float>(w);
-                total += w, depth += w * d, ++k;
-                nearest = std::min(nearest, d), farthest = std::max(farthest, d);
-            }
-        if (!every_tap || k == 0) continue;
-        // The point's distance from the previous eye where the taps' distances, interpolated,
-        // put it: within their spread (a surface seen at a slant spans much depth between
-        // pixels) and 1 %; else the point was hidden then by another part of the shape.
-        const double d = r.depth(current.point[p]);
-        if (!(std::fabs(d - depth / total) <= 0.01 * d + (farthest - nearest))) continue;
-        for (size_t i = 0; i < k; ++i) taps.weight[i] = static_cast<float>(taps.weight[i] / total);
-        out[p] = taps;
-    }
+    // Pixels in parallel: each writes only its own taps.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+            double fx = 0, fy = 0;
+            if (current.shape[p] < 0 || !r.project(current.point[p], fx, fy)) continue;
+            // The four pixel centres around the point, weighted bilinearly, every one of them
+            // inside the same shape (as the pixel is here): where a pixel's light is a blend
+            // across an edge, the blend moves with the camera and is not inherited.
+            if (!interior(current, static_cast<int>(p % static_cast<size_t>(current.width)), static_cast<int>(p / static_cast<size_t>(current.width))))
+                continue;
+            const double cx = fx - 0.5, cy = fy - 0.5;
+            const double x0 = std::floor(cx), y0 = std::floor(cy);
+            if (!(x0 >= -1 && y0 >= -1 && x0 < previous.width && y0 < previous.height)) continue;
+            const double tx = cx - x0, ty = cy - y0;
+            PixelTaps taps;
+            double total = 0, depth = 0, nearest = 1e300, farthest = 0;
+            size_t k = 0;
+            bool every_tap = true;
+            for (int dy = 0; dy < 2 && every_tap; ++dy)
+                for (int dx = 0; dx < 2 && every_tap; ++dx) {
+                    const int px = static_cast<int>(x0) + dx, py = static_cast<int>(y0) + dy;
+                    const double w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
+                    if (!(w > 1e-6)) continue;
+                    every_tap = r.saw_shape(px, py, current.shape[p]) && interior(previous, px, py);
+                    const int32_t q = py * previous.width + px;
+                    const double d = r.depth(previous.point[static_cast<size_t>(q)]);
+                    taps.pixel[k] = q;
+                    taps.weight[k] = static_cast<float>(w);
+                    total += w, depth += w * d, ++k;
+                    nearest = std::min(nearest, d), farthest = std::max(farthest, d);
+                }
+            if (!every_tap || k == 0) continue;
+            // The point's distance from the previous eye where the taps' distances, interpolated,
+            // put it: within their spread (a surface seen at a slant spans much depth between
+            // pixels) and 1 %; else the point was hidden then by another part of the shape.
+            const double d = r.depth(current.point[p]);
+            if (!(std::fabs(d - depth / total) <= 0.01 * d + (farthest - nearest))) continue;
+            for (size_t i = 0; i < k; ++i) taps.weight[i] = static_cast<float>(taps.weight[i] / total);
+            out[p] = taps;
+        }
+    });
     return out;
 }
 

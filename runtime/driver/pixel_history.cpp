@@ -54,12 +54,14 @@ PixelHistory history_of(const std::vector<float>& image, const Film& film, const
     out.rgb = image;
     out.weight.assign(n, 0.0f);
     if (image.size() != 3 * n) return out;
-    for (size_t p = 0; p < n; ++p) {
-        const uint32_t own = film.samples(static_cast<uint32_t>(p));
-        bool finite = true;
-        for (size_t c = 0; c < 3; ++c) finite = finite && std::isfinite(image[3 * p + c]);
-        if (own > 0 && finite) out.weight[p] = static_cast<float>(own) + (inherited ? inherited->samples(p) : 0.0f);
-    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t p = range.begin(); p < range.end(); ++p) {
+            const uint32_t own = film.samples(static_cast<uint32_t>(p));
+            bool finite = true;
+            for (size_t c = 0; c < 3; ++c) finite = finite && std::isfinite(image[3 * p + c]);
+            if (own > 0 && finite) out.weight[p] = static_cast<float>(own) + (inherited ? inherited->samples(p) : 0.0f);
+        }
+    });
     return out;
 }
 
