@@ -139,7 +139,8 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     // A sequence: its flags, and what it does not write per frame yet.
     if (!f.frames.empty() && f.camera_path.empty())
         return usage("--frames needs --camera-path FILE: the camera of each frame comes from a path");
-    for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"}, std::pair{f.reuse_frames > 0, "--reuse-frames"}, std::pair{f.seed_per_frame, "--seed-per-frame"},
+    for (const auto& [given, flag] : {std::pair{f.force, "--force"}, std::pair{f.no_carry_cache, "--no-carry-cache"},
+                                      std::pair{f.reuse_frames > 0, "--reuse-frames"}, std::pair{f.seed_per_frame, "--seed-per-frame"},
                                       std::pair{!f.high_quality_frames.empty(), "--high-quality-frames"},
                                       std::pair{f.high_quality_without_distractors, "--high-quality-without-distractors"},
                                       std::pair{!f.sequence_budget.empty(), "--sequence-budget"}, std::pair{!f.video.empty(), "--video"}})

@@ -34,8 +34,9 @@ std::string grouped(uint64_t n) {
     return out;
 }
 
-// The seed of a frame that inherits: the run's seed and the frame's number mixed, kept to the
-// 53 bits a seed may have everywhere it is written (JSON, --seed) so a frame can be redone alone.
+// A frame's own seed (--seed-per-frame, --reuse-frames): the run's seed and the frame's number
+// mixed, kept to the 53 bits a seed may have everywhere it is written (JSON, --seed), so a frame
+// can be redone alone.
 uint64_t frame_seed(uint64_t seed, int64_t frame) {
     return hash_combine(seed, static_cast<uint64_t>(frame)) & ((uint64_t{1} << 53) - 1);
 }
