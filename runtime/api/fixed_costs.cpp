@@ -27,14 +27,15 @@ std::optional<FixedCosts> predict_fixed_costs(const StageCosts& stages, int widt
                                  stages.strided_preview_seconds * pixel_share;
     c.guidance_seconds = stages.guidance_seconds * pixel_share;
     c.end_seconds = stages.end_seconds * pixel_share;
-    c.floor_seconds = c.coarsest_preview_seconds + c.guidance_seconds + c.end_seconds;
+    c.predicted_seconds = c.coarsest_preview_seconds + c.guidance_seconds + c.end_seconds;
+    c.floor_seconds = (1 + kFixedCostSpread) * c.predicted_seconds;
     return c;
 }
 
 std::string describe_fixed_costs(const FixedCosts& c) {
     return fmt::format("the preview at every {}th pixel {:.3g} s, guidance {:.3g} s and the render's end {:.3g} s (from the profile's "
-                       "stage costs)",
-                       kCoarsestPreviewStride, c.coarsest_preview_seconds, c.guidance_seconds, c.end_seconds);
+                       "stage costs), and {:.0f} % of that again for how far they vary from run to run",
+                       kCoarsestPreviewStride, c.coarsest_preview_seconds, c.guidance_seconds, c.end_seconds, 100 * kFixedCostSpread);
 }
 
 }  // namespace crex

@@ -68,7 +68,9 @@ TEST(FixedCosts, TheFloorIsTheCoarsestPreviewAndGuidanceAtTheProfilesCosts) {
     const FixedCosts c = *predict_fixed_costs(stages, w, h, 1);
     EXPECT_NEAR(c.coarsest_preview_seconds, double(preview_samples_at(w, h, 1, kCoarsestPreviewStride)) / double(w * h), 1e-12);
     EXPECT_NEAR(c.guidance_seconds, 0.05, 1e-12);
-    EXPECT_NEAR(c.floor_seconds, c.coarsest_preview_seconds + 0.05, 1e-12);
+    EXPECT_NEAR(c.predicted_seconds, c.coarsest_preview_seconds + 0.05, 1e-12);
+    // The floor leaves room for the fixed costs to run long, as they do from run to run.
+    EXPECT_NEAR(c.floor_seconds, (1 + kFixedCostSpread) * c.predicted_seconds, 1e-12);
     // Another size: guidance scales with the pixels, the preview with its samples.
     const FixedCosts big = *predict_fixed_costs(stages, 2 * w, 2 * h, 2);
     EXPECT_NEAR(big.guidance_seconds, 0.2, 1e-12);
@@ -78,7 +80,7 @@ TEST(FixedCosts, TheFloorIsTheCoarsestPreviewAndGuidanceAtTheProfilesCosts) {
     // The render's end after its last stage is in the floor too, and goes with the pixels.
     StageCosts with_end = stages;
     with_end.end_seconds = 0.01;
-    EXPECT_NEAR(predict_fixed_costs(with_end, w, h, 1)->floor_seconds, c.floor_seconds + 0.01, 1e-12);
+    EXPECT_NEAR(predict_fixed_costs(with_end, w, h, 1)->predicted_seconds, c.predicted_seconds + 0.01, 1e-12);
     EXPECT_NEAR(predict_fixed_costs(with_end, 2 * w, 2 * h, 2)->end_seconds, 0.04, 1e-12);
     // So is a strided preview's work per pixel of the frame, in its coarsest preview.
     StageCosts with_bookkeeping = stages;
@@ -202,6 +204,12 @@ TEST(FixedCosts, ABudgetBelowThePipelinesFloorIsRefusedNamingTheFloor) {
         EXPECT_NE(std::string(e.what()).find(fmt::format("{:.3g} s", floor)), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("--budget-floor ok"), std::string::npos) << e.what();
     }
+    // Above the prediction but within the fixed costs' spread: refused too (nothing is left to
+    // cut when they run long).
+    const double predicted = predict_fixed_costs(o.profile->stages, 128, 96, 1)->predicted_seconds;
+    o.budget->amount = 1.2 * predicted;
+    EXPECT_THROW(resolve_run(plan, o), BudgetBelowFloor);
+    o.budget->amount = 0.04;
     // Asked to render anyway: the run knows its budget is broken; its preview goes coarse to fine.
     o.budget_floor_ok = true;
     ResolvedRun run = resolve_run(plan, o);
