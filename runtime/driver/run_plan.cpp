@@ -640,7 +640,10 @@ void PlanRun::run_samples(const std::string& stage, const SampleRanges& all_rows
     // buffers and the output images are made when no pass runs.
     size_t held = 0;
     for (const RayBatch& b : carried_) held += b.size() * kBytesPerSample / 2;
-    const size_t fixed = resident_bytes(out_.film.pixel_count(), out_.film.layout(), out_.film.tracked_branches(),
+    // With a cache the split changes the image (records made in one pass answer the next), so
+    // passes are sized as if the film held every buffer: which images a run writes (component
+    // images or not) must not change the cache's records and the image.
+    const size_t fixed = resident_bytes(out_.film.pixel_count(), cache_ ? FilmLayout{} : out_.film.layout(), out_.film.tracked_branches(),
                                         !stand_ins_->ambient().empty(), out_.staged);
     PassLimits limits;
     limits.bytes = pass_bytes(fixed, held, *rs_, s_.width, s_.max_memory);
