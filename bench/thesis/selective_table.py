@@ -4,14 +4,16 @@ and the furnished room, under the two protocols of issue 14, side by side in one
 
   python3 bench/thesis/selective_table.py [--crex build/release/apps/crex/crex] [--width 128 | --size 960x540]
         [--reference-spp 4096] [--pipelines adaptive,prog_dis_all,...] [--scenes cornell,room] [--repeat 3]
-        [--uniform-spp 1,2,4,8,16] [--out out/thesis]
+        [--uniform-spp 1,2,4,8,16] [--seeds 4] [--out out/thesis]
 
 References: a windowed reference committed under --refs (bench/refs/SCENE_WxH.exr, issue 32)
 when there is one for the scene and size: every image is then scored on its windows alone;
 else --reference-file SCENE=FILE; else a path-traced `crex reference` of the whole frame at
 --reference-spp. With --repeat N every render of the table is made once, then all of them
 again, N times (A B A B, so that a change of the machine's load falls on all alike), and the
-median time of each is kept.
+median time of each is kept. With --seeds N every render is made at N seeds instead (images
+beside the first seed's, NAME_s2.exr ...), and its time and errors are the means over them: at
+frame size one seed's irradiance records move a 40x40 window's FLIP by up to 20 %.
 
 Thesis protocol: the pipeline against its own gold, `crex run P --uniform max` (every selective
 variable at its maximum in every pixel): the time ratio gold / pipeline, and the perr of both
@@ -79,6 +81,9 @@ def arguments():
     ap.add_argument("--pipelines", default=",".join(DEFAULT_PIPELINES))
     ap.add_argument("--scenes", default="cornell,corridor,room")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--seeds", type=int, default=1,
+                    help="render every point at seeds --seed .. --seed + N - 1 and keep the mean time and the mean "
+                         "error (at frame size one seed's irradiance records move a window's FLIP by up to 20 %%)")
     ap.add_argument("--uncached-max-spp", type=int, default=512,
                     help="the largest spp of the path-traced curve (its points beyond 128 cost most of the run)")
     ap.add_argument("--reprint", action="store_true",
@@ -111,6 +116,10 @@ def arguments():
         if not sep or name not in SCENES or not os.path.isfile(path):
             ap.error(f"--reference-file {item}: expected SCENE=FILE with SCENE one of {', '.join(SCENES)} and FILE an image")
         a.reference_files[name] = path
+    if a.seeds < 1:
+        ap.error("--seeds: expected 1 or more")
+    if a.seeds > 1 and a.repeat > 1:
+        ap.error("--seeds and --repeat: choose one (the seeds' mean time already averages N renders)")
     if a.size is not None:
         w, sep, h = a.size.partition("x")
         if not sep or not w.isdigit() or not h.isdigit() or int(w) < 1 or int(h) < 1:
@@ -129,6 +138,12 @@ def run(a, args, retimed=True):
     """One render (the first of its --repeat): its summary. The repeats are made later, all renders
     of the table in turn (retime), so that the load of the machine falls on every point alike."""
     j = json.loads(crex(a.crex, ["run"] + args + ["--format", "json", "-q", "--seed", str(a.seed)]))
+    if a.seeds > 1:  # the other seeds' images beside the first's (seeded_path); the mean time
+        seconds = [j["render_seconds"]]
+        for k in range(1, a.seeds):
+            again = json.loads(crex(a.crex, ["run"] + seeded_args(args, k) + ["--format", "json", "-q", "--seed", str(a.seed + k)]))
+            seconds.append(again["render_seconds"])
+        j["render_seconds"], j["seed_seconds"] = statistics.mean(seconds), seconds
     j["times"] = [j["render_seconds"]]
     if retimed:
         RENDERS.append((args, j))
@@ -150,9 +165,31 @@ def retime(a):
         j["render_seconds"] = statistics.median(j["times"])
 
 
+def seeded_path(path, k):
+    """Where seed --seed + k's image (or maps) of a point goes: beside seed --seed's, "_s2" etc."""
+    if k == 0:
+        return path
+    stem, ext = os.path.splitext(path)
+    return f"{stem}_s{k + 1}{ext}"
+
+
+def seeded_args(args, k):
+    """A render's arguments with its -o image and --maps folder moved to seed k's place."""
+    out = list(args)
+    for i, v in enumerate(out[:-1]):
+        if v in ("-o", "--maps"):
+            out[i + 1] = seeded_path(out[i + 1], k)
+    return out
+
+
 def compare(a, test, ref, attention):
-    j = json.loads(crex(a.crex, ["compare", test, ref, "--format", "json", "--metric", "flip,perr", "--attention", attention]))
-    return {"flip": j["flip"], "perr": j["perr"], "aflip": j["aflip"]}
+    """The errors of `test` against `ref`: with --seeds N, the mean over the N seeds' images."""
+    scores = []
+    for k in range(max(1, a.seeds)):
+        j = json.loads(crex(a.crex, ["compare", seeded_path(test, k), ref, "--format", "json", "--metric", "flip,perr",
+                                     "--attention", attention]))
+        scores.append({"flip": j["flip"], "perr": j["perr"], "aflip": j["aflip"]})
+    return {key: statistics.mean(sc[key] for sc in scores) for key in scores[0]}
 
 
 def envelope(points):
@@ -381,7 +418,8 @@ def main():
             r["uniform_seconds_at_gold_flip"] = time_at(flip_curve, cg["flip"])
         (print_thesis_table if a.thesis_only else print_tables)(name, entry["size"], entry["reference_text"], uniform, rows)
     print(f"\nload average at the end (1, 5, 15 min): {', '.join(f'{v:.2f}' for v in os.getloadavg())}; "
-          f"times: median of {max(1, a.repeat)} interleaved runs")
+          + (f"times and errors: the mean of seeds {a.seed}..{a.seed + a.seeds - 1}" if a.seeds > 1
+             else f"times: median of {max(1, a.repeat)} interleaved runs"))
     with open(os.path.join(a.out, "selective_table.json"), "w") as f:
         json.dump(results, f, indent=2)
 
