@@ -14,6 +14,7 @@
 
 #include "runtime/api/frame_flicker.h"
 #include "runtime/api/frame_reuse.h"
+#include "runtime/api/frame_writer.h"
 #include "runtime/driver/process_group.h"
 #include "runtime/base/file_extension.h"
 #include "runtime/base/sampling.h"
@@ -260,6 +261,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     std::optional<PixelHistory> previous_history;
     std::vector<char> inherits;
     double exposure = 0;                // the first frame rendered sets it for all
+    FrameWriter writer;
     for (size_t index = first_index; index < end_index; ++index) {
         FrameRun f;
         f.frame = frames[index];
@@ -342,9 +344,9 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         record.outcome = &outcome;
         record.plan_file = o.plan_file;
         record.frame = f.frame;
-        WrittenRun written;
-        if (std::string error = write_run_files(frame_files, record, written); !error.empty())
-            throw FrameWriteError(fmt::format("frame {}: {}", f.frame, error));
+        // Its files written while the next frame renders; the wait for the frame before's is
+        // part of this frame's time.
+        writer.write(f.frame, run_images(frame_files, record));
         // The final image, composited once for what follows (each composite blends the history).
         const std::vector<float> linear = reusing || o.flicker || !o.reference.empty() ? result.image() : std::vector<float>{};
         if (reusing) {  // what the next frame inherits: this one's image and counts (timed: the frame's work)
@@ -397,6 +399,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         frame_done(index);
         share_records(made);
     }
+    writer.finish();  // the last frame's files: in the sequence's time, not in a frame's
     // A process with a shorter share takes part in the last exchange too.
     for (size_t step = end_index - first_index; step < most_frames; ++step) share_records({});
     if (!processes.leads()) processes.told_lead("what this process's frames did");

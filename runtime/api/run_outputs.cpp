@@ -194,6 +194,26 @@ StageCosts measured_stage_costs(const RunResult& result, int width, int height) 
             result.strided_preview_seconds};
 }
 
+RunImages run_images(const RunFiles& files, const RunRecord& record) {
+    const RunResult& result = *record.outcome->result;
+    RunImages images;
+    images.paths = files.images;
+    images.width = record.outcome->run.settings.width, images.height = record.outcome->run.settings.height;
+    images.layers = {{"", final_image(record)}};
+    if (files.components)
+        for (size_t a = 0; a < kAovCount; ++a) images.layers.push_back({aov_name(a), result.aov_image(a)});
+    images.metadata = image_header(record);
+    return images;
+}
+
+std::string write_run_images(const RunImages& images) {
+    OutputSet files;
+    for (const auto& path : images.paths)
+        if (std::string error = write_image(files.stage_file(path), images.width, images.height, images.layers, images.metadata); !error.empty())
+            return files.in_user_terms(error);
+    return files.commit();
+}
+
 std::string write_run_files(const RunFiles& where, const RunRecord& record, WrittenRun& written) {
     const RunInputs& in = *record.inputs;
     const RunOutcome& outcome = *record.outcome;
@@ -216,12 +236,10 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
         if (!error.empty()) return fmt::format("cannot write profile '{}': {}", where.profile, files.in_user_terms(error));
     }
 
-    std::vector<ImageLayer> layers = {{"", final_image(record)}};
-    if (where.components)
-        for (size_t a = 0; a < kAovCount; ++a) layers.push_back({aov_name(a), result.aov_image(a)});
-    const ImageMetadata metadata = image_header(record);
+    const RunImages images = run_images(where, record);
+    const std::vector<ImageLayer>& layers = images.layers;
     for (const auto& path : where.images)
-        if (std::string error = write_image(files.stage_file(path), width, height, layers, metadata); !error.empty())
+        if (std::string error = write_image(files.stage_file(path), width, height, layers, images.metadata); !error.empty())
             return files.in_user_terms(error);
 
     PictureSummary staged_pictures;  // paths where they are written; `written.pictures`: where they will be

@@ -75,6 +75,19 @@ StageCosts measured_stage_costs(const RunResult& result, int width, int height);
 /// Writes `files`, all or none. Returns "" or what failed (nothing written then).
 std::string write_run_files(const RunFiles& files, const RunRecord& record, WrittenRun& written);
 
+/// A run's images as they will be written: their pixels and header taken from the record, so
+/// they can be written after the record is gone (a sequence writes a frame while the next
+/// one renders: frame_writer.h).
+struct RunImages {
+    std::vector<std::string> paths;
+    int width = 0, height = 0;
+    std::vector<ImageLayer> layers;  ///< the final image, then a layer per component when asked
+    ImageMetadata metadata;
+};
+RunImages run_images(const RunFiles& files, const RunRecord& record);
+/// Writes every image of `images`, all or none. Returns "" or what failed.
+std::string write_run_images(const RunImages& images);
+
 /// The summaries' view of a run (run_summary.h).
 RunFacts run_facts(const RunFiles& files, const RunRecord& record, const WrittenRun* written);
 

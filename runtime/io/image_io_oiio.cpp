@@ -83,6 +83,10 @@ std::string write_image(const std::string& path, int width, int height, const st
         OIIO::ImageSpec spec(width, height, static_cast<int>(nc), exr || hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
         spec.channelnames = names;
         if (exr) spec.attribute("compression", "zip");
+        // zlib level 3, not libpng's 6: a noisy 320x240 frame takes 7.6 ms instead of 22 and
+        // is 7 % larger (75.6 KB against 70.4), which matters for a sequence's PNG every frame
+        // (Blender's default PNG compression is as light, 15 %).
+        if (ext == ".png") spec.attribute("png:compressionLevel", 3);
         for (const auto& [key, value] : metadata) set_attribute(spec, key, value);
         if (!out->open(tmp, spec)) return "cannot write '" + path + "': " + out->geterror();
         auto value = [&](size_t l, size_t p, size_t c) {  // channel c of pixel p of layer l, finite

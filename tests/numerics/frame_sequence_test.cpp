@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "runtime/api/frame_flicker.h"
@@ -223,6 +224,33 @@ TEST_F(FrameSequence, ARestartedWalkInheritsFromTheFinishedFrameBefore) {
 
 // Two frames from one camera match every pixel that sees something, each with itself: the
 // flicker is then the plain mean display difference of the two images.
+// A frame's files are written while the next frame renders (frame_writer.h). When one cannot
+// be written, the sequence stops naming that frame, the frames before it are whole on disk and
+// nothing after it is: a restart renders from the failed frame on.
+TEST_F(FrameSequence, AFrameThatCannotBeWrittenStopsTheSequenceWithTheFramesBeforeKept) {
+    RunFiles files;
+    files.images = {path("walk.exr"), path("walk.png")};
+    std::filesystem::create_directories(frame_file_name(path("walk.png"), 1));  // frame 1's PNG cannot be made
+    SequenceOptions o;
+    o.path = &*path_;
+    o.frames = FrameRange{0, 3, 1};
+    o.flicker = false;
+    RunObserver nobody;
+    try {
+        render_frames(in_, run_, files, o, nobody);
+        ADD_FAILURE() << "the sequence went on past a frame it could not write";
+    } catch (const FrameWriteError& e) {
+        EXPECT_NE(std::string(e.what()).find("frame 1:"), std::string::npos) << e.what();
+    }
+    for (const char* ext : {".exr", ".png"}) {
+        EXPECT_TRUE(std::filesystem::is_regular_file(frame_file_name(path(std::string("walk") + ext), 0))) << ext;
+        EXPECT_FALSE(std::filesystem::exists(frame_file_name(path(std::string("walk") + ext), 2))) << ext;
+        EXPECT_FALSE(std::filesystem::exists(frame_file_name(path(std::string("walk") + ext), 3))) << ext;
+    }
+    EXPECT_FALSE(std::filesystem::exists(frame_file_name(path("walk.exr"), 1)));  // all or none
+    (void)image("walk", 0);  // frame 0 reads back whole
+}
+
 TEST(FrameFlicker, OneCameraTwiceIsThePixelwiseDifference) {
     const Scene scene = *builtin_scene("cornell");
     const RenderScene rs(scene);
