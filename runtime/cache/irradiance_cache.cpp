@@ -95,29 +95,27 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
     for (size_t L = 0; L < grids.size(); ++L) {
         if (grids[L].empty()) continue;
         double cell = cell_size_[L];
-        const std::vector<GridEntry>* entries = grids[L].find(cell_key(
+        const GridCell* entries = grids[L].find(cell_key(
             static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)), static_cast<int>(std::floor(x.z / cell))));
         if (!entries) continue;
-        for (const GridEntry& g : *entries) {
-            // A record made for a coarser accuracy is used too: Ward's test at this lookup's
-            // accuracy already keeps it within aa R_i of its site. (Refusing such records drew a
-            // sharp band where the `ic` map first lifted a pixel above the preview's accuracy.)
-            // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test, first
-            // on the entry (in float, with a margin), then exactly on the record.
-            const float dx = xf - g.x, dy = yf - g.y, dz = zf - g.z, reach = aa_f * g.radius + position_slack_;
-            if (!(dx * dx + dy * dy + dz * dz < reach * reach)) continue;
-            const IrradianceRecord& r = records_[g.index];
+        // A record made for a coarser accuracy is used too: Ward's test at this lookup's
+        // accuracy already keeps it within aa R_i of its site. (Refusing such records drew a
+        // sharp band where the `ic` map first lifted a pixel above the preview's accuracy.)
+        // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test, first on
+        // the entries (in float, with a margin), then exactly on the record.
+        entries->for_each_near(xf, yf, zf, aa_f, position_slack_, [&](uint32_t index) {
+            const IrradianceRecord& r = records_[index];
             Vec3 dv = x - r.position;
-            if (!(dot(dv, dv) < aa2 * r.harmonic_distance * r.harmonic_distance)) continue;
+            if (!(dot(dv, dv) < aa2 * r.harmonic_distance * r.harmonic_distance)) return;
             double w = ward_weight(r, x, n);
-            if (!(w > 1 / aa) || in_front(r, x, n)) continue;
+            if (!(w > 1 / aa) || in_front(r, x, n)) return;
             // Less the threshold, so a record's weight falls to 0 at the edge of its reach: with
             // Ward's 1/d alone it enters at 1/aa, and at a coarse accuracy the edges of large
             // records drew rings on smooth walls (the corridor's ceiling under ic_radius 0.75).
             w -= 1 / aa;
             sum_w += w;
             sum += extrapolate(r, x, n) * w;
-        }
+        });
     }
     if (!(sum_w > 0)) return false;
     e = sum / sum_w;
