@@ -17,10 +17,10 @@ constexpr uint64_t kReferenceHashBasis = 1469598103934665603ull;
 std::string reference_hash(const std::string& text) { return hex16(fnv1a64(text, kReferenceHashBasis)); }
 }  // namespace
 
-std::string scene_content_hash(const Scene& scene) { return reference_hash(scene_json_text(scene)); }
+std::string scene_content_hash(const Scene& scene) { return reference_hash(scene_identity_text(scene)); }
 
 std::string reference_key(const Scene& scene, const ReferenceSettings& s) {
-    return reference_hash(scene_json_text(scene) +
+    return reference_hash(scene_identity_text(scene) +
                           fmt::format("\n{}x{} seed {} crex {} lw {:.17g} max_depth {} v1", s.width, s.height, s.seed, s.crex, s.lw, s.max_depth));
 }
 

@@ -20,11 +20,13 @@ struct ReferenceSettings {
     uint32_t max_depth = 256;
 };
 
-/// 16 hex digits: FNV-1a 64 of the scene's full JSON form (what it holds, not where it came
-/// from). A reference records it, so that one made of a scene that has changed since is found.
+/// 16 hex digits: FNV-1a 64 of the scene's full JSON form with its texture files named by their
+/// content (scene_identity_text: what it holds, not where it came from, so a clone elsewhere
+/// gives the same). A reference records it, so that one made of a scene that has changed since
+/// is found.
 std::string scene_content_hash(const Scene& scene);
 
-/// 16 hex digits (FNV-1a 64 of the scene JSON and the settings but spp, which is in the
+/// 16 hex digits (FNV-1a 64 of the scene's identity text and the settings but spp, which is in the
 /// file name: KEY_sppN.exr).
 std::string reference_key(const Scene& scene, const ReferenceSettings& s);
 /// $CREX_CACHE, else $XDG_CACHE_HOME/crex, else ~/.cache/crex; then references/.

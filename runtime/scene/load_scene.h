@@ -66,6 +66,10 @@ std::vector<std::string> builtin_scene_names();
 nlohmann::json scene_to_json(const Scene& scene);
 /// The same, as text for people: objects indented, arrays of numbers on one line.
 std::string scene_json_text(const Scene& scene);
+/// What the scene is, wherever its files lie: its JSON text with every texture file named by
+/// a hash of its bytes and its file name instead of its path (kept where it cannot be read).
+/// The same scene in another checkout gives the same text; an edited image gives another.
+std::string scene_identity_text(const Scene& scene);
 
 /// Checks that apply to every loader's result: finite camera, materials referenced by shapes
 /// exist, geometry not degenerate (relative to the scene's size), at least one light (W302).

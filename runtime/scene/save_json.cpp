@@ -1,6 +1,14 @@
 // Scene -> native JSON. Writes every field that differs from its default, so that loading the
 // output gives an equal scene (tests/unit/runtime/scene_json_test.cpp checks the round trip).
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include <fmt/format.h>
+
 #include "base/base64.h"
+#include "base/fnv1a.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/shapes.h"
@@ -71,6 +79,30 @@ void write_json(std::string& out, const nlohmann::json& j, int depth) {
 std::string scene_json_text(const Scene& scene) {
     std::string out;
     write_json(out, scene_to_json(scene), 0);
+    return out + "\n";
+}
+
+std::string scene_identity_text(const Scene& scene) {
+    nlohmann::json j = scene_to_json(scene);
+    std::function<void(nlohmann::json&)> by_content = [&](nlohmann::json& v) {
+        if (v.is_array()) {
+            for (auto& e : v) by_content(e);
+        } else if (v.is_object()) {
+            for (auto& [key, value] : v.items()) {
+                if (key != "file" || !value.is_string()) {
+                    by_content(value);
+                    continue;
+                }
+                const std::filesystem::path path(value.get<std::string>());
+                std::ifstream in(path, std::ios::binary);
+                std::ostringstream bytes;
+                if (in && (bytes << in.rdbuf())) value = fmt::format("{} fnv1a {:016x}", path.filename().string(), fnv1a64(bytes.str()));
+            }
+        }
+    };
+    if (j.contains("materials")) by_content(j["materials"]);  // texture references live in materials
+    std::string out;
+    write_json(out, j, 0);
     return out + "\n";
 }
 

@@ -11,6 +11,7 @@
 #include "base/base64.h"
 #include "runtime/scene/census.h"
 #include "tests/support/scene_helpers.h"
+#include "tests/support/scratch_folder.h"
 
 namespace crex {
 namespace {
@@ -127,6 +128,32 @@ TEST(SceneTextureJson, TexturesCamerasUnitsAndImagesRoundTrip) {
     EXPECT_EQ(scene_to_json(*b.scene), scene_to_json(*a.scene));
     EXPECT_EQ(b.scene->materials[0].textures, a.scene->materials[0].textures);
     EXPECT_EQ(b.scene->shapes[0].uvs, a.scene->shapes[0].uvs);
+}
+
+// A scene's identity (what its hash and a reference's key are made of) names each texture file
+// by its bytes: the same scene in two folders is the same, an edited image is not. Committed
+// references of the textured living room failed in every other checkout when paths counted.
+TEST(SceneTextureJson, IdentityNamesTextureFilesByTheirBytesNotTheirPaths) {
+    namespace fs = std::filesystem;
+    const fs::path root = testing::scratch_folder("crex_scene_identity_");
+    auto scene_in = [&](const std::string& folder, const std::string& bytes) {
+        fs::create_directories(root / folder);
+        std::ofstream((root / folder / "wood.png").string(), std::ios::binary) << bytes;
+        auto r = testing::load_json_text(scene_with(R"({"name": "m", "type": "plastic", "color": {"file": ")" +
+                                                    (root / folder / "wood.png").string() + R"("}})"));
+        EXPECT_TRUE(r.scene);
+        return r.scene ? scene_identity_text(*r.scene) : std::string();
+    };
+    const std::string a = scene_in("a", "grain"), b = scene_in("b", "grain"), edited = scene_in("c", "grain, sanded");
+    EXPECT_EQ(a, b);
+    EXPECT_NE(a, edited);
+    EXPECT_EQ(a.find(root.string()), std::string::npos) << "a path is part of the identity";
+    EXPECT_NE(a.find("wood.png"), std::string::npos);
+    // A file that cannot be read keeps its path: the scene is still told apart from others.
+    auto missing = testing::load_json_text(scene_with(R"({"name": "m", "type": "plastic", "color": {"file": "/nonexistent/crex/wood.png"}})"));
+    ASSERT_TRUE(missing.scene);
+    EXPECT_NE(scene_identity_text(*missing.scene).find("/nonexistent/crex/wood.png"), std::string::npos);
+    fs::remove_all(root);
 }
 
 TEST(SceneTextureJson, CameraIsChosenByNameOrIndex) {
