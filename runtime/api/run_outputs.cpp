@@ -206,11 +206,21 @@ RunImages run_images(const RunFiles& files, const RunRecord& record) {
     return images;
 }
 
-std::string write_run_images(const RunImages& images) {
-    OutputSet files;
+namespace {
+
+// Each image of `images` written to its staged name in `files`: "" or what failed.
+std::string stage_run_images(OutputSet& files, const RunImages& images) {
     for (const auto& path : images.paths)
         if (std::string error = write_image(files.stage_file(path), images.width, images.height, images.layers, images.metadata); !error.empty())
             return files.in_user_terms(error);
+    return "";
+}
+
+}  // namespace
+
+std::string write_run_images(const RunImages& images) {
+    OutputSet files;
+    if (std::string error = stage_run_images(files, images); !error.empty()) return error;
     return files.commit();
 }
 
@@ -238,9 +248,7 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
 
     const RunImages images = run_images(where, record);
     const std::vector<ImageLayer>& layers = images.layers;
-    for (const auto& path : where.images)
-        if (std::string error = write_image(files.stage_file(path), width, height, layers, images.metadata); !error.empty())
-            return files.in_user_terms(error);
+    if (std::string error = stage_run_images(files, images); !error.empty()) return error;
 
     PictureSummary staged_pictures;  // paths where they are written; `written.pictures`: where they will be
     if (!where.maps_dir.empty()) {
