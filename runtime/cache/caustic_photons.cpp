@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "runtime/base/sampling.h"
 #include "runtime/render/bsdf.h"
@@ -345,10 +347,65 @@ void CausticPhotons::precompute() {
     max_estimate_r2_ = 0;
     for (const Estimate& e : estimates_) max_estimate_r2_ = std::max(max_estimate_r2_, e.radius2);
     tree_->estimates = std::make_unique<PointTree<Estimate>>(estimates_);
+    // The grid over every disc's bounding cube (with a margin of float rounding), 64 cells
+    // along its longest side.
+    auto cube = [](const Estimate& e, double grow) {
+        const double r = std::sqrt(static_cast<double>(e.radius2)) * (1 + 1e-5) + grow;
+        const Vec3 p = to_vec(e.position);
+        return std::pair{p - Vec3{r, r, r}, p + Vec3{r, r, r}};
+    };
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+    for (const Estimate& e : estimates_) {
+        const auto [a, b] = cube(e, 0);
+        lo = {std::fmin(lo.x, a.x), std::fmin(lo.y, a.y), std::fmin(lo.z, a.z)};
+        hi = {std::fmax(hi.x, b.x), std::fmax(hi.y, b.y), std::fmax(hi.z, b.z)};
+    }
+    const double side = std::fmax(hi.x - lo.x, std::fmax(hi.y - lo.y, hi.z - lo.z));
+    if (!(side > 0) || !std::isfinite(side)) return;  // no grid: every query searches
+    constexpr int kCells = 64;
+    reach_.cell = side / kCells;
+    reach_.origin = lo;
+    const double extent[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+    for (int a = 0; a < 3; ++a) reach_.dims[a] = std::clamp(static_cast<int>(std::ceil(extent[a] / reach_.cell)) + 1, 1, kCells + 1);
+    reach_.bits.assign((static_cast<size_t>(reach_.dims[0]) * reach_.dims[1] * reach_.dims[2] + 63) / 64, 0);
+    const double margin = 1e-6 * side;
+    for (const Estimate& e : estimates_) {
+        const auto [a, b] = cube(e, margin);
+        reach_.mark(a, b);
+    }
+}
+
+void CausticPhotons::ReachGrid::mark(const Vec3& lo, const Vec3& hi) {
+    int a[3], b[3];
+    const double l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, o[3] = {origin.x, origin.y, origin.z};
+    for (int k = 0; k < 3; ++k) {
+        a[k] = std::clamp(static_cast<int>(std::floor((l[k] - o[k]) / cell)), 0, dims[k] - 1);
+        b[k] = std::clamp(static_cast<int>(std::floor((h[k] - o[k]) / cell)), 0, dims[k] - 1);
+    }
+    for (int x = a[0]; x <= b[0]; ++x)
+        for (int y = a[1]; y <= b[1]; ++y)
+            for (int z = a[2]; z <= b[2]; ++z) {
+                const size_t i = (static_cast<size_t>(x) * dims[1] + y) * dims[2] + z;
+                bits[i / 64] |= uint64_t{1} << (i % 64);
+            }
+}
+
+bool CausticPhotons::ReachGrid::reached(const Vec3& x) const {
+    if (bits.empty()) return true;
+    const double p[3] = {x.x, x.y, x.z}, o[3] = {origin.x, origin.y, origin.z};
+    int c[3];
+    for (int k = 0; k < 3; ++k) {
+        const double f = std::floor((p[k] - o[k]) / cell);
+        if (!(f >= 0 && f < dims[k])) return !std::isfinite(f);  // outside every disc (NaN: let the search decide)
+        c[k] = static_cast<int>(f);
+    }
+    const size_t i = (static_cast<size_t>(c[0]) * dims[1] + c[1]) * dims[2] + c[2];
+    return (bits[i / 64] >> (i % 64)) & 1;
 }
 
 Vec3 CausticPhotons::irradiance(const Vec3& x, const Vec3& n) const {
-    if (!tree_) return {};
+    if (!tree_ || !reach_.reached(x)) return {};
     constexpr uint32_t kBlend = 8;
     std::array<uint32_t, kBlend> index{};
     std::array<float, kBlend> dist2{};

@@ -65,12 +65,24 @@ public:
 
 private:
     struct Tree;
+    /// Where any estimate's disc reaches, as a coarse grid of bits: most queries of a scene lie
+    /// far from every caustic, and the nearest-estimate search cost them as much as a near one
+    /// (5 % of a cached corridor walk). A query in a cell no disc reaches gets 0 at once.
+    struct ReachGrid {
+        Vec3 origin{};
+        double cell = 0;
+        int dims[3] = {0, 0, 0};
+        std::vector<uint64_t> bits;
+        void mark(const Vec3& lo, const Vec3& hi);
+        bool reached(const Vec3& x) const;
+    };
     Vec3 density(const Vec3& x, const Vec3& n, double& r2) const;
     void precompute();
     std::vector<Photon> photons_;
     std::vector<Estimate> estimates_;
     float max_estimate_r2_ = 0;
     std::unique_ptr<Tree> tree_;
+    ReachGrid reach_;
     uint32_t neighbours_ = 32;
     double max_radius_ = 0;
     uint64_t rays_ = 0;

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -92,31 +93,63 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
     const std::vector<CellTable>& grids = grids_[level];
     const float xf = static_cast<float>(x.x), yf = static_cast<float>(x.y), zf = static_cast<float>(x.z);
     const float aa_f = static_cast<float>(aa) * 1.001f;
-    for (size_t L = 0; L < grids.size(); ++L) {
+    // A lookup waits on memory more than it computes: the slot of x's cell at every level,
+    // the cell's entries, each record it reads. Each of those steps is asked for at every
+    // level (and for every candidate) before the first is used, so the waits overlap; the
+    // records are still taken in the same order, so the sums are the same.
+    constexpr size_t kMaxLevels = 32;
+    std::array<uint64_t, kMaxLevels> keys;
+    std::array<const CellTable*, kMaxLevels> tables;
+    size_t probes = 0;
+    for (size_t L = 0; L < grids.size() && probes < kMaxLevels; ++L) {
         if (grids[L].empty()) continue;
-        double cell = cell_size_[L];
-        const GridCell* entries = grids[L].find(cell_key(
-            static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)), static_cast<int>(std::floor(x.z / cell))));
-        if (!entries) continue;
-        // A record made for a coarser accuracy is used too: Ward's test at this lookup's
-        // accuracy already keeps it within aa R_i of its site. (Refusing such records drew a
-        // sharp band where the `ic` map first lifted a pixel above the preview's accuracy.)
-        // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test, first on
-        // the entries (in float, with a margin), then exactly on the record.
-        entries->for_each_near(xf, yf, zf, aa_f, position_slack_, [&](uint32_t index) {
-            const IrradianceRecord& r = records_[index];
-            Vec3 dv = x - r.position;
-            if (!(dot(dv, dv) < aa2 * r.harmonic_distance * r.harmonic_distance)) return;
-            double w = ward_weight(r, x, n);
-            if (!(w > 1 / aa) || in_front(r, x, n)) return;
-            // Less the threshold, so a record's weight falls to 0 at the edge of its reach: with
-            // Ward's 1/d alone it enters at 1/aa, and at a coarse accuracy the edges of large
-            // records drew rings on smooth walls (the corridor's ceiling under ic_radius 0.75).
-            w -= 1 / aa;
-            sum_w += w;
-            sum += extrapolate(r, x, n) * w;
-        });
+        const double cell = cell_size_[L];
+        keys[probes] = cell_key(static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)),
+                                static_cast<int>(std::floor(x.z / cell)));
+        tables[probes] = &grids[L];
+        grids[L].prefetch(keys[probes++]);
     }
+    std::array<const GridCell*, kMaxLevels> cells;
+    size_t found = 0;
+    for (size_t p = 0; p < probes; ++p)
+        if (const GridCell* c = tables[p]->find(keys[p])) {
+            c->prefetch();
+            cells[found++] = c;
+        }
+    // A record made for a coarser accuracy is used too: Ward's test at this lookup's accuracy
+    // already keeps it within aa R_i of its site. (Refusing such records drew a sharp band where
+    // the `ic` map first lifted a pixel above the preview's accuracy.)
+    auto use = [&](uint32_t index) {
+        const IrradianceRecord& r = records_[index];
+        Vec3 dv = x - r.position;
+        if (!(dot(dv, dv) < aa2 * r.harmonic_distance * r.harmonic_distance)) return;
+        double w = ward_weight(r, x, n);
+        if (!(w > 1 / aa) || in_front(r, x, n)) return;
+        // Less the threshold, so a record's weight falls to 0 at the edge of its reach: with
+        // Ward's 1/d alone it enters at 1/aa, and at a coarse accuracy the edges of large
+        // records drew rings on smooth walls (the corridor's ceiling under ic_radius 0.75).
+        w -= 1 / aa;
+        sum_w += w;
+        sum += extrapolate(r, x, n) * w;
+    };
+    // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test, first on the
+    // entries (in float, with a margin), then exactly on the record. Those that pass are
+    // gathered (their records asked for) and used in their order.
+    constexpr size_t kGather = 32;
+    std::array<uint32_t, kGather> gathered;
+    size_t pending = 0;
+    for (size_t c = 0; c < found; ++c)
+        cells[c]->for_each_near(xf, yf, zf, aa_f, position_slack_, [&](uint32_t index) {
+            if (pending == kGather) {
+                for (size_t k = 0; k < pending; ++k) use(gathered[k]);
+                pending = 0;
+            }
+            const char* r = reinterpret_cast<const char*>(&records_[index]);
+            for (size_t line = 0; line < sizeof(IrradianceRecord); line += 64) __builtin_prefetch(r + line);
+            __builtin_prefetch(r + sizeof(IrradianceRecord) - 1);
+            gathered[pending++] = index;
+        });
+    for (size_t k = 0; k < pending; ++k) use(gathered[k]);
     if (!(sum_w > 0)) return false;
     e = sum / sum_w;
     return is_finite(e);

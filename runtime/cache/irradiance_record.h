@@ -1,10 +1,14 @@
 /// \file irradiance_record.h
 /// One record of the Ward irradiance cache (Ward, Rubinstein, Clear 1988; gradients: Ward and
 /// Heckbert 1992): plain data, so records can be written to a file and shipped between
-/// processes. Positions are in the renderer's local (recentred) coordinates.
+/// processes. Positions are in the renderer's local (recentred) coordinates. What a lookup
+/// computes for each record it meets (its weight, its extrapolation, Ward's in-front test) is
+/// inline, so the lookup's loop has it in place.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -27,7 +31,15 @@ struct IrradianceRecord {
 ///   w = 1 / (|x - x_i| / R_i + sqrt(1 - n . n_i)),
 /// guarded: 0 for records facing away (n . n_i <= 0) or non-finite inputs, and capped at
 /// 1e6 where the denominator vanishes (x on the record, same normal).
-double ward_weight(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
+inline double ward_weight(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
+    double cos_n = dot(n, r.normal);
+    if (!(cos_n > 0) || !is_finite(x) || !is_finite(n)) return 0;  // facing away, or NaN
+    double R = r.harmonic_distance;
+    if (!(R > 0) || !std::isfinite(R)) return 0;
+    double d = length(x - r.position) / R + std::sqrt(max_of(0.0, 1 - cos_n));
+    if (!std::isfinite(d)) return 0;
+    return d > 1e-6 ? 1 / d : 1e6;
+}
 
 /// How far a record's gradients may move its E's luminance when extrapolated, as a share of
 /// it. Ward and Heckbert's gradients are estimated from the hemisphere's samples and are least
@@ -39,7 +51,20 @@ inline constexpr double kMaxGradientChange = 0.25;
 /// E of `r` extrapolated to (x, n) with its gradients, the change bounded by
 /// kMaxGradientChange of E's luminance, then clamped at 0 per channel; a non-finite gradient
 /// term is left out.
-Vec3 extrapolate(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
+inline Vec3 extrapolate(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
+    const Vec3 turn = cross(r.normal, n), shift = x - r.position;
+    Vec3 change{};
+    double* c[3] = {&change.x, &change.y, &change.z};
+    for (size_t k = 0; k < 3; ++k) {
+        const double v = dot(turn, r.rotation[k]) + dot(shift, r.translation[k]);
+        *c[k] = std::isfinite(v) ? v : 0.0;
+    }
+    // The first-order change, scaled down (all channels alike: the hue stays) where it would
+    // move E's luminance by more than kMaxGradientChange of it.
+    const double e = luminance(r.irradiance), moved = std::fabs(luminance(change));
+    if (moved > kMaxGradientChange * e) change = change * (kMaxGradientChange * e / moved);
+    return {max_of(r.irradiance.x + change.x, 0.0), max_of(r.irradiance.y + change.y, 0.0), max_of(r.irradiance.z + change.z, 0.0)};
+}
 
 /// R_i limited by the record's own translational gradient (the gradient limit of Krivanek et
 /// al. 2006): within R_i the gradient may change E's luminance by at most E's luminance, so a
@@ -49,6 +74,9 @@ double gradient_limited_radius(const IrradianceRecord& r, double r_min);
 
 /// Is `r` "in front" of x (Ward's test: records ahead of the surface along the averaged normal
 /// are not used, they see a different neighbourhood)?
-bool in_front(const IrradianceRecord& r, const Vec3& x, const Vec3& n);
+inline bool in_front(const IrradianceRecord& r, const Vec3& x, const Vec3& n) {
+    Vec3 avg = n + r.normal;
+    return dot(x - r.position, avg) * 0.5 < -0.05 * r.harmonic_distance;
+}
 
 }  // namespace crex

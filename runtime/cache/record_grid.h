@@ -46,6 +46,12 @@ public:
         ++size_;
     }
     size_t size() const { return size_; }
+    /// Asks for the first block's cache lines ahead of for_each_near.
+    void prefetch() const {
+        if (blocks_.empty()) return;
+        const char* b = reinterpret_cast<const char*>(blocks_.data());
+        for (size_t line = 0; line < sizeof(Block); line += 64) __builtin_prefetch(b + line);
+    }
 
     /// Calls near(index) for each entry, in insertion order, whose position is within
     /// `scale * radius + slack` of (px, py, pz) (in float; NaN anywhere fails the test).
@@ -83,6 +89,11 @@ private:
 class CellTable {
 public:
     bool empty() const { return cells_.empty(); }
+
+    /// Asks for the slot `key` is looked for first, ahead of find().
+    void prefetch(uint64_t key) const {
+        if (!slots_.empty()) __builtin_prefetch(&slots_[mix64(key) & (slots_.size() - 1)]);
+    }
 
     const GridCell* find(uint64_t key) const {
         if (slots_.empty()) return nullptr;
