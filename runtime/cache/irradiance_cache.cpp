@@ -32,7 +32,7 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     max_aa_ = clamp_accuracy(settings.max_accuracy > 0 ? std::max(settings.max_accuracy, settings.accuracy) : settings.accuracy);
     // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
     double top = 2 * r_max_;
-    for (double c = top; c >= 2 * 1e-3 * r_min_ && cell_size_.size() < 24; c /= 2) cell_size_.push_back(c);
+    for (double c = top; c >= 2 * 1e-3 * r_min_ && cell_size_.size() < kMaxGridLevels; c /= 2) cell_size_.push_back(c);
     if (settings.caustic_photons > 0 && caustics) {  // carried: the photons do not depend on the camera
         caustics_ = std::move(caustics);
         stats_.caustic_photons = caustics_->size();
@@ -97,11 +97,10 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
     // the cell's entries, each record it reads. Each of those steps is asked for at every
     // level (and for every candidate) before the first is used, so the waits overlap; the
     // records are still taken in the same order, so the sums are the same.
-    constexpr size_t kMaxLevels = 32;
-    std::array<uint64_t, kMaxLevels> keys;
-    std::array<const CellTable*, kMaxLevels> tables;
+    std::array<uint64_t, kMaxGridLevels> keys;
+    std::array<const CellTable*, kMaxGridLevels> tables;
     size_t probes = 0;
-    for (size_t L = 0; L < grids.size() && probes < kMaxLevels; ++L) {
+    for (size_t L = 0; L < grids.size() && probes < kMaxGridLevels; ++L) {
         if (grids[L].empty()) continue;
         const double cell = cell_size_[L];
         keys[probes] = cell_key(static_cast<int>(std::floor(x.x / cell)), static_cast<int>(std::floor(x.y / cell)),
@@ -109,7 +108,7 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
         tables[probes] = &grids[L];
         grids[L].prefetch(keys[probes++]);
     }
-    std::array<const GridCell*, kMaxLevels> cells;
+    std::array<const GridCell*, kMaxGridLevels> cells;
     size_t found = 0;
     for (size_t p = 0; p < probes; ++p)
         if (const GridCell* c = tables[p]->find(keys[p])) {

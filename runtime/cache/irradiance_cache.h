@@ -131,6 +131,10 @@ private:
     uint64_t cell_key(int x, int y, int z) const;
     double level_accuracy(double aa, uint32_t level) const;
 
+    /// Grid levels at most: halving from 2 r_max, 24 levels span radii over a factor 2^23
+    /// (smaller records sit in the finest); lookup() sizes its per-level arrays by it.
+    static constexpr size_t kMaxGridLevels = 24;
+
     const RenderScene& scene_;
     IcSettings settings_;
     double r_min_, r_max_, max_aa_;
