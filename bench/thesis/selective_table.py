@@ -26,7 +26,8 @@ Equal-error protocol (what a user feels): the pipeline's error against the conve
 1 .. 128 with --ic at the default 256
 hemisphere rays per record and at every other `ad` a listed pipeline sets, and at the default
 accuracy --aa 0.15 and the finest a listed pipeline's ic_radius reaches, so a pipeline's quieter
-and finer records are uniform rendering's too) needs for the same error on its best curve (the
+and finer records are uniform rendering's too; at aa 0.3 with 4 shadow rays a hit and every count
+a pipeline's shadow_rays ranges end at, so its extra light samples are uniform rendering's too) needs for the same error on its best curve (the
 fastest of them at that error, each interpolated log-log between its own points), divided by the
 pipeline's time. Two errors:
   FLIP  - mean LDR-FLIP of the tone-mapped images (`crex compare`);
@@ -64,6 +65,7 @@ UNIFORM_SPP = [1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 128]
 UNCACHED_EXTRA_SPP = [256, 512]
 DEFAULT_AD = 256
 DEFAULT_AA = 0.15
+DEFAULT_SHADOW_RAYS = 1
 
 
 def arguments():
@@ -234,8 +236,8 @@ def time_at(points, err):
 
 
 def curve_of(u):
-    """Which uniform curve a point is on: path traced, or the cache at its ad and aa."""
-    return "pt" if not u["ic"] else f"ic{u['ad']}aa{u.get('aa', DEFAULT_AA)}"
+    """Which uniform curve a point is on: path traced, or the cache at its ad, aa and shadow rays."""
+    return "pt" if not u["ic"] else f"ic{u['ad']}aa{u.get('aa', DEFAULT_AA)}sr{u.get('shadow_rays', DEFAULT_SHADOW_RAYS)}"
 
 
 def reprint(a):
@@ -273,20 +275,22 @@ def reprint(a):
 
 
 def uniform_curves(a, pipelines):
-    """(spp, ad, aa) of every uniform render: path traced (ad None), then the cache's curves."""
+    """(spp, ad, aa, shadow rays) of every uniform render: path traced (ad None), then the
+    cache's curves."""
     cached = a.uniform_spp or UNIFORM_SPP
     uncached = a.uniform_spp or UNIFORM_SPP + UNCACHED_EXTRA_SPP
-    return [(spp, None, None) for spp in uncached if spp <= a.uncached_max_spp] + [
-        (spp, ad, aa) for ad, aa in cache_settings(a, pipelines) for spp in cached]
+    return [(spp, None, None, DEFAULT_SHADOW_RAYS) for spp in uncached if spp <= a.uncached_max_spp] + [
+        (spp, ad, aa, sr) for ad, aa, sr in cache_settings(a, pipelines) for spp in cached]
 
 
 def render_uniform(a, name, scene, size, ref, curve):
-    spp, ad, aa = curve
+    spp, ad, aa, sr = curve
     tag = "" if ad is None else "_ic" + ("" if ad == DEFAULT_AD else f"_ad{ad}") + ("" if aa == DEFAULT_AA else f"_aa{aa}")
+    tag += "" if sr == DEFAULT_SHADOW_RAYS else f"_sr{sr}"
     img = os.path.join(a.out, f"{name}_uniform{spp}{tag}.exr")
-    j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "-o", img] +
+    j = run(a, ["--scene", scene, "--size", size, "--spp", str(spp), "--shadow-rays", str(sr), "-o", img] +
             ([] if ad is None else ["--ic", "--ad", str(ad), "--aa", str(aa)]))
-    return {"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "run": j, "image": img,
+    return {"spp": spp, "ic": ad is not None, "ad": ad, "aa": aa, "shadow_rays": sr, "run": j, "image": img,
             **(UNSCORED if a.score_later else compare(a, img, ref, "saliency"))}
 
 
@@ -318,7 +322,8 @@ def extend(a):
     with open(path) as f:
         results = json.load(f)
     for name, entry in results.items():
-        have = {(u["spp"], u["ad"], u.get("aa", DEFAULT_AA if u["ic"] else None)) for u in entry["uniform"]}
+        have = {(u["spp"], u["ad"], u.get("aa", DEFAULT_AA if u["ic"] else None), u.get("shadow_rays", DEFAULT_SHADOW_RAYS))
+                for u in entry["uniform"]}
         for c in uniform_curves(a, [r["pipeline"] for r in entry["rows"]]):
             if c not in have:
                 print(f"[{name}] uniform {c} ...", file=sys.stderr)
@@ -425,22 +430,30 @@ def main():
 
 
 def cache_settings(a, pipelines):
-    """The (ad, aa) uniform rendering with the cache is run at: the defaults, every `ad` one of
-    the pipelines sets, and every accuracy their ic_radius ranges end at. A pipeline whose
+    """The (ad, aa, shadow rays) uniform rendering with the cache is run at: the defaults, every
+    `ad` one of the pipelines sets, and every accuracy their ic_radius ranges end at. A pipeline whose
     salient pixels take aa 0.1 gets under the bias floor of uniform's default 0.15, and one
     whose other pixels take 0.5 shows what a coarse cache does for its time: uniform rendering
     at those accuracies must be on the curve too. And 0.3 always: between the default and the
     coarse end it was uniform's best accuracy on the room and on the held-out living room (at 8
     spp 0.0761 FLIP in 44 s there, where 0.15 at 16 spp took 168 s for 0.0877); a table without
-    it measured pipelines against a uniform rendering weaker than a user would pick."""
-    ads, accuracies = {DEFAULT_AD}, {0.3}
+    it measured pipelines against a uniform rendering weaker than a user would pick.
+    At aa 0.3, also every shadow-ray count the pipelines' shadow_rays ranges end at, and 4
+    always: uniform rendering with 4 shadow rays a hit is a setting as plain as --spp, and at
+    960x540 it overturned the room's verdict (prog_all 2.43x against 1 shadow ray, about 0.6x
+    against 4: docs/selective-payoff.md)."""
+    ads, accuracies, shadow_rays = {DEFAULT_AD}, {0.3}, {4}
     for p in pipelines:
         plan = json.loads(crex(a.crex, ["plan", os.path.join(ROOT, "stdlib/pipelines", p + ".pipe"), "--format", "json"]))
         ads.add(plan.get("settings", {}).get("ad", DEFAULT_AD))
         for v in plan.get("variables", []):
             if v["variable"] == "ic_radius":
                 accuracies.update((v["from"], v["to"]))
-    return [(ad, DEFAULT_AA) for ad in sorted(ads)] + [(DEFAULT_AD, aa) for aa in sorted(accuracies - {DEFAULT_AA})]
+            if v["variable"] == "shadow_rays":
+                shadow_rays.update(int(round(x)) for x in (v["from"], v["to"]))
+    sr1 = DEFAULT_SHADOW_RAYS
+    return ([(ad, DEFAULT_AA, sr1) for ad in sorted(ads)] + [(DEFAULT_AD, aa, sr1) for aa in sorted(accuracies - {DEFAULT_AA})] +
+            [(DEFAULT_AD, 0.3, sr) for sr in sorted(shadow_rays - {sr1})])
 
 
 def succeeds(a, args):
@@ -507,7 +520,7 @@ def floor_effect(r, uniform):
         return ""
     best = min(cached, key=lambda u: (u["flip"], u["seconds"]))
     return (f"floor effect: FLIP {flip:.4f} is under every cached uniform curve (best {best['flip']:.4f}, "
-            f"{best['spp']} spp at aa {best.get('aa', DEFAULT_AA)}, {best['seconds']:.2f} s: {best['seconds'] / t:.2f}x against it)")
+            f"{best['spp']} spp at aa {best.get('aa', DEFAULT_AA)}, {best.get('shadow_rays', DEFAULT_SHADOW_RAYS)} shadow rays, {best['seconds']:.2f} s: {best['seconds'] / t:.2f}x against it)")
 
 
 def print_thesis_table(name, size, ref_text, uniform, rows):
@@ -527,8 +540,9 @@ def print_thesis_table(name, size, ref_text, uniform, rows):
 def uniform_tag(u):
     if not u["ic"]:
         return ""
-    aa = u.get("aa", DEFAULT_AA)
-    return " ic" + ("" if u["ad"] == DEFAULT_AD else f" ad {u['ad']}") + ("" if aa == DEFAULT_AA else f" aa {aa}")
+    aa, sr = u.get("aa", DEFAULT_AA), u.get("shadow_rays", DEFAULT_SHADOW_RAYS)
+    return (" ic" + ("" if u["ad"] == DEFAULT_AD else f" ad {u['ad']}") + ("" if aa == DEFAULT_AA else f" aa {aa}") +
+            ("" if sr == DEFAULT_SHADOW_RAYS else f" sr {sr}"))
 
 
 if __name__ == "__main__":
