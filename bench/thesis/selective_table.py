@@ -27,7 +27,8 @@ Equal-error protocol (what a user feels): the pipeline's error against the conve
 hemisphere rays per record and at every other `ad` a listed pipeline sets, and at the default
 accuracy --aa 0.15 and the finest a listed pipeline's ic_radius reaches, so a pipeline's quieter
 and finer records are uniform rendering's too; at aa 0.3 with 4 shadow rays a hit and every count
-a pipeline's shadow_rays ranges end at, so its extra light samples are uniform rendering's too) needs for the same error on its best curve (the
+a pipeline's shadow_rays ranges end at, so its extra light samples are uniform rendering's too,
+and there with 512 hemisphere rays a record as well) needs for the same error on its best curve (the
 fastest of them at that error, each interpolated log-log between its own points), divided by the
 pipeline's time. Two errors:
   FLIP  - mean LDR-FLIP of the tone-mapped images (`crex compare`);
@@ -66,6 +67,7 @@ UNCACHED_EXTRA_SPP = [256, 512]
 DEFAULT_AD = 256
 DEFAULT_AA = 0.15
 DEFAULT_SHADOW_RAYS = 1
+QUIET_AD = 512  # hemisphere rays a record of uniform's quietest curve
 
 
 def arguments():
@@ -441,7 +443,9 @@ def cache_settings(a, pipelines):
     At aa 0.3, also every shadow-ray count the pipelines' shadow_rays ranges end at, and 4
     always: uniform rendering with 4 shadow rays a hit is a setting as plain as --spp, and at
     960x540 it overturned the room's verdict (prog_all 2.43x against 1 shadow ray, about 0.6x
-    against 4: docs/selective-payoff.md)."""
+    against 4: docs/selective-payoff.md). And aa 0.3 with 4 shadow rays and 512 hemisphere rays a
+    record: at 960x540 the records' own noise is most of what is left past 4 spp, and halving
+    it costs little (the room at 4 spp: FLIP 0.0441 to 0.0373, about 4 s either way)."""
     ads, accuracies, shadow_rays = {DEFAULT_AD}, {0.3}, {4}
     for p in pipelines:
         plan = json.loads(crex(a.crex, ["plan", os.path.join(ROOT, "stdlib/pipelines", p + ".pipe"), "--format", "json"]))
@@ -453,7 +457,7 @@ def cache_settings(a, pipelines):
                 shadow_rays.update(int(round(x)) for x in (v["from"], v["to"]))
     sr1 = DEFAULT_SHADOW_RAYS
     return ([(ad, DEFAULT_AA, sr1) for ad in sorted(ads)] + [(DEFAULT_AD, aa, sr1) for aa in sorted(accuracies - {DEFAULT_AA})] +
-            [(DEFAULT_AD, 0.3, sr) for sr in sorted(shadow_rays - {sr1})])
+            [(DEFAULT_AD, 0.3, sr) for sr in sorted(shadow_rays - {sr1})] + [(QUIET_AD, 0.3, 4)])
 
 
 def succeeds(a, args):
