@@ -442,10 +442,10 @@ def cache_settings(a, pipelines):
     it measured pipelines against a uniform rendering weaker than a user would pick.
     At aa 0.3, also every shadow-ray count the pipelines' shadow_rays ranges end at, and 4
     always: uniform rendering with 4 shadow rays a hit is a setting as plain as --spp, and at
-    960x540 it overturned the room's verdict (prog_all 2.43x against 1 shadow ray, about 0.6x
-    against 4: docs/selective-payoff.md). And aa 0.3 with 4 shadow rays and 512 hemisphere rays a
-    record: at 960x540 the records' own noise is most of what is left past 4 spp, and halving
-    it costs little (the room at 4 spp: FLIP 0.0441 to 0.0373, about 4 s either way)."""
+    960x540 it overturned the room's verdict (prog_all 2.43x against 1 shadow ray, 0.46x against
+    4 with 512 hemisphere rays: docs/selective-payoff.md). And aa 0.3 with 4 shadow rays and 512
+    hemisphere rays a record: at 960x540 quieter records lower what is left past 4 spp at little
+    cost (the room at 4 spp: FLIP 0.0441 to 0.0373, about 4 s either way)."""
     ads, accuracies, shadow_rays = {DEFAULT_AD}, {0.3}, {4}
     for p in pipelines:
         plan = json.loads(crex(a.crex, ["plan", os.path.join(ROOT, "stdlib/pipelines", p + ".pipe"), "--format", "json"]))
