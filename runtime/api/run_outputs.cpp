@@ -190,8 +190,8 @@ std::string outputs_refusal(const RunFiles& files, const std::string& ic_file, b
 StageCosts measured_stage_costs(const RunResult& result, int width, int height) {
     return {result.preview_seconds, result.preview_samples, result.guidance_seconds,
             static_cast<uint64_t>(width) * static_cast<uint64_t>(height), result.ic_stats.caustic_seconds,
-            result.ic_preview_records, result.ic_preview_record_seconds, result.end_seconds,
-            result.strided_preview_seconds};
+            result.ic_preview_records, result.ic_preview_record_seconds,
+            result.budgeted_end_seconds > 0 ? result.budgeted_end_seconds : result.end_seconds, result.strided_preview_seconds};
 }
 
 RunImages run_images(const RunFiles& files, const RunRecord& record) {

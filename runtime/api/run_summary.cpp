@@ -110,6 +110,7 @@ nlohmann::json run_summary_json(const RunFacts& f) {
         j["stages"] = {{"preview_seconds", f.piped->preview_seconds},
                        {"guidance_seconds", f.piped->guidance_seconds},
                        {"selective_seconds", f.piped->selective_seconds},
+                       {"end_seconds", r.end_seconds},
                        {"preview_rays", f.piped->preview_rays},
                        {"selective_rays", f.piped->selective_rays}};
         j["preview_percent_of_time"] = r.render_seconds > 0 ? 100 * f.piped->preview_seconds / r.render_seconds : 0.0;

@@ -78,6 +78,9 @@ struct RunResult {
     double preview_seconds = 0, guidance_seconds = 0, selective_seconds = 0;
     double end_seconds = 0;  ///< after the last stage: stand-ins, warnings (StageCosts::end_seconds)
     double strided_preview_seconds = 0;  ///< RunSettings::time_strided_preview's figure; 0 if not timed
+    /// With RunSettings::time_strided_preview: the end a budgeted render of this frame would
+    /// take (every component's light left standing in), timed after the clock; 0 if not timed.
+    double budgeted_end_seconds = 0;
     /// The progressive selective cache (thesis 8.2): records made in the preview, preview D
     /// samples answered again at a finer accuracy in the selective stage, records made then.
     size_t ic_preview_records = 0, ic_reprocessed = 0, ic_selective_records = 0;

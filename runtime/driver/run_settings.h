@@ -75,7 +75,8 @@ struct RunSettings {
     double end_seconds = 0;
     /// A pipeline's full render whose profile is saved: after the clock stops, time the work a
     /// preview at every kCoarsestPreviewStride-th pixel does per pixel of the frame (its grid
-    /// and sample ranges, the composite, the fill), which the floor adds to its samples' cost.
+    /// and sample ranges, the composite, the fill), which the floor adds to its samples' cost;
+    /// and the end a budgeted render would have (RunResult::budgeted_end_seconds).
     bool time_strided_preview = false;
     /// How a budget is spent (--policy); unset: the plan's, else the default of spec/pipeline.md
     /// §7: whole tasks for a pipeline without `vary`, queues for one with, and progressive

@@ -121,6 +121,9 @@ public:
     /// An AOV's sample sums over pixels [p0, p1) (not divided by sample counts); 0 for an AOV
     /// the layout has no sum for.
     Vec3 aov_total(size_t aov, uint32_t p0, uint32_t p1) const;
+    /// An AOV's per-pixel RGB sample sums (3 per pixel), or null for an AOV the layout has no
+    /// sum for: for passes that read several AOVs at once.
+    const double* aov_sums(size_t aov) const { return layout_.keeps(aov) ? sums_[aov].data() : nullptr; }
 
     /// Bytes a pixel of a film holds (every buffer below), with the branches of the components
     /// in `tracked` (capict): what a render's memory model counts before the film exists.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "runtime/driver/ambient_stand_ins.h"
 #include "runtime/driver/run_plan.h"
 #include "runtime/scene/census.h"
 #include "tests/support/plan_helpers.h"
@@ -90,6 +91,59 @@ TEST(AmbientStandIn, MeasuredFromTheComponentsOwnRaysWhereSomeRan) {
     Vec3 measured = ran.auto_ambient[static_cast<size_t>(Component::kD)];  // the second bounce's D rays are left
     EXPECT_GT(measured.x, 0);
     EXPECT_GT(ran.stats.components[static_cast<size_t>(Component::kD)].beta[0], 0);
+}
+
+// The end of a render reads the film once for every component (in parallel, over fixed chunks)
+// and adds every component's stand-in in one pass: each component's av is what its executed
+// rays found over their throughput, and each pixel's stand-in is the sum over components of
+// av x its throughput left, in component order, as one addition per component would give it.
+TEST(AmbientStandIn, EveryComponentLeftStandsInWithItsOwnMeasureInOnePass) {
+    const int w = 300, h = 200;  // more pixels than one chunk of the sums
+    Film film(w, h);
+    const size_t pixels = film.pixel_count();
+    ExecutorStats stats;
+    AmbientStandIns stand_ins(pixels, Vec3{0, 0, 0}, true);
+    std::vector<float> image(3 * pixels);
+    for (size_t p = 0; p < pixels; ++p) {
+        for (size_t k = 0; k < 3; ++k) image[3 * p + k] = float(0.001 * double((p * 7 + k) % 97));
+        for (size_t c = 0; c < kComponentCount; ++c)
+            film.add(aov_of(static_cast<Component>(c)), static_cast<uint32_t>(p),
+                     Vec3{0.01 * double(c + 1), 0.02 * double((p + c) % 5), 0.005 * double(p % 3)});
+    }
+    // Components 1 and 3 measured (their rays ran), 4 left but never run (the mean stands in),
+    // the others with nothing left.
+    for (size_t c : {size_t{1}, size_t{3}}) stats.components[c].beta[0] = stats.components[c].beta[1] = stats.components[c].beta[2] = 2.0 * double(pixels);
+    for (size_t c : {size_t{1}, size_t{3}, size_t{4}}) {
+        std::vector<float>& left = stand_ins.throughput_left()[c];
+        left.assign(3 * pixels, 0.0f);
+        for (size_t i = 0; i < left.size(); ++i) left[i] = float(0.25 * double((i + c) % 4));
+    }
+    const std::array<std::vector<float>, kComponentCount> left = stand_ins.throughput_left();
+    std::array<Vec3, kComponentCount> av{};
+    std::vector<std::string> notes;
+    stand_ins.finish_automatic(film, stats, image, 0, pixels, nullptr, av, notes);
+    EXPECT_EQ(notes.size(), 3u);
+    // Each av from its own sums, within float rounding of the sums' order.
+    Vec3 mean{0, 0, 0};
+    for (size_t p = 0; p < pixels; ++p) mean = mean + Vec3{image[3 * p], image[3 * p + 1], image[3 * p + 2]};
+    mean = mean / double(pixels);
+    for (size_t c : {size_t{1}, size_t{3}}) {
+        const Vec3 found = film.aov_total(aov_of(static_cast<Component>(c)), 0, static_cast<uint32_t>(pixels));
+        EXPECT_NEAR(av[c].x, found.x / (2.0 * double(pixels)), 1e-12);
+        EXPECT_NEAR(av[c].y, found.y / (2.0 * double(pixels)), 1e-12);
+    }
+    EXPECT_NEAR(av[4].x, mean.x, 1e-9);
+    EXPECT_NEAR(av[4].z, mean.z, 1e-9);
+    // Each pixel's stand-in, bit for bit.
+    const std::vector<double>& ambient = stand_ins.ambient();
+    ASSERT_EQ(ambient.size(), 3 * pixels);
+    for (size_t i = 0; i < ambient.size(); ++i) {
+        double expected = 0;
+        const size_t k = i % 3;
+        for (size_t c : {size_t{1}, size_t{3}, size_t{4}}) expected += (k == 0 ? av[c].x : k == 1 ? av[c].y : av[c].z) * left[c][i];
+        ASSERT_EQ(ambient[i], expected) << "value " << i;
+    }
+    for (const std::vector<float>& l : stand_ins.throughput_left()) EXPECT_TRUE(l.empty());
 }
 
 }  // namespace

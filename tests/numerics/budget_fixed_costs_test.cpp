@@ -151,6 +151,15 @@ TEST(FixedCosts, AProfiledFullRenderTimesAStridedPreviewWithoutTouchingTheImage)
     EXPECT_GT(timed.strided_preview_seconds, 0.0);
     EXPECT_EQ(timed.image(), plain.image());
     EXPECT_GT(measured_stage_costs(timed, 40, 24).strided_preview_seconds, 0.0);
+    // So is the end a budgeted render of the frame would have (every component's light left
+    // standing in), which the profile keeps as the end instead of the full render's own.
+    if (timed.budgeted_end_seconds > 0) {
+        EXPECT_EQ(plain.budgeted_end_seconds, 0.0);
+        EXPECT_EQ(measured_stage_costs(timed, 40, 24).end_seconds, timed.budgeted_end_seconds);
+        EXPECT_EQ(measured_stage_costs(plain, 40, 24).end_seconds, plain.end_seconds);
+    } else {
+        ADD_FAILURE() << "a profiled full render with automatic stand-ins timed no budgeted end";
+    }
     // Under a budget nothing is timed: the budget's own preview is what it is.
     o.budget = PlanBudget{};
     o.budget->amount = 10;
