@@ -21,16 +21,18 @@ FrameGeometry frame_geometry(const RenderScene& scene, int width, int height) {
     const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
     g.point.assign(n, Vec3{});
     g.shape = probe.shape;
-    for (size_t p = 0; p < n; ++p) {
-        Vec3 origin, dir;
-        if (g.shape[p] < 0 || !std::isfinite(probe.distance[p]) ||
-            !rays.generate(static_cast<double>(p % static_cast<size_t>(width)) + 0.5, static_cast<double>(p / static_cast<size_t>(width)) + 0.5,
-                           origin, dir)) {
-            g.shape[p] = -1;
-            continue;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t p = r.begin(); p < r.end(); ++p) {
+            Vec3 origin, dir;
+            if (g.shape[p] < 0 || !std::isfinite(probe.distance[p]) ||
+                !rays.generate(static_cast<double>(p % static_cast<size_t>(width)) + 0.5,
+                               static_cast<double>(p / static_cast<size_t>(width)) + 0.5, origin, dir)) {
+                g.shape[p] = -1;
+                continue;
+            }
+            g.point[p] = origin + normalize_or_zero(dir) * static_cast<double>(probe.distance[p]);
         }
-        g.point[p] = origin + normalize_or_zero(dir) * static_cast<double>(probe.distance[p]);
-    }
+    });
     return g;
 }
 

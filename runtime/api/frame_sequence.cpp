@@ -346,9 +346,11 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         record.frame = f.frame;
         // Its files written while the next frame renders; the wait for the frame before's is
         // part of this frame's time.
-        writer.write(f.frame, run_images(frame_files, record));
-        // The final image, composited once for what follows (each composite blends the history).
-        const std::vector<float> linear = reusing || o.flicker || !o.reference.empty() ? result.image() : std::vector<float>{};
+        RunImages images = run_images(frame_files, record);
+        // The final image, composited once for the files and for what follows (each composite
+        // blends the history: 7-10 ms a frame at 320x240).
+        const std::vector<float> linear = reusing || o.flicker || !o.reference.empty() ? images.layers.front().rgb : std::vector<float>{};
+        writer.write(f.frame, std::move(images));
         if (reusing) {  // what the next frame inherits: this one's image and counts (timed: the frame's work)
             const auto t = std::chrono::steady_clock::now();
             previous_history = history_of(linear, result.film, result.history.get());
