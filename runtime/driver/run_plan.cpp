@@ -635,7 +635,7 @@ double PlanRun::time_strided_preview() const {
 double PlanRun::time_budgeted_end() const {
     constexpr size_t kEndProbePixels = size_t{1} << 18;
     const size_t pixels = out_.film.pixel_count(), n = std::min(pixels, kEndProbePixels);
-    if (n == 0) return 0;
+    if (n == 0 || out_.preview.size() < 3 * n) return 0;  // a pipeline's: its preview is the image stand-ins start from
     std::array<double, 3> seconds{};
     for (double& t : seconds) {
         AmbientStandIns probe(n, stand_ins_->av(), true);
@@ -643,8 +643,7 @@ double PlanRun::time_budgeted_end() const {
         std::array<Vec3, kComponentCount> ambient{};
         std::vector<std::string> notes;
         const auto start = Clock::now();
-        const std::vector<float> image = out_.preview.empty() ? out_.film.composite(nullptr) : std::vector<float>{};
-        probe.finish_automatic(out_.film, out_.stats, out_.preview.empty() ? image : out_.preview, 0, n, nullptr, ambient, notes);
+        probe.finish_automatic(out_.film, out_.stats, out_.preview, 0, n, nullptr, ambient, notes);
         t = seconds_since(start);
     }
     std::sort(seconds.begin(), seconds.end());
