@@ -76,7 +76,7 @@ void image_and_found_sums(const std::vector<float>& image, const std::array<cons
 // ambient += av[c] x component c's throughput left, for every component with some left, per
 // pixel in component order: the same sums as one add_stand_in per component, bit for bit, in
 // one pass over the ambient buffer instead of one per component (measured: the end of a
-// budgeted cbtcr render at 512x384 was 8-9 ms, most of it these passes).
+// budgeted cbtcr render at 512x384 took 9-11 ms, most of it these passes).
 void add_stand_ins(const std::array<std::vector<float>, kComponentCount>& left, const std::array<Vec3, kComponentCount>& av,
                    std::vector<double>& ambient) {
     std::array<const float*, kComponentCount> from{};
