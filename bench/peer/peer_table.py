@@ -24,21 +24,18 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 # (-ds), eight ambient bounces (with fewer the box loses light: -ab 2 left it 2-6 % dark) and
 # the ambient calculation from cheap to near-converged; -ar scaled to this millimetre scene and
 # -lw to the ambient divisions. The earlier ladder (-ab 1 and 2) is --rpict-ladder shallow.
+DEEP = [
+    ("ab 8 aa .4 ad 64", ["-ab", "8", "-aa", ".4", "-ad", "64", "-as", "16", "-ar", "8", "-lw", "4e-3"]),
+    ("ab 8 aa .3 ad 128", ["-ab", "8", "-aa", ".3", "-ad", "128", "-as", "32", "-ar", "16", "-lw", "2e-3"]),
+    ("ab 8 aa .2 ad 256", ["-ab", "8", "-aa", ".2", "-ad", "256", "-as", "64", "-ar", "32", "-lw", "1e-3"]),
+    ("ab 8 aa .15 ad 512", ["-ab", "8", "-aa", ".15", "-ad", "512", "-as", "128", "-ar", "64", "-lw", "5e-4"]),
+]
 RPICT = {
-    "deep": [
-        ("ab 8 aa .4 ad 64", ["-ab", "8", "-aa", ".4", "-ad", "64", "-as", "16", "-ar", "8", "-lw", "4e-3"]),
-        ("ab 8 aa .3 ad 128", ["-ab", "8", "-aa", ".3", "-ad", "128", "-as", "32", "-ar", "16", "-lw", "2e-3"]),
-        ("ab 8 aa .2 ad 256", ["-ab", "8", "-aa", ".2", "-ad", "256", "-as", "64", "-ar", "32", "-lw", "1e-3"]),
-        ("ab 8 aa .15 ad 512", ["-ab", "8", "-aa", ".15", "-ad", "512", "-as", "128", "-ar", "64", "-lw", "5e-4"]),
-    ],
+    "deep": DEEP,
     # rpict traces one ray a pixel: its edges alias, and that is most of its relMSE at every
     # setting above. RADIANCE's own remedy, an image at twice the size filtered down by pfilt
     # (four rays a pixel, averaged): the same ambient settings, oversampled.
-    "deep x2": [
-        ("ab 8 aa .4 ad 64, 2x2 + pfilt", ["-ab", "8", "-aa", ".4", "-ad", "64", "-as", "16", "-ar", "8", "-lw", "4e-3"], 2),
-        ("ab 8 aa .3 ad 128, 2x2 + pfilt", ["-ab", "8", "-aa", ".3", "-ad", "128", "-as", "32", "-ar", "16", "-lw", "2e-3"], 2),
-        ("ab 8 aa .2 ad 256, 2x2 + pfilt", ["-ab", "8", "-aa", ".2", "-ad", "256", "-as", "64", "-ar", "32", "-lw", "1e-3"], 2),
-    ],
+    "deep x2": [(f"{name}, 2x2 + pfilt", opts, 2) for name, opts in DEEP[:3]],
     "shallow": [
         ("ab 1 aa .3 ad 256", ["-ab", "1", "-aa", ".3", "-ad", "256", "-as", "128", "-ar", "64", "-lw", "1e-4"]),
         ("ab 2 aa .2 ad 512", ["-ab", "2", "-aa", ".2", "-ad", "512", "-as", "256", "-ar", "128", "-lw", "1e-4"]),
@@ -81,6 +78,12 @@ def time_at(curve, key, value):
     return None
 
 
+def load_rows(path):
+    """The rows of an earlier run's peer_SCENE.json: {curve: [(seconds, flip, relmse, setting)]}."""
+    with open(path) as f:
+        return {k: [(r["seconds"], r["flip"], r["relmse"], r["setting"]) for r in v] for k, v in json.load(f).items()}
+
+
 def print_table(rows, curves):
     """The markdown table: each rpict point, and the time crex's curves need for its FLIP and
     its relMSE ("<=": crex's cheapest image is already there)."""
@@ -101,7 +104,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scene", choices=["diffuse", "spheres"], default="diffuse")
     ap.add_argument("--crex", default=os.path.join(ROOT, "build/release/apps/crex/crex"))
-    ap.add_argument("--radiance", default=os.path.join(HERE, ".radiance/bin"), help="folder holding rpict, oconv and xform")
+    ap.add_argument("--radiance", default=os.path.join(HERE, ".radiance/bin"), help="folder holding rpict, oconv, xform and pfilt")
     ap.add_argument("--out", default=os.path.join(ROOT, "out/peer"))
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--rpict-ladder", choices=sorted(RPICT), default="deep")
@@ -110,9 +113,7 @@ def main():
     ap.add_argument("--table-from", metavar="JSON", help="print the table of an earlier run's peer_SCENE.json, rendering nothing")
     a = ap.parse_args()
     if a.table_from:
-        with open(a.table_from) as f:
-            saved = json.load(f)
-        rows = {k: [(r["seconds"], r["flip"], r["relmse"], r["setting"]) for r in v] for k, v in saved.items()}
+        rows = load_rows(a.table_from)
         print_table(rows, [k for k in rows if k != "rpict"])
         return
     os.makedirs(a.out, exist_ok=True)
@@ -140,10 +141,8 @@ def main():
         flip, relmse = score(a.crex, out, reference)
         rows["rpict"].append((seconds, flip, relmse, name))
         print(f"rpict {name:22s} {seconds:8.2f} s  FLIP {flip:.4f}  relMSE {relmse:.4g}", flush=True)
-    earlier = {}
-    if a.crex_from:
-        with open(a.crex_from) as f:
-            earlier = {k: [(r["seconds"], r["flip"], r["relmse"], r["setting"]) for r in v] for k, v in json.load(f).items() if k != "rpict"}
+    earlier = {k: v for k, v in load_rows(a.crex_from).items() if k != "rpict"} if a.crex_from else {}
+    if earlier:
         curves = list(earlier)
         rows = {"rpict": rows["rpict"], **earlier}
     for kind, flags, spp in [] if earlier else CREX:
