@@ -62,6 +62,39 @@ double fresnel_dielectric(double cos_i, double eta) {
     return 0.5 * (rs * rs + rp * rp);
 }
 
+// RADIANCE's glass (glass.c): a pane thin enough that a ray leaves it where it entered, in the
+// direction it came (no refraction). `color` is the glass's transmissivity at normal incidence
+// (0.96 for the common 88 % glass); the pane's two faces and the light reflected between them
+// give T and R for each polarisation from the single-face Fresnel reflectances.
+namespace {
+
+void thin_glass(const Material& m, const Vec3& d, const Vec3& nrm, const Vec3& color, std::array<Lobe, kMaxLobes>& out, int& n) {
+    const double index = m.ior, cos_i = std::fabs(dot(d, nrm));
+    const Vec3 mirror = reflect(d, nrm);
+    if (!(cos_i > 1e-12)) {  // grazing: all reflected
+        out[n++] = {Component::kR, mirror, {1, 1, 1}, false, true};
+        return;
+    }
+    const double cos_t = std::sqrt((1.0 - 1.0 / (index * index)) + cos_i * cos_i / (index * index));
+    const double te = (cos_i - index * cos_t) / (cos_i + index * cos_t), tm = (cos_t - index * cos_i) / (cos_t + index * cos_i);
+    const double r_e = te * te, r_m = tm * tm;  // Fresnel reflectance of one face, each polarisation
+    const bool transmits = positive(color);
+    Vec3 trans{}, refl{};
+    for (int k = 0; k < 3; ++k) {
+        // Transmissivity along the slanted path through the pane.
+        const double c = k == 0 ? color.x : k == 1 ? color.y : color.z;
+        const double t = transmits ? std::pow(std::fmax(c, 1e-15), 1.0 / cos_t) : 0.0, tt = t * t;
+        const double tk = 0.5 * (1 - r_e) * (1 - r_e) * t / (1 - r_e * r_e * tt) + 0.5 * (1 - r_m) * (1 - r_m) * t / (1 - r_m * r_m * tt);
+        const double rk = 0.5 * r_e * (1 + (1 - 2 * r_e) * tt) / (1 - r_e * r_e * tt) + 0.5 * r_m * (1 + (1 - 2 * r_m) * tt) / (1 - r_m * r_m * tt);
+        (k == 0 ? trans.x : k == 1 ? trans.y : trans.z) = tk;
+        (k == 0 ? refl.x : k == 1 ? refl.y : refl.z) = rk;
+    }
+    out[n++] = {Component::kR, mirror, refl, false, true};
+    if (transmits) out[n++] = {Component::kT, d, trans, true, true};
+}
+
+}  // namespace
+
 int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, double& probability) {
     double total = 0;
     for (int l = 0; l < n; ++l) total += max_component(lobes[static_cast<size_t>(l)].weight);
@@ -151,6 +184,10 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
     }
     case MaterialType::kGlass: {
         const Material& m = *b.material;
+        if (m.thin_glass) {
+            thin_glass(m, d, nrm, b.color, out, n);
+            break;
+        }
         double eta = f.front ? 1.0 / m.ior : m.ior;
         double cos_i = -dot(d, nrm);
         double fr = fresnel_dielectric(cos_i, eta);

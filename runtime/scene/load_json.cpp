@@ -197,7 +197,7 @@ private:
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
                         "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
-                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map"});
+                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         MaterialTextures& tex = m.textures;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
@@ -210,6 +210,7 @@ private:
         r.number("transmissivity", m.transmissivity, kUnit);
         r.number("transmitted_specular", m.transmitted_specular, kUnit);
         r.number("ior", m.ior, kPositive);
+        r.boolean("thin", m.thin_glass);  // glass: RADIANCE's pane, straight through
         r.number("glow_radius", m.glow_radius);  // negative: never lights the scene
         Vec3 e;
         if (!texture_or(r, "emission", tex.emission) && r.vec3("emission", e, kRadiance)) m.emission = e;

@@ -136,6 +136,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         if (m.transmissivity != defaults.transmissivity) e["transmissivity"] = m.transmissivity;
         if (m.transmitted_specular != defaults.transmitted_specular) e["transmitted_specular"] = m.transmitted_specular;
         if (m.ior != defaults.ior) e["ior"] = m.ior;
+        if (m.thin_glass) e["thin"] = true;
         if (m.glow_radius != defaults.glow_radius) e["glow_radius"] = m.glow_radius;
         if (m.emission) e["emission"] = vec(*m.emission);
         if (m.anisotropy) e["anisotropy"] = {{"orientation", vec(m.anisotropy->orientation)}, {"roughness_v", m.anisotropy->roughness_v}};

@@ -21,7 +21,7 @@ enum class MaterialType {
     kPlastic,     ///< diffuse + uncoloured specular (G if rough, S if ideal)
     kMetal,       ///< diffuse + specular coloured by the material
     kTrans,       ///< plastic-like reflection + diffuse and specular transmission
-    kGlass,       ///< thin or solid glass: T (1-F) and R (F)
+    kGlass,       ///< glass: refracting T (1-F) and R (F); RADIANCE's thin pane (Material::thin_glass)
     kDielectric,  ///< dielectric interface with index n: T and R
     kMirror,      ///< ideal mirror: M
     kLight,       ///< emitter sampled for direct lighting
@@ -59,6 +59,9 @@ struct Material {
     double transmissivity = 0;  ///< trans: fraction of non-specular light transmitted
     double transmitted_specular = 0;  ///< trans: fraction of transmitted light that is specular
     double ior = 1.52;          ///< glass, dielectric: index of refraction
+    /// glass: RADIANCE's glass, a thin pane (rays pass through unbent; `color` is its
+    /// transmissivity, and R and T hold the pane's inner reflections, as glass.c computes them).
+    bool thin_glass = false;
     /// glow: > 0: sampled by direct lighting from points within this distance of it, seen by
     /// every other ray from farther away; 0: never sampled, seen by every ray; < 0: never
     /// lights the scene, seen only by camera rays and rays from ideal specular lobes.

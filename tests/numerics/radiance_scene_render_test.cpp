@@ -258,5 +258,68 @@ TEST(RadianceMaterials, TheAnisotropicWardLobeSamplesWhatItEvaluates) {
     EXPECT_NEAR(sampled / integral, 1.0, 0.01);
 }
 
+TEST(RadianceMaterials, GlassIsAThinPaneWithItsPublishedTransmittance) {
+    // glass.c: transmissivity 0.96 is "standard 88% transmittance glass" at normal incidence;
+    // the ray leaves in the direction it came, at any angle.
+    Scene s = load(R"(void glass pane 0 0 3 .96 .96 .96
+pane polygon p 0 0 12 -1 -1 0 1 -1 0 1 1 0 -1 1 0
+)");
+    ASSERT_FALSE(s.materials.empty());
+    const Material& m = s.materials.back();
+    ASSERT_EQ(m.type, MaterialType::kGlass);
+    EXPECT_TRUE(m.thin_glass);
+    Bsdf b = Bsdf::of(m);
+    std::array<Lobe, kMaxLobes> lobes;
+    for (const Vec3 incoming : {Vec3{0, 0, -1}, normalize_or_zero(Vec3{0.8, 0.3, -0.5})}) {
+        HitFrame f;
+        f.normal = f.geometric = f.shading = {0, 0, 1};
+        f.incoming = incoming;
+        const int k = scatter(b, f, HitRandom(1, 0), lobes);
+        double transmitted = -1, reflected = -1;
+        for (int l = 0; l < k; ++l) {
+            const Lobe& lobe = lobes[static_cast<size_t>(l)];
+            if (lobe.component == Component::kT) {
+                transmitted = lobe.weight.x;
+                EXPECT_NEAR(length(lobe.direction - incoming), 0, 1e-12) << "a pane does not bend the ray";
+            } else if (lobe.component == Component::kR) {
+                reflected = lobe.weight.y;
+                EXPECT_NEAR(dot(lobe.direction, f.normal), -dot(incoming, f.normal), 1e-12);
+            }
+        }
+        if (incoming.z == -1) {
+            // (1-r)^2 t / (1 - r^2 t^2) with r = ((1.52-1)/(1.52+1))^2, t = 0.96; reflection
+            // r (1 + (1-2r) t^2) / (1 - r^2 t^2).
+            const double r = std::pow(0.52 / 2.52, 2), t = 0.96;
+            EXPECT_NEAR(transmitted, (1 - r) * (1 - r) * t / (1 - r * r * t * t), 1e-12);
+            EXPECT_NEAR(transmitted, 0.88, 0.002);
+            EXPECT_NEAR(reflected, r * (1 + (1 - 2 * r) * t * t) / (1 - r * r * t * t), 1e-12);
+        } else {
+            EXPECT_GT(transmitted, 0.5);
+            EXPECT_LT(transmitted + reflected, 0.96 + 1e-9);  // the pane absorbs more along a slant
+        }
+    }
+}
+
+TEST(RadianceMaterials, ThingsBehindAGlassPaneStayWhereTheyAre) {
+    // A small bright patch behind a pane tilted 45 degrees to the view: RADIANCE's glass lets
+    // the camera see it where it is (a refracting surface would shift it sideways).
+    const std::string behind = R"(#@crex view -vp 0 0 5 -vd 0 0 -1 -vu 0 1 0 -vh 20 -vv 20
+void glow bright 0 0 4 10 10 10 0
+bright polygon patch 0 0 12 -.2 -.2 -3 .2 -.2 -3 .2 .2 -3 -.2 .2 -3
+)";
+    const std::string pane = "void glass pane 0 0 3 .96 .96 .96\npane polygon p 0 0 12 -1 -1 -1 1 -1 1 1 1 1 -1 1 -1\n";
+    RunResult open = testing::render_crex(load(behind), "(TR)*", 32, 1);
+    RunResult glazed = testing::render_crex(load(behind + pane), "(TR)*", 32, 1);
+    auto centroid_x = [](const std::vector<float>& rgb) {
+        double sum = 0, at = 0;
+        for (size_t p = 0; p < rgb.size() / 3; ++p)
+            if (rgb[3 * p + 1] > 1) sum += 1, at += double(p % 32);
+        return sum > 0 ? at / sum : -1.0;
+    };
+    const double x_open = centroid_x(open.image()), x_glazed = centroid_x(glazed.image());
+    ASSERT_GT(x_open, 0);
+    EXPECT_NEAR(x_glazed, x_open, 0.25) << "the patch moved by " << x_glazed - x_open << " pixels";
+}
+
 }  // namespace
 }  // namespace crex

@@ -341,6 +341,7 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         if (!counted || !colour(m, false)) return std::nullopt;
         if (t == "glass") {
             if (r.size() == 4) m.ior = r[3];
+            m.thin_glass = true;  // RADIANCE renders glass as a pane: straight through (glass.c)
         } else {
             m.ior = r[3];  // dielectric: r[4], the Hartmann constant, is not modelled
         }

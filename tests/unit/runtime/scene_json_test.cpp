@@ -14,7 +14,7 @@ const char* kMaterials = R"([
   {"name": "m", "type": "metal", "color": [0.9, 0.8, 0.7], "specularity": 0.8, "roughness": 0},
   {"name": "t", "type": "trans", "color": [0.6, 0.6, 0.6], "specularity": 0.03, "roughness": 0.05,
    "transmissivity": 0.5, "transmitted_specular": 0.4},
-  {"name": "g", "type": "glass", "color": [0.96, 0.96, 0.96], "ior": 1.45},
+  {"name": "g", "type": "glass", "color": [0.96, 0.96, 0.96], "ior": 1.45, "thin": true},
   {"name": "d", "type": "dielectric", "color": [0.9, 0.9, 1.0], "ior": 1.33},
   {"name": "mi", "type": "mirror", "color": [0.95, 0.95, 0.95]},
   {"name": "l", "type": "light", "color": [10, 10, 10]},
@@ -54,6 +54,7 @@ TEST(SceneJson, LoadsEveryPrimitiveAndMaterial) {
     EXPECT_EQ(s.materials[2].type, MaterialType::kTrans);
     EXPECT_DOUBLE_EQ(s.materials[2].transmitted_specular, 0.4);
     EXPECT_DOUBLE_EQ(s.materials[3].ior, 1.45);
+    EXPECT_TRUE(s.materials[3].thin_glass);  // a pane; the round trip below keeps it
     EXPECT_DOUBLE_EQ(s.materials[7].glow_radius, 4);
     ASSERT_TRUE(s.materials[9].emission.has_value());
     EXPECT_EQ(s.shapes[0].tag->name, "target");

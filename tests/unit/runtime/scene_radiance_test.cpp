@@ -106,13 +106,24 @@ TEST(SceneRadiance, ViewOptionsSetTheCamera) {
     EXPECT_DOUBLE_EQ(inline_view.scene->camera.vfov_deg, 45);
 }
 
-TEST(SceneRadiance, CornellTwinIsRenderEquivalentToTheJson) {
+TEST(SceneRadiance, CornellTwinIsTheJsonSceneWithRadiancesSolidGlass) {
     auto rad = testing::load_path(CREX_SOURCE_DIR "/examples/scenes/cornell/scene.rad");
     auto json = testing::load_path(CREX_SOURCE_DIR "/examples/scenes/cornell/scene.json");
     ASSERT_TRUE(rad.scene);
     ASSERT_TRUE(json.scene);
     EXPECT_EQ(take_census(*rad.scene).hash, take_census(*json.scene).hash);
-    EXPECT_EQ(to_json(take_census(*rad.scene)), to_json(take_census(*json.scene)));
+    // The one difference, said in scene.rad: RADIANCE's glass is a thin pane, so the twin's
+    // solid ball is a clear dielectric where the JSON has crex's refracting glass.
+    nlohmann::json rad_census = to_json(take_census(*rad.scene));
+    size_t balls = 0;
+    for (auto& m : rad_census["materials"])
+        if (m["name"] == "glass") {
+            EXPECT_EQ(m["type"], "dielectric");
+            m["type"] = "glass";
+            ++balls;
+        }
+    EXPECT_EQ(balls, 1u);
+    EXPECT_EQ(rad_census, to_json(take_census(*json.scene)));
     auto counts = [](const Scene& s) {
         std::map<ShapeType, size_t> by_type;
         size_t triangles = 0;
