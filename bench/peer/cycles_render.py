@@ -111,7 +111,7 @@ def add_sphere(name, centre, radius, mat):
     add_mesh(name, verts, faces, mat, smooth=True)
 
 
-def camera(c, size):
+def camera(c):
     cam = bpy.data.cameras.new("camera")
     cam.sensor_fit = "HORIZONTAL"
     cam.angle = math.radians(c["hfov"])
@@ -181,7 +181,7 @@ def main():
             add_sphere(name, sh["center"], sh["radius"], mats[sh["material"]])
         else:
             raise SystemExit(f"cycles_render.py: shape type {sh['type']} is not one the peer scenes use")
-    camera(scene["camera"], a.size)
+    camera(scene["camera"])
     settings(a)
     t = time.perf_counter()
     bpy.ops.render.render()

@@ -2,11 +2,11 @@
 """crex against a peer, rpict or Cycles, on a reference converged beyond both (issue 40, docs/peer.md).
 
 Renders one of the peer scenes of bench/peer/ at 256x256 with the peer at a ladder of settings
-and with crex (path tracing, and the irradiance cache) at a ladder of samples, one thread
-each, scores every image against the committed reference (bench/peer/refs/) with
-`crex compare` (FLIP and relMSE), and prints each renderer's error against time and the time
-ratio crex/peer at equal FLIP and at equal relMSE, each curve interpolated log-log between
-its own points. Never in CI; rpict from bench/peer/build_rpict.sh, Cycles from Debian's
+and with crex (path tracing, the irradiance cache, and a selective pipeline) at a ladder of
+samples, one thread each, scores every image against the committed reference
+(bench/peer/refs/) with `crex compare` (FLIP, relMSE and RMSE), and prints each renderer's error
+against time and the time ratio crex/peer at equal FLIP, relMSE and RMSE, each curve
+interpolated log-log between its own points, with the crex curve that gives it. Never in CI; rpict from bench/peer/build_rpict.sh, Cycles from Debian's
 `blender` (bench/peer/cycles_render.py builds the scene crex reads from the RADIANCE file).
 
     python3 bench/peer/peer_table.py --scene diffuse --radiance bench/peer/.radiance/bin --out out/peer
@@ -40,7 +40,7 @@ RPICT = {
     "deep x2": [(f"{name}, 2x2 + pfilt", opts, 2) for name, opts in DEEP[:3]],
     # The spheres box's caustics (the light through the glass ball and off the mirror ball)
     # reach rpict's diffuse surfaces only from a caustic photon map (mkpmap -apc); the same
-    # ambient settings with one of 250,000 photons, each estimate from 50 of them.
+    # ambient settings with a map of 250,000 photons, each estimate from 50 of them.
     "deep pm": [(f"{name}, caustic photons", opts, 1, 250000) for name, opts in DEEP[:3]],
     "shallow": [
         ("ab 1 aa .3 ad 256", ["-ab", "1", "-aa", ".3", "-ad", "256", "-as", "128", "-ar", "64", "-lw", "1e-4"]),
@@ -148,9 +148,10 @@ def print_table(rows, curves, peer):
         cells = []
         for m in metrics:
             ts = [time_at(rows[k], m, p[m]) for k in curves]
-            known = [t for t in ts if t]
-            best = min(known) if known else None
-            cells += [" / ".join(f"{t[1]}{t[0]:.2f}" if t else "-" for t in ts), f"{best[1]}{ratio(best[0] / p['seconds'])}x" if best else "-"]
+            known = [(t, k) for t, k in zip(ts, curves) if t]
+            (best, fastest) = min(known) if known else (None, None)
+            cells += [" / ".join(f"{t[1]}{t[0]:.2f}" if t else "-" for t in ts),
+                      f"{best[1]}{ratio(best[0] / p['seconds'])}x ({fastest[len('crex '):]})" if best else "-"]
         print(f"| {p['setting']} | {p['seconds']:.2f} | " + " | ".join(f"{p[m]:.4g}" for m in metrics) + " | " + " | ".join(cells) + " |")
 
 
