@@ -5,8 +5,17 @@
 #include <chrono>
 
 #include "runtime/api/frame_sequence.h"
+#include "runtime/io/image_io.h"
 
 namespace crex {
+
+FrameWriter::FrameWriter() {
+    // A failure to load is not this frame's to report: the first write meets it and says so.
+    pending_ = std::async(std::launch::async, [] {
+        (void)load_image_plugin();
+        return std::string();
+    });
+}
 
 FrameWriter::~FrameWriter() {
     if (pending_.valid()) pending_.wait();
