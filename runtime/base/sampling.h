@@ -6,6 +6,7 @@
 /// preview or a 16-spp render (progressive, hierarchical).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -100,11 +101,37 @@ inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
 /// prefix is stratified in both dimensions at once), shuffled and Owen-scrambled by `seed`
 /// (Burley 2020): the shuffle decorrelates it from other sequences driven by the same index
 /// (the camera's sub-pixel position), the scramble makes each point uniform.
-inline void owen_sobol_2d(uint32_t index, uint64_t seed, double& x, double& y) {
-    const uint32_t i = owen_scramble(index, static_cast<uint32_t>(seed));
-    uint32_t second = 0;  // dimension 2: the binary Pascal matrix
+/// Sobol's second dimension: index bit j selects the column v_j of the binary Pascal matrix
+/// (v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1)), and the point is the XOR of the selected ones.
+inline uint32_t sobol_second_bit_by_bit(uint32_t i) {
+    uint32_t second = 0;
     for (uint32_t v = 1u << 31, k = i; k; k >>= 1, v ^= v >> 1)
         if (k & 1) second ^= v;
+    return second;
+}
+
+/// The same, a byte at a time: table b holds the XOR of the columns of every value of index
+/// byte b. The bit loop's branch on each bit of a scrambled (random) index mispredicted half
+/// the time, and made owen_sobol_2d most of direct_light_sample (prog_all's corridor walk, issue 36).
+inline constexpr std::array<std::array<uint32_t, 256>, 4> kSobolSecondBytes = [] {
+    std::array<uint32_t, 32> v{};
+    v[0] = 1u << 31;
+    for (size_t j = 1; j < 32; ++j) v[j] = v[j - 1] ^ (v[j - 1] >> 1);
+    std::array<std::array<uint32_t, 256>, 4> t{};
+    for (size_t b = 0; b < 4; ++b)
+        for (uint32_t x = 0; x < 256; ++x)
+            for (size_t bit = 0; bit < 8; ++bit)
+                if ((x >> bit) & 1u) t[b][x] ^= v[8 * b + bit];
+    return t;
+}();
+inline uint32_t sobol_second(uint32_t i) {
+    return kSobolSecondBytes[0][i & 0xffu] ^ kSobolSecondBytes[1][(i >> 8) & 0xffu] ^ kSobolSecondBytes[2][(i >> 16) & 0xffu] ^
+           kSobolSecondBytes[3][i >> 24];
+}
+
+inline void owen_sobol_2d(uint32_t index, uint64_t seed, double& x, double& y) {
+    const uint32_t i = owen_scramble(index, static_cast<uint32_t>(seed));
+    const uint32_t second = sobol_second(i);
     const uint64_t h = mix64(seed);
     x = owen_scramble(reverse_bits_32(i), static_cast<uint32_t>(h)) * 0x1.0p-32;
     y = owen_scramble(second, static_cast<uint32_t>(h >> 32)) * 0x1.0p-32;

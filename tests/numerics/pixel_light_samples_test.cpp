@@ -38,6 +38,15 @@ TEST(PixelLightSamples, EveryPowerOfTwoPrefixIsANet) {
     }
 }
 
+TEST(PixelLightSamples, SobolsSecondDimensionByBytesIsTheBitByBitOne) {
+    std::mt19937 rng(7);
+    for (uint32_t i : {0u, 1u, 0x80000000u, 0xffffffffu}) ASSERT_EQ(sobol_second(i), sobol_second_bit_by_bit(i)) << i;
+    for (int k = 0; k < 100000; ++k) {
+        const uint32_t i = static_cast<uint32_t>(rng());
+        ASSERT_EQ(sobol_second(i), sobol_second_bit_by_bit(i)) << i;
+    }
+}
+
 // Three 0.2 x 0.2 lamps of radiance 1 at height 1 along x, facing down.
 Scene three_lamps() {
     Scene s;
