@@ -97,21 +97,10 @@ inline uint32_t owen_scramble(uint32_t x, uint32_t seed) {
     return reverse_bits_32(x);
 }
 
-/// Point `index` of the first two dimensions of Sobol' (a (0,2)-sequence: every power-of-two
-/// prefix is stratified in both dimensions at once), shuffled and Owen-scrambled by `seed`
-/// (Burley 2020): the shuffle decorrelates it from other sequences driven by the same index
-/// (the camera's sub-pixel position), the scramble makes each point uniform.
 /// Sobol's second dimension: index bit j selects the column v_j of the binary Pascal matrix
-/// (v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1)), and the point is the XOR of the selected ones.
-inline uint32_t sobol_second_bit_by_bit(uint32_t i) {
-    uint32_t second = 0;
-    for (uint32_t v = 1u << 31, k = i; k; k >>= 1, v ^= v >> 1)
-        if (k & 1) second ^= v;
-    return second;
-}
-
-/// The same, a byte at a time: table b holds the XOR of the columns of every value of index
-/// byte b. The bit loop's branch on each bit of a scrambled (random) index mispredicted half
+/// (v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1)), and the point is the XOR of the selected ones,
+/// here a byte at a time: table b holds the XOR of the columns of every value of index byte b.
+/// A loop over the bits branched on each bit of a scrambled (random) index, mispredicted half
 /// the time, and made owen_sobol_2d most of direct_light_sample (prog_all's corridor walk, issue 36).
 inline constexpr std::array<std::array<uint32_t, 256>, 4> kSobolSecondBytes = [] {
     std::array<uint32_t, 32> v{};
@@ -129,6 +118,10 @@ inline uint32_t sobol_second(uint32_t i) {
            kSobolSecondBytes[3][i >> 24];
 }
 
+/// Point `index` of the first two dimensions of Sobol' (a (0,2)-sequence: every power-of-two
+/// prefix is stratified in both dimensions at once), shuffled and Owen-scrambled by `seed`
+/// (Burley 2020): the shuffle decorrelates it from other sequences driven by the same index
+/// (the camera's sub-pixel position), the scramble makes each point uniform.
 inline void owen_sobol_2d(uint32_t index, uint64_t seed, double& x, double& y) {
     const uint32_t i = owen_scramble(index, static_cast<uint32_t>(seed));
     const uint32_t second = sobol_second(i);

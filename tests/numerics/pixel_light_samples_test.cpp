@@ -38,6 +38,14 @@ TEST(PixelLightSamples, EveryPowerOfTwoPrefixIsANet) {
     }
 }
 
+// Sobol's second dimension one bit at a time, as owen_sobol_2d computed it before its tables.
+uint32_t sobol_second_bit_by_bit(uint32_t i) {
+    uint32_t second = 0;
+    for (uint32_t v = 1u << 31, k = i; k; k >>= 1, v ^= v >> 1)
+        if (k & 1) second ^= v;
+    return second;
+}
+
 TEST(PixelLightSamples, SobolsSecondDimensionByBytesIsTheBitByBitOne) {
     std::mt19937 rng(7);
     for (uint32_t i : {0u, 1u, 0x80000000u, 0xffffffffu}) ASSERT_EQ(sobol_second(i), sobol_second_bit_by_bit(i)) << i;
