@@ -49,6 +49,49 @@ struct OutsideMedium {
     double ior = 1;
 };
 
+/// A table of numbers over a grid (RADIANCE's data files): `axes` gives each dimension's
+/// grid points, evenly spaced from `origin` to `origin + size` in `count` steps, or listed in
+/// `points` (then origin and size are the first point and the span). `values` holds every
+/// grid point's number, the last dimension varying fastest. Its meaning (interpolation and
+/// what lies beyond the grid) is runtime/scene/data_table.h's.
+struct DataTable {
+    struct Axis {
+        double origin = 0, size = 1;
+        int count = 2;
+        std::vector<double> points;  ///< uneven grids only
+        bool operator==(const Axis&) const = default;
+    };
+    std::vector<Axis> axes;
+    std::vector<double> values;
+    bool operator==(const DataTable&) const = default;
+};
+
+/// A RADIANCE pattern on an emitter (`brightfunc`, `colorfunc`, `brightdata`, `colordata`,
+/// `colorpict`): a factor per ray that multiplies the emitter's radiance, computed at render
+/// time from the ray's direction, the hit point, the normal and the distance, in the
+/// pattern's own coordinates, by expressions in RADIANCE's function language (its `.cal`
+/// files). What luminaire distributions (ies2rad's `brightdata`) and photographed skies
+/// (`colorpict` on a distant `glow`) are made of. Plain data: the function file's text, not
+/// its name, so the scene is complete without the files.
+struct FunctionPattern {
+    enum class Kind { kBrightFunc, kColorFunc, kBrightData, kColorData, kColorPict };
+    Kind kind = Kind::kBrightFunc;
+    std::string name;         ///< as the scene file names it (messages)
+    std::string definitions;  ///< the function file's definitions ("" without one)
+    /// func: 1 or 3 expressions, the factor (grey or RGB); data and pict: 1 or 3 names of
+    /// functions applied to the values looked up (RADIANCE's `flatcorr`, `red`, ...).
+    std::vector<std::string> functions;
+    std::vector<std::string> coordinates;  ///< data, pict: one expression per dimension
+    std::vector<DataTable> tables;         ///< brightdata: 1; colordata: 3
+    std::string picture;                   ///< colorpict: the image file (absolute)
+    std::vector<double> args;              ///< A1..An of the expressions
+    /// World to pattern coordinates (the inverse of the pattern's transform): rows of a 3x4
+    /// matrix; directions and normals are also divided by `scale`, distances multiplied.
+    std::array<double, 12> to_pattern{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    double scale = 1;
+    bool operator==(const FunctionPattern&) const = default;
+};
+
 struct Material {
     std::string name;
     MaterialType type = MaterialType::kPlastic;
@@ -81,6 +124,9 @@ struct Material {
     AlphaMode alpha_mode = AlphaMode::kMask;
     double alpha_cutoff = 0.5;
     MaterialTextures textures;  ///< parameters taken from images instead of the constants above
+    /// light, glow, illum: factors of the emitted radiance, multiplied in order (RADIANCE's
+    /// patterns modifying an emitter, the nearest first).
+    std::vector<FunctionPattern> patterns;
 };
 
 enum class ShapeType { kSphere, kPolygon, kMesh, kBox, kRing, kCone, kCylinder };

@@ -7,8 +7,17 @@
 #include <cstdint>
 #include <cstring>
 #include <set>
+#include <span>
 
 namespace crex::radiance::calc {
+
+// The library: functions whose arguments are all numbers (evaluated before the call), by
+// name, each with its number of arguments (-1: one or more).
+struct LibraryFunction {
+    std::string_view name;
+    int arity;
+    double (*fn)(std::span<const double> a);
+};
 
 struct Node {
     enum class Kind { kNumber, kName, kParam, kCall, kCallParam, kNegate, kAdd, kSubtract, kMultiply, kDivide, kPower };
@@ -18,6 +27,14 @@ struct Node {
     int param = -1;
     std::vector<std::shared_ptr<Node>> kids;
     size_t offset = 0;
+    // Set by Program::bind(): names resolved once, so evaluation looks nothing up by name.
+    bool bound = false;
+    const Program::Definition* def = nullptr;  // the definition a kName or kCall names, if any
+    const LibraryFunction* lib = nullptr;      // else the library function a kCall names
+    enum class Lazy : uint8_t { kNone, kIf, kSelect, kArg } lazy = Lazy::kNone;  // else if, select or arg
+    // A kName no definition gives: a constant (PI), an argument (A3: 3; AC: 0), or -1 (the caller's).
+    std::optional<double> constant;
+    int argument = -1;
 };
 
 struct Program::Definition {
@@ -248,91 +265,105 @@ double deterministic_rand(double x) {  // rand(x): a fixed pseudo-random value i
     return static_cast<double>(h >> 11) * 0x1.0p-53;
 }
 
-// The library: functions whose arguments are all numbers (evaluated before the call).
-std::optional<double> library(const std::string& f, const std::vector<double>& a, bool& known, std::string& arity) {
-    known = true;
-    auto n = [&](size_t k) {
-        if (a.size() == k) return true;
-        arity = fmt::format("'{}' takes {} argument{}, got {}", f, k, k == 1 ? "" : "s", a.size());
-        return false;
-    };
-    constexpr double kPiValue = 3.14159265358979323846;
-    auto bound = [](double lo, double x, double hi) { return x < lo ? lo : x > hi ? hi : x; };
-    auto grey = [](double r, double g, double b) { return std::fmax(0.265074126 * r + 0.670114631 * g + 0.064811243 * b, 0.0); };
-    if (f == "sin") return n(1) ? std::optional(std::sin(a[0])) : std::nullopt;
-    if (f == "cos") return n(1) ? std::optional(std::cos(a[0])) : std::nullopt;
-    if (f == "tan") return n(1) ? std::optional(std::tan(a[0])) : std::nullopt;
-    if (f == "asin") return n(1) ? std::optional(std::asin(a[0])) : std::nullopt;
-    if (f == "acos") return n(1) ? std::optional(std::acos(a[0])) : std::nullopt;
-    if (f == "atan") return n(1) ? std::optional(std::atan(a[0])) : std::nullopt;
-    if (f == "atan2") return n(2) ? std::optional(std::atan2(a[0], a[1])) : std::nullopt;
-    if (f == "exp") return n(1) ? std::optional(std::exp(a[0])) : std::nullopt;
-    if (f == "log") return n(1) ? std::optional(std::log(a[0])) : std::nullopt;
-    if (f == "log10") return n(1) ? std::optional(std::log10(a[0])) : std::nullopt;
-    if (f == "sqrt") return n(1) ? std::optional(std::sqrt(a[0])) : std::nullopt;
-    if (f == "floor") return n(1) ? std::optional(std::floor(a[0])) : std::nullopt;
-    if (f == "ceil") return n(1) ? std::optional(std::ceil(a[0])) : std::nullopt;
-    if (f == "erf") return n(1) ? std::optional(std::erf(a[0])) : std::nullopt;
-    if (f == "erfc") return n(1) ? std::optional(std::erfc(a[0])) : std::nullopt;
-    if (f == "rand") return n(1) ? std::optional(deterministic_rand(a[0])) : std::nullopt;
-    if (f == "min" || f == "max") {
-        if (a.empty()) {
-            arity = fmt::format("'{}' needs at least one argument", f);
-            return std::nullopt;
-        }
-        double r = a[0];
-        for (double x : a) r = f == "min" ? std::fmin(r, x) : std::fmax(r, x);
-        return r;
-    }
+double bound3(double lo, double x, double hi) { return x < lo ? lo : x > hi ? hi : x; }
+double grey3(double r, double g, double b) { return std::fmax(0.265074126 * r + 0.670114631 * g + 0.064811243 * b, 0.0); }
+
+const LibraryFunction kLibrary[] = {
+    {"sin", 1, [](std::span<const double> a) { return std::sin(a[0]); }},
+    {"cos", 1, [](std::span<const double> a) { return std::cos(a[0]); }},
+    {"tan", 1, [](std::span<const double> a) { return std::tan(a[0]); }},
+    {"asin", 1, [](std::span<const double> a) { return std::asin(a[0]); }},
+    {"acos", 1, [](std::span<const double> a) { return std::acos(a[0]); }},
+    {"atan", 1, [](std::span<const double> a) { return std::atan(a[0]); }},
+    {"atan2", 2, [](std::span<const double> a) { return std::atan2(a[0], a[1]); }},
+    {"exp", 1, [](std::span<const double> a) { return std::exp(a[0]); }},
+    {"log", 1, [](std::span<const double> a) { return std::log(a[0]); }},
+    {"log10", 1, [](std::span<const double> a) { return std::log10(a[0]); }},
+    {"sqrt", 1, [](std::span<const double> a) { return std::sqrt(a[0]); }},
+    {"floor", 1, [](std::span<const double> a) { return std::floor(a[0]); }},
+    {"ceil", 1, [](std::span<const double> a) { return std::ceil(a[0]); }},
+    {"erf", 1, [](std::span<const double> a) { return std::erf(a[0]); }},
+    {"erfc", 1, [](std::span<const double> a) { return std::erfc(a[0]); }},
+    {"rand", 1, [](std::span<const double> a) { return deterministic_rand(a[0]); }},
+    {"min", -1, [](std::span<const double> a) {
+         double r = a[0];
+         for (double x : a) r = std::fmin(r, x);
+         return r;
+     }},
+    {"max", -1, [](std::span<const double> a) {
+         double r = a[0];
+         for (double x : a) r = std::fmax(r, x);
+         return r;
+     }},
     // RADIANCE's rayinit.cal helpers.
-    if (f == "abs") return n(1) ? std::optional(std::fabs(a[0])) : std::nullopt;
-    if (f == "sgn") return n(1) ? std::optional(a[0] > 0 ? 1.0 : a[0] < 0 ? -1.0 : 0.0) : std::nullopt;
-    if (f == "sq") return n(1) ? std::optional(a[0] * a[0]) : std::nullopt;
-    if (f == "frac") return n(1) ? std::optional(a[0] - std::floor(a[0])) : std::nullopt;
-    if (f == "mod") return n(2) ? std::optional(a[0] - std::floor(a[0] / a[1]) * a[1]) : std::nullopt;
-    if (f == "tri") {
-        if (!n(2)) return std::nullopt;
-        double m = (a[0] - a[1]) - std::floor((a[0] - a[1]) / (2 * a[1])) * (2 * a[1]);
-        return std::fabs(a[1] - m);
-    }
-    if (f == "linterp") return n(3) ? std::optional((1 - a[0]) * a[1] + a[0] * a[2]) : std::nullopt;
-    if (f == "bound") return n(3) ? std::optional(bound(a[0], a[1], a[2])) : std::nullopt;
-    if (f == "inside") return n(3) ? std::optional(a[1] - a[0] > 0 ? a[2] - a[1] : a[1] - a[0]) : std::nullopt;
-    if (f == "Acos") return n(1) ? std::optional(std::acos(bound(-1, a[0], 1))) : std::nullopt;
-    if (f == "Asin") return n(1) ? std::optional(std::asin(bound(-1, a[0], 1))) : std::nullopt;
-    if (f == "Atan2") return n(2) ? std::optional(a[0] * a[0] + a[1] * a[1] > 0 ? std::atan2(a[0], a[1]) : 0.0) : std::nullopt;
-    if (f == "Exp") return n(1) ? std::optional(-a[0] - 100 > 0 ? 0.0 : std::exp(a[0])) : std::nullopt;
-    if (f == "Sqrt") return n(1) ? std::optional(a[0] > 0 ? std::sqrt(a[0]) : 0.0) : std::nullopt;
-    if (f == "and") return n(2) ? std::optional(a[0] > 0 ? a[1] : a[0]) : std::nullopt;
-    if (f == "or") return n(2) ? std::optional(a[0] > 0 ? a[0] : a[1]) : std::nullopt;
-    if (f == "not") return n(1) ? std::optional(a[0] > 0 ? -1.0 : 1.0) : std::nullopt;
-    if (f == "xor") return n(2) ? std::optional(a[0] > 0 ? (a[1] > 0 ? -1.0 : 1.0) : a[1]) : std::nullopt;
-    if (f == "noop") return n(1) ? std::optional(a[0]) : std::nullopt;
-    if (f == "clip") return n(1) ? std::optional(bound(0, a[0], 1)) : std::nullopt;
-    if (f == "noneg") return n(1) ? std::optional(std::fmax(a[0], 0.0)) : std::nullopt;
-    if (f == "red" || f == "green" || f == "blue") {
-        if (!n(3)) return std::nullopt;
-        double v = a[f == "red" ? 0 : f == "green" ? 1 : 2];
-        return v > 0 ? v : 0.0;
-    }
-    if (f == "grey") return n(3) ? std::optional(grey(a[0], a[1], a[2])) : std::nullopt;
-    if (f == "clipgrey") return n(3) ? std::optional(std::fmin(grey(a[0], a[1], a[2]), 1.0)) : std::nullopt;
-    if (f == "clip_r" || f == "clip_g" || f == "clip_b")
-        return n(3) ? std::optional(bound(0, a[f == "clip_r" ? 0 : f == "clip_g" ? 1 : 2], 1)) : std::nullopt;
+    {"abs", 1, [](std::span<const double> a) { return std::fabs(a[0]); }},
+    {"sgn", 1, [](std::span<const double> a) { return a[0] > 0 ? 1.0 : a[0] < 0 ? -1.0 : 0.0; }},
+    {"sq", 1, [](std::span<const double> a) { return a[0] * a[0]; }},
+    {"frac", 1, [](std::span<const double> a) { return a[0] - std::floor(a[0]); }},
+    {"mod", 2, [](std::span<const double> a) { return a[0] - std::floor(a[0] / a[1]) * a[1]; }},
+    {"tri", 2, [](std::span<const double> a) {
+         const double m = (a[0] - a[1]) - std::floor((a[0] - a[1]) / (2 * a[1])) * (2 * a[1]);
+         return std::fabs(a[1] - m);
+     }},
+    {"linterp", 3, [](std::span<const double> a) { return (1 - a[0]) * a[1] + a[0] * a[2]; }},
+    {"bound", 3, [](std::span<const double> a) { return bound3(a[0], a[1], a[2]); }},
+    {"inside", 3, [](std::span<const double> a) { return a[1] - a[0] > 0 ? a[2] - a[1] : a[1] - a[0]; }},
+    {"Acos", 1, [](std::span<const double> a) { return std::acos(bound3(-1, a[0], 1)); }},
+    {"Asin", 1, [](std::span<const double> a) { return std::asin(bound3(-1, a[0], 1)); }},
+    {"Atan2", 2, [](std::span<const double> a) { return a[0] * a[0] + a[1] * a[1] > 0 ? std::atan2(a[0], a[1]) : 0.0; }},
+    {"Exp", 1, [](std::span<const double> a) { return -a[0] - 100 > 0 ? 0.0 : std::exp(a[0]); }},
+    {"Sqrt", 1, [](std::span<const double> a) { return a[0] > 0 ? std::sqrt(a[0]) : 0.0; }},
+    {"and", 2, [](std::span<const double> a) { return a[0] > 0 ? a[1] : a[0]; }},
+    {"or", 2, [](std::span<const double> a) { return a[0] > 0 ? a[0] : a[1]; }},
+    {"not", 1, [](std::span<const double> a) { return a[0] > 0 ? -1.0 : 1.0; }},
+    {"xor", 2, [](std::span<const double> a) { return a[0] > 0 ? (a[1] > 0 ? -1.0 : 1.0) : a[1]; }},
+    {"noop", 1, [](std::span<const double> a) { return a[0]; }},
+    {"clip", 1, [](std::span<const double> a) { return bound3(0, a[0], 1); }},
+    {"noneg", 1, [](std::span<const double> a) { return std::fmax(a[0], 0.0); }},
+    {"red", 3, [](std::span<const double> a) { return a[0] > 0 ? a[0] : 0.0; }},
+    {"green", 3, [](std::span<const double> a) { return a[1] > 0 ? a[1] : 0.0; }},
+    {"blue", 3, [](std::span<const double> a) { return a[2] > 0 ? a[2] : 0.0; }},
+    {"grey", 3, [](std::span<const double> a) { return grey3(a[0], a[1], a[2]); }},
+    {"clipgrey", 3, [](std::span<const double> a) { return std::fmin(grey3(a[0], a[1], a[2]), 1.0); }},
+    {"clip_r", 3, [](std::span<const double> a) { return bound3(0, a[0], 1); }},
+    {"clip_g", 3, [](std::span<const double> a) { return bound3(0, a[1], 1); }},
+    {"clip_b", 3, [](std::span<const double> a) { return bound3(0, a[2], 1); }},
     // genrev's curve helpers (control values p0..p3, then t).
-    if (f == "hermite" || f == "bezier" || f == "bspline") {
-        if (!n(5)) return std::nullopt;
-        const double t = a[4];
-        if (f == "hermite")
-            return a[0] * ((2 * t - 3) * t * t + 1) + a[1] * (-2 * t + 3) * t * t + a[2] * ((t - 2) * t + 1) * t + a[3] * (t - 1) * t * t;
-        if (f == "bezier")
-            return a[0] * (1 + t * (-3 + t * (3 - t))) + a[1] * 3 * t * (1 + t * (-2 + t)) + a[2] * 3 * t * t * (1 - t) + a[3] * t * t * t;
-        return a[0] * (1. / 6 + t * (-0.5 + t * (0.5 - t / 6))) + a[1] * (2. / 3 + t * t * (-1 + 0.5 * t)) +
-               a[2] * (1. / 6 + t * (0.5 + t * (0.5 - 0.5 * t))) + a[3] * (t * t * t / 6);
+    {"hermite", 5, [](std::span<const double> a) {
+         const double t = a[4];
+         return a[0] * ((2 * t - 3) * t * t + 1) + a[1] * (-2 * t + 3) * t * t + a[2] * ((t - 2) * t + 1) * t + a[3] * (t - 1) * t * t;
+     }},
+    {"bezier", 5, [](std::span<const double> a) {
+         const double t = a[4];
+         return a[0] * (1 + t * (-3 + t * (3 - t))) + a[1] * 3 * t * (1 + t * (-2 + t)) + a[2] * 3 * t * t * (1 - t) + a[3] * t * t * t;
+     }},
+    {"bspline", 5, [](std::span<const double> a) {
+         const double t = a[4];
+         return a[0] * (1. / 6 + t * (-0.5 + t * (0.5 - t / 6))) + a[1] * (2. / 3 + t * t * (-1 + 0.5 * t)) +
+                a[2] * (1. / 6 + t * (0.5 + t * (0.5 - 0.5 * t))) + a[3] * (t * t * t / 6);
+     }},
+};
+
+const LibraryFunction* find_library(std::string_view name) {
+    for (const LibraryFunction& f : kLibrary)
+        if (f.name == name) return &f;
+    return nullptr;
+}
+
+// Calls library function `f` (nullptr: unknown); `arity` says why not when the count is wrong.
+std::optional<double> call_library(const LibraryFunction* f, std::span<const double> a, bool& known, std::string& arity) {
+    known = f != nullptr;
+    if (!f) return std::nullopt;
+    if (f->arity < 0 ? a.empty() : a.size() != static_cast<size_t>(f->arity)) {
+        arity = f->arity < 0 ? fmt::format("'{}' needs at least one argument", f->name)
+                             : fmt::format("'{}' takes {} argument{}, got {}", f->name, f->arity, f->arity == 1 ? "" : "s", a.size());
+        return std::nullopt;
     }
-    (void)kPiValue;
-    known = false;
-    return std::nullopt;
+    return f->fn(a);
+}
+
+std::optional<double> library(const std::string& f, std::span<const double> a, bool& known, std::string& arity) {
+    return call_library(find_library(f), a, known, arity);
 }
 
 std::optional<double> constant(const std::string& name) {
@@ -366,21 +397,27 @@ public:
     }
 
     std::optional<double> call(const std::string& name, const std::vector<NodePtr>& args, const Frame& args_frame, const Node& at) {
-        auto it = defs_.find(name);
-        if (it != defs_.end() && it->second->function) {
-            const Program::Definition& d = *it->second;
+        const Program::Definition* def = nullptr;
+        if (at.bound && &at.name == &name) {  // a call written as such (not a function passed as an argument)
+            def = at.def;
+        } else if (auto it = defs_.find(name); it != defs_.end()) {
+            def = it->second.get();
+        }
+        const bool bound = at.bound && &at.name == &name;
+        if (def && def->function) {
+            const Program::Definition& d = *def;
             if (d.params.size() != args.size())
                 return fail(at, fmt::format("'{}' takes {} arguments, got {}", name, d.params.size(), args.size()));
             Frame f{&args, &args_frame};
             return eval(*d.body, f);
         }
-        if (name == "if") {
+        if (bound ? at.lazy == Node::Lazy::kIf : name == "if") {
             if (args.size() != 3) return fail(at, fmt::format("'if' takes 3 arguments, got {}", args.size()));
             auto c = eval(*args[0], args_frame);
             if (!c) return c;
             return eval(*args[*c > 0 ? 1 : 2], args_frame);
         }
-        if (name == "select") {
+        if (bound ? at.lazy == Node::Lazy::kSelect : name == "select") {
             if (args.empty()) return fail(at, "'select' needs at least one argument");
             auto k = eval(*args[0], args_frame);
             if (!k) return k;
@@ -389,7 +426,7 @@ public:
             if (i < 1 || i >= static_cast<double>(args.size())) return fail(at, fmt::format("select({}, ...) is out of range", i));
             return eval(*args[static_cast<size_t>(i)], args_frame);
         }
-        if (name == "arg") {
+        if (bound ? at.lazy == Node::Lazy::kArg : name == "arg") {
             if (args.size() != 1) return fail(at, "'arg' takes 1 argument");
             auto k = eval(*args[0], args_frame);
             if (!k) return k;
@@ -399,15 +436,20 @@ public:
                 return fail(at, fmt::format("arg({}) does not exist: the primitive has {} real arguments", i, env_.args.size()));
             return env_.args[static_cast<size_t>(i) - 1];
         }
-        std::vector<double> values;
-        for (const auto& a : args) {
-            auto v = eval(*a, args_frame);
+        // The arguments on the stack (a library call at every evaluation must not allocate).
+        double small[8];
+        std::vector<double> large;
+        if (args.size() > 8) large.resize(args.size());
+        double* values = args.size() > 8 ? large.data() : small;
+        for (size_t i = 0; i < args.size(); ++i) {
+            auto v = eval(*args[i], args_frame);
             if (!v) return v;
-            values.push_back(*v);
+            values[i] = *v;
         }
         bool known = false;
         std::string arity;
-        std::optional<double> r = library(name, values, known, arity);
+        const std::span<const double> given(values, args.size());
+        std::optional<double> r = bound ? call_library(at.lib, given, known, arity) : library(name, given, known, arity);
         if (!known) return fail(at, fmt::format("unknown function '{}'", name));
         if (!r) return fail(at, arity);
         return r;
@@ -420,10 +462,20 @@ private:
     }
 
     std::optional<double> variable(const Node& n) {
-        auto it = defs_.find(n.name);
-        if (it != defs_.end()) {
-            if (it->second->function) return fail(n, fmt::format("'{}' is a function: give it arguments", n.name));
-            return eval(*it->second->body, Frame{});
+        const Program::Definition* def = nullptr;
+        if (n.bound) {
+            def = n.def;
+        } else if (auto it = defs_.find(n.name); it != defs_.end()) {
+            def = it->second.get();
+        }
+        if (def) {
+            if (def->function) return fail(n, fmt::format("'{}' is a function: give it arguments", n.name));
+            return eval(*def->body, Frame{});
+        }
+        if (n.bound) {
+            if (n.constant) return n.constant;
+            if (n.argument == 0) return static_cast<double>(env_.args.size());
+            if (n.argument > 0 && static_cast<size_t>(n.argument) <= env_.args.size()) return env_.args[static_cast<size_t>(n.argument) - 1];
         }
         if (env_.variable)
             if (auto v = env_.variable(n.name)) return v;
@@ -492,6 +544,11 @@ Program::Program(Program&&) noexcept = default;
 Program& Program::operator=(Program&&) noexcept = default;
 
 bool Program::define(const std::string& text, Error& error) {
+    if (bound_) {  // names may change meaning: resolve them again when asked to
+        for (auto& [name, d] : defs_)
+            if (d->body) unbind_node(*d->body);
+        bound_ = false;
+    }
     Parser p(text);
     while (!p.at_end()) {
         if (p.eat(';')) continue;
@@ -529,6 +586,7 @@ bool Program::define(const std::string& text, Error& error) {
             return false;
         }
         bind_params(*d->body, d->params);
+        if (auto old = defs_.find(name); old != defs_.end()) retired_.push_back(old->second);  // bound expressions may name it
         defs_[name] = d;
     }
     return true;
@@ -541,6 +599,7 @@ std::shared_ptr<const Node> Program::parse(const std::string& text, Error& error
         p.fail(error, "unexpected text after the expression");
         return nullptr;
     }
+    if (n && bound_) bind_node(*n);
     return n;
 }
 
@@ -595,6 +654,72 @@ std::vector<std::string> Program::free_names(const Node& expr) const {
     };
     walk(expr);
     return {out.begin(), out.end()};
+}
+
+std::vector<std::string> Program::unknown_functions(const Node& expr) const {
+    std::set<std::string> out, seen_defs;
+    std::function<void(const Node&)> walk = [&](const Node& n) {
+        if (n.kind == Node::Kind::kName) {
+            auto it = defs_.find(n.name);
+            if (it != defs_.end() && !it->second->function && seen_defs.insert(n.name).second) walk(*it->second->body);
+        }
+        if (n.kind == Node::Kind::kCall) {
+            auto it = defs_.find(n.name);
+            if (it != defs_.end() && it->second->function) {
+                if (seen_defs.insert(n.name + "()").second) walk(*it->second->body);
+            } else if (!has_function(n.name)) {
+                out.insert(n.name);
+            }
+        }
+        for (const auto& k : n.kids) walk(*k);
+    };
+    walk(expr);
+    return {out.begin(), out.end()};
+}
+
+bool Program::takes(const std::string& name, size_t count) const {
+    auto it = defs_.find(name);
+    if (it != defs_.end()) return it->second->function && it->second->params.size() == count;
+    bool known = false;
+    std::string arity;
+    const std::vector<double> values(count, 0.5);
+    library(name, values, known, arity);
+    return known && arity.empty();
+}
+
+void Program::bind_node(Node& n) const {
+    if (n.kind == Node::Kind::kName || n.kind == Node::Kind::kCall) {
+        auto it = defs_.find(n.name);
+        n.def = it != defs_.end() ? it->second.get() : nullptr;
+        if (n.kind == Node::Kind::kName && !n.def) {
+            n.constant = constant(n.name);
+            if (n.name == "AC") n.argument = 0;
+            else if (n.name.size() >= 2 && n.name[0] == 'A' && n.name.find_first_not_of("0123456789", 1) == std::string::npos)
+                n.argument = std::max(1, static_cast<int>(std::min<unsigned long>(std::strtoul(n.name.c_str() + 1, nullptr, 10), 1u << 20)));
+        }
+        if (n.kind == Node::Kind::kCall) {
+            n.lib = find_library(n.name);
+            n.lazy = n.name == "if" ? Node::Lazy::kIf : n.name == "select" ? Node::Lazy::kSelect : n.name == "arg" ? Node::Lazy::kArg : Node::Lazy::kNone;
+        }
+        n.bound = true;
+    }
+    for (const auto& k : n.kids) bind_node(*k);
+}
+
+void Program::unbind_node(Node& n) {
+    n.bound = false;
+    n.def = nullptr;
+    n.lib = nullptr;
+    n.lazy = Node::Lazy::kNone;
+    n.constant.reset();
+    n.argument = -1;
+    for (const auto& k : n.kids) unbind_node(*k);
+}
+
+void Program::bind() {
+    for (auto& [name, d] : defs_)
+        if (d->body) bind_node(*d->body);
+    bound_ = true;
 }
 
 }  // namespace crex::radiance::calc

@@ -55,10 +55,25 @@ public:
     /// Names the expression refers to that neither it, this program nor the library defines
     /// (the variables the caller must supply).
     std::vector<std::string> free_names(const Node& expr) const;
+    /// Functions the expression (or a definition it uses) calls that nothing defines.
+    std::vector<std::string> unknown_functions(const Node& expr) const;
+    /// True when `name` is a function that takes `count` arguments (a definition's parameter
+    /// count, or a library function's).
+    bool takes(const std::string& name, size_t count) const;
+
+    /// Resolves every name once, for evaluating many times: after it, each definition's
+    /// names and every expression parse() returns name their definitions directly. A
+    /// define() after it undoes it for the definitions (names may change meaning);
+    /// expressions parsed while bound keep the definitions they were bound to.
+    void bind();
 
     struct Definition;
 
 private:
+    void bind_node(Node& n) const;
+    static void unbind_node(Node& n);
+    bool bound_ = false;
+    std::vector<std::shared_ptr<Definition>> retired_;  ///< replaced definitions bound nodes may still name
     std::map<std::string, std::shared_ptr<Definition>> defs_;
 };
 
