@@ -214,7 +214,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
             int holding = 0;
             for (size_t k = 0; k < targets.size(); ++k) holding += cones[k].cos_half <= -1 || dot(w, cones[k].axis) >= cones[k].cos_half;
             double pdf_w = std::max(holding, 1) / total;
-            power[j] = ls.radiance * (cos_light / (ls.pdf_area * pdf_w * static_cast<double>(total_photons)));
+            power[j] = patterned_radiance(ls, -w, 0) * (cos_light / (ls.pdf_area * pdf_w * static_cast<double>(total_photons)));
             if (!is_finite(power[j])) return;
             dir[j] = w;
             Vec3 o = ls.position + ls.normal * eps;

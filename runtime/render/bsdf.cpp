@@ -277,16 +277,26 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
 Vec3 emitted(const Bsdf& b, const HitFrame& f, bool camera_or_delta, bool /*camera*/) {
     const Material& m = *b.material;
     Vec3 e;
+    // A light or glow's radiance times its patterns for this ray.
+    auto patterned = [&](const Vec3& radiance) {
+        if (!b.patterns) return radiance;
+        PatternRay r;
+        r.direction = f.incoming;
+        r.normal = f.geometric;
+        r.point = f.position;
+        r.distance = f.distance;
+        return radiance * b.patterns->value(r);
+    };
     if (m.type == MaterialType::kLight && f.front && camera_or_delta) {
         const bool in_cone = !m.spot || -dot(f.incoming, normalize_or_zero(m.spot->direction)) >=
                                             std::cos(m.spot->angle_deg * kPi / 360.0);
-        if (in_cone) e += m.color;
+        if (in_cone) e += patterned(m.color);
     }
     if (m.type == MaterialType::kGlow && f.front) {
         // Where direct lighting samples a glow (positive radius, nearer than it), other rays
         // must not count it again.
         const double r = m.glow_radius;
-        if (camera_or_delta || r == 0 || (r > 0 && f.distance > r)) e += m.color;
+        if (camera_or_delta || r == 0 || (r > 0 && f.distance > r)) e += patterned(m.color);
     }
     if (b.emission) e += *b.emission;
     return e;

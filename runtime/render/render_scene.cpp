@@ -18,7 +18,7 @@ constexpr int kSkyCellsZ = 64, kSkyCellsPhi = 128;
 
 // ---- distant sources ----------------------------------------------------------------------
 
-DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius) {
+DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius, const EmitterPatterns* patterns) {
     scene_area_ = kPi * std::fmax(scene_radius * scene_radius, 1e-12);
     for (const DistantLight& l : scene.distant_lights) {
         const Material* m = scene.find_material(l.material);
@@ -31,9 +31,10 @@ DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius) {
         s.cos_max = std::cos(std::clamp(l.angle_deg, 0.0, 360.0) * kPi / 360.0);
         s.color = m->color;
         s.sky = l.sky;
+        s.pattern = patterns ? patterns->of(scene, l.material) : nullptr;
         const double solid_angle = 2 * kPi * (1 - s.cos_max);
         double mean = 1;  // mean brightness of the pattern over the cone
-        if (s.sky) {
+        if (s.sky || s.pattern) {
             s.cells_z = kSkyCellsZ, s.cells_phi = kSkyCellsPhi;
             s.cdf.reserve(static_cast<size_t>(s.cells_z * s.cells_phi));
             double acc = 0;
@@ -42,7 +43,7 @@ DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius) {
                     const double z = s.cos_max + (1 - s.cos_max) * (i + 0.5) / s.cells_z;
                     const double r = std::sqrt(std::fmax(0.0, 1 - z * z)), phi = 2 * kPi * (j + 0.5) / s.cells_phi;
                     const Vec3 d = s.axis * z + s.t * (r * std::cos(phi)) + s.b * (r * std::sin(phi));
-                    acc += std::fmax(sky_brightness(*s.sky, d), 0.0);
+                    acc += brightness_of(s, d);
                     s.cdf.push_back(acc);
                 }
             mean = acc / static_cast<double>(s.cdf.size());
@@ -57,8 +58,24 @@ DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius) {
     }
 }
 
+Vec3 DistantEmitters::pattern_of(const Source& s, const Vec3& d) {
+    Vec3 f{1, 1, 1};
+    if (s.sky) f = f * std::fmax(sky_brightness(*s.sky, d), 0.0);
+    if (s.pattern) {
+        PatternRay r;
+        r.direction = d;
+        r.normal = -d;
+        r.distance = INFINITY;
+        r.distant = true;
+        f = f * s.pattern->value(r);
+    }
+    return f;
+}
+
+double DistantEmitters::brightness_of(const Source& s, const Vec3& d) { return luminance(pattern_of(s, d)); }
+
 Vec3 DistantEmitters::radiance_of(const Source& s, const Vec3& d) const {
-    return s.sky ? s.color * std::fmax(sky_brightness(*s.sky, d), 0.0) : s.color;
+    return s.sky || s.pattern ? s.color * pattern_of(s, d) : s.color;
 }
 
 void DistantEmitters::sample(size_t i, double u, double v, Vec3& direction, Vec3& radiance, double& pdf) const {
@@ -95,10 +112,12 @@ Vec3 DistantEmitters::escaped(const Vec3& d) const {
 
 // ---- the light sampler ---------------------------------------------------------------------
 
-LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree)
-    : distant_(scene, 0.5 * length(embree.bounds_max() - embree.bounds_min())) {
-    auto limits_of = [&](const Material& m) -> const EmitterLimits* {
+LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const EmitterPatterns* patterns)
+    : distant_(scene, 0.5 * length(embree.bounds_max() - embree.bounds_min()), patterns) {
+    auto limits_of = [&](const GeometryInfo& g) -> const EmitterLimits* {
+        const Material& m = scene.materials[g.emitter];
         EmitterLimits l;
+        if (patterns) l.pattern = patterns->of(g.emitter);
         if (m.spot) {
             l.spot_cos = std::cos(std::clamp(m.spot->angle_deg, 0.0, 360.0) * kPi / 360.0);
             l.spot_axis = normalize_or_zero(m.spot->direction);
@@ -112,7 +131,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree)
     auto add_geometry = [&](const GeometryInfo& g) {
         const Material& m = scene.materials[g.emitter];
         if (!is_sampled_emitter(m) || max_component(m.color) <= 0) return;
-        const EmitterLimits* limits = limits_of(m);
+        const EmitterLimits* limits = limits_of(g);
         if (g.sphere) {
             Entry e;
             e.sphere = true;
@@ -122,6 +141,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree)
             e.area = 4 * kPi * g.radius * g.radius;
             e.reach = g.radius;
             e.limits = limits;
+            if (limits && limits->pattern) e.pattern_mean = limits->pattern->mean_over_hemisphere({0, 0, 1}, e.centre);
             entries_.push_back(e);
             return;
         }
@@ -136,6 +156,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree)
             e.centre = (e.a + e.b + e.c) / 3.0;
             e.reach = std::fmax(length(e.a - e.centre), std::fmax(length(e.b - e.centre), length(e.c - e.centre)));
             e.limits = limits;
+            if (limits && limits->pattern) e.pattern_mean = limits->pattern->mean_over_hemisphere(e.normal, e.centre);
             if (e.area > 0) entries_.push_back(e);
         }
     };
@@ -151,7 +172,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree)
     }
     double total = 0;
     for (auto& e : entries_) {
-        e.power = e.distant >= 0 ? distant_.power(static_cast<size_t>(e.distant)) : e.area * std::fmax(luminance(e.radiance), 1e-12);
+        e.power = e.distant >= 0 ? distant_.power(static_cast<size_t>(e.distant)) : e.area * std::fmax(luminance(e.radiance) * e.pattern_mean, 1e-12);
         total += e.power;
     }
     double acc = 0;
@@ -309,7 +330,7 @@ bool CameraRays::world_to_ndc(std::array<double, 16>& m) const {
 }
 
 RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) {
-    bool any_texture = false, any_cutout = false;
+    bool any_texture = false, any_cutout = false, any_pattern = false;
     for (const Material& m : s.materials) any_texture = any_texture || m.textures.any(), any_cutout = any_cutout || m.opacity < 1;
     if (any_texture || any_cutout) {
         textures = std::make_unique<SurfaceTextures>(s, texture_cache_bytes, warnings);
@@ -319,8 +340,12 @@ RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) 
     }
     embree = std::make_unique<EmbreeScene>(s, cutouts.get());
     if (cutouts) cutouts->attach(*embree);
-    lights = std::make_unique<LightSampler>(s, *embree);
+    for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty();
+    if (any_pattern) patterns = std::make_unique<EmitterPatterns>(s, embree->origin_offset(), warnings);
+    lights = std::make_unique<LightSampler>(s, *embree, patterns.get());
     for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));
+    if (patterns)
+        for (uint32_t i = 0; i < bsdfs.size(); ++i) bsdfs[i].patterns = patterns->of(i);
     medium = medium_of(s);
 }
 

@@ -12,6 +12,7 @@
 
 #include "base/diagnostic.h"
 #include "runtime/render/bsdf.h"
+#include "runtime/render/emitter_patterns.h"
 #include "runtime/render/medium.h"
 #include "runtime/render/surface.h"
 #include "runtime/scene/scene.h"
@@ -26,7 +27,8 @@ struct EmitterLimits {
     Vec3 spot_axis;        ///< unit
     double focal = 0;      ///< the light falls off as from this far behind the emitter
     double max_distance = INFINITY;  ///< beyond this the emitter lights nothing (glow radius)
-    bool limited() const { return spot_cos >= -1 || std::isfinite(max_distance); }
+    const PatternChain* pattern = nullptr;  ///< its radiance varies by direction (a luminaire's distribution)
+    bool limited() const { return spot_cos >= -1 || std::isfinite(max_distance) || pattern; }
 };
 
 struct LightSample {
@@ -43,12 +45,24 @@ struct LightSample {
     double pdf_direction = 0;   ///< per unit solid angle, including the choice of emitter
 };
 
+/// The radiance of a local emitter's sample towards a point `distance` away along unit `wi`
+/// (from that point to the emitter): its pattern's factor for that ray, when it has one.
+inline Vec3 patterned_radiance(const LightSample& ls, const Vec3& wi, double distance) {
+    if (!ls.limits || !ls.limits->pattern) return ls.radiance;
+    PatternRay r;
+    r.direction = wi;
+    r.normal = ls.normal;
+    r.point = ls.position;
+    r.distance = distance;
+    return ls.radiance * ls.limits->pattern->value(r);
+}
+
 /// RADIANCE's distant sources (`source`): a disk of directions (the sun) or a sky dome
 /// (a glow source, possibly with a sky brightness pattern), sampled by direct lighting and
 /// seen by camera rays and rays from ideal specular lobes that escape the scene.
 class DistantEmitters {
 public:
-    DistantEmitters(const Scene& scene, double scene_radius);
+    DistantEmitters(const Scene& scene, double scene_radius, const EmitterPatterns* patterns);
     size_t size() const { return sources_.size(); }
     /// Irradiance-like weight of source i (radiance x solid angle) and its power entering the
     /// scene (times the scene's cross-section), for choosing between emitters.
@@ -65,12 +79,16 @@ private:
         double cos_max = 1;  // cosine of the half angle
         Vec3 color;
         std::optional<SkyModel> sky;
+        const PatternChain* pattern = nullptr;  // a photographed sky, ...
         double weight = 0;
         // A sky: equal-solid-angle cells of (cos, phi) around the axis, chosen by brightness.
         int cells_z = 0, cells_phi = 0;
         std::vector<double> cdf;
     };
     Vec3 radiance_of(const Source& s, const Vec3& d) const;
+    /// The factor of its sky and pattern towards `d` (white without either), and its luminance.
+    static Vec3 pattern_of(const Source& s, const Vec3& d);
+    static double brightness_of(const Source& s, const Vec3& d);
     std::vector<Source> sources_;
     double scene_area_ = 1;
 };
@@ -85,7 +103,7 @@ class LightSampler {
 public:
     static constexpr size_t kLocalChoiceMax = 64;
 
-    LightSampler(const Scene& scene, const EmbreeScene& embree);
+    LightSampler(const Scene& scene, const EmbreeScene& embree, const EmitterPatterns* patterns = nullptr);
     bool empty() const { return entries_.empty(); }
     const DistantEmitters& distant() const { return distant_; }
 
@@ -124,6 +142,7 @@ private:
         double power = 0;     // area x luminance (distant: as it enters the scene)
         double pdf_area = 0;  // probability of this entry by power alone / area
         double distant_weight = 0;  // distant: radiance x solid angle, the weight at any point
+        double pattern_mean = 1;    // its pattern's mean over the directions it emits into
         const EmitterLimits* limits = nullptr;
     };
     static double local_weight(const Entry& e, const Vec3& x) {
@@ -245,6 +264,7 @@ struct RenderScene {
     std::unique_ptr<SurfaceTextures> textures;
     std::unique_ptr<SceneCutouts> cutouts;  ///< when some material cuts holes
     std::unique_ptr<EmbreeScene> embree;
+    std::unique_ptr<EmitterPatterns> patterns;  ///< emitters' patterns; null when none has one
     std::unique_ptr<LightSampler> lights;
     std::vector<Bsdf> bsdfs;  ///< per material, prepared once
     std::optional<MediumModel> medium;  ///< the scene's homogeneous medium, if any

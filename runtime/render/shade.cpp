@@ -164,6 +164,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
             falloff = d2 / (from_focus * from_focus);
         }
     }
+    const Vec3 radiance = patterned_radiance(ls, wi, dist);
     Vec3 fr;
     if (b.lambertian && f.shading == f.normal) {  // the common case, inline: D reflection only
         double c = dot(wi, f.normal);
@@ -172,7 +173,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
         fr = eval_direct(b, f, wi);
     }
     if (!(max_component(fr) > 0)) return false;
-    value = beta * fr * ls.radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
+    value = beta * fr * radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
     if (scene.medium) value = value * scene.medium->transmittance(dist);
     if (!is_finite(value)) return false;
     double eps = scene.embree->ray_epsilon();
@@ -213,7 +214,7 @@ bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, 
     // Light travels along -wi to x and on along -dir to the eye: the scattering angle's cosine
     // is dot(-wi, -dir).
     const double phase = henyey_greenstein(dot(wi, dir), medium.g);
-    value = beta * medium.transmittance(ds.t) * medium.sigma_s * ls.radiance * medium.transmittance(dist) *
+    value = beta * medium.transmittance(ds.t) * medium.sigma_s * patterned_radiance(ls, wi, dist) * medium.transmittance(dist) *
             (phase * cos_l / (d2 * ls.pdf_area * ds.pdf * n));
     if (!is_finite(value) || !(max_component(value) > 0)) return false;
     const double eps = scene.embree->ray_epsilon();

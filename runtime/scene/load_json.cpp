@@ -8,6 +8,7 @@
 
 #include "base/base64.h"
 #include "base/json_positions.h"
+#include "runtime/scene/pattern_json.h"
 #include "runtime/scene/json_fields.h"
 #include "base/nearest_name.h"
 #include "runtime/scene/load_scene.h"
@@ -197,7 +198,7 @@ private:
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
                         "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
-                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin"});
+                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         MaterialTextures& tex = m.textures;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
@@ -258,6 +259,19 @@ private:
             else sink_.report("E303", r.span("alpha_mode"), fmt::format("{}: expected \"mask\" or \"blend\", got \"{}\"", r.path("alpha_mode"), mode));
         }
         r.number("alpha_cutoff", m.alpha_cutoff, kUnit);
+        if (r.has("patterns")) {
+            // An emitter's patterns, as crex writes them for RADIANCE scenes (pattern_json.h).
+            const nlohmann::json& a = r.at("patterns");
+            std::string error;
+            if (!a.is_array()) error = "expected an array of patterns";
+            else if (!emitter) error = "only a light, glow or illum takes patterns";
+            for (size_t k = 0; error.empty() && k < a.size(); ++k) {
+                FunctionPattern f;
+                if (pattern_from_json(a[k], f, error)) m.patterns.push_back(std::move(f));
+                else error = fmt::format("pattern {}: {}", k, error);
+            }
+            if (!error.empty()) sink_.report("E303", r.span("patterns"), fmt::format("{}: {}", r.path("patterns"), error));
+        }
         if (emitter && tex.any())
             sink_.report("E307", r.span("type"), fmt::format("{}: a '{}' emitter takes constant values, not textures (give another "
                                                              "material an 'emission' texture instead)", r.path("type"), type));

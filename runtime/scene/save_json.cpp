@@ -9,6 +9,7 @@
 
 #include "base/base64.h"
 #include "base/fnv1a.h"
+#include "runtime/scene/pattern_json.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/shapes.h"
@@ -149,6 +150,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         if (m.alpha_cutoff != defaults.alpha_cutoff) e["alpha_cutoff"] = m.alpha_cutoff;
         // A textured parameter is written as its reference, in place of the constant.
         m.textures.for_each([&](const char* slot, const TextureRef& t) { e[slot] = texture_json(t); });
+        for (const FunctionPattern& f : m.patterns) e["patterns"].push_back(pattern_to_json(f));
         j["materials"].push_back(e);
     }
     j["shapes"] = nlohmann::json::array();

@@ -17,15 +17,6 @@
 
 namespace crex::radiance {
 
-struct SceneBuilder::Definition {
-    Primitive p;
-    DefPtr modifier;  ///< its modifier when it was defined (nullptr: void)
-    DefPtr alternate;  ///< mirror, illum: the alternate material when it was defined
-    bool alternate_void = false;
-    bool converted = false;
-    std::optional<std::string> material;  ///< after conversion: the crex name ("" = invisible)
-    std::optional<std::string> unpatterned;  ///< a sky's glow without its pattern (the sky is the source's)
-};
 
 namespace {
 
@@ -267,7 +258,11 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
                "give the surface one of the materials the mixture blends");
         return std::nullopt;
     }
-    if (d.modifier) {
+    const bool emits = t == "light" || t == "glow" || t == "illum" || t == "spotlight";
+    std::vector<FunctionPattern> patterns;
+    if (d.modifier && emits && is_emitter_pattern(d.modifier->p.type.text)) {
+        if (!patterns_of(d, user, patterns)) return std::nullopt;
+    } else if (d.modifier) {
         const Definition& m = *d.modifier;
         const std::string needs = what_it_needs(m.p);
         refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by {} {} '{}'{}: patterns, textures and mixtures modifying a "
@@ -390,6 +385,7 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         if (t != "illum") no_strings();
         if (!counts({t == "glow" ? 4u : t == "spotlight" ? 7u : 3u}) || !colour(m, true)) return std::nullopt;
         m.type = t == "glow" ? MaterialType::kGlow : t == "illum" ? MaterialType::kIllum : MaterialType::kLight;
+        m.patterns = std::move(patterns);
         if (t == "glow") m.glow_radius = r[3];  // negative: never lights the scene
         if (t == "spotlight") {
             Spot s;
@@ -441,7 +437,8 @@ void SceneBuilder::surface(Primitive p) {
     }
     DefPtr d = lookup(p.modifier, p, "the modifier");
     if (!d) return;
-    if (t == "source" && d->modifier && d->modifier->p.type.text == "brightfunc") {
+    if (t == "source" && d->modifier && d->modifier->p.type.text == "brightfunc" && !d->modifier->p.strings.empty() &&
+        d->modifier->p.strings[0].text == "skybr") {
         // A sky: a glow source whose brightness is gensky's (skybright.cal's skybr).
         std::optional<SkyModel> sky = sky_of(*d->modifier, p);
         if (!sky) return;

@@ -67,6 +67,14 @@ private:
     std::optional<std::string> alternate_of(const Definition& d, const Primitive& user);
     bool orientation(const Definition& d, Vec3& out);
     std::optional<Transform> function_transform(const Primitive& p, size_t first);
+    // Patterns on emitters (pattern_builder.cpp).
+    static bool is_emitter_pattern(const std::string& type);
+    /// The text of the function file `file` names ("" for "."): next to the file that names
+    /// it, on RAYPATH, else crex's built-in copy; nullopt after a reported error.
+    std::optional<std::string> function_file_text(const Word& file, const Primitive& p);
+    std::optional<FunctionPattern> pattern_of(const Definition& d);
+    /// The patterns modifying emitter `d`, nearest first; false after a reported refusal.
+    bool patterns_of(const Definition& d, const Primitive& user, std::vector<FunctionPattern>& out);
     std::string unique_material_name(const std::string& id);
     DefPtr lookup(const Word& name, const Primitive& user, const char* role);
     void refuse(const Definition& d, const Primitive& user, const std::string& message, const std::string& help = "");
@@ -102,6 +110,17 @@ private:
     std::vector<TagScope> finished_scopes_;   ///< for "tagged nothing" warnings
     std::vector<bool> shape_tag_explicit_;
     std::set<std::pair<const SourceFile*, uint32_t>> refused_places_;  ///< instances and meshes reported
+};
+
+/// A definition as the builder keeps it (RADIANCE resolves modifiers where they are written).
+struct SceneBuilder::Definition {
+    Primitive p;
+    DefPtr modifier;  ///< its modifier when it was defined (nullptr: void)
+    DefPtr alternate;  ///< mirror, illum: the alternate material when it was defined
+    bool alternate_void = false;
+    bool converted = false;
+    std::optional<std::string> material;  ///< after conversion: the crex name ("" = invisible)
+    std::optional<std::string> unpatterned;  ///< a sky's glow without its pattern (the sky is the source's)
 };
 
 }  // namespace crex::radiance

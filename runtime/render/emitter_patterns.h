@@ -1,0 +1,68 @@
+/// \file emitter_patterns.h
+/// The patterns of emitters (scene.h's FunctionPattern: RADIANCE's luminaire distributions
+/// and photographed skies) ready to evaluate while rendering: expressions parsed once,
+/// pictures read once. A pattern whose expressions read nothing of the ray but its direction
+/// (a sky, most luminaire tables without a flat-source correction) is tabulated once over
+/// the sphere of directions, so a lookup is an interpolation; the others are evaluated per
+/// ray.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "base/diagnostic.h"
+#include "runtime/base/vec3.h"
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+/// The ray that meets an emitter, in the renderer's coordinates.
+struct PatternRay {
+    Vec3 direction;  ///< unit, along the ray (towards the emitter, or out to a distant source)
+    Vec3 normal;     ///< unit, the emitter's front-side normal (a distant source: -direction)
+    Vec3 point;      ///< where it meets the emitter (local coordinates: world = local + offset)
+    double distance = 0;   ///< how far the ray travelled to it
+    bool distant = false;  ///< a distant source: no point (RADIANCE gives P = 0 there)
+};
+
+/// One material's patterns, multiplied together.
+class PatternChain {
+public:
+    PatternChain(const std::vector<FunctionPattern>& patterns, const Vec3& origin_offset, std::vector<Diagnostic>& warnings);
+    ~PatternChain();
+    PatternChain(const PatternChain&) = delete;
+    PatternChain& operator=(const PatternChain&) = delete;
+
+    /// The factor for `ray`: finite and >= 0 in every channel (0 where an expression fails,
+    /// overflows or is negative: no NaN reaches an image).
+    Vec3 value(const PatternRay& ray) const;
+    /// Its mean luminance over the directions leaving a surface of normal `n` into its front
+    /// side, cosine-weighted (what a power estimate scales by), at `point`.
+    double mean_over_hemisphere(const Vec3& n, const Vec3& point) const;
+
+    struct Compiled;
+
+private:
+    Vec3 evaluate(const PatternRay& ray) const;
+    std::vector<std::unique_ptr<Compiled>> patterns_;
+    Vec3 offset_;
+    // Direction-only chains: the factor over world directions, (phi, theta) cells at texel
+    // centres, bilinear between them.
+    int table_w_ = 0, table_h_ = 0;
+    std::vector<Vec3> table_;
+};
+
+/// Every material's patterns; null entries for materials without.
+class EmitterPatterns {
+public:
+    EmitterPatterns(const Scene& scene, const Vec3& origin_offset, std::vector<Diagnostic>& warnings);
+    bool any() const { return any_; }
+    const PatternChain* of(uint32_t material) const { return material < chains_.size() ? chains_[material].get() : nullptr; }
+    const PatternChain* of(const Scene& scene, const std::string& material) const;
+
+private:
+    std::vector<std::unique_ptr<PatternChain>> chains_;
+    bool any_ = false;
+};
+
+}  // namespace crex

@@ -1,0 +1,117 @@
+#include "runtime/scene/pattern_json.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "runtime/scene/data_table.h"
+
+namespace crex {
+namespace {
+
+constexpr const char* kKinds[] = {"brightfunc", "colorfunc", "brightdata", "colordata", "colorpict"};
+
+bool numbers(const nlohmann::json& j, const char* key, std::vector<double>& out, std::string& error) {
+    if (!j.contains(key)) return true;
+    const nlohmann::json& a = j.at(key);
+    if (!a.is_array()) return error = fmt::format("'{}' must be an array of numbers", key), false;
+    out.clear();
+    for (const auto& v : a) {
+        if (!v.is_number() || !std::isfinite(v.get<double>())) return error = fmt::format("'{}' must hold finite numbers only", key), false;
+        out.push_back(v.get<double>());
+    }
+    return true;
+}
+
+bool strings(const nlohmann::json& j, const char* key, std::vector<std::string>& out, std::string& error) {
+    if (!j.contains(key)) return true;
+    const nlohmann::json& a = j.at(key);
+    if (!a.is_array()) return error = fmt::format("'{}' must be an array of strings", key), false;
+    for (const auto& v : a) {
+        if (!v.is_string()) return error = fmt::format("'{}' must hold strings only", key), false;
+        out.push_back(v.get<std::string>());
+    }
+    return true;
+}
+
+}  // namespace
+
+nlohmann::json pattern_to_json(const FunctionPattern& p) {
+    nlohmann::json j = {{"kind", kKinds[static_cast<int>(p.kind)]}, {"name", p.name}, {"definitions", p.definitions},
+                        {"functions", p.functions}, {"args", p.args}, {"to_pattern", p.to_pattern}, {"scale", p.scale}};
+    if (!p.coordinates.empty()) j["coordinates"] = p.coordinates;
+    if (!p.picture.empty()) j["picture"] = p.picture;
+    for (const DataTable& t : p.tables) {
+        nlohmann::json tj = {{"values", t.values}};
+        for (const DataTable::Axis& a : t.axes) {
+            nlohmann::json aj = {{"origin", a.origin}, {"size", a.size}, {"count", a.count}};
+            if (!a.points.empty()) aj["points"] = a.points;
+            tj["axes"].push_back(aj);
+        }
+        j["tables"].push_back(tj);
+    }
+    return j;
+}
+
+bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::string& error) {
+    if (!j.is_object()) return error = "a pattern must be an object", false;
+    FunctionPattern p;
+    const std::string kind = j.value("kind", std::string());
+    bool known = false;
+    for (int k = 0; k < 5; ++k)
+        if (kind == kKinds[k]) p.kind = static_cast<FunctionPattern::Kind>(k), known = true;
+    if (!known) return error = fmt::format("'kind' must be brightfunc, colorfunc, brightdata, colordata or colorpict, got '{}'", kind), false;
+    if (j.contains("name") && j.at("name").is_string()) p.name = j.at("name").get<std::string>();
+    if (j.contains("definitions")) {
+        if (!j.at("definitions").is_string()) return error = "'definitions' must be a string", false;
+        p.definitions = j.at("definitions").get<std::string>();
+    }
+    if (!strings(j, "functions", p.functions, error) || !strings(j, "coordinates", p.coordinates, error) || !numbers(j, "args", p.args, error))
+        return false;
+    const bool one = p.kind == FunctionPattern::Kind::kBrightFunc || p.kind == FunctionPattern::Kind::kBrightData;
+    if (p.functions.size() != (one ? 1u : 3u)) return error = fmt::format("a {} takes {} 'functions'", kind, one ? 1 : 3), false;
+    if (j.contains("picture")) {
+        if (!j.at("picture").is_string()) return error = "'picture' must be a string", false;
+        p.picture = j.at("picture").get<std::string>();
+    }
+    std::vector<double> m;
+    if (!numbers(j, "to_pattern", m, error)) return false;
+    if (!m.empty()) {
+        if (m.size() != 12) return error = "'to_pattern' must hold 12 numbers (a 3x4 matrix)", false;
+        std::copy(m.begin(), m.end(), p.to_pattern.begin());
+    }
+    if (j.contains("scale") && !(j.at("scale").is_number() && j.at("scale").get<double>() > 0 && std::isfinite(j.at("scale").get<double>())))
+        return error = "'scale' must be a positive number", false;
+    p.scale = j.value("scale", 1.0);
+    if (j.contains("tables")) {
+        if (!j.at("tables").is_array()) return error = "'tables' must be an array", false;
+        for (const auto& tj : j.at("tables")) {
+            DataTable t;
+            if (!tj.is_object() || !tj.contains("axes") || !tj.at("axes").is_array()) return error = "a table needs 'axes' (an array)", false;
+            for (const auto& aj : tj.at("axes")) {
+                DataTable::Axis a;
+                if (!aj.is_object()) return error = "a table's axis must be an object", false;
+                a.origin = aj.value("origin", 0.0);
+                a.size = aj.value("size", 1.0);
+                a.count = aj.value("count", 0);
+                if (!numbers(aj, "points", a.points, error)) return false;
+                t.axes.push_back(std::move(a));
+            }
+            if (!numbers(tj, "values", t.values, error)) return false;
+            if (std::string problem = data_table_problem(t); !problem.empty()) return error = "a table: " + problem, false;
+            t.axes.shrink_to_fit();
+            p.tables.push_back(std::move(t));
+        }
+    }
+    const size_t tables = p.kind == FunctionPattern::Kind::kBrightData ? 1 : p.kind == FunctionPattern::Kind::kColorData ? 3 : 0;
+    if (p.tables.size() != tables) return error = fmt::format("a {} takes {} 'tables'", kind, tables), false;
+    const size_t coordinates = tables ? p.tables.front().axes.size() : p.kind == FunctionPattern::Kind::kColorPict ? 2 : 0;
+    if (p.coordinates.size() != coordinates) return error = fmt::format("this {} takes {} 'coordinates'", kind, coordinates), false;
+    for (const DataTable& t : p.tables)
+        if (t.axes.size() != coordinates) return error = "its tables must have the same number of dimensions", false;
+    if (p.kind == FunctionPattern::Kind::kColorPict && p.picture.empty()) return error = "a colorpict needs a 'picture'", false;
+    out = std::move(p);
+    return true;
+}
+
+}  // namespace crex

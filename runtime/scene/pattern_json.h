@@ -1,0 +1,22 @@
+/// \file pattern_json.h
+/// An emitter's patterns (scene.h's FunctionPattern) in the native JSON format, the
+/// `patterns` array of a light, glow or illum material:
+///   {"kind": "brightfunc"|"colorfunc"|"brightdata"|"colordata"|"colorpict", "name": ...,
+///    "definitions": "...", "functions": [...], "coordinates": [...],
+///    "tables": [{"axes": [{"origin", "size", "count", "points"?}], "values": [...]}],
+///    "picture": "file", "args": [...], "to_pattern": [12 numbers], "scale": s}
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "runtime/scene/scene.h"
+
+namespace crex {
+
+nlohmann::json pattern_to_json(const FunctionPattern& p);
+/// Reads one; false with `error` (what is wrong, naming the field) when malformed.
+bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::string& error);
+
+}  // namespace crex

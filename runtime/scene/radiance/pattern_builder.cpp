@@ -1,0 +1,217 @@
+// RADIANCE's patterns on emitters -> crex's FunctionPattern (scene.h): which patterns, their
+// function files, data and pictures found and checked where they are written, so that a
+// render never meets a name it cannot evaluate.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "runtime/scene/radiance/calc.h"
+#include "runtime/scene/radiance/data_file.h"
+#include "runtime/scene/radiance/generators.h"
+#include "runtime/scene/radiance/library_files.h"
+#include "runtime/scene/radiance/scene_builder.h"
+
+namespace crex::radiance {
+namespace {
+
+// What a pattern's expressions may read of the ray (RADIANCE's rayinit.cal), beside their
+// real arguments (A1.., AC) and what their file defines.
+const std::set<std::string>& ray_variables() {
+    static const std::set<std::string> v{"Dx", "Dy", "Dz", "Nx", "Ny", "Nz", "Px", "Py", "Pz", "T", "Ts", "Rdot", "S", "Tx", "Ty",
+                                         "Tz", "Ix", "Iy", "Iz", "Jx", "Jy", "Jz", "Kx", "Ky", "Kz"};
+    return v;
+}
+
+bool is_argument_name(const std::string& n) {
+    if (n == "AC") return true;
+    return n.size() >= 2 && n[0] == 'A' && n.find_first_not_of("0123456789", 1) == std::string::npos;
+}
+
+std::string read_text(const std::string& path, bool& ok) {
+    std::ifstream in(path);
+    std::stringstream text;
+    ok = static_cast<bool>(in) && static_cast<bool>(text << in.rdbuf());
+    return text.str();
+}
+
+}  // namespace
+
+bool SceneBuilder::is_emitter_pattern(const std::string& type) {
+    return type == "brightfunc" || type == "colorfunc" || type == "brightdata" || type == "colordata" || type == "colorpict";
+}
+
+std::optional<std::string> SceneBuilder::function_file_text(const Word& file, const Primitive& p) {
+    if (file.text == ".") return std::string();
+    const std::string dir = file.span.file ? std::filesystem::path(file.span.file->name()).parent_path().string() : "";
+    const std::string path = find_file(file.text, dir, library_dirs_);
+    bool ok = false;
+    std::string text = path.empty() ? std::string() : read_text(path, ok);
+    if (!ok) {
+        if (auto builtin = builtin_function_file(file.text)) return *builtin;
+        report("E308", file.span, fmt::format("cannot read the function file '{}'", file.text), &p).help =
+            "it is looked for next to the file that names it, then in the RAYPATH directories";
+        return std::nullopt;
+    }
+    return text;
+}
+
+std::optional<FunctionPattern> SceneBuilder::pattern_of(const Definition& d) {
+    const Primitive& p = d.p;
+    const std::string& t = p.type.text;
+    using K = FunctionPattern::Kind;
+    FunctionPattern out;
+    out.name = p.id.text;
+    out.kind = t == "brightfunc" ? K::kBrightFunc : t == "colorfunc" ? K::kColorFunc : t == "brightdata" ? K::kBrightData
+             : t == "colordata" ? K::kColorData : K::kColorPict;
+    // Where each kind keeps its functions, data or picture, file and coordinates.
+    const size_t functions = out.kind == K::kBrightFunc || out.kind == K::kBrightData ? 1 : 3;
+    const size_t data_files = out.kind == K::kBrightData ? 1 : out.kind == K::kColorData ? 3 : 0;
+    const size_t pictures = out.kind == K::kColorPict ? 1 : 0;
+    const size_t file_at = functions + data_files + pictures;
+    const size_t fixed = file_at + 1;
+    if (p.strings.size() < fixed) {
+        report("E303", p.type.span, fmt::format("{} '{}' needs at least {} string arguments, got {}", t, p.id.text, fixed, p.strings.size()), &p);
+        return std::nullopt;
+    }
+    for (size_t i = 0; i < functions; ++i) out.functions.push_back(p.strings[i].text);
+    out.args = p.reals;
+
+    for (size_t i = 0; i < data_files; ++i) {
+        const Word& w = p.strings[functions + i];
+        const std::string dir = w.span.file ? std::filesystem::path(w.span.file->name()).parent_path().string() : "";
+        const std::string path = find_file(w.text, dir, library_dirs_);
+        bool ok = false;
+        const std::string text = path.empty() ? std::string() : read_text(path, ok);
+        if (!ok) {
+            report("E308", w.span, fmt::format("{} '{}': cannot read the data file '{}'", t, p.id.text, w.text), &p);
+            return std::nullopt;
+        }
+        DataTable table;
+        DataFileError e;
+        if (!parse_data_file(text, table, e)) {
+            report("E301", w.span, fmt::format("{} '{}': the data file '{}' is malformed at line {}, column {}: {}", t, p.id.text, w.text,
+                                               e.line, e.column, e.message), &p);
+            return std::nullopt;
+        }
+        if (!out.tables.empty() && table.axes.size() != out.tables.front().axes.size()) {
+            report("E303", w.span, fmt::format("{} '{}': the data file '{}' has {} dimensions, the first has {}", t, p.id.text, w.text,
+                                               table.axes.size(), out.tables.front().axes.size()), &p);
+            return std::nullopt;
+        }
+        out.tables.push_back(std::move(table));
+    }
+    if (pictures) {
+        const Word& w = p.strings[functions];
+        const std::string dir = w.span.file ? std::filesystem::path(w.span.file->name()).parent_path().string() : "";
+        out.picture = find_file(w.text, dir, library_dirs_);
+        if (out.picture.empty()) {
+            report("E308", w.span, fmt::format("{} '{}': cannot find the picture '{}'", t, p.id.text, w.text), &p).help =
+                "it is looked for next to the file that names it, then in the RAYPATH directories";
+            return std::nullopt;
+        }
+        out.picture = std::filesystem::absolute(out.picture).lexically_normal().string();
+    }
+    // The coordinates: one per data dimension, two for a picture, none for a function.
+    const size_t coordinates = data_files ? out.tables.front().axes.size() : pictures ? 2 : 0;
+    if (p.strings.size() < fixed + coordinates) {
+        report("E303", p.type.span, fmt::format("{} '{}' needs {} coordinate expressions after its function file, got {}", t, p.id.text,
+                                                coordinates, p.strings.size() - fixed), &p);
+        return std::nullopt;
+    }
+    for (size_t i = 0; i < coordinates; ++i) {
+        const Word& w = p.strings[fixed + i];
+        if (is_transform_option(w.text)) {
+            report("E303", w.span, fmt::format("{} '{}' needs {} coordinate expressions after its function file, got {}", t, p.id.text,
+                                               coordinates, i), &p);
+            return std::nullopt;
+        }
+        out.coordinates.push_back(w.text);
+    }
+
+    std::optional<std::string> definitions = function_file_text(p.strings[file_at], p);
+    if (!definitions) return std::nullopt;
+    calc::Program program;
+    calc::Error e;
+    if (!program.define(*definitions, e)) {
+        report("E302", p.strings[file_at].span, fmt::format("function file '{}': {}", p.strings[file_at].text, e.message), &p);
+        return std::nullopt;
+    }
+    out.definitions = std::move(*definitions);
+
+    // Every expression parses, and names nothing the ray, the arguments or the file lack.
+    auto check = [&](const Word& w, bool function_name) {
+        calc::Error pe;
+        if (function_name) {
+            const size_t n = out.kind == K::kBrightData ? 1 : 3;
+            if (program.takes(w.text, 1) || program.takes(w.text, n) || (out.kind != K::kBrightData && program.has_variable(w.text)))
+                return true;
+            report("E307", w.span, fmt::format("{} '{}': '{}' is not a function of {} of this file or RADIANCE's library", t,
+                                               p.id.text, w.text, n == 1 ? "one argument" : "one or three arguments"), &p);
+            return false;
+        }
+        auto expr = program.parse(w.text, pe);
+        if (!expr) {
+            report("E302", w.span, fmt::format("{} '{}': {}", t, p.id.text, pe.message), &p);
+            return false;
+        }
+        for (const std::string& f : program.unknown_functions(*expr)) {
+            report("E307", w.span, fmt::format("{} '{}': '{}' calls the function '{}', which neither its file nor crex's library "
+                                               "defines", t, p.id.text, w.text, f), &p);
+            return false;
+        }
+        for (const std::string& n : program.free_names(*expr))
+            if (!ray_variables().count(n) && !is_argument_name(n)) {
+                report("E307", w.span, fmt::format("{} '{}': '{}' uses '{}', which neither its file nor the ray defines", t, p.id.text,
+                                                   w.text, n), &p);
+                return false;
+            }
+        return true;
+    };
+    const bool named = data_files || pictures;
+    for (size_t i = 0; i < functions; ++i)
+        if (!check(p.strings[i], named)) return std::nullopt;
+    for (size_t i = 0; i < coordinates; ++i)
+        if (!check(p.strings[fixed + i], false)) return std::nullopt;
+
+    // The transform that placed the pattern, inverted: world -> pattern coordinates.
+    std::optional<Transform> xf = function_transform(p, fixed + coordinates);
+    if (!xf) return std::nullopt;
+    const double s = std::fabs(xf->scale());
+    if (!(s > 0) || !std::isfinite(s)) {
+        report("E303", p.strings.back().span, fmt::format("{} '{}': its transform scales by {:g}", t, p.id.text, xf->scale()), &p);
+        return std::nullopt;
+    }
+    const Vec3 origin = xf->point({0, 0, 0});
+    const Vec3 axes[3] = {xf->vector({1, 0, 0}), xf->vector({0, 1, 0}), xf->vector({0, 0, 1})};
+    for (int k = 0; k < 3; ++k) {
+        const Vec3 row = axes[k] / (s * s);
+        out.to_pattern[static_cast<size_t>(4 * k)] = row.x;
+        out.to_pattern[static_cast<size_t>(4 * k + 1)] = row.y;
+        out.to_pattern[static_cast<size_t>(4 * k + 2)] = row.z;
+        out.to_pattern[static_cast<size_t>(4 * k + 3)] = -dot(origin, row);
+    }
+    out.scale = 1 / s;
+    return out;
+}
+
+bool SceneBuilder::patterns_of(const Definition& d, const Primitive& user, std::vector<FunctionPattern>& out) {
+    // The chain of modifiers below the material, nearest first; each must be a pattern crex
+    // evaluates.
+    for (const Definition* m = d.modifier.get(); m; m = m->modifier.get()) {
+        if (!is_emitter_pattern(m->p.type.text)) {
+            refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by the {} '{}': on a light source crex evaluates the "
+                                        "patterns brightfunc, colorfunc, brightdata, colordata and colorpict only",
+                                        d.p.type.text, d.p.id.text, m->p.type.text, m->p.id.text));
+            return false;
+        }
+        std::optional<FunctionPattern> f = pattern_of(*m);
+        if (!f) return false;
+        out.push_back(std::move(*f));
+    }
+    return true;
+}
+
+}  // namespace crex::radiance

@@ -1,0 +1,114 @@
+// Patterns on RADIANCE's emitters (issue 39): a luminaire's distribution (brightfunc or
+// brightdata over source.cal's coordinates) scales its light by direction and by nothing
+// else, and a sky picture (colorpict on a distant glow) is seen where its mapping puts it.
+// Each against values worked out by hand; renders of 32x32 or less.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "runtime/base/sampling.h"
+#include "runtime/io/image_io.h"
+#include "tests/support/scene_helpers.h"
+#include "tests/support/scratch_folder.h"
+#include "tests/support/test_scenes.h"
+
+namespace crex {
+namespace {
+
+class RadiancePatterns : public testing::ScratchFolderTest {
+protected:
+    RadiancePatterns() : ScratchFolderTest("crex_radiance_patterns_") {}
+
+    Scene load(const std::string& name, const std::string& text) {
+        std::ofstream(path(name)) << text;
+        auto r = testing::load_path(path(name));
+        if (!r.scene) throw std::runtime_error(r.diagnostics.empty() ? "no scene" : r.diagnostics[0].message);
+        return *r.scene;
+    }
+};
+
+// A grey floor at z = 0 seen from straight above through a parallel view 2 wide, lit by a
+// lamp 0.04 on a side facing down at height 1 above the origin, with `modifier` (void: none).
+std::string lamp_scene(const std::string& patterns, const std::string& modifier) {
+    return "#@crex view -vtl -vp 0 0 0.5 -vd 0 0 -1 -vu 0 1 0 -vh 2 -vv 2\n"
+           "void plastic floor 0 0 5 .5 .5 .5 0 0\n"
+           "floor polygon ground 0 0 12 -10 -10 0 10 -10 0 10 10 0 -10 10 0\n" + patterns +
+           modifier + " light lamp 0 0 3 1000 1000 1000\n"
+           "lamp polygon bulb 0 0 12 -.02 -.02 1  -.02 .02 1  .02 .02 1  .02 -.02 1\n";
+}
+
+// Floor pixel (x, y) of an n x n image of lamp_scene: the angle at the lamp, in degrees, from
+// straight down to the pixel's centre.
+double theta_at(int x, int y, int n) {
+    const double px = -1 + 2 * (x + 0.5) / n, py = 1 - 2 * (y + 0.5) / n;
+    return std::atan(std::hypot(px, py)) * 180 / kPi;
+}
+
+// The ratio of the patterned to the plain image is the distribution's value towards each
+// pixel: the lamp is small, and both renders draw the same points on it.
+void expect_distribution(const Scene& patterned, const Scene& plain, double (*expected)(double theta)) {
+    const int n = 16;
+    const std::vector<float> a = testing::render_crex(patterned, "", n, 4, 0, 4).image();
+    const std::vector<float> b = testing::render_crex(plain, "", n, 4, 0, 4).image();
+    for (int y = 0; y < n; y += 3)
+        for (int x = 0; x < n; x += 3) {
+            const size_t i = 3 * (static_cast<size_t>(y) * n + static_cast<size_t>(x)) + 1;
+            ASSERT_GT(b[i], 0.0f);
+            EXPECT_NEAR(a[i] / b[i], expected(theta_at(x, y, n)), 0.02) << "pixel " << x << ", " << y;
+        }
+}
+
+TEST_F(RadiancePatterns, ABrightfuncOfSourceCalsThetaScalesTheLampByDirection) {
+    // 1 - theta / 90 (theta from straight down: source.cal's src_theta, crex's built-in copy).
+    const Scene patterned = load("f.rad", lamp_scene("void brightfunc dist 2 1-src_theta/90 source.cal\n0\n0\n", "dist"));
+    const Scene plain = load("p.rad", lamp_scene("", "void"));
+    expect_distribution(patterned, plain, [](double theta) { return 1 - theta / 90; });
+}
+
+TEST_F(RadiancePatterns, ABrightdataTableInterpolatesBetweenItsAngles) {
+    // A table over theta at 0, 30, 60 and 90 degrees, linear in between: 1, 0.5, 0.25, 0.
+    std::ofstream(path("dist.dat")) << "# a luminaire's distribution\n1\n0 90 4\n1 .5 .25 0\n";
+    const Scene patterned = load("d.rad", lamp_scene("void brightdata dist 4 noop dist.dat source.cal src_theta\n0\n0\n", "dist"));
+    const Scene plain = load("p.rad", lamp_scene("", "void"));
+    expect_distribution(patterned, plain, [](double theta) {
+        return theta < 30 ? 1 - 0.5 * theta / 30 : theta < 60 ? 0.5 - 0.25 * (theta - 30) / 30 : 0.25 * (90 - theta) / 30;
+    });
+}
+
+TEST_F(RadiancePatterns, ASkyPictureIsSeenWhereItsMappingPutsIt) {
+    // A 2 x 2 picture on a glow filling the sky: bottom row 1, 3; top row 5, 7 (grid points at
+    // the picture's edges, linear between). u = (Dy + 1) / 2, v = (Dx + 1) / 2 through a
+    // function file. A floor below keeps the scene from being empty.
+    std::vector<float> rgb = {5, 5, 5, 7, 7, 7, 1, 1, 1, 3, 3, 3};  // the file's top row first
+    ASSERT_EQ(write_image(path("sky.exr"), 2, 2, {ImageLayer{"", rgb}}, {}), "");
+    std::ofstream(path("map.cal")) << "su = (Dy + 1) / 2; sv = (Dx + 1) / 2;\n";
+    // The camera looks up, tilted by `tilt_deg` towards +x or +y.
+    auto render_towards = [&](double tilt_deg, bool towards_x) {
+        const double t = tilt_deg * kPi / 180;
+        const std::string text = fmt::format(
+            "#@crex view -vp 0 0 0 -vd {} {} {} -vu 0 0 1 -vh 1 -vv 1\n"
+            "void colorpict pic 7 red green blue sky.exr map.cal su sv\n0\n0\n"
+            "pic glow skyglow 0 0 4 1 1 1 0\n"
+            "skyglow source sky 0 0 4 0 0 1 360\n"
+            "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+            "grey polygon floor 0 0 12 -1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1\n",
+            towards_x ? std::sin(t) : 0.0, towards_x ? 0.0 : std::sin(t), std::cos(t));
+        const Scene s = load("sky.rad", text);
+        const std::vector<float> img = testing::render_crex(s, "", 8, 1).image();
+        return testing::mean_luminance(img);
+    };
+    // Nearly straight up: u = v = 0.5, the mean of the four corners.
+    EXPECT_NEAR(render_towards(1, false), 4.0, 0.05);
+    // Tilted towards +y by 30 degrees: Dy = 0.5, u = 0.75, v = 0.5: bottom row 1 + 2 * 0.75 =
+    // 2.5, top row 6.5, between them 4.5.
+    EXPECT_NEAR(render_towards(30, false), 4.5, 0.02);
+    // Towards +x: v = 0.75, u = 0.5: the rows' means 2 and 6, three quarters up: 5 (the
+    // picture's top row is v = 1).
+    EXPECT_NEAR(render_towards(30, true), 5.0, 0.02);
+}
+
+}  // namespace
+}  // namespace crex
