@@ -35,7 +35,7 @@
 
 #include "base/components.h"
 #include "runtime/base/sampling.h"
-#include "runtime/render/emitter_patterns.h"
+#include "runtime/render/function_patterns.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/scene.h"
 
@@ -69,7 +69,7 @@ inline constexpr int kMaxLobes = 4;
 /// scene instead of at every hit.
 struct Bsdf {
     const Material* material = nullptr;
-    const PatternChain* patterns = nullptr;  ///< an emitter's patterns (runtime/render/emitter_patterns.h)
+    const PatternChain* patterns = nullptr;  ///< an emitter's patterns (runtime/render/function_patterns.h)
     MaterialType type = MaterialType::kVoid;
     Vec3 color;              ///< the colour (textured or not): glass and dielectric transmission, mirror reflectance
     std::optional<Vec3> emission;  ///< a non-emitter's own emission (textured or not)

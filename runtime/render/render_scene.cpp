@@ -18,7 +18,7 @@ constexpr int kSkyCellsZ = 64, kSkyCellsPhi = 128;
 
 // ---- distant sources ----------------------------------------------------------------------
 
-DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius, const EmitterPatterns* patterns) {
+DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius, const ScenePatterns* patterns) {
     scene_area_ = kPi * std::fmax(scene_radius * scene_radius, 1e-12);
     for (const DistantLight& l : scene.distant_lights) {
         const Material* m = scene.find_material(l.material);
@@ -112,7 +112,7 @@ Vec3 DistantEmitters::escaped(const Vec3& d) const {
 
 // ---- the light sampler ---------------------------------------------------------------------
 
-LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const EmitterPatterns* patterns)
+LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const ScenePatterns* patterns)
     : distant_(scene, 0.5 * length(embree.bounds_max() - embree.bounds_min()), patterns) {
     auto limits_of = [&](const GeometryInfo& g) -> const EmitterLimits* {
         const Material& m = scene.materials[g.emitter];
@@ -340,12 +340,22 @@ RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) 
     }
     embree = std::make_unique<EmbreeScene>(s, cutouts.get());
     if (cutouts) cutouts->attach(*embree);
-    for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty();
-    if (any_pattern) patterns = std::make_unique<EmitterPatterns>(s, embree->origin_offset(), warnings);
+    for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty() || m.surface_functions;
+    if (any_pattern) patterns = std::make_unique<ScenePatterns>(s, embree->origin_offset(), warnings);
     lights = std::make_unique<LightSampler>(s, *embree, patterns.get());
     for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));
     if (patterns)
-        for (uint32_t i = 0; i < bsdfs.size(); ++i) bsdfs[i].patterns = patterns->of(i);
+        for (uint32_t i = 0; i < bsdfs.size(); ++i) {
+            bsdfs[i].patterns = patterns->of(i);
+            // A BRTDfunc's lobes as a ray along its normal sees them: what the paths that do
+            // not shade it (a cache ray passing through) weigh it by.
+            if (const SurfaceChains* sc = patterns->surface(i)) {
+                PatternRay r;
+                r.direction = {0, 0, -1};
+                r.normal = {0, 0, 1};
+                sc->apply(r, bsdfs[i]);
+            }
+        }
     medium = medium_of(s);
 }
 

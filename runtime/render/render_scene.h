@@ -12,7 +12,7 @@
 
 #include "base/diagnostic.h"
 #include "runtime/render/bsdf.h"
-#include "runtime/render/emitter_patterns.h"
+#include "runtime/render/function_patterns.h"
 #include "runtime/render/medium.h"
 #include "runtime/render/surface.h"
 #include "runtime/scene/scene.h"
@@ -62,7 +62,7 @@ inline Vec3 patterned_radiance(const LightSample& ls, const Vec3& wi, double dis
 /// seen by camera rays and rays from ideal specular lobes that escape the scene.
 class DistantEmitters {
 public:
-    DistantEmitters(const Scene& scene, double scene_radius, const EmitterPatterns* patterns);
+    DistantEmitters(const Scene& scene, double scene_radius, const ScenePatterns* patterns);
     size_t size() const { return sources_.size(); }
     /// Irradiance-like weight of source i (radiance x solid angle) and its power entering the
     /// scene (times the scene's cross-section), for choosing between emitters.
@@ -103,7 +103,7 @@ class LightSampler {
 public:
     static constexpr size_t kLocalChoiceMax = 64;
 
-    LightSampler(const Scene& scene, const EmbreeScene& embree, const EmitterPatterns* patterns = nullptr);
+    LightSampler(const Scene& scene, const EmbreeScene& embree, const ScenePatterns* patterns = nullptr);
     bool empty() const { return entries_.empty(); }
     const DistantEmitters& distant() const { return distant_; }
 
@@ -264,7 +264,7 @@ struct RenderScene {
     std::unique_ptr<SurfaceTextures> textures;
     std::unique_ptr<SceneCutouts> cutouts;  ///< when some material cuts holes
     std::unique_ptr<EmbreeScene> embree;
-    std::unique_ptr<EmitterPatterns> patterns;  ///< emitters' patterns; null when none has one
+    std::unique_ptr<ScenePatterns> patterns;  ///< emitters' patterns; null when none has one
     std::unique_ptr<LightSampler> lights;
     std::vector<Bsdf> bsdfs;  ///< per material, prepared once
     std::optional<MediumModel> medium;  ///< the scene's homogeneous medium, if any

@@ -126,6 +126,17 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
         if (dot(n, f.normal) < 0) n = -n;
         if (n != Vec3{} && dot(n, f.normal) > 1e-3) f.shading = n;
     }
+    if (const SurfaceChains* sc = scene.patterns ? scene.patterns->surface(material) : nullptr) {
+        // RADIANCE's BRTDfunc: its lobes' weights are functions of this ray.
+        scratch = scene.bsdfs[material];
+        PatternRay r;
+        r.direction = f.incoming;
+        r.normal = f.geometric;
+        r.point = f.position;
+        r.distance = f.distance;
+        sc->apply(r, scratch);
+        return scratch;
+    }
     if (!textured) return scene.bsdfs[material];
     SurfacePoint p;
     p.position = f.position + scene.embree->origin_offset();

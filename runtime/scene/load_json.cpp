@@ -198,7 +198,7 @@ private:
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
                         "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
-                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns"});
+                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         MaterialTextures& tex = m.textures;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
@@ -271,6 +271,13 @@ private:
                 else error = fmt::format("pattern {}: {}", k, error);
             }
             if (!error.empty()) sink_.report("E303", r.span("patterns"), fmt::format("{}: {}", r.path("patterns"), error));
+        }
+        if (r.has("surface_functions")) {
+            SurfaceFunctions sf;
+            std::string error;
+            if (m.type != MaterialType::kTrans) error = "only a trans takes surface functions";
+            else if (surface_functions_from_json(r.at("surface_functions"), sf, error)) m.surface_functions = std::move(sf);
+            if (!error.empty()) sink_.report("E303", r.span("surface_functions"), fmt::format("{}: {}", r.path("surface_functions"), error));
         }
         if (emitter && tex.any())
             sink_.report("E307", r.span("type"), fmt::format("{}: a '{}' emitter takes constant values, not textures (give another "

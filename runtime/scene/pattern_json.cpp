@@ -114,4 +114,33 @@ bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::strin
     return true;
 }
 
+nlohmann::json surface_functions_to_json(const SurfaceFunctions& s) {
+    auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+    return {{"reflection", pattern_to_json(s.reflection)}, {"transmission", pattern_to_json(s.transmission)},
+            {"front_diffuse", vec(s.front_diffuse)}, {"back_diffuse", vec(s.back_diffuse)}, {"diffuse_transmit", vec(s.diffuse_transmit)}};
+}
+
+bool surface_functions_from_json(const nlohmann::json& j, SurfaceFunctions& out, std::string& error) {
+    if (!j.is_object()) return error = "expected an object", false;
+    SurfaceFunctions s;
+    for (const char* key : {"reflection", "transmission"}) {
+        FunctionPattern& f = std::string(key) == "reflection" ? s.reflection : s.transmission;
+        if (!j.contains(key) || !pattern_from_json(j.at(key), f, error)) {
+            error = fmt::format("'{}': {}", key, error.empty() ? "missing" : error);
+            return false;
+        }
+        if (f.kind != FunctionPattern::Kind::kColorFunc) return error = fmt::format("'{}' must be a colorfunc", key), false;
+    }
+    for (const char* key : {"front_diffuse", "back_diffuse", "diffuse_transmit"}) {
+        std::vector<double> v;
+        if (!numbers(j, key, v, error)) return false;
+        if (v.size() != 3 || !(v[0] >= 0 && v[1] >= 0 && v[2] >= 0 && v[0] <= 1 && v[1] <= 1 && v[2] <= 1))
+            return error = fmt::format("'{}' must be three numbers in [0, 1]", key), false;
+        (std::string(key) == "front_diffuse" ? s.front_diffuse : std::string(key) == "back_diffuse" ? s.back_diffuse : s.diffuse_transmit) =
+            Vec3{v[0], v[1], v[2]};
+    }
+    out = std::move(s);
+    return true;
+}
+
 }  // namespace crex

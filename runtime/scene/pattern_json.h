@@ -19,4 +19,9 @@ nlohmann::json pattern_to_json(const FunctionPattern& p);
 /// Reads one; false with `error` (what is wrong, naming the field) when malformed.
 bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::string& error);
 
+/// A trans material's `surface_functions` (RADIANCE's BRTDfunc): {"reflection": pattern,
+/// "transmission": pattern, "front_diffuse", "back_diffuse", "diffuse_transmit": [r, g, b]}.
+nlohmann::json surface_functions_to_json(const SurfaceFunctions& s);
+bool surface_functions_from_json(const nlohmann::json& j, SurfaceFunctions& out, std::string& error);
+
 }  // namespace crex

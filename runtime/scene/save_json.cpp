@@ -151,6 +151,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         // A textured parameter is written as its reference, in place of the constant.
         m.textures.for_each([&](const char* slot, const TextureRef& t) { e[slot] = texture_json(t); });
         for (const FunctionPattern& f : m.patterns) e["patterns"].push_back(pattern_to_json(f));
+        if (m.surface_functions) e["surface_functions"] = surface_functions_to_json(*m.surface_functions);
         j["materials"].push_back(e);
     }
     j["shapes"] = nlohmann::json::array();

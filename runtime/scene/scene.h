@@ -92,6 +92,17 @@ struct FunctionPattern {
     bool operator==(const FunctionPattern&) const = default;
 };
 
+/// RADIANCE's BRTDfunc without its directional-diffuse functions: a trans-like surface whose
+/// mirror reflection and straight-through transmission are colour functions of the ray
+/// (RADIANCE's `Rdot`, `RdotP`, the hit point, ...), with constant diffuse reflectances for
+/// its front and back and a constant diffuse transmittance.
+struct SurfaceFunctions {
+    FunctionPattern reflection;    ///< kColorFunc: the specular reflectance
+    FunctionPattern transmission;  ///< kColorFunc: the specular transmittance
+    Vec3 front_diffuse, back_diffuse, diffuse_transmit;
+    bool operator==(const SurfaceFunctions&) const = default;
+};
+
 struct Material {
     std::string name;
     MaterialType type = MaterialType::kPlastic;
@@ -127,6 +138,9 @@ struct Material {
     /// light, glow, illum: factors of the emitted radiance, multiplied in order (RADIANCE's
     /// patterns modifying an emitter, the nearest first).
     std::vector<FunctionPattern> patterns;
+    /// trans: its lobes' weights at each hit from functions (RADIANCE's BRTDfunc); the
+    /// constants above then only say which lobes there are.
+    std::optional<SurfaceFunctions> surface_functions;
 };
 
 enum class ShapeType { kSphere, kPolygon, kMesh, kBox, kRing, kCone, kCylinder };

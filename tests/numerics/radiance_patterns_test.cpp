@@ -1,6 +1,7 @@
 // Patterns on RADIANCE's emitters (issue 39): a luminaire's distribution (brightfunc or
 // brightdata over source.cal's coordinates) scales its light by direction and by nothing
-// else, and a sky picture (colorpict on a distant glow) is seen where its mapping puts it.
+// else, a sky picture (colorpict on a distant glow) is seen where its mapping puts it, and a
+// BRTDfunc's specular parts follow its functions of the ray.
 // Each against values worked out by hand; renders of 32x32 or less.
 #include <gtest/gtest.h>
 
@@ -108,6 +109,28 @@ TEST_F(RadiancePatterns, ASkyPictureIsSeenWhereItsMappingPutsIt) {
     // Towards +x: v = 0.75, u = 0.5: the rows' means 2 and 6, three quarters up: 5 (the
     // picture's top row is v = 1).
     EXPECT_NEAR(render_towards(30, true), 5.0, 0.02);
+}
+
+TEST_F(RadiancePatterns, ABrtdfuncsMirrorAndWindowFollowRdotOnEitherSide) {
+    // A BRTDfunc pane at z = 0 in a sky of radiance 1 (a distant glow all round), no diffuse
+    // parts: a pixel is the specular reflectance plus the specular transmittance. Reflectance
+    // if(Rdot - .5, .2, .8), transmittance if(RdotP - .5, .3, 0): RADIANCE's Rdot is negative
+    // on the back, RdotP is not.
+    auto seen = [&](const std::string& view) {
+        const std::string text = view +
+                                 "void BRTDfunc pane_mat 10 if(Rdot-.5,.2,.8) if(Rdot-.5,.2,.8) if(Rdot-.5,.2,.8)\n"
+                                 "  if(RdotP-.5,.3,0) if(RdotP-.5,.3,0) if(RdotP-.5,.3,0) 0 0 0 .\n0\n9 0 0 0 0 0 0 0 0 0\n"
+                                 "pane_mat polygon pane 0 0 12 -10 -10 0 10 -10 0 10 10 0 -10 10 0\n"
+                                 "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n";
+        const Scene s = load("brtd.rad", text);
+        return testing::mean_luminance(testing::render_crex(s, "[ST]", 8, 1).image());  // one specular bounce
+    };
+    // From the front along the normal: Rdot = 1: 0.2 + 0.3.
+    EXPECT_NEAR(seen("#@crex view -vtl -vp 0 0 1 -vd 0 0 -1 -vu 0 1 0 -vh .1 -vv .1\n"), 0.5, 1e-4);
+    // From the front at 70 degrees from the normal: Rdot = 0.34: 0.8 + 0.
+    EXPECT_NEAR(seen("#@crex view -vtl -vp 0 -0.94 0.34 -vd 0 0.9397 -0.342 -vu 0 0 1 -vh .1 -vv .1\n"), 0.8, 1e-4);
+    // From the back along the normal: Rdot = -1, RdotP = 1: 0.8 + 0.3.
+    EXPECT_NEAR(seen("#@crex view -vtl -vp 0 0 -1 -vd 0 0 1 -vu 0 1 0 -vh .1 -vv .1\n"), 1.1, 1e-4);
 }
 
 }  // namespace

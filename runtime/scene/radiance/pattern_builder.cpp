@@ -21,7 +21,8 @@ namespace {
 // real arguments (A1.., AC) and what their file defines.
 const std::set<std::string>& ray_variables() {
     static const std::set<std::string> v{"Dx", "Dy", "Dz", "Nx", "Ny", "Nz", "Px", "Py", "Pz", "T", "Ts", "Rdot", "S", "Tx", "Ty",
-                                         "Tz", "Ix", "Iy", "Iz", "Jx", "Jy", "Jz", "Kx", "Ky", "Kz"};
+                                         "Tz", "Ix", "Iy", "Iz", "Jx", "Jy", "Jz", "Kx", "Ky", "Kz", "NxP", "NyP", "NzP", "RdotP",
+                                         "CrP", "CgP", "CbP"};
     return v;
 }
 
@@ -131,16 +132,26 @@ std::optional<FunctionPattern> SceneBuilder::pattern_of(const Definition& d) {
         out.coordinates.push_back(w.text);
     }
 
+    std::vector<size_t> expressions, names;
+    for (size_t i = 0; i < functions; ++i) (data_files || pictures ? names : expressions).push_back(i);
+    for (size_t i = 0; i < coordinates; ++i) expressions.push_back(fixed + i);
+    if (!complete_functions(p, out, file_at, expressions, names, fixed + coordinates)) return std::nullopt;
+    return out;
+}
+
+bool SceneBuilder::complete_functions(const Primitive& p, FunctionPattern& out, size_t file_at, const std::vector<size_t>& expressions,
+                                      const std::vector<size_t>& names, size_t transform_at) {
+    const std::string& t = p.type.text;
+    using K = FunctionPattern::Kind;
     std::optional<std::string> definitions = function_file_text(p.strings[file_at], p);
-    if (!definitions) return std::nullopt;
+    if (!definitions) return false;
     calc::Program program;
     calc::Error e;
     if (!program.define(*definitions, e)) {
         report("E302", p.strings[file_at].span, fmt::format("function file '{}': {}", p.strings[file_at].text, e.message), &p);
-        return std::nullopt;
+        return false;
     }
     out.definitions = std::move(*definitions);
-
     // Every expression parses, and names nothing the ray, the arguments or the file lack.
     auto check = [&](const Word& w, bool function_name) {
         calc::Error pe;
@@ -170,19 +181,18 @@ std::optional<FunctionPattern> SceneBuilder::pattern_of(const Definition& d) {
             }
         return true;
     };
-    const bool named = data_files || pictures;
-    for (size_t i = 0; i < functions; ++i)
-        if (!check(p.strings[i], named)) return std::nullopt;
-    for (size_t i = 0; i < coordinates; ++i)
-        if (!check(p.strings[fixed + i], false)) return std::nullopt;
+    for (size_t i : names)
+        if (!check(p.strings[i], true)) return false;
+    for (size_t i : expressions)
+        if (!check(p.strings[i], false)) return false;
 
     // The transform that placed the pattern, inverted: world -> pattern coordinates.
-    std::optional<Transform> xf = function_transform(p, fixed + coordinates);
-    if (!xf) return std::nullopt;
+    std::optional<Transform> xf = function_transform(p, transform_at);
+    if (!xf) return false;
     const double s = std::fabs(xf->scale());
     if (!(s > 0) || !std::isfinite(s)) {
         report("E303", p.strings.back().span, fmt::format("{} '{}': its transform scales by {:g}", t, p.id.text, xf->scale()), &p);
-        return std::nullopt;
+        return false;
     }
     const Vec3 origin = xf->point({0, 0, 0});
     const Vec3 axes[3] = {xf->vector({1, 0, 0}), xf->vector({0, 1, 0}), xf->vector({0, 0, 1})};
@@ -194,7 +204,7 @@ std::optional<FunctionPattern> SceneBuilder::pattern_of(const Definition& d) {
         out.to_pattern[static_cast<size_t>(4 * k + 3)] = -dot(origin, row);
     }
     out.scale = 1 / s;
-    return out;
+    return true;
 }
 
 bool SceneBuilder::patterns_of(const Definition& d, const Primitive& user, std::vector<FunctionPattern>& out) {
@@ -212,6 +222,57 @@ bool SceneBuilder::patterns_of(const Definition& d, const Primitive& user, std::
         out.push_back(std::move(*f));
     }
     return true;
+}
+
+std::optional<Material> SceneBuilder::brtd_function(const Definition& d, const Primitive& user) {
+    // 10 strings: specular reflectance r g b, specular transmittance r g b, the
+    // directional-diffuse functions r g b, the function file; then its transform. 9+ reals:
+    // diffuse reflectance of the front, of the back, diffuse transmittance (then A10.. for
+    // the expressions).
+    const Primitive& p = d.p;
+    if (p.strings.size() < 10 || p.reals.size() < 9) {
+        report("E303", p.type.span, fmt::format("BRTDfunc '{}' needs 10 string and 9 real arguments, got {} and {}", p.id.text,
+                                                p.strings.size(), p.reals.size()), &p);
+        return std::nullopt;
+    }
+    for (size_t i = 6; i < 9; ++i)
+        if (p.strings[i].text != "0") {
+            refuse(d, p.strings[i].span, user, fmt::format("BRTDfunc '{}': its directional-diffuse function '{}' is not supported (crex "
+                                                           "renders BRTDfunc's specular and diffuse parts)", p.id.text, p.strings[i].text),
+                   "write 0 for the three directional-diffuse functions");
+            return std::nullopt;
+        }
+    SurfaceFunctions sf;
+    for (int part = 0; part < 2; ++part) {
+        FunctionPattern& f = part == 0 ? sf.reflection : sf.transmission;
+        f.kind = FunctionPattern::Kind::kColorFunc;
+        f.name = p.id.text;
+        f.args = p.reals;
+        for (size_t i = 0; i < 3; ++i) f.functions.push_back(p.strings[3 * static_cast<size_t>(part) + i].text);
+        const std::vector<size_t> expressions = part == 0 ? std::vector<size_t>{0, 1, 2} : std::vector<size_t>{3, 4, 5};
+        if (!complete_functions(p, f, 9, expressions, {}, 10)) return std::nullopt;
+    }
+    const std::vector<double>& r = p.reals;
+    for (size_t i = 0; i < 9; ++i)
+        if (!(r[i] >= 0 && r[i] <= 1)) {
+            report("E303", p.real_spans[i], fmt::format("BRTDfunc '{}': a diffuse reflectance or transmittance must be in [0, 1], got {:g}",
+                                                        p.id.text, r[i]), &p);
+            return std::nullopt;
+        }
+    sf.front_diffuse = {r[0], r[1], r[2]};
+    sf.back_diffuse = {r[3], r[4], r[5]};
+    sf.diffuse_transmit = {r[6], r[7], r[8]};
+    Material m;
+    m.type = MaterialType::kTrans;
+    // The constants say which lobes there may be (the census, the planner); the functions give
+    // their weights at each hit.
+    m.color = {1, 1, 1};
+    m.specularity = 0.5;
+    m.roughness = 0;
+    m.transmissivity = 0.5;
+    m.transmitted_specular = max_component(sf.diffuse_transmit) > 0 ? 0.5 : 1.0;
+    m.surface_functions = std::move(sf);
+    return m;
 }
 
 }  // namespace crex::radiance

@@ -410,6 +410,11 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         }
         return m;
     }
+    if (t == "BRTDfunc") {
+        auto b = brtd_function(d, user);
+        if (b) b->name = m.name;
+        return b;
+    }
     std::string help;
     if (t == "mist") help = "crex's medium fills the whole scene: give a JSON scene a \"medium\" instead";
     else if (t == "antimatter") help = "cut the hole into the surfaces themselves (a polygon with a seam, for instance)";

@@ -73,6 +73,12 @@ private:
     /// it, on RAYPATH, else crex's built-in copy; nullopt after a reported error.
     std::optional<std::string> function_file_text(const Word& file, const Primitive& p);
     std::optional<FunctionPattern> pattern_of(const Definition& d);
+    /// Reads the function file at string `file_at` into `out`, checks the expressions at
+    /// `expressions` and the function names at `names`, and the transform from `transform_at`.
+    bool complete_functions(const Primitive& p, FunctionPattern& out, size_t file_at, const std::vector<size_t>& expressions,
+                            const std::vector<size_t>& names, size_t transform_at);
+    /// RADIANCE's BRTDfunc as a trans with SurfaceFunctions; nullopt after a reported error.
+    std::optional<Material> brtd_function(const Definition& d, const Primitive& user);
     /// The patterns modifying emitter `d`, nearest first; false after a reported refusal.
     bool patterns_of(const Definition& d, const Primitive& user, std::vector<FunctionPattern>& out);
     std::string unique_material_name(const std::string& id);

@@ -1,4 +1,4 @@
-#include "runtime/render/emitter_patterns.h"
+#include "runtime/render/function_patterns.h"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -8,6 +8,7 @@
 #include <set>
 
 #include "runtime/base/sampling.h"
+#include "runtime/render/bsdf.h"
 #include "runtime/io/image_io.h"
 #include "runtime/scene/data_table.h"
 #include "runtime/scene/radiance/calc.h"
@@ -36,6 +37,7 @@ namespace {
 // chanvalue): direction, normal, point, distance, cosine, scale and the frame's axes.
 struct RayValues {
     double D[3], N[3], P[3], T, Rdot, S, origin[3], I[3], J[3], K[3];
+    double NP[3], RdotP;  // the normal turned towards the ray, and its cosine (BRTDfunc's)
 };
 
 std::optional<double> ray_variable(const RayValues& r, const std::string& n) {
@@ -53,6 +55,12 @@ std::optional<double> ray_variable(const RayValues& r, const std::string& n) {
             }
         if (n == "Ts") return r.T;
     }
+    if (n.size() == 3 && n[0] == 'N' && n[2] == 'P') {
+        const int axis = n[1] == 'x' ? 0 : n[1] == 'y' ? 1 : n[1] == 'z' ? 2 : -1;
+        if (axis >= 0) return r.NP[axis];
+    }
+    if (n == "RdotP") return r.RdotP;
+    if (n == "CrP" || n == "CgP" || n == "CbP") return 1.0;  // no pattern colours a BRTDfunc here
     if (n == "T") return r.T;
     if (n == "S") return r.S;
     if (n == "Rdot") return r.Rdot;
@@ -72,6 +80,8 @@ RayValues ray_values(const PatternChain::Compiled& c, const PatternRay& ray, con
         v.P[k] = ray.distant ? 0.0 : m[4 * k] * world_point.x + m[4 * k + 1] * world_point.y + m[4 * k + 2] * world_point.z + m[4 * k + 3];
     v.T = ray.distance * s;
     v.Rdot = std::clamp(-dot(ray.direction, ray.normal), -1.0, 1.0);
+    v.RdotP = std::fabs(v.Rdot);
+    for (int k = 0; k < 3; ++k) v.NP[k] = v.Rdot < 0 ? -v.N[k] : v.N[k];
     v.S = s;
     for (int k = 0; k < 3; ++k) {
         v.origin[k] = m[4 * k + 3];
@@ -260,16 +270,36 @@ double PatternChain::mean_over_hemisphere(const Vec3& n, const Vec3& point) cons
     return sum / (kSide * kSide);
 }
 
-EmitterPatterns::EmitterPatterns(const Scene& scene, const Vec3& origin_offset, std::vector<Diagnostic>& warnings) {
+ScenePatterns::ScenePatterns(const Scene& scene, const Vec3& origin_offset, std::vector<Diagnostic>& warnings) {
     chains_.resize(scene.materials.size());
-    for (size_t i = 0; i < scene.materials.size(); ++i)
-        if (!scene.materials[i].patterns.empty()) {
-            chains_[i] = std::make_unique<PatternChain>(scene.materials[i].patterns, origin_offset, warnings);
-            any_ = true;
+    surfaces_.resize(scene.materials.size());
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        if (!m.patterns.empty()) chains_[i] = std::make_unique<PatternChain>(m.patterns, origin_offset, warnings);
+        if (m.surface_functions) {
+            auto s = std::make_unique<SurfaceChains>();
+            s->functions = &*m.surface_functions;
+            s->reflection = std::make_unique<PatternChain>(std::vector<FunctionPattern>{m.surface_functions->reflection}, origin_offset, warnings);
+            s->transmission =
+                std::make_unique<PatternChain>(std::vector<FunctionPattern>{m.surface_functions->transmission}, origin_offset, warnings);
+            surfaces_[i] = std::move(s);
         }
+    }
 }
 
-const PatternChain* EmitterPatterns::of(const Scene& scene, const std::string& material) const {
+void SurfaceChains::apply(const PatternRay& ray, Bsdf& b) const {
+    const bool front = dot(ray.direction, ray.normal) < 0;
+    b.diffuse = front ? functions->front_diffuse : functions->back_diffuse;
+    b.diffuse_transmit = functions->diffuse_transmit;
+    b.specular = reflection->value(ray);
+    b.specular_transmit = transmission->value(ray);
+    b.glossy = false;
+    b.mirror_like = max_component(b.specular) > 0;
+    b.direct_response = max_component(b.diffuse) > 0 || max_component(b.diffuse_transmit) > 0;
+    b.lambertian = !(max_component(b.diffuse_transmit) > 0);
+}
+
+const PatternChain* ScenePatterns::of(const Scene& scene, const std::string& material) const {
     for (size_t i = 0; i < scene.materials.size(); ++i)
         if (scene.materials[i].name == material) return of(static_cast<uint32_t>(i));
     return nullptr;

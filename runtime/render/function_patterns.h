@@ -1,4 +1,4 @@
-/// \file emitter_patterns.h
+/// \file function_patterns.h
 /// The patterns of emitters (scene.h's FunctionPattern: RADIANCE's luminaire distributions
 /// and photographed skies) ready to evaluate while rendering: expressions parsed once,
 /// pictures read once. A pattern whose expressions read nothing of the ray but its direction
@@ -52,17 +52,28 @@ private:
     std::vector<Vec3> table_;
 };
 
-/// Every material's patterns; null entries for materials without.
-class EmitterPatterns {
+struct Bsdf;
+
+/// A BRTDfunc surface (scene.h's SurfaceFunctions) compiled: its lobes at a hit.
+struct SurfaceChains {
+    const SurfaceFunctions* functions = nullptr;
+    std::unique_ptr<PatternChain> reflection, transmission;
+    /// Sets `b`'s lobe weights for the ray meeting the surface (`ray.normal`: its geometric
+    /// normal, unflipped, so RADIANCE's Rdot is negative on the back).
+    void apply(const PatternRay& ray, Bsdf& b) const;
+};
+
+/// Every material's emitter patterns and surface functions; null entries where it has none.
+class ScenePatterns {
 public:
-    EmitterPatterns(const Scene& scene, const Vec3& origin_offset, std::vector<Diagnostic>& warnings);
-    bool any() const { return any_; }
+    ScenePatterns(const Scene& scene, const Vec3& origin_offset, std::vector<Diagnostic>& warnings);
     const PatternChain* of(uint32_t material) const { return material < chains_.size() ? chains_[material].get() : nullptr; }
     const PatternChain* of(const Scene& scene, const std::string& material) const;
+    const SurfaceChains* surface(uint32_t material) const { return material < surfaces_.size() ? surfaces_[material].get() : nullptr; }
 
 private:
     std::vector<std::unique_ptr<PatternChain>> chains_;
-    bool any_ = false;
+    std::vector<std::unique_ptr<SurfaceChains>> surfaces_;
 };
 
 }  // namespace crex
