@@ -110,7 +110,7 @@ INSTANTIATE_TEST_SUITE_P(
         RadCase{"shell_syntax", "void light l 0 0 3 1 1 1\n!genbox l b 1 1 1 > box.rad\n", "E307", 2, 19, "'>' in a '!' command needs a shell"},
         RadCase{"missing_include", "void light l 0 0 3 1 1 1\n!xform -t 1 0 0 nowhere.rad\n", "E308", 2, 17, "cannot read the scene file 'nowhere.rad'"},
         RadCase{"instance", "void light l 0 0 3 1 1 1\nl instance car 1 car.oct 0 0\n", "E307", 2, 3, "instance 'car': octrees"},
-        RadCase{"mesh", "void light l 0 0 3 1 1 1\nl mesh vase 1 vase.rtm 0 0\n", "E307", 2, 3, "compiled meshes (.rtm"},
+        RadCase{"mesh_file", "void light l 0 0 3 1 1 1\nl mesh vase 1 vase.rtm 0 0\n", "E308", 2, 15, "cannot read the compiled mesh 'vase.rtm': no such file"},
         RadCase{"unknown_type", "void light l 0 0 3 1 1 1\nl teapot t 0 0 0\n", "E307", 2, 3, "unknown RADIANCE type 'teapot'"},
         RadCase{"pattern_modifier", "void brightfunc b 2 x y 0 0\nb plastic p 0 0 5 1 1 1 0 0\np sphere s 0 0 4 0 0 0 1\n", "E307", 2, 1,
                "modified by a brightfunc 'b'"},

@@ -4,9 +4,9 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
+
+#include "base/input_file.h"
 
 #include "runtime/scene/radiance/calc.h"
 #include "runtime/scene/radiance/data_file.h"
@@ -31,11 +31,12 @@ bool is_argument_name(const std::string& n) {
     return n.size() >= 2 && n[0] == 'A' && n.find_first_not_of("0123456789", 1) == std::string::npos;
 }
 
+// A function or data file, bounded (never /dev/zero or a FIFO).
 std::string read_text(const std::string& path, bool& ok) {
-    std::ifstream in(path);
-    std::stringstream text;
-    ok = static_cast<bool>(in) && static_cast<bool>(text << in.rdbuf());
-    return text.str();
+    std::string error;
+    std::optional<std::string> text = read_input_file(path, error, kMaxDataInputBytes);
+    ok = text.has_value();
+    return text ? std::move(*text) : std::string();
 }
 
 }  // namespace

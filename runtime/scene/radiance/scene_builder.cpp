@@ -426,18 +426,14 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
 
 void SceneBuilder::surface(Primitive p) {
     const std::optional<Tag> tag = tag_for_next_surface();
-    if (p.modifier.text == "void") return;  // invisible in RADIANCE too
     const std::string& t = p.type.text;
-    if (t == "instance" || t == "mesh") {
+    if (t == "mesh") return mesh(p, tag);  // void: the mesh's own materials
+    if (p.modifier.text == "void") return;  // invisible in RADIANCE too
+    if (t == "instance") {
         // Once per place it is written, not once per copy an xform array makes of it.
         if (!refused_places_.insert({p.type.span.file, p.type.span.begin}).second) return;
-        if (t == "instance")
-            report("E307", p.type.span, fmt::format("instance '{}': octrees (made by oconv) are not supported", p.id.text), &p).help =
-                "read the scene files the octree was made from with '!xform' and the instance's transform instead";
-        else
-            report("E307", p.type.span, fmt::format("mesh '{}': RADIANCE's compiled meshes (.rtm, made by obj2mesh) are not supported",
-                                                    p.id.text), &p)
-                .help = "give crex the Wavefront OBJ file obj2mesh read, as a scene of its own or as a JSON scene's mesh shape";
+        report("E307", p.type.span, fmt::format("instance '{}': octrees (made by oconv) are not supported", p.id.text), &p).help =
+            "read the scene files the octree was made from with '!xform' and the instance's transform instead";
         return;
     }
     DefPtr d = lookup(p.modifier, p, "the modifier");

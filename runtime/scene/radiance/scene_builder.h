@@ -31,6 +31,8 @@
 
 namespace crex::radiance {
 
+struct CompiledMesh;
+
 class SceneBuilder : public PrimitiveConsumer {
 public:
     /// `library_dirs`: where function files are looked for after the scene file's directory.
@@ -58,6 +60,8 @@ private:
     void define(Primitive p);
     void alias(Primitive p);
     void surface(Primitive p);
+    /// A compiled mesh (mesh_builder.cpp).
+    void mesh(const Primitive& p, const std::optional<Tag>& tag);
     void distant_light(const Primitive& p, const Material& m, const std::optional<SkyModel>& sky);
     std::optional<SkyModel> sky_of(const Definition& pattern, const Primitive& user);
     /// The crex material of `d` (converted once); nullopt after a reported error; "" when the
@@ -116,6 +120,8 @@ private:
     std::vector<TagScope> finished_scopes_;   ///< for "tagged nothing" warnings
     std::vector<bool> shape_tag_explicit_;
     std::set<std::pair<const SourceFile*, uint32_t>> refused_places_;  ///< instances and meshes reported
+    std::map<std::string, std::shared_ptr<const CompiledMesh>> meshes_;  ///< by path, read once
+    std::map<std::string, std::optional<std::string>> mesh_materials_;      ///< "path#k" -> crex material
 };
 
 /// A definition as the builder keeps it (RADIANCE resolves modifiers where they are written).
