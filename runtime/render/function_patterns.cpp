@@ -273,6 +273,7 @@ double PatternChain::mean_over_hemisphere(const Vec3& n, const Vec3& point) cons
 ScenePatterns::ScenePatterns(const Scene& scene, const Vec3& origin_offset, std::vector<Diagnostic>& warnings) {
     chains_.resize(scene.materials.size());
     surfaces_.resize(scene.materials.size());
+    mixtures_.resize(scene.materials.size());
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const Material& m = scene.materials[i];
         if (!m.patterns.empty()) chains_[i] = std::make_unique<PatternChain>(m.patterns, origin_offset, warnings);
@@ -284,8 +285,17 @@ ScenePatterns::ScenePatterns(const Scene& scene, const Vec3& origin_offset, std:
                 std::make_unique<PatternChain>(std::vector<FunctionPattern>{m.surface_functions->transmission}, origin_offset, warnings);
             surfaces_[i] = std::move(s);
         }
+        if (m.mixture) {
+            auto x = std::make_unique<MixtureChain>();
+            x->coefficient = std::make_unique<PatternChain>(std::vector<FunctionPattern>{m.mixture->coefficient}, origin_offset, warnings);
+            for (size_t k = 0; k < scene.materials.size(); ++k)
+                if (scene.materials[k].name == m.mixture->background) x->background = static_cast<uint32_t>(k);
+            mixtures_[i] = std::move(x);
+        }
     }
 }
+
+double MixtureChain::share(const PatternRay& ray) const { return std::clamp(coefficient->value(ray).x, 0.0, 1.0); }
 
 void SurfaceChains::apply(const PatternRay& ray, Bsdf& b) const {
     const bool front = dot(ray.direction, ray.normal) < 0;

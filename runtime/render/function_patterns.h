@@ -63,17 +63,27 @@ struct SurfaceChains {
     void apply(const PatternRay& ray, Bsdf& b) const;
 };
 
-/// Every material's emitter patterns and surface functions; null entries where it has none.
+/// A mixture (scene.h's Mixture) compiled: which of its two materials a point has.
+struct MixtureChain {
+    std::unique_ptr<PatternChain> coefficient;
+    uint32_t background = 0;  ///< material index
+    /// The foreground's share at the ray's hit, in [0, 1].
+    double share(const PatternRay& ray) const;
+};
+
+/// Every material's emitter patterns, surface functions and mixtures; null where it has none.
 class ScenePatterns {
 public:
     ScenePatterns(const Scene& scene, const Vec3& origin_offset, std::vector<Diagnostic>& warnings);
     const PatternChain* of(uint32_t material) const { return material < chains_.size() ? chains_[material].get() : nullptr; }
     const PatternChain* of(const Scene& scene, const std::string& material) const;
     const SurfaceChains* surface(uint32_t material) const { return material < surfaces_.size() ? surfaces_[material].get() : nullptr; }
+    const MixtureChain* mixture(uint32_t material) const { return material < mixtures_.size() ? mixtures_[material].get() : nullptr; }
 
 private:
     std::vector<std::unique_ptr<PatternChain>> chains_;
     std::vector<std::unique_ptr<SurfaceChains>> surfaces_;
+    std::vector<std::unique_ptr<MixtureChain>> mixtures_;
 };
 
 }  // namespace crex

@@ -340,7 +340,7 @@ RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) 
     }
     embree = std::make_unique<EmbreeScene>(s, cutouts.get());
     if (cutouts) cutouts->attach(*embree);
-    for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty() || m.surface_functions;
+    for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty() || m.surface_functions || m.mixture;
     if (any_pattern) patterns = std::make_unique<ScenePatterns>(s, embree->origin_offset(), warnings);
     lights = std::make_unique<LightSampler>(s, *embree, patterns.get());
     for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));

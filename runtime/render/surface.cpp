@@ -115,7 +115,22 @@ bool SceneCutouts::solid(uint32_t geometry, uint32_t prim, float u, float v, con
 
 const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch) {
     const GeometryInfo& g = scene.embree->geometries()[hit.geomID];
-    const uint32_t material = g.material;
+    uint32_t material = g.material;
+    if (const MixtureChain* mix = scene.patterns ? scene.patterns->mixture(material) : nullptr) {
+        // RADIANCE's mixfunc: the foreground (this material) with the coefficient's
+        // probability here, decided by the point itself so that every ray meeting it agrees.
+        PatternRay r;
+        r.direction = f.incoming;
+        r.normal = f.geometric;
+        r.point = f.position;
+        r.distance = f.distance;
+        const double share = mix->share(r);
+        if (share < 1) {
+            uint64_t h = 0x9e3779b97f4a7c15ull;
+            for (double x : {f.position.x, f.position.y, f.position.z}) h = (h ^ std::bit_cast<uint64_t>(x)) * 0xff51afd7ed558ccdull, h ^= h >> 33;
+            if (share <= 0 || static_cast<double>(h >> 11) * 0x1.0p-53 >= share) material = mix->background;
+        }
+    }
     const bool textured = scene.textures && scene.textures->textured(material);
     if (!g.vertex_normals.empty()) {
         // The mesh's shading normal, on the side the ray came from; a vertex normal that bends

@@ -25,6 +25,11 @@ Census take_census(const Scene& scene) {
         ++u.shapes;
         if (is_sampled_emitter(*m) && is_emissive(*m)) ++c.sampled_emitters;
         else if (is_emissive(*m)) ++c.unsampled_emitters;
+        // A mixture's surfaces are its background material too, where the coefficient says.
+        if (const Material* b = m->mixture ? scene.find_material(m->mixture->background) : nullptr) {
+            if (const Material* bs = shading_material(scene, *b)) u.spawns |= spawned_components(*bs);
+            if (is_emissive(*b)) ++c.unsampled_emitters;
+        }
         if (shape.tag) ++tagged[shape.tag->name];
     }
     for (const auto& l : scene.distant_lights) {

@@ -198,7 +198,7 @@ private:
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
                         "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
-                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions"});
+                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions", "mixture"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         MaterialTextures& tex = m.textures;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
@@ -278,6 +278,20 @@ private:
             if (m.type != MaterialType::kTrans) error = "only a trans takes surface functions";
             else if (surface_functions_from_json(r.at("surface_functions"), sf, error)) m.surface_functions = std::move(sf);
             if (!error.empty()) sink_.report("E303", r.span("surface_functions"), fmt::format("{}: {}", r.path("surface_functions"), error));
+        }
+        if (r.has("mixture")) {
+            // RADIANCE's mixfunc as crex writes it: {"background": material, "coefficient": pattern}.
+            const nlohmann::json& x = r.at("mixture");
+            Mixture mix;
+            std::string error;
+            if (!x.is_object() || !x.contains("background") || !x.at("background").is_string() || !x.contains("coefficient"))
+                error = "expected {\"background\": material name, \"coefficient\": pattern}";
+            else if (mix.background = x.at("background").get<std::string>(); !material_names_.count(mix.background))
+                error = fmt::format("no material named '{}' is defined before it", mix.background);
+            else if (pattern_from_json(x.at("coefficient"), mix.coefficient, error) && mix.coefficient.kind != FunctionPattern::Kind::kBrightFunc)
+                error = "the coefficient must be a brightfunc";
+            if (error.empty()) m.mixture = std::move(mix);
+            else sink_.report("E303", r.span("mixture"), fmt::format("{}: {}", r.path("mixture"), error));
         }
         if (emitter && tex.any())
             sink_.report("E307", r.span("type"), fmt::format("{}: a '{}' emitter takes constant values, not textures (give another "

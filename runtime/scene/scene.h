@@ -103,6 +103,15 @@ struct SurfaceFunctions {
     bool operator==(const SurfaceFunctions&) const = default;
 };
 
+/// RADIANCE's mixfunc: at each point, the material is its foreground (the Material holding
+/// this, a copy of it) with the probability `coefficient` gives there (clamped to [0, 1]),
+/// else `background`.
+struct Mixture {
+    std::string background;        ///< a material defined before
+    FunctionPattern coefficient;   ///< kBrightFunc: the foreground's share
+    bool operator==(const Mixture&) const = default;
+};
+
 struct Material {
     std::string name;
     MaterialType type = MaterialType::kPlastic;
@@ -141,6 +150,8 @@ struct Material {
     /// trans: its lobes' weights at each hit from functions (RADIANCE's BRTDfunc); the
     /// constants above then only say which lobes there are.
     std::optional<SurfaceFunctions> surface_functions;
+    /// A mixture: this material where the coefficient says so, `background` elsewhere.
+    std::optional<Mixture> mixture;
 };
 
 enum class ShapeType { kSphere, kPolygon, kMesh, kBox, kRing, kCone, kCylinder };

@@ -133,5 +133,24 @@ TEST_F(RadiancePatterns, ABrtdfuncsMirrorAndWindowFollowRdotOnEitherSide) {
     EXPECT_NEAR(seen("#@crex view -vtl -vp 0 0 -1 -vd 0 0 1 -vu 0 1 0 -vh .1 -vv .1\n"), 1.1, 1e-4);
 }
 
+TEST_F(RadiancePatterns, AMixfuncIsItsForegroundWhereItsCoefficientSays) {
+    // Two glows (radiance 1 and 3) mixed on a plane seen from above: the foreground where the
+    // coefficient is 1, the background where it is 0, and a share of each in between.
+    auto seen = [&](const std::string& coefficient, int size, uint32_t spp) {
+        const std::string text = "#@crex view -vtl -vp 0 0 1 -vd 0 0 -1 -vu 0 1 0 -vh 2 -vv 2\n"
+                                 "void glow one 0 0 4 1 1 1 0\nvoid glow three 0 0 4 3 3 3 0\n"
+                                 "void mixfunc both 4 one three " + coefficient + " .\n0\n0\n"
+                                 "both polygon plane 0 0 12 -5 -5 0 5 -5 0 5 5 0 -5 5 0\n";
+        return testing::render_crex(load("mix.rad", text), "", size, spp).image();
+    };
+    const int n = 8;
+    const std::vector<float> halves = seen("if(Px,1,0)", n, 1);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) EXPECT_FLOAT_EQ(halves[3 * (static_cast<size_t>(y) * n + static_cast<size_t>(x))], x < n / 2 ? 3.0f : 1.0f);
+    // A quarter foreground: 0.25 * 1 + 0.75 * 3 = 2.5 on average (each point one or the other:
+    // variance 0.75 a sample, 16 x 16 pixels x 64 samples, standard error 0.007; 4 of them).
+    EXPECT_NEAR(testing::mean_luminance(seen(".25", 16, 64)), 2.5, 0.03);
+}
+
 }  // namespace
 }  // namespace crex

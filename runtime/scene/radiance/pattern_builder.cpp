@@ -7,6 +7,7 @@
 #include <set>
 
 #include "base/input_file.h"
+#include "runtime/scene/material.h"
 
 #include "runtime/scene/radiance/calc.h"
 #include "runtime/scene/radiance/data_file.h"
@@ -273,6 +274,57 @@ std::optional<Material> SceneBuilder::brtd_function(const Definition& d, const P
     m.transmissivity = 0.5;
     m.transmitted_specular = max_component(sf.diffuse_transmit) > 0 ? 0.5 : 1.0;
     m.surface_functions = std::move(sf);
+    return m;
+}
+
+std::optional<Material> SceneBuilder::mixture(const Definition& d, const Primitive& user) {
+    // foreground background coefficient funcfile [transform]; the coefficient is the
+    // foreground's share at each point.
+    const Primitive& p = d.p;
+    if (d.modifier) {
+        refuse(d, d.p.modifier.span, user, fmt::format("mixfunc '{}' is modified by the {} '{}': crex mixes plain materials only", p.id.text,
+                                                       d.modifier->p.type.text, d.modifier->p.id.text));
+        return std::nullopt;
+    }
+    if (p.strings.size() < 4) {
+        report("E303", p.type.span, fmt::format("mixfunc '{}' needs 4 string arguments (foreground background coefficient funcfile), got {}",
+                                                p.id.text, p.strings.size()), &p);
+        return std::nullopt;
+    }
+    std::optional<std::string> parts[2];
+    for (int k = 0; k < 2; ++k) {
+        const Word& w = p.strings[static_cast<size_t>(k)];
+        if (w.text == "void") {
+            refuse(d, w.span, user, fmt::format("mixfunc '{}': a void part (a surface seen through where the mixture says so) is not "
+                                                "supported", p.id.text), "mix two materials");
+            return std::nullopt;
+        }
+        DefPtr part = lookup(w, p, k == 0 ? "the foreground material" : "the background material");
+        if (!part) return std::nullopt;
+        parts[k] = material_of(part, user);
+        if (!parts[k]) return std::nullopt;
+        const Material* m = scene_.find_material(*parts[k]);
+        if (parts[k]->empty() || !m) {
+            refuse(d, w.span, user, fmt::format("mixfunc '{}': '{}' is invisible (an illum without an alternate)", p.id.text, w.text));
+            return std::nullopt;
+        }
+        if (is_sampled_emitter(*m) || m->mixture) {
+            refuse(d, w.span, user, fmt::format("mixfunc '{}': '{}' is {}, which crex does not mix", p.id.text, w.text,
+                                                m->mixture ? "a mixture itself" : "a light source direct lighting samples"),
+                   "mix surface materials and glows of radius 0 or less");
+            return std::nullopt;
+        }
+    }
+    Mixture mix;
+    mix.background = *parts[1];
+    mix.coefficient.kind = FunctionPattern::Kind::kBrightFunc;
+    mix.coefficient.name = p.id.text;
+    mix.coefficient.args = p.reals;
+    mix.coefficient.functions = {p.strings[2].text};
+    if (!complete_functions(p, mix.coefficient, 3, {2}, {}, 4)) return std::nullopt;
+    Material m = *scene_.find_material(*parts[0]);
+    m.name = unique_material_name(p.id.text);
+    m.mixture = std::move(mix);
     return m;
 }
 

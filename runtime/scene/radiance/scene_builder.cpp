@@ -252,6 +252,7 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
                                     article(t), t, info->kind == PrimitiveKind::kPattern ? "a pattern" : "a texture"));
         return std::nullopt;
     }
+    if (t == "mixfunc") return mixture(d, user);
     if (info->kind == PrimitiveKind::kMixture) {
         const std::string needs = what_it_needs(p);
         refuse(d, user, fmt::format("{} '{}' (a mixture of materials{}) is not supported", t, p.id.text, needs.empty() ? "" : ", by " + needs),

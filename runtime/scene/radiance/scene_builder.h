@@ -83,6 +83,8 @@ private:
                             const std::vector<size_t>& names, size_t transform_at);
     /// RADIANCE's BRTDfunc as a trans with SurfaceFunctions; nullopt after a reported error.
     std::optional<Material> brtd_function(const Definition& d, const Primitive& user);
+    /// RADIANCE's mixfunc: its foreground material with a Mixture; nullopt after an error.
+    std::optional<Material> mixture(const Definition& d, const Primitive& user);
     /// The patterns modifying emitter `d`, nearest first; false after a reported refusal.
     bool patterns_of(const Definition& d, const Primitive& user, std::vector<FunctionPattern>& out);
     std::string unique_material_name(const std::string& id);
