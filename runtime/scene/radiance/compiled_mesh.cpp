@@ -67,6 +67,14 @@ public:
     // The text header: lines up to an empty one; returns its FORMAT= value.
     std::string header() {
         std::string format;
+        if (b_.empty()) {
+            fail("the file is empty");
+            return format;
+        }
+        if (b_.rfind("#?RADIANCE", 0) != 0) {
+            fail("it is not a RADIANCE file (it does not begin with '#?RADIANCE')");
+            return format;
+        }
         while (i_ < b_.size()) {
             const size_t end = b_.find('\n', i_);
             if (end == std::string::npos) break;
