@@ -8,6 +8,7 @@
 
 #include "runtime/scene/radiance/compiled_mesh.h"
 #include "runtime/scene/radiance/generators.h"
+#include "runtime/scene/radiance/primitive_types.h"
 #include "runtime/scene/radiance/scene_builder.h"
 
 namespace crex::radiance {
@@ -67,7 +68,11 @@ void SceneBuilder::mesh(const Primitive& p, const std::optional<Tag>& tag) {
                 d->p.span = file.span;
                 d->p.via = p.via;
                 std::optional<std::string> name;
-                if (o.modifier >= 0 || o.type == "alias") {
+                const PrimitiveTypeInfo* info = find_primitive_type(o.type);
+                if (!info || info->kind == PrimitiveKind::kSurface || info->kind == PrimitiveKind::kAlias) {
+                    report("E308", file.span, fmt::format("mesh '{}': the mesh's material '{}' has the type '{}', which is {}", p.id.text,
+                                                          o.name, o.type, info ? "not a material" : "not a RADIANCE type"), &p);
+                } else if (o.modifier >= 0 || o.type == "alias") {
                     report("E307", file.span, fmt::format("mesh '{}': the mesh's material '{}' has a modifier of its own, which crex does "
                                                           "not read inside compiled meshes", p.id.text, o.name), &p);
                 } else {
