@@ -103,6 +103,14 @@ void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector
         std::vector<uint8_t> through_trans(h.n, 0);
         for (size_t i = 0; i < h.n; ++i) {
             if (settled[i] || h.last[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+            const RTCRayHit& last = h.last[i];
+            const Vec3 o{last.ray.org_x, last.ray.org_y, last.ray.org_z};
+            if (illum_front(scene_, last.hit, hit_frame(*scene_.embree, last.hit, o + h.last_dir[i] * double(last.ray.tfar), h.last_dir[i],
+                                                        last.ray.tfar))) {
+                h.throughput[i] = {};  // an illum's front: direct lighting brings its light (illum_front())
+                settled[i] = 1;
+                continue;
+            }
             if (is_delta(h.last[i])) {
                 go.push_back(i);
                 continue;
@@ -197,6 +205,11 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         double dist = hit.ray.tfar;
         Vec3 origin{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z};
         HitFrame f = hit_frame(*scene_.embree, hit.hit, origin + h.last_dir[i] * dist, h.last_dir[i], dist);
+        if (illum_front(scene_, hit.hit, f)) {  // a hemisphere ray is indirect: direct lighting brought the illum's light
+            h.radiance[i] = {};
+            h.throughput[i] = {};
+            return;
+        }
         Bsdf textured;
         const Bsdf& b = surface_at(scene_, hit.hit, f, textured);
         // Through a mirror, glass or a trans surface's specular transmission, emitters are

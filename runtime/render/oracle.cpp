@@ -39,6 +39,7 @@ struct Oracle {
         Vec3 dir = normalize_or_zero(r.direction);
         double t = h.ray.tfar;
         HitFrame f = hit_frame(*scene.embree, h.hit, r.origin + r.direction * t, dir, t);
+        if (!camera && !(r.flags & kRayFromDeltaLobe) && illum_front(scene, h.hit, f)) return {};  // direct lighting's
         Bsdf textured;
         const Bsdf& b = surface_at(scene, h.hit, f, textured);
         const HitRandom random(r.path, r.depth);

@@ -356,6 +356,10 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                                     rays.flags[r],
                                     rays.path[r]};
                 HitFrame f = hit_frame(*scene.embree, h.hit, ray.origin + ray.direction * t, ray.direction, t);
+                if (!camera && !(ray.flags & kRayFromDeltaLobe) && illum_front(scene, h.hit, f)) {
+                    out.contribution[i] = {};  // direct lighting brought the illum's light
+                    continue;
+                }
                 Bsdf textured;
                 const Bsdf& b = surface_at(scene, h.hit, f, textured);
                 const HitRandom random(ray.path, ray.depth);

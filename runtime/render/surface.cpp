@@ -113,6 +113,11 @@ bool SceneCutouts::solid(uint32_t geometry, uint32_t prim, float u, float v, con
     return xi < opacity;
 }
 
+bool illum_front(const RenderScene& scene, const RTCHit& hit, const HitFrame& f) {
+    const GeometryInfo& g = scene.embree->geometries()[hit.geomID];
+    return f.front && g.emitter != g.material && scene.scene.materials[g.emitter].type == MaterialType::kIllum;
+}
+
 const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch) {
     const GeometryInfo& g = scene.embree->geometries()[hit.geomID];
     uint32_t material = g.material;

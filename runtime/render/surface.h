@@ -58,4 +58,12 @@ private:
 /// the material's prepared one, or one made in `scratch` from its textures' values there.
 const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch);
 
+/// True when `hit` is on the front of an illum (seen as its alternate material). Direct
+/// lighting already brings its light, so rays other than camera rays and rays from ideal
+/// specular lobes (diffuse and glossy bounces, the cache's hemisphere rays) must take
+/// nothing from there and end, as RADIANCE discards them (source.c's badcomponent) and as
+/// crex treats a `light`; only the others see the alternate. Without this the window of a
+/// mkillum scene lit the room twice: as an illum, and as the sky through its glass.
+bool illum_front(const RenderScene& scene, const RTCHit& hit, const HitFrame& f);
+
 }  // namespace crex

@@ -156,6 +156,23 @@ TEST(RadianceLights, AnIllumLightsLikeALampAndShowsItsAlternate) {
     EXPECT_EQ(r.scene->find_material("window")->alternate, "pane");
 }
 
+TEST(RadianceLights, AnIllumWindowLightsOnceNotAgainThroughItsGlass) {
+    // The same illum window under a sky of radiance 1 (a distant glow over the upper
+    // hemisphere), rendered with one diffuse bounce and then a transmission: the floor gets
+    // the illum's irradiance and the sky's except where the window hides it (shadow rays
+    // stop at its glass). A bounce meeting the window from the front takes nothing (RADIANCE
+    // discards it: the illum is the window's light); going on through the glass to the sky,
+    // as it did, counted the window twice, 0.9 x 0.35 more here.
+    const std::string lights = "void glass pane 0 0 3 .9 .9 .9\nvoid illum window 1 pane 0 3 3 3 3\n"
+                               "window polygon w 0 0 12 -.5 -.5 1.5 -.5 .5 1.5 .5 .5 1.5 .5 -.5 1.5\n"
+                               "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n";
+    const double window = testing::irradiance_under_square(1, 0.5, 1.5);
+    const double expected = testing::irradiance_under_square(3, 0.5, 1.5) + (kPi - window);
+    Scene s = load(floor_scene(0.5, lights));
+    RunResult r = testing::render_crex(s, "DT", 16, 16, 0, 16);
+    EXPECT_NEAR(testing::mean_luminance(r.image()) * kPi / 0.5 / expected, 1.0, 0.02);
+}
+
 TEST(RadianceViews, EachProjectionMapsTheImageAsRadianceDefinesIt) {
     // Looking down -z, right is +x. At the middle of the right edge of an image whose field
     // across is 180 degrees, every fisheye looks 90 degrees off the axis; the cylinder of 360
