@@ -5,8 +5,6 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "runtime/scene/material.h"
 #include "runtime/scene/radiance/calc.h"
@@ -204,18 +202,11 @@ bool SceneBuilder::orientation(const Definition& d, Vec3& out) {
     }
     calc::Program program;
     const Word& file = p.strings[3];
-    if (file.text != ".") {
-        std::string dir = file.span.file ? std::filesystem::path(file.span.file->name()).parent_path().string() : "";
-        std::string path = find_file(file.text, dir, library_dirs_);
-        std::ifstream in(path);
-        std::stringstream text;
-        calc::Error e;
-        if (path.empty() || !in || !(text << in.rdbuf(), program.define(text.str(), e))) {
-            report(path.empty() || !in ? "E308" : "E302", file.span,
-                   path.empty() || !in ? fmt::format("cannot read the function file '{}'", file.text)
-                                       : fmt::format("function file '{}': {}", file.text, e.message), &p);
-            return false;
-        }
+    std::optional<std::string> text = function_file_text(file, p);
+    if (!text) return false;
+    if (calc::Error e; !program.define(*text, e)) {
+        report("E302", file.span, fmt::format("function file '{}': {}", file.text, e.message), &p);
+        return false;
     }
     double u[3];
     for (int k = 0; k < 3; ++k) {
