@@ -38,6 +38,7 @@ namespace {
 struct RayValues {
     double D[3], N[3], P[3], T, Rdot, S, origin[3], I[3], J[3], K[3];
     double NP[3], RdotP;  // the normal turned towards the ray, and its cosine (BRTDfunc's)
+    double Lu, Lv;        // a mesh's texture coordinates
 };
 
 std::optional<double> ray_variable(const RayValues& r, const std::string& n) {
@@ -60,6 +61,8 @@ std::optional<double> ray_variable(const RayValues& r, const std::string& n) {
         if (axis >= 0) return r.NP[axis];
     }
     if (n == "RdotP") return r.RdotP;
+    if (n == "Lu") return r.Lu;
+    if (n == "Lv") return r.Lv;
     if (n == "CrP" || n == "CgP" || n == "CbP") return 1.0;  // no pattern colours a BRTDfunc here
     if (n == "T") return r.T;
     if (n == "S") return r.S;
@@ -81,6 +84,7 @@ RayValues ray_values(const PatternChain::Compiled& c, const PatternRay& ray, con
     v.T = ray.distance * s;
     v.Rdot = std::clamp(-dot(ray.direction, ray.normal), -1.0, 1.0);
     v.RdotP = std::fabs(v.Rdot);
+    v.Lu = ray.u, v.Lv = ray.v;
     for (int k = 0; k < 3; ++k) v.NP[k] = v.Rdot < 0 ? -v.N[k] : v.N[k];
     v.S = s;
     for (int k = 0; k < 3; ++k) {
@@ -192,6 +196,9 @@ PatternChain::PatternChain(const std::vector<FunctionPattern>& patterns, const V
             table_[static_cast<size_t>(y) * static_cast<size_t>(table_w_) + static_cast<size_t>(x)] = evaluate(r);
         }
     });
+    // Lookups read the table only: a sky picture's three channels in doubles (384 MB for a
+    // 4096 x 4096 photograph) need not outlive it.
+    for (auto& c : patterns_) std::vector<DataTable>().swap(c->tables);
 }
 
 PatternChain::~PatternChain() = default;

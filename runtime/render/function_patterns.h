@@ -23,6 +23,7 @@ struct PatternRay {
     Vec3 point;      ///< where it meets the emitter (local coordinates: world = local + offset)
     double distance = 0;   ///< how far the ray travelled to it
     bool distant = false;  ///< a distant source: no point (RADIANCE gives P = 0 there)
+    double u = 0, v = 0;   ///< a mesh's texture coordinates there (RADIANCE's Lu, Lv)
 };
 
 /// One material's patterns, multiplied together.

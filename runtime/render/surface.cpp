@@ -157,6 +157,20 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
         sc->apply(r, scratch);
         return scratch;
     }
+    if (const PatternChain* pc = scene.patterns && !scene.bsdfs[material].emits ? scene.patterns->of(material) : nullptr) {
+        // RADIANCE's patterns on a surface material: its colour times theirs here.
+        PatternRay r;
+        r.direction = f.incoming;
+        r.normal = f.geometric;
+        r.point = f.position;
+        r.distance = f.distance;
+        if (!g.sphere && !g.uvs.empty()) interpolate_uv(g, g.indices[hit.primID], hit.u, hit.v, r.u, r.v);
+        const Material& m = scene.scene.materials[material];
+        MaterialValues values = constant_values(m);
+        values.color = values.color * pc->value(r);
+        scratch = Bsdf::of(m, values);
+        return scratch;
+    }
     if (!textured) return scene.bsdfs[material];
     SurfacePoint p;
     p.position = f.position + scene.embree->origin_offset();

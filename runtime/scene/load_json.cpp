@@ -264,7 +264,9 @@ private:
             const nlohmann::json& a = r.at("patterns");
             std::string error;
             if (!a.is_array()) error = "expected an array of patterns";
-            else if (!emitter) error = "only a light, glow or illum takes patterns";
+            else if (!emitter && m.type != MaterialType::kPlastic && m.type != MaterialType::kMetal && m.type != MaterialType::kTrans &&
+                     m.type != MaterialType::kMirror)
+                error = "only a light, glow, illum, plastic, metal, trans or mirror takes patterns";
             for (size_t k = 0; error.empty() && k < a.size(); ++k) {
                 FunctionPattern f;
                 if (pattern_from_json(a[k], f, error)) m.patterns.push_back(std::move(f));

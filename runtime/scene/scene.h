@@ -144,8 +144,9 @@ struct Material {
     AlphaMode alpha_mode = AlphaMode::kMask;
     double alpha_cutoff = 0.5;
     MaterialTextures textures;  ///< parameters taken from images instead of the constants above
-    /// light, glow, illum: factors of the emitted radiance, multiplied in order (RADIANCE's
-    /// patterns modifying an emitter, the nearest first).
+    /// Factors multiplied in order (RADIANCE's patterns modifying the material, the nearest
+    /// first): of the emitted radiance for light, glow and illum; of the colour at each hit
+    /// for plastic, metal, trans and mirror.
     std::vector<FunctionPattern> patterns;
     /// trans: its lobes' weights at each hit from functions (RADIANCE's BRTDfunc); the
     /// constants above then only say which lobes there are.

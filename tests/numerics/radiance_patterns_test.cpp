@@ -152,5 +152,30 @@ TEST_F(RadiancePatterns, AMixfuncIsItsForegroundWhereItsCoefficientSays) {
     EXPECT_NEAR(testing::mean_luminance(seen(".25", 16, 64)), 2.5, 0.03);
 }
 
+TEST_F(RadiancePatterns, APatternOnASurfaceScalesItsColourWhereItSays) {
+    // A grey plastic (0.5) under a sky of radiance 1 reflects 0.5; a colorfunc of the hit point
+    // makes it a quarter of that where x < 0. The same on a compiled mesh by its texture
+    // coordinates (Lu: quad.rtm's u is its x, the mesh scaled to [-1, 1]).
+    auto halves = [&](const std::string& surface) {
+        const std::string text = "#@crex view -vtl -vp 0 0 1 -vd 0 0 -1 -vu 0 1 0 -vh 2 -vv 2\n"
+                                 "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n" + surface;
+        const int n = 8;
+        const std::vector<float> img = testing::render_crex(load("s.rad", text), "", n, 16, 0, 16).image();
+        double left = 0, right = 0;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) (x < n / 2 ? left : right) += img[3 * (static_cast<size_t>(y) * n + static_cast<size_t>(x)) + 1];
+        return std::pair{left / (n * n / 2), right / (n * n / 2)};
+    };
+    auto [l1, r1] = halves("void colorfunc pat 4 if(Px,1,.25) if(Px,1,.25) if(Px,1,.25) .\n0\n0\n"
+                           "pat plastic grey 0 0 5 .5 .5 .5 0 0\ngrey polygon floor 0 0 12 -5 -5 0 5 -5 0 5 5 0 -5 5 0\n");
+    EXPECT_NEAR(r1, 0.5, 0.01);
+    EXPECT_NEAR(l1, 0.125, 0.0025);
+    const std::string quad = std::string(CREX_SOURCE_DIR) + "/tests/data/radiance/quad.rtm";
+    auto [l2, r2] = halves("void colorfunc pat 4 if(Lu-.5,1,.25) if(Lu-.5,1,.25) if(Lu-.5,1,.25) .\n0\n0\n"
+                           "pat plastic grey 0 0 5 .5 .5 .5 0 0\ngrey mesh m 7 " + quad + " -t -.5 -.5 0 -s 2\n0\n0\n");
+    EXPECT_NEAR(r2, 0.5, 0.01);
+    EXPECT_NEAR(l2, 0.125, 0.0025);
+}
+
 }  // namespace
 }  // namespace crex

@@ -23,7 +23,7 @@ namespace {
 const std::set<std::string>& ray_variables() {
     static const std::set<std::string> v{"Dx", "Dy", "Dz", "Nx", "Ny", "Nz", "Px", "Py", "Pz", "T", "Ts", "Rdot", "S", "Tx", "Ty",
                                          "Tz", "Ix", "Iy", "Iz", "Jx", "Jy", "Jz", "Kx", "Ky", "Kz", "NxP", "NyP", "NzP", "RdotP",
-                                         "CrP", "CgP", "CbP"};
+                                         "CrP", "CgP", "CbP", "Lu", "Lv"};
     return v;
 }
 
@@ -214,8 +214,8 @@ bool SceneBuilder::patterns_of(const Definition& d, const Primitive& user, std::
     // evaluates.
     for (const Definition* m = d.modifier.get(); m; m = m->modifier.get()) {
         if (!is_emitter_pattern(m->p.type.text)) {
-            refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by the {} '{}': on a light source crex evaluates the "
-                                        "patterns brightfunc, colorfunc, brightdata, colordata and colorpict only",
+            refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by the {} '{}': crex evaluates the patterns "
+                                        "brightfunc, colorfunc, brightdata, colordata and colorpict only",
                                         d.p.type.text, d.p.id.text, m->p.type.text, m->p.id.text));
             return false;
         }

@@ -250,9 +250,12 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
                "give the surface one of the materials the mixture blends");
         return std::nullopt;
     }
+    // Patterns scale an emitter's radiance, or the colour of a material that reflects or
+    // transmits by its colour.
     const bool emits = t == "light" || t == "glow" || t == "illum" || t == "spotlight";
+    const bool coloured = t == "plastic" || t == "metal" || t == "trans" || t == "plastic2" || t == "metal2" || t == "trans2" || t == "mirror";
     std::vector<FunctionPattern> patterns;
-    if (d.modifier && emits && is_emitter_pattern(d.modifier->p.type.text)) {
+    if (d.modifier && (emits || coloured) && is_emitter_pattern(d.modifier->p.type.text)) {
         if (!patterns_of(d, user, patterns)) return std::nullopt;
     } else if (d.modifier) {
         const Definition& m = *d.modifier;
@@ -290,6 +293,7 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
     };
     Material m;
     m.name = unique_material_name(p.id.text);
+    m.patterns = patterns;
     if (t == "plastic" || t == "metal" || t == "trans") {
         no_strings();
         if (!counts({t == "trans" ? 7u : 5u}) || !colour(m, false) || !in_range(3, 0, 1, "specularity") || !in_range(4, 0, 1, "roughness"))
@@ -377,7 +381,6 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         if (t != "illum") no_strings();
         if (!counts({t == "glow" ? 4u : t == "spotlight" ? 7u : 3u}) || !colour(m, true)) return std::nullopt;
         m.type = t == "glow" ? MaterialType::kGlow : t == "illum" ? MaterialType::kIllum : MaterialType::kLight;
-        m.patterns = std::move(patterns);
         if (t == "glow") m.glow_radius = r[3];  // negative: never lights the scene
         if (t == "spotlight") {
             Spot s;
