@@ -91,9 +91,17 @@ bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::strin
             for (const auto& aj : tj.at("axes")) {
                 DataTable::Axis a;
                 if (!aj.is_object()) return error = "a table's axis must be an object", false;
-                a.origin = aj.value("origin", 0.0);
-                a.size = aj.value("size", 1.0);
-                a.count = aj.value("count", 0);
+                auto number = [&](const char* key, double fallback) {
+                    const nlohmann::json* v = aj.contains(key) ? &aj.at(key) : nullptr;
+                    return v && v->is_number() ? v->get<double>() : fallback;
+                };
+                a.origin = number("origin", 0.0);
+                a.size = number("size", 1.0);
+                // A count read as a double first: a huge or fractional one must not reach an int.
+                const double count = number("count", 0.0);
+                if (!(count >= 2 && count <= (1 << 24) && count == std::floor(count)))
+                    return error = "a table's axis needs a whole 'count' from 2 to 2^24", false;
+                a.count = static_cast<int>(count);
                 if (!numbers(aj, "points", a.points, error)) return false;
                 t.axes.push_back(std::move(a));
             }
