@@ -93,7 +93,7 @@ run_fuzz() {
   rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
-  for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad tests/fuzz/radiance_seed.rad; do
+  for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad tests/fuzz/radiance_seed.rad tests/fuzz/radiance_patterns_seed.rad; do
     [ -f "$f" ] && cp "$f" "build/fuzz/corpus/scene/$(echo "$f" | tr '/' '_')"
   done
   printf 'materials = basic.mat\nscene = room.rad "!xform -n a -a 3 -t 1 0 0 chair.rad"\nview = def -vf inside.vf -vh 60\n' \
