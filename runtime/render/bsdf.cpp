@@ -280,12 +280,7 @@ Vec3 emitted(const Bsdf& b, const HitFrame& f, bool camera_or_delta, bool /*came
     // A light or glow's radiance times its patterns for this ray.
     auto patterned = [&](const Vec3& radiance) {
         if (!b.patterns) return radiance;
-        PatternRay r;
-        r.direction = f.incoming;
-        r.normal = f.geometric;
-        r.point = f.position;
-        r.distance = f.distance;
-        return radiance * b.patterns->value(r);
+        return radiance * b.patterns->value(pattern_ray_at(f));
     };
     if (m.type == MaterialType::kLight && f.front && camera_or_delta) {
         const bool in_cone = !m.spot || -dot(f.incoming, normalize_or_zero(m.spot->direction)) >=

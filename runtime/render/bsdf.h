@@ -121,6 +121,17 @@ int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, doubl
 /// Sum over the non-delta lobes of BRDF x |cos| for light arriving from unit direction `wi`.
 Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi);
 
+/// The ray meeting a surface as patterns see it: along `incoming`, the surface's geometric
+/// normal (unflipped), the hit point and distance.
+inline PatternRay pattern_ray_at(const HitFrame& f) {
+    PatternRay r;
+    r.direction = f.incoming;
+    r.normal = f.geometric;
+    r.point = f.position;
+    r.distance = f.distance;
+    return r;
+}
+
 /// Emission seen by a ray. `camera_or_delta`: a camera ray or a ray from a delta lobe.
 Vec3 emitted(const Bsdf& b, const HitFrame& f, bool camera_or_delta, bool camera);
 

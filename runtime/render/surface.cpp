@@ -124,11 +124,7 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     if (const MixtureChain* mix = scene.patterns ? scene.patterns->mixture(material) : nullptr) {
         // RADIANCE's mixfunc: the foreground (this material) with the coefficient's
         // probability here, decided by the point itself so that every ray meeting it agrees.
-        PatternRay r;
-        r.direction = f.incoming;
-        r.normal = f.geometric;
-        r.point = f.position;
-        r.distance = f.distance;
+        PatternRay r = pattern_ray_at(f);
         const double share = mix->share(r);
         if (share < 1) {
             uint64_t h = 0x9e3779b97f4a7c15ull;
@@ -149,21 +145,13 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     if (const SurfaceChains* sc = scene.patterns ? scene.patterns->surface(material) : nullptr) {
         // RADIANCE's BRTDfunc: its lobes' weights are functions of this ray.
         scratch = scene.bsdfs[material];
-        PatternRay r;
-        r.direction = f.incoming;
-        r.normal = f.geometric;
-        r.point = f.position;
-        r.distance = f.distance;
+        PatternRay r = pattern_ray_at(f);
         sc->apply(r, scratch);
         return scratch;
     }
     if (const PatternChain* pc = scene.patterns && !scene.bsdfs[material].emits ? scene.patterns->of(material) : nullptr) {
         // RADIANCE's patterns on a surface material: its colour times theirs here.
-        PatternRay r;
-        r.direction = f.incoming;
-        r.normal = f.geometric;
-        r.point = f.position;
-        r.distance = f.distance;
+        PatternRay r = pattern_ray_at(f);
         if (!g.sphere && !g.uvs.empty()) interpolate_uv(g, g.indices[hit.primID], hit.u, hit.v, r.u, r.v);
         const Material& m = scene.scene.materials[material];
         MaterialValues values = constant_values(m);

@@ -3,7 +3,6 @@
 // RADIANCE renders it).
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <map>
 
 #include "runtime/scene/radiance/compiled_mesh.h"
@@ -19,8 +18,7 @@ void SceneBuilder::mesh(const Primitive& p, const std::optional<Tag>& tag) {
         return;
     }
     const Word& file = p.strings[0];
-    const std::string dir = file.span.file ? std::filesystem::path(file.span.file->name()).parent_path().string() : "";
-    const std::string path = find_file(file.text, dir, library_dirs_);
+    const std::string path = find_named_file(file);
     auto cached = meshes_.find(path);
     if (cached == meshes_.end()) {
         auto m = std::make_shared<CompiledMesh>();

@@ -46,10 +46,14 @@ bool SceneBuilder::is_emitter_pattern(const std::string& type) {
     return type == "brightfunc" || type == "colorfunc" || type == "brightdata" || type == "colordata" || type == "colorpict";
 }
 
+std::string SceneBuilder::find_named_file(const Word& name) const {
+    const std::string dir = name.span.file ? std::filesystem::path(name.span.file->name()).parent_path().string() : "";
+    return find_file(name.text, dir, library_dirs_);
+}
+
 std::optional<std::string> SceneBuilder::function_file_text(const Word& file, const Primitive& p) {
     if (file.text == ".") return std::string();
-    const std::string dir = file.span.file ? std::filesystem::path(file.span.file->name()).parent_path().string() : "";
-    const std::string path = find_file(file.text, dir, library_dirs_);
+    const std::string path = find_named_file(file);
     bool ok = false;
     std::string text = path.empty() ? std::string() : read_text(path, ok);
     if (!ok) {
@@ -84,8 +88,7 @@ std::optional<FunctionPattern> SceneBuilder::pattern_of(const Definition& d) {
 
     for (size_t i = 0; i < data_files; ++i) {
         const Word& w = p.strings[functions + i];
-        const std::string dir = w.span.file ? std::filesystem::path(w.span.file->name()).parent_path().string() : "";
-        const std::string path = find_file(w.text, dir, library_dirs_);
+        const std::string path = find_named_file(w);
         bool ok = false;
         const std::string text = path.empty() ? std::string() : read_text(path, ok);
         if (!ok) {
@@ -108,8 +111,7 @@ std::optional<FunctionPattern> SceneBuilder::pattern_of(const Definition& d) {
     }
     if (pictures) {
         const Word& w = p.strings[functions];
-        const std::string dir = w.span.file ? std::filesystem::path(w.span.file->name()).parent_path().string() : "";
-        out.picture = find_file(w.text, dir, library_dirs_);
+        out.picture = find_named_file(w);
         if (out.picture.empty()) {
             report("E308", w.span, fmt::format("{} '{}': cannot find the picture '{}'", t, p.id.text, w.text), &p).help =
                 "it is looked for next to the file that names it, then in the RAYPATH directories";

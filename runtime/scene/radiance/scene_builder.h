@@ -76,6 +76,9 @@ private:
     /// The text of the function file `file` names ("" for "."): next to the file that names
     /// it, on RAYPATH, else crex's built-in copy; nullopt after a reported error.
     std::optional<std::string> function_file_text(const Word& file, const Primitive& p);
+    /// Where the file `name` names is: next to the file it is written in, then on RAYPATH
+    /// ("" when neither has it).
+    std::string find_named_file(const Word& name) const;
     std::optional<FunctionPattern> pattern_of(const Definition& d);
     /// Reads the function file at string `file_at` into `out`, checks the expressions at
     /// `expressions` and the function names at `names`, and the transform from `transform_at`.
