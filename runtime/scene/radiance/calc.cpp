@@ -9,6 +9,8 @@
 #include <set>
 #include <span>
 
+#include "runtime/scene/radiance/noise.h"
+
 namespace crex::radiance::calc {
 
 // The library: functions whose arguments are all numbers (evaluated before the call), by
@@ -285,6 +287,15 @@ const LibraryFunction kLibrary[] = {
     {"erf", 1, [](std::span<const double> a) { return std::erf(a[0]); }},
     {"erfc", 1, [](std::span<const double> a) { return std::erfc(a[0]); }},
     {"rand", 1, [](std::span<const double> a) { return deterministic_rand(a[0]); }},
+    // RADIANCE's noise functions (noise.h); noise3a/b/c are rayinit.cal's other names.
+    {"noise3", 3, [](std::span<const double> a) { return noise3(a[0], a[1], a[2]); }},
+    {"noise3x", 3, [](std::span<const double> a) { return noise3_partial(a[0], a[1], a[2], 0); }},
+    {"noise3y", 3, [](std::span<const double> a) { return noise3_partial(a[0], a[1], a[2], 1); }},
+    {"noise3z", 3, [](std::span<const double> a) { return noise3_partial(a[0], a[1], a[2], 2); }},
+    {"noise3a", 3, [](std::span<const double> a) { return noise3_partial(a[0], a[1], a[2], 0); }},
+    {"noise3b", 3, [](std::span<const double> a) { return noise3_partial(a[0], a[1], a[2], 1); }},
+    {"noise3c", 3, [](std::span<const double> a) { return noise3_partial(a[0], a[1], a[2], 2); }},
+    {"fnoise3", 3, [](std::span<const double> a) { return fnoise3(a[0], a[1], a[2]); }},
     {"min", -1, [](std::span<const double> a) {
          double r = a[0];
          for (double x : a) r = std::fmin(r, x);

@@ -404,10 +404,10 @@ TEST(RadianceCalc, ExpressionsFunctionsAndTheLibrary) {
     EXPECT_DOUBLE_EQ(eval("select(2, 10, 20, 30) + max(1, 5, 3) + abs(-2) + mod(7, 3)"), 28);
     EXPECT_NEAR(eval("Acos(2) + PI/DEGREE"), 180, 1e-9);
     radiance::calc::Error err;
-    auto unknown = p.parse("noise3(1, 2, 3)", err);
+    auto unknown = p.parse("wobble3(1, 2, 3)", err);
     ASSERT_TRUE(unknown);
     EXPECT_FALSE(p.evaluate(*unknown, {}, err));
-    EXPECT_NE(err.message.find("unknown function 'noise3'"), std::string::npos) << err.message;
+    EXPECT_NE(err.message.find("unknown function 'wobble3'"), std::string::npos) << err.message;
     radiance::calc::Error deep;
     EXPECT_FALSE(p.parse(std::string(5000, '(') + "1" + std::string(5000, ')'), deep));
 }
