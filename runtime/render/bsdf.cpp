@@ -44,6 +44,12 @@ Bsdf Bsdf::of(const Material& m, const MaterialValues& v) {
     }
     b.direct_response = positive(b.diffuse) || positive(b.diffuse_transmit) || b.glossy;
     b.lambertian = !b.glossy && !positive(b.diffuse_transmit);
+    if (const auto& df = m.directional) {
+        b.direct_diffuse = df->diffuse_reflect, b.direct_diffuse_transmit = df->diffuse_transmit;
+        b.directional_reflect = df->reflect, b.directional_transmit = df->transmit;
+        b.direct_response = true;
+        b.lambertian = false;
+    }
     return b;
 }
 
@@ -179,7 +185,8 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             Vec3 dir = sample_cosine(-nrm, u1, u2);
             out[n++] = {Component::kD, dir, b.diffuse_transmit, true, false};
         }
-        if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true};
+        if (b.redirect) n = b.redirect->lobes(pattern_ray_at(f), f.normal, out.data(), n, kMaxLobes);
+        else if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true};
         break;
     }
     case MaterialType::kGlass: {
@@ -260,6 +267,19 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
     // reaches neither side.
     if (f.shading != f.normal && (c > 0) != (dot(wi, f.normal) > 0)) return {};
     Vec3 out;
+    if (b.directional) {
+        // The function's value for this light (finite, >= 0); RADIANCE's dirbrdf.
+        PatternRay r = pattern_ray_at(f);
+        r.light = wi;
+        const bool front = c > 0;
+        if (c == 0 || (front ? !positive(b.direct_diffuse) && !positive(b.directional_reflect)
+                             : !positive(b.direct_diffuse_transmit) && !positive(b.directional_transmit)))
+            return {};
+        const double shape = b.directional->value(r).x;
+        const double cos = std::fabs(c);
+        return front ? (b.direct_diffuse * kInvPi + b.directional_reflect * shape) * cos
+                     : (b.direct_diffuse_transmit * kInvPi + b.directional_transmit * shape) * cos;
+    }
     if (c > 0) {
         out += b.diffuse * (c * kInvPi);
         if (b.glossy && b.anisotropic) {

@@ -86,6 +86,13 @@ struct Bsdf {
     bool direct_response = false;  ///< a lobe that direct lighting can reach
     bool emits = false;            ///< light, glow, or an emission of its own
     bool lambertian = false;       ///< direct light reaches the D reflection lobe only
+    /// RADIANCE's plasfunc, metfunc, transfunc (scene.h's DirectionalFunction): direct light's
+    /// response is diffuse parts of their own plus this function of the light's direction,
+    /// weighted in front and behind.
+    const PatternChain* directional = nullptr;
+    /// RADIANCE's prism1, prism2: the T lobe goes where these say (RedirectChains).
+    const RedirectChains* redirect = nullptr;
+    Vec3 direct_diffuse, direct_diffuse_transmit, directional_reflect, directional_transmit;
 
     static Bsdf of(const Material& m) { return of(m, constant_values(m)); }
     /// With the material's parameters at a point (its textures' values there).
@@ -106,6 +113,7 @@ inline bool is_delta_material(MaterialType t) {
 /// surface passes through its specular transmission: that lobe's share of the surface's lobe
 /// weights (0 for other surfaces). The rest of the time the path ends there.
 inline double transmission_share(const Bsdf& b) {
+    if (b.redirect) return 0;  // a prism's rays are not undeviated: single paths end there
     const double t = max_component(b.specular_transmit);
     if (!(t > 0)) return 0;
     const double rest = max_component(b.diffuse) + max_component(b.diffuse_transmit) + (b.glossy || b.mirror_like ? max_component(b.specular) : 0);

@@ -39,6 +39,7 @@ struct RayValues {
     double D[3], N[3], P[3], T, Rdot, S, origin[3], I[3], J[3], K[3];
     double NP[3], RdotP;  // the normal turned towards the ray, and its cosine (BRTDfunc's)
     double Lu, Lv;        // a mesh's texture coordinates
+    double L[3];          // a directional function's light direction
 };
 
 std::optional<double> ray_variable(const RayValues& r, const std::string& n) {
@@ -62,6 +63,11 @@ std::optional<double> ray_variable(const RayValues& r, const std::string& n) {
     }
     if (n == "RdotP") return r.RdotP;
     if (n == "Lu") return r.Lu;
+    if (n == "DxA" || n == "DyA" || n == "DzA") return 0.0;  // RADIANCE's virtual-source direction: none here
+    if (n.size() == 7 && n[0] == 'L' && n.compare(2, 5, "_crex") == 0) {
+        const int axis = n[1] == 'x' ? 0 : n[1] == 'y' ? 1 : n[1] == 'z' ? 2 : -1;
+        if (axis >= 0) return r.L[axis];
+    }
     if (n == "Lv") return r.Lv;
     if (n == "CrP" || n == "CgP" || n == "CbP") return 1.0;  // no pattern colours a BRTDfunc here
     if (n == "T") return r.T;
@@ -79,6 +85,7 @@ RayValues ray_values(const PatternChain::Compiled& c, const PatternRay& ray, con
     };
     rotate(ray.direction, v.D);
     rotate(ray.normal, v.N);
+    rotate(ray.light, v.L);
     for (int k = 0; k < 3; ++k)
         v.P[k] = ray.distant ? 0.0 : m[4 * k] * world_point.x + m[4 * k + 1] * world_point.y + m[4 * k + 2] * world_point.z + m[4 * k + 3];
     v.T = ray.distance * s;
@@ -281,6 +288,8 @@ ScenePatterns::ScenePatterns(const Scene& scene, const Vec3& origin_offset, std:
     chains_.resize(scene.materials.size());
     surfaces_.resize(scene.materials.size());
     mixtures_.resize(scene.materials.size());
+    directionals_.resize(scene.materials.size());
+    redirects_.resize(scene.materials.size());
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const Material& m = scene.materials[i];
         if (!m.patterns.empty()) chains_[i] = std::make_unique<PatternChain>(m.patterns, origin_offset, warnings);
@@ -292,6 +301,15 @@ ScenePatterns::ScenePatterns(const Scene& scene, const Vec3& origin_offset, std:
                 std::make_unique<PatternChain>(std::vector<FunctionPattern>{m.surface_functions->transmission}, origin_offset, warnings);
             surfaces_[i] = std::move(s);
         }
+        if (!m.redirections.empty()) {
+            auto r = std::make_unique<RedirectChains>();
+            for (const Redirection& x : m.redirections)
+                r->parts.push_back({std::make_unique<PatternChain>(std::vector<FunctionPattern>{x.coefficient}, origin_offset, warnings),
+                                    std::make_unique<PatternChain>(std::vector<FunctionPattern>{x.direction}, origin_offset, warnings)});
+            redirects_[i] = std::move(r);
+        }
+        if (m.directional)
+            directionals_[i] = std::make_unique<PatternChain>(std::vector<FunctionPattern>{m.directional->shape}, origin_offset, warnings);
         if (m.mixture) {
             auto x = std::make_unique<MixtureChain>();
             x->coefficient = std::make_unique<PatternChain>(std::vector<FunctionPattern>{m.mixture->coefficient}, origin_offset, warnings);
@@ -300,6 +318,46 @@ ScenePatterns::ScenePatterns(const Scene& scene, const Vec3& origin_offset, std:
             mixtures_[i] = std::move(x);
         }
     }
+}
+
+std::optional<Vec3> PatternChain::raw(const PatternRay& ray) const {
+    if (patterns_.empty() || patterns_[0]->functions.empty()) return std::nullopt;
+    const Compiled& c = *patterns_[0];
+    const RayValues rv = ray_values(c, ray, ray.point + offset_);
+    calc::Environment env;
+    env.args = c.args;
+    env.variable = [&](const std::string& n) { return ray_variable(rv, n); };
+    calc::Error e;
+    double out[3];
+    for (size_t i = 0; i < 3; ++i) {
+        std::optional<double> v = c.program.evaluate(*c.functions[std::min(i, c.functions.size() - 1)], env, e);
+        if (!v || !std::isfinite(*v)) return std::nullopt;
+        out[i] = *v;
+    }
+    return Vec3{out[0], out[1], out[2]};
+}
+
+Vec3 PatternChain::direction_to_world(const Vec3& v) const {
+    if (patterns_.empty()) return v;
+    // The rows of `m` are the pattern's axes in world coordinates over scale^2.
+    const auto& m = patterns_[0]->m;
+    Vec3 w;
+    for (int k = 0; k < 3; ++k) w += Vec3{m[4 * k], m[4 * k + 1], m[4 * k + 2]} * (k == 0 ? v.x : k == 1 ? v.y : v.z);
+    return w;
+}
+
+int RedirectChains::lobes(const PatternRay& ray, const Vec3& side, Lobe* out, int n, int max) const {
+    for (const Part& p : parts) {
+        if (n >= max) break;
+        const std::optional<Vec3> coefficient = p.coefficient->raw(ray);
+        const std::optional<Vec3> direction = p.direction->raw(ray);
+        if (!coefficient || !direction || !(coefficient->x > 0)) continue;
+        const Vec3 dir = normalize_or_zero(p.direction->direction_to_world(*direction));
+        if (dir == Vec3{} || dot(dir, side) == 0) continue;
+        const double w = std::fmin(coefficient->x, 1e6);  // a runaway expression must not blow up the image
+        out[n++] = {Component::kT, dir, {w, w, w}, dot(dir, side) < 0, true};
+    }
+    return n;
 }
 
 double MixtureChain::share(const PatternRay& ray) const { return std::clamp(coefficient->value(ray).x, 0.0, 1.0); }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "base/diagnostic.h"
@@ -24,6 +25,7 @@ struct PatternRay {
     double distance = 0;   ///< how far the ray travelled to it
     bool distant = false;  ///< a distant source: no point (RADIANCE gives P = 0 there)
     double u = 0, v = 0;   ///< a mesh's texture coordinates there (RADIANCE's Lu, Lv)
+    Vec3 light;            ///< a directional function's light direction (unit, towards the light)
 };
 
 /// One material's patterns, multiplied together.
@@ -40,6 +42,11 @@ public:
     /// Its mean luminance over the directions leaving a surface of normal `n` into its front
     /// side, cosine-weighted (what a power estimate scales by), at `point`.
     double mean_over_hemisphere(const Vec3& n, const Vec3& point) const;
+    /// The first pattern's values as its expressions give them (not clamped, never tabulated),
+    /// for functions that are no factor (a prism's direction); nullopt where one fails.
+    std::optional<Vec3> raw(const PatternRay& ray) const;
+    /// A direction in the first pattern's coordinates, in the renderer's (not normalised).
+    Vec3 direction_to_world(const Vec3& v) const;
 
     struct Compiled;
 
@@ -64,6 +71,19 @@ struct SurfaceChains {
     void apply(const PatternRay& ray, Bsdf& b) const;
 };
 
+struct Lobe;
+
+/// A prism (scene.h's Redirections) compiled: where the rays meeting it go on.
+struct RedirectChains {
+    struct Part {
+        std::unique_ptr<PatternChain> coefficient, direction;
+    };
+    std::vector<Part> parts;
+    /// Writes a delta T lobe per redirection with a positive coefficient and a direction into
+    /// out[n..]; `side`: the unit normal on the side the ray came from. Returns the new n.
+    int lobes(const PatternRay& ray, const Vec3& side, Lobe* out, int n, int max) const;
+};
+
 /// A mixture (scene.h's Mixture) compiled: which of its two materials a point has.
 struct MixtureChain {
     std::unique_ptr<PatternChain> coefficient;
@@ -80,11 +100,18 @@ public:
     const PatternChain* of(const Scene& scene, const std::string& material) const;
     const SurfaceChains* surface(uint32_t material) const { return material < surfaces_.size() ? surfaces_[material].get() : nullptr; }
     const MixtureChain* mixture(uint32_t material) const { return material < mixtures_.size() ? mixtures_[material].get() : nullptr; }
+    /// A plasfunc, metfunc or transfunc's function of the light's direction.
+    const RedirectChains* redirect(uint32_t material) const { return material < redirects_.size() ? redirects_[material].get() : nullptr; }
+    const PatternChain* directional(uint32_t material) const {
+        return material < directionals_.size() ? directionals_[material].get() : nullptr;
+    }
 
 private:
     std::vector<std::unique_ptr<PatternChain>> chains_;
     std::vector<std::unique_ptr<SurfaceChains>> surfaces_;
     std::vector<std::unique_ptr<MixtureChain>> mixtures_;
+    std::vector<std::unique_ptr<PatternChain>> directionals_;
+    std::vector<std::unique_ptr<RedirectChains>> redirects_;
 };
 
 }  // namespace crex

@@ -340,13 +340,15 @@ RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) 
     }
     embree = std::make_unique<EmbreeScene>(s, cutouts.get());
     if (cutouts) cutouts->attach(*embree);
-    for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty() || m.surface_functions || m.mixture;
+    for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty() || m.surface_functions || m.mixture || m.directional || !m.redirections.empty();
     if (any_pattern) patterns = std::make_unique<ScenePatterns>(s, embree->origin_offset(), warnings);
     lights = std::make_unique<LightSampler>(s, *embree, patterns.get());
     for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));
     if (patterns)
         for (uint32_t i = 0; i < bsdfs.size(); ++i) {
             bsdfs[i].patterns = patterns->of(i);
+            bsdfs[i].directional = patterns->directional(i);
+            bsdfs[i].redirect = patterns->redirect(i);
             // A BRTDfunc's lobes as a ray along its normal sees them: what the paths that do
             // not shade it (a cache ray passing through) weigh it by.
             if (const SurfaceChains* sc = patterns->surface(i)) {

@@ -157,6 +157,8 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
         MaterialValues values = constant_values(m);
         values.color = values.color * pc->value(r);
         scratch = Bsdf::of(m, values);
+        scratch.directional = scene.bsdfs[material].directional;
+        scratch.redirect = scene.bsdfs[material].redirect;
         return scratch;
     }
     if (!textured) return scene.bsdfs[material];
@@ -173,6 +175,8 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     }
     if (scene.textures->perturbs_normal(material)) f.shading = scene.textures->perturbed_normal(material, p, f.shading, dpdu, dpdv);
     scratch = Bsdf::of(scene.scene.materials[material], scene.textures->values(material, p));
+    scratch.directional = scene.bsdfs[material].directional;
+    scratch.redirect = scene.bsdfs[material].redirect;
     return scratch;
 }
 

@@ -198,7 +198,7 @@ private:
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
                         "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
-                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions", "mixture"});
+                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions", "directional_function", "redirections", "mixture"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         MaterialTextures& tex = m.textures;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
@@ -280,6 +280,21 @@ private:
             if (m.type != MaterialType::kTrans) error = "only a trans takes surface functions";
             else if (surface_functions_from_json(r.at("surface_functions"), sf, error)) m.surface_functions = std::move(sf);
             if (!error.empty()) sink_.report("E303", r.span("surface_functions"), fmt::format("{}: {}", r.path("surface_functions"), error));
+        }
+        if (r.has("directional_function")) {
+            DirectionalFunction df;
+            std::string error;
+            if (m.type != MaterialType::kPlastic && m.type != MaterialType::kTrans) error = "only a plastic or trans takes a directional function";
+            else if (directional_function_from_json(r.at("directional_function"), df, error)) m.directional = std::move(df);
+            if (!error.empty())
+                sink_.report("E303", r.span("directional_function"), fmt::format("{}: {}", r.path("directional_function"), error));
+        }
+        if (r.has("redirections")) {
+            std::vector<Redirection> rd;
+            std::string error;
+            if (m.type != MaterialType::kTrans) error = "only a trans takes redirections";
+            else if (redirections_from_json(r.at("redirections"), rd, error)) m.redirections = std::move(rd);
+            if (!error.empty()) sink_.report("E303", r.span("redirections"), fmt::format("{}: {}", r.path("redirections"), error));
         }
         if (r.has("mixture")) {
             // RADIANCE's mixfunc as crex writes it: {"background": material, "coefficient": pattern}.

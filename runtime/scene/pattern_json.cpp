@@ -151,4 +151,59 @@ bool surface_functions_from_json(const nlohmann::json& j, SurfaceFunctions& out,
     return true;
 }
 
+nlohmann::json redirections_to_json(const std::vector<Redirection>& r) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const Redirection& x : r) a.push_back({{"coefficient", pattern_to_json(x.coefficient)}, {"direction", pattern_to_json(x.direction)}});
+    return a;
+}
+
+bool redirections_from_json(const nlohmann::json& j, std::vector<Redirection>& out, std::string& error) {
+    if (!j.is_array() || j.empty() || j.size() > 2) return error = "expected an array of one or two redirections", false;
+    std::vector<Redirection> r;
+    for (const nlohmann::json& x : j) {
+        Redirection d;
+        for (const char* key : {"coefficient", "direction"}) {
+            FunctionPattern& f = std::string(key) == "coefficient" ? d.coefficient : d.direction;
+            if (!x.is_object() || !x.contains(key) || !pattern_from_json(x.at(key), f, error)) {
+                error = fmt::format("'{}': {}", key, error.empty() ? "missing" : error);
+                return false;
+            }
+        }
+        if (d.coefficient.kind != FunctionPattern::Kind::kBrightFunc || d.coefficient.functions.size() != 1)
+            return error = "'coefficient' must be a brightfunc of one expression", false;
+        if (d.direction.kind != FunctionPattern::Kind::kColorFunc || d.direction.functions.size() != 3)
+            return error = "'direction' must be a colorfunc of three expressions", false;
+        r.push_back(std::move(d));
+    }
+    out = std::move(r);
+    return true;
+}
+
+nlohmann::json directional_function_to_json(const DirectionalFunction& d) {
+    auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+    return {{"shape", pattern_to_json(d.shape)}, {"diffuse_reflect", vec(d.diffuse_reflect)}, {"diffuse_transmit", vec(d.diffuse_transmit)},
+            {"reflect", vec(d.reflect)}, {"transmit", vec(d.transmit)}};
+}
+
+bool directional_function_from_json(const nlohmann::json& j, DirectionalFunction& out, std::string& error) {
+    if (!j.is_object()) return error = "expected an object", false;
+    DirectionalFunction d;
+    if (!j.contains("shape") || !pattern_from_json(j.at("shape"), d.shape, error)) {
+        error = fmt::format("'shape': {}", error.empty() ? "missing" : error);
+        return false;
+    }
+    if (d.shape.kind != FunctionPattern::Kind::kBrightFunc) return error = "'shape' must be a brightfunc", false;
+    const std::pair<const char*, Vec3*> parts[] = {{"diffuse_reflect", &d.diffuse_reflect}, {"diffuse_transmit", &d.diffuse_transmit},
+                                                   {"reflect", &d.reflect}, {"transmit", &d.transmit}};
+    for (const auto& [key, target] : parts) {
+        std::vector<double> v;
+        if (!numbers(j, key, v, error)) return false;
+        if (v.size() != 3 || !(v[0] >= 0 && v[1] >= 0 && v[2] >= 0 && v[0] <= 1 && v[1] <= 1 && v[2] <= 1))
+            return error = fmt::format("'{}' must be three numbers in [0, 1]", key), false;
+        *target = Vec3{v[0], v[1], v[2]};
+    }
+    out = std::move(d);
+    return true;
+}
+
 }  // namespace crex

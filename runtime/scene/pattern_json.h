@@ -24,4 +24,15 @@ bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::strin
 nlohmann::json surface_functions_to_json(const SurfaceFunctions& s);
 bool surface_functions_from_json(const nlohmann::json& j, SurfaceFunctions& out, std::string& error);
 
+/// A plastic or trans material's `directional_function` (RADIANCE's plasfunc, metfunc,
+/// transfunc): {"shape": pattern, "diffuse_reflect", "diffuse_transmit", "reflect",
+/// "transmit": [r, g, b]}.
+/// A trans material's `redirections` (RADIANCE's prism1, prism2): [{"coefficient": pattern,
+/// "direction": pattern}, ...].
+nlohmann::json redirections_to_json(const std::vector<Redirection>& r);
+bool redirections_from_json(const nlohmann::json& j, std::vector<Redirection>& out, std::string& error);
+
+nlohmann::json directional_function_to_json(const DirectionalFunction& d);
+bool directional_function_from_json(const nlohmann::json& j, DirectionalFunction& out, std::string& error);
+
 }  // namespace crex

@@ -152,6 +152,8 @@ nlohmann::json scene_to_json(const Scene& scene) {
         m.textures.for_each([&](const char* slot, const TextureRef& t) { e[slot] = texture_json(t); });
         for (const FunctionPattern& f : m.patterns) e["patterns"].push_back(pattern_to_json(f));
         if (m.surface_functions) e["surface_functions"] = surface_functions_to_json(*m.surface_functions);
+        if (m.directional) e["directional_function"] = directional_function_to_json(*m.directional);
+        if (!m.redirections.empty()) e["redirections"] = redirections_to_json(m.redirections);
         if (m.mixture) e["mixture"] = {{"background", m.mixture->background}, {"coefficient", pattern_to_json(m.mixture->coefficient)}};
         j["materials"].push_back(e);
     }

@@ -103,6 +103,29 @@ struct SurfaceFunctions {
     bool operator==(const SurfaceFunctions&) const = default;
 };
 
+/// RADIANCE's plasfunc, metfunc and transfunc: a plastic, metal or trans whose specular part
+/// answers direct light only, by a function of the light's direction (a BRDF shape, the
+/// function file's own); every other ray sees a diffuse surface (`color` reflected, or with
+/// the trans's transmissivity transmitted), as RADIANCE renders these types.
+struct DirectionalFunction {
+    /// kBrightFunc: the function called with the light's direction in its coordinates
+    /// (RADIANCE's refl(x, y, z, solid angle)), RADIANCE's local frame (Ldx, Idx, ...) defined.
+    FunctionPattern shape;
+    Vec3 diffuse_reflect, diffuse_transmit;  ///< direct light's diffuse parts (RADIANCE's rdiff, tdiff)
+    Vec3 reflect, transmit;                  ///< the function's weights in front and behind
+    bool operator==(const DirectionalFunction&) const = default;
+};
+
+/// RADIANCE's prism1 and prism2: a surface that sends every ray meeting it on in one direction
+/// (prism1) or two (prism2), each with a coefficient, functions of the ray in the function
+/// file's coordinates; it stops shadow rays (RADIANCE lights through it only by virtual
+/// sources, which crex does not make).
+struct Redirection {
+    FunctionPattern coefficient;  ///< kBrightFunc: the ray's weight
+    FunctionPattern direction;    ///< kColorFunc: dx dy dz, its direction (taken unclamped)
+    bool operator==(const Redirection&) const = default;
+};
+
 /// RADIANCE's mixfunc: at each point, the material is its foreground (the Material holding
 /// this, a copy of it) with the probability `coefficient` gives there (clamped to [0, 1]),
 /// else `background`.
@@ -151,6 +174,11 @@ struct Material {
     /// trans: its lobes' weights at each hit from functions (RADIANCE's BRTDfunc); the
     /// constants above then only say which lobes there are.
     std::optional<SurfaceFunctions> surface_functions;
+    /// plastic, trans: direct light's response from a function (RADIANCE's plasfunc, metfunc,
+    /// transfunc); the constants above are what every other ray sees.
+    std::optional<DirectionalFunction> directional;
+    /// trans (all specular transmission): where the ray goes on instead (prism1, prism2).
+    std::vector<Redirection> redirections;
     /// A mixture: this material where the coefficient says so, `background` elsewhere.
     std::optional<Mixture> mixture;
 };
@@ -162,6 +190,7 @@ struct Tag {
     std::string name;
     int task = 0;             ///< task value 0..3
     bool distractor = false;  ///< on-screen distractor (OSDM)
+    bool operator==(const Tag&) const = default;
 };
 
 struct Shape {

@@ -177,5 +177,40 @@ TEST_F(RadiancePatterns, APatternOnASurfaceScalesItsColourWhereItSays) {
     EXPECT_NEAR(l2, 0.125, 0.0025);
 }
 
+TEST_F(RadiancePatterns, PlasfuncAndTransfuncAnswerALampByTheirFunctionOfItsDirection) {
+    // A floor at z = 0 lit by the small lamp of lamp_scene, seen straight along its normal
+    // (Idz = 1); its function sees the direction l to the lamp in its coordinates and in
+    // RADIANCE's local frame (Ldz: the cosine). Against a plain plastic of colour .5 seen the
+    // same way (direct light .5 / pi cos), pixel by pixel:
+    //   plasfunc .5 grey, specularity .5, f = (lx^2 + Ldz Idz) / pi:
+    //     (.25 / pi + .5 f) / (.5 / pi) = .5 + lx^2 + lz
+    //   transfunc .5 grey, transmitting all (tspec .5), seen from below, f = lx^2 + 1:
+    //     (.25 / pi + .5 .5 f) / (.5 / pi) = .5 + pi (lx^2 + 1) / 2
+    std::ofstream(path("fn.cal")) << "front(x,y,z) = (x*x + Ldz(x,y,z)*Idz)/PI;\nback(x,y,z,w) = x*x + 1;\n";
+    auto scene = [&](const std::string& material, double eye_z) {
+        return fmt::format("#@crex view -vtl -vp 0 0 {} -vd 0 0 {} -vu 0 1 0 -vh 2 -vv 2\n{}\n"
+                           "floor polygon ground 0 0 12 -10 -10 0 10 -10 0 10 10 0 -10 10 0\n"
+                           "void light lamp 0 0 3 1000 1000 1000\n"
+                           "lamp polygon bulb 0 0 12 -.02 -.02 1  -.02 .02 1  .02 .02 1  .02 -.02 1\n",
+                           eye_z, eye_z > 0 ? -1 : 1, material);
+    };
+    const Scene plain = load("p.rad", scene("void plastic floor 0 0 5 .5 .5 .5 0 0", .5));
+    const Scene front = load("f.rad", scene("void plasfunc floor 2 front fn.cal 0 7 .5 .5 .5 .5 0 1 0", .5));
+    const Scene back = load("b.rad", scene("void transfunc floor 2 back fn.cal 0 9 .5 .5 .5 0 1 .5 0 1 0", -.5));
+    const int n = 16;
+    const std::vector<float> a = testing::render_crex(front, "", n, 4, 0, 4).image();
+    const std::vector<float> b = testing::render_crex(back, "", n, 4, 0, 4).image();
+    const std::vector<float> ref = testing::render_crex(plain, "", n, 4, 0, 4).image();
+    for (int y = 0; y < n; y += 3)
+        for (int x = 0; x < n; x += 3) {
+            const size_t i = 3 * (static_cast<size_t>(y) * n + static_cast<size_t>(x)) + 1;
+            const double px = -1 + 2 * (x + 0.5) / n, py = 1 - 2 * (y + 0.5) / n;
+            const double d = std::sqrt(px * px + py * py + 1), lx = px / d, lz = 1 / d;
+            ASSERT_GT(ref[i], 0.0f);
+            EXPECT_NEAR(a[i] / ref[i], .5 + lx * lx + lz, 0.02) << "plasfunc, pixel " << x << ", " << y;
+            EXPECT_NEAR(b[i] / ref[i], .5 + kPi * (lx * lx + 1) / 2, 0.03) << "transfunc, pixel " << x << ", " << y;
+        }
+}
+
 }  // namespace
 }  // namespace crex

@@ -13,6 +13,7 @@ namespace {
 // RADIANCE's format numbers: the first 2-byte integer is MESHMAGIC + sizeof(OBJECT).
 constexpr int kMaxObjectSize = 8;
 constexpr long kMeshMagic = 1 * kMaxObjectSize + 311;
+constexpr long kOctreeMagic = 4 * kMaxObjectSize + 251;
 constexpr int kTreeEmpty = 0, kTreeFull = 1, kTreeNode = 2;
 constexpr int kVertices = 1, kNormals = 2, kUvs = 4;
 
@@ -254,6 +255,40 @@ bool read_compiled_mesh(const std::string& path, CompiledMesh& out, std::string&
         return false;
     }
     out = std::move(m);
+    return true;
+}
+
+bool read_octree(const std::string& path, std::vector<BinaryObject>& objects, std::vector<std::string>& files, std::string& error) {
+    std::optional<std::string> bytes = read_input_file(path, error, kMaxDataInputBytes);
+    if (!bytes) return false;
+    Reader r(std::move(*bytes));
+    const std::string format = r.header();
+    if (!r.failed() && format != "Radiance_octree") r.fail(fmt::format("its format is '{}', not an octree (Radiance_octree)", format));
+    const int object_size = static_cast<int>(r.integer(2) - kOctreeMagic);
+    if (!r.failed() && (object_size <= 0 || object_size > kMaxObjectSize)) r.fail("an incompatible octree format number");
+    for (int k = 0; k < 4 && !r.failed(); ++k) r.text();  // the cube
+    std::vector<std::string> names;
+    while (!r.failed()) {
+        std::string f = r.text();
+        if (f.empty()) break;
+        names.push_back(std::move(f));
+        if (names.size() > 4096) r.fail("a damaged list of scene files");
+    }
+    const long count = r.integer(object_size);
+    if (!r.failed() && (count < 0 || count > (1L << 26))) r.fail("a bad object count");
+    std::vector<BinaryObject> scene;
+    if (!r.failed() && names.empty()) {
+        skip_tree(r, object_size, 0);
+        if (!r.failed()) read_binary_scene(r, object_size, scene);
+        if (!r.failed() && static_cast<long>(scene.size()) != count)
+            r.fail(fmt::format("the octree counts {} objects but holds {}", count, scene.size()));
+    }
+    if (r.failed()) {
+        error = r.error();
+        return false;
+    }
+    objects = std::move(scene);
+    files = std::move(names);
     return true;
 }
 

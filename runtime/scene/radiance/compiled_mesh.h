@@ -6,6 +6,11 @@
 /// modifier index, name, strings and reals) and the patches of up to 256 vertices, each
 /// with its local triangles and the triangles joining it to earlier patches. Positions are
 /// 32-bit fractions of the cube, normals RADIANCE's 32-bit direction codes.
+///
+/// Also RADIANCE's octrees (`.oct`, written by oconv), which share the layout: a header
+/// (format Radiance_octree), the object size, the cube, the scene files it was made from, the
+/// object count, the octree (skipped) and, when it is frozen (`oconv -f`), the whole scene as
+/// binary objects.
 #pragma once
 
 #include <array>
@@ -38,5 +43,10 @@ struct CompiledMesh {
 /// Reads `path`; false with `error` (what is wrong, and the byte offset) when it is not a
 /// compiled mesh crex can read or is damaged. At most `max_triangles` triangles.
 bool read_compiled_mesh(const std::string& path, CompiledMesh& out, std::string& error, size_t max_triangles = size_t{1} << 26);
+
+/// Reads the octree at `path`: its scene into `objects` when it is frozen, else the names of
+/// the scene files it was made from into `files` (objects then stays empty). False with
+/// `error` (what is wrong, and the byte offset) when it is not an octree or is damaged.
+bool read_octree(const std::string& path, std::vector<BinaryObject>& objects, std::vector<std::string>& files, std::string& error);
 
 }  // namespace crex::radiance

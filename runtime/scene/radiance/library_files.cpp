@@ -49,4 +49,28 @@ std::optional<std::string> builtin_function_file(std::string_view name) {
     return std::nullopt;
 }
 
+const std::string& local_frame_definitions() {
+    // V is the up vector crossed with the normal (facing the ray), normalised; U completes
+    // the right-handed frame U, V, N.
+    static const std::string text = R"(
+Vux`P. = arg(AC-1)*NzP - arg(AC)*NyP;
+Vuy`P. = arg(AC)*NxP - arg(AC-2)*NzP;
+Vuz`P. = arg(AC-2)*NyP - arg(AC-1)*NxP;
+vnorm`P. = 1/sqrt(Vux`P.*Vux`P. + Vuy`P.*Vuy`P. + Vuz`P.*Vuz`P.);
+Vnx`P. = Vux`P.*vnorm`P.;
+Vny`P. = Vuy`P.*vnorm`P.;
+Vnz`P. = Vuz`P.*vnorm`P.;
+Unx`P. = NyP*Vnz`P. - NzP*Vny`P.;
+Uny`P. = NzP*Vnx`P. - NxP*Vnz`P.;
+Unz`P. = NxP*Vny`P. - NyP*Vnx`P.;
+Ldx(dx,dy,dz) = dx*Unx`P. + dy*Uny`P. + dz*Unz`P.;
+Ldy(dx,dy,dz) = dx*Vnx`P. + dy*Vny`P. + dz*Vnz`P.;
+Ldz(dx,dy,dz) = dx*NxP + dy*NyP + dz*NzP;
+Idx = Ldx(-Dx,-Dy,-Dz);
+Idy = Ldy(-Dx,-Dy,-Dz);
+Idz = RdotP;
+)";
+    return text;
+}
+
 }  // namespace crex::radiance

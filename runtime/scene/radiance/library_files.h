@@ -15,4 +15,10 @@ namespace crex::radiance {
 /// The built-in text of the function file `name`, or nullopt when crex has none.
 std::optional<std::string> builtin_function_file(std::string_view name);
 
+/// RADIANCE's local frame for the functions of plasfunc, metfunc and transfunc (what its
+/// rayinit.cal defines for them): U and V across the surface from the last three real
+/// arguments (an up vector), Ldx/Ldy/Ldz(x, y, z) a direction in (U, V, normal), and
+/// Idx/Idy/Idz the direction back along the incoming ray.
+const std::string& local_frame_definitions();
+
 }  // namespace crex::radiance

@@ -57,14 +57,7 @@ void SceneBuilder::mesh(const Primitive& p, const std::optional<Tag>& tag) {
             if (known == mesh_materials_.end()) {
                 const BinaryObject& o = m.materials[target];
                 auto d = std::make_shared<Definition>();
-                d->p.modifier = {"void", file.span};
-                d->p.type = {o.type, file.span};
-                d->p.id = {o.name, file.span};
-                for (const std::string& s : o.strings) d->p.strings.push_back({s, file.span});
-                d->p.reals = o.reals;
-                d->p.real_spans.assign(o.reals.size(), file.span);
-                d->p.span = file.span;
-                d->p.via = p.via;
+                d->p = from_binary(o, "void", p);
                 std::optional<std::string> name;
                 const PrimitiveTypeInfo* info = find_primitive_type(o.type);
                 if (!info || info->kind == PrimitiveKind::kSurface || info->kind == PrimitiveKind::kAlias) {
@@ -125,6 +118,48 @@ void SceneBuilder::mesh(const Primitive& p, const std::optional<Tag>& tag) {
         shape_tag_explicit_.push_back(tag.has_value());
         scene_.shapes.push_back(std::move(s));
     }
+}
+
+bool SceneBuilder::mesh_normals(const Definition& texture, const Primitive& user, const std::vector<Vec3>& vertices,
+                               std::vector<Vec3>& normals) {
+    const Primitive& t = texture.p;
+    auto base = [](const std::string& f) { return f.substr(f.find_last_of('/') + 1); };
+    if (t.type.text != "texfunc" || t.strings.size() < 4 || t.strings[0].text != "dx" || t.strings[1].text != "dy" ||
+        t.strings[2].text != "dz" || base(t.strings[3].text) != "tmesh.cal" || t.reals.size() != 10)
+        return false;
+    normals.clear();
+    if (vertices.size() != 3) {
+        report("E307", user.type.span, fmt::format("{} '{}': tmesh.cal's normals ('{}') interpolate across triangles, not across {} "
+                                                   "vertices", user.type.text, user.id.text, t.id.text, vertices.size()), &user);
+        return true;
+    }
+    const double axis = t.reals[0];
+    if (!(axis == 0 || axis == 1 || axis == 2)) {
+        report("E303", t.real_spans[0], fmt::format("texfunc '{}': tmesh.cal's major axis must be 0, 1 or 2, got {:g}", t.id.text, axis), &t);
+        return true;
+    }
+    std::optional<Transform> xf = function_transform(t, 4);
+    if (!xf) return true;
+    // A vertex in the function's own coordinates: the transform is a similarity (xform's).
+    const Vec3 origin = xf->point({});
+    const Vec3 axes[3] = {xf->vector({1, 0, 0}), xf->vector({0, 1, 0}), xf->vector({0, 0, 1})};
+    const double s2 = xf->scale() * xf->scale();
+    const int a = static_cast<int>(axis);
+    for (const Vec3& v : vertices) {
+        const double P[3] = {dot(axes[0], v - origin) / s2, dot(axes[1], v - origin) / s2, dot(axes[2], v - origin) / s2};
+        // tmesh.cal: (bu, bv) the coordinates across the major axis, the normal M (bu, bv, 1).
+        const double bu = P[(a + 1) % 3], bv = P[(a + 2) % 3];
+        const double* m = &t.reals[1];
+        const Vec3 n{bu * m[0] + bv * m[1] + m[2], bu * m[3] + bv * m[4] + m[5], bu * m[6] + bv * m[7] + m[8]};
+        normals.push_back(normalize_or_zero(xf->vector(n)));
+    }
+    for (const Vec3& n : normals)
+        if (n == Vec3{}) {  // a degenerate normal matrix: shaded flat, as RADIANCE cannot do better
+            normals.clear();
+            normals.resize(3, Vec3{});
+            break;
+        }
+    return true;
 }
 
 }  // namespace crex::radiance

@@ -23,7 +23,8 @@ namespace {
 const std::set<std::string>& ray_variables() {
     static const std::set<std::string> v{"Dx", "Dy", "Dz", "Nx", "Ny", "Nz", "Px", "Py", "Pz", "T", "Ts", "Rdot", "S", "Tx", "Ty",
                                          "Tz", "Ix", "Iy", "Iz", "Jx", "Jy", "Jz", "Kx", "Ky", "Kz", "NxP", "NyP", "NzP", "RdotP",
-                                         "CrP", "CgP", "CbP", "Lu", "Lv"};
+                                         "CrP", "CgP", "CbP", "Lu", "Lv", "Lx_crex", "Ly_crex", "Lz_crex",
+                                         "DxA", "DyA", "DzA"};
     return v;
 }
 
@@ -276,6 +277,111 @@ std::optional<Material> SceneBuilder::brtd_function(const Definition& d, const P
     m.transmissivity = 0.5;
     m.transmitted_specular = max_component(sf.diffuse_transmit) > 0 ? 0.5 : 1.0;
     m.surface_functions = std::move(sf);
+    return m;
+}
+
+std::optional<Material> SceneBuilder::redirecting(const Definition& d, const Primitive& user) {
+    // prism1: coef dx dy dz funcfile [transform]; prism2: coef1 dx1 dy1 dz1 coef2 dx2 dy2 dz2
+    // funcfile [transform]. Expressions of the ray (RADIANCE's DxA.. are 0: no virtual sources).
+    const Primitive& p = d.p;
+    const std::string& t = p.type.text;
+    const size_t parts = t == "prism2" ? 2 : 1, file_at = 4 * parts;
+    if (p.strings.size() < file_at + 1) {
+        report("E303", p.type.span, fmt::format("{} '{}' needs {} string arguments ({}function file), got {}", t, p.id.text, file_at + 1,
+                                                parts == 2 ? "coef1 dx1 dy1 dz1 coef2 dx2 dy2 dz2 " : "coef dx dy dz ", p.strings.size()), &p);
+        return std::nullopt;
+    }
+    if (d.modifier) {
+        refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by the {} '{}': crex renders {} unpatterned only", t, p.id.text,
+                                                       d.modifier->p.type.text, d.modifier->p.id.text, t));
+        return std::nullopt;
+    }
+    Material m;
+    for (size_t k = 0; k < parts; ++k) {
+        Redirection r;
+        r.coefficient.kind = FunctionPattern::Kind::kBrightFunc;
+        r.direction.kind = FunctionPattern::Kind::kColorFunc;
+        for (FunctionPattern* f : {&r.coefficient, &r.direction}) {
+            f->name = p.id.text;
+            f->args = p.reals;
+        }
+        r.coefficient.functions = {p.strings[4 * k].text};
+        for (size_t i = 1; i < 4; ++i) r.direction.functions.push_back(p.strings[4 * k + i].text);
+        if (!complete_functions(p, r.coefficient, file_at, {4 * k}, {}, file_at + 1) ||
+            !complete_functions(p, r.direction, file_at, {4 * k + 1, 4 * k + 2, 4 * k + 3}, {}, file_at + 1))
+            return std::nullopt;
+        m.redirections.push_back(std::move(r));
+    }
+    // Every ray goes on (redirected) as a specular transmission would.
+    m.type = MaterialType::kTrans;
+    m.color = {1, 1, 1};
+    m.transmissivity = 1;
+    m.transmitted_specular = 1;
+    return m;
+}
+
+std::optional<Material> SceneBuilder::directional_function(const Definition& d, const Primitive& user) {
+    // 2+ strings: the function's name, the function file, its transform. Reals: colour,
+    // specularity (transfunc: then transmissivity and transmitted specularity), then A5.. (A7..)
+    // for the function.
+    const Primitive& p = d.p;
+    const std::string& t = p.type.text;
+    const bool trans = t == "transfunc";
+    const size_t fixed = trans ? 6 : 4;
+    if (p.strings.size() < 2 || p.reals.size() < fixed) {
+        report("E303", p.type.span, fmt::format("{} '{}' needs 2 string arguments (function, function file) and at least {} real "
+                                                "arguments, got {} and {}", t, p.id.text, fixed, p.strings.size(), p.reals.size()), &p);
+        return std::nullopt;
+    }
+    if (d.modifier) {
+        refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by the {} '{}': crex renders {} unpatterned only", t, p.id.text,
+                                                       d.modifier->p.type.text, d.modifier->p.id.text, t));
+        return std::nullopt;
+    }
+    const std::vector<double>& r = p.reals;
+    for (size_t i = 0; i < fixed; ++i)
+        if (!(r[i] >= 0 && r[i] <= 1)) {
+            report("E303", p.real_spans[i], fmt::format("{} '{}': its first {} real arguments must be in [0, 1], got {:g}", t, p.id.text,
+                                                        fixed, r[i]), &p);
+            return std::nullopt;
+        }
+    DirectionalFunction df;
+    FunctionPattern& f = df.shape;
+    f.kind = FunctionPattern::Kind::kBrightFunc;
+    f.name = p.id.text;
+    f.args = r;
+    if (!complete_functions(p, f, 1, {}, {}, 2)) return std::nullopt;
+    f.definitions = local_frame_definitions() + f.definitions;
+    // The function is called with the light's direction (and its solid angle, which crex's
+    // light samples do not have: 0), as many of those as it takes.
+    calc::Program program;
+    calc::Error e;
+    program.define(f.definitions, e);
+    const Word& name = p.strings[0];
+    size_t takes = 0;
+    for (size_t n : {4u, 3u})
+        if (!takes && program.takes(name.text, n)) takes = n;
+    if (!takes) {
+        report("E307", name.span, fmt::format("{} '{}': '{}' is not a function of three or four arguments (the light's direction and "
+                                              "solid angle) of this file or RADIANCE's library", t, p.id.text, name.text), &p);
+        return std::nullopt;
+    }
+    f.functions = {fmt::format("{}(Lx_crex, Ly_crex, Lz_crex{})", name.text, takes == 4 ? ", 0" : "")};
+
+    const Vec3 colour{r[0], r[1], r[2]};
+    const double rspec = r[3];
+    const double transmitted = trans ? r[4] * (1 - rspec) : 0, tspec = trans ? transmitted * r[5] : 0;
+    df.diffuse_reflect = colour * (1 - transmitted - rspec);
+    df.diffuse_transmit = colour * (transmitted - tspec);
+    df.reflect = t == "metfunc" ? colour * rspec : Vec3{rspec, rspec, rspec};
+    df.transmit = colour * tspec;
+    Material m;
+    // What every other ray sees: a diffuse surface, its colour in front (less what it
+    // transmits), and behind what it transmits.
+    m.type = trans ? MaterialType::kTrans : MaterialType::kPlastic;
+    m.color = colour;
+    m.transmissivity = transmitted;
+    m.directional = std::move(df);
     return m;
 }
 

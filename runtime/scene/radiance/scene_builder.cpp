@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -20,7 +21,7 @@ namespace {
 
 const char* kSupportedHelp =
     "crex renders the surfaces polygon, sphere, bubble, ring, cone, cup, cylinder, tube and source, and the materials "
-    "plastic, metal, trans, plastic2, metal2, trans2, glass, dielectric, interface, mirror, light, illum, glow and spotlight";
+    "plastic, metal, trans, plastic2, metal2, trans2, ashik2, plasfunc, metfunc, transfunc, prism1, prism2, glass, dielectric, interface, mirror, light, illum, glow and spotlight";
 
 std::string article(const std::string& word) {
     return word.empty() || std::string("aeiouAEIOU").find(word[0]) == std::string::npos ? "a" : "an";
@@ -115,7 +116,7 @@ void SceneBuilder::define(Primitive p) {
     // Materials crex renders are converted (and their arguments checked) where they are
     // defined, used or not; what crex does not render is refused only if a surface needs it.
     static const char* kConvertible[] = {"plastic", "metal", "trans", "plastic2", "metal2", "trans2", "glass", "dielectric",
-                                         "interface", "mirror", "light", "glow", "illum", "spotlight"};
+                                         "interface", "mirror", "light", "glow", "illum", "spotlight", "ashik2"};
     if (!d->modifier)
         for (const char* t : kConvertible)
             if (d->p.type.text == t) {
@@ -326,6 +327,32 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         }
         return m;
     }
+    if (t == "ashik2") {
+        // Ashikhmin-Shirley: crex has no lobe of that shape; the anisotropic Ward lobe of the
+        // same widths (a cosine power n falls off as exp(-n theta^2 / 2): alpha = sqrt(2 / n))
+        // with the diffuse colour kept and the specular colour's brightness as its specularity.
+        if (!counts({8}) || !colour(m, false)) return std::nullopt;
+        for (size_t i = 3; i < 6; ++i)
+            if (!in_range(i, 0, 1, "specular reflectance")) return std::nullopt;
+        for (size_t i : {6u, 7u})
+            if (!(r[i] > 0 && std::isfinite(r[i]))) {
+                report("E303", p.real_spans[i], fmt::format("ashik2 '{}': a specular power must be > 0, got {:g}", p.id.text, r[i]), &p);
+                return std::nullopt;
+            }
+        Anisotropy a;
+        if (!orientation(d, a.orientation)) return std::nullopt;
+        const double spec = std::clamp(.265074 * r[3] + .670115 * r[4] + .064811 * r[5], 0.0, 0.99);
+        m.type = MaterialType::kPlastic;
+        m.specularity = spec;
+        for (double* c : {&m.color.x, &m.color.y, &m.color.z}) *c = std::fmin(1.0, *c / (1 - spec));
+        m.roughness = std::fmin(1.0, std::sqrt(2 / r[6]));
+        a.roughness_v = std::fmin(1.0, std::sqrt(2 / r[7]));
+        m.anisotropy = a;
+        report("W306", p.type.span, fmt::format("ashik2 '{}': crex renders it as an anisotropic Ward plastic of the same lobe widths "
+                                                "(roughness {:.3g} and {:.3g}) and specularity {:.3g}, without the Ashikhmin-Shirley "
+                                                "Fresnel term", p.id.text, m.roughness, a.roughness_v, spec), &p);
+        return m;
+    }
     if (t == "glass" || t == "dielectric" || t == "interface") {
         no_strings();
         const bool counted = t == "glass" ? counts({3, 4}) : counts({t == "dielectric" ? 5u : 8u});
@@ -405,6 +432,16 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         }
         return m;
     }
+    if (t == "prism1" || t == "prism2") {
+        auto b = redirecting(d, user);
+        if (b) b->name = m.name;
+        return b;
+    }
+    if (t == "plasfunc" || t == "metfunc" || t == "transfunc") {
+        auto b = directional_function(d, user);
+        if (b) b->name = m.name;
+        return b;
+    }
     if (t == "BRTDfunc") {
         auto b = brtd_function(d, user);
         if (b) b->name = m.name;
@@ -422,17 +459,21 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
 void SceneBuilder::surface(Primitive p) {
     const std::optional<Tag> tag = tag_for_next_surface();
     const std::string& t = p.type.text;
-    if (t == "mesh") return mesh(p, tag);  // void: the mesh's own materials
+    if (t == "mesh") return mesh(p, tag);          // void: the mesh's own materials
+    if (t == "instance") return instance(p, tag);  // void: the octree's own materials
     if (p.modifier.text == "void") return;  // invisible in RADIANCE too
-    if (t == "instance") {
-        // Once per place it is written, not once per copy an xform array makes of it.
-        if (!refused_places_.insert({p.type.span.file, p.type.span.begin}).second) return;
-        report("E307", p.type.span, fmt::format("instance '{}': octrees (made by oconv) are not supported", p.id.text), &p).help =
-            "read the scene files the octree was made from with '!xform' and the instance's transform instead";
-        return;
-    }
     DefPtr d = lookup(p.modifier, p, "the modifier");
     if (!d) return;
+    std::vector<Vec3> smooth;  // per vertex: a smoothed triangle's normals
+    if (t == "polygon" && d->p.type.text == "texfunc") {
+        std::vector<Vec3> vertices;
+        for (size_t i = 0; i + 2 < p.reals.size(); i += 3) vertices.push_back({p.reals[i], p.reals[i + 1], p.reals[i + 2]});
+        if (mesh_normals(*d, p, vertices, smooth)) {
+            if (smooth.empty()) return;  // reported
+            d = d->modifier;
+            if (!d) return;  // void: invisible
+        }
+    }
     if (t == "source" && d->modifier && d->modifier->p.type.text == "brightfunc" && !d->modifier->p.strings.empty() &&
         d->modifier->p.strings[0].text == "skybr") {
         // A sky: a glow source whose brightness is gensky's (skybright.cal's skybr).
@@ -473,6 +514,25 @@ void SceneBuilder::surface(Primitive p) {
         }
         s.type = ShapeType::kPolygon;
         for (size_t i = 0; i < r.size(); i += 3) s.vertices.push_back({r[i], r[i + 1], r[i + 2]});
+        if (!smooth.empty()) {
+            // A smoothed triangle joins the one before it when they are one object.
+            const bool flat = smooth[0] == Vec3{};
+            if (smooth_shape_ + 1 == scene_.shapes.size()) {
+                Shape& last = scene_.shapes[smooth_shape_];
+                if (last.name == s.name && last.material == s.material && last.tag == s.tag && last.normals.empty() == flat &&
+                    last.vertices.size() < (size_t{1} << 24)) {
+                    const auto first = static_cast<uint32_t>(last.vertices.size());
+                    last.vertices.insert(last.vertices.end(), s.vertices.begin(), s.vertices.end());
+                    if (!flat) last.normals.insert(last.normals.end(), smooth.begin(), smooth.end());
+                    last.triangles.push_back({first, first + 1, first + 2});
+                    return;
+                }
+            }
+            s.type = ShapeType::kMesh;
+            s.triangles.push_back({0, 1, 2});
+            if (!flat) s.normals = smooth;
+            smooth_shape_ = scene_.shapes.size();
+        }
     } else if (t == "sphere" || t == "bubble") {
         if (!need(4)) return;
         s.type = ShapeType::kSphere;

@@ -32,6 +32,7 @@
 namespace crex::radiance {
 
 struct CompiledMesh;
+struct BinaryObject;
 
 class SceneBuilder : public PrimitiveConsumer {
 public:
@@ -62,6 +63,16 @@ private:
     void surface(Primitive p);
     /// A compiled mesh (mesh_builder.cpp).
     void mesh(const Primitive& p, const std::optional<Tag>& tag);
+    /// An octree's scene placed by its transform (instance_builder.cpp).
+    void instance(const Primitive& p, const std::optional<Tag>& tag);
+    /// A binary object (a compiled mesh's material, an octree's object) as a primitive written
+    /// where `placed` names its file.
+    /// RADIANCE's smoothed triangles (obj2rad, oconv'd meshes): a `texfunc` over tmesh.cal's
+    /// dx dy dz with 10 real arguments gives a triangle normals interpolated across it; true
+    /// when `texture` is one, with the normal at each of `vertices` in `normals` (empty after a
+    /// reported error).
+    bool mesh_normals(const Definition& texture, const Primitive& user, const std::vector<Vec3>& vertices, std::vector<Vec3>& normals);
+    static Primitive from_binary(const BinaryObject& o, const std::string& modifier, const Primitive& placed);
     void distant_light(const Primitive& p, const Material& m, const std::optional<SkyModel>& sky);
     std::optional<SkyModel> sky_of(const Definition& pattern, const Primitive& user);
     /// The crex material of `d` (converted once); nullopt after a reported error; "" when the
@@ -86,6 +97,11 @@ private:
                             const std::vector<size_t>& names, size_t transform_at);
     /// RADIANCE's BRTDfunc as a trans with SurfaceFunctions; nullopt after a reported error.
     std::optional<Material> brtd_function(const Definition& d, const Primitive& user);
+    /// RADIANCE's plasfunc, metfunc, transfunc: a plastic or trans with a DirectionalFunction;
+    /// nullopt after a reported error.
+    std::optional<Material> directional_function(const Definition& d, const Primitive& user);
+    /// RADIANCE's prism1, prism2: a trans with Redirections; nullopt after a reported error.
+    std::optional<Material> redirecting(const Definition& d, const Primitive& user);
     /// RADIANCE's mixfunc: its foreground material with a Mixture; nullopt after an error.
     std::optional<Material> mixture(const Definition& d, const Primitive& user);
     /// The patterns modifying emitter `d`, nearest first; false after a reported refusal.
@@ -127,6 +143,9 @@ private:
     std::set<std::pair<const SourceFile*, uint32_t>> refused_places_;  ///< instances and meshes reported
     std::map<std::string, std::shared_ptr<const CompiledMesh>> meshes_;  ///< by path, read once
     std::map<std::string, std::optional<std::string>> mesh_materials_;      ///< "path#k" -> crex material
+    std::map<std::string, std::shared_ptr<const std::vector<BinaryObject>>> octrees_;  ///< by path, read once
+    int instance_depth_ = 0;  ///< instances inside instances being read
+    size_t smooth_shape_ = SIZE_MAX;  ///< the shape smoothed triangles last went into (they join it)
 };
 
 /// A definition as the builder keeps it (RADIANCE resolves modifiers where they are written).

@@ -16,6 +16,7 @@ TEST(PatternJson, APatternedSceneReadsBackTheSame) {
         "void BRTDfunc pane 10 if(Rdot-.5,.2,.8) .2 .2 .3 .3 if(RdotP-.5,.3,0) 0 0 0 .\n0\n9 .1 .1 .1 .2 .2 .2 0 0 0\n"
         "void glow red 0 0 4 .8 .1 .1 0\nvoid plastic grey 0 0 5 .5 .5 .5 0 0\n"
         "void mixfunc striped 4 grey red if(Px,1,0) .\n0\n0\n"
+        "void plasfunc shiny 2 grey .\n0\n7 .5 .5 .5 .1 0 0 1\nshiny sphere dome 0 0 4 3 0 1 .5\n"
         "striped sphere ball 0 0 4 0 0 1 .5\npane polygon window 0 0 12 -1 -1 0 1 -1 0 1 1 0 -1 1 0\n");
     ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
     auto back = testing::load_json_text(scene_to_json(*r.scene).dump());
@@ -26,10 +27,12 @@ TEST(PatternJson, APatternedSceneReadsBackTheSame) {
         EXPECT_EQ(n->patterns, m.patterns) << m.name;
         EXPECT_EQ(n->surface_functions, m.surface_functions) << m.name;
         EXPECT_EQ(n->mixture, m.mixture) << m.name;
+        EXPECT_EQ(n->directional, m.directional) << m.name;
     }
     EXPECT_EQ(r.scene->find_material("lamp")->patterns.size(), 1u);
     EXPECT_TRUE(r.scene->find_material("pane")->surface_functions.has_value());
     EXPECT_TRUE(r.scene->find_material("striped")->mixture.has_value());
+    EXPECT_TRUE(r.scene->find_material("shiny")->directional.has_value());
 }
 
 TEST(PatternJson, ATablesCountMustBeAWholeNumberInRange) {

@@ -145,8 +145,8 @@ TEST(SceneRadiance, KeepsGoingAfterAnUnsupportedPrimitive) {
     auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl instance a 1 a.oct 0 0\nl mesh b 1 b.rtm 0 0\nl sphere s 0 0 4 0 0 0 0\n");
     size_t e307 = 0, e308 = 0, e306 = 0;
     for (const auto& d : r.diagnostics) e307 += d.code == "E307", e308 += d.code == "E308", e306 += d.code == "E306";
-    EXPECT_EQ(e307, 1u);  // the instance
-    EXPECT_EQ(e308, 1u);  // the mesh file that is not there
+    EXPECT_EQ(e307, 0u);
+    EXPECT_EQ(e308, 2u);  // the octree and the mesh file that are not there
     EXPECT_EQ(e306, 0u);  // geometry is validated only once the file reads cleanly
     EXPECT_FALSE(r.scene);
 }
