@@ -11,6 +11,7 @@
 #include "runtime/render/bsdf.h"
 #include "runtime/io/image_io.h"
 #include "runtime/scene/data_table.h"
+#include "runtime/scene/text_pattern.h"
 #include "runtime/scene/radiance/calc.h"
 
 namespace crex {
@@ -29,6 +30,8 @@ struct PatternChain::Compiled {
     std::vector<double> args;
     std::array<double, 12> m{};
     double scale = 1;
+    std::unique_ptr<TextLayout> text;  // text: where the letters are
+    Vec3 inside, outside;              // text: the factor in letters and out of them
 };
 
 namespace {
@@ -160,6 +163,30 @@ PatternChain::PatternChain(const std::vector<FunctionPattern>& patterns, const V
         };
         using K = FunctionPattern::Kind;
         const bool func = f.kind == K::kBrightFunc || f.kind == K::kColorFunc;
+        if (f.kind == K::kBrightText || f.kind == K::kColorText) {
+            // A, R, D, then the inside and outside factors (grey or RGB), then the spacing.
+            const size_t channels = f.kind == K::kColorText ? 3 : 1, n = 9 + 2 * channels;
+            Font font;
+            std::string problem;
+            const std::vector<double>& a = f.args;
+            if (a.size() < n || !parse_font(f.font, font, problem)) {
+                warnings.push_back(run_diagnostic("W309", f.name, fmt::format("text pattern '{}': {}: the pattern is left out", f.name,
+                                                                              problem.empty() ? "too few arguments" : problem)));
+                continue;
+            }
+            auto factor = [&](size_t at) { return channels == 3 ? Vec3{a[at], a[at + 1], a[at + 2]} : Vec3{a[at], a[at], a[at]}; };
+            c->inside = factor(9), c->outside = factor(9 + channels);
+            c->text = std::make_unique<TextLayout>(std::move(font), f.text, Vec3{a[0], a[1], a[2]}, Vec3{a[3], a[4], a[5]},
+                                                   Vec3{a[6], a[7], a[8]}, a.size() > n, a.size() > n ? a[n] : 0.0);
+            if (!c->text->valid()) {
+                warnings.push_back(run_diagnostic("W309", f.name, fmt::format("text pattern '{}': its right and down vectors are parallel "
+                                                                              "or zero: the pattern is left out", f.name)));
+                continue;
+            }
+            only_direction = false;
+            patterns_.push_back(std::move(c));
+            continue;
+        }
         if (func) {
             for (const std::string& text : f.functions) c->functions.push_back(parse(text));
         } else {
@@ -216,6 +243,11 @@ Vec3 PatternChain::evaluate(const PatternRay& ray) const {
     for (const auto& cp : patterns_) {
         const Compiled& c = *cp;
         const RayValues rv = ray_values(c, ray, world);
+        if (c.text) {
+            const Vec3 v = c.text->inside(Vec3{rv.P[0], rv.P[1], rv.P[2]}) ? c.inside : c.outside;
+            product = product * Vec3{std::fmax(v.x, 0.0), std::fmax(v.y, 0.0), std::fmax(v.z, 0.0)};
+            continue;
+        }
         double values[3] = {0, 0, 0};  // the looked-up values, _v1.._v3 of the applied functions
         calc::Environment env;
         env.args = c.args;

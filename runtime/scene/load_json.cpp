@@ -305,8 +305,9 @@ private:
                 error = "expected {\"background\": material name, \"coefficient\": pattern}";
             else if (mix.background = x.at("background").get<std::string>(); !material_names_.count(mix.background))
                 error = fmt::format("no material named '{}' is defined before it", mix.background);
-            else if (pattern_from_json(x.at("coefficient"), mix.coefficient, error) && mix.coefficient.kind != FunctionPattern::Kind::kBrightFunc)
-                error = "the coefficient must be a brightfunc";
+            else if (pattern_from_json(x.at("coefficient"), mix.coefficient, error) && mix.coefficient.kind != FunctionPattern::Kind::kBrightFunc &&
+                     mix.coefficient.kind != FunctionPattern::Kind::kBrightText)
+                error = "the coefficient must be a brightfunc or a brighttext";
             if (error.empty()) m.mixture = std::move(mix);
             else sink_.report("E303", r.span("mixture"), fmt::format("{}: {}", r.path("mixture"), error));
         }

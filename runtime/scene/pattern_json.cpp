@@ -5,11 +5,12 @@
 #include <cmath>
 
 #include "runtime/scene/data_table.h"
+#include "runtime/scene/text_pattern.h"
 
 namespace crex {
 namespace {
 
-constexpr const char* kKinds[] = {"brightfunc", "colorfunc", "brightdata", "colordata", "colorpict"};
+constexpr const char* kKinds[] = {"brightfunc", "colorfunc", "brightdata", "colordata", "colorpict", "brighttext", "colortext"};
 
 bool numbers(const nlohmann::json& j, const char* key, std::vector<double>& out, std::string& error) {
     if (!j.contains(key)) return true;
@@ -41,6 +42,7 @@ nlohmann::json pattern_to_json(const FunctionPattern& p) {
                         {"functions", p.functions}, {"args", p.args}, {"to_pattern", p.to_pattern}, {"scale", p.scale}};
     if (!p.coordinates.empty()) j["coordinates"] = p.coordinates;
     if (!p.picture.empty()) j["picture"] = p.picture;
+    if (!p.font.empty()) j["font"] = p.font, j["text"] = p.text;
     for (const DataTable& t : p.tables) {
         nlohmann::json tj = {{"values", t.values}};
         for (const DataTable::Axis& a : t.axes) {
@@ -58,9 +60,11 @@ bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::strin
     FunctionPattern p;
     const std::string kind = j.value("kind", std::string());
     bool known = false;
-    for (int k = 0; k < 5; ++k)
+    for (int k = 0; k < 7; ++k)
         if (kind == kKinds[k]) p.kind = static_cast<FunctionPattern::Kind>(k), known = true;
-    if (!known) return error = fmt::format("'kind' must be brightfunc, colorfunc, brightdata, colordata or colorpict, got '{}'", kind), false;
+    if (!known)
+        return error = fmt::format("'kind' must be brightfunc, colorfunc, brightdata, colordata, colorpict, brighttext or colortext, got '{}'",
+                                   kind), false;
     if (j.contains("name") && j.at("name").is_string()) p.name = j.at("name").get<std::string>();
     if (j.contains("definitions")) {
         if (!j.at("definitions").is_string()) return error = "'definitions' must be a string", false;
@@ -68,6 +72,20 @@ bool pattern_from_json(const nlohmann::json& j, FunctionPattern& out, std::strin
     }
     if (!strings(j, "functions", p.functions, error) || !strings(j, "coordinates", p.coordinates, error) || !numbers(j, "args", p.args, error))
         return false;
+    if (p.kind == FunctionPattern::Kind::kBrightText || p.kind == FunctionPattern::Kind::kColorText) {
+        // Text: the font's text, the lines, and A R D, the colours inside and out, [spacing].
+        const bool colour = p.kind == FunctionPattern::Kind::kColorText;
+        if (!j.contains("font") || !j.at("font").is_string()) return error = "a text pattern needs a 'font' (the font file's text)", false;
+        p.font = j.at("font").get<std::string>();
+        if (!strings(j, "text", p.text, error)) return false;
+        const size_t n = colour ? 15 : 11;
+        if (p.args.size() != n && p.args.size() != n + 1) return error = fmt::format("a {} takes {} or {} 'args'", kind, n, n + 1), false;
+        Font font;
+        std::string problem;
+        if (!parse_font(p.font, font, problem)) return error = "its font: " + problem, false;
+        out = std::move(p);
+        return true;
+    }
     const bool one = p.kind == FunctionPattern::Kind::kBrightFunc || p.kind == FunctionPattern::Kind::kBrightData;
     if (p.functions.size() != (one ? 1u : 3u)) return error = fmt::format("a {} takes {} 'functions'", kind, one ? 1 : 3), false;
     if (j.contains("picture")) {

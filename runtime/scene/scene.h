@@ -74,7 +74,7 @@ struct DataTable {
 /// (`colorpict` on a distant `glow`) are made of. Plain data: the function file's text, not
 /// its name, so the scene is complete without the files.
 struct FunctionPattern {
-    enum class Kind { kBrightFunc, kColorFunc, kBrightData, kColorData, kColorPict };
+    enum class Kind { kBrightFunc, kColorFunc, kBrightData, kColorData, kColorPict, kBrightText, kColorText };
     Kind kind = Kind::kBrightFunc;
     std::string name;         ///< as the scene file names it (messages)
     std::string definitions;  ///< the function file's definitions ("" without one)
@@ -84,6 +84,11 @@ struct FunctionPattern {
     std::vector<std::string> coordinates;  ///< data, pict: one expression per dimension
     std::vector<DataTable> tables;         ///< brightdata: 1; colordata: 3
     std::string picture;                   ///< colorpict: the image file (absolute)
+    /// text (RADIANCE's brighttext, colortext; runtime/scene/text_pattern.h): the font file's
+    /// text and the lines; args then are the origin, right and down vectors, the colour inside
+    /// letters and outside (1 or 3 numbers each) and the optional spacing.
+    std::string font;
+    std::vector<std::string> text;
     std::vector<double> args;              ///< A1..An of the expressions
     /// World to pattern coordinates (the inverse of the pattern's transform): rows of a 3x4
     /// matrix; directions and normals are also divided by `scale`, distances multiplied.

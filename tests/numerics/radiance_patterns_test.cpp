@@ -12,6 +12,7 @@
 
 #include "runtime/base/sampling.h"
 #include "runtime/io/image_io.h"
+#include "runtime/scene/load_scene.h"
 #include "tests/support/scene_helpers.h"
 #include "tests/support/scratch_folder.h"
 #include "tests/support/test_scenes.h"
@@ -23,6 +24,10 @@ class RadiancePatterns : public testing::ScratchFolderTest {
 protected:
     RadiancePatterns() : ScratchFolderTest("crex_radiance_patterns_") {}
 
+public:
+    Scene load_text(const std::string& name, const std::string& text) { return load(name, text); }
+
+protected:
     Scene load(const std::string& name, const std::string& text) {
         std::ofstream(path(name)) << text;
         auto r = testing::load_path(path(name));
@@ -210,6 +215,57 @@ TEST_F(RadiancePatterns, PlasfuncAndTransfuncAnswerALampByTheirFunctionOfItsDire
             EXPECT_NEAR(a[i] / ref[i], .5 + lx * lx + lz, 0.02) << "plasfunc, pixel " << x << ", " << y;
             EXPECT_NEAR(b[i] / ref[i], .5 + kPi * (lx * lx + 1) / 2, 0.03) << "transfunc, pixel " << x << ", " << y;
         }
+}
+
+// A glow floor of radiance 1 at z = -1 (facing up) under a surface at z = 0 of `material`,
+// seen straight down through a parallel view 2 wide; the image's pixels.
+std::vector<float> over_glow_floor(RadiancePatterns& t, const std::string& material, int n) {
+    return testing::render_crex(t.load_text("g.rad", "#@crex view -vtl -vp 0 0 1 -vd 0 0 -1 -vu 0 1 0 -vh 2 -vv 2\n"
+                                            "void glow floorglow 0 0 4 1 1 1 0\n"
+                                            "floorglow polygon floor 0 0 12 -10 -10 -1 10 -10 -1 10 10 -1 -10 10 -1\n" + material +
+                                            "\nsurf polygon plane 0 0 12 -5 -5 0 5 -5 0 5 5 0 -5 5 0\n"),
+                                "T", n, 4)  // one step through the surface
+        .image();
+}
+
+TEST_F(RadiancePatterns, APrismSendsEveryRayWhereItsFunctionsSay) {
+    // prism1: the ray goes on down with .5 of its weight (the floor: .5), or up (nothing
+    // there: 0); a coefficient of the ray (.7 |Dz|, straight down: .7); prism2 sums its two
+    // redirections (.3 down, .2 up: .3).
+    const std::pair<const char*, float> cases[] = {{"void prism1 surf 5 .5 0 0 -1 . 0 0", 0.5f},
+                                                   {"void prism1 surf 5 .5 0 0 1 . 0 0", 0.0f},
+                                                   {"void prism1 surf 5 .7*abs(Dz) Dx Dy Dz . 0 0", 0.7f},
+                                                   {"void prism2 surf 9 .3 0 0 -1 .2 0 0 1 . 0 0", 0.3f}};
+    for (const auto& [material, want] : cases) {
+        const std::vector<float> img = over_glow_floor(*this, material, 4);
+        for (size_t i = 0; i < img.size(); ++i) EXPECT_NEAR(img[i], want, 1e-5) << material << ", value " << i;
+    }
+}
+
+TEST_F(RadiancePatterns, AMixtextsVoidPartIsSeenThrough) {
+    // A glow of radiance 2 inside the letter, void (the floor's 1 seen through) outside: one
+    // 'I' 5 wide, its bar (font x 100..150 of 255) at x -0.539..0.441, over all of the view's y.
+    std::ofstream(path("test.fnt")) << "73 4  100 48  150 48  150 200  100 200\n";
+    const int n = 16;
+    const std::vector<float> img = over_glow_floor(*this, "void glow two 0 0 4 2 2 2 0\n"
+                                                   "void mixtext surf 5 two void test.fnt . I 0 9 -2.5 2.5 0  5 0 0  0 -5 0", n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const float v = img[3 * (static_cast<size_t>(y) * n + static_cast<size_t>(x))];
+            if (x >= 4 && x <= 10) EXPECT_NEAR(v, 2.0f, 1e-5) << x << ", " << y;
+            else if (x <= 2 || x >= 12) EXPECT_NEAR(v, 1.0f, 1e-5) << x << ", " << y;
+        }
+    // The text (font, lines, layout) travels in crex's JSON.
+    const Scene s = load("t.rad", "void glow two 0 0 4 2 2 2 0\nvoid mixtext surf 5 two void test.fnt . I 0 9 -2.5 2.5 0  5 0 0  0 -5 0\n"
+                                  "surf polygon plane 0 0 12 -5 -5 0 5 -5 0 5 5 0 -5 5 0\n");
+    auto back = testing::load_json_text(scene_to_json(s).dump());
+    std::string why;
+    for (const auto& d : back.diagnostics) why += d.code + " " + d.message + "\n";
+    ASSERT_TRUE(back.scene) << why;
+    const Material* m = s.find_material("surf");
+    ASSERT_TRUE(m && m->mixture);
+    EXPECT_EQ(m->mixture->coefficient.text, std::vector<std::string>{"I"});
+    EXPECT_EQ(back.scene->find_material("surf")->mixture, m->mixture);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -389,9 +390,14 @@ bool lazy_builtin(const std::string& f) { return f == "if" || f == "select" || f
 
 constexpr int kMaxDepth = 2000;
 
+// A function call's arguments, each evaluated (in the caller's frame) when first used and
+// then kept: the language has no side effects, and RADIANCE's local frames (rayinit.cal's
+// Ldx(...) of Idx of ...) use each argument many times.
 struct Frame {
     const std::vector<NodePtr>* args = nullptr;
     const Frame* caller = nullptr;
+    mutable std::array<double, 8> values{};
+    mutable uint32_t known = 0;
 };
 
 class Evaluator {
@@ -481,7 +487,12 @@ private:
         }
         if (def) {
             if (def->function) return fail(n, fmt::format("'{}' is a function: give it arguments", n.name));
-            return eval(*def->body, Frame{});
+            // A variable has one value for the whole evaluation (the ray is fixed): kept.
+            for (const auto& [d, v] : memo_)
+                if (d == def) return v;
+            auto v = eval(*def->body, Frame{});
+            if (v && memo_.size() < kMaxMemo) memo_.emplace_back(def, *v);
+            return v;
         }
         if (n.bound) {
             if (n.constant) return n.constant;
@@ -509,9 +520,14 @@ private:
         switch (n.kind) {
         case K::kNumber: return n.value;
         case K::kName: return variable(n);
-        case K::kParam:
+        case K::kParam: {
             if (!frame.args || static_cast<size_t>(n.param) >= frame.args->size()) return fail(n, "parameter outside its function");
-            return eval(*(*frame.args)[static_cast<size_t>(n.param)], frame.caller ? *frame.caller : Frame{});
+            const auto k = static_cast<size_t>(n.param);
+            if (k < frame.values.size() && (frame.known >> k & 1)) return frame.values[k];
+            auto v = eval(*(*frame.args)[k], frame.caller ? *frame.caller : Frame{});
+            if (v && k < frame.values.size()) frame.values[k] = *v, frame.known |= 1u << k;
+            return v;
+        }
         case K::kCall: return call(n.name, n.kids, frame, n);
         case K::kCallParam: {
             // A function passed as an argument: the caller wrote its name there.
@@ -541,10 +557,12 @@ private:
         }
     }
 
+    static constexpr size_t kMaxMemo = 64;
     const std::map<std::string, std::shared_ptr<Program::Definition>>& defs_;
     const Environment& env_;
     Error& error_;
     int depth_ = 0;
+    std::vector<std::pair<const Program::Definition*, double>> memo_;
 };
 
 }  // namespace

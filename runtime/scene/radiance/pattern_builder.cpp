@@ -8,6 +8,7 @@
 
 #include "base/input_file.h"
 #include "runtime/scene/material.h"
+#include "runtime/scene/text_pattern.h"
 
 #include "runtime/scene/radiance/calc.h"
 #include "runtime/scene/radiance/data_file.h"
@@ -44,7 +45,53 @@ std::string read_text(const std::string& path, bool& ok) {
 }  // namespace
 
 bool SceneBuilder::is_emitter_pattern(const std::string& type) {
-    return type == "brightfunc" || type == "colorfunc" || type == "brightdata" || type == "colordata" || type == "colorpict";
+    return type == "brightfunc" || type == "colorfunc" || type == "brightdata" || type == "colordata" || type == "colorpict" ||
+           type == "brighttext" || type == "colortext";
+}
+
+bool SceneBuilder::text_of(const Primitive& p, size_t font_at, FunctionPattern& out) {
+    // The font file, then a text file, or '.' and the words of one line.
+    const std::string& t = p.type.text;
+    if (p.strings.size() < font_at + 2) {
+        report("E303", p.type.span, fmt::format("{} '{}' needs a font file and a text file (or '.' and the text) as string arguments",
+                                                t, p.id.text), &p);
+        return false;
+    }
+    auto read = [&](const Word& w, const char* what, std::string& text) {
+        const std::string path = find_named_file(w);
+        bool ok = false;
+        if (!path.empty()) text = read_text(path, ok);
+        if (!ok)
+            report("E308", w.span, fmt::format("{} '{}': cannot read the {} '{}'", t, p.id.text, what, w.text), &p).help =
+                "it is looked for next to the file that names it, then in the RAYPATH directories (RADIANCE's library, where its "
+                "fonts are)";
+        return ok;
+    };
+    const Word& font = p.strings[font_at];
+    if (!read(font, "font file", out.font)) return false;
+    Font parsed;
+    std::string error;
+    if (!parse_font(out.font, parsed, error)) {
+        report("E302", font.span, fmt::format("{} '{}': the font file '{}', {}", t, p.id.text, font.text, error), &p);
+        return false;
+    }
+    out.text.clear();
+    if (p.strings.size() > font_at + 2) {
+        std::string line;
+        for (size_t i = font_at + 2; i < p.strings.size(); ++i) line += (line.empty() ? "" : " ") + p.strings[i].text;
+        out.text.push_back(std::move(line));
+    } else {
+        std::string text;
+        if (!read(p.strings[font_at + 1], "text file", text)) return false;
+        size_t begin = 0;
+        while (begin < text.size()) {
+            size_t end = text.find('\n', begin);
+            if (end == std::string::npos) end = text.size();
+            out.text.push_back(text.substr(begin, end - begin));
+            begin = end + 1;
+        }
+    }
+    return true;
 }
 
 std::string SceneBuilder::find_named_file(const Word& name) const {
@@ -72,6 +119,19 @@ std::optional<FunctionPattern> SceneBuilder::pattern_of(const Definition& d) {
     using K = FunctionPattern::Kind;
     FunctionPattern out;
     out.name = p.id.text;
+    if (t == "brighttext" || t == "colortext") {
+        // Reals: the origin, right and down vectors, the inside and outside colours, [spacing].
+        out.kind = t == "brighttext" ? K::kBrightText : K::kColorText;
+        const size_t n = t == "brighttext" ? 11 : 15;
+        if (p.reals.size() != n && p.reals.size() != n + 1) {
+            report("E303", p.reals_span(), fmt::format("{} '{}' takes {} or {} real arguments (origin, right, down, the colours inside "
+                                                       "and outside the letters, [spacing]), got {}", t, p.id.text, n, n + 1, p.reals.size()), &p);
+            return std::nullopt;
+        }
+        out.args = p.reals;
+        if (!text_of(p, 0, out)) return std::nullopt;
+        return out;
+    }
     out.kind = t == "brightfunc" ? K::kBrightFunc : t == "colorfunc" ? K::kColorFunc : t == "brightdata" ? K::kBrightData
              : t == "colordata" ? K::kColorData : K::kColorPict;
     // Where each kind keeps its functions, data or picture, file and coordinates.
@@ -385,27 +445,48 @@ std::optional<Material> SceneBuilder::directional_function(const Definition& d, 
     return m;
 }
 
+std::string SceneBuilder::see_through_material() {
+    // RADIANCE's void part of a mixture: the ray goes on as if the surface were not there.
+    // crex passes it straight through (a trans of all specular transmission); shadow rays,
+    // which are not shaded, stop at the surface.
+    const std::string name = "void (seen through)";
+    if (!scene_.find_material(name)) {
+        Material m;
+        m.name = name;
+        m.type = MaterialType::kTrans;
+        m.color = {1, 1, 1};
+        m.transmissivity = 1;
+        m.transmitted_specular = 1;
+        scene_.materials.push_back(m);
+    }
+    return name;
+}
+
 std::optional<Material> SceneBuilder::mixture(const Definition& d, const Primitive& user) {
-    // foreground background coefficient funcfile [transform]; the coefficient is the
-    // foreground's share at each point.
+    // mixfunc: foreground background coefficient funcfile [transform], the coefficient the
+    // foreground's share at each point. mixtext: foreground background fontfile textfile (or
+    // '.' and the text), the foreground inside the letters.
     const Primitive& p = d.p;
+    const std::string& t = p.type.text;
+    const bool text = t == "mixtext";
     if (d.modifier) {
-        refuse(d, d.p.modifier.span, user, fmt::format("mixfunc '{}' is modified by the {} '{}': crex mixes plain materials only", p.id.text,
+        refuse(d, d.p.modifier.span, user, fmt::format("{} '{}' is modified by the {} '{}': crex mixes plain materials only", t, p.id.text,
                                                        d.modifier->p.type.text, d.modifier->p.id.text));
         return std::nullopt;
     }
     if (p.strings.size() < 4) {
-        report("E303", p.type.span, fmt::format("mixfunc '{}' needs 4 string arguments (foreground background coefficient funcfile), got {}",
-                                                p.id.text, p.strings.size()), &p);
+        report("E303", p.type.span, fmt::format("{} '{}' needs at least 4 string arguments ({}), got {}", t, p.id.text,
+                                                text ? "foreground background fontfile textfile" : "foreground background coefficient funcfile",
+                                                p.strings.size()), &p);
         return std::nullopt;
     }
     std::optional<std::string> parts[2];
     for (int k = 0; k < 2; ++k) {
         const Word& w = p.strings[static_cast<size_t>(k)];
         if (w.text == "void") {
-            refuse(d, w.span, user, fmt::format("mixfunc '{}': a void part (a surface seen through where the mixture says so) is not "
-                                                "supported", p.id.text), "mix two materials");
-            return std::nullopt;
+            parts[k] = see_through_material();
+            report("W306", w.span, fmt::format("{} '{}': its void part is seen through, but still casts a shadow in crex", t, p.id.text), &p);
+            continue;
         }
         DefPtr part = lookup(w, p, k == 0 ? "the foreground material" : "the background material");
         if (!part) return std::nullopt;
@@ -413,11 +494,11 @@ std::optional<Material> SceneBuilder::mixture(const Definition& d, const Primiti
         if (!parts[k]) return std::nullopt;
         const Material* m = scene_.find_material(*parts[k]);
         if (parts[k]->empty() || !m) {
-            refuse(d, w.span, user, fmt::format("mixfunc '{}': '{}' is invisible (an illum without an alternate)", p.id.text, w.text));
+            refuse(d, w.span, user, fmt::format("{} '{}': '{}' is invisible (an illum without an alternate)", t, p.id.text, w.text));
             return std::nullopt;
         }
         if (is_sampled_emitter(*m) || m->mixture) {
-            refuse(d, w.span, user, fmt::format("mixfunc '{}': '{}' is {}, which crex does not mix", p.id.text, w.text,
+            refuse(d, w.span, user, fmt::format("{} '{}': '{}' is {}, which crex does not mix", t, p.id.text, w.text,
                                                 m->mixture ? "a mixture itself" : "a light source direct lighting samples"),
                    "mix surface materials and glows of radius 0 or less");
             return std::nullopt;
@@ -425,11 +506,27 @@ std::optional<Material> SceneBuilder::mixture(const Definition& d, const Primiti
     }
     Mixture mix;
     mix.background = *parts[1];
-    mix.coefficient.kind = FunctionPattern::Kind::kBrightFunc;
-    mix.coefficient.name = p.id.text;
-    mix.coefficient.args = p.reals;
-    mix.coefficient.functions = {p.strings[2].text};
-    if (!complete_functions(p, mix.coefficient, 3, {2}, {}, 4)) return std::nullopt;
+    FunctionPattern& c = mix.coefficient;
+    c.name = p.id.text;
+    if (text) {
+        // The foreground's share: 1 inside the letters, 0 outside.
+        if (p.reals.size() != 9 && p.reals.size() != 10) {
+            report("E303", p.reals_span(), fmt::format("mixtext '{}' takes 9 or 10 real arguments (origin, right, down, [spacing]), got {}",
+                                                       p.id.text, p.reals.size()), &p);
+            return std::nullopt;
+        }
+        c.kind = FunctionPattern::Kind::kBrightText;
+        c.args.assign(p.reals.begin(), p.reals.begin() + 9);
+        c.args.push_back(1);
+        c.args.push_back(0);
+        if (p.reals.size() == 10) c.args.push_back(p.reals[9]);
+        if (!text_of(p, 2, c)) return std::nullopt;
+    } else {
+        c.kind = FunctionPattern::Kind::kBrightFunc;
+        c.args = p.reals;
+        c.functions = {p.strings[2].text};
+        if (!complete_functions(p, c, 3, {2}, {}, 4)) return std::nullopt;
+    }
     Material m = *scene_.find_material(*parts[0]);
     m.name = unique_material_name(p.id.text);
     m.mixture = std::move(mix);

@@ -244,7 +244,7 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
                                     article(t), t, info->kind == PrimitiveKind::kPattern ? "a pattern" : "a texture"));
         return std::nullopt;
     }
-    if (t == "mixfunc") return mixture(d, user);
+    if (t == "mixfunc" || t == "mixtext") return mixture(d, user);
     if (info->kind == PrimitiveKind::kMixture) {
         const std::string needs = what_it_needs(p);
         refuse(d, user, fmt::format("{} '{}' (a mixture of materials{}) is not supported", t, p.id.text, needs.empty() ? "" : ", by " + needs),
@@ -517,7 +517,7 @@ void SceneBuilder::surface(Primitive p) {
         if (!smooth.empty()) {
             // A smoothed triangle joins the one before it when they are one object.
             const bool flat = smooth[0] == Vec3{};
-            if (smooth_shape_ + 1 == scene_.shapes.size()) {
+            if (smooth_shape_ < scene_.shapes.size() && smooth_shape_ + 1 == scene_.shapes.size()) {
                 Shape& last = scene_.shapes[smooth_shape_];
                 if (last.name == s.name && last.material == s.material && last.tag == s.tag && last.normals.empty() == flat &&
                     last.vertices.size() < (size_t{1} << 24)) {

@@ -91,6 +91,9 @@ private:
     /// ("" when neither has it).
     std::string find_named_file(const Word& name) const;
     std::optional<FunctionPattern> pattern_of(const Definition& d);
+    /// A text pattern's font and lines (strings from `font_at`: font file, then a text file or
+    /// '.' and the words); false after a reported error.
+    bool text_of(const Primitive& p, size_t font_at, FunctionPattern& out);
     /// Reads the function file at string `file_at` into `out`, checks the expressions at
     /// `expressions` and the function names at `names`, and the transform from `transform_at`.
     bool complete_functions(const Primitive& p, FunctionPattern& out, size_t file_at, const std::vector<size_t>& expressions,
@@ -104,6 +107,8 @@ private:
     std::optional<Material> redirecting(const Definition& d, const Primitive& user);
     /// RADIANCE's mixfunc: its foreground material with a Mixture; nullopt after an error.
     std::optional<Material> mixture(const Definition& d, const Primitive& user);
+    /// The material of a mixture's void part (added once): rays pass straight through.
+    std::string see_through_material();
     /// The patterns modifying emitter `d`, nearest first; false after a reported refusal.
     bool patterns_of(const Definition& d, const Primitive& user, std::vector<FunctionPattern>& out);
     std::string unique_material_name(const std::string& id);

@@ -2,6 +2,8 @@
 // two triangles of a unit square, one red and one blue, a tilted normal, texture
 // coordinates) read back with its materials, moved by the primitive's transform, in the
 // primitive's modifier when that is not void, and a damaged file refused where it is named.
+// Instances of a frozen octree oconv made (square_ball.oct) the same way, and obj2rad's
+// smoothed triangles (a texfunc over tmesh.cal) read as mesh normals.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -14,6 +16,7 @@ namespace crex {
 namespace {
 
 const std::string kQuad = std::string(CREX_SOURCE_DIR) + "/tests/data/radiance/quad.rtm";
+const std::string kOctree = std::string(CREX_SOURCE_DIR) + "/tests/data/radiance/square_ball.oct";
 
 const Shape* shape_in(const Scene& s, const std::string& material) {
     for (const Shape& sh : s.shapes)
@@ -70,6 +73,53 @@ TEST(RadianceMesh, AModifierReplacesItsMaterialsAndAMirrorKeepsItsFront) {
     }
 }
 
+TEST(RadianceInstance, AnOctreesSceneInItsOwnMaterialsMovedByTheTransform) {
+    // The octree's own "red" does not replace the file's "red" for what follows it.
+    auto r = testing::load_rad_text("void plastic red 0 0 5 .5 .5 .5 0 0\nvoid instance copy 7 " + kOctree +
+                                    " -s 2 -t 0 0 1 0 0\nred sphere after 0 0 4 5 5 5 1\n");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Shape *square = nullptr, *ball = nullptr, *after = nullptr;
+    for (const Shape& sh : r.scene->shapes) (sh.name == "square" ? square : sh.name == "ball" ? ball : after) = &sh;
+    ASSERT_TRUE(square && ball && after);
+    for (const Vec3& v : {Vec3{0, 0, 1}, Vec3{2, 0, 1}, Vec3{2, 2, 1}, Vec3{0, 2, 1}}) EXPECT_TRUE(has_vertex(*square, v)) << v.x << " " << v.y;
+    EXPECT_LT(length(ball->center - Vec3{1, 1, 2}), 1e-8);
+    EXPECT_NEAR(ball->radius, 0.5, 1e-8);
+    const Material* inner = r.scene->find_material(square->material);
+    const Material* outer = r.scene->find_material(after->material);
+    ASSERT_TRUE(inner && outer);
+    EXPECT_NEAR(inner->color.x, 0.8, 1e-6);  // the octree's red
+    EXPECT_NEAR(outer->color.x, 0.5, 1e-12);  // the file's
+    EXPECT_NEAR(r.scene->find_material(ball->material)->color.y, 0.8, 1e-6);
+}
+
+TEST(RadianceInstance, AModifierReplacesEveryMaterialInside) {
+    auto r = testing::load_rad_text("void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey instance copy 1 " + kOctree + " 0 0\n");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    ASSERT_EQ(r.scene->shapes.size(), 2u);
+    for (const Shape& sh : r.scene->shapes) EXPECT_EQ(sh.material, "grey") << sh.name;
+}
+
+TEST(RadianceInstance, SmoothedTrianglesBecomeMeshNormals) {
+    // tmesh.cal's normal M (bu, bv, 1) with major axis 2 (z: bu = Px, bv = Py): M makes the
+    // normal (Px, Py, 1) before normalising, so the vertices of the triangle (0,0), (1,0),
+    // (0,1) at z = 0 get (0,0,1), (1,0,1)/sqrt2 and (0,1,1)/sqrt2. Two such triangles of one
+    // object join one mesh.
+    const std::string tex = "texfunc smooth 4 dx dy dz tmesh.cal 0 10 2 1 0 0 0 1 0 0 0 1\n";
+    auto r = testing::load_rad_text("void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey " + tex + "smooth polygon t 0 0 9 0 0 0 1 0 0 0 1 0\n"
+                                    "grey " + tex + "smooth polygon t 0 0 9 1 0 0 1 1 0 0 1 0\n");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    ASSERT_EQ(r.scene->shapes.size(), 1u);
+    const Shape& s = r.scene->shapes[0];
+    EXPECT_EQ(s.type, ShapeType::kMesh);
+    EXPECT_EQ(s.material, "grey");
+    ASSERT_EQ(s.triangles.size(), 2u);
+    ASSERT_EQ(s.normals.size(), s.vertices.size());
+    for (size_t i = 0; i < s.vertices.size(); ++i) {
+        const Vec3 want = normalize_or_zero(Vec3{s.vertices[i].x, s.vertices[i].y, 1});
+        EXPECT_LT(length(s.normals[i] - want), 1e-9) << i;
+    }
+}
+
 class RadianceMeshFiles : public testing::ScratchFolderTest {
 protected:
     RadianceMeshFiles() : ScratchFolderTest("crex_radiance_mesh_") {}
@@ -82,6 +132,19 @@ TEST_F(RadianceMeshFiles, ADamagedMeshIsRefusedWhereItIsNamed) {
     auto r = testing::load_rad_text("void mesh quad 1 " + path("cut.rtm") + " 0 0\n");
     EXPECT_FALSE(r.scene);
     testing::expect_diagnostic(r, "damaged mesh", "E308", 1, 18, "cannot read the compiled mesh");
+}
+
+TEST_F(RadianceMeshFiles, AnOctreeThatIsNotFrozenIsRefusedWithItsFiles) {
+    // oconv without -f: the header, the object size, the cube, the file names, then no scene.
+    std::string bytes = "#?RADIANCE\nFORMAT=Radiance_octree\n\n";
+    const int magic = 4 * 8 + 251 + 4;  // RADIANCE's OCTMAGIC for 4-byte objects
+    bytes += static_cast<char>(magic >> 8), bytes += static_cast<char>(magic & 0xff);
+    for (const char* w : {"0", "0", "0", "1", "car.rad", ""}) bytes += std::string(w) + '\0';
+    bytes += std::string(4, '\0');
+    std::ofstream(path("car.oct"), std::ios::binary) << bytes;
+    auto r = testing::load_rad_text("void instance car 1 " + path("car.oct") + " 0 0\n");
+    EXPECT_FALSE(r.scene);
+    testing::expect_diagnostic(r, "octree not frozen", "E308", 1, 21, "it is not frozen: it names its scene files (car.rad)");
 }
 
 }  // namespace
