@@ -6,6 +6,7 @@
 
 #include "runtime/base/sampling.h"
 #include "runtime/render/render_scene.h"
+#include "runtime/scene/shapes.h"
 
 namespace crex {
 namespace {
@@ -98,13 +99,68 @@ void PixelFootprint::at(const Vec3& p, const Vec3& n, Vec3& dpdx, Vec3& dpdy) co
     dpdy = meet(down_step_);
 }
 
+SceneCutouts::SceneCutouts(const Scene& scene, const SurfaceTextures* textures) : scene_(scene), textures_(textures) {
+    clipped_by_.resize(scene.materials.size());
+    for (const Material& a : scene.materials) {
+        if (a.clips.empty()) continue;
+        Solid s;
+        s.lo = Vec3{INFINITY, INFINITY, INFINITY}, s.hi = -s.lo;
+        for (const Shape& sh : scene.shapes) {
+            if (sh.material != a.name) continue;
+            TriangleMesh mesh;
+            tessellate(sh, mesh);
+            for (const auto& t : mesh.indices) {
+                s.triangles.push_back({mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]});
+                for (uint32_t k : t) s.lo = vmin(s.lo, mesh.positions[k]), s.hi = vmax(s.hi, mesh.positions[k]);
+            }
+        }
+        if (s.triangles.empty()) continue;
+        const auto index = static_cast<uint32_t>(solids_.size());
+        solids_.push_back(std::move(s));
+        for (const std::string& name : a.clips)
+            for (uint32_t m = 0; m < scene.materials.size(); ++m)
+                if (scene.materials[m].name == name) clipped_by_[m].push_back(index);
+    }
+}
+
+bool SceneCutouts::any() const {
+    for (uint32_t m = 0; m < scene_.materials.size(); ++m)
+        if (cuts_out(m)) return true;
+    return false;
+}
+
+bool SceneCutouts::Solid::inside(const Vec3& p) const {
+    if (p.x < lo.x || p.y < lo.y || p.z < lo.z || p.x > hi.x || p.y > hi.y || p.z > hi.z) return false;
+    // A direction no axis-aligned or diagonal edge lies along; Moller-Trumbore per triangle.
+    const Vec3 d = normalize_or_zero(Vec3{0.5773, 0.5831, 0.5707});
+    int crossings = 0;
+    for (const auto& t : triangles) {
+        const Vec3 e1 = t[1] - t[0], e2 = t[2] - t[0];
+        const Vec3 q = cross(d, e2);
+        const double det = dot(e1, q);
+        if (std::fabs(det) < 1e-300) continue;
+        const Vec3 s = p - t[0];
+        const double a = dot(s, q) / det;
+        if (a < 0 || a > 1) continue;
+        const Vec3 r = cross(s, e1);
+        const double b = dot(d, r) / det;
+        if (b < 0 || a + b > 1) continue;
+        if (dot(e2, r) / det > 0) ++crossings;
+    }
+    return crossings & 1;
+}
+
 bool SceneCutouts::solid(uint32_t geometry, uint32_t prim, float u, float v, const Vec3& origin, const Vec3& dir, float t) const {
     const GeometryInfo& g = embree_->geometries()[geometry];
     const Material& m = scene_.materials[g.material];
     SurfacePoint p;
     p.position = origin + dir * double(t) + embree_->origin_offset();
+    if (g.material < clipped_by_.size())
+        for (uint32_t s : clipped_by_[g.material])
+            if (solids_[s].inside(p.position)) return false;  // inside an antimatter: no surface here
+    if (!textures_ || !textures_->cuts_out(g.material)) return true;
     if (!g.sphere && !g.uvs.empty()) interpolate_uv(g, g.indices[prim], u, v, p.u, p.v);
-    const double opacity = textures_.opacity(g.material, p);
+    const double opacity = textures_->opacity(g.material, p);
     if (m.alpha_mode == AlphaMode::kMask) return opacity >= m.alpha_cutoff;
     // Blend: a hole with probability 1 - opacity, the same for the same ray and hit.
     uint64_t h = mix(geometry, prim);

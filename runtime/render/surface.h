@@ -39,18 +39,33 @@ private:
 /// Cut-outs for Embree: a hit on a material with an opacity texture (or a constant opacity
 /// below 1) is a hole where the opacity is below the material's cutoff (alpha mode mask), or
 /// with probability 1 - opacity (blend, decided by a hash of the ray and the hit, so the same
-/// ray always meets the same holes).
+/// ray always meets the same holes). A hit on a material an antimatter clips (Material::clips)
+/// is a hole inside the antimatter's solid.
 class SceneCutouts final : public CutoutTest {
 public:
-    SceneCutouts(const Scene& scene, const SurfaceTextures& textures) : scene_(scene), textures_(textures) {}
+    /// `textures` may be null (a scene with antimatter and no textures).
+    SceneCutouts(const Scene& scene, const SurfaceTextures* textures);
+    /// Whether any material cuts holes (else the scene needs no filter).
+    bool any() const;
     void attach(const EmbreeScene& embree) { embree_ = &embree; }
-    bool cuts_out(uint32_t material) const override { return textures_.cuts_out(material); }
+    bool cuts_out(uint32_t material) const override {
+        return (textures_ && textures_->cuts_out(material)) || (material < clipped_by_.size() && !clipped_by_[material].empty());
+    }
     bool solid(uint32_t geometry, uint32_t prim, float u, float v, const Vec3& origin, const Vec3& dir, float t) const override;
 
 private:
+    /// An antimatter's solid: its shapes' triangles (world coordinates) and their bounds.
+    struct Solid {
+        std::vector<std::array<Vec3, 3>> triangles;
+        Vec3 lo, hi;
+        /// Inside by the parity of crossings along a fixed direction.
+        bool inside(const Vec3& p) const;
+    };
     const Scene& scene_;
-    const SurfaceTextures& textures_;
+    const SurfaceTextures* textures_;
     const EmbreeScene* embree_ = nullptr;
+    std::vector<Solid> solids_;
+    std::vector<std::vector<uint32_t>> clipped_by_;  ///< per material: the solids that remove it
 };
 
 /// The surface at Embree's `hit`, whose frame `f` hit_frame() made: sets f.shading (the

@@ -198,7 +198,7 @@ private:
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
                         "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
-                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions", "directional_function", "redirections", "mixture"});
+                        "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions", "directional_function", "redirections", "clips", "mixture"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         MaterialTextures& tex = m.textures;
         // Reflectances above 1 create energy; radiances may be anything the image can hold.
@@ -288,6 +288,18 @@ private:
             else if (directional_function_from_json(r.at("directional_function"), df, error)) m.directional = std::move(df);
             if (!error.empty())
                 sink_.report("E303", r.span("directional_function"), fmt::format("{}: {}", r.path("directional_function"), error));
+        }
+        if (r.has("clips")) {
+            // RADIANCE's antimatter: a void material naming the materials its solid removes.
+            const nlohmann::json& c = r.at("clips");
+            std::string error;
+            if (m.type != MaterialType::kVoid) error = "only a void material clips";
+            else if (!c.is_array() || c.empty()) error = "expected an array of material names";
+            for (size_t k = 0; error.empty() && k < c.size(); ++k)
+                if (!c[k].is_string() || !material_names_.count(c[k].get<std::string>()))
+                    error = fmt::format("entry {} is not the name of a material defined before it", k);
+            if (error.empty()) m.clips = c.get<std::vector<std::string>>();
+            else sink_.report("E303", r.span("clips"), fmt::format("{}: {}", r.path("clips"), error));
         }
         if (r.has("redirections")) {
             std::vector<Redirection> rd;

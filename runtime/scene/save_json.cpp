@@ -154,6 +154,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         if (m.surface_functions) e["surface_functions"] = surface_functions_to_json(*m.surface_functions);
         if (m.directional) e["directional_function"] = directional_function_to_json(*m.directional);
         if (!m.redirections.empty()) e["redirections"] = redirections_to_json(m.redirections);
+        if (!m.clips.empty()) e["clips"] = m.clips;
         if (m.mixture) e["mixture"] = {{"background", m.mixture->background}, {"coefficient", pattern_to_json(m.mixture->coefficient)}};
         j["materials"].push_back(e);
     }

@@ -184,6 +184,10 @@ struct Material {
     std::optional<DirectionalFunction> directional;
     /// trans (all specular transmission): where the ray goes on instead (prism1, prism2).
     std::vector<Redirection> redirections;
+    /// void: RADIANCE's antimatter. The shapes of this material bound a solid inside which the
+    /// surfaces of these materials do not exist for any ray (a hole cut through a wall); the
+    /// shapes themselves are never seen (as RADIANCE 5.4a renders them).
+    std::vector<std::string> clips;
     /// A mixture: this material where the coefficient says so, `background` elsewhere.
     std::optional<Mixture> mixture;
 };

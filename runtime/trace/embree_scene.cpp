@@ -64,6 +64,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
         for (uint32_t m = 0; m < scene.materials.size(); ++m)
             if (scene.materials[m].name == s.material) info.material = m;
         info.emitter = info.material;
+        if (!scene.materials[info.material].clips.empty()) continue;  // an antimatter's solid: never seen
         // An illum is sampled as itself and seen as its alternate material (or not at all).
         bool hidden = false;
         if (scene.materials[info.material].type == MaterialType::kIllum) {

@@ -21,7 +21,7 @@ namespace {
 
 const char* kSupportedHelp =
     "crex renders the surfaces polygon, sphere, bubble, ring, cone, cup, cylinder, tube and source, and the materials "
-    "plastic, metal, trans, plastic2, metal2, trans2, ashik2, plasfunc, metfunc, transfunc, prism1, prism2, glass, dielectric, interface, mirror, light, illum, glow and spotlight";
+    "plastic, metal, trans, plastic2, metal2, trans2, ashik2, plasfunc, metfunc, transfunc, prism1, prism2, antimatter, glass, dielectric, interface, mirror, light, illum, glow and spotlight";
 
 std::string article(const std::string& word) {
     return word.empty() || std::string("aeiouAEIOU").find(word[0]) == std::string::npos ? "a" : "an";
@@ -432,6 +432,23 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         }
         return m;
     }
+    if (t == "antimatter") {
+        // The modifiers whose surfaces its solid removes (void entries are skipped).
+        for (const Word& w : p.strings) {
+            if (w.text == "void") continue;
+            DefPtr cut = lookup(w, p, "the modifier to clip");
+            if (!cut) return std::nullopt;
+            auto name = material_of(cut, user);
+            if (!name) return std::nullopt;
+            if (!name->empty()) m.clips.push_back(*name);
+        }
+        if (m.clips.empty()) {
+            report("E303", p.type.span, fmt::format("antimatter '{}' names no material to clip (its string arguments)", p.id.text), &p);
+            return std::nullopt;
+        }
+        m.type = MaterialType::kVoid;
+        return m;
+    }
     if (t == "prism1" || t == "prism2") {
         auto b = redirecting(d, user);
         if (b) b->name = m.name;
@@ -449,7 +466,6 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
     }
     std::string help;
     if (t == "mist") help = "crex's medium fills the whole scene: give a JSON scene a \"medium\" instead";
-    else if (t == "antimatter") help = "cut the hole into the surfaces themselves (a polygon with a seam, for instance)";
     else if (t.find("func") != std::string::npos || t.find("data") != std::string::npos || t == "BRTDfunc")
         help = "crex does not evaluate procedural or tabulated reflectance; approximate it with plastic, metal or trans";
     refuse(d, user, fmt::format("RADIANCE material type '{}' ('{}') is not supported", t, p.id.text), help);
