@@ -275,7 +275,7 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
         if (c == 0 || (front ? !positive(b.direct_diffuse) && !positive(b.directional_reflect)
                              : !positive(b.direct_diffuse_transmit) && !positive(b.directional_transmit)))
             return {};
-        const double shape = b.directional->value(r).x;
+        const double shape = std::fmin(b.directional->value(r).x, 1e9);  // a runaway function must not overflow the light
         const double cos = std::fabs(c);
         return front ? (b.direct_diffuse * kInvPi + b.directional_reflect * shape) * cos
                      : (b.direct_diffuse_transmit * kInvPi + b.directional_transmit * shape) * cos;

@@ -12,6 +12,9 @@
 namespace crex::radiance {
 namespace {
 constexpr int kMaxInstanceDepth = 8;  // an octree holding an instance of itself ends here
+// Objects all instances may add together: an xform array of a large octree must end in an
+// error, not in all the machine's memory (the expander's own limit is 4 million primitives).
+constexpr size_t kMaxInstancedObjects = size_t{1} << 24;
 }  // namespace
 
 Primitive SceneBuilder::from_binary(const BinaryObject& o, const std::string& modifier, const Primitive& placed) {
@@ -69,6 +72,13 @@ void SceneBuilder::instance(const Primitive& p, const std::optional<Tag>& tag) {
     if (instance_depth_ >= kMaxInstanceDepth) {
         report("E307", p.type.span, fmt::format("instance '{}': instances nest more than {} deep (does the octree hold an instance of "
                                                 "itself?)", p.id.text, kMaxInstanceDepth), &p);
+        return;
+    }
+    instanced_objects_ += objects.size();
+    if (instanced_objects_ > kMaxInstancedObjects) {
+        if (refused_places_.insert({p.type.span.file, p.type.span.begin}).second)
+            report("E303", p.type.span, fmt::format("instance '{}': the scene's instances add more than {} objects", p.id.text,
+                                                    kMaxInstancedObjects), &p);
         return;
     }
     DefPtr replacement;

@@ -150,6 +150,7 @@ private:
     std::map<std::string, std::optional<std::string>> mesh_materials_;      ///< "path#k" -> crex material
     std::map<std::string, std::shared_ptr<const std::vector<BinaryObject>>> octrees_;  ///< by path, read once
     int instance_depth_ = 0;  ///< instances inside instances being read
+    size_t instanced_objects_ = 0;  ///< objects all instances added so far
     size_t smooth_shape_ = SIZE_MAX;  ///< the shape smoothed triangles last went into (they join it)
 };
 
