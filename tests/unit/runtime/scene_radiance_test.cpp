@@ -42,6 +42,36 @@ TEST(SceneRadiance, EveryMaterialReadsItsArguments) {
     EXPECT_DOUBLE_EQ(s.materials[8].glow_radius, 4);
 }
 
+TEST(SceneRadiance, TheFuncMaterialsAndAshik2ReadTheirArguments) {
+    // metfunc: its specular part coloured by the material (rspec c), the diffuse part
+    // c (1 - rspec); transfunc: trans = .8 (1 - .1), tspec = trans .5, tdiff = c (trans - tspec),
+    // rdiff = c (1 - trans - rspec). ashik2 as Ward: roughness sqrt(2 / n), diffuse kept.
+    auto r = testing::load_rad_text("void metfunc m 2 grey . 0 7 .5 .4 .2 .1 0 0 1\nvoid transfunc t 2 grey . 0 9 .5 .5 .5 .1 .8 .5 0 0 1\n"
+                                    "void ashik2 a 4 1 0 0 . 0 8 .3 .1 .05 .5 .5 .5 8 50\n"
+                                    "m sphere s1 0 0 4 0 0 0 1\nt sphere s2 0 0 4 3 0 0 1\na sphere s3 0 0 4 6 0 0 1\n");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Material* m = r.scene->find_material("m");
+    const Material* t = r.scene->find_material("t");
+    const Material* a = r.scene->find_material("a");
+    ASSERT_TRUE(m && t && a && m->directional && t->directional);
+    EXPECT_LT(length(m->directional->reflect - Vec3{.05, .04, .02}), 1e-12);
+    EXPECT_LT(length(m->directional->diffuse_reflect - Vec3{.45, .36, .18}), 1e-12);
+    EXPECT_EQ(m->type, MaterialType::kPlastic);
+    EXPECT_EQ(t->type, MaterialType::kTrans);
+    EXPECT_NEAR(t->transmissivity, .72, 1e-12);
+    EXPECT_NEAR(t->directional->transmit.x, .5 * .36, 1e-12);
+    EXPECT_NEAR(t->directional->diffuse_transmit.x, .5 * (.72 - .36), 1e-12);
+    EXPECT_NEAR(t->directional->diffuse_reflect.x, .5 * (1 - .72 - .1), 1e-12);
+    ASSERT_TRUE(a->anisotropy);
+    EXPECT_NEAR(a->roughness, std::sqrt(2.0 / 8), 1e-12);
+    EXPECT_NEAR(a->anisotropy->roughness_v, std::sqrt(2.0 / 50), 1e-12);
+    EXPECT_NEAR(a->specularity, 0.5, 1e-6);  // a grey specular colour's brightness
+    EXPECT_NEAR(a->color.x * (1 - a->specularity), 0.3, 1e-6);  // the diffuse part kept
+    bool warned = false;
+    for (const auto& d : r.diagnostics) warned = warned || (d.code == "W306" && d.message.find("ashik2 'a'") != std::string::npos);
+    EXPECT_TRUE(warned);
+}
+
 TEST(SceneRadiance, EveryPrimitiveReadsItsArguments) {
     auto r = testing::load_rad_text(R"(
 void plastic w 0 0 5 .5 .5 .5 0 0
