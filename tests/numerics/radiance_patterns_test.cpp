@@ -252,8 +252,11 @@ TEST_F(RadiancePatterns, AMixtextsVoidPartIsSeenThrough) {
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
             const float v = img[3 * (static_cast<size_t>(y) * n + static_cast<size_t>(x))];
-            if (x >= 4 && x <= 10) EXPECT_NEAR(v, 2.0f, 1e-5) << x << ", " << y;
-            else if (x <= 2 || x >= 12) EXPECT_NEAR(v, 1.0f, 1e-5) << x << ", " << y;
+            if (x >= 4 && x <= 10) {
+                EXPECT_NEAR(v, 2.0f, 1e-5) << x << ", " << y;
+            } else if (x <= 2 || x >= 12) {
+                EXPECT_NEAR(v, 1.0f, 1e-5) << x << ", " << y;
+            }
         }
     // The text (font, lines, layout) travels in crex's JSON.
     const Scene s = load("t.rad", "void glow two 0 0 4 2 2 2 0\nvoid mixtext surf 5 two void test.fnt . I 0 9 -2.5 2.5 0  5 0 0  0 -5 0\n"
