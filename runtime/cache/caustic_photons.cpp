@@ -277,7 +277,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 Lobe lobe;
                 double prob = 0;
                 if (through_trans[j]) {
-                    lobe = {Component::kT, dir[j], b.specular_transmit, true, true};  // undeviated
+                    lobe = {Component::kT, dir[j], b.specular_transmit, true, true, true};  // undeviated
                     prob = transmission_share(b);
                 } else {
                     std::array<Lobe, kMaxLobes> lobes;
@@ -287,7 +287,9 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                     lobe = lobes[static_cast<size_t>(pick)];
                 }
                 power[j] = power[j] * lobe.weight / prob;
-                passed[j] = 1;
+                // Light that only went straight through thin glass or trans is direct lighting's
+                // (shadow rays cross those): a caustic needs a bend.
+                if (!lobe.straight) passed[j] = 1;
                 dir[j] = lobe.direction;
                 Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
                 set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),

@@ -145,7 +145,7 @@ void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector
             Lobe lobe;
             double prob = 0;
             if (through_trans[i]) {
-                lobe = {Component::kT, h.last_dir[i], b.specular_transmit, true, true};
+                lobe = {Component::kT, h.last_dir[i], b.specular_transmit, true, true, true};
                 prob = transmission_share(b);
             } else {
                 std::array<Lobe, kMaxLobes> lobes;
@@ -159,7 +159,9 @@ void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector
                 lobe = lobes[static_cast<size_t>(pick)];
             }
             h.throughput[i] = h.throughput[i] * lobe.weight / prob;
-            h.passed[i] = 1;
+            // Straight through thin glass or trans, emitters stay direct lighting's (its shadow
+            // rays cross them too); after a bend (a mirror, refraction) the ray sees them.
+            if (!lobe.straight) h.passed[i] = 1;
             Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * h.eps;
             h.last_dir[i] = lobe.direction;
             set_ray(r, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
@@ -183,7 +185,8 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     h.wants_next.assign(n, 0);
     h.wants_far.assign(n, 0);
     std::vector<RTCRay> shadows(n);
-    std::vector<Vec3> shadow_value(n);
+    std::vector<Vec3> shadow_value(n), through(n);
+    std::vector<uint8_t> weak(n, 0);
     const bool deeper = level + 1 < settings_.bounces;
     tbb::parallel_for(size_t{0}, n, [&](size_t i) {
         RTCRay& s = shadows[i];
@@ -220,11 +223,11 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         Vec3 l = caustic ? Vec3{} : emitted(b, f, h.passed[i] != 0, false);
         uint64_t key = h.ray_key(sites, i);
         if (!scene_.lights->empty() && b.direct_response) {
-            Vec3 value, so, sd;
-            double tfar;
-            if (direct_light_sample(scene_, b, f, beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1, value, so, sd, tfar)) {
-                aim_shadow_ray(s, so, sd, tfar);
-                shadow_value[i] = value;
+            ShadowSample sample;
+            if (direct_light_sample(scene_, b, f, beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
+                aim_shadow_ray(s, sample);
+                shadow_value[i] = sample.value;
+                weak[i] = sample.weak_target;
             }
         }
         h.albedo[i] = beta * b.diffuse;
@@ -255,10 +258,10 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     for (size_t i = 0; i < n; ++i)
         if (const Vec3 a = h.albedo[i] + h.albedo_far[i]; is_finite(a)) stats_.albedo_sum[level] += luminance(a);
     stats_.albedo_rays[level] += n;
-    occluded_batch(*scene_.embree, shadows.data(), n);
+    trace_shadow_rays(scene_, shadows.data(), weak.data(), through.data(), n);
     for (size_t i = 0; i < n; ++i) {
         const RTCRay& s = shadows[i];
-        if (!(s.tnear > s.tfar && s.tfar == 0.0f) && s.tfar != -INFINITY) h.radiance[i] += shadow_value[i];
+        if (!(s.tnear > s.tfar && s.tfar == 0.0f) && max_component(through[i]) > 0) h.radiance[i] += shadow_value[i] * through[i];
     }
 }
 

@@ -74,18 +74,12 @@ double fresnel_dielectric(double cos_i, double eta) {
 // give T and R for each polarisation from the single-face Fresnel reflectances.
 namespace {
 
-void thin_glass(const Material& m, const Vec3& d, const Vec3& nrm, const Vec3& color, std::array<Lobe, kMaxLobes>& out, int& n) {
-    const double index = m.ior, cos_i = std::fabs(dot(d, nrm));
-    const Vec3 mirror = reflect(d, nrm);
-    if (!(cos_i > 1e-12)) {  // grazing: all reflected
-        out[n++] = {Component::kR, mirror, {1, 1, 1}, false, true};
-        return;
-    }
+// T and R of the pane for a ray at cos_i to its normal.
+void thin_glass_factors(double index, const Vec3& color, double cos_i, Vec3& trans, Vec3& refl) {
     const double cos_t = std::sqrt((1.0 - 1.0 / (index * index)) + cos_i * cos_i / (index * index));
     const double te = (cos_i - index * cos_t) / (cos_i + index * cos_t), tm = (cos_t - index * cos_i) / (cos_t + index * cos_i);
     const double r_e = te * te, r_m = tm * tm;  // Fresnel reflectance of one face, each polarisation
     const bool transmits = positive(color);
-    Vec3 trans{}, refl{};
     for (int k = 0; k < 3; ++k) {
         // Transmissivity along the slanted path through the pane.
         const double c = k == 0 ? color.x : k == 1 ? color.y : color.z;
@@ -95,11 +89,32 @@ void thin_glass(const Material& m, const Vec3& d, const Vec3& nrm, const Vec3& c
         (k == 0 ? trans.x : k == 1 ? trans.y : trans.z) = tk;
         (k == 0 ? refl.x : k == 1 ? refl.y : refl.z) = rk;
     }
+}
+
+void thin_glass(const Material& m, const Vec3& d, const Vec3& nrm, const Vec3& color, std::array<Lobe, kMaxLobes>& out, int& n) {
+    const double cos_i = std::fabs(dot(d, nrm));
+    const Vec3 mirror = reflect(d, nrm);
+    if (!(cos_i > 1e-12)) {  // grazing: all reflected
+        out[n++] = {Component::kR, mirror, {1, 1, 1}, false, true};
+        return;
+    }
+    Vec3 trans, refl;
+    thin_glass_factors(m.ior, color, cos_i, trans, refl);
     out[n++] = {Component::kR, mirror, refl, false, true};
-    if (transmits) out[n++] = {Component::kT, d, trans, true, true};
+    if (positive(color)) out[n++] = {Component::kT, d, trans, true, true, true};
 }
 
 }  // namespace
+
+Vec3 shadow_transmittance(const Bsdf& b, const HitFrame& f) {
+    if (b.type == MaterialType::kTrans) return b.redirect ? Vec3{} : b.specular_transmit;
+    if (b.type != MaterialType::kGlass || !b.material || !b.material->thin_glass || !positive(b.color)) return {};
+    const double cos_i = std::fabs(dot(f.incoming, f.shading));
+    if (!(cos_i > 1e-12)) return {};
+    Vec3 trans, refl;
+    thin_glass_factors(b.material->ior, b.color, cos_i, trans, refl);
+    return trans;
+}
 
 int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, double& probability) {
     double total = 0;
@@ -186,7 +201,7 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             out[n++] = {Component::kD, dir, b.diffuse_transmit, true, false};
         }
         if (b.redirect) n = b.redirect->lobes(pattern_ray_at(f), f.normal, out.data(), n, kMaxLobes);
-        else if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true};
+        else if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true, true};
         break;
     }
     case MaterialType::kGlass: {

@@ -61,6 +61,9 @@ struct Lobe {
     Vec3 weight;
     bool transmits = false;  ///< leaves on the other side of the surface
     bool delta = false;
+    /// T through thin glass or a trans surface: the ray goes on as it came, so shadow rays cross
+    /// the surface too and direct lighting brings what lies beyond (shadow_transmittance()).
+    bool straight = false;
 };
 
 inline constexpr int kMaxLobes = 4;
@@ -102,6 +105,11 @@ struct Bsdf {
 /// Fills `out` with the lobes spawned at this hit; returns how many. Random numbers are the
 /// hit's own (`random`).
 int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out);
+
+/// What a shadow ray crossing this surface along f.incoming keeps: the straight T lobe's weight
+/// (thin glass, a trans surface's specular transmission; RADIANCE's glass and trans pass shadow
+/// rays the same way), zero for every other surface.
+Vec3 shadow_transmittance(const Bsdf& b, const HitFrame& f);
 
 /// Mirrors, glass and dielectrics: every lobe they spawn is delta, so a path is followed
 /// through them, never shaded there.

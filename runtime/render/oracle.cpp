@@ -48,18 +48,15 @@ struct Oracle {
         if (!scene.lights->empty() && b.direct_response) {
             const HitLighting lighting = hit_lighting(params, r, camera);
             for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
-                Vec3 value, so, sd;
-                double tfar;
-                if (!direct_light_sample(scene, b, f, r.beta, random, j, lighting.shadow_rays, value, so, sd, tfar, lighting.sampling))
-                    continue;
+                ShadowSample sample;
+                if (!direct_light_sample(scene, b, f, r.beta, random, j, lighting.shadow_rays, sample, lighting.sampling)) continue;
                 RTCRay s{};
-                s.org_x = static_cast<float>(so.x), s.org_y = static_cast<float>(so.y), s.org_z = static_cast<float>(so.z);
-                s.dir_x = static_cast<float>(sd.x), s.dir_y = static_cast<float>(sd.y), s.dir_z = static_cast<float>(sd.z);
-                s.tnear = 0;
-                s.tfar = static_cast<float>(tfar);
                 s.mask = 0xFFFFFFFFu;
-                occluded_batch(*scene.embree, &s, 1);
-                if (s.tfar != -INFINITY) total += value;
+                aim_shadow_ray(s, sample);
+                const uint8_t weak = sample.weak_target;
+                Vec3 through;
+                trace_shadow_rays(scene, &s, &weak, &through, 1);
+                total += sample.value * through;
             }
         }
         SpawnScratch spawn;

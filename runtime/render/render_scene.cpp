@@ -1,5 +1,7 @@
 #include "runtime/render/render_scene.h"
 
+#include "runtime/render/light_visibility.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -54,6 +56,7 @@ DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius, const 
         }
         s.weight = std::fmax(luminance(s.color) * mean, 1e-12) * solid_angle;
         if (m->type == MaterialType::kGlow && m->glow_radius < 0) s.weight = 0;
+        s.weak = m->type == MaterialType::kGlow;
         sources_.push_back(std::move(s));
     }
 }
@@ -132,8 +135,10 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         const Material& m = scene.materials[g.emitter];
         if (!is_sampled_emitter(m) || max_component(m.color) <= 0) return;
         const EmitterLimits* limits = limits_of(g);
+        const bool weak = m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         if (g.sphere) {
             Entry e;
+            e.weak = weak;
             e.sphere = true;
             e.a = e.centre = g.center;
             e.b = {g.radius, 0, 0};
@@ -147,6 +152,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         }
         for (const auto& t : g.indices) {
             Entry e;
+            e.weak = weak;
             e.a = g.positions[t[0]];
             e.b = g.positions[t[1]];
             e.c = g.positions[t[2]];
@@ -170,11 +176,15 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         e.distant_weight = distant_.weight(i);
         entries_.push_back(e);
     }
-    double total = 0;
-    for (auto& e : entries_) {
+    for (auto& e : entries_)
         e.power = e.distant >= 0 ? distant_.power(static_cast<size_t>(e.distant)) : e.area * std::fmax(luminance(e.radiance) * e.pattern_mean, 1e-12);
-        total += e.power;
-    }
+    make_cdf();
+}
+
+void LightSampler::make_cdf() {
+    double total = 0;
+    for (const auto& e : entries_) total += e.power;
+    cdf_.clear();
     double acc = 0;
     for (auto& e : entries_) {
         double p = e.power / total;
@@ -183,6 +193,17 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         cdf_.push_back(acc);
     }
     if (!cdf_.empty()) cdf_.back() = 1.0;
+}
+
+void LightSampler::weigh_distant(const std::vector<double>& fraction) {
+    for (auto& e : entries_) {
+        if (e.distant < 0) continue;
+        const size_t i = static_cast<size_t>(e.distant);
+        const double f = i < fraction.size() && fraction[i] > 0 && fraction[i] <= 1 ? fraction[i] : 1.0;
+        e.distant_weight = distant_.weight(i) * f;
+        e.power = distant_.power(i) * f;
+    }
+    make_cdf();
 }
 
 void LightSampler::sample_sphere(const Entry& e, double u, double v, LightSample& s) {
@@ -238,6 +259,8 @@ void RenderScene::set_view(int width, int height, double filter_width) {
     footprint = filter_width > 0 && c.projection == Projection::kPerspective
                     ? PixelFootprint(c, width, height, c.position - embree->origin_offset(), filter_width)
                     : PixelFootprint{};
+    // Distant sources get shadow rays by how much of them the surfaces in view can see.
+    if (lights->distant().size() > 0) lights->weigh_distant(distant_visibility(*this, width, height));
 }
 
 bool CameraRays::generate(double px, double py, Vec3& origin, Vec3& direction) const {

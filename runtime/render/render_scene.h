@@ -37,6 +37,9 @@ struct LightSample {
     Vec3 radiance;
     double pdf_area = 0;  ///< pdf of this point, per unit area, including the choice of emitter
     bool sphere = false;  ///< on an analytic sphere (whose hit distance Embree finds less precisely)
+    /// A glow or an illum (local or distant): an illum in the way blocks it (RADIANCE's
+    /// illumblock), where it lets rays to a `light` through.
+    bool weak = false;
     const EmitterLimits* limits = nullptr;  ///< spot cone, glow radius (nullptr: none)
     /// A distant source (the sun, a sky): a direction, not a point; pdf_area stays 0, so what
     /// handles only local emitters ignores it.
@@ -68,6 +71,8 @@ public:
     /// scene (times the scene's cross-section), for choosing between emitters.
     double weight(size_t i) const { return sources_[i].weight; }
     double power(size_t i) const { return sources_[i].weight * scene_area_; }
+    /// Source i is a glow (a sky), not a `light` (the sun).
+    bool weak(size_t i) const { return sources_[i].weak; }
     /// A direction of source i for (u, v); pdf per solid angle.
     void sample(size_t i, double u, double v, Vec3& direction, Vec3& radiance, double& pdf) const;
     /// What an escaped ray along unit `d` sees of them all.
@@ -81,6 +86,7 @@ private:
         std::optional<SkyModel> sky;
         const PatternChain* pattern = nullptr;  // a photographed sky, ...
         double weight = 0;
+        bool weak = false;
         // A sky: equal-solid-angle cells of (cos, phi) around the axis, chosen by brightness.
         int cells_z = 0, cells_phi = 0;
         std::vector<double> cdf;
@@ -106,6 +112,9 @@ public:
     LightSampler(const Scene& scene, const EmbreeScene& embree, const ScenePatterns* patterns = nullptr);
     bool empty() const { return entries_.empty(); }
     const DistantEmitters& distant() const { return distant_; }
+    /// Scales each distant source's share of shadow rays by `fraction[i]` (in (0, 1]: how much
+    /// of it the surfaces in view can see, light_visibility.h), from its unscaled share.
+    void weigh_distant(const std::vector<double>& fraction);
 
     /// An emitter point for shading point x; pdf_area 0 when no emitter faces x.
     LightSample sample(const Vec3& x, double u_pick, double u, double v) const {
@@ -135,6 +144,7 @@ private:
         Vec3 normal;          // triangle: unit normal
         Vec3 centre;          // triangle: centroid; sphere: centre
         bool sphere = false;
+        bool weak = false;    // a glow or an illum
         int distant = -1;     // >= 0: this distant source (a, b, c unused)
         Vec3 radiance;
         double area = 0;      // distant: solid angle
@@ -199,6 +209,7 @@ private:
         if (e.distant >= 0) {  // pdf_area holds the choice's probability per steradian here
             LightSample s;
             s.distant = true;
+            s.weak = distant_.weak(static_cast<size_t>(e.distant));
             double pdf = 0;
             distant_.sample(static_cast<size_t>(e.distant), u, v, s.direction, s.radiance, pdf);
             s.pdf_direction = pdf * c.pdf_area * e.area;
@@ -206,6 +217,7 @@ private:
         }
         LightSample s = point_on(e, u, v);
         s.pdf_area = c.pdf_area;
+        s.weak = e.weak;
         return s;
     }
     static LightSample point_on(const Entry& e, double u, double v) {
@@ -223,6 +235,7 @@ private:
         s.normal = e.normal;
         return s;
     }
+    void make_cdf();  // cdf_ and each entry's pdf_area from the entries' power
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
     std::vector<std::unique_ptr<EmitterLimits>> limits_;

@@ -77,8 +77,12 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
             c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
             c.direction = lobe.direction;
             const bool seen = lobe.delta && (ray.depth == 0 || (ray.flags & kRaySeenByCamera));
+            // Straight through thin glass or trans, a ray sees emitters as its parent did: direct
+            // lighting's shadow rays cross those surfaces, so a ray from a diffuse lobe that
+            // goes on through them must not count the emitters again.
+            const bool sees_emitters = lobe.straight ? ray.depth == 0 || (ray.flags & kRayFromDeltaLobe) : lobe.delta;
             const bool caustic_path = photon_caustics && (lobe.component == Component::kD || (lobe.delta && (ray.flags & kRayCausticPath)));
-            c.flags = static_cast<uint8_t>((lobe.delta ? kRayFromDeltaLobe : 0) | (seen ? kRaySeenByCamera : 0) | (ray.flags & kRayOddSample) |
+            c.flags = static_cast<uint8_t>((sees_emitters ? kRayFromDeltaLobe : 0) | (seen ? kRaySeenByCamera : 0) | (ray.flags & kRayOddSample) |
                                            (caustic_path ? kRayCausticPath : 0) | branch);
         }
         c.beta = beta;
@@ -104,7 +108,7 @@ namespace {
 
 // A direction towards a distant source (the sun, a sky): its shadow ray has no end.
 bool distant_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const LightSample& ls,
-                          uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar) {
+                          uint32_t n, ShadowSample& out) {
     if (!(ls.pdf_direction > 0)) return false;
     const Vec3& wi = ls.direction;
     Vec3 fr;
@@ -115,21 +119,21 @@ bool distant_light_sample(const RenderScene& scene, const Bsdf& b, const HitFram
         fr = eval_direct(b, f, wi);
     }
     if (!(max_component(fr) > 0)) return false;
-    value = beta * fr * ls.radiance * (1.0 / (ls.pdf_direction * n));
-    if (scene.medium) value = value * scene.medium->transmittance(INFINITY);
-    if (!is_finite(value) || !(max_component(value) > 0)) return false;
+    out.value = beta * fr * ls.radiance * (1.0 / (ls.pdf_direction * n));
+    if (scene.medium) out.value = out.value * scene.medium->transmittance(INFINITY);
+    if (!is_finite(out.value) || !(max_component(out.value) > 0)) return false;
     const double eps = scene.embree->ray_epsilon();
-    shadow_origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
-    shadow_dir = wi;
-    shadow_tfar = INFINITY;
+    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
+    out.direction = wi;
+    out.tfar = INFINITY;
+    out.weak_target = ls.weak;
     return true;
 }
 
 }  // namespace
 
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
-                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar,
-                         const LightSampling& sampling) {
+                         uint32_t j, uint32_t n, ShadowSample& out, const LightSampling& sampling) {
     LightSample ls;
     if (sampling.pixel_sequence) {
         // Point sample * n + j of the pixel's scrambled (0,2)-sequence; its first coordinate
@@ -146,7 +150,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
         rotated_halton(j, r0, r1, u, v);
         ls = scene.lights->sample(f.position, (j + random(RandomUse::kLightPick, j)) / n, u, v);
     }
-    if (ls.distant) return distant_light_sample(scene, b, f, beta, ls, n, value, shadow_origin, shadow_dir, shadow_tfar);
+    if (ls.distant) return distant_light_sample(scene, b, f, beta, ls, n, out);
     Vec3 to = ls.position - f.position;
     double d2 = dot(to, to);
     if (!(d2 > 0) || !(ls.pdf_area > 0)) return false;
@@ -173,25 +177,25 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
         fr = eval_direct(b, f, wi);
     }
     if (!(max_component(fr) > 0)) return false;
-    value = beta * fr * radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
-    if (scene.medium) value = value * scene.medium->transmittance(dist);
-    if (!is_finite(value)) return false;
+    out.value = beta * fr * radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
+    if (scene.medium) out.value = out.value * scene.medium->transmittance(dist);
+    if (!is_finite(out.value)) return false;
     double eps = scene.embree->ray_epsilon();
-    shadow_origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
-    shadow_dir = wi;
+    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
+    out.direction = wi;
+    out.weak_target = ls.weak;
     // The origin moved by eps, so the light point is at least dist - eps away: stopping at
     // dist - 3 eps keeps a 2 eps margin before the emitter without a second square root.
     // Embree finds the distance to an analytic sphere less precisely (about 1e-4 of it near
     // the silhouette, a square root of a difference in float): shadow rays to a sphere ended
     // on the sphere itself and a lamp much larger than eps lit 2.2 % too dark
     // (tests/numerics/sphere_light_test.cpp). Their margin scales with the distance.
-    shadow_tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
-    return shadow_tfar > 0;
+    out.tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
+    return out.tfar > 0;
 }
 
 bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, const Vec3& origin, const Vec3& dir, double tmax,
-                           const Vec3& beta, const HitRandom& random, uint32_t k, uint32_t n, Vec3& value, Vec3& shadow_origin,
-                           Vec3& shadow_dir, double& shadow_tfar) {
+                           const Vec3& beta, const HitRandom& random, uint32_t k, uint32_t n, ShadowSample& out) {
     if (scene.lights->empty() || !(max_component(medium.sigma_s) > 0)) return false;
     // The lamp by power alone (the point that matters moves along the ray), a point on it,
     // then a distance along the ray by equiangular sampling toward that point; the n samples
@@ -214,14 +218,15 @@ bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, 
     // Light travels along -wi to x and on along -dir to the eye: the scattering angle's cosine
     // is dot(-wi, -dir).
     const double phase = henyey_greenstein(dot(wi, dir), medium.g);
-    value = beta * medium.transmittance(ds.t) * medium.sigma_s * patterned_radiance(ls, wi, dist) * medium.transmittance(dist) *
-            (phase * cos_l / (d2 * ls.pdf_area * ds.pdf * n));
-    if (!is_finite(value) || !(max_component(value) > 0)) return false;
+    out.value = beta * medium.transmittance(ds.t) * medium.sigma_s * patterned_radiance(ls, wi, dist) * medium.transmittance(dist) *
+                (phase * cos_l / (d2 * ls.pdf_area * ds.pdf * n));
+    if (!is_finite(out.value) || !(max_component(out.value) > 0)) return false;
     const double eps = scene.embree->ray_epsilon();
-    shadow_origin = x;
-    shadow_dir = wi;
-    shadow_tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
-    return shadow_tfar > 0;
+    out.origin = x;
+    out.direction = wi;
+    out.weak_target = ls.weak;
+    out.tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
+    return out.tfar > 0;
 }
 
 namespace {
@@ -285,6 +290,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     if (camera) out.emission.resize(n);
     scratch.shadows.resize(n * ns);
     scratch.shadow_value.resize(n * ns);
+    scratch.shadow_weak.assign(n * ns, 0);
+    scratch.shadow_through.resize(n * ns);
     const size_t blocks = (n + kShadeBlock - 1) / kShadeBlock;
     if (out.block_children.size() < blocks) out.block_children.resize(blocks);
     if (out.block_spawned.size() < blocks) out.block_spawned.resize(blocks);
@@ -295,6 +302,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     scratch.block_shadow_rays.assign(blocks, 0);
     std::vector<RTCRay>& shadows = scratch.shadows;
     std::vector<Vec3>& shadow_value = scratch.shadow_value;
+    std::vector<uint8_t>& shadow_weak = scratch.shadow_weak;
     const Vec3 background = scene.scene.background;
     const bool lights = !scene.lights->empty();
 
@@ -319,14 +327,13 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     const uint32_t nmi = params.media_samples_per_pixel ? std::min<uint32_t>(nm, (*params.media_samples_per_pixel)[rays.pixel[r]]) : nm;
                     const HitRandom random(rays.path[r], rays.depth[r]);
                     for (uint32_t k = 0; k < nmi; ++k) {
-                        Vec3 value, so, sd;
-                        double tfar;
-                        if (!single_scatter_sample(scene, *medium, o, d, miss ? INFINITY : double(h.ray.tfar), beta, random, k, nmi, value, so,
-                                                   sd, tfar))
+                        ShadowSample sample;
+                        if (!single_scatter_sample(scene, *medium, o, d, miss ? INFINITY : double(h.ray.tfar), beta, random, k, nmi, sample))
                             continue;
-                        RTCRay& s = shadows[i * ns + params.shadow_rays + k];
-                        aim_shadow_ray(s, so, sd, tfar);
-                        shadow_value[i * ns + params.shadow_rays + k] = value;
+                        const size_t slot = i * ns + params.shadow_rays + k;
+                        aim_shadow_ray(shadows[slot], sample);
+                        shadow_value[slot] = sample.value;
+                        shadow_weak[slot] = sample.weak_target;
                         ++block_shadow_rays;
                     }
                 }
@@ -371,13 +378,13 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 if (lights && b.direct_response) {
                     const HitLighting lighting = hit_lighting(params, ray, camera);
                     for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
-                        Vec3 value, so, sd;
-                        double tfar;
-                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, lighting.shadow_rays, value, so, sd, tfar, lighting.sampling))
+                        ShadowSample sample;
+                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, lighting.shadow_rays, sample, lighting.sampling))
                             continue;
-                        RTCRay& s = shadows[i * ns + j];
-                        aim_shadow_ray(s, so, sd, tfar);
-                        shadow_value[i * ns + j] = value;
+                        const size_t slot = i * ns + j;
+                        aim_shadow_ray(shadows[slot], sample);
+                        shadow_value[slot] = sample.value;
+                        shadow_weak[slot] = sample.weak_target;
                         ++block_shadow_rays;
                     }
                 }
@@ -401,14 +408,15 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     }
 
     if (params.capture) params.capture->shadow_rays.insert(params.capture->shadow_rays.end(), shadows.begin(), shadows.end());
-    occluded_batch(*scene.embree, shadows.data(), shadows.size());
+    std::vector<Vec3>& through = scratch.shadow_through;
+    trace_shadow_rays(scene, shadows.data(), shadow_weak.data(), through.data(), shadows.size());
 
     // Unoccluded samples add their light; each ray's own sum, so the order is fixed.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kShadeBlock), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i < range.end(); ++i)
             for (uint32_t j = 0; j < ns; ++j) {
-                const RTCRay& s = shadows[i * ns + j];
-                if (!is_hole(s) && s.tfar != -INFINITY) out.contribution[i] += shadow_value[i * ns + j];
+                const size_t slot = i * ns + j;
+                if (!is_hole(shadows[slot]) && max_component(through[slot]) > 0) out.contribution[i] += shadow_value[slot] * through[slot];
             }
     });
 }
@@ -424,7 +432,8 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
     constexpr size_t kMaxSlots = size_t{1} << 20;
     std::vector<RTCRayHit> hits;
     std::vector<RTCRay> shadows;
-    std::vector<Vec3> values;
+    std::vector<Vec3> values, through;
+    std::vector<uint8_t> weak;
     std::vector<size_t> first;
     uint64_t traced = 0;
     for (size_t begin = 0; begin < rays.size();) {
@@ -441,6 +450,8 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
         intersect_batch(*scene.embree, hits.data(), n, true);
         shadows.resize(first.back());
         values.assign(first.back(), Vec3{});
+        weak.assign(first.back(), 0);
+        through.resize(first.back());
         tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kShadeBlock), [&](const tbb::blocked_range<size_t>& range) {
             for (size_t i = range.begin(); i < range.end(); ++i) {
                 for (size_t s = first[i]; s < first[i + 1]; ++s) make_hole(shadows[s], static_cast<unsigned>(i));
@@ -462,22 +473,22 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
                 const uint32_t k = wanted(r);
                 auto sample = [&](uint32_t j, uint32_t of, size_t slot, double sign) {
-                    Vec3 value, so, sd;
-                    double tfar;
-                    if (!direct_light_sample(scene, b, f, beta, random, j, of, value, so, sd, tfar, sampling)) return;
-                    aim_shadow_ray(shadows[slot], so, sd, tfar);
-                    values[slot] = value * sign;
+                    ShadowSample s;
+                    if (!direct_light_sample(scene, b, f, beta, random, j, of, s, sampling)) return;
+                    aim_shadow_ray(shadows[slot], s);
+                    values[slot] = s.value * sign;
+                    weak[slot] = s.weak_target;
                 };
                 for (uint32_t j = 0; j < base; ++j) sample(j, base, first[i] + j, -1.0);
                 for (uint32_t j = 0; j < k; ++j) sample(j, k, first[i] + base + j, 1.0);
             }
         });
-        occluded_batch(*scene.embree, shadows.data(), shadows.size());
+        trace_shadow_rays(scene, shadows.data(), weak.data(), through.data(), shadows.size());
         for (size_t i = 0; i < n; ++i)
             for (size_t s = first[i]; s < first[i + 1]; ++s)
                 if (!is_hole(shadows[s])) {
                     ++traced;
-                    if (shadows[s].tfar != -INFINITY) delta[begin + i] += values[s];
+                    if (max_component(through[s]) > 0) delta[begin + i] += values[s] * through[s];
                 }
         begin = end;
     }

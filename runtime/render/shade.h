@@ -12,6 +12,7 @@
 #include "runtime/render/bsdf.h"
 #include "runtime/render/ray_batch.h"
 #include "runtime/render/render_scene.h"
+#include "runtime/render/shadow_pass.h"
 
 namespace crex {
 
@@ -65,6 +66,8 @@ struct ShadeScratch {
     std::vector<RTCRayHit> hits;
     std::vector<RTCRay> shadows;
     std::vector<Vec3> shadow_value;
+    std::vector<uint8_t> shadow_weak;     ///< the slot's ray is aimed at a glow or an illum
+    std::vector<Vec3> shadow_through;     ///< what the thin glass and trans it crossed let through
     std::vector<uint32_t> block_hits, block_shadow_rays;  ///< per block, summed in block order
     std::vector<double> block_cut_by_depth, block_cut_by_weight;  ///< per block, as the SpawnScratch of each
 };
@@ -104,11 +107,10 @@ struct ShadeOutput {
 };
 
 /// One single-scatter sample (k of n) along the ray origin + t dir, t in [0, tmax] (tmax
-/// infinite for a ray that leaves the scene): the light it gathers if the shadow ray from
-/// `shadow_origin` along `shadow_dir` to `shadow_tfar` is unoccluded. False: nothing to trace.
+/// infinite for a ray that leaves the scene): the light it gathers and its shadow ray. False:
+/// nothing to trace.
 bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, const Vec3& origin, const Vec3& dir, double tmax,
-                           const Vec3& beta, const HitRandom& random, uint32_t k, uint32_t n, Vec3& value, Vec3& shadow_origin,
-                           Vec3& shadow_dir, double& shadow_tfar);
+                           const Vec3& beta, const HitRandom& random, uint32_t k, uint32_t n, ShadowSample& out);
 
 /// Shades rays [begin, end) of `rays`. `camera`: these are camera rays.
 void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begin, size_t end, bool camera,
@@ -200,7 +202,6 @@ HitLighting hit_lighting(const ShadeParams& params, const RayRecord& ray, bool c
 /// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
 /// and the shadow ray to test; false if it contributes nothing.
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
-                         uint32_t j, uint32_t n, Vec3& value, Vec3& shadow_origin, Vec3& shadow_dir, double& shadow_tfar,
-                         const LightSampling& sampling = {});
+                         uint32_t j, uint32_t n, ShadowSample& out, const LightSampling& sampling = {});
 
 }  // namespace crex

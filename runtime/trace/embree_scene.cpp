@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "runtime/scene/shapes.h"
+#include "runtime/trace/trace_batch.h"
 
 namespace crex {
 namespace {
@@ -36,6 +37,21 @@ void cutout_filter(const RTCFilterFunctionNArguments* args) {
                          RTCHitN_v(args->hit, args->N, i), origin, dir, RTCRayN_tfar(args->ray, args->N, i)))
             args->valid[i] = 0;
     }
+}
+
+}  // namespace
+
+namespace {
+
+// Cut-out surfaces that may also let shadow rays through: holes first, then the pass.
+void cutout_then_shadow_pass_filter(const RTCFilterFunctionNArguments* args) {
+    cutout_filter(args);
+    shadow_pass_filter(args);
+}
+
+// Materials whose light goes straight through (thin glass, trans): shadow rays may cross them.
+bool passes_straight(const Material& m) {
+    return (m.type == MaterialType::kGlass && m.thin_glass) || m.type == MaterialType::kTrans;
 }
 
 }  // namespace
@@ -74,6 +90,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
                 if (!alt.empty() && scene.materials[m].name == alt) info.material = m, hidden = false;
         }
         info.inward = s.inward;
+        info.may_pass_shadows = passes_straight(scene.materials[info.material]);
         RTCGeometry g;
         if (s.type == ShapeType::kSphere) {
             info.sphere = true;
@@ -126,11 +143,16 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
             for (size_t k = 0; k < mesh.indices.size(); ++k)
                 for (int c = 0; c < 3; ++c) idx[3 * k + static_cast<size_t>(c)] = mesh.indices[k][static_cast<size_t>(c)];
         }
-        if (cutouts && cutouts->cuts_out(info.material)) {
+        const bool cut = cutouts && cutouts->cuts_out(info.material);
+        if (cut) {
             rtcSetGeometryUserData(g, const_cast<CutoutTest*>(cutouts));
             rtcSetGeometryIntersectFilterFunction(g, cutout_filter);
-            rtcSetGeometryOccludedFilterFunction(g, cutout_filter);
         }
+        if (cut || info.may_pass_shadows)
+            rtcSetGeometryOccludedFilterFunction(g, cut && info.may_pass_shadows ? cutout_then_shadow_pass_filter
+                                                    : cut                          ? cutout_filter
+                                                                                   : shadow_pass_filter);
+        any_shadow_passes_ = any_shadow_passes_ || info.may_pass_shadows;
         rtcCommitGeometry(g);
         unsigned id = rtcAttachGeometry(scene_, g);
         rtcReleaseGeometry(g);

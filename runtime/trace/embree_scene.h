@@ -30,12 +30,26 @@ public:
     virtual bool solid(uint32_t geometry, uint32_t prim, float u, float v, const Vec3& origin, const Vec3& dir, float t) const = 0;
 };
 
+/// Decides, during a shadow ray's traversal, what a surface that may let shadow rays through
+/// (RADIANCE's thin glass, a trans surface's specular transmission: undeviated, so the ray
+/// stays aimed at its emitter) lets through. The renderer implements it
+/// (runtime/render/shadow_pass.h); trace only calls it, from occluded_batch().
+class ShadowPass {
+public:
+    virtual ~ShadowPass() = default;
+    /// What the surface at `hit` (its geomID, primID, u, v and Ng set) lets through for a shadow
+    /// ray from `origin` along unit `dir` meeting it at distance t; zero: it blocks the ray.
+    /// `weak_target`: the ray is aimed at a glow or an illum (which an illum in the way blocks).
+    virtual Vec3 transmittance(const RTCHit& hit, const Vec3& origin, const Vec3& dir, double t, bool weak_target) const = 0;
+};
+
 struct GeometryInfo {
     uint32_t shape = 0;     ///< index into Scene::shapes
     uint32_t material = 0;  ///< index into Scene::materials: what rays see (an illum's alternate)
     uint32_t emitter = 0;   ///< index into Scene::materials: what direct lighting samples (the shape's own)
     bool sphere = false;
     bool inward = false;    ///< sphere: the front faces the centre (RADIANCE bubble)
+    bool may_pass_shadows = false;  ///< thin glass or trans (or an illum seen as one): asks a ShadowPass
     Vec3 center;            ///< sphere centre, local coordinates
     double radius = 0;
     std::vector<Vec3> positions;                   ///< triangles: local vertex positions
@@ -66,6 +80,8 @@ public:
     double ray_epsilon() const { return epsilon_; }
     Vec3 bounds_min() const { return lo_; }
     Vec3 bounds_max() const { return hi_; }
+    /// Some geometry may let shadow rays through (occluded_batch() then wants a ShadowPass).
+    bool any_shadow_passes() const { return any_shadow_passes_; }
 
 private:
     RTCDevice device_ = nullptr;
@@ -74,6 +90,7 @@ private:
     std::vector<GeometryInfo> hidden_emitters_;
     Vec3 offset_, lo_, hi_;
     double extent_ = 1, epsilon_ = 1e-5;
+    bool any_shadow_passes_ = false;
 };
 
 }  // namespace crex

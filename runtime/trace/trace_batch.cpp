@@ -2,12 +2,71 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
+#include <vector>
+
 namespace crex {
 namespace {
 
 constexpr size_t kBlock = 1024;
 
+// A shadow ray crossing more surfaces that let it through than this is taken as blocked.
+constexpr size_t kMaxCrossings = 8;
+
+// What one shadow ray has crossed: Embree may report the same triangle twice (a triangle in
+// two leaves of a BVH built with spatial splits), so each is counted once.
+struct Crossings {
+    Vec3 through{1, 1, 1};
+    size_t count = 0;
+    std::array<uint64_t, kMaxCrossings> seen{};
+};
+
+// Embree's context with occluded_batch()'s own data after it (Embree passes the pointer it was
+// given to the filter, which casts it back). A ray's id is its index in the batch.
+struct ShadowContext {
+    RTCIntersectContext embree;
+    const ShadowPass* pass = nullptr;
+    const uint8_t* weak_target = nullptr;
+    Crossings* crossings = nullptr;  // of the block
+    size_t first = 0;                // the block's first ray
+};
+
 }  // namespace
+
+void shadow_pass_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* context = reinterpret_cast<const ShadowContext*>(args->context);
+    if (!context->pass) return;  // not asked: every surface blocks
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned id = RTCRayN_id(args->ray, n, i);
+        Crossings& c = context->crossings[id - context->first];
+        RTCHit hit{};
+        hit.geomID = RTCHitN_geomID(args->hit, n, i);
+        hit.primID = RTCHitN_primID(args->hit, n, i);
+        hit.u = RTCHitN_u(args->hit, n, i);
+        hit.v = RTCHitN_v(args->hit, n, i);
+        hit.Ng_x = RTCHitN_Ng_x(args->hit, n, i);
+        hit.Ng_y = RTCHitN_Ng_y(args->hit, n, i);
+        hit.Ng_z = RTCHitN_Ng_z(args->hit, n, i);
+        hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        const uint64_t key = (uint64_t{hit.geomID} << 32) | hit.primID;
+        if (std::find(c.seen.begin(), c.seen.begin() + static_cast<std::ptrdiff_t>(c.count), key) != c.seen.begin() + static_cast<std::ptrdiff_t>(c.count)) {
+            args->valid[i] = 0;  // crossed already
+            continue;
+        }
+        if (c.count == kMaxCrossings) continue;
+        const Vec3 origin{RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i), RTCRayN_org_z(args->ray, n, i)};
+        const Vec3 dir{RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i), RTCRayN_dir_z(args->ray, n, i)};
+        const bool weak = context->weak_target && context->weak_target[id];
+        const Vec3 t = context->pass->transmittance(hit, origin, dir, RTCRayN_tfar(args->ray, n, i), weak);
+        if (!(max_component(t) > 0) || !is_finite(t)) continue;  // it blocks the ray
+        c.through = c.through * t;
+        c.seen[c.count++] = key;
+        if (max_component(c.through) > 1e-12) args->valid[i] = 0;  // on through it
+    }
+}
 
 void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bool coherent) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kBlock), [&](const tbb::blocked_range<size_t>& r) {
@@ -18,11 +77,25 @@ void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bo
     });
 }
 
-void occluded_batch(const EmbreeScene& scene, RTCRay* rays, size_t count) {
+void occluded_batch(const EmbreeScene& scene, RTCRay* rays, size_t count, const ShadowPass* pass, const uint8_t* weak_target,
+                    Vec3* through) {
+    const bool passing = pass && scene.any_shadow_passes();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kBlock), [&](const tbb::blocked_range<size_t>& r) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        rtcOccluded1M(scene.handle(), &context, rays + r.begin(), static_cast<unsigned>(r.size()), sizeof(RTCRay));
+        ShadowContext context;
+        rtcInitIntersectContext(&context.embree);
+        thread_local std::vector<Crossings> crossings;
+        if (passing) {
+            crossings.assign(r.size(), Crossings{});
+            for (size_t k = r.begin(); k < r.end(); ++k) rays[k].id = static_cast<unsigned>(k);
+            context.pass = pass;
+            context.weak_target = weak_target;
+            context.crossings = crossings.data();
+            context.first = r.begin();
+        }
+        rtcOccluded1M(scene.handle(), &context.embree, rays + r.begin(), static_cast<unsigned>(r.size()), sizeof(RTCRay));
+        if (through)
+            for (size_t k = r.begin(); k < r.end(); ++k)
+                through[k] = rays[k].tfar == -INFINITY ? Vec3{} : passing ? crossings[k - r.begin()].through : Vec3{1, 1, 1};
     });
 }
 

@@ -37,7 +37,16 @@ inline void aim_shadow_ray(RTCRay& s, const Vec3& o, const Vec3& d, double tfar)
 
 /// Closest hits. `coherent` for camera rays. Rays with tnear > tfar are holes (inactive).
 void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bool coherent);
-/// Any hit: on return, tfar = -inf marks an occluded ray.
-void occluded_batch(const EmbreeScene& scene, RTCRay* rays, size_t count);
+/// Any hit: on return, tfar = -inf marks an occluded ray. With `pass` (and a scene where some
+/// surface may let shadow rays through), those surfaces block a ray only where `pass` says so;
+/// `through[k]` (when given) receives what the ones ray k crossed let through (1 for none, 0
+/// when occluded). `weak_target[k]` (optional): ray k is aimed at a glow or an illum. The rays'
+/// ids are overwritten.
+void occluded_batch(const EmbreeScene& scene, RTCRay* rays, size_t count, const ShadowPass* pass = nullptr,
+                    const uint8_t* weak_target = nullptr, Vec3* through = nullptr);
+
+/// Embree's occluded filter for surfaces that may let shadow rays through (EmbreeScene
+/// installs it; it reads occluded_batch()'s context).
+void shadow_pass_filter(const RTCFilterFunctionNArguments* args);
 
 }  // namespace crex

@@ -2,8 +2,8 @@
 // forms: a wall with a hole joined by a seam lights exactly its area (not the hole's), the
 // sun and gensky's CIE skies give a horizontal surface the illuminance of their published
 // formulas, a spotlight lights only its cone, a glow of negative radius lights nothing, an
-// illum lights as a lamp while rays see its alternate material, and the anisotropic Ward
-// lobe's samples agree with its evaluation.
+// illum lights as a lamp while rays see its alternate material, the anisotropic Ward lobe's
+// samples agree with its evaluation, and shadow rays cross thin glass as RADIANCE's do.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -12,6 +12,7 @@
 
 #include "runtime/base/sampling.h"
 #include "runtime/render/bsdf.h"
+#include "runtime/render/light_visibility.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/scene/sky_model.h"
 #include "tests/support/scene_helpers.h"
@@ -336,6 +337,77 @@ bright polygon patch 0 0 12 -.2 -.2 -3 .2 -.2 -3 .2 .2 -3 -.2 .2 -3
     const double x_open = centroid_x(open.image()), x_glazed = centroid_x(glazed.image());
     ASSERT_GT(x_open, 0);
     EXPECT_NEAR(x_glazed, x_open, 0.25) << "the patch moved by " << x_glazed - x_open << " pixels";
+}
+
+// A sun of radiance 1000 and 0.5 degree diameter straight overhead, and a 100 x 100 pane of
+// standard glass (transmissivity 0.96) at height 2, above the view.
+const std::string kZenithSun = "void light solar 0 0 3 1000 1000 1000\nsolar source sun 0 0 4 0 0 1 0.5\n";
+const std::string kHighPane = "void glass pane 0 0 3 .96 .96 .96\npane polygon p 0 0 12 -50 -50 2 50 -50 2 50 50 2 -50 50 2\n";
+const double kSunIrradiance = 1000 * 2 * kPi * (1 - std::cos(0.25 * kPi / 180));
+// glass.c's transmittance at normal incidence: (1-r)^2 t / (1 - r^2 t^2), r = (0.52/2.52)^2, t = 0.96.
+const double kPaneAtNormal = std::pow(1 - std::pow(0.52 / 2.52, 2), 2) * 0.96 / (1 - std::pow(0.52 / 2.52, 4) * 0.96 * 0.96);
+
+TEST(RadianceGlassShadows, TheSunLightsTheFloorThroughAPaneByItsTransmittance) {
+    // RADIANCE's glass passes shadow rays (glass.c): the sun through the pane gives the floor
+    // E T. Before, a pane blocked every shadow ray and the sun reached the floor only along
+    // paths that found it by chance (a sharp sun patch became scattered fireflies).
+    EXPECT_NEAR(floor_irradiance(kZenithSun, 0.5) / kSunIrradiance, 1.0, 0.005);
+    EXPECT_NEAR(floor_irradiance(kZenithSun + kHighPane, 0.5) / (kSunIrradiance * kPaneAtNormal), 1.0, 0.005);
+}
+
+TEST(RadianceGlassShadows, ABounceGoingOnThroughThePaneDoesNotCountTheSunAgain) {
+    // With D and T rays: a diffuse bounce from the floor that goes on through the pane and
+    // escapes would meet the sun direct lighting already brought through the pane. It must
+    // see the sun as its diffuse parent does (not at all), so the floor stays at E T (R rays,
+    // the pane's reflection back down, are not run).
+    Scene s = load(floor_scene(0.5, kZenithSun + kHighPane));
+    RunResult r = testing::render_crex(s, "(DT)*", 16, 16, 0, 4);
+    EXPECT_NEAR(testing::mean_luminance(r.image()) * kPi / 0.5 / (kSunIrradiance * kPaneAtNormal), 1.0, 0.01);
+}
+
+TEST(RadianceGlassShadows, AnIllumLetsTheSunThroughButNotTheSky) {
+    // RADIANCE's illumblock: an illum stands for the light of what lies behind it, so it blocks
+    // shadow rays aimed at glows (the sky) and lets those aimed at a `light` (the sun) through
+    // as its alternate glass. Under a 4000 x 4000 illum (of radiance 0, so that only what it
+    // lets through is seen; 2 above the floor, it leaves the sky below 0.06 degrees of the
+    // horizon, under 1e-4 of the sun) the floor gets the sun through the glass and no sky (a sky of
+    // radiance 1 would add pi, 50 times the sun).
+    const std::string window = "void glass pane 0 0 3 .96 .96 .96\nvoid illum window 1 pane 0 3 0 0 0\n"
+                               "window polygon w 0 0 12 -2000 -2000 2 -2000 2000 2 2000 2000 2 2000 -2000 2\n"
+                               "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n";
+    EXPECT_NEAR(floor_irradiance(kZenithSun + window, 0.5) / (kSunIrradiance * kPaneAtNormal), 1.0, 0.005);
+}
+
+TEST(RadianceGlassShadows, ASkyNoSurfaceInViewCanSeeTakesFewShadowRays) {
+    // Inside a closed room, a sky outside reaches none of the surfaces in view: its share of
+    // shadow rays falls from nearly all (its solid angle outweighs the lamp's) to almost none.
+    // The room's floor, lit by a 0.4 x 0.4 lamp of radiance 10 on its ceiling, then renders
+    // as it does without the sky (before: about 1 shadow ray in 40 went to the lamp, and the
+    // floor was grain). Under the open sky, the fraction is about 1.
+    const std::string sky = "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n";
+    const std::string room = R"(#@crex view -vp 0 0 1 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 60
+void plastic wall 0 0 5 .5 .5 .5 0 0
+wall polygon floor 0 0 12 -2 -2 0 2 -2 0 2 2 0 -2 2 0
+wall polygon ceiling 0 0 12 -2 -2 2 -2 2 2 2 2 2 2 -2 2
+wall polygon w1 0 0 12 -2 -2 0 -2 2 0 -2 2 2 -2 -2 2
+wall polygon w2 0 0 12 2 -2 0 2 -2 2 2 2 2 2 2 0
+wall polygon w3 0 0 12 -2 -2 0 -2 -2 2 2 -2 2 2 -2 0
+wall polygon w4 0 0 12 -2 2 0 2 2 0 2 2 2 -2 2 2
+void light lamp 0 0 3 10 10 10
+lamp polygon l 0 0 12 -.2 -.2 1.99 -.2 .2 1.99 .2 .2 1.99 .2 -.2 1.99
+)";
+    Scene closed = load(room + sky);
+    RenderScene rs(closed);
+    const std::vector<double> inside = distant_visibility(rs, 32, 32);
+    ASSERT_EQ(inside.size(), 1u);
+    EXPECT_LT(inside[0], 0.01);
+    RenderScene open(load(floor_scene(0.5, sky)));
+    const std::vector<double> outside = distant_visibility(open, 32, 32);
+    ASSERT_EQ(outside.size(), 1u);
+    EXPECT_GT(outside[0], 0.95);
+    const double with_sky = testing::mean_luminance(testing::render_crex(closed, "", 32, 4, 0, 1).image());
+    const double without = testing::mean_luminance(testing::render_crex(load(room), "", 32, 4, 0, 1).image());
+    EXPECT_NEAR(with_sky / without, 1.0, 0.03);
 }
 
 }  // namespace
