@@ -92,7 +92,10 @@ void print_text(const Scene& scene, const Census& c, const Stats& st, const std:
                                  scene.units.up != Vec3{} ? fmt::format(", up {}", vec_text(scene.units.up)) : "");
     std::cout << fmt::format("  emitters   {} sampled (light, illum, glow with a radius, distant), {} unsampled (other glow "
                              "or emission)\n", c.sampled_emitters, c.unsampled_emitters);
-    if (c.has_medium) std::cout << "  medium     homogeneous single-scatter\n";
+    if (c.has_medium)
+        std::cout << (scene.medium->bounded ? fmt::format("  medium     homogeneous single-scatter, in the box {} .. {}\n", vec_text(scene.medium->box_min),
+                                                          vec_text(scene.medium->box_max))
+                                            : std::string("  medium     homogeneous single-scatter, everywhere\n"));
     if (!c.tags.empty()) {
         std::string tags;
         for (size_t i = 0; i < c.tags.size(); ++i)

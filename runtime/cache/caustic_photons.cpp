@@ -241,7 +241,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                     state[j] = 2;
                     return;
                 }
-                if (scene.medium) power[j] = power[j] * scene.medium->transmittance(h.ray.tfar);
+                if (scene.medium) power[j] = power[j] * scene.medium->transmittance(Vec3{h.ray.org_x, h.ray.org_y, h.ray.org_z}, dir[j], h.ray.tfar);
                 const Bsdf& b = scene.bsdf_of(h.hit.geomID);
                 if (is_delta_material(b.type)) return;
                 const double pass = transmission_share(b);

@@ -195,7 +195,9 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         const RTCRayHit& hit = h.last[i];
         // In a medium, what the last segment reaches is seen through its transmittance (the
         // segments before it, inside glass, are not attenuated: a simplification).
-        const Vec3 beta = scene_.medium ? h.throughput[i] * scene_.medium->transmittance(hit.ray.tfar) : h.throughput[i];
+        const Vec3 beta = scene_.medium ? h.throughput[i] * scene_.medium->transmittance(Vec3{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z},
+                                                                                          h.last_dir[i], hit.ray.tfar)
+                                        : h.throughput[i];
         const bool still_in_glass = hit.hit.geomID != RTC_INVALID_GEOMETRY_ID && is_delta_material(scene_.material_of(hit.hit.geomID).type);
         if (!(max_component(beta) > 0) || still_in_glass) return;  // absorbed, or still inside glass
         if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) {

@@ -19,17 +19,28 @@ struct MediumModel {
     Vec3 sigma_t;  ///< extinction per scene unit
     Vec3 sigma_s;  ///< scattering: albedo x extinction
     double g = 0;  ///< Henyey-Greenstein eccentricity
+    bool bounded = false;  ///< only inside [lo, hi] (local coordinates)
+    Vec3 lo, hi;
 
-    /// exp(-sigma_t d) per channel; an infinite d gives 0 where sigma_t > 0 (a ray leaving
-    /// an unbounded medium brings nothing back).
+    /// exp(-sigma_t d) per channel over a length d inside the medium; an infinite d gives 0
+    /// where sigma_t > 0 (a ray leaving an unbounded medium brings nothing back).
     Vec3 transmittance(double d) const {
         auto one = [d](double s) { return s > 0 ? (std::isfinite(d) ? std::exp(-s * d) : 0.0) : 1.0; };
         return {one(sigma_t.x), one(sigma_t.y), one(sigma_t.z)};
     }
+    /// The part [t0, t1] of origin + t dir, t in [0, tmax], inside the medium; false if none.
+    bool inside(const Vec3& origin, const Vec3& dir, double tmax, double& t0, double& t1) const;
+    /// Along origin + t dir, t in [0, tmax]: the transmittance of its part inside the medium.
+    Vec3 transmittance(const Vec3& origin, const Vec3& dir, double tmax) const {
+        if (!bounded) return transmittance(tmax);
+        double t0, t1;
+        return inside(origin, dir, tmax, t0, t1) ? transmittance(t1 - t0) : Vec3{1, 1, 1};
+    }
 };
 
-/// The scene's medium, if it has one that does anything.
-std::optional<MediumModel> medium_of(const Scene& scene);
+/// The scene's medium, if it has one that does anything; a box in local coordinates (the
+/// scene's less `origin_offset`).
+std::optional<MediumModel> medium_of(const Scene& scene, const Vec3& origin_offset = {});
 
 /// Henyey-Greenstein phase function (per steradian) of the angle between the light's
 /// direction of travel and the scattered light's: cos_theta = dot(travel_in, travel_out).
@@ -43,10 +54,10 @@ struct DistanceSample {
     double pdf = 0;  ///< per unit length
 };
 
-/// Equiangular sampling of t in [0, tmax] (tmax may be infinite) along origin + t dir (unit)
+/// Equiangular sampling of t in [tmin, tmax] (tmax may be infinite) along origin + t dir (unit)
 /// toward `light`: t = Delta + D tan(theta), theta uniform between the angles of the
 /// segment's ends as seen from the light. pdf = D / ((theta_b - theta_a)(D^2 + (t - Delta)^2)).
 /// Returns pdf 0 when the light lies on the ray's line (D below 1e-9 of the distance scale).
-DistanceSample sample_equiangular(const Vec3& origin, const Vec3& dir, double tmax, const Vec3& light, double u);
+DistanceSample sample_equiangular(const Vec3& origin, const Vec3& dir, double tmax, const Vec3& light, double u, double tmin = 0);
 
 }  // namespace crex

@@ -381,7 +381,7 @@ RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) 
                 sc->apply(r, bsdfs[i]);
             }
         }
-    medium = medium_of(s);
+    medium = medium_of(s, embree->origin_offset());
 }
 
 }  // namespace crex

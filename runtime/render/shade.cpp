@@ -120,13 +120,29 @@ bool distant_light_sample(const RenderScene& scene, const Bsdf& b, const HitFram
     }
     if (!(max_component(fr) > 0)) return false;
     out.value = beta * fr * ls.radiance * (1.0 / (ls.pdf_direction * n));
-    if (scene.medium) out.value = out.value * scene.medium->transmittance(INFINITY);
+    if (scene.medium) out.value = out.value * scene.medium->transmittance(f.position, wi, INFINITY);
     if (!is_finite(out.value) || !(max_component(out.value) > 0)) return false;
     const double eps = scene.embree->ray_epsilon();
     out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
     out.direction = wi;
     out.tfar = INFINITY;
     out.weak_target = ls.weak;
+    return true;
+}
+
+// Whether a local emitter's sample lights a point `dist` away along unit `wi` (from the point to
+// the emitter), and the factor its light falls off by there: a glow lights nothing beyond its
+// reach (rays see it instead), a spotlight nothing outside its cone, and its light falls off as
+// from the focus behind it (RADIANCE's spotlight).
+bool reaches(const LightSample& ls, const Vec3& wi, double dist, double& falloff) {
+    falloff = 1;
+    if (!ls.limits) return true;
+    if (dist > ls.limits->max_distance) return false;
+    if (ls.limits->spot_cos >= -1) {
+        if (-dot(wi, ls.limits->spot_axis) < ls.limits->spot_cos) return false;
+        const double from_focus = dist + ls.limits->focal;
+        falloff = dist * dist / (from_focus * from_focus);
+    }
     return true;
 }
 
@@ -159,15 +175,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     double cos_l = -dot(ls.normal, wi);
     if (cos_l <= 0) return false;  // emitters radiate from their front side only
     double falloff = 1;
-    if (ls.limits) {
-        if (dist > ls.limits->max_distance) return false;  // a glow beyond its reach: rays see it instead
-        if (ls.limits->spot_cos >= -1) {
-            if (-dot(wi, ls.limits->spot_axis) < ls.limits->spot_cos) return false;  // outside the spotlight's cone
-            // The light falls off as from the focus behind the emitter (RADIANCE's spotlight).
-            const double from_focus = dist + ls.limits->focal;
-            falloff = d2 / (from_focus * from_focus);
-        }
-    }
+    if (!reaches(ls, wi, dist, falloff)) return false;
     const Vec3 radiance = patterned_radiance(ls, wi, dist);
     Vec3 fr;
     if (b.lambertian && f.shading == f.normal) {  // the common case, inline: D reflection only
@@ -178,7 +186,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     }
     if (!(max_component(fr) > 0)) return false;
     out.value = beta * fr * radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
-    if (scene.medium) out.value = out.value * scene.medium->transmittance(dist);
+    if (scene.medium) out.value = out.value * scene.medium->transmittance(f.position, wi, dist);
     if (!is_finite(out.value)) return false;
     double eps = scene.embree->ray_epsilon();
     out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
@@ -205,7 +213,10 @@ bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, 
     rotated_halton(k, r0, r1, u, v);
     LightSample ls = scene.lights->sample((k + random(RandomUse::kMediumPick, k)) / n, u, v);
     if (!(ls.pdf_area > 0)) return false;
-    DistanceSample ds = sample_equiangular(origin, dir, tmax, ls.position, (k + random(RandomUse::kMediumDistance, k)) / n);
+    // Only the part of the ray inside the medium scatters (all of it, unless it fills a box).
+    double t0, t1;
+    if (!medium.inside(origin, dir, tmax, t0, t1)) return false;
+    DistanceSample ds = sample_equiangular(origin, dir, t1, ls.position, (k + random(RandomUse::kMediumDistance, k)) / n, t0);
     if (!(ds.pdf > 0)) return false;
     const Vec3 x = origin + dir * ds.t;
     const Vec3 to = ls.position - x;
@@ -215,11 +226,13 @@ bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, 
     const Vec3 wi = to / dist;
     const double cos_l = -dot(ls.normal, wi);
     if (cos_l <= 0) return false;
+    double falloff = 1;
+    if (!reaches(ls, wi, dist, falloff)) return false;  // a spotlight's beam lights only its cone
     // Light travels along -wi to x and on along -dir to the eye: the scattering angle's cosine
     // is dot(-wi, -dir).
     const double phase = henyey_greenstein(dot(wi, dir), medium.g);
-    out.value = beta * medium.transmittance(ds.t) * medium.sigma_s * patterned_radiance(ls, wi, dist) * medium.transmittance(dist) *
-                (phase * cos_l / (d2 * ls.pdf_area * ds.pdf * n));
+    out.value = beta * medium.transmittance(origin, dir, ds.t) * medium.sigma_s * patterned_radiance(ls, wi, dist) * medium.transmittance(x, wi, dist) *
+                (falloff * phase * cos_l / (d2 * ls.pdf_area * ds.pdf * n));
     if (!is_finite(out.value) || !(max_component(out.value) > 0)) return false;
     const double eps = scene.embree->ray_epsilon();
     out.origin = x;
@@ -343,7 +356,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     Vec3 sources;
                     if (camera || (rays.flags[r] & kRayFromDeltaLobe))
                         sources = scene.lights->distant().escaped(Vec3{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z});
-                    const Vec3 through = beta * (medium ? medium->transmittance(INFINITY) : Vec3{1, 1, 1});
+                    const Vec3 through =
+                        beta * (medium ? medium->transmittance(Vec3{h.ray.org_x, h.ray.org_y, h.ray.org_z}, Vec3{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z}, INFINITY)
+                                       : Vec3{1, 1, 1});
                     Vec3 c = through * (background + sources);
                     out.contribution[i] = is_finite(c) ? c : Vec3{};
                     if (camera && is_finite(through * sources)) out.emission[i] = through * sources;  // a sky seen is emission
@@ -357,7 +372,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 // transmittance: it scales the ray's throughput (emission, direct light, children).
                 const RayRecord ray{{h.ray.org_x, h.ray.org_y, h.ray.org_z},
                                     {h.ray.dir_x, h.ray.dir_y, h.ray.dir_z},
-                                    medium ? beta * medium->transmittance(t) : beta,
+                                    medium ? beta * medium->transmittance(Vec3{h.ray.org_x, h.ray.org_y, h.ray.org_z},
+                                                                          Vec3{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z}, t)
+                                           : beta,
                                     rays.pixel[r],
                                     rays.depth[r],
                                     rays.flags[r],
@@ -464,7 +481,7 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 const double t = h.ray.tfar;
                 const Vec3 origin{h.ray.org_x, h.ray.org_y, h.ray.org_z}, dir{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
                 Vec3 beta{rays.br[r], rays.bg[r], rays.bb[r]};
-                if (medium) beta = beta * medium->transmittance(t);
+                if (medium) beta = beta * medium->transmittance(origin, dir, t);
                 HitFrame f = hit_frame(*scene.embree, h.hit, origin + dir * t, dir, t);
                 Bsdf textured;
                 const Bsdf& b = surface_at(scene, h.hit, f, textured);

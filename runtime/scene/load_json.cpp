@@ -174,11 +174,30 @@ private:
             return;
         }
         ObjectReader r(doc_, sink_, top.at("medium"), "/medium");
-        r.warn_unknown({"extinction", "albedo", "eccentricity"});
+        r.warn_unknown({"extinction", "albedo", "eccentricity", "box"});
         Medium m;
         r.vec3("extinction", m.extinction, kNonNegative, true);
         r.vec3("albedo", m.albedo, kUnit);
         r.number("eccentricity", m.eccentricity, Range{-1, 1, true, true});
+        if (r.has("box")) {
+            const json& b = r.at("box");
+            if (!b.is_array() || b.size() != 2 || !b[0].is_array() || b[0].size() != 3 || !b[1].is_array() || b[1].size() != 3) {
+                r.wrong("box", "[[min x, y, z], [max x, y, z]]");
+            } else {
+                bool numbers = true;
+                for (int k = 0; k < 2; ++k)
+                    for (int c = 0; c < 3; ++c) numbers = numbers && b[k][c].is_number() && std::isfinite(b[k][c].get<double>());
+                if (!numbers) {
+                    r.wrong("box", "[[min x, y, z], [max x, y, z]] of finite numbers");
+                } else {
+                    m.bounded = true;
+                    m.box_min = {b[0][0].get<double>(), b[0][1].get<double>(), b[0][2].get<double>()};
+                    m.box_max = {b[1][0].get<double>(), b[1][1].get<double>(), b[1][2].get<double>()};
+                    if (!(m.box_min.x < m.box_max.x && m.box_min.y < m.box_max.y && m.box_min.z < m.box_max.z))
+                        sink_.report("E306", r.span("box"), "medium: the box's minimum must be below its maximum on every axis");
+                }
+            }
+        }
         scene.medium = m;
     }
 

@@ -128,6 +128,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         j["medium"] = {{"extinction", vec(scene.medium->extinction)},
                        {"albedo", vec(scene.medium->albedo)},
                        {"eccentricity", scene.medium->eccentricity}};
+    if (scene.medium && scene.medium->bounded) j["medium"]["box"] = {vec(scene.medium->box_min), vec(scene.medium->box_max)};
     const Material defaults;
     j["materials"] = nlohmann::json::array();
     for (const auto& m : scene.materials) {

@@ -272,11 +272,14 @@ struct Camera {
     double fore_clip = 0;      ///< rays start this far along their direction (RADIANCE -vo)
 };
 
-/// Homogeneous single-scattering medium filling the scene (RADIANCE "mist").
+/// Homogeneous single-scattering medium (RADIANCE "mist"): the whole scene, or an
+/// axis-aligned box of it (a mist on a genbox).
 struct Medium {
     Vec3 extinction{0, 0, 0};  ///< per scene unit
     Vec3 albedo{0, 0, 0};
     double eccentricity = 0;   ///< Henyey-Greenstein g in (-1, 1)
+    bool bounded = false;      ///< only inside [box_min, box_max]
+    Vec3 box_min, box_max;
 };
 
 /// A camera the scene file names (glTF cameras); `crex --camera NAME|INDEX` chooses one.

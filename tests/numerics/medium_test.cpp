@@ -4,7 +4,8 @@
 //  - single scattering: a camera ray passing a small sphere lamp in an unbounded medium
 //    gathers the integral of sigma_s p(theta) I / r^2 exp(-sigma_t (t + r)) along the ray,
 //    computed here by a 1-D quadrature;
-//  - equiangular sampling's pdf integrates to one over finite and infinite segments.
+//  - equiangular sampling's pdf integrates to one over finite and infinite segments;
+//  - a medium in a box (RADIANCE's mist on a genbox) acts only on the parts of rays inside it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -148,6 +149,66 @@ TEST(Medium, SingleScatterFromASmallLampMatchesTheQuadrature) {
     // Without scattering (albedo 0) the lamp lights nothing the camera sees.
     s.medium = mist({sigma_t, sigma_t, sigma_t}, {0, 0, 0}, g);
     EXPECT_EQ(testing::mean_luminance(render(s, testing::lower_or_die(""), o).image()), 0.0);
+}
+
+TEST(Medium, ABoxOfMediumAttenuatesOnlyWhatCrossesIt) {
+    // The wall of radiance 1 two away, the medium only in z in [-1.5, -0.5] (1 of the 2): each
+    // channel is exp(-sigma_t); moved aside off the view, the box leaves the wall at 1.
+    Scene s;
+    s.materials.push_back(testing::make_material("wall", MaterialType::kLight, {1, 1, 1}));
+    s.shapes.push_back(testing::quad("wall", {-5, -5, -2}, {5, -5, -2}, {5, 5, -2}, {-5, 5, -2}));
+    s.camera.position = {0, 0, 0};
+    s.camera.direction = {0, 0, -1};
+    s.camera.vfov_deg = 1;
+    const Vec3 sigma{0.1, 0.5, 2.0};
+    Medium m = mist(sigma, {0, 0, 0}, 0);
+    m.bounded = true;
+    m.box_min = {-3, -3, -1.5};
+    m.box_max = {3, 3, -0.5};
+    s.medium = m;
+    std::vector<float> img = testing::render_crex(s, "", 8, 1).image();
+    for (size_t p = 0; p < img.size() / 3; ++p)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(img[3 * p + c] / std::exp(-sigma[c]), 1.0, 4e-4) << "pixel " << p << " channel " << c;
+    s.medium->box_min.x = 4, s.medium->box_max.x = 6;
+    img = testing::render_crex(s, "", 8, 1).image();
+    for (float v : img) EXPECT_FLOAT_EQ(v, 1.0f);
+}
+
+TEST(Medium, OnlyTheBoxScattersTheLampsLight) {
+    // The small lamp of the single-scatter test, inside a box of medium that holds the camera
+    // ray's part t in [1, 3] only: the quadrature over that part, each point seen through
+    // exp(-sigma_t (t - 1)) and lit through exp(-sigma_t r) (the lamp is inside the box).
+    const double sigma_t = 0.4, albedo = 0.8, g = 0.3, L = 50, a = 0.01, hl = 0.5, zl = 2;
+    Scene s;
+    s.materials.push_back(testing::make_material("lamp", MaterialType::kLight, {L, L, L}));
+    Shape lamp;
+    lamp.type = ShapeType::kSphere;
+    lamp.material = "lamp";
+    lamp.center = {0, hl, -zl};
+    lamp.radius = a;
+    s.shapes.push_back(lamp);
+    s.camera.position = {0, 0, 0};
+    s.camera.direction = {0, 0, -1};
+    s.camera.vfov_deg = 0.2;
+    Medium m = mist({sigma_t, sigma_t, sigma_t}, {albedo, albedo, albedo}, g);
+    m.bounded = true;
+    m.box_min = {-2, -2, -3};
+    m.box_max = {2, 2, -1};
+    s.medium = m;
+    RunSettings o;
+    o.width = o.height = 8;
+    o.spp = 64;
+    o.executor.shade.media_samples = 8;
+    const double intensity = L * kPi * a * a;
+    const int n = 400000;
+    double expected = 0;
+    for (int k = 0; k < n; ++k) {
+        const double t = 1 + (k + 0.5) / n * 2, dt = 2.0 / n;
+        const Vec3 to = Vec3{0, hl, -zl} - Vec3{0, 0, -t};
+        const double r = length(to);
+        expected += sigma_t * albedo * henyey_greenstein(dot(to / r, Vec3{0, 0, -1}), g) * intensity / (r * r) * std::exp(-sigma_t * (t - 1 + r)) * dt;
+    }
+    EXPECT_NEAR(testing::mean_luminance(render(s, testing::lower_or_die(""), o).image()) / expected, 1.0, 0.01);
 }
 
 }  // namespace

@@ -465,7 +465,7 @@ std::optional<Material> SceneBuilder::convert(const Definition& d, const Primiti
         return b;
     }
     std::string help;
-    if (t == "mist") help = "crex's medium fills the whole scene: give a JSON scene a \"medium\" instead";
+    if (t == "mist") help = "a mist bounds a medium: surfaces take it as their modifier, not as a material";
     else if (t.find("func") != std::string::npos || t.find("data") != std::string::npos || t == "BRTDfunc")
         help = "crex does not evaluate procedural or tabulated reflectance; approximate it with plastic, metal or trans";
     refuse(d, user, fmt::format("RADIANCE material type '{}' ('{}') is not supported", t, p.id.text), help);
@@ -480,6 +480,7 @@ void SceneBuilder::surface(Primitive p) {
     if (p.modifier.text == "void") return;  // invisible in RADIANCE too
     DefPtr d = lookup(p.modifier, p, "the modifier");
     if (!d) return;
+    if (d->p.type.text == "mist") return mist_surface(d, p);
     std::vector<Vec3> smooth;  // per vertex: a smoothed triangle's normals
     if (t == "polygon" && d->p.type.text == "texfunc") {
         std::vector<Vec3> vertices;
@@ -773,6 +774,7 @@ void SceneBuilder::command_ends() {
 }
 
 void SceneBuilder::finish() {
+    finish_mists();
     if (pending_tag_) finished_scopes_.push_back(*pending_tag_), pending_tag_.reset();
     if (block_tag_) {
         sink_.report("W301", block_tag_->where, "'#@crex tag ... begin' is never ended: it tags everything to the end of the file");

@@ -73,6 +73,17 @@ private:
     /// reported error).
     bool mesh_normals(const Definition& texture, const Primitive& user, const std::vector<Vec3>& vertices, std::vector<Vec3>& normals);
     static Primitive from_binary(const BinaryObject& o, const std::string& modifier, const Primitive& placed);
+    /// A surface bounding a mist (mist_builder.cpp): never rendered; finish_mists() makes a
+    /// mist with coefficients the scene's medium when its surfaces are an axis-aligned box.
+    void mist_surface(const DefPtr& d, const Primitive& p);
+    void finish_mists();
+    struct MistBoundary {
+        DefPtr def;
+        Primitive first;  ///< its first surface (where errors point)
+        std::vector<std::vector<Vec3>> polygons;
+        bool other = false;  ///< a surface other than a polygon
+    };
+    std::vector<MistBoundary> mists_;
     void distant_light(const Primitive& p, const Material& m, const std::optional<SkyModel>& sky);
     std::optional<SkyModel> sky_of(const Definition& pattern, const Primitive& user);
     /// The crex material of `d` (converted once); nullopt after a reported error; "" when the

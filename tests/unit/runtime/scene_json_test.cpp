@@ -41,7 +41,7 @@ std::string every_kind() {
     return std::string(R"({"format": "crex-scene", "version": 1,
       "camera": {"position": [0,0,5], "look_at": [0,0,0], "up": [0,1,0], "vfov": 30, "hfov": 40, "view_distance": 2},
       "background": [0.1, 0.2, 0.3],
-      "medium": {"extinction": [0.01, 0.01, 0.02], "albedo": [0.9, 0.9, 0.9], "eccentricity": 0.3},
+      "medium": {"extinction": [0.01, 0.01, 0.02], "albedo": [0.9, 0.9, 0.9], "eccentricity": 0.3, "box": [[-9, -8, -7], [7, 8, 9]]},
       "materials": )") + kMaterials + R"(, "shapes": )" + kShapes + "}";
 }
 
@@ -65,6 +65,9 @@ TEST(SceneJson, LoadsEveryPrimitiveAndMaterial) {
     EXPECT_DOUBLE_EQ(s.camera.hfov_deg, 40);
     ASSERT_TRUE(s.medium.has_value());
     EXPECT_DOUBLE_EQ(s.medium->eccentricity, 0.3);
+    EXPECT_TRUE(s.medium->bounded);
+    EXPECT_EQ(s.medium->box_min, (Vec3{-9, -8, -7}));
+    EXPECT_EQ(s.medium->box_max, (Vec3{7, 8, 9}));
     EXPECT_EQ(s.background, (Vec3{0.1, 0.2, 0.3}));
     std::vector<ShapeType> types;
     for (const auto& sh : s.shapes) types.push_back(sh.type);

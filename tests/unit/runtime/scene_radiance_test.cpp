@@ -42,6 +42,28 @@ TEST(SceneRadiance, EveryMaterialReadsItsArguments) {
     EXPECT_DOUBLE_EQ(s.materials[8].glow_radius, 4);
 }
 
+TEST(SceneRadiance, AMistOnAGenboxIsTheMediumInThatBox) {
+    // RADIANCE's mist test set: a genbox moved by xform bounds the medium (extinction, albedo,
+    // eccentricity); its surfaces are not seen. A mist with no coefficients only names sources
+    // (W306: crex scatters every source's light) and adds nothing.
+    auto r = testing::load_rad_text("void light l 0 0 3 1 1 1\nl sphere s 0 0 4 -1 1 1 .1\n"
+                                    "void mist fog 0 0 7 .1 .2 .4 .9 .8 .7 .3\n!genbox fog box 2 3 4 | xform -t -3 -1 .5\n"
+                                    "void mist beam 1 s 0 0\nbeam sphere cone 0 0 4 0 0 0 1\n");
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    ASSERT_TRUE(r.scene->medium);
+    const Medium& m = *r.scene->medium;
+    EXPECT_EQ(m.extinction, (Vec3{.1, .2, .4}));
+    EXPECT_EQ(m.albedo, (Vec3{.9, .8, .7}));
+    EXPECT_DOUBLE_EQ(m.eccentricity, 0.3);
+    EXPECT_TRUE(m.bounded);
+    EXPECT_EQ(m.box_min, (Vec3{-3, -1, .5}));
+    EXPECT_EQ(m.box_max, (Vec3{-1, 2, 4.5}));
+    EXPECT_EQ(r.scene->shapes.size(), 1u);  // the lamp; neither mist's surfaces
+    bool named = false;
+    for (const Diagnostic& d : r.diagnostics) named = named || (d.code == "W306" && d.message.find("mist 'beam'") != std::string::npos);
+    EXPECT_TRUE(named);
+}
+
 TEST(SceneRadiance, TheFuncMaterialsAndAshik2ReadTheirArguments) {
     // metfunc: its specular part coloured by the material (rspec c), the diffuse part
     // c (1 - rspec); transfunc: trans = .8 (1 - .1), tspec = trans .5, tdiff = c (trans - tspec),
