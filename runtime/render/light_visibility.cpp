@@ -41,7 +41,8 @@ std::vector<double> distant_visibility(const RenderScene& scene, int width, int 
     intersect_batch(*scene.embree, hits.data(), n, true);
 
     // Shadow rays from each surface hit (not mirrors or glass: light passes those by other
-    // paths), into the surface's own hemisphere, where the source's light can be reflected.
+    // paths), into the surface's own hemisphere, where the source's light can be reflected,
+    // and into the other one too where the surface transmits (a translucent window's outside).
     const size_t per = sources * kDirections;
     std::vector<RTCRay> shadows(n * per);
     std::vector<uint8_t> weak(n * per, 0);
@@ -57,15 +58,18 @@ std::vector<double> distant_visibility(const RenderScene& scene, int width, int 
         if (!aimed[p] || h.hit.geomID == RTC_INVALID_GEOMETRY_ID || is_delta_material(scene.material_of(h.hit.geomID).type)) return;
         const Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z}, d{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
         const HitFrame f = hit_frame(*scene.embree, h.hit, o + d * double(h.ray.tfar), d, h.ray.tfar);
+        const Bsdf& b = scene.bsdf_of(h.hit.geomID);
+        const bool transmits = positive(b.diffuse_transmit) || positive(b.specular_transmit) || positive(b.directional_transmit);
         for (size_t i = 0; i < sources; ++i)
             for (uint32_t k = 0; k < kDirections; ++k) {
                 const uint64_t key = hash_combine(hash_combine(0x6c69676874ull, p), i * kDirections + k);
                 Vec3 dir, radiance;
                 double pdf = 0;
                 distant.sample(i, to_unit(mix64(key)), to_unit(mix64(key + 1)), dir, radiance, pdf);
-                if (!(pdf > 0) || !(dot(dir, f.normal) > 0)) continue;
+                const double side = dot(dir, f.normal);
+                if (!(pdf > 0) || !(side > 0 || (transmits && side < 0))) continue;
                 const size_t slot = p * per + i * kDirections + k;
-                aim_shadow_ray(shadows[slot], f.position + f.normal * eps, dir, INFINITY);
+                aim_shadow_ray(shadows[slot], f.position + (side > 0 ? f.normal : -f.normal) * eps, dir, INFINITY);
                 weak[slot] = distant.weak(i);
             }
     });

@@ -115,6 +115,13 @@ bool distant_light_sample(const RenderScene& scene, const Bsdf& b, const HitFram
     if (b.lambertian) {
         const double c = dot(wi, f.normal);
         if (c > 0) fr = b.diffuse * (c * kInvPi);
+    } else if (b.directional && ls.weak) {
+        // RADIANCE never samples a sky (a distant glow) for direct light: its light reaches a
+        // plasfunc, metfunc or transfunc only as indirect light, which the function does not
+        // shape (m_brdf.c: the colour less what it transmits in front, what it transmits behind,
+        // the weights of crex's own D lobes there).
+        const double c = dot(wi, f.shading);
+        if (c != 0 && (dot(wi, f.normal) > 0) == (c > 0)) fr = (c > 0 ? b.diffuse : b.diffuse_transmit) * (std::fabs(c) * kInvPi);
     } else {
         fr = eval_direct(b, f, wi);
     }

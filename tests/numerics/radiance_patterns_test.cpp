@@ -217,6 +217,20 @@ TEST_F(RadiancePatterns, PlasfuncAndTransfuncAnswerALampByTheirFunctionOfItsDire
         }
 }
 
+TEST_F(RadiancePatterns, AFuncMaterialTakesASkysLightAsRadianceDoesWithoutItsFunction) {
+    // RADIANCE never samples a sky (a glow source) for direct light, so its light reaches a
+    // plasfunc only as indirect light, weighted by the colour (less what it transmits), not
+    // shaped by the function (m_brdf.c). A floor of plasfunc .5 grey, specularity .5, whose
+    // function is 0, under a sky of radiance 1 over the upper hemisphere: E = pi, so the floor
+    // shows .5 (the function alone would have left .25: the diffuse part 1 - .5).
+    std::ofstream(path("zero.cal")) << "zero(x,y,z) = 0;\n";
+    const Scene s = load("z.rad", "#@crex view -vtl -vp 0 0 .5 -vd 0 0 -1 -vu 0 1 0 -vh 2 -vv 2\n"
+                                  "void plasfunc floor 2 zero zero.cal 0 4 .5 .5 .5 .5\n"
+                                  "floor polygon ground 0 0 12 -10 -10 0 10 -10 0 10 10 0 -10 10 0\n"
+                                  "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n");
+    EXPECT_NEAR(testing::mean_luminance(testing::render_crex(s, "", 16, 16, 0, 4).image()), 0.5, 0.005);
+}
+
 // A glow floor of radiance 1 at z = -1 (facing up) under a surface at z = 0 of `material`,
 // seen straight down through a parallel view 2 wide; the image's pixels.
 std::vector<float> over_glow_floor(RadiancePatterns& t, const std::string& material, int n) {

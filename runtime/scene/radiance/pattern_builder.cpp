@@ -447,8 +447,8 @@ std::optional<Material> SceneBuilder::directional_function(const Definition& d, 
 
 std::string SceneBuilder::see_through_material() {
     // RADIANCE's void part of a mixture: the ray goes on as if the surface were not there.
-    // crex passes it straight through (a trans of all specular transmission); shadow rays,
-    // which are not shaded, stop at the surface.
+    // crex passes it straight through (a trans of all specular transmission), shadow rays too
+    // (they cross a trans surface by its specular transmission).
     const std::string name = "void (seen through)";
     if (!scene_.find_material(name)) {
         Material m;
@@ -485,7 +485,6 @@ std::optional<Material> SceneBuilder::mixture(const Definition& d, const Primiti
         const Word& w = p.strings[static_cast<size_t>(k)];
         if (w.text == "void") {
             parts[k] = see_through_material();
-            report("W306", w.span, fmt::format("{} '{}': its void part is seen through, but still casts a shadow in crex", t, p.id.text), &p);
             continue;
         }
         DefPtr part = lookup(w, p, k == 0 ? "the foreground material" : "the background material");
