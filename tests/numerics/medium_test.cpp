@@ -46,16 +46,22 @@ Medium mist(Vec3 extinction, Vec3 albedo, double g) {
     return m;
 }
 
-TEST(Medium, BeerLambertThroughTheMediumToAnEmitter) {
-    // A wall of radiance 1 at distance 2 fills a 1-degree view; an absorbing medium (albedo 0)
-    // between: each channel is exp(-2 sigma_t), to 3e-4 at sigma_t 2 (the corner rays are
-    // 7.6e-5 longer).
+// A wall of radiance 1 at distance 2 filling a 1-degree view from the origin along -z.
+Scene wall_ahead() {
     Scene s;
     s.materials.push_back(testing::make_material("wall", MaterialType::kLight, {1, 1, 1}));
     s.shapes.push_back(testing::quad("wall", {-5, -5, -2}, {5, -5, -2}, {5, 5, -2}, {-5, 5, -2}));
     s.camera.position = {0, 0, 0};
     s.camera.direction = {0, 0, -1};
     s.camera.vfov_deg = 1;
+    return s;
+}
+
+TEST(Medium, BeerLambertThroughTheMediumToAnEmitter) {
+    // A wall of radiance 1 at distance 2 fills a 1-degree view; an absorbing medium (albedo 0)
+    // between: each channel is exp(-2 sigma_t), to 3e-4 at sigma_t 2 (the corner rays are
+    // 7.6e-5 longer).
+    Scene s = wall_ahead();
     const Vec3 sigma{0.1, 0.5, 2.0};
     s.medium = mist(sigma, {0, 0, 0}, 0);
     RunResult r = testing::render_crex(s, "", 8, 1);
@@ -123,8 +129,10 @@ double single_scatter_quadrature(double sigma_t, double sigma_s, double g, doubl
     return sum;
 }
 
-TEST(Medium, SingleScatterFromASmallLampMatchesTheQuadrature) {
-    const double sigma_t = 0.4, albedo = 0.8, g = 0.3, L = 50, a = 0.01, hl = 0.5, zl = 2;
+// A sphere lamp of radiance L and radius a at (0, hl, -zl), the camera at the origin looking
+// down -z through a 0.2-degree view (every pixel's ray within 0.002 of the axis at the lamp);
+// 8 x 8 pixels, 64 samples of 8 single-scatter samples each.
+Scene small_lamp_beside_the_view(double L, double a, double hl, double zl) {
     Scene s;
     s.materials.push_back(testing::make_material("lamp", MaterialType::kLight, {L, L, L}));
     Shape lamp;
@@ -135,12 +143,23 @@ TEST(Medium, SingleScatterFromASmallLampMatchesTheQuadrature) {
     s.shapes.push_back(lamp);
     s.camera.position = {0, 0, 0};
     s.camera.direction = {0, 0, -1};
-    s.camera.vfov_deg = 0.2;  // every pixel's ray within 0.002 of the axis at the lamp
-    s.medium = mist({sigma_t, sigma_t, sigma_t}, {albedo, albedo, albedo}, g);
+    s.camera.vfov_deg = 0.2;
+    return s;
+}
+
+RunSettings single_scatter_settings() {
     RunSettings o;
     o.width = o.height = 8;
     o.spp = 64;
     o.executor.shade.media_samples = 8;
+    return o;
+}
+
+TEST(Medium, SingleScatterFromASmallLampMatchesTheQuadrature) {
+    const double sigma_t = 0.4, albedo = 0.8, g = 0.3, L = 50, a = 0.01, hl = 0.5, zl = 2;
+    Scene s = small_lamp_beside_the_view(L, a, hl, zl);
+    s.medium = mist({sigma_t, sigma_t, sigma_t}, {albedo, albedo, albedo}, g);
+    const RunSettings o = single_scatter_settings();
     RunResult img = render(s, testing::lower_or_die(""), o);
     const double expected = single_scatter_quadrature(sigma_t, sigma_t * albedo, g, L, a, hl, zl);
     ASSERT_GT(expected, 0);
@@ -154,12 +173,7 @@ TEST(Medium, SingleScatterFromASmallLampMatchesTheQuadrature) {
 TEST(Medium, ABoxOfMediumAttenuatesOnlyWhatCrossesIt) {
     // The wall of radiance 1 two away, the medium only in z in [-1.5, -0.5] (1 of the 2): each
     // channel is exp(-sigma_t); moved aside off the view, the box leaves the wall at 1.
-    Scene s;
-    s.materials.push_back(testing::make_material("wall", MaterialType::kLight, {1, 1, 1}));
-    s.shapes.push_back(testing::quad("wall", {-5, -5, -2}, {5, -5, -2}, {5, 5, -2}, {-5, 5, -2}));
-    s.camera.position = {0, 0, 0};
-    s.camera.direction = {0, 0, -1};
-    s.camera.vfov_deg = 1;
+    Scene s = wall_ahead();
     const Vec3 sigma{0.1, 0.5, 2.0};
     Medium m = mist(sigma, {0, 0, 0}, 0);
     m.bounded = true;
@@ -179,26 +193,13 @@ TEST(Medium, OnlyTheBoxScattersTheLampsLight) {
     // ray's part t in [1, 3] only: the quadrature over that part, each point seen through
     // exp(-sigma_t (t - 1)) and lit through exp(-sigma_t r) (the lamp is inside the box).
     const double sigma_t = 0.4, albedo = 0.8, g = 0.3, L = 50, a = 0.01, hl = 0.5, zl = 2;
-    Scene s;
-    s.materials.push_back(testing::make_material("lamp", MaterialType::kLight, {L, L, L}));
-    Shape lamp;
-    lamp.type = ShapeType::kSphere;
-    lamp.material = "lamp";
-    lamp.center = {0, hl, -zl};
-    lamp.radius = a;
-    s.shapes.push_back(lamp);
-    s.camera.position = {0, 0, 0};
-    s.camera.direction = {0, 0, -1};
-    s.camera.vfov_deg = 0.2;
+    Scene s = small_lamp_beside_the_view(L, a, hl, zl);
     Medium m = mist({sigma_t, sigma_t, sigma_t}, {albedo, albedo, albedo}, g);
     m.bounded = true;
     m.box_min = {-2, -2, -3};
     m.box_max = {2, 2, -1};
     s.medium = m;
-    RunSettings o;
-    o.width = o.height = 8;
-    o.spp = 64;
-    o.executor.shade.media_samples = 8;
+    const RunSettings o = single_scatter_settings();
     const double intensity = L * kPi * a * a;
     const int n = 400000;
     double expected = 0;
