@@ -401,7 +401,8 @@ lamp polygon l 0 0 12 -.2 -.2 1.99 -.2 .2 1.99 .2 .2 1.99 .2 -.2 1.99
     const std::vector<double> inside = distant_visibility(rs, 32, 32);
     ASSERT_EQ(inside.size(), 1u);
     EXPECT_LT(inside[0], 0.01);
-    RenderScene open(load(floor_scene(0.5, sky)));
+    const Scene open_scene = load(floor_scene(0.5, sky));  // RenderScene keeps a reference to it
+    RenderScene open(open_scene);
     const std::vector<double> outside = distant_visibility(open, 32, 32);
     ASSERT_EQ(outside.size(), 1u);
     EXPECT_GT(outside[0], 0.95);
