@@ -277,7 +277,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 Lobe lobe;
                 double prob = 0;
                 if (through_trans[j]) {
-                    lobe = {Component::kT, dir[j], b.specular_transmit, true, true, true};  // undeviated
+                    lobe = {Component::kT, dir[j], b.specular_transmit, true, true, b.clear_transmission};  // undeviated
                     prob = transmission_share(b);
                 } else {
                     std::array<Lobe, kMaxLobes> lobes;

@@ -145,7 +145,7 @@ void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector
             Lobe lobe;
             double prob = 0;
             if (through_trans[i]) {
-                lobe = {Component::kT, h.last_dir[i], b.specular_transmit, true, true, true};
+                lobe = {Component::kT, h.last_dir[i], b.specular_transmit, true, true, b.clear_transmission};
                 prob = transmission_share(b);
             } else {
                 std::array<Lobe, kMaxLobes> lobes;

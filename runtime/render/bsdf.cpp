@@ -31,6 +31,7 @@ Bsdf Bsdf::of(const Material& m, const MaterialValues& v) {
     if (m.type == MaterialType::kTrans) {
         b.diffuse_transmit = v.color * ((1 - spec) * trans * (1 - m.transmitted_specular) * dielectric);
         b.specular_transmit = v.color * ((1 - spec) * trans * m.transmitted_specular * dielectric);
+        b.clear_transmission = v.roughness <= 0 && (!m.anisotropy || m.anisotropy->roughness_v <= 0);
     }
     bool specular = (spec > 0 || metal > 0) && positive(b.specular);
     b.glossy = specular && (v.roughness > 0 || m.anisotropy);
@@ -107,7 +108,7 @@ void thin_glass(const Material& m, const Vec3& d, const Vec3& nrm, const Vec3& c
 }  // namespace
 
 Vec3 shadow_transmittance(const Bsdf& b, const HitFrame& f) {
-    if (b.type == MaterialType::kTrans) return b.redirect ? Vec3{} : b.specular_transmit;
+    if (b.type == MaterialType::kTrans) return b.redirect || !b.clear_transmission ? Vec3{} : b.specular_transmit;
     if (b.type != MaterialType::kGlass || !b.material || !b.material->thin_glass || !positive(b.color)) return {};
     const double cos_i = std::fabs(dot(f.incoming, f.shading));
     if (!(cos_i > 1e-12)) return {};
@@ -201,7 +202,7 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             out[n++] = {Component::kD, dir, b.diffuse_transmit, true, false};
         }
         if (b.redirect) n = b.redirect->lobes(pattern_ray_at(f), f.normal, out.data(), n, kMaxLobes);
-        else if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true, true};
+        else if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true, b.clear_transmission};
         break;
     }
     case MaterialType::kGlass: {

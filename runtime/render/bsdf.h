@@ -89,6 +89,9 @@ struct Bsdf {
     bool direct_response = false;  ///< a lobe that direct lighting can reach
     bool emits = false;            ///< light, glow, or an emission of its own
     bool lambertian = false;       ///< direct light reaches the D reflection lobe only
+    /// trans: its specular transmission is clear (roughness 0: RADIANCE's "pure" transmission),
+    /// so shadow rays cross it; a rough one scatters its light, and RADIANCE stops them there.
+    bool clear_transmission = false;
     /// RADIANCE's plasfunc, metfunc, transfunc (scene.h's DirectionalFunction): direct light's
     /// response is diffuse parts of their own plus this function of the light's direction,
     /// weighted in front and behind.
@@ -107,8 +110,8 @@ struct Bsdf {
 int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out);
 
 /// What a shadow ray crossing this surface along f.incoming keeps: the straight T lobe's weight
-/// (thin glass, a trans surface's specular transmission; RADIANCE's glass and trans pass shadow
-/// rays the same way), zero for every other surface.
+/// (thin glass, a trans surface's clear specular transmission; RADIANCE's glass and trans pass
+/// shadow rays the same way), zero for every other surface.
 Vec3 shadow_transmittance(const Bsdf& b, const HitFrame& f);
 
 /// Mirrors, glass and dielectrics: every lobe they spawn is delta, so a path is followed

@@ -49,7 +49,8 @@ void cutout_then_shadow_pass_filter(const RTCFilterFunctionNArguments* args) {
     shadow_pass_filter(args);
 }
 
-// Materials whose light goes straight through (thin glass, trans): shadow rays may cross them.
+// Materials whose light may go straight through (thin glass, trans): shadow rays may cross them
+// (the renderer's ShadowPass decides at each hit).
 bool passes_straight(const Material& m) {
     return (m.type == MaterialType::kGlass && m.thin_glass) || m.type == MaterialType::kTrans;
 }
