@@ -49,11 +49,7 @@ std::vector<double> distant_visibility(const RenderScene& scene, int width, int 
     std::vector<Vec3> through(n * per);
     const double eps = scene.embree->ray_epsilon();
     tbb::parallel_for(size_t{0}, n, [&](size_t p) {
-        for (size_t k = 0; k < per; ++k) {
-            RTCRay& s = shadows[p * per + k];
-            s = RTCRay{};
-            s.tnear = 1.0f, s.tfar = 0.0f, s.dir_z = 1, s.mask = 0xFFFFFFFFu;  // a hole unless aimed
-        }
+        for (size_t k = 0; k < per; ++k) make_hole(shadows[p * per + k], static_cast<unsigned>(p));  // unless aimed
         const RTCRayHit& h = hits[p];
         if (!aimed[p] || h.hit.geomID == RTC_INVALID_GEOMETRY_ID || is_delta_material(scene.material_of(h.hit.geomID).type)) return;
         const Vec3 o{h.ray.org_x, h.ray.org_y, h.ray.org_z}, d{h.ray.dir_x, h.ray.dir_y, h.ray.dir_z};
@@ -81,7 +77,7 @@ std::vector<double> distant_visibility(const RenderScene& scene, int width, int 
         for (size_t p = 0; p < n; ++p)
             for (uint32_t k = 0; k < kDirections; ++k) {
                 const size_t slot = p * per + i * kDirections + k;
-                if (shadows[slot].tnear > shadows[slot].tfar && shadows[slot].tfar == 0.0f) continue;  // not aimed
+                if (is_hole(shadows[slot])) continue;  // not aimed
                 tested += 1;
                 reached += std::clamp(max_component(through[slot]), 0.0, 1.0);
             }

@@ -249,23 +249,6 @@ bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, 
     return out.tfar > 0;
 }
 
-namespace {
-
-// An empty shadow-ray slot: tnear > tfar, so Embree skips it.
-void make_hole(RTCRay& s, unsigned id) {
-    s.tnear = 1.0f;
-    s.tfar = 0.0f;
-    s.org_x = s.org_y = s.org_z = 0;
-    s.dir_x = 0, s.dir_y = 0, s.dir_z = 1;
-    s.mask = 0xFFFFFFFFu;
-    s.flags = 0;
-    s.time = 0;
-    s.id = id;
-}
-bool is_hole(const RTCRay& s) { return s.tnear > s.tfar && s.tfar == 0.0f; }
-
-}  // namespace
-
 void ShadeOutput::append_children_to(std::array<RayBatch, kComponentCount>& bins) const {
     std::array<std::vector<const RayBatch*>, kComponentCount> parts;
     size_t total = 0;

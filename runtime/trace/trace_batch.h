@@ -35,6 +35,19 @@ inline void aim_shadow_ray(RTCRay& s, const Vec3& o, const Vec3& d, double tfar)
     s.tfar = static_cast<float>(tfar);
 }
 
+/// An empty shadow-ray slot: tnear > tfar, so Embree skips it.
+inline void make_hole(RTCRay& s, unsigned id) {
+    s.tnear = 1.0f;
+    s.tfar = 0.0f;
+    s.org_x = s.org_y = s.org_z = 0;
+    s.dir_x = 0, s.dir_y = 0, s.dir_z = 1;
+    s.mask = 0xFFFFFFFFu;
+    s.flags = 0;
+    s.time = 0;
+    s.id = id;
+}
+inline bool is_hole(const RTCRay& s) { return s.tnear > s.tfar && s.tfar == 0.0f; }
+
 /// Closest hits. `coherent` for camera rays. Rays with tnear > tfar are holes (inactive).
 void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bool coherent);
 /// Any hit: on return, tfar = -inf marks an occluded ray. With `pass` (and a scene where some
