@@ -96,6 +96,8 @@ void print_text(const Scene& scene, const Census& c, const Stats& st, const std:
         std::cout << (scene.medium->bounded ? fmt::format("  medium     homogeneous single-scatter, in the box {} .. {}\n", vec_text(scene.medium->box_min),
                                                           vec_text(scene.medium->box_max))
                                             : std::string("  medium     homogeneous single-scatter, everywhere\n"));
+    if (!scene.back_faces_visible)
+        std::cout << "  back faces hidden (RADIANCE -bv-): a ray meeting the back of a surface goes through it (not dielectrics, not emitters)\n";
     if (!c.tags.empty()) {
         std::string tags;
         for (size_t i = 0; i < c.tags.size(); ++i)

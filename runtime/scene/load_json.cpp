@@ -38,7 +38,7 @@ public:
         scene.source = file_.name();
         ObjectReader top(doc_, sink_, doc_.value, "");
         top.warn_unknown({"format", "version", "camera", "cameras", "units", "background", "medium", "images", "materials", "shapes",
-                          "distant_lights"});
+                          "distant_lights", "back_faces_visible"});
         top.format_and_version("crex-scene");
         if (top.has("camera")) read_camera(top, scene.camera);
         read_array(top, "cameras", [&](ObjectReader& r) { read_named_camera(r, scene); });
@@ -46,6 +46,7 @@ public:
         if (top.has("units")) read_units(top, scene.units);
         read_array(top, "images", [&](ObjectReader& r) { read_image(r, scene); });
         top.vec3("background", scene.background, kRadiance);
+        top.boolean("back_faces_visible", scene.back_faces_visible);
         if (top.has("medium")) read_medium(top, scene);
         read_array(top, "materials", [&](ObjectReader& r) { read_material(r, scene); });
         read_array(top, "shapes", [&](ObjectReader& r) { read_shape(r, scene); });

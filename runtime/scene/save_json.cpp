@@ -122,6 +122,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         if (scene.units.up != Vec3{}) j["units"]["up"] = vec(scene.units.up);
     }
     j["background"] = vec(scene.background);
+    if (!scene.back_faces_visible) j["back_faces_visible"] = false;
     for (const auto& image : scene.images)
         j["images"].push_back({{"name", image.name}, {"mime_type", image.mime_type}, {"data", base64(image.bytes)}});
     if (scene.medium)

@@ -306,6 +306,10 @@ struct Scene {
     std::vector<Shape> shapes;
     std::vector<DistantLight> distant_lights;
     std::optional<Medium> medium;
+    /// False (RADIANCE's `-bv-`): a ray meeting the back of a surface goes on through it,
+    /// unless the surface is a dielectric or an emitter; shadow rays are still blocked. A view
+    /// from outside a closed room then looks in through its wall.
+    bool back_faces_visible = true;
 
     const Material* find_material(const std::string& name) const;
 };

@@ -25,10 +25,10 @@ void check(RTCDevice device, const char* what) {
                                              last_embree_error.empty() ? fmt::format("error {}", static_cast<int>(e)) : last_embree_error));
 }
 
-// Embree's filter for cut-out geometries (the user pointer is the CutoutTest): a hit the test
-// calls a hole is not a hit, whichever query found it.
+// Embree's filter for cut-out geometries: a hit the test calls a hole is not a hit, whichever
+// query found it.
 void cutout_filter(const RTCFilterFunctionNArguments* args) {
-    const auto* test = static_cast<const CutoutTest*>(args->geometryUserPtr);
+    const auto* test = static_cast<const GeometryFilter*>(args->geometryUserPtr)->cutouts;
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         const Vec3 origin{RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i), RTCRayN_org_z(args->ray, args->N, i)};
@@ -37,6 +37,21 @@ void cutout_filter(const RTCFilterFunctionNArguments* args) {
                          RTCHitN_v(args->hit, args->N, i), origin, dir, RTCRayN_tfar(args->ray, args->N, i)))
             args->valid[i] = 0;
     }
+}
+
+// Intersection queries only (RADIANCE's -bv-: shadow rays are still blocked by a back): a hit
+// on the back of a surface that hides it is no hit, then holes as above.
+void surface_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* filter = static_cast<const GeometryFilter*>(args->geometryUserPtr);
+    if (filter->hide_back)
+        for (unsigned i = 0; i < args->N; ++i) {
+            if (args->valid[i] != -1) continue;
+            const double facing = RTCRayN_dir_x(args->ray, args->N, i) * RTCHitN_Ng_x(args->hit, args->N, i) +
+                                  RTCRayN_dir_y(args->ray, args->N, i) * RTCHitN_Ng_y(args->hit, args->N, i) +
+                                  RTCRayN_dir_z(args->ray, args->N, i) * RTCHitN_Ng_z(args->hit, args->N, i);
+            if (filter->inward ? facing < 0 : facing > 0) args->valid[i] = 0;
+        }
+    if (filter->cutouts) cutout_filter(args);
 }
 
 }  // namespace
@@ -53,6 +68,12 @@ void cutout_then_shadow_pass_filter(const RTCFilterFunctionNArguments* args) {
 // (the renderer's ShadowPass decides at each hit).
 bool passes_straight(const Material& m) {
     return (m.type == MaterialType::kGlass && m.thin_glass) || m.type == MaterialType::kTrans;
+}
+
+// RADIANCE's -bv- leaves dielectrics (a solid's inside is its back) and emitters seen from behind.
+bool hides_back(const Material& m) {
+    return m.type != MaterialType::kDielectric && m.type != MaterialType::kLight && m.type != MaterialType::kGlow &&
+           m.type != MaterialType::kIllum;
 }
 
 }  // namespace
@@ -145,9 +166,11 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
                 for (int c = 0; c < 3; ++c) idx[3 * k + static_cast<size_t>(c)] = mesh.indices[k][static_cast<size_t>(c)];
         }
         const bool cut = cutouts && cutouts->cuts_out(info.material);
-        if (cut) {
-            rtcSetGeometryUserData(g, const_cast<CutoutTest*>(cutouts));
-            rtcSetGeometryIntersectFilterFunction(g, cutout_filter);
+        const bool hide_back = !scene.back_faces_visible && hides_back(scene.materials[info.material]);
+        if (cut || hide_back) {
+            filters_.push_back(std::make_unique<GeometryFilter>(GeometryFilter{cut ? cutouts : nullptr, hide_back, info.inward}));
+            rtcSetGeometryUserData(g, filters_.back().get());
+            rtcSetGeometryIntersectFilterFunction(g, surface_filter);
         }
         if (cut || info.may_pass_shadows)
             rtcSetGeometryOccludedFilterFunction(g, cut && info.may_pass_shadows ? cutout_then_shadow_pass_filter

@@ -43,6 +43,15 @@ public:
     virtual Vec3 transmittance(const RTCHit& hit, const Vec3& origin, const Vec3& dir, double t, bool weak_target) const = 0;
 };
 
+/// What Embree's intersection filters need of one geometry (its user pointer): the cut-out test
+/// of a material that cuts holes, and whether a ray meeting its back goes through (Scene::
+/// back_faces_visible false).
+struct GeometryFilter {
+    const CutoutTest* cutouts = nullptr;
+    bool hide_back = false;
+    bool inward = false;  ///< a sphere whose front faces its centre
+};
+
 struct GeometryInfo {
     uint32_t shape = 0;     ///< index into Scene::shapes
     uint32_t material = 0;  ///< index into Scene::materials: what rays see (an illum's alternate)
@@ -88,6 +97,7 @@ private:
     RTCScene scene_ = nullptr;
     std::vector<GeometryInfo> geometries_;
     std::vector<GeometryInfo> hidden_emitters_;
+    std::vector<std::unique_ptr<GeometryFilter>> filters_;  ///< Embree holds pointers to them
     Vec3 offset_, lo_, hi_;
     double extent_ = 1, epsilon_ = 1e-5;
     bool any_shadow_passes_ = false;

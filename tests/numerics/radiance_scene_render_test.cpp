@@ -226,6 +226,39 @@ TEST(RadianceViews, PixelsOutsideAFisheyeAreBlack) {
     EXPECT_NEAR(channel_sum(img, 1) / (64 * 64), kPi / 4, 0.01);
 }
 
+TEST(RadianceViews, HiddenBackFacesLetTheViewInAndStillCastShadows) {
+    // RADIANCE's -bv-: a roof over the left half of a floor, facing the floor, seen from above
+    // by a parallel view, under a sun at the zenith (E = L omega). With back faces visible the
+    // left half is the roof's top, lit by the sun: 0.1 E / pi. Hidden, the view goes through it
+    // to the floor, which the roof still shades: dark but for light the floor sends back via
+    // the roof's underside; the sunlit right half is 0.5 E / pi either way.
+    const double L = 1000, omega = 2 * kPi * (1 - std::cos(0.25 * kPi / 180)), E = L * omega;
+    const std::string text = fmt::format(R"(#@crex view -vtl -vp 0 0 1 -vd 0 0 -1 -vu 0 1 0 -vh 2 -vv 2
+void light solar 0 0 3 {0} {0} {0}
+solar source sun 0 0 4 0 0 1 0.5
+void plastic floor 0 0 5 .5 .5 .5 0 0
+void plastic roof 0 0 5 .1 .1 .1 0 0
+floor polygon ground 0 0 12 -100 -100 0 100 -100 0 100 100 0 -100 100 0
+roof polygon cover 0 0 12 -100 -100 .5 -100 100 .5 0 100 .5 0 -100 .5
+)", L);
+    const int n = 32;
+    auto halves = [&](bool visible) {
+        Scene s = load(text);
+        s.back_faces_visible = visible;
+        const std::vector<float> img = testing::render_crex(s, "", n, 8, 0, 16).image();
+        std::pair<double, double> sum{0, 0};  // quarters away from the shadow's edge
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n / 4; ++x) sum.first += img[3 * (y * n + x) + 1], sum.second += img[3 * (y * n + n - 1 - x) + 1];
+        return std::pair<double, double>{sum.first / (n * n / 4), sum.second / (n * n / 4)};
+    };
+    const auto [roof_top, lit_floor] = halves(true);
+    EXPECT_NEAR(roof_top / (0.1 * E / kPi), 1.0, 0.02);
+    EXPECT_NEAR(lit_floor / (0.5 * E / kPi), 1.0, 0.03);
+    const auto [shaded_floor, lit_floor_too] = halves(false);
+    EXPECT_LT(shaded_floor, 0.05 * lit_floor_too);
+    EXPECT_NEAR(lit_floor_too / (0.5 * E / kPi), 1.0, 0.03);
+}
+
 TEST(RadianceMaterials, ADielectricsColourIsPerUnitLength) {
     // RADIANCE's dielectric (and interface) colours are transmissions per unit length: a slab
     // 0.5 thick of colour 0.25 (index 1, so no Fresnel loss) passes 0.25^0.5 = 0.5 of the glow

@@ -72,6 +72,7 @@ std::optional<Scene> import_radiance_project(const SourceFile& rif, SceneSources
         fresh = false;
     }
     if (!rest.empty()) apply_radiance_view(rif, rest, scene.camera, fresh, sink);
+    scene.back_faces_visible = project.back_faces_visible;
     return checked(std::move(scene), builder, rif, errors_before, sink);
 }
 

@@ -3,12 +3,13 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cstring>
 
 namespace crex::radiance {
 namespace {
 
 // rad's variables crex reads, matched (like rad) by at least their first three letters.
-enum class Var { kMaterials, kScene, kIllum, kView, kOther };
+enum class Var { kMaterials, kScene, kIllum, kView, kRender, kOther };
 
 Var variable(const std::string& name) {
     std::string n;
@@ -17,6 +18,7 @@ Var variable(const std::string& name) {
     if (is("materials")) return Var::kMaterials;
     if (is("scene")) return Var::kScene;
     if (is("illum")) return Var::kIllum;
+    if (is("render")) return Var::kRender;
     if (n.size() >= 2 && std::string("view").compare(0, n.size(), n) == 0) return Var::kView;
     return Var::kOther;
 }
@@ -108,6 +110,18 @@ RifProject read_rif(const SourceFile& rif, DiagnosticSink& sink) {
                 project.inputs.push_back(std::move(in));
             }
         }
+    // -bv as RADIANCE's check_bool reads it: bare toggles; + y t 1 on; - n f 0 off. Every
+    // render line, in order (rad joins them).
+    for (const Assignment& a : assignments) {
+        if (a.var != Var::kRender) continue;
+        for (const Word& w : a.words) {
+            if (w.text.compare(0, 3, "-bv") != 0 || w.text.size() > 4) continue;
+            const char c = w.text.size() == 3 ? '\0' : w.text[3];
+            if (c == '\0') project.back_faces_visible = !project.back_faces_visible;
+            else if (std::strchr("+yYtT1", c)) project.back_faces_visible = true;
+            else if (std::strchr("-nNfF0", c)) project.back_faces_visible = false;
+        }
+    }
     for (const Assignment& a : assignments) {
         if (a.var != Var::kView || a.words.empty()) continue;
         size_t first = 0;

@@ -3,8 +3,9 @@
 /// from where it is seen. crex reads `materials`, `scene` and `illum` (in that order; a word
 /// starting with '!' is a command, as in a scene file; `illum` files are read as scene files,
 /// since crex does not run mkillum) and the first `view` (its options, `-vf FILE` read from
-/// that file). Variable names may be shortened to their first three letters, as rad allows;
-/// rendering settings (QUAL, render, ...) are rad's own and ignored.
+/// that file). Variable names may be shortened to their first three letters, as rad allows.
+/// Of `render`'s options, crex takes `-bv` (back face visibility, which changes what the scene
+/// shows); rad's other rendering settings (QUAL, render's other options, ...) are ignored.
 #pragma once
 
 #include <string>
@@ -26,6 +27,7 @@ struct RifProject {
     std::vector<RifInput> inputs;  ///< in the order rad gives them to oconv
     std::string view_name;         ///< the first view's name ("" when it has none)
     std::vector<ViewWord> view;    ///< and its options (empty: the .rif has no view)
+    bool back_faces_visible = true;  ///< `render = -bv-` makes it false
 };
 
 /// Reads `rif`; errors located in it.

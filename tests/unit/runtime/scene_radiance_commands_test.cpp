@@ -232,6 +232,29 @@ TEST(RadianceViews, EveryViewTypeAndTheForeClip) {
     }
 }
 
+TEST(RadianceProject, RendersBackFaceOptionAsRadReadsIt) {
+    // rad joins every render line and reads -bv as check_bool does: bare toggles, + on, - off,
+    // anything else leaves it; the variable's name may be cut to three letters. JSON keeps it.
+    SceneDir dir("rif_bv");
+    dir.write("room.rad", std::string(kLight) + "l sphere s 0 0 4 0 0 0 1\n");
+    const std::pair<const char*, bool> cases[] = {{"", true},
+                                                  {"render = -ab 1 -bv-\n", false},
+                                                  {"ren = -bv\n", false},
+                                                  {"render = -bv-\nrender = -bv+\n", true},
+                                                  {"render = -bv -bv\n", true},
+                                                  {"render = -bvx -bvv -bv0\n", false},
+                                                  {"QUAL = -bv-\n", true}};
+    for (const auto& [lines, visible] : cases) {
+        const std::string rif = dir.write("p.rif", std::string("scene = room.rad\n") + lines + "view = -vp 0 0 5 -vd 0 0 -1 -vu 0 1 0\n");
+        auto r = testing::load_path(rif);
+        ASSERT_TRUE(r.scene) << lines << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+        EXPECT_EQ(r.scene->back_faces_visible, visible) << lines;
+        auto back = testing::load_json_text(scene_json_text(*r.scene));
+        ASSERT_TRUE(back.scene) << lines;
+        EXPECT_EQ(back.scene->back_faces_visible, visible) << lines;
+    }
+}
+
 TEST(RadianceCommands, GenboxFacesNamesAndNormals) {
     auto r = testing::load_rad_text(std::string(kLight) + "!genbox l crate 2 3 4\n");
     ASSERT_TRUE(r.scene);
