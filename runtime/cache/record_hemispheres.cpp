@@ -184,15 +184,29 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     h.next_far.assign(n, IcQuery{});
     h.wants_next.assign(n, 0);
     h.wants_far.assign(n, 0);
-    std::vector<RTCRay> shadows(n);
-    std::vector<Vec3> shadow_value(n), through(n);
-    std::vector<uint8_t> weak(n, 0);
+    // Shadow rays: direct light at each ray's hit, then (in a medium) light scattered once into
+    // its last segment, as into every path's (runtime/render/shade.cpp).
+    const bool scatters = scene_.medium && max_component(scene_.medium->sigma_s) > 0 && !scene_.lights->empty();
+    const size_t slots = scatters ? 2 : 1;
+    std::vector<RTCRay> shadows(slots * n);
+    std::vector<Vec3> shadow_value(slots * n), through(slots * n);
+    std::vector<uint8_t> weak(slots * n, 0);
     const bool deeper = level + 1 < settings_.bounces;
     tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-        RTCRay& s = shadows[i];
-        s = RTCRay{};
-        s.tnear = 1.0f, s.tfar = 0.0f, s.dir_z = 1, s.mask = 0xFFFFFFFFu;  // a hole unless filled below
+        for (size_t k = 0; k < slots; ++k) make_hole(shadows[slots * i + k], static_cast<unsigned>(i));
+        RTCRay& s = shadows[slots * i];
         const RTCRayHit& hit = h.last[i];
+        const bool miss = hit.hit.geomID == RTC_INVALID_GEOMETRY_ID;
+        if (scatters && max_component(h.throughput[i]) > 0 && (miss || !is_delta_material(scene_.material_of(hit.hit.geomID).type))) {
+            ShadowSample sample;
+            const Vec3 origin{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z};
+            if (single_scatter_sample(scene_, *scene_.medium, origin, h.last_dir[i], miss ? INFINITY : double(hit.ray.tfar), h.throughput[i],
+                                      HitRandom(hash_combine(h.ray_key(sites, i), 0x5ca7ull), static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
+                aim_shadow_ray(shadows[slots * i + 1], sample);
+                shadow_value[slots * i + 1] = sample.value;
+                weak[slots * i + 1] = sample.weak_target;
+            }
+        }
         // In a medium, what the last segment reaches is seen through its transmittance (the
         // segments before it, inside glass, are not attenuated: a simplification).
         const Vec3 beta = scene_.medium ? h.throughput[i] * scene_.medium->transmittance(Vec3{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z},
@@ -228,8 +242,8 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
             ShadowSample sample;
             if (direct_light_sample(scene_, b, f, beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
                 aim_shadow_ray(s, sample);
-                shadow_value[i] = sample.value;
-                weak[i] = sample.weak_target;
+                shadow_value[slots * i] = sample.value;
+                weak[slots * i] = sample.weak_target;
             }
         }
         h.albedo[i] = beta * b.diffuse;
@@ -260,11 +274,9 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     for (size_t i = 0; i < n; ++i)
         if (const Vec3 a = h.albedo[i] + h.albedo_far[i]; is_finite(a)) stats_.albedo_sum[level] += luminance(a);
     stats_.albedo_rays[level] += n;
-    trace_shadow_rays(scene_, shadows.data(), weak.data(), through.data(), n);
-    for (size_t i = 0; i < n; ++i) {
-        const RTCRay& s = shadows[i];
-        if (!(s.tnear > s.tfar && s.tfar == 0.0f) && max_component(through[i]) > 0) h.radiance[i] += shadow_value[i] * through[i];
-    }
+    trace_shadow_rays(scene_, shadows.data(), weak.data(), through.data(), slots * n);
+    for (size_t j = 0; j < slots * n; ++j)
+        if (!is_hole(shadows[j]) && max_component(through[j]) > 0) h.radiance[j / slots] += shadow_value[j] * through[j];
 }
 
 // rho/pi E from records one level deeper (made now where missing), for every ray shading

@@ -271,9 +271,11 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                      const ShadeParams& params, ShadeOutput& out) {
     const size_t n = end - begin;
     const MediumModel* medium = scene.medium ? &*scene.medium : nullptr;
-    // Shadow-ray slots per ray: direct light at the hit, then (camera rays in a medium) the
-    // single-scatter samples along the ray.
-    const uint32_t nm = camera && medium ? params.media_samples : 0;
+    // Shadow-ray slots per ray: direct light at the hit, then (in a medium) the single-scatter
+    // samples along the ray: media_samples along a camera ray, one along any other, since light
+    // scattered into a segment reaches the eye by the surfaces the path goes on from (RADIANCE
+    // scatters into every ray: a fog's glow lights the walls).
+    const uint32_t nm = !medium ? 0 : camera ? params.media_samples : std::min<uint32_t>(params.media_samples, 1);
     const uint32_t ns = params.shadow_rays + nm;
     const double eps = scene.embree->ray_epsilon();
     out.reset();

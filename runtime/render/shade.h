@@ -35,8 +35,8 @@ struct ShadeParams {
     /// With an irradiance cache, D "rays" are queries: origin at the hit, direction the normal
     /// on the side the light comes from (flag kRayIcQuery); the D step interpolates them.
     bool ic_queries = false;
-    /// With a medium: single-scatter samples along each camera ray (`media_samples`); with a
-    /// per-pixel table, its maximum.
+    /// With a medium: single-scatter samples along each camera ray (`media_samples`; one along
+    /// every other ray, none where it is 0); with a per-pixel table, its maximum.
     uint32_t media_samples = 1;
     const std::vector<uint16_t>* media_samples_per_pixel = nullptr;  ///< each <= media_samples
     /// Path tracing without the cache: the caustic photon map's irradiance at a point, on the
