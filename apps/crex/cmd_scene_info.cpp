@@ -190,7 +190,8 @@ int run_scene_info(const SceneInfoOptions& opt) {
         nlohmann::json out;
         out["diagnostics"] = to_json(diagnostics);
         out["scene"] = {{"source", scene->source}, {"shapes", scene->shapes.size()}, {"triangles", st.triangles},
-                        {"spheres", st.spheres}, {"shapes_by_type", st.shapes_by_type}};
+                        {"spheres", st.spheres}, {"shapes_by_type", st.shapes_by_type},
+                        {"back_faces_visible", scene->back_faces_visible}};
         out["census"] = to_json(census);
         out["textures"] = images_json(images);
         nlohmann::json cameras = nlohmann::json::array();

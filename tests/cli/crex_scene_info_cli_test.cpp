@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include "tests/support/crex_cli.h"
 
@@ -33,6 +34,23 @@ TEST(CrexSceneInfoCli, JsonCensus) {
     auto j = nlohmann::json::parse(r.out);
     EXPECT_TRUE(j["census"]["components"]["D"]["can_occur"].get<bool>());
     for (const char* c : {"G", "S", "T", "R", "M"}) EXPECT_FALSE(j["census"]["components"][c]["can_occur"].get<bool>()) << c;
+}
+
+TEST(CrexSceneInfoCli, SaysWhenARifHidesBackFaces) {
+    // A .rif whose render line has -bv-: the text says so, the JSON carries it.
+    auto dir = std::filesystem::temp_directory_path() / ("crex_cli_bv_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "room.rad") << "void light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 1\n";
+    std::ofstream(dir / "room.rif") << "scene = room.rad\nrender = -ab 2 -bv-\nview = -vp 0 0 5 -vd 0 0 -1 -vu 0 1 0\n";
+    const std::string rif = (dir / "room.rif").string();
+    auto text = crex_cli({"scene-info", rif});
+    auto json = crex_cli({"scene-info", "--format", "json", rif});
+    std::filesystem::remove_all(dir);
+    EXPECT_EQ(text.exit_code, 0) << text.err;
+    EXPECT_NE(text.out.find("back faces hidden (RADIANCE -bv-)"), std::string::npos) << text.out;
+    ASSERT_EQ(json.exit_code, 0) << json.err;
+    EXPECT_FALSE(nlohmann::json::parse(json.out)["scene"]["back_faces_visible"].get<bool>());
+    EXPECT_TRUE(nlohmann::json::parse(crex_cli({"scene-info", "--format", "json"}).out)["scene"]["back_faces_visible"].get<bool>());
 }
 
 TEST(CrexSceneInfoCli, ExitCodes) {
