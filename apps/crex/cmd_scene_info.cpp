@@ -97,7 +97,7 @@ void print_text(const Scene& scene, const Census& c, const Stats& st, const std:
                                                           vec_text(scene.medium->box_max))
                                             : std::string("  medium     homogeneous single-scatter, everywhere\n"));
     if (!scene.back_faces_visible)
-        std::cout << "  back faces hidden (RADIANCE -bv-): a ray meeting the back of a surface goes through it (not dielectrics, not emitters)\n";
+        std::cout << "  back faces hidden (RADIANCE -bv-): a ray meeting the back of a surface goes through it (not dielectrics, emitters, BRTDfunc, prisms)\n";
     if (!c.tags.empty()) {
         std::string tags;
         for (size_t i = 0; i < c.tags.size(); ++i)

@@ -307,7 +307,8 @@ struct Scene {
     std::vector<DistantLight> distant_lights;
     std::optional<Medium> medium;
     /// False (RADIANCE's `-bv-`): a ray meeting the back of a surface goes on through it,
-    /// unless the surface is a dielectric or an emitter; shadow rays are still blocked. A view
+    /// unless the surface is a dielectric, an emitter, a BRTDfunc or a prism (as RADIANCE's);
+    /// shadow rays are still blocked. A view
     /// from outside a closed room then looks in through its wall.
     bool back_faces_visible = true;
 

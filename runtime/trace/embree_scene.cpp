@@ -70,10 +70,12 @@ bool passes_straight(const Material& m) {
     return (m.type == MaterialType::kGlass && m.thin_glass) || m.type == MaterialType::kTrans;
 }
 
-// RADIANCE's -bv- leaves dielectrics (a solid's inside is its back) and emitters seen from behind.
+// RADIANCE's -bv- hides the backs of the materials whose code asks for it (normal.c, aniso.c,
+// glass.c, m_mirror.c, m_brdf2, ashikhmin.c); it leaves dielectrics (a solid's inside is its
+// back), emitters, BRTDfunc (m_brdf.c: its back has its own reflectance) and the prisms.
 bool hides_back(const Material& m) {
     return m.type != MaterialType::kDielectric && m.type != MaterialType::kLight && m.type != MaterialType::kGlow &&
-           m.type != MaterialType::kIllum;
+           m.type != MaterialType::kIllum && !m.surface_functions && m.redirections.empty();
 }
 
 }  // namespace
