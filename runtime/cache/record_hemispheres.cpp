@@ -197,11 +197,12 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         RTCRay& s = shadows[slots * i];
         const RTCRayHit& hit = h.last[i];
         const bool miss = hit.hit.geomID == RTC_INVALID_GEOMETRY_ID;
+        const uint64_t key = h.ray_key(sites, i);
         if (scatters && max_component(h.throughput[i]) > 0 && (miss || !is_delta_material(scene_.material_of(hit.hit.geomID).type))) {
             ShadowSample sample;
             const Vec3 origin{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z};
             if (single_scatter_sample(scene_, *scene_.medium, origin, h.last_dir[i], miss ? INFINITY : double(hit.ray.tfar), h.throughput[i],
-                                      HitRandom(hash_combine(h.ray_key(sites, i), 0x5ca7ull), static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
+                                      HitRandom(hash_combine(key, 0x5ca7ull), static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
                 aim_shadow_ray(shadows[slots * i + 1], sample);
                 shadow_value[slots * i + 1] = sample.value;
                 weak[slots * i + 1] = sample.weak_target;
@@ -237,7 +238,6 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         // seen through a frosted screen lit a whole record's disc behind it.
         const bool caustic = caustics_ && h.passed[i] && b.type == MaterialType::kLight;
         Vec3 l = caustic ? Vec3{} : emitted(b, f, h.passed[i] != 0, false);
-        uint64_t key = h.ray_key(sites, i);
         if (!scene_.lights->empty() && b.direct_response) {
             ShadowSample sample;
             if (direct_light_sample(scene_, b, f, beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1, sample)) {

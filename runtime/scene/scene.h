@@ -308,8 +308,8 @@ struct Scene {
     std::optional<Medium> medium;
     /// False (RADIANCE's `-bv-`): a ray meeting the back of a surface goes on through it,
     /// unless the surface is a dielectric, an emitter, a BRTDfunc or a prism (as RADIANCE's);
-    /// shadow rays are still blocked. A view
-    /// from outside a closed room then looks in through its wall.
+    /// shadow rays are still blocked. A view from outside a closed room then looks in through
+    /// its wall.
     bool back_faces_visible = true;
 
     const Material* find_material(const std::string& name) const;
