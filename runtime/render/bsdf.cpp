@@ -96,13 +96,13 @@ void thin_glass(const Material& m, const Vec3& d, const Vec3& nrm, const Vec3& c
     const double cos_i = std::fabs(dot(d, nrm));
     const Vec3 mirror = reflect(d, nrm);
     if (!(cos_i > 1e-12)) {  // grazing: all reflected
-        out[n++] = {Component::kR, mirror, {1, 1, 1}, false, true};
+        add_lobe(out.data(), n, Component::kR, mirror, {1, 1, 1}, false, true);
         return;
     }
     Vec3 trans, refl;
     thin_glass_factors(m.ior, color, cos_i, trans, refl);
-    out[n++] = {Component::kR, mirror, refl, false, true};
-    if (positive(color)) out[n++] = {Component::kT, d, trans, true, true, true};
+    add_lobe(out.data(), n, Component::kR, mirror, refl, false, true);
+    if (positive(color)) add_lobe(out.data(), n, Component::kT, d, trans, true, true, true);
 }
 
 }  // namespace
@@ -167,7 +167,7 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             double u1, u2;
             random.pair(RandomUse::kLobeD, u1, u2);
             Vec3 dir = sample_cosine(nrm, u1, u2);
-            out[n++] = {Component::kD, dir, b.diffuse, false, false};
+            add_lobe(out.data(), n, Component::kD, dir, b.diffuse, false, false);
         }
         if (b.glossy && b.anisotropic) {
             // Ward's sampling of the half vector h; the weight f cos_o / pdf comes to
@@ -185,24 +185,24 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             const Vec3 h = nrm * cos_h + tu * (sin_h * cp) + tv * (sin_h * sp);
             const Vec3 dir = reflect(d, h);
             const double cos_o = dot(dir, nrm), oh = -dot(d, h);
-            if (cos_o > 0 && oh > 0) out[n++] = {Component::kG, dir, b.specular * (cos_o / (oh * cos_h)), false, false};
+            if (cos_o > 0 && oh > 0) add_lobe(out.data(), n, Component::kG, dir, b.specular * (cos_o / (oh * cos_h)), false, false);
         } else if (b.glossy) {
             double u1, u2;
             random.pair(RandomUse::kLobeG, u1, u2);
             Vec3 dir = sample_phong(reflect(d, nrm), b.exponent, u1, u2);
             double c = dot(dir, nrm);
-            if (c > 0) out[n++] = {Component::kG, dir, b.specular * ((b.exponent + 2) / (b.exponent + 1) * c), false, false};
+            if (c > 0) add_lobe(out.data(), n, Component::kG, dir, b.specular * ((b.exponent + 2) / (b.exponent + 1) * c), false, false);
         } else if (b.mirror_like) {
-            out[n++] = {Component::kS, reflect(d, nrm), b.specular, false, true};
+            add_lobe(out.data(), n, Component::kS, reflect(d, nrm), b.specular, false, true);
         }
         if (positive(b.diffuse_transmit)) {
             double u1, u2;
             random.pair(RandomUse::kLobeDT, u1, u2);
             Vec3 dir = sample_cosine(-nrm, u1, u2);
-            out[n++] = {Component::kD, dir, b.diffuse_transmit, true, false};
+            add_lobe(out.data(), n, Component::kD, dir, b.diffuse_transmit, true, false);
         }
         if (b.redirect) n = b.redirect->lobes(pattern_ray_at(f), f.normal, out.data(), n, kMaxLobes);
-        else if (positive(b.specular_transmit)) out[n++] = {Component::kT, d, b.specular_transmit, true, true, b.clear_transmission};
+        else if (positive(b.specular_transmit)) add_lobe(out.data(), n, Component::kT, d, b.specular_transmit, true, true, b.clear_transmission);
         break;
     }
     case MaterialType::kGlass: {
@@ -216,14 +216,14 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
         double fr = fresnel_dielectric(cos_i, eta);
         Vec3 mirror = reflect(d, nrm);
         if (fr >= 1) {  // total internal reflection
-            out[n++] = {Component::kR, mirror, {1, 1, 1}, false, true};
+            add_lobe(out.data(), n, Component::kR, mirror, {1, 1, 1}, false, true);
             break;
         }
-        out[n++] = {Component::kR, mirror, {fr, fr, fr}, false, true};
+        add_lobe(out.data(), n, Component::kR, mirror, {fr, fr, fr}, false, true);
         if (positive(b.color)) {
             double cos_t = std::sqrt(std::fmax(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
             Vec3 dir = normalize_or_zero(d * eta + nrm * (eta * cos_i - cos_t));
-            if (dir != Vec3{}) out[n++] = {Component::kT, dir, b.color * (1 - fr), true, true};
+            if (dir != Vec3{}) add_lobe(out.data(), n, Component::kT, dir, b.color * (1 - fr), true, true);
         }
         break;
     }
@@ -243,20 +243,20 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
         double fr = fresnel_dielectric(cos_i, eta);
         Vec3 mirror = reflect(d, nrm);
         if (fr >= 1) {  // total internal reflection
-            out[n++] = {Component::kR, mirror, kept, false, true};
+            add_lobe(out.data(), n, Component::kR, mirror, kept, false, true);
             break;
         }
-        out[n++] = {Component::kR, mirror, kept * fr, false, true};
+        add_lobe(out.data(), n, Component::kR, mirror, kept * fr, false, true);
         const Vec3 entered = f.front ? m.color : (m.outside ? m.outside->color : Vec3{1, 1, 1});
         if (positive(entered)) {  // a black medium absorbs whatever enters it
             double cos_t = std::sqrt(std::fmax(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
             Vec3 dir = normalize_or_zero(d * eta + nrm * (eta * cos_i - cos_t));
-            if (dir != Vec3{}) out[n++] = {Component::kT, dir, kept * (1 - fr), true, true};
+            if (dir != Vec3{}) add_lobe(out.data(), n, Component::kT, dir, kept * (1 - fr), true, true);
         }
         break;
     }
     case MaterialType::kMirror:
-        if (positive(b.color)) out[n++] = {Component::kM, reflect(d, nrm), b.color, false, true};
+        if (positive(b.color)) add_lobe(out.data(), n, Component::kM, reflect(d, nrm), b.color, false, true);
         break;
     case MaterialType::kVoid:
     case MaterialType::kLight:

@@ -68,6 +68,19 @@ struct Lobe {
 
 inline constexpr int kMaxLobes = 4;
 
+/// Appends a lobe field by field. Written as `out[n++] = {...}`, the aggregate went through a
+/// temporary on the stack whose copy stalled on store forwarding: a third of scatter()'s time.
+inline void add_lobe(Lobe* out, int& n, Component component, const Vec3& direction, const Vec3& weight, bool transmits, bool delta,
+                     bool straight = false) {
+    Lobe& l = out[n++];
+    l.component = component;
+    l.direction = direction;
+    l.weight = weight;
+    l.transmits = transmits;
+    l.delta = delta;
+    l.straight = straight;
+}
+
 /// A material prepared for shading: its lobe weights and Phong exponent computed once per
 /// scene instead of at every hit.
 struct Bsdf {

@@ -387,7 +387,7 @@ int RedirectChains::lobes(const PatternRay& ray, const Vec3& side, Lobe* out, in
         const Vec3 dir = normalize_or_zero(p.direction->direction_to_world(*direction));
         if (dir == Vec3{} || dot(dir, side) == 0) continue;
         const double w = std::fmin(coefficient->x, 1e6);  // a runaway expression must not blow up the image
-        out[n++] = {Component::kT, dir, {w, w, w}, dot(dir, side) < 0, true};
+        add_lobe(out, n, Component::kT, dir, {w, w, w}, dot(dir, side) < 0, true);
     }
     return n;
 }
