@@ -215,25 +215,21 @@ private:
             s.pdf_direction = pdf * c.pdf_area * e.area;
             return s;
         }
-        LightSample s = point_on(e, u, v);
-        s.pdf_area = c.pdf_area;
-        s.weak = e.weak;
-        return s;
-    }
-    static LightSample point_on(const Entry& e, double u, double v) {
-        LightSample s;
-        s.radiance = e.radiance;
-        s.limits = e.limits;
         if (e.sphere) {
+            LightSample s;
+            s.radiance = e.radiance;
+            s.limits = e.limits;
             s.sphere = true;
             sample_sphere(e, u, v, s);
+            s.pdf_area = c.pdf_area;
+            s.weak = e.weak;
             return s;
         }
-        double su = std::sqrt(u);
-        double b0 = 1 - su, b1 = v * su;
-        s.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1);
-        s.normal = e.normal;
-        return s;
+        // A point of the triangle, every field named: a sample default-made and then filled in
+        // was zeroed first (a `rep stos` per shadow ray).
+        const double su = std::sqrt(u);
+        const double b0 = 1 - su, b1 = v * su;
+        return LightSample{e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1), e.normal, e.radiance, c.pdf_area, false, e.weak, e.limits, false, Vec3{}, 0};
     }
     void make_cdf();  // cdf_ and each entry's pdf_area from the entries' power
     std::vector<Entry> entries_;

@@ -157,22 +157,23 @@ bool reaches(const LightSample& ls, const Vec3& wi, double dist, double& falloff
 
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
                          uint32_t j, uint32_t n, ShadowSample& out, const LightSampling& sampling) {
-    LightSample ls;
-    if (sampling.pixel_sequence) {
-        // Point sample * n + j of the pixel's scrambled (0,2)-sequence; its first coordinate
-        // also chooses the emitter (LightSampler::sample_reusing), so each emitter's share of
-        // the points is itself stratified.
-        double u, v;
-        owen_sobol_2d(sampling.sample * n + j, mix64(sampling.pixel_key ^ 0x5851f42d4c957f2dull), u, v);
-        ls = scene.lights->sample_reusing(f.position, u, v);
-    } else {
+    // Made where it is returned (a sample default-made and then assigned was zeroed first).
+    const LightSample ls = [&] {
+        if (sampling.pixel_sequence) {
+            // Point sample * n + j of the pixel's scrambled (0,2)-sequence; its first coordinate
+            // also chooses the emitter (LightSampler::sample_reusing), so each emitter's share of
+            // the points is itself stratified.
+            double u, v;
+            owen_sobol_2d(sampling.sample * n + j, mix64(sampling.pixel_key ^ 0x5851f42d4c957f2dull), u, v);
+            return scene.lights->sample_reusing(f.position, u, v);
+        }
         // Low-discrepancy over the n samples of this hit: a rotated Halton set for the point
         // on the emitter, stratified picks between emitters.
         double u, v, r0, r1;
         random.pair(RandomUse::kLight, r0, r1);
         rotated_halton(j, r0, r1, u, v);
-        ls = scene.lights->sample(f.position, (j + random(RandomUse::kLightPick, j)) / n, u, v);
-    }
+        return scene.lights->sample(f.position, (j + random(RandomUse::kLightPick, j)) / n, u, v);
+    }();
     if (ls.distant) return distant_light_sample(scene, b, f, beta, ls, n, out);
     Vec3 to = ls.position - f.position;
     double d2 = dot(to, to);
@@ -318,6 +319,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             std::array<std::vector<RayRecord>, kComponentCount>& spawned_rays = out.block_spawned[block];
             for (auto& v : spawned_rays) v.clear();
             SpawnScratch spawn;
+            Bsdf textured;  // surface_at()'s, made once a block: a Bsdf made at every hit was zeroed at every hit
             uint32_t block_hits = 0, block_shadow_rays = 0;
             for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
                 for (uint32_t j = 0; j < ns; ++j) make_hole(shadows[i * ns + j], static_cast<unsigned>(i));
@@ -376,7 +378,6 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     out.contribution[i] = {};  // direct lighting brought the illum's light
                     continue;
                 }
-                Bsdf textured;
                 const Bsdf& b = surface_at(scene, h.hit, f, textured);
                 const HitRandom random(ray.path, ray.depth);
                 // A `light` reached along a caustic path is the photon map's, given at the diffuse hit.
