@@ -28,6 +28,11 @@ struct TextureImageInfo {
 struct TextureLookup {
     float s = 0, t = 0;
     float dsdx = 0, dtdx = 0, dsdy = 0, dtdy = 0;
+    /// For a hit no eye sees (a diffuse or glossy bounce, the cache's hemisphere rays, a
+    /// photon): an isotropic trilinear lookup over a round footprint of the same area. What
+    /// such a hit gives is averaged over a hemisphere of rays; the anisotropic filter a seen
+    /// hit gets was over half of a textured room's lookup time (docs/textures.md).
+    bool indirect = false;
 };
 
 enum class BackendWrap { kBlack, kClamp, kPeriodic, kMirror };

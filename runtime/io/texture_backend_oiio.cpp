@@ -4,6 +4,7 @@
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/texture.h>
 
+#include <cmath>
 #include <filesystem>
 #include <mutex>
 #include <vector>
@@ -88,9 +89,17 @@ public:
         opt.swrap = wrap_of(wrap_s);
         opt.twrap = wrap_of(wrap_t);
         opt.firstchannel = first_channel;
+        float dsdx = at.dsdx, dtdx = at.dtdx, dsdy = at.dsdy, dtdy = at.dtdy;
+        if (at.indirect) {
+            opt.mipmode = OIIO::TextureOpt::MipModeTrilinear;
+            // A round footprint of the same area: the trilinear filter sizes itself by the
+            // longer axis, which blurred a grazing footprint far beyond what it covers.
+            const float w = std::sqrt(std::fabs(dsdx * dtdy - dtdx * dsdy));
+            dsdx = dtdy = w, dtdx = dsdy = 0;
+        }
         // images_ only grows under the mutex before rendering starts: reading it here is safe.
-        return system_->texture(images_[static_cast<size_t>(id)]->handle, system_->get_perthread_info(), opt, at.s, at.t, at.dsdx, at.dtdx,
-                                at.dsdy, at.dtdy, channels, out, d_ds, d_dt);
+        return system_->texture(images_[static_cast<size_t>(id)]->handle, system_->get_perthread_info(), opt, at.s, at.t, dsdx, dtdx, dsdy,
+                                dtdy, channels, out, d_ds, d_dt);
     }
 
     TextureCacheStats stats() const override {

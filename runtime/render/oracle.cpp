@@ -41,7 +41,7 @@ struct Oracle {
         HitFrame f = hit_frame(*scene.embree, h.hit, r.origin + r.direction * t, dir, t);
         if (!camera && !(r.flags & kRayFromDeltaLobe) && illum_front(scene, h.hit, f)) return {};  // direct lighting's
         Bsdf textured;
-        const Bsdf& b = surface_at(scene, h.hit, f, textured);
+        const Bsdf& b = surface_at(scene, h.hit, f, textured, surface_detail(camera, r.flags));
         const HitRandom random(r.path, r.depth);
         Vec3 total = r.beta * emitted(b, f, camera || (r.flags & kRayFromDeltaLobe), camera);
         if (!is_finite(total)) total = {};

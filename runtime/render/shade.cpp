@@ -378,7 +378,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     out.contribution[i] = {};  // direct lighting brought the illum's light
                     continue;
                 }
-                const Bsdf& b = surface_at(scene, h.hit, f, textured);
+                const Bsdf& b = surface_at(scene, h.hit, f, textured, surface_detail(camera, ray.flags));
                 const HitRandom random(ray.path, ray.depth);
                 // A `light` reached along a caustic path is the photon map's, given at the diffuse hit.
                 const bool photons_gave_it = (ray.flags & kRayCausticPath) && b.type == MaterialType::kLight;
@@ -477,7 +477,7 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 if (medium) beta = beta * medium->transmittance(origin, dir, t);
                 HitFrame f = hit_frame(*scene.embree, h.hit, origin + dir * t, dir, t);
                 Bsdf textured;
-                const Bsdf& b = surface_at(scene, h.hit, f, textured);
+                const Bsdf& b = surface_at(scene, h.hit, f, textured, SurfaceDetail::kSeen);
                 if (!b.direct_response) continue;
                 const HitRandom random(rays.path[r], rays.depth[r]);
                 const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);

@@ -13,6 +13,7 @@
 #include "runtime/render/ray_batch.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/shadow_pass.h"
+#include "runtime/render/surface.h"
 
 namespace crex {
 
@@ -197,6 +198,12 @@ struct HitLighting {
     LightSampling sampling;
 };
 HitLighting hit_lighting(const ShadeParams& params, const RayRecord& ray, bool camera);
+
+/// How finely a hit's textures are filtered: fully where the camera sees it (a camera ray, a
+/// chain of S, T, R or M lobes from one), cheaply for every other.
+inline SurfaceDetail surface_detail(bool camera, uint8_t flags) {
+    return camera || (flags & kRaySeenByCamera) ? SurfaceDetail::kSeen : SurfaceDetail::kIndirect;
+}
 
 /// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
 /// and the shadow ray to test; false if it contributes nothing.

@@ -11,7 +11,7 @@ Vec3 SurfaceShadowPass::transmittance(const RTCHit& hit, const Vec3& origin, con
     if (weak_target && scene_.scene.materials[g.emitter].type == MaterialType::kIllum) return {};
     HitFrame f = hit_frame(*scene_.embree, hit, origin + dir * t, dir, t);
     Bsdf scratch;
-    return shadow_transmittance(surface_at(scene_, hit, f, scratch), f);
+    return shadow_transmittance(surface_at(scene_, hit, f, scratch, SurfaceDetail::kSeen), f);
 }
 
 void trace_shadow_rays(const RenderScene& scene, RTCRay* rays, const uint8_t* weak_target, Vec3* through, size_t count) {

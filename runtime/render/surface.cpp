@@ -174,7 +174,7 @@ bool illum_front(const RenderScene& scene, const RTCHit& hit, const HitFrame& f)
     return f.front && g.emitter != g.material && scene.scene.materials[g.emitter].type == MaterialType::kIllum;
 }
 
-const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch) {
+const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch, SurfaceDetail detail) {
     const GeometryInfo& g = scene.embree->geometries()[hit.geomID];
     uint32_t material = g.material;
     if (const MixtureChain* mix = scene.patterns ? scene.patterns->mixture(material) : nullptr) {
@@ -220,6 +220,7 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     if (!textured) return scene.bsdfs[material];
     SurfacePoint p;
     p.position = f.position + scene.embree->origin_offset();
+    p.indirect = detail == SurfaceDetail::kIndirect;
     Vec3 dpdu, dpdv;
     scene.footprint.at(f.position, f.normal, p.dpdx, p.dpdy);
     if (!g.sphere && !g.uvs.empty()) {

@@ -71,7 +71,10 @@ private:
 /// The surface at Embree's `hit`, whose frame `f` hit_frame() made: sets f.shading (the
 /// mesh's vertex normal, then its normal or bump map) and returns the Bsdf to shade with:
 /// the material's prepared one, or one made in `scratch` from its textures' values there.
-const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch);
+/// A hit the camera sees (directly or through mirrors and glass) reads its textures through
+/// the full filter; any other through a cheaper one (TextureLookup::indirect).
+enum class SurfaceDetail { kSeen, kIndirect };
+const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch, SurfaceDetail detail);
 
 /// True when `hit` is on the front of an illum (seen as its alternate material). Direct
 /// lighting already brings its light, so rays other than camera rays and rays from ideal

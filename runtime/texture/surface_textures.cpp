@@ -144,6 +144,7 @@ TextureLookup SurfaceTextures::coordinates(const Slot& slot, const SurfacePoint&
     // Coordinates beyond float's reach (a planar mapping far away) read the texture's centre.
     if (!std::isfinite(at.s) || !std::isfinite(at.t)) at = TextureLookup{0.5f, 0.5f};
     if (!std::isfinite(at.dsdx + at.dtdx + at.dsdy + at.dtdy)) at.dsdx = at.dtdx = at.dsdy = at.dtdy = 0;
+    at.indirect = p.indirect;
     return at;
 }
 

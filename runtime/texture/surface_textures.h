@@ -38,6 +38,7 @@ struct SurfacePoint {
     Vec3 dpdx, dpdy;       ///< footprint of the pixel on the surface
     double u = 0, v = 0;   ///< the mesh's texture coordinates (0 without them)
     double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;
+    bool indirect = false;  ///< no eye sees it: the cheaper filter (TextureLookup::indirect)
 };
 
 /// One image the scene uses, as `crex scene-info` and `--format json` list it.

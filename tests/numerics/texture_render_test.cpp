@@ -16,6 +16,7 @@
 #include <filesystem>
 
 #include "runtime/io/image_io.h"
+#include "runtime/texture/surface_textures.h"
 #include "tests/support/scene_helpers.h"
 #include "tests/support/test_scenes.h"
 
@@ -197,6 +198,34 @@ TEST(GrazingCheckerboard, OneSamplePerPixelDoesNotAlias) {
     const double dev_filtered = far_field_deviation(filtered, 64), dev_sharp = far_field_deviation(sharp, 64);
     EXPECT_LT(dev_filtered, 0.1) << "point sampling: " << dev_sharp;
     EXPECT_GT(dev_sharp, 0.3) << "the test must be able to fail";
+}
+
+// Stripes 4 texels wide across s (constant along t), read at a stripe's centre through a
+// footprint half the texture long across them (8 stripes) and 0.001 wide along them. A seen
+// hit's anisotropic filter averages along the long axis: the stripes' mean, 0.5. An unseen
+// hit's (SurfacePoint::indirect: a bounce, the cache's hemisphere rays) is isotropic over the
+// same area, 0.022 across, a texel and a half: it reads the white stripe, nearly whole.
+TEST(TextureFilter, UnseenHitsReadARoundFootprintOfTheSameAreaSeenOnesTheAnisotropicOne) {
+    const int n = 64;
+    std::vector<float> rgb(size_t(n) * n * 3);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            for (int k = 0; k < 3; ++k) rgb[size_t((y * n + x) * 3 + k)] = float((x / 4) % 2);
+    Scene s;
+    Material m = testing::make_material("stripes", MaterialType::kPlastic, {0, 0, 0});
+    m.textures.color = texture(write_texture("stripes.exr", n, n, rgb));
+    s.materials.push_back(m);
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures textures(s, size_t{16} << 20, warnings);
+    ASSERT_TRUE(warnings.empty());
+    SurfacePoint p;
+    p.u = 6.0 / n, p.v = 0.5;  // the centre of the second stripe, texels 4..7: white
+    p.dudx = 0.5, p.dvdy = 0.001;
+    const double seen = textures.values(0, p).color.x;
+    p.indirect = true;
+    const double unseen = textures.values(0, p).color.x;
+    EXPECT_NEAR(seen, 0.5, 0.1);
+    EXPECT_GT(unseen, 0.8) << "seen: " << seen;
 }
 
 // A diffuse floor under a small square lamp, an occluder between them whose left half is
