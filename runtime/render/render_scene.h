@@ -44,7 +44,7 @@ struct LightSample {
     /// A distant source (the sun, a sky): a direction, not a point; pdf_area stays 0, so what
     /// handles only local emitters ignores it.
     bool distant = false;
-    Vec3 direction;             ///< unit, towards the source
+    Vec3 direction{};           ///< unit, towards the source
     double pdf_direction = 0;   ///< per unit solid angle, including the choice of emitter
 };
 
@@ -225,11 +225,16 @@ private:
             s.weak = e.weak;
             return s;
         }
-        // A point of the triangle, every field named: a sample default-made and then filled in
-        // was zeroed first (a `rep stos` per shadow ray).
+        // A point of the triangle, made whole (the fields not named take their initialisers): a
+        // sample default-made and then filled in was zeroed first (a `rep stos` per shadow ray).
         const double su = std::sqrt(u);
         const double b0 = 1 - su, b1 = v * su;
-        return LightSample{e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1), e.normal, e.radiance, c.pdf_area, false, e.weak, e.limits, false, Vec3{}, 0};
+        return LightSample{.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1),
+                           .normal = e.normal,
+                           .radiance = e.radiance,
+                           .pdf_area = c.pdf_area,
+                           .weak = e.weak,
+                           .limits = e.limits};
     }
     void make_cdf();  // cdf_ and each entry's pdf_area from the entries' power
     std::vector<Entry> entries_;

@@ -154,7 +154,7 @@ inline HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec
     const Vec3 normal = front ? geometric : -geometric;
     // Every field named: a default-constructed frame filled in afterwards was zeroed first
     // (a `rep stos` of 136 bytes per hit).
-    return HitFrame{position, geometric, normal, normal, dir, front, t};
+    return HitFrame{.position = position, .geometric = geometric, .normal = normal, .shading = normal, .incoming = dir, .front = front, .distance = t};
 }
 
 /// Where spawn_children() works and leaves its result; made once per block of rays, not per

@@ -11,6 +11,7 @@ Vec3 SurfaceShadowPass::transmittance(const RTCHit& hit, const Vec3& origin, con
     if (weak_target && scene_.scene.materials[g.emitter].type == MaterialType::kIllum) return {};
     HitFrame f = hit_frame(*scene_.embree, hit, origin + dir * t, dir, t);
     Bsdf scratch;
+    // The full filter: what a pane passes shows as the pattern of its shadow on what is seen.
     return shadow_transmittance(surface_at(scene_, hit, f, scratch, SurfaceDetail::kSeen), f);
 }
 
