@@ -155,8 +155,9 @@ bool reaches(const LightSample& ls, const Vec3& wi, double dist, double& falloff
 
 }  // namespace
 
-bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
-                         uint32_t j, uint32_t n, ShadowSample& out, const LightSampling& sampling) {
+bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSampler::LocalWeights& weights,
+                         const Vec3& beta, const HitRandom& random, uint32_t j, uint32_t n, ShadowSample& out,
+                         const LightSampling& sampling) {
     // Made where it is returned (a sample default-made and then assigned was zeroed first).
     const LightSample ls = [&] {
         if (sampling.pixel_sequence) {
@@ -165,14 +166,14 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
             // the points is itself stratified.
             double u, v;
             owen_sobol_2d(sampling.sample * n + j, mix64(sampling.pixel_key ^ 0x5851f42d4c957f2dull), u, v);
-            return scene.lights->sample_reusing(f.position, u, v);
+            return scene.lights->sample_reusing(weights, u, v);
         }
         // Low-discrepancy over the n samples of this hit: a rotated Halton set for the point
         // on the emitter, stratified picks between emitters.
         double u, v, r0, r1;
         random.pair(RandomUse::kLight, r0, r1);
         rotated_halton(j, r0, r1, u, v);
-        return scene.lights->sample(f.position, (j + random(RandomUse::kLightPick, j)) / n, u, v);
+        return scene.lights->sample(weights, (j + random(RandomUse::kLightPick, j)) / n, u, v);
     }();
     if (ls.distant) return distant_light_sample(scene, b, f, beta, ls, n, out);
     Vec3 to = ls.position - f.position;
@@ -387,9 +388,10 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 if (camera) out.emission[i] = out.contribution[i];
                 if (lights && b.direct_response) {
                     const HitLighting lighting = hit_lighting(params, ray, camera);
+                    const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position);
                     for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
                         ShadowSample sample;
-                        if (!direct_light_sample(scene, b, f, ray.beta, random, j, lighting.shadow_rays, sample, lighting.sampling))
+                        if (!direct_light_sample(scene, b, f, weights, ray.beta, random, j, lighting.shadow_rays, sample, lighting.sampling))
                             continue;
                         const size_t slot = i * ns + j;
                         aim_shadow_ray(shadows[slot], sample);
@@ -482,9 +484,10 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 const HitRandom random(rays.path[r], rays.depth[r]);
                 const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
                 const uint32_t k = wanted(r);
+                const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position);
                 auto sample = [&](uint32_t j, uint32_t of, size_t slot, double sign) {
                     ShadowSample s;
-                    if (!direct_light_sample(scene, b, f, beta, random, j, of, s, sampling)) return;
+                    if (!direct_light_sample(scene, b, f, weights, beta, random, j, of, s, sampling)) return;
                     aim_shadow_ray(shadows[slot], s);
                     values[slot] = s.value * sign;
                     weak[slot] = s.weak_target;

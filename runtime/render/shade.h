@@ -206,8 +206,10 @@ inline SurfaceDetail surface_detail(bool camera, uint8_t flags) {
 }
 
 /// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
-/// and the shadow ray to test; false if it contributes nothing.
-bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const Vec3& beta, const HitRandom& random,
-                         uint32_t j, uint32_t n, ShadowSample& out, const LightSampling& sampling = {});
+/// and the shadow ray to test; false if it contributes nothing. `weights` are the emitters'
+/// at the hit (`scene.lights->weights_at(f.position)`), made once for its n samples.
+bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSampler::LocalWeights& weights,
+                         const Vec3& beta, const HitRandom& random, uint32_t j, uint32_t n, ShadowSample& out,
+                         const LightSampling& sampling = {});
 
 }  // namespace crex

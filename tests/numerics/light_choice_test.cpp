@@ -43,7 +43,7 @@ Estimate irradiance_at_origin(const RenderScene& rs, bool local, size_t n) {
     Estimate e;
     for (size_t i = 0; i < n; ++i) {
         double a = U(rng), b = U(rng), c = U(rng);
-        LightSample ls = local ? rs.lights->sample(x, a, b, c) : rs.lights->sample(a, b, c);
+        LightSample ls = local ? rs.lights->sample(rs.lights->weights_at(x), a, b, c) : rs.lights->sample(a, b, c);
         double f = 0;
         if (ls.pdf_area > 0) {
             Vec3 to = ls.position - x;

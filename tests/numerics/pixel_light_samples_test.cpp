@@ -79,7 +79,8 @@ TEST(PixelLightSamples, ReusingTheFirstCoordinateChoosesAsASeparatePickDoes) {
     size_t left[2] = {0, 0};
     for (size_t i = 0; i < n; ++i) {
         const double a = U(rng), b = U(rng), c = U(rng);
-        const LightSample both[2] = {rs.lights->sample(x, a, b, c), rs.lights->sample_reusing(x, b, c)};
+        const LightSampler::LocalWeights w = rs.lights->weights_at(x);
+        const LightSample both[2] = {rs.lights->sample(w, a, b, c), rs.lights->sample_reusing(w, b, c)};
         for (int k = 0; k < 2; ++k) {
             const LightSample& ls = both[k];
             ASSERT_GT(ls.pdf_area, 0);
