@@ -56,16 +56,21 @@ CYCLES = {
 }
 
 RPICT_COMMON = ["-ps", "1", "-pj", ".9", "-dj", ".7", "-ds", ".15", "-lr", "-10"]
+# The stdlib's lamp_aa: the cache at 1 spp, and up to 8 samples a pixel only along the outline
+# of the lamp the camera sees (edges of `emission`); its points are hemisphere rays a record.
+LAMP_AA = os.path.join(ROOT, "stdlib", "pipelines", "lamp_aa.pipe")
 # crex's curves: path tracing; the cache at its defaults; the cache with 64 hemisphere rays a
 # record and 4 shadow rays a hit (its cheapest images, against rpict's cheapest settings); the
 # cache with 512 hemisphere rays, and also at accuracy 0.1 (its finest images, against Cycles'
-# finest: the defaults' FLIP stops near 0.026, the records' own noise and interpolation).
+# finest: the defaults' FLIP stops near 0.026, the records' own noise and interpolation); the
+# stdlib's lamp_aa at 24 to 128 hemisphere rays a record (the cheap cache, its lamp antialiased).
 CREX = ([("pt", [], spp) for spp in (4, 16, 64, 256)] + [("ic", ["--ic"], spp) for spp in (1, 4, 16, 64)] +
         [("ic cheap", ["--ic", "--ad", "64", "--shadow-rays", "4"], spp) for spp in (1, 2, 4, 8)] +
         [("ic fine", ["--ic", "--ad", "512"], spp) for spp in (4, 16, 64)] +
         [("ic finest", ["--ic", "--aa", "0.1", "--ad", "512"], spp) for spp in (16, 32, 64)] +
         [("edges", {"ad": 64, "spp": "1 .. %d" % hi}, hi) for hi in (16, 64, 256)] +
-        [("edges fine", {"ad": 512, "spp": "4 .. %d" % hi}, hi) for hi in (64, 256, 1024)])
+        [("edges fine", {"ad": 512, "spp": "4 .. %d" % hi}, hi) for hi in (64, 256, 1024)] +
+        [("lamp_aa", [LAMP_AA, "--ad", str(ad), "--shadow-rays", "4"], ad) for ad in (24, 32, 48, 64, 128)])
 
 # crex's selective curves: a pipeline whose samples go where a 1-spp preview has edges (the
 # lamp's outline, where a pixel is part lamp and part ceiling, is most of every image's RMSE),
@@ -202,12 +207,15 @@ def main():
             with open(pipe, "w") as f:
                 f.write(EDGE_PIPELINE.format(**flags))
             how = [pipe]
+        elif flags and flags[0].endswith(".pipe"):  # a stdlib pipeline: its own samples
+            how = flags
         else:
             how = ["--spp", str(spp), *flags]
         _, r = timed([a.crex, "run", *how, "--scene", scene, "--size", f"{a.size}x{a.size}", "--threads", "1",
                       "-o", out, "--format", "json"])
         seconds = json.loads(r.stdout)["render_seconds"]
-        setting = f"spp {flags['spp']}, ad {flags['ad']}" if isinstance(flags, dict) else f"{spp} spp"
+        setting = (f"spp {flags['spp']}, ad {flags['ad']}" if isinstance(flags, dict) else
+                   f"ad {spp}" if flags and flags[0].endswith(".pipe") else f"{spp} spp")
         rows[f"crex {kind}"].append(row(seconds, setting, score(a.crex, out, reference), f"crex {kind}"))
     print_table(rows, curves, a.peer)
     with open(os.path.join(a.out, f"peer_{a.scene}{'' if a.peer == 'rpict' else '_' + a.peer}.json"), "w") as f:
