@@ -10,7 +10,7 @@ edges at half weight) in turn, --repeat times, one thread
 each, and prints each point's median seconds, its errors against the committed reference and
 the time ratio crex/rpict at equal FLIP, relMSE and RMSE on each of crex's curves. Never in CI.
 
-    python3 bench/peer/cheapest.py --scene diffuse --radiance bench/peer/.radiance/bin --repeat 5
+    python3 bench/peer/cheapest.py --scene diffuse --repeat 5
 """
 import argparse
 import json
