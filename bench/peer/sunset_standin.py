@@ -9,8 +9,8 @@ the picture's frame by the pattern's -rz 90) and a dark ground.
     python3 bench/peer/sunset_standin.py OUT.hdr [size]
 
 Writes an uncompressed Radiance RGBE picture (no dependencies beyond Python)."""
+import argparse
 import math
-import sys
 
 
 def to_rgbe(r, g, b):
@@ -35,8 +35,11 @@ def sky(d, sun):
 
 
 def main():
-    out = sys.argv[1]
-    n = int(sys.argv[2]) if len(sys.argv) > 2 else 512
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("out", help="the picture to write (Radiance RGBE)")
+    ap.add_argument("size", nargs="?", type=int, default=512, help="its width and height in pixels")
+    a = ap.parse_args()
+    out, n = a.out, a.size
     # bigsun (-0.9338, -0.35, 0.001) in the world; the picture's frame is the world turned
     # by -90 degrees about z: (x, y) -> (y, -x).
     s = (-0.35, 0.9338, 0.001)

@@ -8,8 +8,8 @@ texture coordinates around it (u) and up it (v) for vase.rad's picture. Not the 
     python3 bench/peer/vase_standin.py vase.obj && obj2mesh vase.obj vase.rtm
 
 obj2mesh is RADIANCE's (bench/peer/build_rpict.sh builds RADIANCE's tools); never in CI."""
+import argparse
 import math
-import sys
 
 BASE = (-25.0, -5.0, -130.0)
 HEIGHT = 46.0
@@ -22,7 +22,9 @@ def radius(t):
 
 
 def main():
-    out = open(sys.argv[1], "w")
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("obj", help="the OBJ file to write")
+    out = open(ap.parse_args().obj, "w")
     out.write("# crex bench/peer/vase_standin.py: a stand-in for RADIANCE's vase.rtm\n")
     for i in range(RINGS + 1):
         t = i / RINGS
