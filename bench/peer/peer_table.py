@@ -202,12 +202,13 @@ def main():
     rows = {a.peer: peer_rows, **(earlier or {c: [] for c in curves})}
     for kind, flags, spp in [] if earlier else CREX:
         out = os.path.join(a.out, f"crex_{a.scene}_{kind.replace(' ', '_')}_{spp}.exr")
+        stdlib_pipeline = isinstance(flags, list) and bool(flags) and flags[0].endswith(".pipe")
         if isinstance(flags, dict):  # a pipeline: at most `spp` samples a pixel
             pipe = out[: -len(".exr")] + ".pipe"
             with open(pipe, "w") as f:
                 f.write(EDGE_PIPELINE.format(**flags))
             how = [pipe]
-        elif flags and flags[0].endswith(".pipe"):  # a stdlib pipeline: its own samples
+        elif stdlib_pipeline:  # its own samples
             how = flags
         else:
             how = ["--spp", str(spp), *flags]
@@ -215,7 +216,7 @@ def main():
                       "-o", out, "--format", "json"])
         seconds = json.loads(r.stdout)["render_seconds"]
         setting = (f"spp {flags['spp']}, ad {flags['ad']}" if isinstance(flags, dict) else
-                   f"ad {spp}" if flags and flags[0].endswith(".pipe") else f"{spp} spp")
+                   f"ad {spp}" if stdlib_pipeline else f"{spp} spp")
         rows[f"crex {kind}"].append(row(seconds, setting, score(a.crex, out, reference), f"crex {kind}"))
     print_table(rows, curves, a.peer)
     with open(os.path.join(a.out, f"peer_{a.scene}{'' if a.peer == 'rpict' else '_' + a.peer}.json"), "w") as f:
