@@ -126,6 +126,17 @@ private:
         return SubsampleGrid(s_.width, s_.height, std::vector<double>(out_.film.pixel_count(), static_cast<double>(stride)));
     }
     void redo_preview_direct_light(const SelectiveSetup& sel);
+    // Samples [first, first + spp) of every pixel, less what it inherits from the frame before
+    // (RunSettings::history): one sample of its own at least. A pixel new to the frame (seen
+    // from behind an edge, or come in at the border) takes all of them, so it does not stand
+    // out beside its neighbours' histories.
+    SampleRanges own_samples_of_every_pixel(uint32_t first) const {
+        SampleRanges r{first, first + s_.spp, {}, {}};
+        if (!s_.history) return r;
+        r.end_of.resize(out_.film.pixel_count());
+        for (size_t p = 0; p < r.end_of.size(); ++p) r.end_of[p] = first + own_samples(s_.spp, s_.history->samples(p));
+        return r;
+    }
     // A pixel whose only samples of its own are the preview's, the rest inherited from the
     // frame before (RunSettings::history): the inherited samples have the quality its map
     // asks for; its preview sample, a small share of the pixel, keeps the preview's.
@@ -297,12 +308,7 @@ void PlanRun::render_interleaved() {
     // A plain crex (or a pipeline that varies nothing): each pass runs both programs.
     const sched::Program& program = plan_.program;
     last_stage_ = true;
-    SampleRanges every_pixel{s_.first_sample, s_.first_sample + s_.spp, {}, {}};
-    if (s_.history) {  // what a pixel inherits it does not take again; one sample of its own at least
-        every_pixel.end_of.resize(out_.film.pixel_count());
-        for (size_t p = 0; p < every_pixel.end_of.size(); ++p)
-            every_pixel.end_of[p] = every_pixel.first + own_samples(s_.spp, s_.history->samples(p));
-    }
+    const SampleRanges every_pixel = own_samples_of_every_pixel(s_.first_sample);
     run_samples("render", s_.windows.empty() ? every_pixel : only_windows(every_pixel, s_.width, s_.height, s_.windows), [&] {
         if (recorder_) recorder_->set_stage("preselective");
         ex_->run_stage(program.preselective);
@@ -341,7 +347,7 @@ void PlanRun::preview() {
     while (auto_stride && levels.back() > 1) levels.push_back(levels.back() / 2);
     if (subsampled_components(plan_) != 0) levels = {1};
     if (levels == std::vector<uint32_t>{1}) {  // every pixel
-        run_samples("pre-selective", {0, s_.spp, {}, {}}, carry);
+        run_samples("pre-selective", own_samples_of_every_pixel(0), carry);
     } else {
         double per_sample = 0;
         for (size_t i = 0; i < levels.size() && !stopping(); ++i) {
