@@ -273,12 +273,11 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                      const ShadeParams& params, ShadeOutput& out) {
     const size_t n = end - begin;
     const MediumModel* medium = scene.medium ? &*scene.medium : nullptr;
-    // Shadow-ray slots per ray: direct light at the hit, then (in a medium) the single-scatter
+    // Shadow rays of a ray: direct light at the hit, then (in a medium) the single-scatter
     // samples along the ray: media_samples along a camera ray, one along any other, since light
     // scattered into a segment reaches the eye by the surfaces the path goes on from (RADIANCE
     // scatters into every ray: a fog's glow lights the walls).
     const uint32_t nm = !medium ? 0 : camera ? params.media_samples : std::min<uint32_t>(params.media_samples, 1);
-    const uint32_t ns = params.shadow_rays + nm;
     const double eps = scene.embree->ray_epsilon();
     out.reset();
     ShadeScratch& scratch = out.scratch;
@@ -295,35 +294,32 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
 
     out.contribution.resize(n);
     if (camera) out.emission.resize(n);
-    scratch.shadows.resize(n * ns);
-    scratch.shadow_value.resize(n * ns);
-    scratch.shadow_weak.assign(n * ns, 0);
-    scratch.shadow_through.resize(n * ns);
     const size_t blocks = (n + kShadeBlock - 1) / kShadeBlock;
     if (out.block_children.size() < blocks) out.block_children.resize(blocks);
     if (out.block_spawned.size() < blocks) out.block_spawned.resize(blocks);
+    if (scratch.block_shadows.size() < blocks) scratch.block_shadows.resize(blocks);
     out.blocks = blocks;
     scratch.block_hits.assign(blocks, 0);
     scratch.block_cut_by_depth.assign(blocks, 0.0);
     scratch.block_cut_by_weight.assign(blocks, 0.0);
     scratch.block_shadow_rays.assign(blocks, 0);
-    std::vector<RTCRay>& shadows = scratch.shadows;
-    std::vector<Vec3>& shadow_value = scratch.shadow_value;
-    std::vector<uint8_t>& shadow_weak = scratch.shadow_weak;
     const Vec3 background = scene.scene.background;
     const bool lights = !scene.lights->empty();
 
-    // Shade: emission, shadow rays to trace, children into the block's own bins.
+    // Shade: emission, shadow rays, children into the block's own bins; then the block's shadow
+    // rays are traced and their light added, each ray's in the order it aimed them.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t block = range.begin(); block < range.end(); ++block) {
             std::array<RayBatch, kComponentCount>& children = out.block_children[block];
             std::array<std::vector<RayRecord>, kComponentCount>& spawned_rays = out.block_spawned[block];
             for (auto& v : spawned_rays) v.clear();
+            BlockShadows& shadows = scratch.block_shadows[block];
+            shadows.clear();
             SpawnScratch spawn;
             Bsdf textured;  // surface_at()'s, made once a block: a Bsdf made at every hit was zeroed at every hit
-            uint32_t block_hits = 0, block_shadow_rays = 0;
-            for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
-                for (uint32_t j = 0; j < ns; ++j) make_hole(shadows[i * ns + j], static_cast<unsigned>(i));
+            uint32_t block_hits = 0;
+            // One ray: its emission or what it escaped to, direct light's shadow rays, children.
+            auto shade = [&](size_t i) {
                 if (camera) out.emission[i] = {};
                 const size_t r = begin + i;
                 const Vec3 beta{rays.br[r], rays.bg[r], rays.bb[r]};
@@ -336,13 +332,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     const HitRandom random(rays.path[r], rays.depth[r]);
                     for (uint32_t k = 0; k < nmi; ++k) {
                         ShadowSample sample;
-                        if (!single_scatter_sample(scene, *medium, o, d, miss ? INFINITY : double(h.ray.tfar), beta, random, k, nmi, sample))
-                            continue;
-                        const size_t slot = i * ns + params.shadow_rays + k;
-                        aim_shadow_ray(shadows[slot], sample);
-                        shadow_value[slot] = sample.value;
-                        shadow_weak[slot] = sample.weak_target;
-                        ++block_shadow_rays;
+                        if (single_scatter_sample(scene, *medium, o, d, miss ? INFINITY : double(h.ray.tfar), beta, random, k, nmi, sample))
+                            shadows.media.push_back(sample);
                     }
                 }
                 if (miss) {
@@ -357,7 +348,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     Vec3 c = through * (background + sources);
                     out.contribution[i] = is_finite(c) ? c : Vec3{};
                     if (camera && is_finite(through * sources)) out.emission[i] = through * sources;  // a sky seen is emission
-                    continue;
+                    return;
                 }
                 ++block_hits;
                 // Origin and direction from the hit record (in cache, unlike six of the bin's
@@ -377,7 +368,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 HitFrame f = hit_frame(*scene.embree, h.hit, ray.origin + ray.direction * t, ray.direction, t);
                 if (!camera && !(ray.flags & kRayFromDeltaLobe) && illum_front(scene, h.hit, f)) {
                     out.contribution[i] = {};  // direct lighting brought the illum's light
-                    continue;
+                    return;
                 }
                 const Bsdf& b = surface_at(scene, h.hit, f, textured, surface_detail(camera, ray.flags));
                 const HitRandom random(ray.path, ray.depth);
@@ -391,25 +382,31 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position);
                     for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
                         ShadowSample sample;
-                        if (!direct_light_sample(scene, b, f, weights, ray.beta, random, j, lighting.shadow_rays, sample, lighting.sampling))
-                            continue;
-                        const size_t slot = i * ns + j;
-                        aim_shadow_ray(shadows[slot], sample);
-                        shadow_value[slot] = sample.value;
-                        shadow_weak[slot] = sample.weak_target;
-                        ++block_shadow_rays;
+                        if (direct_light_sample(scene, b, f, weights, ray.beta, random, j, lighting.shadow_rays, sample, lighting.sampling))
+                            shadows.add(sample, static_cast<uint32_t>(i));
                     }
                 }
                 int spawned = spawn_children(b, f, ray, random, eps, params, spawn);
                 if (is_finite(spawn.caustic)) out.contribution[i] += spawn.caustic;
                 for (size_t l = 0; l < static_cast<size_t>(spawned); ++l)
                     spawned_rays[static_cast<size_t>(spawn.components[l])].push_back(spawn.children[l]);
+            };
+            for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
+                shade(i);
+                for (const ShadowSample& sample : shadows.media) shadows.add(sample, static_cast<uint32_t>(i));
+                shadows.media.clear();
             }
             for (size_t c = 0; c < kComponentCount; ++c) children[c].append(spawned_rays[c].data(), spawned_rays[c].size());
             scratch.block_hits[block] = block_hits;
             scratch.block_cut_by_depth[block] = spawn.cut_by_depth;
             scratch.block_cut_by_weight[block] = spawn.cut_by_weight;
-            scratch.block_shadow_rays[block] = block_shadow_rays;
+            scratch.block_shadow_rays[block] = static_cast<uint32_t>(shadows.size());
+            if (params.capture) shadows.captured = shadows.rays;
+            // Unoccluded samples add their light, each ray's in the order it aimed them.
+            shadows.through.resize(shadows.size());
+            trace_shadow_rays_in_this_task(scene, shadows.rays.data(), shadows.weak.data(), shadows.through.data(), shadows.size());
+            for (size_t k = 0; k < shadows.size(); ++k)
+                if (max_component(shadows.through[k]) > 0) out.contribution[shadows.owner[k]] += shadows.value[k] * shadows.through[k];
         }
     });
     for (size_t block = 0; block < blocks; ++block) {
@@ -417,20 +414,11 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
         out.cut_by_depth += scratch.block_cut_by_depth[block];  // in block order: the same sum at any thread count
         out.cut_by_weight += scratch.block_cut_by_weight[block];
         out.shadow_rays += scratch.block_shadow_rays[block];
+        if (params.capture) {
+            const std::vector<RTCRay>& c = scratch.block_shadows[block].captured;
+            params.capture->shadow_rays.insert(params.capture->shadow_rays.end(), c.begin(), c.end());
+        }
     }
-
-    if (params.capture) params.capture->shadow_rays.insert(params.capture->shadow_rays.end(), shadows.begin(), shadows.end());
-    std::vector<Vec3>& through = scratch.shadow_through;
-    trace_shadow_rays(scene, shadows.data(), shadow_weak.data(), through.data(), shadows.size());
-
-    // Unoccluded samples add their light; each ray's own sum, so the order is fixed.
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kShadeBlock), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t i = range.begin(); i < range.end(); ++i)
-            for (uint32_t j = 0; j < ns; ++j) {
-                const size_t slot = i * ns + j;
-                if (!is_hole(shadows[slot]) && max_component(through[slot]) > 0) out.contribution[i] += shadow_value[slot] * through[slot];
-            }
-    });
 }
 
 uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays, uint32_t base,

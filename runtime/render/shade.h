@@ -61,14 +61,38 @@ inline uint32_t shadow_rays_at(const ShadeParams& params, uint32_t pixel, uint8_
 /// which are joined in block order, so bins do not depend on the thread count.
 inline constexpr size_t kShadeBlock = 512;
 
+/// The shadow rays of one block of kShadeBlock rays, traced as soon as the block is shaded
+/// (its hits still in cache), only those aimed: a slot per possible shadow ray, most of them
+/// empty where a deeper hit takes one of `--shadow-rays 8`, was written, skipped by Embree and
+/// read back for nothing.
+struct BlockShadows {
+    std::vector<RTCRay> rays;
+    std::vector<Vec3> value;
+    std::vector<uint8_t> weak;     ///< aimed at a glow or an illum
+    std::vector<uint32_t> owner;   ///< the ray of the chunk whose light it carries
+    std::vector<Vec3> through;     ///< what the thin glass and trans it crossed let through
+    /// The single-scatter samples of the ray being shaded, added after its direct light's (the
+    /// order of a ray's sum).
+    std::vector<ShadowSample> media;
+    std::vector<RTCRay> captured;  ///< ShadeParams::capture: the rays as aimed, before tracing
+
+    void clear() { rays.clear(), value.clear(), weak.clear(), owner.clear(); }
+    size_t size() const { return rays.size(); }
+    void add(const ShadowSample& sample, uint32_t ray) {
+        rays.emplace_back();
+        make_hole(rays.back(), ray);  // mask, flags and time; the aim below makes it a ray
+        aim_shadow_ray(rays.back(), sample);
+        value.push_back(sample.value);
+        weak.push_back(sample.weak_target);
+        owner.push_back(ray);
+    }
+};
+
 /// Per-chunk buffers, reused from chunk to chunk: allocating and zero-filling them for every
 /// chunk cost more than a third of the executor's time (page faults and memset).
 struct ShadeScratch {
     std::vector<RTCRayHit> hits;
-    std::vector<RTCRay> shadows;
-    std::vector<Vec3> shadow_value;
-    std::vector<uint8_t> shadow_weak;     ///< the slot's ray is aimed at a glow or an illum
-    std::vector<Vec3> shadow_through;     ///< what the thin glass and trans it crossed let through
+    std::vector<BlockShadows> block_shadows;
     std::vector<uint32_t> block_hits, block_shadow_rays;  ///< per block, summed in block order
     std::vector<double> block_cut_by_depth, block_cut_by_weight;  ///< per block, as the SpawnScratch of each
 };

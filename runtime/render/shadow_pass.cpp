@@ -20,4 +20,9 @@ void trace_shadow_rays(const RenderScene& scene, RTCRay* rays, const uint8_t* we
     occluded_batch(*scene.embree, rays, count, &pass, weak_target, through);
 }
 
+void trace_shadow_rays_in_this_task(const RenderScene& scene, RTCRay* rays, const uint8_t* weak_target, Vec3* through, size_t count) {
+    const SurfaceShadowPass pass(scene);
+    occluded_serial(*scene.embree, rays, count, &pass, weak_target, through);
+}
+
 }  // namespace crex

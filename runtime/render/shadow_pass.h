@@ -39,5 +39,8 @@ private:
 /// blocked, else the product of what the surfaces it crossed let through (1 for none, and for
 /// holes, tnear > tfar). `weak_target` may be null (no ray aimed at a glow or an illum).
 void trace_shadow_rays(const RenderScene& scene, RTCRay* rays, const uint8_t* weak_target, Vec3* through, size_t count);
+/// The same in the calling task alone (no nested parallel loop): for callers that are one of
+/// many tasks already, each tracing its own few rays.
+void trace_shadow_rays_in_this_task(const RenderScene& scene, RTCRay* rays, const uint8_t* weak_target, Vec3* through, size_t count);
 
 }  // namespace crex

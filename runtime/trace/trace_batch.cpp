@@ -77,26 +77,41 @@ void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bo
     });
 }
 
-void occluded_batch(const EmbreeScene& scene, RTCRay* rays, size_t count, const ShadowPass* pass, const uint8_t* weak_target,
+namespace {
+
+// Rays [begin, end) of a batch (ids are indices into it, for the filter's context).
+void occluded_block(const EmbreeScene& scene, RTCRay* rays, size_t begin, size_t end, const ShadowPass* pass, const uint8_t* weak_target,
                     Vec3* through) {
     const bool passing = pass && scene.any_shadow_passes();
+    ShadowContext context;
+    rtcInitIntersectContext(&context.embree);
+    thread_local std::vector<Crossings> crossings;
+    if (passing) {
+        crossings.assign(end - begin, Crossings{});
+        for (size_t k = begin; k < end; ++k) rays[k].id = static_cast<unsigned>(k);
+        context.pass = pass;
+        context.weak_target = weak_target;
+        context.crossings = crossings.data();
+        context.first = begin;
+    }
+    rtcOccluded1M(scene.handle(), &context.embree, rays + begin, static_cast<unsigned>(end - begin), sizeof(RTCRay));
+    if (through)
+        for (size_t k = begin; k < end; ++k)
+            through[k] = rays[k].tfar == -INFINITY ? Vec3{} : passing ? crossings[k - begin].through : Vec3{1, 1, 1};
+}
+
+}  // namespace
+
+void occluded_batch(const EmbreeScene& scene, RTCRay* rays, size_t count, const ShadowPass* pass, const uint8_t* weak_target,
+                    Vec3* through) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kBlock), [&](const tbb::blocked_range<size_t>& r) {
-        ShadowContext context;
-        rtcInitIntersectContext(&context.embree);
-        thread_local std::vector<Crossings> crossings;
-        if (passing) {
-            crossings.assign(r.size(), Crossings{});
-            for (size_t k = r.begin(); k < r.end(); ++k) rays[k].id = static_cast<unsigned>(k);
-            context.pass = pass;
-            context.weak_target = weak_target;
-            context.crossings = crossings.data();
-            context.first = r.begin();
-        }
-        rtcOccluded1M(scene.handle(), &context.embree, rays + r.begin(), static_cast<unsigned>(r.size()), sizeof(RTCRay));
-        if (through)
-            for (size_t k = r.begin(); k < r.end(); ++k)
-                through[k] = rays[k].tfar == -INFINITY ? Vec3{} : passing ? crossings[k - r.begin()].through : Vec3{1, 1, 1};
+        occluded_block(scene, rays, r.begin(), r.end(), pass, weak_target, through);
     });
+}
+
+void occluded_serial(const EmbreeScene& scene, RTCRay* rays, size_t count, const ShadowPass* pass, const uint8_t* weak_target,
+                     Vec3* through) {
+    for (size_t begin = 0; begin < count; begin += kBlock) occluded_block(scene, rays, begin, std::min(count, begin + kBlock), pass, weak_target, through);
 }
 
 }  // namespace crex

@@ -58,6 +58,10 @@ void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bo
 void occluded_batch(const EmbreeScene& scene, RTCRay* rays, size_t count, const ShadowPass* pass = nullptr,
                     const uint8_t* weak_target = nullptr, Vec3* through = nullptr);
 
+/// occluded_batch() in the calling thread, in blocks one after the other.
+void occluded_serial(const EmbreeScene& scene, RTCRay* rays, size_t count, const ShadowPass* pass = nullptr,
+                     const uint8_t* weak_target = nullptr, Vec3* through = nullptr);
+
 /// Embree's occluded filter for surfaces that may let shadow rays through (EmbreeScene
 /// installs it; it reads occluded_batch()'s context).
 void shadow_pass_filter(const RTCFilterFunctionNArguments* args);
