@@ -189,10 +189,17 @@ private:
     bool run_in_batches(RayBatch& take, size_t first, double cost, RayBatch& bin, ComponentStats& stats, const std::string& letter,
                         const sched::Node& node);
     size_t chunk_rays() const;
-    void execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label,
-                      std::optional<Component> profiled);
+    /// Runs `rays` (all of them unless `paced`: then cache queries stop when the budget is
+    /// spent); returns how many of them ran, from the first.
+    size_t execute_rays(const RayBatch& rays, bool camera, size_t aov, ComponentStats& stats, const std::string& label,
+                        std::optional<Component> profiled, bool paced = false);
+    /// The first part of paced queries: their cost per query is not known yet.
+    static constexpr size_t kFirstPacedQueries = 32;
     double importance(uint32_t pixel) const;
     void gate_first_bounce(ShadeOutput& out);
+    /// Seconds per ray of component c that a budget admits rays on: the profile's, or what this
+    /// render's latest rays of c cost when that is more (RecentCosts). None without a profile.
+    std::optional<double> admission_cost(Component c) const;
 
     const RenderScene& scene_;
     Film& film_;
@@ -212,6 +219,7 @@ private:
     std::vector<Diagnostic> warnings_;
     uint64_t rays_done_ = 0;
     ShadeOutput shade_;  // reused for every chunk
+    RecentCosts recent_;
     bool in_admitted_group_ = false;
     size_t peak_rays_held_ = 0;
     void note_rays_held();
