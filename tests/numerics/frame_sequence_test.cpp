@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "runtime/api/frame_flicker.h"
@@ -67,6 +68,16 @@ protected:
         return rgb;
     }
 
+    /// Frame `frame` of sequence `a` against the same frame of `b` (or frame `frame_b`): mean
+    /// |a - b| over mean |b|, 1 where b is black.
+    double relative_difference(const std::string& a, const std::string& b, int64_t frame, std::optional<int64_t> frame_b = {}) {
+        const std::vector<float> x = image(a, frame), y = image(b, frame_b.value_or(frame));
+        EXPECT_EQ(x.size(), y.size());
+        double diff = 0, sum = 0;
+        for (size_t i = 0; i < std::min(x.size(), y.size()); ++i) diff += std::abs(double(x[i]) - y[i]), sum += std::abs(double(y[i]));
+        return sum > 0 ? diff / sum : 1.0;
+    }
+
     RunInputs in_;
     std::optional<CameraPath> path_;
     ResolvedRun run_;
@@ -91,16 +102,8 @@ TEST_F(FrameSequence, CarriedCacheGivesTheColdImageWithFewerRecords) {
     EXPECT_GT(cold[0].records_made, 0u);
     EXPECT_LT(carried[1].records_made * 2, cold[0].records_made) << "carried " << carried[1].records_made << ", cold "
                                                                   << cold[0].records_made;
-    auto mean_relative = [](const std::vector<float>& a, const std::vector<float>& b) {
-        double diff = 0, sum = 0;
-        for (size_t i = 0; i < a.size(); ++i) diff += std::abs(double(a[i]) - b[i]), sum += std::abs(double(b[i]));
-        return sum > 0 ? diff / sum : 1.0;
-    };
-    const std::vector<float> warm = image("carried", 2), fresh = image("cold", 2);
-    ASSERT_EQ(warm.size(), fresh.size());
-    const double d = mean_relative(warm, fresh);
-    EXPECT_LT(d, 0.02) << "carried against cold";
-    EXPECT_GT(mean_relative(image("carried", 0), fresh), 0.2) << "frame 0 is another view";
+    EXPECT_LT(relative_difference("carried", "cold", 2), 0.02) << "carried against cold";
+    EXPECT_GT(relative_difference("carried", "cold", 0, 2), 0.2) << "frame 0 is another view";
 }
 
 // Flicker (frame_flicker.h) is noise that changes between frames: path traced (no cache, so
@@ -155,13 +158,7 @@ TEST_F(FrameSequence, InheritedFramesTraceFewerRaysFlickerLessAndStayAsClose) {
     EXPECT_LT(rays, 0.7);
     const double flicker = (reused[1].flicker.value_or(1) + reused[2].flicker.value_or(1)) / (alone[1].flicker.value_or(0) + alone[2].flicker.value_or(0));
     EXPECT_LT(flicker, 0.95);
-    auto error = [&](const std::string& name) {
-        const std::vector<float> a = image(name, 2), b = image("converged", 2);
-        double diff = 0, sum = 0;
-        for (size_t i = 0; i < a.size(); ++i) diff += std::abs(double(a[i]) - b[i]), sum += std::abs(double(b[i]));
-        return diff / sum;
-    };
-    const double with = error("reused"), without = error("alone");
+    const double with = relative_difference("reused", "converged", 2), without = relative_difference("alone", "converged", 2);
     EXPECT_LT(with, 1.25 * without) << "rays " << rays << ", flicker " << flicker;
 }
 
@@ -199,13 +196,7 @@ TEST_F(FrameSequence, APipelinesPreviewTakesOnlyWhatItsPixelsDoNotInherit) {
     EXPECT_GT(reused[2].inherited_pixels, 0.3);
     const double rays = double(reused[1].rays + reused[2].rays) / double(alone[1].rays + alone[2].rays);
     EXPECT_LT(rays, 0.7);
-    auto error = [&](const std::string& name) {
-        const std::vector<float> a = image(name, 2), b = image("converged", 2);
-        double diff = 0, sum = 0;
-        for (size_t i = 0; i < a.size(); ++i) diff += std::abs(double(a[i]) - b[i]), sum += std::abs(double(b[i]));
-        return diff / sum;
-    };
-    const double with = error("reused"), without = error("alone");
+    const double with = relative_difference("reused", "converged", 2), without = relative_difference("alone", "converged", 2);
     EXPECT_LT(with, 1.25 * without) << "rays " << rays;
 }
 
@@ -230,14 +221,7 @@ TEST_F(FrameSequence, InheritingFramesDrawNewSamplesEveryFrame) {
     const auto frames = render("still", {0, 6, 1}, true, 64);
     ASSERT_EQ(frames.size(), 7u);
     EXPECT_GT(frames[6].inherited_pixels, 0.3);
-    const std::vector<float> converged = image("still_converged", 0);
-    auto error = [&](int64_t frame) {
-        const std::vector<float> a = image("still", frame);
-        double diff = 0, sum = 0;
-        for (size_t i = 0; i < a.size(); ++i) diff += std::abs(double(a[i]) - converged[i]), sum += std::abs(double(converged[i]));
-        return diff / sum;
-    };
-    const double first = error(0), last = error(6);
+    const double first = relative_difference("still", "still_converged", 0), last = relative_difference("still", "still_converged", 6, 0);
     EXPECT_LT(last, 0.85 * first) << "frame 0: " << first << ", frame 6: " << last;
 }
 
@@ -256,13 +240,7 @@ TEST_F(FrameSequence, ARestartedWalkInheritsFromTheFinishedFrameBefore) {
     EXPECT_TRUE(again[1].skipped);
     EXPECT_GT(again[2].inherited_pixels, 0.3);
     render("fresh", {2, 2, 1}, true, 8);
-    auto difference = [&](const std::string& a, const std::string& b) {
-        const std::vector<float> x = image(a, 2), y = image(b, 2);
-        double diff = 0, sum = 0;
-        for (size_t i = 0; i < x.size(); ++i) diff += std::abs(double(x[i]) - y[i]), sum += std::abs(double(y[i]));
-        return diff / sum;
-    };
-    const double restarted = difference("restarted", "whole"), fresh = difference("fresh", "whole");
+    const double restarted = relative_difference("restarted", "whole", 2), fresh = relative_difference("fresh", "whole", 2);
     EXPECT_LT(restarted, 0.001) << "fresh: " << fresh;
     EXPECT_GT(fresh, 0.01);
 }
