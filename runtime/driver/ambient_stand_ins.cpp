@@ -103,9 +103,10 @@ AmbientStandIns::AmbientStandIns(size_t pixels, const Vec3& av, bool automatic)
     // Decided from the settings alone, so alike on every process of a group.
     : pixels_(pixels), av_(av), automatic_(automatic), ambient_(per_pixel(av, automatic) ? 3 * pixels : 0, 0.0) {}
 
-void AmbientStandIns::keep_every_component() {
-    if (automatic_)
-        for (auto& left : left_) left.assign(3 * pixels_, 0.0f);
+void AmbientStandIns::keep(const std::array<bool, kComponentCount>& components) {
+    if (!automatic_) return;
+    for (size_t c = 0; c < kComponentCount; ++c)
+        if (components[c] && left_[c].empty()) left_[c].assign(3 * pixels_, 0.0f);
 }
 
 void AmbientStandIns::flush(std::array<RayBatch, kComponentCount>& bins, std::array<size_t, kComponentCount>& left_count) {

@@ -305,15 +305,10 @@ bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatc
     return done > start;
 }
 
-namespace {
-
-// Components the Exec nodes of a subtree read (each bin is read once per deferred execution).
 void components_read(const sched::Node& n, std::array<bool, kComponentCount>& out) {
     if (n.op == sched::Op::kExec) out[static_cast<size_t>(n.component)] = true;
     for (const auto& c : n.children) components_read(c, out);
 }
-
-}  // namespace
 
 bool Executor::run_stage(const sched::Node& program) {
     if (options_.task_admission == ExecutorOptions::TaskAdmission::kQueues && budget_active()) return run_queues(program);

@@ -132,6 +132,10 @@ struct ExecutorOptions {
     std::function<void(const RayBatch& queries, size_t begin, size_t end, std::vector<Vec3>& irradiance)> irradiance;
 };
 
+/// Marks in `out` the components the Exec nodes of a subtree read (each bin is read once per
+/// deferred execution).
+void components_read(const sched::Node& n, std::array<bool, kComponentCount>& out);
+
 class Executor {
 public:
     Executor(const RenderScene& scene, Film& film, const ExecutorOptions& options);

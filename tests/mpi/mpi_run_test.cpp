@@ -357,16 +357,21 @@ void expect_only(const fs::path& dir, std::vector<std::string> names) {
 }
 
 TEST_F(MpiRun, ARankKilledMidRenderEndsTheRunNamedWithNothingLeftBehind) {
-    // Rank 1 is killed (SIGKILL) as soon as it runs, while both ranks render a band far too
-    // large to finish; mpirun names it and ends rank 0, which has no finished row: no output,
-    // no partial, no staged file, no crex process left.
+    // Rank 1 is killed (SIGKILL) a second after it is found running, when both ranks are past
+    // MPI_Init and render a band far too large to finish; mpirun names it and ends rank 0,
+    // which has no finished row: no output, no partial, no staged file, no crex process left.
+    // (Killed at once, the rank could die inside MPI_Init, where Open MPI's launcher once waited
+    // until ctest's 600 s timeout in a full parallel run: that is the launcher's start-up, not
+    // a render. timeout(1) bounds the run, so a hang fails here with exit=124.)
     const std::string out = path("killed.exr");
     auto r = testing::run_command(
         {"/bin/sh", "-c",
-         kill_rank(1, "--allow-run-as-root --oversubscribe -np 2 " + std::string(CREX_BINARY) + " run --size 512x512 --spp 1024 -q -o " + out,
-                       "512x512 --spp 1024", "R", 0)});
+         "timeout -k 5 120 " + kill_rank(1, "--allow-run-as-root --oversubscribe -np 2 " + std::string(CREX_BINARY) +
+                                                " run --size 512x512 --spp 1024 -q -o " + out,
+                                            "512x512 --spp 1024", "R", 1)});
     EXPECT_NE(r.out.find("exit="), std::string::npos) << r.out << r.err;
     EXPECT_EQ(r.out.find("exit=0"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("exit=124"), std::string::npos) << "the run hung until timeout(1) ended it: " << r.out;
     EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
     expect_only(dir_, {});
