@@ -73,17 +73,17 @@ void image_and_found_sums(const std::vector<float>& image, const std::array<cons
     }
 }
 
-// ambient += av[c] x component c's throughput left, for every component with some left, per
-// pixel in component order: the same sums as one add_stand_in per component, bit for bit, in
-// one pass over the ambient buffer instead of one per component (measured: the end of a
-// budgeted cbtcr render at 512x384 took 9-11 ms, most of it these passes).
+// ambient += av[c] x component c's throughput left, for every component `applied`, per pixel in
+// component order: the same sums as one add_stand_in per component, bit for bit, in one pass
+// over the ambient buffer instead of one per component (measured: the end of a budgeted cbtcr
+// render at 512x384 took 9-11 ms, most of it these passes).
 void add_stand_ins(const std::array<std::vector<float>, kComponentCount>& left, const std::array<Vec3, kComponentCount>& av,
-                   std::vector<double>& ambient) {
+                   const std::array<bool, kComponentCount>& applied, std::vector<double>& ambient) {
     std::array<const float*, kComponentCount> from{};
     std::array<Vec3, kComponentCount> with{};
     size_t used = 0, pixels = ambient.size() / 3;
     for (size_t c = 0; c < kComponentCount; ++c)
-        if (!left[c].empty()) from[used] = left[c].data(), with[used] = av[c], ++used, pixels = std::min(pixels, left[c].size() / 3);
+        if (applied[c] && !left[c].empty()) from[used] = left[c].data(), with[used] = av[c], ++used, pixels = std::min(pixels, left[c].size() / 3);
     if (used == 0) return;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 13), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = 3 * r.begin(); i < 3 * r.end(); i += 3) {
@@ -119,6 +119,7 @@ void AmbientStandIns::flush(std::array<RayBatch, kComponentCount>& bins, std::ar
                 float* l = &left[3 * static_cast<size_t>(bin.pixel[i])];
                 l[0] += bin.br[i], l[1] += bin.bg[i], l[2] += bin.bb[i];
             }
+            flushed_[c] += bin.size();
         } else if (c == static_cast<size_t>(Component::kD)) {
             add_ambient(bin, av_, ambient_);
         }
@@ -159,8 +160,8 @@ void AmbientStandIns::finish_automatic(const Film& film, const ExecutorStats& st
     // that rendered the last stage there, so the sums over every process's rows are those of
     // the whole image, and what every process's rays did stands in for every process's rays.
     // sums: the image's radiance summed (3), then per component what its executed rays found
-    // (3) and their throughput (3).
-    std::vector<double> sums(3 + 6 * kComponentCount, 0.0);
+    // (3) and their throughput (3), then per component the rays left (1).
+    std::vector<double> sums(3 + 7 * kComponentCount, 0.0);
     std::array<const double*, kComponentCount> found{};
     for (size_t c = 0; c < kComponentCount; ++c) found[c] = film.aov_sums(aov_of(static_cast<Component>(c)));
     image_and_found_sums(image_before, found, p0, p1, sums);
@@ -168,26 +169,40 @@ void AmbientStandIns::finish_automatic(const Film& film, const ExecutorStats& st
         const double* beta = stats.components[c].beta;
         double* at = &sums[3 + 6 * c];
         at[3] = beta[0], at[4] = beta[1], at[5] = beta[2];
+        sums[3 + 6 * kComponentCount + c] = static_cast<double>(flushed_[c]);
     }
     if (group) group->sum(sums);
     const Vec3 mean = Vec3{sums[0], sums[1], sums[2]} / double(std::max<size_t>(pixels_, 1));
     std::array<Vec3, kComponentCount> av_of_left{};
+    std::array<bool, kComponentCount> applied{};
     for (size_t c = 0; c < kComponentCount; ++c) {
-        std::vector<float>& left = left_[c];
-        if (std::all_of(left.begin(), left.end(), [](float b) { return b == 0; })) {  // none left (distributed, all are kept)
-            left = {};
-            continue;
-        }
+        // Whether any process left rays of c, from the counts: a scan of the buffers for a
+        // non-zero value was a serial pass over up to 1.3 MB per component at 384x288 on the
+        // budget's clock. A process with none of its own adds zeros.
+        if (!(sums[3 + 6 * kComponentCount + c] > 0)) continue;
         const double* at = &sums[3 + 6 * c];
         const bool measured = at[3] + at[4] + at[5] > 0;
         const Vec3 av = measured ? per_unit({at[0], at[1], at[2]}, {at[3], at[4], at[5]}) : mean;
         auto_ambient[c] = av_of_left[c] = av;
+        applied[c] = true;
         notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), {}", kComponentTable[c].letter, av.x,
                                     av.y, av.z,
                                     measured ? "what its executed rays brought back per unit throughput"
                                              : "the mean radiance of the image (none of its rays ran)"));
     }
-    add_stand_ins(left_, av_of_left, ambient_);
+    add_stand_ins(left_, av_of_left, applied, ambient_);
+    // The buffers stay until release(), after the render's clock: freeing megabytes is time too.
+    flushed_ = {};
+}
+
+void AmbientStandIns::leave_everywhere(float throughput) {
+    for (size_t c = 0; c < kComponentCount; ++c) {
+        left_[c].assign(3 * pixels_, throughput);
+        flushed_[c] += pixels_;
+    }
+}
+
+void AmbientStandIns::release() {
     for (auto& left : left_) left = {};
 }
 

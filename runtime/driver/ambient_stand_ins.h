@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,12 @@ public:
     void finish_automatic(const Film& film, const ExecutorStats& stats, const std::vector<float>& image_before, size_t p0, size_t p1,
                           ProcessGroup* group, std::array<Vec3, kComponentCount>& auto_ambient, std::vector<std::string>& notes);
 
+    /// The throughput buffers freed (after finish_automatic(), once the render's clock stopped).
+    void release();
+    /// As if `throughput` of every component's rays were left in every pixel (the probe that
+    /// times the end of a budgeted render).
+    void leave_everywhere(float throughput);
+
     /// Per pixel RGB, sample-summed: what the composite adds for D rays dropped (and, after
     /// finish_automatic(), every component's).
     std::vector<double>& ambient() { return ambient_; }
@@ -74,6 +81,7 @@ private:
     bool automatic_;
     std::vector<double> ambient_;
     std::array<std::vector<float>, kComponentCount> left_;
+    std::array<uint64_t, kComponentCount> flushed_{};  // rays of each component flush() kept in left_
 };
 
 }  // namespace crex

@@ -151,7 +151,9 @@ private:
     void share_rows(RowExchange why, std::vector<double>& ambient) {
         if (bands_.empty()) return;
         SharedRows rows{out_.film, ambient, {}, bands_, why};
-        for (auto& left : stand_ins_->throughput_left()) rows.throughput_left.push_back(&left);
+        // At the end the throughput left already stands in (finish_automatic): not sent.
+        if (why != RowExchange::kEnd)
+            for (auto& left : stand_ins_->throughput_left()) rows.throughput_left.push_back(&left);
         group_.share_rows(rows);
     }
     void share_with_other_processes(RowExchange why, std::vector<double>& ambient) {
@@ -550,6 +552,7 @@ RunResult PlanRun::finish() {
     out_.render_seconds = clock_();
     out_.end_seconds = std::max(0.0, out_.render_seconds - end_start);
     out_.render_cpu_seconds = process_cpu_seconds() - cpu_at_start_;
+    stand_ins_->release();
     out_.render_thread_seconds = out_.render_seconds * tbb::this_task_arena::max_concurrency();
     // After the render's wall and CPU time are taken: this is not part of the render.
     if (s_.time_strided_preview && out_.staged && !out_.preview.empty() && !budget_.budgeted())
@@ -657,7 +660,7 @@ double PlanRun::time_budgeted_end() const {
     std::array<double, 3> seconds{};
     for (double& t : seconds) {
         AmbientStandIns probe(n, stand_ins_->av(), true);
-        for (std::vector<float>& left : probe.throughput_left()) left.assign(3 * n, 1.0f / 1024);
+        probe.leave_everywhere(1.0f / 1024);
         std::array<Vec3, kComponentCount> ambient{};
         std::vector<std::string> notes;
         const auto start = Clock::now();

@@ -96,7 +96,8 @@ TEST(AmbientStandIn, MeasuredFromTheComponentsOwnRaysWhereSomeRan) {
 // The end of a render reads the film once for every component (in parallel, over fixed chunks)
 // and adds every component's stand-in in one pass: each component's av is what its executed
 // rays found over their throughput, and each pixel's stand-in is the sum over components of
-// av x its throughput left, in component order, as one addition per component would give it.
+// av x its throughput left, in component order, as one addition per component would give it;
+// a component none of whose rays were left gets no stand-in and no note.
 TEST(AmbientStandIn, EveryComponentLeftStandsInWithItsOwnMeasureInOnePass) {
     const int w = 300, h = 200;  // more pixels than one chunk of the sums
     Film film(w, h);
@@ -113,11 +114,21 @@ TEST(AmbientStandIn, EveryComponentLeftStandsInWithItsOwnMeasureInOnePass) {
     // Components 1 and 3 measured (their rays ran), 4 left but never run (the mean stands in),
     // the others with nothing left.
     for (size_t c : {size_t{1}, size_t{3}}) stats.components[c].beta[0] = stats.components[c].beta[1] = stats.components[c].beta[2] = 2.0 * double(pixels);
-    for (size_t c : {size_t{1}, size_t{3}, size_t{4}}) {
-        std::vector<float>& left = stand_ins.throughput_left()[c];
-        left.assign(3 * pixels, 0.0f);
-        for (size_t i = 0; i < left.size(); ++i) left[i] = float(0.25 * double((i + c) % 4));
-    }
+    // Every component's buffer made before (as a budgeted render does): those no ray was left
+    // in are known by the rays flush() counted, not by their zeros.
+    std::array<bool, kComponentCount> every{};
+    every.fill(true);
+    stand_ins.keep(every);
+    std::array<RayBatch, kComponentCount> bins;
+    for (size_t c : {size_t{1}, size_t{3}, size_t{4}})
+        for (size_t p = 0; p < pixels; ++p) {
+            RayRecord r;
+            r.pixel = static_cast<uint32_t>(p);
+            r.beta = Vec3{0.25 * double((3 * p + c) % 4), 0.25 * double((3 * p + 1 + c) % 4), 0.25 * double((3 * p + 2 + c) % 4)};
+            if (p % 7 != 0) bins[c].push(r);  // some pixels with nothing left
+        }
+    std::array<size_t, kComponentCount> left_count{};
+    stand_ins.flush(bins, left_count);
     const std::array<std::vector<float>, kComponentCount> left = stand_ins.throughput_left();
     std::array<Vec3, kComponentCount> av{};
     std::vector<std::string> notes;
@@ -143,7 +154,10 @@ TEST(AmbientStandIn, EveryComponentLeftStandsInWithItsOwnMeasureInOnePass) {
         for (size_t c : {size_t{1}, size_t{3}, size_t{4}}) expected += (k == 0 ? av[c].x : k == 1 ? av[c].y : av[c].z) * left[c][i];
         ASSERT_EQ(ambient[i], expected) << "value " << i;
     }
-    for (const std::vector<float>& l : stand_ins.throughput_left()) EXPECT_TRUE(l.empty());
+    // Kept until the render's clock stopped, then freed.
+    EXPECT_EQ(stand_ins.kept_bytes(), kComponentCount * 3 * pixels * sizeof(float));
+    stand_ins.release();
+    EXPECT_EQ(stand_ins.kept_bytes(), 0u);
 }
 
 // A budgeted render makes the throughput buffers of the components its crex reads before its
