@@ -61,8 +61,9 @@ uint64_t samples_in(const SamplePass& pass, const SampleRanges& ranges, int widt
 
 /// Under a time budget, camera samples are scheduled work (issue 15): the part of `pass` whose
 /// predicted time fits in `remaining` seconds at `seconds_per_sample`: the whole pass, the band
-/// of its first rows predicted to take 3/4 of `remaining` (`samples` recounted; the caller
-/// admits the next band on a fresh measurement), or nullopt when not one row fits.
+/// of its first rows whose samples are predicted to take 3/4 of `remaining` (`samples`
+/// recounted; the caller admits the next band on a fresh measurement), its first row with
+/// samples alone when that row ends nearer the budget than stopping would, else nullopt.
 std::optional<SamplePass> pass_within(const SamplePass& pass, const SampleRanges& ranges, int width, double seconds_per_sample,
                                       double remaining);
 

@@ -160,5 +160,43 @@ TEST(SamplePasses, WithoutRowsLeavesOutExactlyTheFinalRows) {
     EXPECT_EQ(planned, samples);
 }
 
+// Under a budget a pass is cut to the band of rows its samples fit (3/4 of the time left). A
+// selective pass's first rows may ask for no sample of it: they cost nothing and go with the
+// band, which ends at rows that do (the band used to be sized by the mean row, and a band of
+// empty rows ended the stage with a fifth of a 0.5 s budget left).
+TEST(PassWithin, RowsWithoutSamplesGoWithTheBandAndDoNotEndTheStage) {
+    const int w = 4, h = 10;
+    SampleRanges ranges{0, 0, std::vector<uint32_t>(w * h, 0), std::vector<uint32_t>(w * h, 0)};
+    for (size_t p = 6 * w; p < static_cast<size_t>(w * h); ++p) ranges.end_of[p] = 2;  // rows 6-9: samples 0 and 1
+    const SamplePass pass{0, 2, 0, h, samples_in({0, 2, 0, h, 0}, ranges, w)};
+    ASSERT_EQ(pass.samples, 32u);
+    // 1 s a sample, 12 s left: 9 samples fit in 3/4 of it, so row 6 (8 samples) and not row 7.
+    const auto band = pass_within(pass, ranges, w, 1.0, 12.0);
+    ASSERT_TRUE(band.has_value());
+    EXPECT_EQ(band->row_begin, 0);
+    EXPECT_EQ(band->row_end, 7);
+    EXPECT_EQ(band->samples, 8u);
+    EXPECT_EQ(band->samples, samples_in(*band, ranges, w));
+    // Time for all of it: the pass whole.
+    EXPECT_EQ(pass_within(pass, ranges, w, 1.0, 100.0)->row_end, h);
+}
+
+// When not one row fits in 3/4 of the time left, the first row with samples still runs if its
+// end lands nearer the budget than stopping now would: the last band's granularity costs at
+// most half a row either way.
+TEST(PassWithin, ARowTooLongRunsOnlyWhenItEndsNearerTheBudgetThanStopping) {
+    const int w = 8, h = 3;
+    const SampleRanges ranges{0, 1, {}, {}};
+    const SamplePass pass{0, 1, 0, h, 24};
+    // A row takes 8 s. 5 s left: past the budget by 3 s against stopping 5 s early: it runs.
+    const auto ran = pass_within(pass, ranges, w, 1.0, 5.0);
+    ASSERT_TRUE(ran.has_value());
+    EXPECT_EQ(ran->row_end - ran->row_begin, 1);
+    EXPECT_EQ(ran->samples, 8u);
+    EXPECT_TRUE(pass_within(pass, ranges, w, 1.0, 4.0).has_value());   // 4 s over against 4 s early
+    EXPECT_FALSE(pass_within(pass, ranges, w, 1.0, 3.9).has_value());  // 4.1 s over against 3.9 s early
+    EXPECT_FALSE(pass_within(pass, ranges, w, 1.0, 0.0).has_value());
+}
+
 }  // namespace
 }  // namespace crex
