@@ -55,7 +55,7 @@ run_tests() {
   # minutes), each a sweep whose code paths the faster tests already put through them: every
   # command of the docs, 100 random crex strings through the tool (crex_check_fuzzer does that
   # under the sanitizers, `tools/dev.sh fuzz`), and two convergence curves of the irradiance cache.
-  local SANITIZER_SKIPS='^(Docs\.EveryCommandInTheDocsRuns|CrexCheckCli\.RandomArgumentsExitZeroOrOne|IrradianceCache\.ConvergesToPathTracingWithTheSameBouncesAsAaFalls|IrradianceCache\.OnTheCornellBoxItApproachesPathTracedGoldAsAaFalls)$'
+  local sanitizer_skips='^(Docs\.EveryCommandInTheDocsRuns|CrexCheckCli\.RandomArgumentsExitZeroOrOne|IrradianceCache\.ConvergesToPathTracingWithTheSameBouncesAsAaFalls|IrradianceCache\.OnTheCornellBoxItApproachesPathTracedGoldAsAaFalls)$'
   # intercept_tls_get_addr=0: the leak check at exit walks the dynamic TLS of the dlopen'd
   # image plugin (libcrex_oiio.so) and LSan's tracer crashed there in about one run in five
   # ("Tracer caught signal 11", as in google/sanitizers#1353); without the interception,
@@ -66,7 +66,7 @@ run_tests() {
   (cd build/asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0:new_delete_type_mismatch=0 \
       LSAN_OPTIONS=suppressions="$ROOT/tools/lsan.supp" \
       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      ctest --output-on-failure -j "$JOBS" -L '^(unit|diag|cli|numerics)$' -E "$SANITIZER_SKIPS")
+      ctest --output-on-failure -j "$JOBS" -L '^(unit|diag|cli|numerics)$' -E "$sanitizer_skips")
 }
 
 run_demo() {
