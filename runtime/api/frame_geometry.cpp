@@ -144,6 +144,9 @@ std::vector<PixelTaps> previous_taps(const FrameGeometry& previous, const FrameG
                     const double w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty);
                     if (!(w > 1e-6)) continue;
                     every_tap = r.saw_shape(px, py, current.shape[p]) && interior(previous, px, py);
+                    // A tap off the frame (a point within half a pixel of its border) has no
+                    // pixel to read: its index would fall before or past the frame's arrays.
+                    if (!every_tap) break;
                     const int32_t q = py * previous.width + px;
                     const double d = r.depth(previous.point[static_cast<size_t>(q)]);
                     taps.pixel[k] = q;

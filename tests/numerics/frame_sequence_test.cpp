@@ -294,6 +294,42 @@ TEST(FrameFlicker, OneCameraTwiceIsThePixelwiseDifference) {
     EXPECT_EQ(frame_flicker(g, a, g, a, rs.embree->origin_offset())->difference, 0.0);
 }
 
+// A point within half a pixel of the previous frame's border has taps off that frame. Its
+// first tap off the top row read the pixel array at index -1 (a crash about one walk in 60
+// on the room turn at 320x240, where the turn brings points in over the border; under the
+// sanitizers, a read before the array). It gets no taps; every other pixel keeps its own.
+TEST(FrameReuse, APointAtThePreviousFramesBorderHasNoTapsAndReadsNothingOffIt) {
+    const Scene scene = *builtin_scene("cornell");
+    const RenderScene rs(scene);
+    const int w = 16, h = 12;
+    const FrameGeometry previous = frame_geometry(rs, w, h);
+    const CameraRays rays(previous.camera, w, h, rs.embree->origin_offset());
+    const size_t centre = static_cast<size_t>(h / 2) * w + w / 2;
+    ASSERT_GE(previous.shape[centre], 0);
+    for (int dy = -1; dy <= 1; ++dy)  // inside its shape, so its taps are looked for
+        for (int dx = -1; dx <= 1; ++dx) ASSERT_EQ(previous.shape[centre + static_cast<size_t>(dy * w + dx)], previous.shape[centre]);
+    // Points on the previous camera's rays through a quarter pixel inside each corner: every
+    // one of them has a tap off the frame (x or y one pixel beyond it).
+    for (auto [fx, fy] : {std::pair{w - 0.25, 0.25}, std::pair{0.25, 0.25}, std::pair{0.25, h - 0.25}, std::pair{w - 0.25, h - 0.25}}) {
+        FrameGeometry current = previous;
+        Vec3 origin, dir;
+        ASSERT_TRUE(rays.generate(fx, fy, origin, dir));
+        current.point[centre] = origin + normalize_or_zero(dir) * 1.0;
+        const std::vector<PixelTaps> taps = previous_taps(previous, current, rs.embree->origin_offset());
+        ASSERT_EQ(taps.size(), previous.point.size());
+        for (size_t i = 0; i < 4; ++i) EXPECT_EQ(taps[centre].pixel[i], -1) << fx << "," << fy;
+        // The same camera twice: each other pixel inside a shape takes itself, whole.
+        size_t own = 0;
+        for (size_t p = 0; p < taps.size(); ++p)
+            if (p != centre && taps[p].pixel[0] >= 0) {
+                EXPECT_EQ(taps[p].pixel[0], static_cast<int32_t>(p));
+                EXPECT_FLOAT_EQ(taps[p].weight[0], 1.0f);
+                ++own;
+            }
+        EXPECT_GT(own, static_cast<size_t>(w * h / 4));
+    }
+}
+
 // Under mpirun each process renders a run of consecutive frames: every frame once, in order,
 // shares of nearly equal length (tests/mpi: the frames equal one process's).
 TEST(FrameShare, EveryFrameOnceInRunsOfNearlyEqualLength) {
