@@ -2,7 +2,8 @@
 /// Filtered texture lookups through OpenImageIO's TextureSystem (MIP-mapped, anisotropic,
 /// tile-cached within a memory limit), behind an interface so that the rest of crex does not
 /// link OpenImageIO: the image plugin (libcrex_oiio.so) makes the backend, and only a scene
-/// with textures loads it. One backend, so one texture cache, per render.
+/// with textures loads it. One backend per render; their images share one texture cache for the
+/// process (texture_backend_oiio.cpp says why), whose limit is the largest any render asked for.
 #pragma once
 
 #include <cstddef>

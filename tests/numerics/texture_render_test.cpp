@@ -110,6 +110,28 @@ TEST(TexturedPlane, UnderAWhiteSkyIsTheFilteredTextureTimesTheIrradiance) {
             }
 }
 
+// A walk's frames are renders one after another in one process. Each render used to make and
+// destroy a texture cache of its own, which crashed walks over textured scenes every few frames
+// (inside OpenImageIO: the threads kept per-thread state of the cache they had used). Now
+// their images share one cache for the process: the image is read once, later renders find its
+// texels there and give the same image.
+TEST(TextureCache, RendersOneAfterAnotherShareOneCacheAndReadEachImageOnce) {
+    const Scene s = plane_under_sky(texture(write_texture("read_once.exr", 8, 8, quadrant_texels())));
+    RunResult first = testing::render_crex(s, "D", 16, 1);
+    ASSERT_TRUE(first.textures.has_value());
+    EXPECT_GT(first.textures->cache.bytes_read, 0u);
+    EXPECT_EQ(first.textures->cache.files, 1u);
+    const std::vector<float> image = first.image();
+    for (int frame = 1; frame < 12; ++frame) {
+        RunResult r = testing::render_crex(s, "D", 16, 1);
+        ASSERT_TRUE(r.textures.has_value());
+        EXPECT_GT(r.textures->cache.queries, 0u) << frame;
+        EXPECT_EQ(r.textures->cache.bytes_read, 0u) << frame;  // the texels were in the cache already
+        EXPECT_EQ(r.textures->cache.files, 1u);
+        ASSERT_EQ(r.image(), image) << frame;
+    }
+}
+
 TEST(TexturedPlane, TheIrradianceCacheAppliesTheTextureAtLookup) {
     // Records hold irradiance; the texture multiplies it where each query is. A cache that
     // stored albedo times irradiance would blur the texture over each record's radius.
