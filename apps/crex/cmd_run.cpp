@@ -34,7 +34,7 @@ Runner add_run_command(CLI::App& app) {
                                                     "a pipeline's output { components true }");
     cmd->add_option("--threads", opt->threads, "Worker threads (default: all cores)")->check(whole_number_in(1, 1024));
     CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Seed of every random number (0 to 2^53)")->capture_default_str()->check(seed_value());
-    cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit on a surface the camera sees, directly or through mirrors and glass (deeper hits take one)")->capture_default_str()->check(whole_number_in(1, 1024));
+    CLI::Option* shadow_rays = cmd->add_option("--shadow-rays", opt->shadow_rays, "Shadow rays per hit on a surface the camera sees, directly or through mirrors and glass (deeper hits take one); a pipeline's `preselective { shadow_rays N }` unless given")->capture_default_str()->check(whole_number_in(1, 1024));
     cmd->add_option("--media-samples", opt->media_samples, "Single-scatter samples along each camera ray, in a scene with a medium "
                                                            "(a pipeline's media_samples varies it per pixel)")
         ->capture_default_str()
@@ -219,12 +219,13 @@ Examples:
                                                     each frame inherits up to 8 samples from the one before
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
-    return [opt, crex, size, spp, seed, lw, max_depth, aa, ab, ad] {
+    return [opt, crex, size, spp, seed, lw, max_depth, aa, ab, ad, shadow_rays] {
         RunFlags o = *opt;
         o.crex_given = crex->count() > 0;
         o.aa_given = aa->count() > 0;
         o.ab_given = ab->count() > 0;
         o.ad_given = ad->count() > 0;
+        o.shadow_rays_given = shadow_rays->count() > 0;
         o.seed_given = seed->count() > 0;
         o.lw_given = lw->count() > 0;
         o.max_depth_given = max_depth->count() > 0;

@@ -106,7 +106,7 @@ std::optional<int> make_request(const RunFlags& f, bool say, Request& r) {
     if (f.preview_stride) o.preview_stride = f.preview_stride;
     o.budget_floor_ok = f.budget_floor == "ok";
     o.saves_profile = !f.profile_out.empty();
-    o.shadow_rays = f.shadow_rays;
+    if (f.shadow_rays_given) o.shadow_rays = f.shadow_rays;
     o.media_samples = f.media_samples;
     o.roulette = !f.no_roulette;
     o.clamp = f.clamp;

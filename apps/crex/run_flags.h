@@ -80,7 +80,7 @@ struct RunFlags {
     std::string video;                        ///< --video FILE: the sequence as a video (ffmpeg)
     // Which flags were given (they override the pipeline's settings).
     bool size_given = false, spp_given = false, seed_given = false, lw_given = false, max_depth_given = false,
-         aa_given = false, ab_given = false, ad_given = false;
+         aa_given = false, ab_given = false, ad_given = false, shadow_rays_given = false;
 };
 
 }  // namespace crex::app

@@ -32,6 +32,7 @@ constexpr std::array kRules = {
     SettingRule{"", "reference", S::kString},
     SettingRule{"preselective", "crex", S::kCrex},
     SettingRule{"preselective", "spp", S::kInteger, 1, 1 << 20},  // --spp
+    SettingRule{"preselective", "shadow_rays", S::kInteger, 1, 1024},  // --shadow-rays
     SettingRule{"selective", "crex", S::kCrex},
     SettingRule{"selective", "spp", S::kInteger, 1, 1 << 20},
     SettingRule{"selective", "rounds", S::kInteger, 1, 64},  // the cyclic process; --rounds

@@ -38,6 +38,8 @@ struct PlanSettings {
     std::optional<uint64_t> seed;
     std::optional<double> lw, av, aa;
     std::optional<uint32_t> max_depth, ab, ad;
+    /// `preselective { shadow_rays N }`: shadow rays per hit where `vary shadow_rays` does not say
+    std::optional<uint32_t> shadow_rays;
     std::optional<PlanBudget> budget;
     std::optional<pipeline::SchedulingPolicy> policy;
     std::string reference;                   ///< "" when none

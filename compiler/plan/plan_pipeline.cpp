@@ -82,6 +82,8 @@ PlanSettings typed_settings(const pipeline::ResolvedPipeline& p) {
     if (auto name = text("policy"); !name.empty()) s.policy = pipeline::scheduling_policy_from_name(name);
     s.reference = text("reference");
     if (auto it = p.preselective.settings.find("spp"); it != p.preselective.settings.end()) s.spp = static_cast<uint32_t>(it->second.number);
+    if (auto it = p.preselective.settings.find("shadow_rays"); it != p.preselective.settings.end())
+        s.shadow_rays = static_cast<uint32_t>(it->second.number);
     if (auto it = p.selective.settings.find("spp"); it != p.selective.settings.end())
         s.selective_spp = static_cast<uint32_t>(it->second.number);
     if (auto it = p.selective.settings.find("rounds"); it != p.selective.settings.end()) s.rounds = static_cast<uint32_t>(it->second.number);
@@ -365,6 +367,7 @@ nlohmann::json plan_settings_to_json(const PlanSettings& s) {
     nlohmann::json j = nlohmann::json::object();
     if (s.width && s.height) j["image"] = {{"width", *s.width}, {"height", *s.height}};
     j["spp"] = s.spp;
+    if (s.shadow_rays) j["shadow_rays"] = *s.shadow_rays;
     if (s.selective_spp) j["selective_spp"] = *s.selective_spp;
     if (s.rounds) j["rounds"] = *s.rounds;
     if (s.seed) j["seed"] = *s.seed;

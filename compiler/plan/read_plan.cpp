@@ -191,7 +191,7 @@ public:
     bool read_settings(const json& s, PlanSettings& out) {
         const std::string ptr = "/settings";
         if (!s.is_object()) return fail(ptr, "expected an object of settings");
-        static const std::set<std::string> known = {"image", "spp", "selective_spp", "rounds", "seed", "lw", "av", "aa",
+        static const std::set<std::string> known = {"image", "spp", "shadow_rays", "selective_spp", "rounds", "seed", "lw", "av", "aa",
                                                     "max_depth", "ab", "ad", "budget", "policy", "reference"};
         for (const auto& [key, _] : s.items())
             if (!known.count(key)) return fail(ptr + "/" + escape_pointer_token(key), fmt::format("unknown setting '{}'", key));
@@ -207,6 +207,10 @@ public:
         if (s.contains("spp")) {
             if (!ranged(s, ptr, "spp", "preselective", "spp", v)) return false;
             out.spp = static_cast<uint32_t>(v);
+        }
+        if (s.contains("shadow_rays")) {
+            if (!ranged(s, ptr, "shadow_rays", "preselective", "shadow_rays", v)) return false;
+            out.shadow_rays = static_cast<uint32_t>(v);
         }
         if (s.contains("selective_spp")) {
             if (!ranged(s, ptr, "selective_spp", "selective", "spp", v)) return false;

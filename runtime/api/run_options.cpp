@@ -102,7 +102,7 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
     rs.ambient = {ambient.value, ambient.value, ambient.value};
     rs.ambient_auto = ambient.automatic;
     ShadeParams& shade = rs.executor.shade;
-    shade.shadow_rays = o.shadow_rays;
+    shade.shadow_rays = o.shadow_rays.value_or(ps.shadow_rays.value_or(1));
     shade.media_samples = o.media_samples;
     shade.weight_limit = o.lw.value_or(ps.lw.value_or(1e-3));
     shade.max_depth = o.max_depth.value_or(ps.max_depth.value_or(256));

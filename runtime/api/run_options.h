@@ -58,6 +58,7 @@ struct RunOptions {
     bool no_budget = false;                     ///< the plan's budget ignored too
     std::optional<pipeline::SchedulingPolicy> policy;  ///< the plan's, else RunSettings::policy's default
     std::optional<uint32_t> rounds;             ///< the plan's, else 1
+    std::optional<uint32_t> shadow_rays;        ///< the plan's `preselective { shadow_rays N }`, else 1
     /// The preview at every k-th pixel; unset: every pixel, or under a budget coarse to fine
     /// within a share of it (runtime/driver/preview_levels.h).
     std::optional<uint32_t> preview_stride;
@@ -67,7 +68,6 @@ struct RunOptions {
     /// times what a strided preview does per pixel, for the floor (RunSettings::time_strided_preview).
     bool saves_profile = false;
     // Settings a plan does not have.
-    uint32_t shadow_rays = 1;
     uint32_t media_samples = 1;
     bool roulette = true;
     double clamp = 0;                           ///< indirect contributions at most this (0: off; biased)

@@ -374,6 +374,35 @@ TEST_F(CrexRunCli, APipelinesAdSetsTheRecordsHemisphereRaysUnlessTheCommandLineD
     EXPECT_EQ(hemisphere_rays_per_record({"--ad", "48"}), 48);
 }
 
+TEST_F(CrexRunCli, APipelinesShadowRaysSetTheCameraHitsLightSamplesUnlessTheCommandLineDoes) {
+    auto pipe = [&](const std::string& name, const std::string& setting) {
+        std::ofstream(path(name)) << "pipeline sr_set {\n  preselective { crex \"(TTMRSGD)*\" spp 1" << setting << " }\n"
+                                     "  guidance { m = constant(1) }\n  selective { vary ic_radius 0.5 .. 0.3 by m }\n}\n";
+        return path(name);
+    };
+    const std::string six = pipe("sr6.pipe", " shadow_rays 6"), none = pipe("sr.pipe", "");
+    auto camera_shadow_rays = [&](const std::string& file, std::vector<std::string> extra) {
+        std::vector<std::string> args = {"run", file, "--size", "16x16", "-o", path("sr.exr"), "--format", "json", "-q"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        auto r = crex_cli(args);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(r.out)["components"]["camera"]["shadow_rays"].get<double>();
+    };
+    // Light samples a light behind the surface does not trace, so the counts are near, not
+    // exactly, proportional to the rays a hit asks for.
+    const double one = camera_shadow_rays(none, {}), two = camera_shadow_rays(six, {"--shadow-rays", "2"});
+    EXPECT_GT(one, 0);
+    EXPECT_EQ(camera_shadow_rays(none, {"--shadow-rays", "1"}), one);  // the default is one
+    EXPECT_NEAR(camera_shadow_rays(six, {}) / one, 6.0, 0.3);
+    EXPECT_NEAR(two / one, 2.0, 0.1);
+    // Out of range: a located error before anything renders.
+    std::ofstream(path("sr0.pipe")) << "pipeline sr0 {\n  preselective { crex \"(TTMRSGD)*\" spp 1 shadow_rays 0 }\n}\n";
+    auto bad = crex_cli({"check", path("sr0.pipe")});
+    EXPECT_EQ(bad.exit_code, 1) << bad.err;
+    EXPECT_NE(bad.err.find("sr0.pipe:2:"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("E203"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace crex
 

@@ -91,10 +91,11 @@ TEST(PipelineRegistry, PlanSchemaEnumsAreTheRegistryNames) {
 
 TEST(SettingsTable, RangesMatchTheFlagsOfCrexRun) {
     // The CLI's ranges (apps/crex/cmd_run.cpp): --spp 1..2^20, --lw 0..1, --max-depth 0..65535,
-    // --ab 1..64, --ad 1..65536, --aa 1e-3..1, --ambient 0..1e30.
+    // --ab 1..64, --ad 1..65536, --aa 1e-3..1, --ambient 0..1e30, --shadow-rays 1..1024.
     struct Want { const char* section; const char* name; double lo, hi; };
     for (const Want& w : {Want{"preselective", "spp", 1, 1 << 20}, Want{"", "lw", 0, 1}, Want{"", "max_depth", 0, 65535},
-                          Want{"", "ab", 1, 64}, Want{"", "ad", 1, 65536}, Want{"", "aa", 1e-3, 1}, Want{"", "av", 0, 1e30}}) {
+                          Want{"", "ab", 1, 64}, Want{"", "ad", 1, 65536}, Want{"", "aa", 1e-3, 1}, Want{"", "av", 0, 1e30},
+                          Want{"preselective", "shadow_rays", 1, 1024}}) {
         const SettingRule* r = find_setting_rule(w.section, w.name);
         ASSERT_NE(r, nullptr) << w.name;
         EXPECT_EQ(r->lo, w.lo) << w.name;
