@@ -1,0 +1,138 @@
+"""How much any per-pixel allocation of samples could gain over uniform rendering, measured.
+
+  /usr/bin/python3 bench/thesis/allocation_bound.py --scene SCENE [--size 960x540] [--seeds 8]
+      [--weights MAP.exr] [--reference REF.exr] [--out DIR] -- [crex run options, e.g.
+      --ic --aa 0.3 --shadow-rays 4 --ad 512 --spp 4]
+
+Renders one frame K times with `crex run` and the options after `--`, seeds 1..K, and takes
+each pixel's standard deviation sigma_i over the K images as a viewer sees them (the tone map of
+docs/pipeline-language.md, through the mean image's exposure). A pixel given n_i samples
+instead of n has error sigma_i sqrt(n / n_i). Selective rendering moves samples between pixels
+at a fixed total; the best it can do for a metric is the allocation that minimises it (an
+oracle that knows every sigma_i and pays nothing to find them), and this script prints how much
+less time that oracle needs than uniform rendering for the same error:
+
+  mean |error| (FLIP, flicker: both a mean over pixels of a per-pixel error that grows with
+                the noise): n_i ~ sigma_i^(2/3), time ratio (mean sigma / mean(sigma^(2/3))^(3/2))^2
+  RMSE:        n_i ~ sigma_i, time ratio mean(sigma^2) / mean(sigma)^2
+  weighted by a map w (--weights: a task or saliency map, attention-weighted FLIP): the same
+                with w_i sigma_i in place of sigma_i.
+
+Any pipeline that only moves samples between pixels stays under these figures; one that changes
+what a sample costs per pixel, or the cache's bias, is not bounded by them. With --reference
+(a converged EXR of the whole frame, or a windowed one of bench/refs/, read through its
+`crex:windows` with `oiiotool`) it also prints how much of one render's error is noise: mean |image - reference| against the mean
+|error| its sigma alone predicts (sqrt(2/pi) sigma). K seeds estimate sigma_i to about
+1/sqrt(2(K-1)); that spread widens the sigma distribution, so the printed ratios err high.
+
+Needs numpy and crex's Python module (built beside the tool, build/release/python).
+"""
+import os
+import subprocess
+import sys
+
+from crex_tool import ROOT, crex, parser
+
+np = crexpy = None  # numpy and crex's module, imported once the command line is read (--help needs neither)
+
+
+def import_modules():
+    global np, crexpy
+    sys.path.insert(0, os.path.join(ROOT, "build/release/python"))
+    try:
+        import numpy
+        import crex
+    except ImportError as e:  # the module is built for Debian's /usr/bin/python3
+        sys.exit(f"allocation_bound.py needs numpy and crex's Python module ({e}); run it with /usr/bin/python3")
+    np, crexpy = numpy, crex
+
+
+def display(rgb, exposure):
+    """docs/pipeline-language.md's tone map: exposure, Reinhard, the sRGB curve."""
+    v = np.maximum(np.nan_to_num(rgb) * exposure, 0.0)
+    v = v / (1 + v)
+    return np.where(v <= 0.0031308, 12.92 * v, 1.055 * np.power(v, 1 / 2.4) - 0.055)
+
+
+def exposure_of(rgb):
+    y = 0.2126 * rgb[..., 0] + 0.7152 * rgb[..., 1] + 0.0722 * rgb[..., 2]
+    y = y[np.isfinite(y) & (y > 0)]
+    return 0.18 / max(float(np.exp(np.mean(np.log(1e-6 + y)))) if y.size else 1.0, 1e-12)
+
+
+def ratios(sigma):
+    """(mean-|error| ratio, RMSE ratio) of the oracle allocation over uniform, in time."""
+    s = np.maximum(sigma.ravel(), 0.0)
+    if not s.any():
+        return 1.0, 1.0
+    mean_abs = (s.mean() / np.mean(s ** (2 / 3)) ** 1.5) ** 2
+    rms = np.mean(s ** 2) / s.mean() ** 2
+    return float(mean_abs), float(rms)
+
+
+def main():
+    ap = parser(__doc__)
+    ap.add_argument("--scene", required=True)
+    ap.add_argument("--size", default="960x540")
+    ap.add_argument("--seeds", type=int, default=8)
+    ap.add_argument("--weights", help="a map (EXR, first channel) to weight each pixel's error by")
+    ap.add_argument("--reference", help="a converged EXR of the same frame (black pixels skipped)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out/allocation_bound"))
+    ap.add_argument("run", nargs="*", help="crex run options after --")
+    a = ap.parse_args()
+    import_modules()
+    os.makedirs(a.out, exist_ok=True)
+    images = []
+    for k in range(1, a.seeds + 1):
+        path = os.path.join(a.out, f"seed{k}.exr")
+        crex(a.crex, ["run", "--scene", a.scene, "--size", a.size, "--seed", str(k), "-o", path] + a.run)
+        images.append(crexpy.read_image(path).astype(np.float64))
+    stack = np.stack(images)
+    exposure = exposure_of(stack.mean(axis=0))
+    shown = display(stack, exposure)
+    sigma = shown.std(axis=0, ddof=1).mean(axis=2)  # per pixel, the mean of the channels'
+    mean_abs, rms = ratios(sigma)
+    print(f"{a.scene} {a.size}, {a.seeds} seeds of `crex run {' '.join(a.run)}`")
+    print(f"  per-pixel display sigma: mean {sigma.mean():.5f}, median {np.median(sigma):.5f}, "
+          f"90th percentile {np.percentile(sigma, 90):.5f}, 99th {np.percentile(sigma, 99):.5f}")
+    print(f"  oracle allocation over uniform, time at equal error: mean |error| {mean_abs:.3f}x, RMSE {rms:.3f}x")
+    if a.weights:
+        w = crexpy.read_image(a.weights).astype(np.float64)[..., 0]
+        if w.shape != sigma.shape:
+            sys.exit(f"--weights {a.weights}: {w.shape[1]}x{w.shape[0]}, the frame is {a.size}")
+        wm, wr = ratios(np.clip(w, 0, None) * sigma)
+        print(f"  weighted by {os.path.basename(a.weights)}: mean |error| {wm:.3f}x, RMSE {wr:.3f}x")
+    if a.reference:
+        ref, covered = reference_on_frame(a.reference, sigma.shape)
+        err = np.abs(shown - display(ref, exposure)).mean(axis=3)[:, covered].mean()
+        predicted = np.sqrt(2 / np.pi) * sigma[covered].mean()
+        print(f"  on the reference's {int(covered.sum())} pixels: mean |image - reference| {err:.5f}, "
+              f"noise alone predicts {predicted:.5f} ({100 * predicted / err:.0f} %)")
+        wm, wr = ratios(sigma[covered])
+        print(f"  the oracle on those pixels alone: mean |error| {wm:.3f}x, RMSE {wr:.3f}x")
+
+
+def reference_on_frame(path, shape):
+    """The reference's pixels placed in the frame, and which pixels it covers: a whole frame
+    as it is, a windowed one (bench/refs/) through its `crex:windows` (X,Y,W,H;...), the
+    windows side by side in the file."""
+    ref = crexpy.read_image(path).astype(np.float64)
+    if ref.shape[:2] == shape:
+        return ref, np.ones(shape, dtype=bool)
+    info = subprocess.run(["oiiotool", "--info", "-v", path], capture_output=True, text=True).stdout
+    line = next((l for l in info.splitlines() if "crex:windows:" in l), None)
+    if line is None:
+        sys.exit(f"--reference {path}: neither the frame's size nor a windowed reference (no crex:windows)")
+    frame = np.zeros(shape + (3,))
+    covered = np.zeros(shape, dtype=bool)
+    column = 0
+    for window in line.split("crex:windows:", 1)[1].strip().strip('"').split(";"):
+        x, y, w, h = (int(v) for v in window.split(","))
+        frame[y:y + h, x:x + w] = ref[:h, column:column + w]
+        covered[y:y + h, x:x + w] = True
+        column += w
+    return frame, covered
+
+
+if __name__ == "__main__":
+    main()
