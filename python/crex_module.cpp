@@ -174,6 +174,20 @@ py::array_t<float> read_image_file(const std::string& path) {
     return image_array(rgb, w, h);
 }
 
+// The tone map of spec/pipeline.md §7 that the metrics and flicker see through, for scripts
+// that must see an image as they do (a stack of images through one exposure, for one).
+double display_exposure_of(const py::array_t<float, py::array::c_style | py::array::forcecast>& image) {
+    int w = 0, h = 0;
+    return display_exposure(rgb_of(image, w, h));
+}
+
+py::array_t<float> to_display_array(const py::array_t<float, py::array::c_style | py::array::forcecast>& image, double exposure) {
+    if (image.ndim() < 1 || image.shape(image.ndim() - 1) != 3) throw std::invalid_argument("to_display takes an array whose last axis is RGB (size 3)");
+    py::array_t<float> out(std::vector<py::ssize_t>(image.shape(), image.shape() + image.ndim()));
+    to_display(image.data(), out.mutable_data(), static_cast<size_t>(image.size()), exposure);
+    return out;
+}
+
 // --- Running ------------------------------------------------------------------------------
 
 // Progress and Ctrl-C while the render runs without the GIL: every few milliseconds the GIL is
@@ -418,4 +432,8 @@ PYBIND11_MODULE(_crex, m) {
           py::arg("options") = py::dict(), "Renders a plan (see crex.run).");
     m.def("compare", &crex::python::compare, py::arg("test"), py::arg("reference"), py::arg("metrics"), "Image metrics of two linear images.");
     m.def("read_image", &read_image_file, py::arg("path"), "An image file as a float32 array (height, width, 3), linear.");
+    m.def("display_exposure", &display_exposure_of, py::arg("image"),
+          "The tone map's exposure of a linear image (height, width, 3): 0.18 over its log-average luminance.");
+    m.def("to_display", &to_display_array, py::arg("image"), py::arg("exposure"),
+          "Linear RGB (any shape ending in 3) to display values in [0, 1] through `exposure`: Reinhard, then the sRGB curve.");
 }

@@ -47,19 +47,6 @@ def import_modules():
     np, crexpy = numpy, crex
 
 
-def display(rgb, exposure):
-    """docs/pipeline-language.md's tone map: exposure, Reinhard, the sRGB curve."""
-    v = np.maximum(np.nan_to_num(rgb) * exposure, 0.0)
-    v = v / (1 + v)
-    return np.where(v <= 0.0031308, 12.92 * v, 1.055 * np.power(v, 1 / 2.4) - 0.055)
-
-
-def exposure_of(rgb):
-    y = 0.2126 * rgb[..., 0] + 0.7152 * rgb[..., 1] + 0.0722 * rgb[..., 2]
-    y = y[np.isfinite(y) & (y > 0)]
-    return 0.18 / max(float(np.exp(np.mean(np.log(1e-6 + y)))) if y.size else 1.0, 1e-12)
-
-
 def ratios(sigma):
     """(mean-|error| ratio, RMSE ratio) of the oracle allocation over uniform, in time."""
     s = np.maximum(sigma.ravel(), 0.0)
@@ -88,8 +75,8 @@ def main():
         crex(a.crex, ["run", "--scene", a.scene, "--size", a.size, "--seed", str(k), "-o", path] + a.run)
         images.append(crexpy.read_image(path).astype(np.float64))
     stack = np.stack(images)
-    exposure = exposure_of(stack.mean(axis=0))
-    shown = display(stack, exposure)
+    exposure = crexpy.display_exposure(stack.mean(axis=0))
+    shown = crexpy.to_display(stack, exposure)
     sigma = shown.std(axis=0, ddof=1).mean(axis=2)  # per pixel, the mean of the channels'
     mean_abs, rms = ratios(sigma)
     print(f"{a.scene} {a.size}, {a.seeds} seeds of `crex run {' '.join(a.run)}`")
@@ -104,7 +91,7 @@ def main():
         print(f"  weighted by {os.path.basename(a.weights)}: mean |error| {wm:.3f}x, RMSE {wr:.3f}x")
     if a.reference:
         ref, covered = reference_on_frame(a.reference, sigma.shape)
-        err = np.abs(shown - display(ref, exposure)).mean(axis=3)[:, covered].mean()
+        err = np.abs(shown - crexpy.to_display(ref, exposure)).mean(axis=3)[:, covered].mean()
         predicted = np.sqrt(2 / np.pi) * sigma[covered].mean()
         print(f"  on the reference's {int(covered.sum())} pixels: mean |image - reference| {err:.5f}, "
               f"noise alone predicts {predicted:.5f} ({100 * predicted / err:.0f} %)")

@@ -16,10 +16,11 @@ releases the GIL and stops on Ctrl-C (KeyboardInterrupt), writing nothing.
 """
 
 from . import _crex
-from ._crex import CompileError, CrexError, Diagnostic, InputError, Plan, Scene, check, load_scene, read_image
+from ._crex import (CompileError, CrexError, Diagnostic, InputError, Plan, Scene, check, display_exposure, load_scene, read_image,
+                    to_display)
 
 __all__ = ["CompileError", "CrexError", "Diagnostic", "InputError", "Plan", "RunResult", "Scene", "check", "compare",
-           "compile", "load_scene", "read_image", "run"]
+           "compile", "display_exposure", "load_scene", "read_image", "run", "to_display"]
 
 
 class RunResult:

@@ -152,3 +152,17 @@ def test_inputs_that_cannot_be_read_raise_input_error(tmp_path):
     with pytest.raises(crex.CompileError) as caught:
         crex.load_scene(str(bad))
     assert all(d.file == str(bad) for d in caught.value.diagnostics if d.severity == "error")
+
+
+def test_to_display_is_the_tone_map_of_the_metrics_on_any_stack_of_images():
+    grey = np.full((4, 6, 3), 0.5, dtype=np.float32)
+    exposure = crex.display_exposure(grey)
+    assert exposure == pytest.approx(0.18 / (0.5 + 1e-6), rel=1e-9)  # 0.18 over the log-average luminance
+    v = 0.18 / 1.18  # Reinhard of grey at that exposure, then the sRGB curve
+    expected = 1.055 * v ** (1 / 2.4) - 0.055
+    stack = np.stack([grey, grey * 0, np.full_like(grey, np.nan)])  # (3, 4, 6, 3): the shape is kept
+    shown = crex.to_display(stack, exposure)
+    assert shown.shape == stack.shape and shown.dtype == np.float32
+    assert np.allclose(shown[0], expected, atol=1e-6) and not shown[1].any() and not shown[2].any()
+    with pytest.raises(ValueError):
+        crex.to_display(np.zeros((4, 6, 2), dtype=np.float32), 1.0)

@@ -54,7 +54,7 @@ public:
     const Image* open(const std::string& name, const std::string* bytes, std::string& error) {
         std::lock_guard<std::mutex> lock(mutex_);
         std::string key = name;
-        for (int version = 2; images_.count(key) && bytes && images_.at(key)->bytes != *bytes; ++version) key = fmt_version(name, version);
+        for (int version = 2; images_.count(key) && bytes && images_.at(key)->bytes != *bytes; ++version) key = name + "#" + std::to_string(version);
         if (auto it = images_.find(key); it != images_.end()) return it->second.get();
         auto image = std::make_unique<Image>();
         image->name = OIIO::ustring(key);
@@ -97,7 +97,6 @@ private:
         cache_->attribute("failure_retries", 0);
         system_ = OIIO::TextureSystem::create(false, cache_);
     }
-    static std::string fmt_version(const std::string& name, int version) { return name + "#" + std::to_string(version); }
 
     OIIO::ImageCache* cache_ = nullptr;
     OIIO::TextureSystem* system_ = nullptr;
