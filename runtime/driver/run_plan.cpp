@@ -295,8 +295,10 @@ void PlanRun::start() {
         });
         out_.ic_loaded = load_cache_file(*cache_, s_);
         eo.shade.ic_queries = true;
+        // The preview's answers are kept only where a pixel may ask for them again, finer
+        // (reanswer_preview_queries): a record of every query cost edge_aa's walks 8 % a frame.
         eo.irradiance = executor_hook(answer_queries(), base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance,
-                                      out_.staged ? &preview_answers_ : nullptr);
+                                      out_.staged && may_refine_accuracy(plan_) ? &preview_answers_ : nullptr);
     }
     eo.shade.caustic_irradiance = caustic_lookup_;
     // capict: the branches of the components sub-sampled are tracked from the first camera
@@ -917,6 +919,12 @@ IcSettings plan_cache_settings(const PipelinePlan& plan, IcSettings ics) {
             ics.max_accuracy = std::max({v.from, v.to, ics.accuracy});
         }
     return ics;
+}
+
+bool may_refine_accuracy(const PipelinePlan& plan) {
+    for (const PlanVariable& v : plan.variables)
+        if (v.variable == pipeline::SelectiveVariable::kIcRadius && v.to < v.from) return true;  // a smaller accuracy is finer
+    return false;
 }
 
 uint32_t plan_rounds(const PipelinePlan& plan) { return plan.settings.rounds.value_or(1); }

@@ -57,6 +57,10 @@ RunResult render(const Scene& scene, const sched::Program& program, const RunSet
 /// sizes the index for the coarsest of its values.
 IcSettings plan_cache_settings(const PipelinePlan& plan, IcSettings settings);
 
+/// Can a pixel ask the cache for a finer accuracy than the preview's (`vary ic_radius A .. B`
+/// with B < A)? Only then are the preview's answers kept, to be answered again.
+bool may_refine_accuracy(const PipelinePlan& plan);
+
 /// The plan's rounds of guidance and selective rendering (the cyclic process), at least 1.
 uint32_t plan_rounds(const PipelinePlan& plan);
 

@@ -279,6 +279,24 @@ TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
     EXPECT_NEAR(a, b, 0.05 * b);  // same light, answered more finely
 }
 
+// The preview's cache answers are kept (120 bytes a query: 150 MB of edge_aa's 530 at 960x540)
+// only for a plan whose ic_radius can end finer than it starts; one that cannot renders the same.
+TEST(PipelineRun, OnlyAPlanThatCanRefineTheCacheKeepsThePreviewsAnswers) {
+    Scene scene = load("builtin:cornell_diffuse");
+    auto text = [](const std::string& range) {
+        return "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(1) }\n selective { " + range +
+               " }\n}\n";
+    };
+    EXPECT_TRUE(may_refine_accuracy(plan_for(text("vary ic_radius 0.5 .. 0.1 by c"), scene)));
+    EXPECT_FALSE(may_refine_accuracy(plan_for(text("vary ic_radius 0.15 .. 0.15 by c"), scene)));
+    EXPECT_FALSE(may_refine_accuracy(plan_for(text("vary ic_radius 0.1 .. 0.5 by c"), scene)));
+    EXPECT_FALSE(may_refine_accuracy(plan_for(text("vary spp 1 .. 4 by c"), scene)));
+    RunSettings o = cached_settings(24);
+    auto same = run_plan(scene, plan_for(text("vary ic_radius 0.3 .. 0.3 by c\n vary spp 1 .. 2 by c"), scene), o);
+    EXPECT_EQ(same.ic_reprocessed, 0u);
+    EXPECT_GT(same.ic_preview_records, 0u);
+}
+
 // --uniform max is the pipeline's own gold: the same image as the pipeline whose every map is
 // constant(1) (the thesis protocol's denominator is exactly that pipeline, not another renderer).
 TEST(PipelineRun, UniformMaxIsThePipelineWithEveryMapAtOne) {
