@@ -283,7 +283,9 @@ std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executo
         }
         answer(q, e);
         if (log)
-            for (size_t i = begin; i < end; ++i) log->push_back({rays.get(i), e[i - begin], q[i - begin].accuracy});
+            for (size_t i = begin; i < end; ++i)
+                log->push_back({{rays.ox[i], rays.oy[i], rays.oz[i]}, {rays.dx[i], rays.dy[i], rays.dz[i]}, {rays.br[i], rays.bg[i], rays.bb[i]},
+                                rays.pixel[i], rays.flags[i], rays.path[i], e[i - begin], q[i - begin].accuracy});
     };
 }
 

@@ -826,9 +826,10 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     std::vector<IcQuery> again;
     std::vector<const IcAnswer*> from;
     for (const auto& a : preview_answers_) {
-        uint32_t p = a.query.pixel;
+        uint32_t p = a.pixel;
         if (!(sel.ic_accuracy[p] < a.accuracy - 1e-9) || inherits_its_quality(sel, p)) continue;
-        again.push_back({a.query.origin, normalize_or_zero(a.query.direction), sel.ic_accuracy[p], sel.ic_priority[p], a.query.path});
+        const Vec3 origin{a.origin[0], a.origin[1], a.origin[2]}, direction{a.direction[0], a.direction[1], a.direction[2]};
+        again.push_back({origin, normalize_or_zero(direction), sel.ic_accuracy[p], sel.ic_priority[p], a.path});
         from.push_back(&a);
     }
     // Under a budget, in batches of the most important pixels first, while time is left: a
@@ -855,8 +856,9 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
         answer_queries()(part, e);
         for (size_t k = done; k < end; ++k) {
             const IcAnswer& a = *from[order[k]];
-            Vec3 delta = a.query.beta * (e[k - done] - a.irradiance) / kPi;
-            if (is_finite(delta)) out_.film.add(aov_of(Component::kD), a.query.pixel, delta, a.query.flags);
+            const Vec3 beta{a.beta[0], a.beta[1], a.beta[2]};
+            Vec3 delta = beta * (e[k - done] - a.irradiance) / kPi;
+            if (is_finite(delta)) out_.film.add(aov_of(Component::kD), a.pixel, delta, a.flags);
         }
         per_query = (now() - t) / static_cast<double>(end - done);
         done = end;

@@ -279,7 +279,7 @@ TEST(PipelineRun, TheProgressiveCacheAnswersThePreviewAgainOnlyWhereAskedTo) {
     EXPECT_NEAR(a, b, 0.05 * b);  // same light, answered more finely
 }
 
-// The preview's cache answers are kept (120 bytes a query: 150 MB of edge_aa's 530 at 960x540)
+// The preview's cache answers are kept (a million of them at 960x540: 150 MB of edge_aa's 530)
 // only for a plan whose ic_radius can end finer than it starts; one that cannot renders the same.
 TEST(PipelineRun, OnlyAPlanThatCanRefineTheCacheKeepsThePreviewsAnswers) {
     Scene scene = load("builtin:cornell_diffuse");
