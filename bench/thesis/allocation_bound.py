@@ -31,20 +31,14 @@ import os
 import subprocess
 import sys
 
-from crex_tool import ROOT, crex, parser
+from crex_tool import ROOT, crex, numpy_and_crex, parser
 
 np = crexpy = None  # numpy and crex's module, imported once the command line is read (--help needs neither)
 
 
 def import_modules():
     global np, crexpy
-    sys.path.insert(0, os.path.join(ROOT, "build/release/python"))
-    try:
-        import numpy
-        import crex
-    except ImportError as e:  # the module is built for Debian's /usr/bin/python3
-        sys.exit(f"allocation_bound.py needs numpy and crex's Python module ({e}); run it with /usr/bin/python3")
-    np, crexpy = numpy, crex
+    np, crexpy = numpy_and_crex("allocation_bound.py")
 
 
 def ratios(sigma):

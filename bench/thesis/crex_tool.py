@@ -47,3 +47,15 @@ def arguments(doc):
     ap.add_argument("--out", default=os.path.join(ROOT, "out/thesis"))
     ap.add_argument("--reference-spp", type=int, default=256)
     return ap
+
+
+def numpy_and_crex(script):
+    """numpy and crex's Python module (build/release/python), imported when a script needs them
+    (--help needs neither); exits with what to do when they are missing."""
+    sys.path.insert(0, os.path.join(ROOT, "build/release/python"))
+    try:
+        import numpy
+        import crex as crex_module
+    except ImportError as e:  # the module is built for Debian's /usr/bin/python3
+        sys.exit(f"{script} needs numpy and crex's Python module ({e}); run it with /usr/bin/python3")
+    return numpy, crex_module
