@@ -296,7 +296,7 @@ void PlanRun::start() {
         out_.ic_loaded = load_cache_file(*cache_, s_);
         eo.shade.ic_queries = true;
         // The preview's answers are kept only where a pixel may ask for them again, finer
-        // (reanswer_preview_queries): a record of every query cost edge_aa's walks 8 % a frame.
+        // (reanswer_preview_queries): at 960x540 they were 150 MB of edge_aa's 530 MB peak.
         eo.irradiance = executor_hook(answer_queries(), base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance,
                                       out_.staged && may_refine_accuracy(plan_) ? &preview_answers_ : nullptr);
     }
