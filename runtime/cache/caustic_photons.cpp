@@ -150,14 +150,12 @@ struct CausticPhotons::Tree {
 
 CausticPhotons::~CausticPhotons() = default;
 
-std::unique_ptr<CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed) {
+std::shared_ptr<const CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed) {
     if (photons == 0) return nullptr;
     CausticPhotonSettings cs;
     cs.photons = photons;
     cs.seed = seed;
-    auto map = std::make_unique<CausticPhotons>(scene, cs);
-    if (map->empty()) return nullptr;
-    return map;
+    return std::make_shared<const CausticPhotons>(scene, cs);
 }
 
 CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSettings& settings)

@@ -88,9 +88,15 @@ private:
     uint64_t rays_ = 0;
 };
 
-/// The map of `photons` photons, or null when there would be nothing in it (0 photons, no delta
-/// shape or trans surface, or no lamp): the one way both path tracing and the irradiance cache
-/// build theirs.
-std::unique_ptr<CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed);
+/// The map of `photons` photons (null for 0 photons): the one way both path tracing and the
+/// irradiance cache build theirs. It is empty when the scene has no such paths (no delta shape or
+/// trans surface, no lamp, or no photon through them lands on a diffuse surface); kept so, it
+/// tells a later render of the same scene (a sequence's next frame) not to trace them again.
+std::shared_ptr<const CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed);
+
+/// `map` when it holds photons, else null: what a render looks caustics up in.
+inline std::shared_ptr<const CausticPhotons> photons_in(const std::shared_ptr<const CausticPhotons>& map) {
+    return map && !map->empty() ? map : nullptr;
+}
 
 }  // namespace crex

@@ -33,14 +33,14 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
     double top = 2 * r_max_;
     for (double c = top; c >= 2 * 1e-3 * r_min_ && cell_size_.size() < kMaxGridLevels; c /= 2) cell_size_.push_back(c);
-    if (settings.caustic_photons > 0 && caustics) {  // carried: the photons do not depend on the camera
-        caustics_ = std::move(caustics);
-        stats_.caustic_photons = caustics_->size();
-    } else if (settings.caustic_photons > 0) {
-        const auto start = std::chrono::steady_clock::now();
-        caustics_ = build_caustic_photons(scene, settings.caustic_photons, settings.seed);
+    if (settings.caustic_photons > 0) {  // carried in when built already: the photons do not depend on the camera
+        if (!caustics) {
+            const auto start = std::chrono::steady_clock::now();
+            caustics = build_caustic_photons(scene, settings.caustic_photons, settings.seed);
+            stats_.caustic_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        }
+        caustics_ = photons_in(caustics);
         if (caustics_) stats_.caustic_photons = caustics_->size();
-        stats_.caustic_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
 }
 

@@ -188,6 +188,9 @@ private:
     std::optional<IrradianceCache> cache_;
     // Path tracing without the cache: caustics from a photon map (RunSettings::caustic_photons).
     std::shared_ptr<const CausticPhotons> caustics_;
+    // The map built or carried in (the cache's or path tracing's), empty when the scene has no
+    // caustic paths: RunResult::caustic_map.
+    std::shared_ptr<const CausticPhotons> caustic_map_;
     std::function<Vec3(const Vec3&, const Vec3&)> caustic_lookup_;  ///< empty: path traced
     std::vector<IcAnswer> preview_answers_;
     uint32_t preview_shadow_rays_ = 1;  ///< the base quality the preview's hits were shaded at
@@ -236,8 +239,9 @@ void PlanRun::start() {
     // the scene (0.35 s for 200,000 photons in the Cornell box) that no budget can trim.
     if (!s_.irradiance_cache && s_.caustic_photons > 0 && executes_d(plan_.program)) {
         const auto t_map = Clock::now();
-        caustics_ = s_.caustic_map ? s_.caustic_map : std::shared_ptr<const CausticPhotons>(build_caustic_photons(*rs_, s_.caustic_photons, s_.seed));
-        if (caustics_)  // else no mirror, glass or trans surface, or no lamp: no such paths
+        caustic_map_ = s_.caustic_map ? s_.caustic_map : build_caustic_photons(*rs_, s_.caustic_photons, s_.seed);
+        caustics_ = photons_in(caustic_map_);
+        if (caustics_)  // else no mirror, glass or trans surface, no lamp, or no photon landed: no such paths
             caustic_lookup_ = [map = caustics_.get()](const Vec3& x, const Vec3& n) { return map->irradiance(x, n); };
         if (!s_.caustic_map) out_.caustic_map_seconds = seconds_since(t_map);
         out_.setup_seconds += seconds_since(t_map);
@@ -245,10 +249,10 @@ void PlanRun::start() {
     // The cache's map likewise (the same photons: they do not depend on the camera). On the
     // clock it was the largest fixed cost of a cached pipeline under a budget (prog_tc at
     // 384x288: 0.3-0.4 s of its 0.44-0.6 s floor) and varied by a third from run to run.
-    std::shared_ptr<const CausticPhotons> cache_caustics = s_.caustic_map;
-    if (s_.irradiance_cache && s_.irradiance_cache->caustic_photons > 0 && !cache_caustics) {
+    if (s_.irradiance_cache && s_.irradiance_cache->caustic_photons > 0) caustic_map_ = s_.caustic_map;
+    if (s_.irradiance_cache && s_.irradiance_cache->caustic_photons > 0 && !caustic_map_) {
         const auto t_map = Clock::now();
-        cache_caustics = build_caustic_photons(*rs_, s_.irradiance_cache->caustic_photons, s_.irradiance_cache->seed);
+        caustic_map_ = build_caustic_photons(*rs_, s_.irradiance_cache->caustic_photons, s_.irradiance_cache->seed);
         out_.caustic_map_seconds = seconds_since(t_map);
         out_.setup_seconds += out_.caustic_map_seconds;
     }
@@ -289,7 +293,7 @@ void PlanRun::start() {
         // The store of D's irradiance: a plan varying ic_radius starts at its `from` accuracy.
         IcSettings ics = plan_cache_settings(plan_, *s_.irradiance_cache);
         base_aa_ = ics.accuracy;
-        cache_.emplace(*rs_, ics, cache_caustics);
+        cache_.emplace(*rs_, ics, caustic_map_);
         cache_->set_progress([this](const IcStats& st) {
             report_progress(fmt::format("D: irradiance cache, {} records, {:.1f} M hemisphere rays", st.records, st.hemisphere_rays / 1e6));
         });
@@ -561,7 +565,7 @@ RunResult PlanRun::finish() {
         out_.strided_preview_seconds = time_strided_preview();
     if (s_.time_strided_preview && s_.ambient_auto && !budget_.budgeted() && bands_.empty()) out_.budgeted_end_seconds = time_budgeted_end();
     if (rs_->textures) out_.textures = rs_->textures->stats();
-    out_.caustic_map = cache_ ? cache_->caustic_map() : caustics_;
+    out_.caustic_map = caustic_map_;  // empty too: a later frame need not trace its photons again
     out_.history = s_.history;
     if (cache_) {
         out_.ic_records = cache_->records();

@@ -56,8 +56,9 @@ struct RunResult {
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
     IcStats ic_stats;
     size_t ic_loaded = 0;          ///< records read from `ic_file`
-    /// The caustic map the render used (the cache's or path tracing's; null: none): a later
-    /// render of the same scene and settings can take it (RunSettings::caustic_map).
+    /// The caustic map the render built or was given (the cache's or path tracing's; null:
+    /// none asked for; empty: the scene has no caustic paths): a later render of the same scene
+    /// and settings can take it (RunSettings::caustic_map) instead of tracing its photons again.
     std::shared_ptr<const CausticPhotons> caustic_map;
     /// What the pixels inherited from the frame before (RunSettings::history): image() blends
     /// it in; the components' images are the frame's own samples. Null: nothing.

@@ -94,7 +94,8 @@ struct RunSettings {
     uint32_t caustic_photons = 0;
     /// A caustic map built already for this scene, photon count and seed (RunResult::caustic_map
     /// of an earlier render: a sequence's frames share one, the photons do not depend on the
-    /// camera); null: built here when one is needed.
+    /// camera); null: built here when one is needed. An empty map says the scene has no caustic
+    /// paths: nothing is built, nothing looked up.
     std::shared_ptr<const CausticPhotons> caustic_map;
     /// Samples each pixel inherits from the frame before (pixel_history.h; a sequence's
     /// `--reuse-frames`): it takes that many fewer of its own, at least one, and the image
