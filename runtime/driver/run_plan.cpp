@@ -173,7 +173,9 @@ private:
     CheckpointRecorder* recorder_;  // reports: image snapshots during the render (null: none)
     BudgetAdmission budget_;
     RunResult out_;
-    std::optional<RenderScene> rs_;
+    std::optional<RenderScene> own_scene_;  // built here unless RunSettings::render_scene
+    RenderScene* rs_ = nullptr;
+    TextureStats textures_before_;  // a shared scene's texture counters when this run began
     std::optional<CameraRays> camera_;
     std::optional<Executor> ex_;
     std::function<double()> clock_;
@@ -213,7 +215,13 @@ private:
 void PlanRun::start() {
     auto t_setup = Clock::now();
     // One texture cache for the render, its share of --max-memory (pass_bytes() counts it).
-    rs_.emplace(scene_, texture_cache_bytes(s_.max_memory));
+    if (s_.render_scene) {
+        if (&s_.render_scene->scene != &scene_) throw std::logic_error("RunSettings::render_scene was built from another Scene");
+        rs_ = s_.render_scene.get();
+        if (rs_->textures) textures_before_ = rs_->textures->stats();
+    } else {
+        rs_ = &own_scene_.emplace(scene_, texture_cache_bytes(s_.max_memory));
+    }
     rs_->set_view(s_.width, s_.height, s_.texture_filter_width);
     for (const auto& w : rs_->warnings) out_.warnings.push_back(w);
     out_.setup_seconds = seconds_since(t_setup);
@@ -564,7 +572,7 @@ RunResult PlanRun::finish() {
     if (s_.time_strided_preview && out_.staged && !out_.preview.empty() && !budget_.budgeted())
         out_.strided_preview_seconds = time_strided_preview();
     if (s_.time_strided_preview && s_.ambient_auto && !budget_.budgeted() && bands_.empty()) out_.budgeted_end_seconds = time_budgeted_end();
-    if (rs_->textures) out_.textures = rs_->textures->stats();
+    if (rs_->textures) out_.textures = rs_->textures->stats().since(textures_before_);
     out_.caustic_map = caustic_map_;  // empty too: a later frame need not trace its photons again
     out_.history = s_.history;
     if (cache_) {

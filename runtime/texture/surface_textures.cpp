@@ -294,4 +294,15 @@ TextureStats SurfaceTextures::stats() const {
     return s;
 }
 
+TextureStats TextureStats::since(const TextureStats& earlier) const {
+    TextureStats s = *this;
+    s.lookups -= std::min(earlier.lookups, lookups);
+    s.lookup_seconds = std::max(0.0, lookup_seconds - earlier.lookup_seconds);
+    s.cache.queries -= std::min(earlier.cache.queries, cache.queries);
+    s.cache.bytes_read -= std::min(earlier.cache.bytes_read, cache.bytes_read);
+    s.cache.cache_misses -= std::min(earlier.cache.cache_misses, cache.cache_misses);
+    s.cache.file_io_seconds = std::max(0.0, cache.file_io_seconds - earlier.cache.file_io_seconds);
+    return s;
+}
+
 }  // namespace crex

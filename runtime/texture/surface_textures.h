@@ -56,6 +56,9 @@ struct TextureStats {
     TextureCacheStats cache;
     uint64_t lookups = 0;          ///< crex's requests (a colour is one, a bump map's height one)
     double lookup_seconds = 0;     ///< in the TextureSystem's lookups, summed over threads
+    /// What was counted after `earlier` (the same textures' stats, taken before): a render of a
+    /// scene that an earlier one built. Sizes (memory, peaks, files) stay as they are now.
+    TextureStats since(const TextureStats& earlier) const;
 };
 
 /// The images as `crex scene-info --format json` lists them, and the cache and lookups as

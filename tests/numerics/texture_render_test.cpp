@@ -132,6 +132,33 @@ TEST(TextureCache, RendersOneAfterAnotherShareOneCacheAndReadEachImageOnce) {
     }
 }
 
+// A sequence builds its scene once and gives it to every frame (RunSettings::render_scene):
+// the camera moves between frames, and the texture filter follows it (set_view() reads the
+// camera again). A frame given the scene renders what a frame that builds its own does, bit for
+// bit, and counts its own texture lookups only.
+TEST(TextureCache, ARenderGivenASceneBuiltAlreadyIsTheRenderThatBuildsIt) {
+    Scene s = plane_under_sky(texture(write_texture("shared_scene.exr", 8, 8, quadrant_texels())));
+    const Camera near = s.camera;
+    RunSettings o;
+    o.width = o.height = 16;
+    o.spp = 2;
+    const sched::Program program = testing::lower_or_die("D");
+    const RunResult own = render(s, program, o);
+    s.camera.position = {0.3, -0.2, 3};  // the frame before, from elsewhere: another footprint
+    RunSettings shared = o;
+    shared.render_scene = std::make_shared<RenderScene>(s);
+    const RunResult before = render(s, program, shared);
+    s.camera = near;
+    const RunResult given = render(s, program, shared);
+    EXPECT_NE(before.image(), own.image());
+    EXPECT_EQ(given.image(), own.image());
+    ASSERT_TRUE(given.textures && own.textures);
+    EXPECT_EQ(given.textures->lookups, own.textures->lookups) << "its own lookups, not the frame before's too";
+    EXPECT_EQ(given.textures->cache.queries, own.textures->cache.queries);
+    const Scene other = s;
+    EXPECT_THROW(render(other, program, shared), std::logic_error) << "a scene built from another Scene object";
+}
+
 TEST(TexturedPlane, TheIrradianceCacheAppliesTheTextureAtLookup) {
     // Records hold irradiance; the texture multiplies it where each query is. A cache that
     // stored albedo times irradiance would blur the texture over each record's radius.
