@@ -84,6 +84,18 @@ void IrradianceCache::insert(const IrradianceRecord& r) {
             }
 }
 
+void IrradianceCache::insert(const std::vector<IrradianceRecord>& records) {
+    records_.reserve(records_.size() + records.size());
+    for (const IrradianceRecord& r : records) insert(r);
+}
+
+std::vector<IrradianceRecord> IrradianceCache::take_records() {
+    grids_.clear();
+    std::vector<IrradianceRecord> out;
+    out.swap(records_);
+    return out;
+}
+
 bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const {
     aa = level_accuracy(aa, level);
     const double aa2 = aa * aa;
@@ -256,7 +268,7 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
     std::vector<IrradianceRecord> loaded;
     const double max_irradiance = brightest_irradiance(scene_.scene, settings_.ambient);
     if (std::string error = decode_irradiance_cache(data, path, file_settings(), max_irradiance, loaded); !error.empty()) return error;
-    for (const auto& r : loaded) insert(r);  // all or nothing: a broken file loads no record
+    insert(loaded);  // all or nothing: a broken file loads no record
     return "";
 }
 

@@ -95,10 +95,14 @@ public:
     bool lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const;
 
     void insert(const IrradianceRecord& r);
+    /// Many at once (a frame's carried records, a file's): room for them made first.
+    void insert(const std::vector<IrradianceRecord>& records);
     /// Called after each piece of records is made (from the thread that asked for them): a
     /// fine accuracy makes records for minutes inside one D step, which a progress line must show.
     void set_progress(std::function<void(const IcStats&)> progress) { progress_ = std::move(progress); }
     const std::vector<IrradianceRecord>& records() const { return records_; }
+    /// The records, moved out (a render's result): the cache is empty after.
+    std::vector<IrradianceRecord> take_records();
     const IcSettings& settings() const { return settings_; }
     const IcStats& stats() const { return stats_; }
     double min_radius() const { return r_min_; }

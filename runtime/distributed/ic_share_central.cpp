@@ -55,8 +55,7 @@ std::vector<IrradianceRecord> CentralShare::receive(const MPI_Status& status) {
 }
 
 void CentralShare::insert(const std::vector<IrradianceRecord>& records) {
-    if (cache_)
-        for (const auto& r : records) cache_->insert(r);
+    if (cache_) cache_->insert(records);
 }
 
 void CentralShare::pump() {

@@ -194,7 +194,7 @@ void MpiGroup::serve(const PipelinePlan& plan, const Scene& scene, const RunSett
     RenderScene rs(scene, texture_cache_bytes(s.max_memory));
     rs.set_view(s.width, s.height);
     IrradianceCache cache(rs, plan_cache_settings(plan, *s.irradiance_cache));
-    for (const auto& r : s.ic_records) cache.insert(r);
+    cache.insert(s.ic_records);
     if (s.ic_file_bytes)  // the file as rank 0 read it: it may exist on rank 0's machine only
         if (std::string error = cache.load_bytes(*s.ic_file_bytes, s.ic_file); !error.empty())
             abort_all_ranks(fmt::format("crex run: error: rank {}: irradiance cache: {}\n", ranks_.rank, error), kExitInputErrors);

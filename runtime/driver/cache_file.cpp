@@ -9,7 +9,7 @@
 namespace crex {
 
 size_t load_cache_file(IrradianceCache& cache, const RunSettings& s) {
-    for (const auto& r : s.ic_records) cache.insert(r);
+    cache.insert(s.ic_records);
     std::error_code ec;
     if (!s.ic_file_bytes && (s.ic_file.empty() || !s.ic_file_read || !std::filesystem::exists(s.ic_file, ec))) return 0;
     const size_t before = cache.records().size();

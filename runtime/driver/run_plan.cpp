@@ -576,9 +576,9 @@ RunResult PlanRun::finish() {
     out_.caustic_map = caustic_map_;  // empty too: a later frame need not trace its photons again
     out_.history = s_.history;
     if (cache_) {
-        out_.ic_records = cache_->records();
         out_.ic_stats = cache_->stats();
         if (!s_.ic_file.empty() && group_.saves_cache_file()) save_cache_file(*cache_, s_.ic_file);
+        out_.ic_records = cache_->take_records();  // moved, not copied: a walk's cache is 100k records and more
     }
     measure_light_left_out();
     return std::move(out_);
