@@ -63,8 +63,18 @@ uint64_t IrradianceCache::cell_key(int x, int y, int z) const {
 }
 
 void IrradianceCache::insert(const IrradianceRecord& r) {
-    uint32_t index = static_cast<uint32_t>(records_.size());
     records_.push_back(r);
+    make_grids(r.level);
+    file(static_cast<uint32_t>(records_.size() - 1));
+}
+
+void IrradianceCache::make_grids(uint32_t level) {
+    if (grids_.size() <= level) grids_.resize(level + 1u);
+    if (grids_[level].empty()) grids_[level].resize(cell_size_.size());
+}
+
+void IrradianceCache::file(uint32_t index) {
+    const IrradianceRecord& r = records_[index];
     // The largest radius at which any query may use it: its level's coarsest accuracy times R.
     double rad = level_accuracy(max_aa_, r.level) * r.harmonic_distance;
     size_t L = 0;
@@ -73,20 +83,30 @@ void IrradianceCache::insert(const IrradianceRecord& r) {
     int x0 = static_cast<int>(std::floor((r.position.x - rad) / cell)), x1 = static_cast<int>(std::floor((r.position.x + rad) / cell));
     int y0 = static_cast<int>(std::floor((r.position.y - rad) / cell)), y1 = static_cast<int>(std::floor((r.position.y + rad) / cell));
     int z0 = static_cast<int>(std::floor((r.position.z - rad) / cell)), z1 = static_cast<int>(std::floor((r.position.z + rad) / cell));
+    CellTable& table = grids_[r.level][L];
     for (int x = x0; x <= x1; ++x)
         for (int y = y0; y <= y1; ++y)
-            for (int z = z0; z <= z1; ++z) {
-                if (grids_.size() <= r.level) grids_.resize(r.level + 1u);
-                if (grids_[r.level].empty()) grids_[r.level].resize(cell_size_.size());
-                grids_[r.level][L].at(cell_key(x, y, z))
+            for (int z = z0; z <= z1; ++z)
+                table.at(cell_key(x, y, z))
                     .push_back({static_cast<float>(r.position.x), static_cast<float>(r.position.y), static_cast<float>(r.position.z),
                                 static_cast<float>(r.harmonic_distance), index});
-            }
 }
 
 void IrradianceCache::insert(const std::vector<IrradianceRecord>& records) {
-    records_.reserve(records_.size() + records.size());
-    for (const IrradianceRecord& r : records) insert(r);
+    const size_t first = records_.size();
+    records_.insert(records_.end(), records.begin(), records.end());
+    uint32_t levels = 0;
+    for (const IrradianceRecord& r : records) levels = std::max(levels, r.level + 1u);
+    for (uint32_t level = 0; level < levels; ++level) make_grids(level);
+    // Each bounce level has grids of its own: the levels are filed side by side, each in the
+    // records' order, so every cell lists the same entries in the same order as one by one.
+    // (A walk's later frame files every record carried: 136,000 on the living-room dolly,
+    // serial, 5 % of the frame; level 1 holds about half of them.)
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, levels, 1), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t level = range.begin(); level < range.end(); ++level)
+            for (size_t i = first; i < records_.size(); ++i)
+                if (records_[i].level == level) file(static_cast<uint32_t>(i));
+    }, tbb::simple_partitioner());
 }
 
 std::vector<IrradianceRecord> IrradianceCache::take_records() {

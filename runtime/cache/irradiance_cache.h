@@ -134,6 +134,10 @@ private:
     void add_next_bounce(Hemispheres& h, uint32_t level);
     std::vector<IrradianceRecord> records_from(const Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) const;
     uint64_t cell_key(int x, int y, int z) const;
+    /// The grids of bounce `level`, made when missing.
+    void make_grids(uint32_t level);
+    /// Record `index` into the cells of its level's grids that its largest validity radius reaches.
+    void file(uint32_t index);
     double level_accuracy(double aa, uint32_t level) const;
 
     /// Grid levels at most: halving from 2 r_max, 24 levels span radii over a factor 2^23

@@ -139,6 +139,34 @@ TEST(IrradianceCache, ReportsItsRecordsAsItMakesThem) {
     EXPECT_EQ(seen.back(), cache.stats().records);
 }
 
+// A walk's later frame files the records carried in all at once, the bounce levels side by
+// side: every lookup at every level must sum the same records in the same order as a cache
+// filed one record at a time, so the images are the same bit for bit.
+TEST(IrradianceCache, RecordsFiledAllAtOnceAnswerAsRecordsFiledOneByOne) {
+    FurnaceCache f(32, 4);
+    std::vector<IcQuery> q;
+    for (int i = 0; i < 400; ++i)
+        q.push_back({{-0.95 + 0.0975 * (i % 20), -0.95 + 0.0975 * (i / 20), -1 + 1e-9}, {0, 0, 1}, 0.1f, 0, static_cast<uint64_t>(i + 1)});
+    std::vector<Vec3> e;
+    f.cache.irradiance(q, 0, e);
+    const std::vector<IrradianceRecord>& made = f.cache.records();
+    ASSERT_GT(std::count_if(made.begin(), made.end(), [](const IrradianceRecord& r) { return r.level > 0; }), 0) << "records at deeper levels";
+    tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    IrradianceCache one_by_one(f.rs, FurnaceCache::settings(32, 4)), at_once(f.rs, FurnaceCache::settings(32, 4));
+    for (const IrradianceRecord& r : made) one_by_one.insert(r);
+    at_once.insert(made);
+    ASSERT_EQ(at_once.records().size(), made.size());
+    for (uint32_t level = 0; level < 4; ++level)
+        for (int i = 0; i < 37; ++i)
+            for (int j = 0; j < 37; ++j) {
+                const Vec3 x{-0.99 + 0.055 * i, -0.99 + 0.055 * j, -1 + 1e-9}, n{0, 0, 1};
+                Vec3 a, b;
+                const bool found = one_by_one.lookup(x, n, 0.1, level, a);
+                ASSERT_EQ(at_once.lookup(x, n, 0.1, level, b), found);
+                if (found) ASSERT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z) << "level " << level << " at " << i << "," << j;
+            }
+}
+
 RunResult render_ic(const Scene& s, int size, uint32_t spp, double aa, uint32_t bounces, uint32_t ad = 128) {
     RunSettings o;
     o.width = o.height = size;
