@@ -252,9 +252,9 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         }
     };
     // The scene built once (nothing but the camera moves) for every frame: its BVH, lights and
-    // textures, whose cache keeps the tiles read (a walk of the textured living room read and
-    // built them again at every frame: 0.05 s of set-up and its texture reads). Flicker and
-    // inheritance trace what each pixel centre sees in it, and warp the frame before onto the next.
+    // texture bindings (a walk of the textured living room built them again at every frame:
+    // 0.05 s of set-up a frame). Flicker and inheritance trace what each pixel centre sees in
+    // it, and warp the frame before onto the next.
     std::shared_ptr<RenderScene> probe_scene;
     auto built_scene = [&] {
         if (!probe_scene) probe_scene = std::make_shared<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));

@@ -98,8 +98,8 @@ struct RunSettings {
     /// paths: nothing is built, nothing looked up.
     std::shared_ptr<const CausticPhotons> caustic_map;
     /// The BVH, lights, textures and materials built already from the very Scene object the run
-    /// is given (a sequence's frames: only its camera moves, which set_view() reads again); its
-    /// texture cache keeps the tiles read. Null: built here.
+    /// is given (a sequence's frames: only its camera moves, which set_view() reads again).
+    /// Null: built here.
     std::shared_ptr<RenderScene> render_scene;
     /// Samples each pixel inherits from the frame before (pixel_history.h; a sequence's
     /// `--reuse-frames`): it takes that many fewer of its own, at least one, and the image
