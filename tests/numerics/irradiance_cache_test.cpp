@@ -163,7 +163,9 @@ TEST(IrradianceCache, RecordsFiledAllAtOnceAnswerAsRecordsFiledOneByOne) {
                 Vec3 a, b;
                 const bool found = one_by_one.lookup(x, n, 0.1, level, a);
                 ASSERT_EQ(at_once.lookup(x, n, 0.1, level, b), found);
-                if (found) ASSERT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z) << "level " << level << " at " << i << "," << j;
+                if (found) {
+                    ASSERT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z) << "level " << level << " at " << i << "," << j;
+                }
             }
 }
 
