@@ -212,7 +212,9 @@ private:
     std::array<RayBatch, kComponentCount> pending_;
     const RayBatch* running_ = nullptr;  // the rays execute_rays is running, from running_next_ on
     size_t running_next_ = 0;
-    RayBatch spare_;  // memory for the next step's bin (see exec())
+    // Per component, memory for its bin's next step (see exec()): each bin refills into memory
+    // sized by its own last step, not by whichever bin ran before it.
+    std::array<RayBatch, kComponentCount> spare_;
     bool deferring_ = false;
     // Inside a Modulate: its n, and the (stride, iteration) of the repeats between it and the step.
     void note_modulated(const sched::Node& node, double index, size_t found, size_t taken, double highest);
