@@ -283,14 +283,19 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     ShadeScratch& scratch = out.scratch;
     std::vector<RTCRayHit>& hits = scratch.hits;
     hits.resize(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kShadeBlock), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t i = range.begin(); i < range.end(); ++i) {
+    auto aim = [&](size_t from, size_t to) {
+        for (size_t i = from; i < to; ++i) {
             size_t r = begin + i;
             set_ray(hits[i], rays.ox[r], rays.oy[r], rays.oz[r], rays.dx[r], rays.dy[r], rays.dz[r], static_cast<unsigned>(i));
         }
-    });
-    if (params.capture) params.capture->rays.insert(params.capture->rays.end(), hits.begin(), hits.end());
-    intersect_batch(*scene.embree, hits.data(), n, camera);
+    };
+    // A block's rays are aimed and traced by the task that shades them (one fork and join a
+    // chunk, not three, and its hits still in cache); a capture takes every ray first.
+    const bool captured = params.capture != nullptr;
+    if (captured) {
+        aim(0, n);
+        params.capture->rays.insert(params.capture->rays.end(), hits.begin(), hits.end());
+    }
 
     out.contribution.resize(n);
     if (camera) out.emission.resize(n);
@@ -315,6 +320,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             for (auto& v : spawned_rays) v.clear();
             BlockShadows& shadows = scratch.block_shadows[block];
             shadows.clear();
+            const size_t first = block * kShadeBlock, last = std::min(n, first + kShadeBlock);
+            if (!captured) aim(first, last);
+            intersect_serial(*scene.embree, hits.data() + first, last - first, camera);
             SpawnScratch spawn;
             Bsdf textured;  // surface_at()'s, made once a block: a Bsdf made at every hit was zeroed at every hit
             uint32_t block_hits = 0;
@@ -391,7 +399,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 for (size_t l = 0; l < static_cast<size_t>(spawned); ++l)
                     spawned_rays[static_cast<size_t>(spawn.components[l])].push_back(spawn.children[l]);
             };
-            for (size_t i = block * kShadeBlock; i < std::min(n, (block + 1) * kShadeBlock); ++i) {
+            for (size_t i = first; i < last; ++i) {
                 shade(i);
                 for (const ShadowSample& sample : shadows.media) shadows.add(sample, static_cast<uint32_t>(i));
                 shadows.media.clear();

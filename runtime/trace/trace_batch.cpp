@@ -68,12 +68,17 @@ void shadow_pass_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+void intersect_serial(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bool coherent) {
+    if (count == 0) return;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    rtcIntersect1M(scene.handle(), &context, rays, static_cast<unsigned>(count), sizeof(RTCRayHit));
+}
+
 void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bool coherent) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kBlock), [&](const tbb::blocked_range<size_t>& r) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-        rtcIntersect1M(scene.handle(), &context, rays + r.begin(), static_cast<unsigned>(r.size()), sizeof(RTCRayHit));
+        intersect_serial(scene, rays + r.begin(), r.size(), coherent);
     });
 }
 

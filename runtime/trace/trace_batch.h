@@ -50,6 +50,8 @@ inline bool is_hole(const RTCRay& s) { return s.tnear > s.tfar && s.tfar == 0.0f
 
 /// Closest hits. `coherent` for camera rays. Rays with tnear > tfar are holes (inactive).
 void intersect_batch(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bool coherent);
+/// intersect_batch() in the calling thread (one stream): for a task that goes on to shade them.
+void intersect_serial(const EmbreeScene& scene, RTCRayHit* rays, size_t count, bool coherent);
 /// Any hit: on return, tfar = -inf marks an occluded ray. With `pass` (and a scene where some
 /// surface may let shadow rays through), those surfaces block a ray only where `pass` says so;
 /// `through[k]` (when given) receives what the ones ray k crossed let through (1 for none, 0
