@@ -548,8 +548,12 @@ int run_request(Request& r) {
     // One image from here: should the group fail, the lead writes the rows it finished.
     group->keep_partial_outputs(r.files.images, run.settings.width, run.settings.height,
                                 partial_identity(in.scene_spec, in.plan, run.settings));
+    // With a reference, each checkpoint is scored when taken (seen as the report will show it)
+    // and its image freed.
+    const CheckpointScorer scorer =
+        lead.reference.image ? scorer_against(*lead.reference.image, report_view(&*lead.reference.image)) : CheckpointScorer{};
     std::optional<CheckpointRecorder> recorder;
-    if (lead.reference.image || !r.files.report_dir.empty()) recorder.emplace(r.checkpoint_interval);
+    if (lead.reference.image || !r.files.report_dir.empty()) recorder.emplace(r.checkpoint_interval, scorer);
     const bool quiet = r.quiet || !group->leads();
     // Ctrl-C: the image so far, as NAME.partial.EXT (interrupt.h); one process only.
     const bool stoppable = !group->distributed();
@@ -574,7 +578,7 @@ int run_request(Request& r) {
     if (out.result->stopped) return write_stopped_render(r, record);
     if (r.compare_policies) {  // the same render under every other policy, for the report's plot of all of them
         try {
-            record.other_policies = render_other_policies(in.plan, *in.scene->scene, out.run, out.result->policy, r.checkpoint_interval,
+            record.other_policies = render_other_policies(in.plan, *in.scene->scene, out.run, out.result->policy, r.checkpoint_interval, scorer,
                                                           [&](std::string_view name) {
                                                               if (!quiet && r.format != "json")
                                                                   std::cerr << "crex run: rendering again under policy " << name << "\n";

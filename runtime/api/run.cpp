@@ -69,7 +69,7 @@ RunOutcome run_resolved(const PipelinePlan& plan, const Scene& scene, ResolvedRu
 }
 
 std::vector<PolicyRun> render_other_policies(const PipelinePlan& plan, const Scene& scene, const ResolvedRun& run,
-                                             pipeline::SchedulingPolicy used, double interval,
+                                             pipeline::SchedulingPolicy used, double interval, const CheckpointScorer& scorer,
                                              const std::function<void(std::string_view)>& starting) {
     std::vector<PolicyRun> others;
     for (std::string_view name : pipeline::scheduling_policy_names()) {
@@ -82,10 +82,10 @@ std::vector<PolicyRun> render_other_policies(const PipelinePlan& plan, const Sce
         s.ic_file.clear();
         s.ic_file_bytes.reset();
         struct Recorder final : RunObserver {
-            explicit Recorder(double interval) : checkpoints_(interval) {}
+            Recorder(double interval, const CheckpointScorer& scorer) : checkpoints_(interval, scorer) {}
             CheckpointRecorder* checkpoints() override { return &checkpoints_; }
             CheckpointRecorder checkpoints_;
-        } recorder(interval);
+        } recorder(interval, scorer);
         LocalGroup one;
         run_plan(scene, plan, s, one, recorder);
         others.push_back({std::string(name), recorder.checkpoints_.checkpoints()});

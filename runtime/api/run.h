@@ -38,10 +38,10 @@ RunOutcome run_resolved(const PipelinePlan& plan, const Scene& scene, ResolvedRu
 using PolicyRun = std::pair<std::string, std::vector<Checkpoint>>;
 
 /// The same render again under every policy but `used`, from the same profile, with
-/// checkpoints every `interval` seconds (for a plot of all their errors against time);
-/// `starting(name)` is called before each. Nothing else of theirs is kept.
+/// checkpoints every `interval` seconds scored by `scorer` (for a plot of all their errors
+/// against time); `starting(name)` is called before each. Nothing else of theirs is kept.
 std::vector<PolicyRun> render_other_policies(const PipelinePlan& plan, const Scene& scene, const ResolvedRun& run,
-                                             pipeline::SchedulingPolicy used, double interval,
+                                             pipeline::SchedulingPolicy used, double interval, const CheckpointScorer& scorer,
                                              const std::function<void(std::string_view)>& starting);
 
 }  // namespace crex

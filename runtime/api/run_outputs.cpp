@@ -282,7 +282,7 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
         for (const auto& [name, checkpoints] : record.other_policies) report.other_policies.push_back({name, &checkpoints});
         report.reference = record.reference;
         report.reference_path = record.reference_path;
-        report.view = {true, record.reference ? display_exposure(record.reference->rgb) : 1.0};
+        report.view = report_view(record.reference ? &*record.reference : nullptr);
         if (outcome.run.budget_seconds > 0) report.budget_seconds = outcome.run.budget_seconds;
         report.summary = written.summary;
         report.images.push_back({"final image", layers.front().rgb});
@@ -319,6 +319,8 @@ std::string write_run_files(const RunFiles& where, const RunRecord& record, Writ
     }
     return files.commit();
 }
+
+metrics::DisplayView report_view(const metrics::Image* reference) { return {true, reference ? display_exposure(reference->rgb) : 1.0}; }
 
 std::string plan_dot_of(const RunInputs& in) {
     if (in.plan.staged) return pipeline_plan_to_dot(in.plan);

@@ -58,6 +58,10 @@ struct RunRecord {
 /// The plan as a report draws it (Graphviz DOT): the pipeline's stages, or the crex's plan.
 std::string plan_dot_of(const RunInputs& in);
 
+/// How the error curve and the report show images to the perceptual metrics: as HDR, at the
+/// reference's exposure (1 without one).
+metrics::DisplayView report_view(const metrics::Image* reference);
+
 /// The final image as written: the result's, with a resumed run's final rows taken in.
 std::vector<float> final_image(const RunRecord& record);
 

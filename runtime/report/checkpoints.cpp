@@ -2,7 +2,8 @@
 
 namespace crex {
 
-CheckpointRecorder::CheckpointRecorder(double interval, size_t max_bytes) : interval_(interval > 0 ? interval : 0.1), max_bytes_(max_bytes) {}
+CheckpointRecorder::CheckpointRecorder(double interval, CheckpointScorer scorer, size_t max_bytes)
+    : interval_(interval > 0 ? interval : 0.1), scorer_(std::move(scorer)), max_bytes_(max_bytes) {}
 
 void CheckpointRecorder::start() {
     start_ = Clock::now();
@@ -24,22 +25,31 @@ void CheckpointRecorder::event(const std::string& what, bool boundary, uint64_t 
     bool due = force || t - last_ >= (boundary ? interval_ / 10 : interval_);
     if (!due) return;
     auto copy_start = Clock::now();
-    Checkpoint c{t, stage_, what, rays, snapshot()};
-    bytes_ += c.image.size() * sizeof(float);
-    checkpoints_.push_back(std::move(c));
+    keep(Checkpoint{t, stage_, what, rays, snapshot(), std::nullopt});
     last_ = t;
-    if (bytes_ > max_bytes_) {  // thin out: keep stage ends and every other checkpoint
-        std::vector<Checkpoint> kept;
-        bytes_ = 0;
-        for (size_t i = 0; i < checkpoints_.size(); ++i)
-            if (i % 2 == 0 || i + 1 == checkpoints_.size() || checkpoints_[i].event.rfind("end of ", 0) == 0) {
-                bytes_ += checkpoints_[i].image.size() * sizeof(float);
-                kept.push_back(std::move(checkpoints_[i]));
-            }
-        checkpoints_ = std::move(kept);
-        interval_ *= 2;
-    }
     paused_ += std::chrono::duration<double>(Clock::now() - copy_start).count();
+}
+
+void CheckpointRecorder::add(Checkpoint c) { keep(std::move(c)); }
+
+void CheckpointRecorder::keep(Checkpoint c) {
+    bytes_ += c.image.size() * sizeof(float);
+    if (scorer_ && !c.image.empty()) c.score = scorer_(c.image);
+    std::vector<float>().swap(c.image);  // the score is all the curve needs
+    checkpoints_.push_back(std::move(c));
+    if (bytes_ <= max_bytes_) return;
+    // Thin out: keep stage ends and every other checkpoint; what is kept counts as the images it
+    // was made from.
+    std::vector<Checkpoint> kept;
+    size_t image_bytes = bytes_ / checkpoints_.size();
+    bytes_ = 0;
+    for (size_t i = 0; i < checkpoints_.size(); ++i)
+        if (i % 2 == 0 || i + 1 == checkpoints_.size() || checkpoints_[i].event.rfind("end of ", 0) == 0) {
+            bytes_ += image_bytes;
+            kept.push_back(std::move(checkpoints_[i]));
+        }
+    checkpoints_ = std::move(kept);
+    interval_ *= 2;
 }
 
 }  // namespace crex

@@ -1,31 +1,47 @@
 /// \file checkpoints.h
 /// Checkpoints of a render for its error-against-time curve (issue 8, spec §7 "Metrics"): a
 /// copy of the image at every stage boundary, at step boundaries, and at least every
-/// `interval` seconds. Metrics are computed after the render, so a checkpoint costs the render
-/// one image copy; the clock the budget sees pauses during the copy.
+/// `interval` seconds. With a reference, each copy is scored against it when taken and then
+/// freed, so a report holds one image copy at a time whatever the frame size (it held up to
+/// 512 MiB of them beside the passes --max-memory sizes); the clock the budget sees pauses
+/// during the copy and the scoring.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace crex {
+
+/// A checkpoint's error against the reference (error_curve.h says how it is measured).
+struct CheckpointScore {
+    double rmse = 0, relmse = 0, flip = 0, perr = 0;
+    std::optional<double> ssim;
+};
+
+/// Scores a linear RGB image against the run's reference (error_curve.h makes one).
+using CheckpointScorer = std::function<CheckpointScore(const std::vector<float>& image)>;
 
 struct Checkpoint {
     double seconds = 0;       ///< render time (the paused clock) when the image was copied
     std::string stage;        ///< "preselective", "guidance", "selective", "end"
     std::string event;        ///< what had just run: "camera rays", "D at <crex>:1:7", ...
     uint64_t rays = 0;        ///< rays executed so far
-    std::vector<float> image; ///< linear RGB
+    std::vector<float> image; ///< linear RGB; empty once scored, or when there is no reference
+    std::optional<CheckpointScore> score;  ///< against the reference (none without one)
 };
 
 class CheckpointRecorder {
 public:
-    /// `interval`: seconds between checkpoints within long steps; `max_bytes`: snapshots beyond
-    /// it thin themselves out (every other mid-step checkpoint is dropped and the interval doubles).
-    explicit CheckpointRecorder(double interval, size_t max_bytes = size_t{512} << 20);
+    /// `interval`: seconds between checkpoints within long steps; `scorer`: the reference's (none:
+    /// checkpoints keep the time, stage and rays only); `max_bytes`: once the snapshots taken
+    /// would fill it, the checkpoints thin themselves out (every other mid-step checkpoint is
+    /// dropped and the interval doubles). No snapshot is kept, but the points a report shows (and
+    /// the scoring it pays for) are as many as that many bytes of images would hold.
+    explicit CheckpointRecorder(double interval, CheckpointScorer scorer = {}, size_t max_bytes = size_t{512} << 20);
 
     /// Starts the clock (at the first camera ray).
     void start();
@@ -43,16 +59,18 @@ public:
 
     /// A checkpoint made elsewhere (distributed runs: the image of every rank's rows at the
     /// end, which no single process's film holds before then).
-    void add(Checkpoint c) {
-        bytes_ += c.image.size() * sizeof(float);
-        checkpoints_.push_back(std::move(c));
-    }
+    void add(Checkpoint c);
 
     const std::vector<Checkpoint>& checkpoints() const { return checkpoints_; }
 
 private:
+    /// Scores `c` (with a reference), frees its image and keeps it, thinning the kept ones out
+    /// once their images would have filled max_bytes_.
+    void keep(Checkpoint c);
+
     using Clock = std::chrono::steady_clock;
     double interval_;
+    CheckpointScorer scorer_;
     size_t max_bytes_, bytes_ = 0;
     Clock::time_point start_ = Clock::now();
     double paused_ = 0, last_ = -1e30;

@@ -2,18 +2,34 @@
 
 #include <fmt/format.h>
 
+#include <memory>
+
+#include "base/check.h"
+
 namespace crex {
+
+CheckpointScorer scorer_against(const metrics::Image& reference, const metrics::DisplayView& view, double perr_threshold) {
+    // Shared: a scorer is copied into every recorder of a run (each policy's) without the images.
+    auto ref = std::make_shared<const metrics::Image>(reference);
+    auto ref_display = std::make_shared<const metrics::Image>(metrics::display_view(reference, view));
+    return [ref, ref_display, view, perr_threshold](const std::vector<float>& image) {
+        CREX_CHECK_EQ(image.size(), ref->rgb.size());
+        const metrics::Image img{ref->width, ref->height, image};
+        const metrics::Image disp = metrics::display_view(img, view);
+        const std::vector<float> flip = metrics::flip_map(disp, *ref_display);
+        return CheckpointScore{metrics::rmse(img, *ref), metrics::relmse(img, *ref), metrics::mean(flip),
+                               metrics::perr(flip, perr_threshold), metrics::ssim(disp, *ref_display)};
+    };
+}
 
 std::vector<CurvePoint> error_curve(const std::vector<Checkpoint>& checkpoints, const metrics::Image& reference,
                                     const metrics::DisplayView& view, double perr_threshold) {
     std::vector<CurvePoint> out;
-    metrics::Image ref_display = metrics::display_view(reference, view);
+    CheckpointScorer scorer;  // made at the first checkpoint that still holds its image
     for (const auto& c : checkpoints) {
-        metrics::Image img{reference.width, reference.height, c.image};
-        metrics::Image disp = metrics::display_view(img, view);
-        std::vector<float> flip = metrics::flip_map(disp, ref_display);
-        out.push_back({c.seconds, c.stage, c.event, c.rays, metrics::rmse(img, reference), metrics::relmse(img, reference),
-                       metrics::mean(flip), metrics::perr(flip, perr_threshold), metrics::ssim(disp, ref_display)});
+        if (!c.score && !scorer) scorer = scorer_against(reference, view, perr_threshold);
+        const CheckpointScore s = c.score ? *c.score : scorer(c.image);
+        out.push_back({c.seconds, c.stage, c.event, c.rays, s.rmse, s.relmse, s.flip, s.perr, s.ssim});
     }
     return out;
 }

@@ -1,5 +1,6 @@
 /// \file error_curve.h
-/// The error of every checkpoint against a reference image, computed after the render.
+/// The error of every checkpoint against a reference image: scored when the checkpoint is taken
+/// (scorer_against), gathered into a curve after the render.
 #pragma once
 
 #include <optional>
@@ -19,7 +20,15 @@ struct CurvePoint {
     std::optional<double> ssim;
 };
 
-/// `view`: how both images are shown to the perceptual metrics (the reference's exposure).
+/// What a checkpoint's image scores against `reference` shown through `view`: RMSE and relMSE
+/// of the linear images, mean FLIP, the share of pixels whose FLIP is over `perr_threshold`,
+/// SSIM of the displayed images. The reference's display image is made once, here.
+CheckpointScorer scorer_against(const metrics::Image& reference, const metrics::DisplayView& view,
+                                double perr_threshold = metrics::kDefaultPerrThreshold);
+
+/// `view`: how both images are shown to the perceptual metrics (the reference's exposure). A
+/// checkpoint scored when taken keeps its score (made with the same reference and view); one
+/// that still holds its image is scored here.
 std::vector<CurvePoint> error_curve(const std::vector<Checkpoint>& checkpoints, const metrics::Image& reference,
                                     const metrics::DisplayView& view, double perr_threshold = metrics::kDefaultPerrThreshold);
 

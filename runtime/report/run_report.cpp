@@ -170,7 +170,7 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
         row("reference", r.reference_path);
         row("final error", fmt::format("RMSE {:.4g}, relMSE {:.4g}, FLIP {:.4f}, perr {:.1f} %{}", last.rmse, last.relmse, last.flip,
                                        last.perr, last.ssim ? fmt::format(", SSIM {:.4f}", *last.ssim) : ""));
-        row("checkpoints", fmt::format("{} (snapshots paused the clock for {:.1f} ms in all)", curve.size(),
+        row("checkpoints", fmt::format("{} (copying and scoring them paused the clock for {:.1f} ms in all)", curve.size(),
                                        1e3 * s.value("checkpoint_seconds", 0.0)));
         row("display", r.view.describe());
     } else {

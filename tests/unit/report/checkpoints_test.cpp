@@ -1,0 +1,71 @@
+// A report's checkpoints: scored against the reference when taken, their images freed (a report
+// held up to 512 MiB of them beside the passes --max-memory sizes), the same curve as scoring the
+// images after the render, and as many points as before.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "runtime/report/checkpoints.h"
+#include "runtime/report/error_curve.h"
+
+namespace crex {
+namespace {
+
+metrics::Image gradient(int w, int h, float scale) {
+    metrics::Image im{w, h, std::vector<float>(static_cast<size_t>(w) * h * 3)};
+    for (size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = scale * (0.05f + 0.9f * static_cast<float>(i % 97) / 97.0f);
+    return im;
+}
+
+TEST(Checkpoints, ScoredWhenTakenTheImageIsFreedAndTheCurveIsTheSame) {
+    const metrics::Image reference = gradient(24, 16, 1.0f);
+    const metrics::DisplayView view{true, 1.3};
+    CheckpointRecorder scored(0.0, scorer_against(reference, view));
+    CheckpointRecorder kept(0.0, {}, size_t{1} << 30);  // no scorer: nothing kept but the times
+    std::vector<Checkpoint> with_images;
+    for (int k = 0; k < 5; ++k) {
+        const metrics::Image im = gradient(24, 16, 1.0f + 0.3f / static_cast<float>(k + 1));
+        auto snapshot = [&] { return im.rgb; };
+        scored.event("step", true, static_cast<uint64_t>(k), snapshot, true);
+        kept.event("step", true, static_cast<uint64_t>(k), snapshot, true);
+        with_images.push_back({0.0, "selective", "step", static_cast<uint64_t>(k), im.rgb, std::nullopt});
+    }
+    ASSERT_EQ(scored.checkpoints().size(), 5u);
+    for (const Checkpoint& c : scored.checkpoints()) {
+        EXPECT_TRUE(c.image.empty());
+        ASSERT_TRUE(c.score.has_value());
+    }
+    for (const Checkpoint& c : kept.checkpoints()) {
+        EXPECT_TRUE(c.image.empty());
+        EXPECT_FALSE(c.score.has_value());
+    }
+    const std::vector<CurvePoint> now = error_curve(scored.checkpoints(), reference, view);
+    const std::vector<CurvePoint> after = error_curve(with_images, reference, view);
+    ASSERT_EQ(now.size(), after.size());
+    for (size_t i = 0; i < now.size(); ++i) {
+        EXPECT_EQ(now[i].rmse, after[i].rmse);
+        EXPECT_EQ(now[i].relmse, after[i].relmse);
+        EXPECT_EQ(now[i].flip, after[i].flip);
+        EXPECT_EQ(now[i].perr, after[i].perr);
+        EXPECT_EQ(now[i].ssim, after[i].ssim);
+    }
+    // The error falls as the images approach the reference.
+    EXPECT_GT(now.front().rmse, now.back().rmse);
+    EXPECT_GT(now.front().flip, now.back().flip);
+}
+
+TEST(Checkpoints, ThinOutAsIfTheImagesWereKept) {
+    // Room for 4 images of 24x16: the fifth thins the points to every other one (and the last).
+    const metrics::Image reference = gradient(24, 16, 1.0f);
+    const size_t image_bytes = reference.rgb.size() * sizeof(float);
+    CheckpointRecorder rec(0.0, scorer_against(reference, {true, 1.0}), 4 * image_bytes);
+    for (int k = 0; k < 5; ++k) rec.event("step " + std::to_string(k), true, 0, [&] { return reference.rgb; }, true);
+    ASSERT_EQ(rec.checkpoints().size(), 3u);
+    EXPECT_EQ(rec.checkpoints()[0].event, "step 0");
+    EXPECT_EQ(rec.checkpoints()[1].event, "step 2");
+    EXPECT_EQ(rec.checkpoints()[2].event, "step 4");
+    EXPECT_EQ(rec.checkpoints()[2].score->rmse, 0.0);
+}
+
+}  // namespace
+}  // namespace crex
