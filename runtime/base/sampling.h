@@ -38,18 +38,29 @@ enum class RandomUse : uint64_t { kRoulette = 1, kLobeD, kLobeG, kLobeDT, kLight
 class HitRandom {
 public:
     HitRandom(uint64_t path_id, uint32_t depth) : key_(hash_combine(path_id, depth)) {}
+    /// The hit of camera sample `sample` of the pixel keyed `pixel_key`: as above, but the
+    /// directions of its scattering lobes (D, G, DT) are point `sample` of the pixel's own
+    /// scrambled (0,2)-sequence, one per lobe, so the first bounces of a pixel's samples are
+    /// stratified together over the hemisphere (independent directions left the indirect light
+    /// as noisy as one sample's each).
+    static HitRandom camera_hit(uint64_t path_id, uint32_t depth, uint64_t pixel_key, uint32_t sample) {
+        HitRandom r(path_id, depth);
+        r.pixel_key_ = pixel_key;
+        r.sample_ = sample;
+        r.pixel_sequence_ = true;
+        return r;
+    }
     double operator()(RandomUse use, uint32_t index = 0) const {
         return to_unit(hash_combine(key_, (static_cast<uint64_t>(use) << 32) | index));
     }
     /// Two uniforms in [0, 1) with 32 bits each from one hash (a 2-D sample for one purpose).
-    void pair(RandomUse use, double& u, double& v) const {
-        uint64_t h = hash_combine(key_, (static_cast<uint64_t>(use) << 32) | 0xffffffffu);
-        u = static_cast<double>(h >> 32) * 0x1.0p-32;
-        v = static_cast<double>(h & 0xffffffffu) * 0x1.0p-32;
-    }
+    inline void pair(RandomUse use, double& u, double& v) const;
 
 private:
     uint64_t key_;
+    uint64_t pixel_key_ = 0;
+    uint32_t sample_ = 0;
+    bool pixel_sequence_ = false;
 };
 
 /// Random number `index` for `use` at the hit of path `path_id` at `depth`.
@@ -128,6 +139,16 @@ inline void owen_sobol_2d(uint32_t index, uint64_t seed, double& x, double& y) {
     const uint64_t h = mix64(seed);
     x = owen_scramble(reverse_bits_32(i), static_cast<uint32_t>(h)) * 0x1.0p-32;
     y = owen_scramble(second, static_cast<uint32_t>(h >> 32)) * 0x1.0p-32;
+}
+
+inline void HitRandom::pair(RandomUse use, double& u, double& v) const {
+    if (pixel_sequence_ && (use == RandomUse::kLobeD || use == RandomUse::kLobeG || use == RandomUse::kLobeDT)) {
+        owen_sobol_2d(sample_, mix64(pixel_key_ ^ (static_cast<uint64_t>(use) * 0x632be59bd9b4e019ull)), u, v);
+        return;
+    }
+    uint64_t h = hash_combine(key_, (static_cast<uint64_t>(use) << 32) | 0xffffffffu);
+    u = static_cast<double>(h >> 32) * 0x1.0p-32;
+    v = static_cast<double>(h & 0xffffffffu) * 0x1.0p-32;
 }
 
 /// An orthonormal frame around unit `n` (Duff et al. 2017).

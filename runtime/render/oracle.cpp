@@ -42,7 +42,7 @@ struct Oracle {
         if (!camera && !(r.flags & kRayFromDeltaLobe) && illum_front(scene, h.hit, f)) return {};  // direct lighting's
         Bsdf textured;
         const Bsdf& b = surface_at(scene, h.hit, f, textured, surface_detail(camera, r.flags));
-        const HitRandom random(r.path, r.depth);
+        const HitRandom random = hit_random(r, camera);
         Vec3 total = r.beta * emitted(b, f, camera || (r.flags & kRayFromDeltaLobe), camera);
         if (!is_finite(total)) total = {};
         if (!scene.lights->empty() && b.direct_response) {

@@ -379,7 +379,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     return;
                 }
                 const Bsdf& b = surface_at(scene, h.hit, f, textured, surface_detail(camera, ray.flags));
-                const HitRandom random(ray.path, ray.depth);
+                const HitRandom random = hit_random(ray, camera);
                 // A `light` reached along a caustic path is the photon map's, given at the diffuse hit.
                 const bool photons_gave_it = (ray.flags & kRayCausticPath) && b.type == MaterialType::kLight;
                 Vec3 c = b.emits && !photons_gave_it ? ray.beta * emitted(b, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};

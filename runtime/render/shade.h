@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "runtime/render/bsdf.h"
+#include "runtime/render/camera_samples.h"
 #include "runtime/render/ray_batch.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/shadow_pass.h"
@@ -153,6 +154,13 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& came
 inline uint64_t child_path(uint64_t parent, int lobe_index, Component c) {
     return (parent ^ (0x9e3779b97f4a7c15ull * (static_cast<uint64_t>(lobe_index) + 1))) * 0xff51afd7ed558ccdull +
            static_cast<uint64_t>(c);
+}
+
+/// The random numbers of a hit of `ray` (a camera ray's when `camera`: its lobes follow its
+/// pixel's sequence, HitRandom::camera_hit). The bins and the oracle draw alike through it.
+inline HitRandom hit_random(const RayRecord& ray, bool camera) {
+    return camera ? HitRandom::camera_hit(ray.path, ray.depth, camera_pixel_key(ray.path), camera_sample_index(ray.path))
+                  : HitRandom(ray.path, ray.depth);
 }
 
 /// The geometry of Embree's `hit` at `point` (the ray's origin plus t times its direction;

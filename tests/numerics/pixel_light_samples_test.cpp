@@ -112,12 +112,6 @@ Scene lit_floor() {
     return s;
 }
 
-double mean_squared_difference(const std::vector<float>& a, const std::vector<float>& b) {
-    double sum = 0;
-    for (size_t i = 0; i < a.size(); ++i) sum += (static_cast<double>(a[i]) - b[i]) * (static_cast<double>(a[i]) - b[i]);
-    return sum / static_cast<double>(a.size());
-}
-
 TEST(PixelLightSamples, SixteenSamplesOfOneShadowRayBeatSixteenIndependentOnes) {
     // Against a 1024-sample render: the error of 1 sample is the per-sample variance v (plus
     // the reference's own, negligible); 16 independent samples would leave v / 16. The pixel's
@@ -127,7 +121,7 @@ TEST(PixelLightSamples, SixteenSamplesOfOneShadowRayBeatSixteenIndependentOnes) 
     const std::vector<float> ref = testing::render_crex(s, "", 24, 1024, 5).image();
     const std::vector<float> one = testing::render_crex(s, "", 24, 1, 1).image();
     const std::vector<float> sixteen = testing::render_crex(s, "", 24, 16, 1).image();
-    const double v = mean_squared_difference(one, ref), e16 = mean_squared_difference(sixteen, ref);
+    const double v = testing::mean_squared_difference(one, ref), e16 = testing::mean_squared_difference(sixteen, ref);
     ASSERT_GT(v, 0);
     EXPECT_LT(e16, 0.25 * v / 16) << "ratio " << e16 / (v / 16) << ", " << "1 sample " << v << ", 16 samples " << e16;
     EXPECT_NEAR(testing::mean_luminance(sixteen) / testing::mean_luminance(ref), 1.0, 0.005);

@@ -92,6 +92,13 @@ inline RunResult render_crex(const Scene& s, const std::string& crex, int size, 
     return render(s, lower_or_die(crex), o);
 }
 
+/// Mean over every channel of every pixel of the squared difference of two images.
+inline double mean_squared_difference(const std::vector<float>& a, const std::vector<float>& b) {
+    double sum = 0;
+    for (size_t i = 0; i < a.size(); ++i) sum += (static_cast<double>(a[i]) - b[i]) * (static_cast<double>(a[i]) - b[i]);
+    return sum / static_cast<double>(a.size());
+}
+
 inline double mean_luminance(const std::vector<float>& rgb) {
     double sum = 0;
     size_t n = rgb.size() / 3;
