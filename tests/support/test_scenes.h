@@ -92,6 +92,13 @@ inline RunResult render_crex(const Scene& s, const std::string& crex, int size, 
     return render(s, lower_or_die(crex), o);
 }
 
+inline double mean_luminance(const std::vector<float>& rgb) {
+    double sum = 0;
+    size_t n = rgb.size() / 3;
+    for (size_t i = 0; i < n; ++i) sum += 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+    return sum / static_cast<double>(n);
+}
+
 /// Mean over every channel of every pixel of the squared difference of two images.
 inline double mean_squared_difference(const std::vector<float>& a, const std::vector<float>& b) {
     double sum = 0;
@@ -99,11 +106,34 @@ inline double mean_squared_difference(const std::vector<float>& a, const std::ve
     return sum / static_cast<double>(a.size());
 }
 
-inline double mean_luminance(const std::vector<float>& rgb) {
-    double sum = 0;
-    size_t n = rgb.size() / 3;
-    for (size_t i = 0; i < n; ++i) sum += 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
-    return sum / static_cast<double>(n);
+/// A 4 x 4 diffuse floor (reflectance 0.6) under a square `emitter` material of half-width
+/// `half` at height 1, facing down; seen from 0.6 above it, looking down, 90 degrees.
+inline Scene floor_under(const Material& emitter, double half) {
+    Scene s;
+    s.materials.push_back(make_material("floor", MaterialType::kPlastic, {0.6, 0.6, 0.6}));
+    s.materials.push_back(emitter);
+    s.shapes.push_back(quad("floor", {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}));
+    s.shapes.push_back(quad(emitter.name, {-half, 1, -half}, {half, 1, -half}, {half, 1, half}, {-half, 1, half}));
+    s.camera.position = {0, 0.6, 0};
+    s.camera.direction = {0, -1, 0};
+    s.camera.up = {0, 0, -1};
+    s.camera.vfov_deg = 90;
+    return s;
+}
+
+/// What 16 samples a pixel do against a 1024-sample render of `crex` (24x24): `ratio` is their
+/// error over what 16 independent samples would leave (a 1-sample render's error over 16: the
+/// per-sample variance, the reference's own negligible), 1 for independent samples; `mean` the
+/// 16-sample image's mean luminance over the reference's.
+struct SixteenSamples {
+    double ratio = 0, mean = 0;
+};
+inline SixteenSamples sixteen_samples_against_independent(const Scene& s, const std::string& crex) {
+    const std::vector<float> ref = render_crex(s, crex, 24, 1024, 5).image();
+    const std::vector<float> one = render_crex(s, crex, 24, 1, 1).image();
+    const std::vector<float> sixteen = render_crex(s, crex, 24, 16, 1).image();
+    const double v = mean_squared_difference(one, ref);
+    return {v > 0 ? mean_squared_difference(sixteen, ref) / (v / 16) : NAN, mean_luminance(sixteen) / mean_luminance(ref)};
 }
 
 inline bool all_finite(const std::vector<float>& rgb) {
