@@ -31,7 +31,7 @@ RunOutcome run_resolved(const PipelinePlan& plan, const Scene& scene, ResolvedRu
     RunOutcome out{std::move(run), {}, std::nullopt};
     RunSettings& s = out.run.settings;
     CheckpointRecorder* recorder = observer.checkpoints();
-    group.begin(plan, s, recorder != nullptr);
+    group.begin(plan, s, recorder);
     if (group.serves_only()) {
         try {
             group.serve(plan, scene, s);

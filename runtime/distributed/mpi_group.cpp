@@ -24,7 +24,8 @@ struct MpiGroup::Modes {
     IcShare ic_share = IcShare::kNone;  // what is in effect: none without a cache
     ComponentRoles roles;
     std::string ic_file;  // the cache file under component: the first PA sends its records, rank 0 saves
-    std::optional<std::vector<Checkpoint>> exchanges;  // rank 0 with a report: the image at each exchange
+    std::optional<std::vector<Checkpoint>> exchanges;  // rank 0 with a report: the checkpoint of each exchange
+    bool exchange_images = false;                      // ... with its image (a reference scores them)
     std::chrono::steady_clock::time_point start;
     bool band_final = true;  // rank 0's own band of the last stage is final before the last exchange
     std::unique_ptr<IrradianceClient> client;  // a PR of component
@@ -64,7 +65,7 @@ void MpiGroup::keep_partial_outputs(const std::vector<std::string>& outputs, int
     if (ranks_.rank == 0) arm_partial_outputs(outputs, width, height, identity);
 }
 
-void MpiGroup::begin(const PipelinePlan& plan, RunSettings& s, bool record_exchanges) {
+void MpiGroup::begin(const PipelinePlan& plan, RunSettings& s, const CheckpointRecorder* exchanges_for) {
     // The modes below start with blocking collectives (communicators): a rank stuck setting
     // up is named here instead of blocking them.
     all_ranks_arrive("the start of the render (inputs read and checked)");
@@ -92,7 +93,11 @@ void MpiGroup::begin(const PipelinePlan& plan, RunSettings& s, bool record_excha
     modes_->band_final = !interpolates_across_rows(plan);
     // After an exchange rank 0's film holds every row as it is then: a point of the report's
     // error curve (before it, only rank 0's own band is current).
-    if (ranks_.rank == 0 && record_exchanges) modes_->exchanges.emplace();
+    // Without a reference nothing reads the images, and one a round at frame size is much.
+    if (ranks_.rank == 0 && exchanges_for) {
+        modes_->exchanges.emplace();
+        modes_->exchange_images = exchanges_for->scores();
+    }
     modes_->start = std::chrono::steady_clock::now();
     waited_before_ = seconds_waiting_for_ranks();
 }
@@ -119,7 +124,7 @@ void MpiGroup::share_rows(SharedRows& rows) {
     exchanges->push_back({seconds, preview ? "preselective" : "selective",
                           preview ? std::string("the preview, rows of every rank")
                                   : fmt::format("round {} done, rows of every rank", exchanges->size()),
-                          0, rows.film.composite(&rows.ambient)});
+                          0, modes_->exchange_images ? rows.film.composite(&rows.ambient) : std::vector<float>{}});
 }
 
 void MpiGroup::sum(std::vector<double>& values) {
@@ -145,7 +150,8 @@ void MpiGroup::final_image(const std::vector<float>& rgb, int width) {
 
 std::vector<Checkpoint> MpiGroup::exchange_checkpoints(const RunResult& result) const {
     std::vector<Checkpoint> out = modes_->exchanges ? *modes_->exchanges : std::vector<Checkpoint>{};
-    out.push_back({slowest_, "end", "end of render (the rows of every rank)", static_cast<uint64_t>(rays_), result.image()});
+    out.push_back({slowest_, "end", "end of render (the rows of every rank)", static_cast<uint64_t>(rays_),
+                   modes_->exchange_images ? result.image() : std::vector<float>{}});
     return out;
 }
 

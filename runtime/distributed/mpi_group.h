@@ -42,7 +42,7 @@ public:
         return receive_bytes_from_any(kFrameTag, wait, what);
     }
     void keep_partial_outputs(const std::vector<std::string>& outputs, int width, int height, const ImageMetadata& identity) override;
-    void begin(const PipelinePlan& plan, RunSettings& settings, bool record_exchanges) override;
+    void begin(const PipelinePlan& plan, RunSettings& settings, const CheckpointRecorder* exchanges_for) override;
     /// A PA rank of IcShare::kComponent: it answers irradiance queries instead of rendering.
     bool serves_only() const override;
     /// A PA rank's whole run: serve until every PR is done, send rank 0 the records for the

@@ -122,10 +122,11 @@ public:
         (void)outputs, (void)width, (void)height, (void)identity;
     }
     /// Before the render: this process's part in it (its rows, how the cache is shared) for
-    /// `plan` with `settings`, which it may adjust; `record_exchanges`: keep the image after
-    /// each exchange of rows (exchange_checkpoints()). Collective.
-    virtual void begin(const PipelinePlan& plan, RunSettings& settings, bool record_exchanges) {
-        (void)plan, (void)settings, (void)record_exchanges;
+    /// `plan` with `settings`, which it may adjust; `exchanges_for`: the recorder the checkpoints
+    /// of each exchange of rows go to (exchange_checkpoints()), null for none; their images are
+    /// kept only where it scores them. Collective.
+    virtual void begin(const PipelinePlan& plan, RunSettings& settings, const CheckpointRecorder* exchanges_for) {
+        (void)plan, (void)settings, (void)exchanges_for;
     }
     /// A process that renders no rows (it answers the others' irradiance queries) does its
     /// whole part in serve() instead of rendering.

@@ -62,6 +62,8 @@ public:
     void add(Checkpoint c);
 
     const std::vector<Checkpoint>& checkpoints() const { return checkpoints_; }
+    /// Whether checkpoints are scored against a reference (else their images are never read).
+    bool scores() const { return static_cast<bool>(scorer_); }
 
 private:
     /// Scores `c` (with a reference), frees its image and keeps it, thinning the kept ones out

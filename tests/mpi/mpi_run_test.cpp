@@ -818,6 +818,24 @@ TEST_F(MpiRun, RankZeroReportsTheErrorAtEveryExchangeOfRows) {
     EXPECT_LE(curve[0]["seconds"].get<double>(), curve[1]["seconds"].get<double>());
 }
 
+// Without a reference a report under mpirun still names every exchange and the end (rank 0
+// keeps no image of them: nothing would read it).
+TEST_F(MpiRun, AReportWithoutAReferenceNamesEveryExchange) {
+    auto r = mpirun(2, {"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "24x18", "--rounds", "2", "--report",
+                        path("report"), "-q", "-o", path("x.exr")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(path("report/checkpoints.json"));
+    const auto cj = nlohmann::json::parse(in, nullptr, false);
+    ASSERT_TRUE(cj.is_object());
+    const auto& cps = cj["checkpoints"];
+    ASSERT_EQ(cps.size(), 3u) << cj.dump();
+    EXPECT_EQ(cps[0]["stage"], "preselective");
+    EXPECT_EQ(cps[1]["stage"], "selective");
+    EXPECT_EQ(cps[2]["stage"], "end");
+    EXPECT_FALSE(cps[2].contains("rmse"));
+    EXPECT_TRUE(fs::exists(path("report/index.html")));
+}
+
 // Still refused under mpirun (once, exit 2): each rank would render the whole image again.
 // A sequence's frames split among the ranks (issue 36), each a run of consecutive frames:
 // without a cache every frame is the single-process frame, pixel for pixel; rank 0 says every
