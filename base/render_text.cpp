@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace crex {
 namespace {
 
@@ -42,6 +44,22 @@ std::string displayable_line(std::string_view line) {
     return out;
 }
 
+// Code points [from, from + count) of a displayable line (whole code points, never bytes).
+std::string code_points(std::string_view line, uint32_t from, uint32_t count) {
+    size_t i = 0, start = line.size();
+    for (uint32_t k = 0; i <= line.size(); ++k) {
+        if (k == from) start = i;
+        if (k == from + count || i == line.size()) return std::string(line.substr(std::min(start, i), i - std::min(start, i)));
+        ++i;
+        while (i < line.size() && (static_cast<unsigned char>(line[i]) & 0xC0) == 0x80) ++i;
+    }
+    return {};
+}
+
+// Longer source lines (a minified glTF is one line of megabytes) are shown as this many code
+// points around the span's start, cut ends marked with "...".
+constexpr uint32_t kShownColumns = 120;
+
 void render_snippet(std::string& out, const SourceSpan& span) {
     if (!span.valid()) return;
     const SourceFile& f = *span.file;
@@ -53,11 +71,19 @@ void render_snippet(std::string& out, const SourceSpan& span) {
         uint32_t line_len = count_code_points(line);
         width = line_len >= begin.col ? line_len - begin.col + 1 : 1;
     }
+    uint32_t caret = begin.col - 1;  // code points before the caret, as shown
+    if (const uint32_t length = count_code_points(line); length > kShownColumns) {
+        const uint32_t from = caret > kShownColumns / 3 ? std::min(caret - kShownColumns / 3, length - kShownColumns) : 0;
+        const bool head_cut = from > 0, tail_cut = from + kShownColumns < length;
+        line = (head_cut ? "..." : "") + code_points(line, from, kShownColumns) + (tail_cut ? "..." : "");
+        const uint32_t into = caret - from;  // the caret's place in the window
+        width = std::min(width, kShownColumns > into ? kShownColumns - into : 1);
+        caret = into + (head_cut ? 3 : 0);
+    }
     std::string gutter = fmt::format("{:>5}", begin.line);
     std::string blank(gutter.size(), ' ');
     out += fmt::format("{} | {}\n", gutter, line);
-    out += fmt::format("{} | {}^{}\n", blank, std::string(begin.col - 1, ' '),
-                       std::string(width - 1, '~'));
+    out += fmt::format("{} | {}^{}\n", blank, std::string(caret, ' '), std::string(width > 0 ? width - 1 : 0, '~'));
 }
 
 }  // namespace

@@ -111,6 +111,29 @@ TEST(CrexDiagnostic, RendersLikeACompiler) {
               "      |   ^\n");
 }
 
+TEST(CrexDiagnostic, ALongLineIsShownAroundItsSpan) {
+    // A minified glTF is one line of megabytes: the quote is 120 code points around the span
+    // (an accent in the cut part must not split), its cut ends marked, the caret still under it.
+    std::string text = "\xC3\xA9" + std::string(4999, 'a') + "XYZ" + std::string(5000, 'b');
+    SourceFile file("big.gltf", text);
+    Diagnostic d;
+    d.code = "W311";
+    d.severity = Severity::kWarning;
+    d.message = "here";
+    d.span = {&file, 5001, 5004};  // "XYZ": columns 5001-5003
+    const std::string out = render_text(d);
+    const size_t quote = out.find("    1 | ");
+    ASSERT_NE(quote, std::string::npos) << out;
+    const std::string line = out.substr(quote + 8, out.find('\n', quote) - quote - 8);
+    EXPECT_EQ(line, "..." + std::string(40, 'a') + "XYZ" + std::string(77, 'b') + "...");
+    EXPECT_NE(out.find("      | " + std::string(43, ' ') + "^~~\n"), std::string::npos) << out;
+    // A span over the whole line underlines only what is shown.
+    d.span = {&file, 0, static_cast<uint32_t>(text.size())};
+    const std::string whole = render_text(d);
+    EXPECT_NE(whole.find("    1 | \xC3\xA9" + std::string(119, 'a') + "...\n      | ^" + std::string(119, '~') + "\n"), std::string::npos) << whole;
+    EXPECT_LT(whole.size(), 400u);
+}
+
 TEST(CrexDiagnostic, E001ListsWhatIsAllowedAndSuggestsUpperCase) {
     auto r = testing::check("d");
     ASSERT_EQ(r.diagnostics.size(), 1u);
