@@ -282,7 +282,7 @@ void PlanRun::start() {
                         : out_.policy == P::kQueues      ? A::kQueues
                                                          : A::kBatches;
     if (recorder_) {
-        recorder_->start();
+        recorder_->start(out_.film.pixel_count() * 3);
         clock_ = [rec = recorder_] { return rec->now(); };
     } else if (eo.clock) {
         clock_ = eo.clock;

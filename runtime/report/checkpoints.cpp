@@ -5,7 +5,8 @@ namespace crex {
 CheckpointRecorder::CheckpointRecorder(double interval, CheckpointScorer scorer, size_t max_bytes)
     : interval_(interval > 0 ? interval : 0.1), scorer_(std::move(scorer)), max_bytes_(max_bytes) {}
 
-void CheckpointRecorder::start() {
+void CheckpointRecorder::start(size_t image_floats) {
+    image_floats_ = image_floats;
     start_ = Clock::now();
     paused_ = 0;
     last_ = -1e30;
@@ -25,7 +26,8 @@ void CheckpointRecorder::event(const std::string& what, bool boundary, uint64_t 
     bool due = force || t - last_ >= (boundary ? interval_ / 10 : interval_);
     if (!due) return;
     auto copy_start = Clock::now();
-    keep(Checkpoint{t, stage_, what, rays, snapshot(), std::nullopt});
+    // Without a reference the image would be read by nothing: only its size is counted.
+    keep(Checkpoint{t, stage_, what, rays, scorer_ || image_floats_ == 0 ? snapshot() : std::vector<float>{}, std::nullopt});
     last_ = t;
     paused_ += std::chrono::duration<double>(Clock::now() - copy_start).count();
 }
@@ -33,7 +35,7 @@ void CheckpointRecorder::event(const std::string& what, bool boundary, uint64_t 
 void CheckpointRecorder::add(Checkpoint c) { keep(std::move(c)); }
 
 void CheckpointRecorder::keep(Checkpoint c) {
-    bytes_ += c.image.size() * sizeof(float);
+    bytes_ += (c.image.empty() ? image_floats_ : c.image.size()) * sizeof(float);
     if (scorer_ && !c.image.empty()) c.score = scorer_(c.image);
     std::vector<float>().swap(c.image);  // the score is all the curve needs
     checkpoints_.push_back(std::move(c));

@@ -4,7 +4,7 @@
 /// `interval` seconds. With a reference, each copy is scored against it when taken and then
 /// freed, so a report holds one image copy at a time whatever the frame size (it held up to
 /// 512 MiB of them beside the passes --max-memory sizes); the clock the budget sees pauses
-/// during the copy and the scoring.
+/// during the copy and the scoring. Without a reference no image is copied at all.
 #pragma once
 
 #include <chrono>
@@ -43,8 +43,9 @@ public:
     /// the scoring it pays for) are as many as that many bytes of images would hold.
     explicit CheckpointRecorder(double interval, CheckpointScorer scorer = {}, size_t max_bytes = size_t{512} << 20);
 
-    /// Starts the clock (at the first camera ray).
-    void start();
+    /// Starts the clock (at the first camera ray) for images of `image_floats` floats: without a
+    /// scorer no image is copied, and the thinning counts that many per checkpoint.
+    void start(size_t image_floats = 0);
     /// Seconds since start(), without the time spent copying snapshots.
     double now() const;
     double paused_seconds() const { return paused_; }
@@ -69,6 +70,7 @@ private:
     /// Scores `c` (with a reference), frees its image and keeps it, thinning the kept ones out
     /// once their images would have filled max_bytes_.
     void keep(Checkpoint c);
+    size_t image_floats_ = 0;
 
     using Clock = std::chrono::steady_clock;
     double interval_;

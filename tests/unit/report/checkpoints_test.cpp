@@ -67,5 +67,20 @@ TEST(Checkpoints, ThinOutAsIfTheImagesWereKept) {
     EXPECT_EQ(rec.checkpoints()[2].score->rmse, 0.0);
 }
 
+TEST(Checkpoints, WithoutAReferenceNoImageIsCopiedButTheThinningCountsThem) {
+    // The same room for 4 images of 24x16 as above, no scorer: the snapshot is never taken, and
+    // the fifth checkpoint still thins the points as if its image had been kept.
+    const size_t floats = size_t{24} * 16 * 3;
+    CheckpointRecorder rec(0.0, {}, 4 * floats * sizeof(float));
+    rec.start(floats);
+    int copies = 0;
+    for (int k = 0; k < 5; ++k)
+        rec.event("step " + std::to_string(k), true, 0, [&] { ++copies; return std::vector<float>(floats, 1.0f); }, true);
+    EXPECT_EQ(copies, 0);
+    ASSERT_EQ(rec.checkpoints().size(), 3u);
+    EXPECT_EQ(rec.checkpoints()[1].event, "step 2");
+    EXPECT_FALSE(rec.checkpoints()[2].score.has_value());
+}
+
 }  // namespace
 }  // namespace crex
