@@ -3,6 +3,7 @@
 #include "runtime/base/sampling.h"
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -339,6 +340,66 @@ void expand_bounds(const Shape& s, Vec3& lo, Vec3& hi) {
         for (const auto& v : s.vertices) add(v, 0);
         return;
     }
+}
+
+namespace {
+
+// Squared distance from p to triangle abc: the closest point by Voronoi regions (Ericson,
+// Real-Time Collision Detection, 5.1.5), which stays exact for slivers.
+double squared_distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    auto d2_to = [&](const Vec3& q) { const Vec3 e = p - q; return dot(e, e); };
+    if (d1 <= 0 && d2 <= 0) return d2_to(a);
+    const Vec3 bp = p - b;
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return d2_to(b);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return d2_to(a + ab * (d1 / (d1 - d3)));
+    const Vec3 cp = p - c;
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return d2_to(c);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return d2_to(a + ac * (d2 / (d2 - d6)));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return d2_to(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    const double sum = va + vb + vc;
+    if (!(sum > 0)) return std::min({d2_to(a), d2_to(b), d2_to(c)});  // degenerate: its corners
+    return d2_to(a + ab * (vb / sum) + ac * (vc / sum));
+}
+
+}  // namespace
+
+SurfaceDistance distance_to_surface(const Shape& s, const Vec3& p) {
+    SurfaceDistance out;
+    if (s.type == ShapeType::kSphere) {
+        const double r = length(p - s.center);
+        out.distance = std::abs(r - s.radius);
+        out.behind = (r < s.radius) != s.inward;
+        return out;
+    }
+    double best = INFINITY;
+    // Faces at the nearest distance (within rounding) all vote: behind only if behind every one,
+    // so a point by an edge of a convex solid is in front of it.
+    auto over = [&](const std::vector<Vec3>& v, const std::vector<std::array<uint32_t, 3>>& tris) {
+        for (const auto& t : tris) {
+            if (t[0] >= v.size() || t[1] >= v.size() || t[2] >= v.size()) continue;
+            const double d2 = squared_distance_to_triangle(p, v[t[0]], v[t[1]], v[t[2]]);
+            if (d2 > best * (1 + 1e-9)) continue;
+            const bool behind = dot(cross(v[t[1]] - v[t[0]], v[t[2]] - v[t[0]]), p - v[t[0]]) < 0;
+            out.behind = d2 < best * (1 - 1e-9) ? behind : out.behind && behind;
+            best = std::min(best, d2);
+        }
+    };
+    if (s.type == ShapeType::kMesh) {
+        over(s.vertices, s.triangles);
+    } else {
+        TriangleMesh m;
+        tessellate(s, m);
+        over(m.positions, m.indices);
+    }
+    out.distance = std::sqrt(best);
+    return out;
 }
 
 }  // namespace crex

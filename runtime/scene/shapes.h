@@ -48,6 +48,15 @@ size_t triangle_count(const Shape& shape);
 /// Axis-aligned bounds of a shape (spheres and round shapes included).
 void expand_bounds(const Shape& shape, Vec3& lo, Vec3& hi);
 
+struct SurfaceDistance {
+    double distance = INFINITY;  ///< to the nearest point of the surface; infinite without one
+    /// `p` is behind the front of every face at that distance (inside a closed mesh whose
+    /// faces look out, or inside a sphere that is not a bubble).
+    bool behind = false;
+};
+/// From `p` to the nearest point of `shape`'s surface (its triangles, or the analytic sphere).
+SurfaceDistance distance_to_surface(const Shape& shape, const Vec3& p);
+
 /// Triangulates a planar polygon by ear clipping (convex or not, with holes joined to the
 /// outline by seams as RADIANCE writes them); returns index triples into `vertices`, empty if
 /// it cannot (degenerate).

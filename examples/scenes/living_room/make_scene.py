@@ -579,11 +579,12 @@ def build(untextured):
         quad_mesh(origin, side, along, (1, 1), leaves)
     objects.append(("plant_leaves", leaves, "leaves", None))
 
-    # Floor lamp by the sofa: a pole, a shade, and the point light under it.
-    lamp = lathe_mesh([(0.0, 0.0), (0.16, 0.0), (0.16, 0.03), (0.015, 0.04), (0.015, 1.55), (0.0, 1.55)], 64, (-2.45, 0.0, 1.55))
+    # Floor lamp by the sofa: a pole, a shade, and the point light in the shade, above the pole's
+    # top (a light inside the pole would light nothing).
+    lamp = lathe_mesh([(0.0, 0.0), (0.16, 0.0), (0.16, 0.03), (0.015, 0.04), (0.015, 1.42), (0.0, 1.42)], 64, (-2.45, 0.0, 1.55))
     objects.append(("lamp_pole", lamp, "lamp_metal", None))
     objects.append(("lamp_shade", lathe_mesh([(0.22, 1.35), (0.2, 1.45), (0.14, 1.62)], 96, (-2.45, 0.0, 1.55)), "lamp_shade", None))
-    lights = [("floor_lamp", (-2.45, 1.3, 1.55), (1.0, 0.8, 0.55), 6.0)]
+    lights = [("floor_lamp", (-2.45, 1.5, 1.55), (1.0, 0.8, 0.55), 6.0)]
 
     camera = {"position": (2.75, 1.6, 1.9), "target": (-0.7, 0.85, -0.8), "yfov": 1.0}
     return objects, mats, lights, camera

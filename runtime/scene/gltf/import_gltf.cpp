@@ -285,7 +285,8 @@ private:
         for (const auto& s : scene_.shapes) expand_bounds(s, lo, hi);
         for (const auto& l : pending_lights_) lo = vmin(lo, l.world.point({})), hi = vmax(hi, l.world.point({}));
         const double extent = is_finite(hi - lo) ? length(hi - lo) : 1.0;
-        const double radius = std::max(2.5e-3 * extent, 1e-6);
+        const double nominal_radius = std::max(2.5e-3 * extent, 1e-6);
+        const size_t surfaces = scene_.shapes.size();  // the scene's own, before the lights join it
         for (const auto& pending : pending_lights_) {
             if (pending.index < 0 || static_cast<size_t>(pending.index) >= m.lights.size()) {
                 sink_.report("E303", doc_.at(pending.at), fmt::format("light {} does not exist", pending.index));
@@ -322,6 +323,7 @@ private:
                 scene_.distant_lights.push_back(d);
                 continue;
             }
+            const double radius = bulb_radius(pending.world.point({}), nominal_radius, surfaces, name, pending.at);
             mat.color = vmin(colour * (intensity / (3.14159265358979323846 * radius * radius)), max_radiance);
             if (light.type == "spot") {
                 // crex's spotlight: a hard cone at glTF's outer angle (a half angle; crex's is
@@ -336,6 +338,9 @@ private:
                                                                           "is rendered as a hard edge at the outer angle", name,
                                                                           light.spot.innerConeAngle, outer));
             }
+            // Two nodes of one light share its material unless their bulbs differ in size.
+            if (const Material* same = scene_.find_material(mat.name); same && same->color != mat.color)
+                mat.name += fmt::format("@{}", scene_.shapes.size());
             if (!scene_.find_material(mat.name)) {
                 scene_.materials.push_back(mat);
                 used_.push_back(true);
@@ -349,6 +354,30 @@ private:
             where_.push_back(pending.at);
             scene_.shapes.push_back(s);
         }
+    }
+
+    /// The radius of the sphere standing in for a point light at `centre`: the scene-sized
+    /// `nominal`, shrunk to half the light's distance from the nearest surface. A bulb larger
+    /// than the room around it would poke through a lamp's pole or a wall and shine from the
+    /// wrong side; the light's power is kept whatever its size. A light behind the surface it
+    /// is nearest (inside a closed mesh) is warned about: it lights only what it sees there.
+    double bulb_radius(const Vec3& centre, double nominal, size_t surfaces, const std::string& name, const std::string& at) {
+        double nearest = INFINITY;
+        size_t nearest_shape = surfaces;
+        bool behind = false;
+        for (size_t i = 0; i < surfaces; ++i) {
+            const Shape& shape = scene_.shapes[i];
+            Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+            expand_bounds(shape, lo, hi);
+            const Vec3 outside = vmax(vmax(lo - centre, centre - hi), Vec3{});
+            if (!(length(outside) < nearest)) continue;  // its box is farther than the nearest so far
+            const SurfaceDistance d = distance_to_surface(shape, centre);
+            if (d.distance < nearest) nearest = d.distance, nearest_shape = i, behind = d.behind;
+        }
+        if (nearest_shape < surfaces && behind)
+            sink_.report("W311", doc_.at(at), fmt::format("light '{}' is {:.3g} behind a face of '{}' (inside it?): it lights only what it can see from there",
+                                                          name, nearest, scene_.shapes[nearest_shape].name));
+        return std::max(std::min(nominal, 0.5 * nearest), 1e-6 * nominal);
     }
 
     struct PendingLight {

@@ -12,6 +12,7 @@
 
 #include "base/base64.h"
 #include "runtime/scene/census.h"
+#include "runtime/scene/shapes.h"
 #include "tests/support/scene_helpers.h"
 
 namespace crex {
@@ -121,6 +122,80 @@ TEST(SceneGltf, NodeTransformsApplyDownTheTree) {
     EXPECT_EQ(cup->uvs[1], (std::array<double, 2>{1, 0}));
     EXPECT_DOUBLE_EQ(r.scene->units.metres_per_unit, 1);
     EXPECT_EQ(r.scene->units.up, (Vec3{0, 1, 0}));
+}
+
+// A closed unit cube (its faces wound to look out) and three point lights: one in open space,
+// one 1 cm above the cube's top, one inside the cube, as a bulb modelled inside a lamp's pole.
+std::string lamp_in_pole_gltf() {
+    std::string b;
+    append(b, std::vector<float>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1});
+    append(b, std::vector<uint16_t>{0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                    3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5});
+    return R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"], "scene": 0,
+  "scenes": [{"nodes": [0, 1, 2, 3]}],
+  "nodes": [{"name": "pole", "mesh": 0},
+            {"name": "open", "translation": [0.5, 4, 0.5], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"name": "above", "translation": [0.5, 1.01, 0.5], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"name": "inside", "translation": [0.5, 0.5, 0.5], "extensions": {"KHR_lights_punctual": {"light": 1}}}],
+  "meshes": [{"name": "pole", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96}, {"buffer": 0, "byteOffset": 96, "byteLength": 72}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3", "min": [0,0,0], "max": [1,1,1]},
+                {"bufferView": 1, "componentType": 5123, "count": 36, "type": "SCALAR"}],
+  "extensions": {"KHR_lights_punctual": {"lights": [{"name": "bulb", "type": "point", "intensity": 10},
+                                                   {"name": "buried", "type": "point", "intensity": 10}]}},
+  "buffers": [{"byteLength": 168, "uri": "data:application/octet-stream;base64,)" + base64(b) + R"("}]})";
+}
+
+TEST(SceneGltf, APointLightsBulbFitsTheSpaceAroundIt) {
+    auto r = testing::load_path(write("lamp.gltf", lamp_in_pole_gltf()));
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Scene& s = *r.scene;
+    const Shape* pole = shape_named(s, "pole");
+    ASSERT_TRUE(pole);
+    std::vector<const Shape*> bulbs;
+    for (const Shape& shape : s.shapes)
+        if (shape.name.rfind("light:", 0) == 0) bulbs.push_back(&shape);
+    ASSERT_EQ(bulbs.size(), 3u);
+    const double extent = std::sqrt(1 + 4.0 * 4 + 1);  // the cube and the open light's node
+    for (const Shape* bulb : bulbs) {
+        // No bulb reaches a surface, and each keeps its intensity whatever its size.
+        EXPECT_GT(distance_to_surface(*pole, bulb->center).distance, bulb->radius) << bulb->name;
+        const Material* m = s.find_material(bulb->material);
+        ASSERT_TRUE(m);
+        EXPECT_NEAR(m->color.x * M_PI * bulb->radius * bulb->radius, 10, 1e-9) << bulb->name;
+    }
+    EXPECT_NEAR(bulbs[0]->radius, 2.5e-3 * extent, 1e-12);  // in open space: sized by the scene
+    EXPECT_NEAR(bulbs[1]->radius, 0.005, 1e-6);             // 1 cm from the cube: half of that
+    EXPECT_NEAR(bulbs[2]->radius, 2.5e-3 * extent, 1e-12);  // in the middle of the cube: room enough
+    // The two nodes of the first light have bulbs of different sizes, so materials of their own.
+    EXPECT_NE(bulbs[0]->material, bulbs[1]->material);
+    // Only the buried one is warned about, located at its node.
+    int warned = 0;
+    for (const auto& d : r.diagnostics)
+        if (d.code == "W311" && d.message.find("'buried'") != std::string::npos && d.message.find("'pole'") != std::string::npos) ++warned;
+    EXPECT_EQ(warned, 1);
+    EXPECT_EQ(r.diagnostics.size(), 1u);
+}
+
+TEST(SceneGltf, DistanceToASurfaceFindsFacesEdgesAndCorners) {
+    Shape tri;
+    tri.type = ShapeType::kMesh;
+    tri.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    tri.triangles = {{0, 1, 2}};
+    EXPECT_NEAR(distance_to_surface(tri, {0.25, 0.25, 2}).distance, 2, 1e-12);  // over the face
+    EXPECT_FALSE(distance_to_surface(tri, {0.25, 0.25, 2}).behind);            // on its front (+z)
+    EXPECT_TRUE(distance_to_surface(tri, {0.25, 0.25, -2}).behind);
+    EXPECT_NEAR(distance_to_surface(tri, {0.5, -1, 0}).distance, 1, 1e-12);       // beyond an edge
+    EXPECT_NEAR(distance_to_surface(tri, {1, 1, 0}).distance, std::sqrt(0.5), 1e-12);  // the long edge
+    EXPECT_NEAR(distance_to_surface(tri, {-3, -4, 0}).distance, 5, 1e-12);       // beyond a corner
+    Shape ball;
+    ball.type = ShapeType::kSphere;
+    ball.center = {0, 0, 0};
+    ball.radius = 2;
+    EXPECT_NEAR(distance_to_surface(ball, {0, 0, 5}).distance, 3, 1e-12);
+    EXPECT_TRUE(distance_to_surface(ball, {0, 0.5, 0}).behind);
+    ball.inward = true;  // a bubble: its inside is its front
+    EXPECT_FALSE(distance_to_surface(ball, {0, 0.5, 0}).behind);
 }
 
 TEST(SceneGltf, MaterialsFollowTheDocumentedTable) {
