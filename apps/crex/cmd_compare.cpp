@@ -56,6 +56,8 @@ int print_result(const CompareOptions& opt, const nlohmann::json& j, bool percep
         std::cout << fmt::format("  on {} windows of the {}x{} frame ({} pixels), {} spp\n", j["windows"].size(), j["frame"][0].get<int>(),
                                  j["frame"][1].get<int>(), j["pixels"].get<size_t>(), j["reference_spp"].get<uint32_t>());
     if (j.contains("rmse")) std::cout << fmt::format("  rmse    {:.6g}   (linear radiance)\n", j["rmse"].get<double>());
+    if (j.contains("reference_own_rmse"))
+        std::cout << fmt::format("          the reference's own, estimated: {:.3g}\n", j["reference_own_rmse"].get<double>());
     if (j.contains("relmse")) std::cout << fmt::format("  relmse  {:.6g}   (mean of (t-r)^2/(r^2+0.01))\n", j["relmse"].get<double>());
     if (j.contains("ssim"))
         std::cout << (j["ssim"].is_null() ? std::string("  ssim    n/a (smaller than the 11x11 window)\n")

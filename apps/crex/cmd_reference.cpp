@@ -144,6 +144,9 @@ int accumulate(const ReferenceOptions& opt) {
     s.progress = [&](const RunProgress& p) { progress.update(p); };
     RenderedPixels more;
     if (int status = guarded_rendering("crex reference", progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
+    // The file's mean and the new samples' are independent: how far apart they are says how
+    // far the sum of both still is from converged.
+    h.own_rmse = own_rmse_estimate(ref->rgb, h.spp, more.rgb, opt.spp);
     ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, opt.spp);
     const uint32_t before = h.spp;
     h.spp += opt.spp;
@@ -152,7 +155,9 @@ int accumulate(const ReferenceOptions& opt) {
     h.commands += (h.commands.empty() ? "" : "\n") + command_line(opt, scene_name, path);
     h.render_seconds += more.seconds;
     return write_and_say(path, *ref, opt,
-                         fmt::format("{} samples added to {} in {:.1f} s: {} spp in all ({})", opt.spp, opt.accumulate, more.seconds, h.spp, h.runs));
+                         fmt::format("{} samples added to {} in {:.1f} s: {} spp in all ({}); its own RMSE is about {:.3g} "
+                                     "(from how far the new samples' mean is from the old)",
+                                     opt.spp, opt.accumulate, more.seconds, h.spp, h.runs, h.own_rmse));
 }
 
 // --window / --windows auto: those pixels of the frame only, and a cheap look at all of it.
@@ -337,7 +342,9 @@ tagged task object, a tagged distractor, a lamp's edge, the brightest caustic, t
 salient and the plainest region, none overlapping; it prints each choice and why.
 --accumulate FILE renders --spp more samples of FILE's pixels, continuing its sample
 indices (so they are independent of the ones it has), and writes the mean of all of them
-with the total in its header (to -o, else over FILE). Every reference records its seed,
+with the total in its header (to -o, else over FILE), and an estimate of its own error
+(crex:own_rmse, from how far the new samples' mean is from the old one; 'crex compare'
+prints it beside the error it measures). Every reference records its seed,
 samples, the commands that made it and a hash of the scene's content; accumulation refuses
 a scene that has changed since.
 

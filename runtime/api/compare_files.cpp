@@ -156,6 +156,7 @@ CompareOutcome compare_on_windows(const CompareRequest& opt, const ReferenceImag
     j["frame"] = {h.frame_width, h.frame_height};
     j["pixels"] = all.pixels;
     j["reference_spp"] = h.spp;
+    if (h.own_rmse > 0) j["reference_own_rmse"] = h.own_rmse;  // its own error, beside the test's rmse
     j["display"] = fmt::format("HDR inputs tone-mapped with {} exposure {:.6g}, Reinhard, sRGB curve; each window compared as an image of its own",
                                opt.exposure > 0 ? "the given" : "the whole frame's", view.exposure);
     put_metrics(all, choice, j);

@@ -117,6 +117,7 @@ ImageMetadata reference_metadata(const ReferenceHeader& h) {
                        {"crex:render_seconds", fmt::format("{:.6g}", h.render_seconds)}};
     if (h.exposure > 0) m.push_back({"crex:exposure", fmt::format("{:.9g}", h.exposure)});
     if (!h.context.empty()) m.push_back({"crex:context", h.context});
+    if (h.own_rmse > 0) m.push_back({"crex:own_rmse", fmt::format("{:.6g}", h.own_rmse)});
     return m;
 }
 
@@ -145,6 +146,10 @@ std::optional<ReferenceHeader> reference_header(const ImageMetadata& metadata, s
     h.scene = m["crex:scene"], h.scene_hash = m["crex:scene_hash"], h.crex = m["crex:crex"];
     h.commands = m["crex:commands"], h.runs = m["crex:runs"], h.context = m["crex:context"];
     h.render_seconds = std::atof(m["crex:render_seconds"].c_str());
+    if (m.count("crex:own_rmse")) {
+        h.own_rmse = std::atof(m["crex:own_rmse"].c_str());
+        if (!(h.own_rmse >= 0) || !std::isfinite(h.own_rmse)) return bad("crex:own_rmse");
+    }
     if (m.count("crex:exposure")) {
         h.exposure = std::atof(m["crex:exposure"].c_str());
         if (!(h.exposure > 0) || !std::isfinite(h.exposure)) return bad("crex:exposure");
@@ -198,6 +203,18 @@ std::vector<float> accumulate_samples(const std::vector<float>& a, uint32_t a_sa
         out[i] = std::isfinite(v) ? v : 0.0f;
     }
     return out;
+}
+
+double own_rmse_estimate(const std::vector<float>& a, uint32_t a_samples, const std::vector<float>& b, uint32_t b_samples) {
+    const size_t n = std::min(a.size(), b.size());
+    if (n == 0 || a_samples == 0 || b_samples == 0) return 0;
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double d = static_cast<double>(a[i]) - b[i];
+        if (std::isfinite(d)) sum += d * d;
+    }
+    const double na = a_samples, nb = b_samples;
+    return std::sqrt(sum / static_cast<double>(n)) * std::sqrt(na * nb) / (na + nb);
 }
 
 }  // namespace crex

@@ -57,6 +57,9 @@ struct ReferenceHeader {
     double render_seconds = 0;    ///< over every run
     double exposure = 0;          ///< of the whole frame's tone map (0: not recorded)
     std::string context;          ///< how the exposure and the attention layer were found
+    /// Its own RMSE against the converged image, estimated when its last run was added to the
+    /// runs before (own_rmse_estimate); 0: not known (one run).
+    double own_rmse = 0;
     bool whole_frame() const;     ///< one window, the frame itself: an ordinary image
 };
 
@@ -87,5 +90,10 @@ std::string read_reference_image(const std::string& path, std::optional<Referenc
 /// The mean of two independent estimates of the same pixels, `a` of `a_samples` samples a pixel
 /// and `b` of `b_samples`, as one of their sum: what accumulation makes.
 std::vector<float> accumulate_samples(const std::vector<float>& a, uint32_t a_samples, const std::vector<float>& b, uint32_t b_samples);
+
+/// The RMSE against the converged image of the mean of `a` (a mean of `a_samples`) and `b`
+/// (`b_samples` more, independent): a - b has the per-sample variance times 1/na + 1/nb, and
+/// their mean that variance over na + nb, so it is rmse(a, b) sqrt(na nb) / (na + nb).
+double own_rmse_estimate(const std::vector<float>& a, uint32_t a_samples, const std::vector<float>& b, uint32_t b_samples);
 
 }  // namespace crex

@@ -122,6 +122,35 @@ TEST_F(ReferenceWindowsCli, TwoAccumulatedHalvesEqualOneRunOfTheSum) {
     EXPECT_GT(differ, once.size() / 4);
 }
 
+// The header's estimate of a reference's own error, from the two runs it was accumulated from,
+// is near its actual error against a render of many more samples (another seed).
+TEST_F(ReferenceWindowsCli, AnAccumulatedReferenceEstimatesItsOwnError) {
+    windowed_reference("grown.exr", 16);
+    auto more = crex_cli({"reference", "--accumulate", path("grown.exr"), "--spp", "16"});
+    ASSERT_EQ(more.exit_code, 0) << more.err;
+    EXPECT_NE(more.err.find("its own RMSE is about"), std::string::npos) << more.err;
+    std::vector<std::string> args = {"reference", "builtin:cornell", "--size", "48x32", "--spp", "2048", "--seed", "9",
+                                     "--context-spp", "0", "-q", "-o", path("gold.exr")};
+    for (const auto& w : kWindows) args.insert(args.end(), {"--window", w});
+    ASSERT_EQ(crex_cli(args).exit_code, 0);
+    int w = 0, h = 0;
+    const std::vector<float> grown = read(path("grown.exr"), w, h), gold = read(path("gold.exr"), w, h);
+    ASSERT_EQ(grown.size(), gold.size());
+    double sum = 0;
+    for (size_t k = 0; k < gold.size(); ++k) sum += (double(grown[k]) - gold[k]) * (double(grown[k]) - gold[k]);
+    const double actual = std::sqrt(sum / static_cast<double>(gold.size()));
+    const double estimate = std::stod(header(path("grown.exr"))["crex:own_rmse"]);
+    EXPECT_GT(estimate, 0.6 * actual);
+    EXPECT_LT(estimate, 1.6 * actual);
+    // crex compare says it beside the test's error.
+    auto compared = crex_cli({"compare", path("grown.exr"), path("gold.exr"), "--format", "json"});
+    ASSERT_EQ(compared.exit_code, 0) << compared.err;
+    EXPECT_EQ(nlohmann::json::parse(compared.out).count("reference_own_rmse"), 0u);  // the gold has one run
+    auto reversed = crex_cli({"compare", path("gold.exr"), path("grown.exr"), "--format", "json"});
+    ASSERT_EQ(reversed.exit_code, 0) << reversed.err;
+    EXPECT_NEAR(nlohmann::json::parse(reversed.out)["reference_own_rmse"].get<double>(), estimate, 1e-6 * estimate);
+}
+
 // Accumulation refuses what would not add up: another scene, and options the file decides.
 TEST_F(ReferenceWindowsCli, AccumulationRefusesAnotherSceneAndOptionsTheFileDecides) {
     windowed_reference("ref.exr", 2);
