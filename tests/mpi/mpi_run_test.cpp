@@ -796,6 +796,13 @@ TEST_F(MpiRun, RankZeroWritesTheReportWithTheErrorAtTheEnd) {
     EXPECT_EQ(cj["checkpoints"].size(), 1u);
 }
 
+// The points of a report of sel_rp in 2 rounds: the preview, round 1's exchange, the end.
+void expect_preview_round_end(const nlohmann::json& points) {
+    EXPECT_EQ(points[0]["stage"], "preselective");
+    EXPECT_EQ(points[1]["stage"], "selective");
+    EXPECT_EQ(points[2]["stage"], "end");
+}
+
 // A pipeline exchanges rows after its preview and after each round but the last: there rank
 // 0's film holds every rank's rows, and each exchange is a point of the error curve before
 // the end. sel_rp in 2 rounds: the preview, round 1, the end, with the error falling to 0
@@ -808,9 +815,7 @@ TEST_F(MpiRun, RankZeroReportsTheErrorAtEveryExchangeOfRows) {
     ASSERT_TRUE(j.is_object());
     const auto& curve = j["error_curve"];
     ASSERT_EQ(curve.size(), 3u) << j.dump();
-    EXPECT_EQ(curve[0]["stage"], "preselective");
-    EXPECT_EQ(curve[1]["stage"], "selective");
-    EXPECT_EQ(curve[2]["stage"], "end");
+    expect_preview_round_end(curve);
     // The preview is far from the final image, round 1 nearer, the end is it.
     EXPECT_GT(curve[0]["rmse"].get<double>(), curve[1]["rmse"].get<double>()) << j.dump();
     EXPECT_GT(curve[1]["rmse"].get<double>(), 0.0);
@@ -829,9 +834,7 @@ TEST_F(MpiRun, AReportWithoutAReferenceNamesEveryExchange) {
     ASSERT_TRUE(cj.is_object());
     const auto& cps = cj["checkpoints"];
     ASSERT_EQ(cps.size(), 3u) << cj.dump();
-    EXPECT_EQ(cps[0]["stage"], "preselective");
-    EXPECT_EQ(cps[1]["stage"], "selective");
-    EXPECT_EQ(cps[2]["stage"], "end");
+    expect_preview_round_end(cps);
     EXPECT_FALSE(cps[2].contains("rmse"));
     EXPECT_TRUE(fs::exists(path("report/index.html")));
 }
