@@ -370,6 +370,53 @@ double squared_distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
 
 }  // namespace
 
+namespace {
+
+/// Distance along `d` from `o` to the triangle (a, b, c), or infinity; `back` says whether the
+/// ray meets its back (the side its winding faces away from). Moeller-Trumbore, both sides.
+double ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c, bool& back) {
+    const Vec3 e1 = b - a, e2 = c - a, q = cross(d, e2);
+    const double det = dot(e1, q);
+    if (!(std::abs(det) > 1e-300)) return INFINITY;
+    const double inv = 1 / det;
+    const Vec3 s = o - a;
+    const double u = dot(s, q) * inv;
+    if (u < 0 || u > 1) return INFINITY;
+    const Vec3 r = cross(s, e1);
+    const double v = dot(d, r) * inv;
+    if (v < 0 || u + v > 1) return INFINITY;
+    const double t = dot(e2, r) * inv;
+    back = det < 0;  // dot(d, cross(e1, e2)) = -det: the ray runs along the face's normal
+    return t > 0 ? t : INFINITY;
+}
+
+/// Whether every ray from `p` (fourteen directions, turned off the axes so none grazes a
+/// mesh's edges by construction) first meets one of the triangles from behind: `p` is
+/// enclosed by them, not beside the back of an open sheet such as a leaf or a wall's panel.
+bool enclosed(const Vec3& p, const std::vector<Vec3>& v, const std::vector<std::array<uint32_t, 3>>& tris) {
+    static const std::array<Vec3, 14> kDirections = [] {
+        std::array<Vec3, 14> out{};
+        const Vec3 raw[14] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {1, 1, 1}, {1, 1, -1},
+                              {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+        for (size_t i = 0; i < 14; ++i) out[i] = normalize_or_zero(raw[i] + Vec3{0.0127, 0.0311, 0.0233});
+        return out;
+    }();
+    for (const Vec3& d : kDirections) {
+        double nearest = INFINITY;
+        bool nearest_back = false;
+        for (const auto& t : tris) {
+            if (t[0] >= v.size() || t[1] >= v.size() || t[2] >= v.size()) continue;
+            bool back = false;
+            const double hit = ray_triangle(p, d, v[t[0]], v[t[1]], v[t[2]], back);
+            if (hit < nearest) nearest = hit, nearest_back = back;
+        }
+        if (!(nearest < INFINITY) || !nearest_back) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
 SurfaceDistance distance_to_surface(const Shape& s, const Vec3& p) {
     SurfaceDistance out;
     if (s.type == ShapeType::kSphere) {
@@ -390,6 +437,8 @@ SurfaceDistance distance_to_surface(const Shape& s, const Vec3& p) {
             out.behind = d2 < best * (1 - 1e-9) ? behind : out.behind && behind;
             best = std::min(best, d2);
         }
+        // Behind the nearest face of an open sheet is only its other side.
+        if (out.behind) out.behind = enclosed(p, v, tris);
     };
     if (s.type == ShapeType::kMesh) {
         over(s.vertices, s.triangles);

@@ -50,8 +50,9 @@ void expand_bounds(const Shape& shape, Vec3& lo, Vec3& hi);
 
 struct SurfaceDistance {
     double distance = INFINITY;  ///< to the nearest point of the surface; infinite without one
-    /// `p` is behind the front of every face at that distance (inside a closed mesh whose
-    /// faces look out, or inside a sphere that is not a bubble).
+    /// `p` is inside: behind the front of every face at that distance and, for a mesh, every
+    /// ray from `p` meets its faces from behind first (inside a closed mesh whose faces look
+    /// out, not beside the back of an open sheet), or inside a sphere that is not a bubble.
     bool behind = false;
 };
 /// From `p` to the nearest point of `shape`'s surface (its triangles, or the analytic sphere).

@@ -374,10 +374,16 @@ private:
             const SurfaceDistance d = distance_to_surface(shape, centre);
             if (d.distance < nearest) nearest = d.distance, nearest_shape = i, behind = d.behind;
         }
+        const double radius = std::max(std::min(nominal, 0.5 * nearest), 1e-6 * nominal);
         if (nearest_shape < surfaces && behind)
             sink_.report("W311", doc_.at(at), fmt::format("light '{}' is {:.3g} behind a face of '{}' (inside it?): it lights only what it can see from there",
                                                           name, nearest, scene_.shapes[nearest_shape].name));
-        return std::max(std::min(nominal, 0.5 * nearest), 1e-6 * nominal);
+        else if (nearest_shape < surfaces && radius < 0.1 * nominal)  // irradiance grows as 1/d^2 up to the bulb
+            sink_.report("W311", doc_.at(at), fmt::format("light '{}' is only {:.3g} from '{}': its bulb is shrunk to radius {:.3g} (a tenth of "
+                                                          "{:.3g} or less), and the surface next to it is lit so brightly that its "
+                                                          "bounces are fireflies; move the light away from it",
+                                                          name, nearest, scene_.shapes[nearest_shape].name, radius, nominal));
+        return radius;
     }
 
     struct PendingLight {

@@ -177,6 +177,25 @@ TEST(SceneGltf, APointLightsBulbFitsTheSpaceAroundIt) {
     EXPECT_EQ(r.diagnostics.size(), 1u);
 }
 
+TEST(SceneGltf, APointLightOnASurfaceIsWarnedAbout) {
+    // The light 1 cm above the cube moved to 0.1 mm: its bulb shrinks to 0.05 mm, and it says so.
+    std::string text = lamp_in_pole_gltf();
+    const size_t at = text.find("[0.5, 1.01, 0.5]");
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, 16, "[0.5, 1.0001, 0.5]");
+    auto r = testing::load_path(write("lamp_on_pole.gltf", text));
+    ASSERT_TRUE(r.scene);
+    int near = 0, buried = 0;
+    for (const auto& d : r.diagnostics) {
+        if (d.code != "W311") continue;
+        if (d.message.find("'bulb' is only 0.0001 from 'pole'") != std::string::npos) ++near;
+        if (d.message.find("'buried'") != std::string::npos) ++buried;
+    }
+    EXPECT_EQ(near, 1);
+    EXPECT_EQ(buried, 1);
+    EXPECT_EQ(r.diagnostics.size(), 2u);
+}
+
 TEST(SceneGltf, DistanceToASurfaceFindsFacesEdgesAndCorners) {
     Shape tri;
     tri.type = ShapeType::kMesh;
@@ -184,10 +203,24 @@ TEST(SceneGltf, DistanceToASurfaceFindsFacesEdgesAndCorners) {
     tri.triangles = {{0, 1, 2}};
     EXPECT_NEAR(distance_to_surface(tri, {0.25, 0.25, 2}).distance, 2, 1e-12);  // over the face
     EXPECT_FALSE(distance_to_surface(tri, {0.25, 0.25, 2}).behind);            // on its front (+z)
-    EXPECT_TRUE(distance_to_surface(tri, {0.25, 0.25, -2}).behind);
+    // Behind its back, but an open sheet (a leaf, a wall's panel) encloses nothing.
+    EXPECT_FALSE(distance_to_surface(tri, {0.25, 0.25, -2}).behind);
     EXPECT_NEAR(distance_to_surface(tri, {0.5, -1, 0}).distance, 1, 1e-12);       // beyond an edge
     EXPECT_NEAR(distance_to_surface(tri, {1, 1, 0}).distance, std::sqrt(0.5), 1e-12);  // the long edge
     EXPECT_NEAR(distance_to_surface(tri, {-3, -4, 0}).distance, 5, 1e-12);       // beyond a corner
+    // A unit cube wound to look out: inside it is behind; with its top left off, a point inside
+    // sees out and is not.
+    Shape cube;
+    cube.type = ShapeType::kMesh;
+    cube.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                      {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    EXPECT_TRUE(distance_to_surface(cube, {0.5, 0.5, 0.5}).behind);
+    EXPECT_TRUE(distance_to_surface(cube, {0.5, 0.99, 0.5}).behind);
+    EXPECT_FALSE(distance_to_surface(cube, {0.5, 1.01, 0.5}).behind);
+    Shape open_box = cube;
+    open_box.triangles.erase(open_box.triangles.begin() + 6, open_box.triangles.begin() + 8);  // the y = 1 face
+    EXPECT_FALSE(distance_to_surface(open_box, {0.5, 0.9, 0.5}).behind);
     Shape ball;
     ball.type = ShapeType::kSphere;
     ball.center = {0, 0, 0};
