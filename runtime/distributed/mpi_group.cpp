@@ -124,7 +124,7 @@ void MpiGroup::share_rows(SharedRows& rows) {
     exchanges->push_back({seconds, preview ? "preselective" : "selective",
                           preview ? std::string("the preview, rows of every rank")
                                   : fmt::format("round {} done, rows of every rank", exchanges->size()),
-                          0, modes_->exchange_images ? rows.film.composite(&rows.ambient) : std::vector<float>{}});
+                          0, modes_->exchange_images ? rows.film.composite(&rows.ambient) : std::vector<float>{}, std::nullopt});
 }
 
 void MpiGroup::sum(std::vector<double>& values) {
@@ -151,7 +151,7 @@ void MpiGroup::final_image(const std::vector<float>& rgb, int width) {
 std::vector<Checkpoint> MpiGroup::exchange_checkpoints(const RunResult& result) const {
     std::vector<Checkpoint> out = modes_->exchanges ? *modes_->exchanges : std::vector<Checkpoint>{};
     out.push_back({slowest_, "end", "end of render (the rows of every rank)", static_cast<uint64_t>(rays_),
-                   modes_->exchange_images ? result.image() : std::vector<float>{}});
+                   modes_->exchange_images ? result.image() : std::vector<float>{}, std::nullopt});
     return out;
 }
 
