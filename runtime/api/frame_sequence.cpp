@@ -224,6 +224,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     // and only the lead's frames (one process writes the file).
     ResolvedRun next = run;
     if (!processes.leads()) next.settings.ic_file.clear();
+    next.settings.hand_on_ic_grids = o.carry_cache;  // a frame's lookup grids go on with its records
     // A sequence budget is wall clock: what this process has spent since its first frame.
     const auto sequence_start = std::chrono::steady_clock::now();
     double spent = 0, overhead = 0;
@@ -400,6 +401,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         next.settings.ic_file_read = false;
         if (o.carry_cache && next.settings.irradiance_cache) {
             next.settings.ic_records = std::move(outcome.result->ic_records);
+            next.settings.ic_grids = std::move(outcome.result->ic_grids);
             next.settings.ic_file_bytes.reset();
             // The frame's own records are the cache's last (those it started with come first).
             const size_t own = std::min<size_t>(result.ic_stats.records, next.settings.ic_records.size());

@@ -92,9 +92,14 @@ void IrradianceCache::file(uint32_t index) {
                                 static_cast<float>(r.harmonic_distance), index});
 }
 
-void IrradianceCache::insert(const std::vector<IrradianceRecord>& records) {
-    const size_t first = records_.size();
+void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGrids* grids) {
+    size_t first = records_.size();
     records_.insert(records_.end(), records.begin(), records.end());
+    if (grids && first == 0 && grids->records <= records.size() && grids->max_aa == max_aa_ && grids->cell_size == cell_size_) {
+        grids_ = std::move(grids->grids);
+        first = grids->records;  // filed already, in the records' order
+        *grids = IcGrids{};
+    }
     uint32_t levels = 0;
     for (const IrradianceRecord& r : records) levels = std::max(levels, r.level + 1u);
     for (uint32_t level = 0; level < levels; ++level) make_grids(level);
@@ -109,7 +114,8 @@ void IrradianceCache::insert(const std::vector<IrradianceRecord>& records) {
     }, tbb::simple_partitioner());
 }
 
-std::vector<IrradianceRecord> IrradianceCache::take_records() {
+std::vector<IrradianceRecord> IrradianceCache::take_records(std::shared_ptr<IcGrids>* grids) {
+    if (grids) *grids = std::make_shared<IcGrids>(IcGrids{records_.size(), max_aa_, cell_size_, std::move(grids_)});
     grids_.clear();
     std::vector<IrradianceRecord> out;
     out.swap(records_);

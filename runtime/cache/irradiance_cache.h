@@ -82,6 +82,12 @@ struct IcStats {
     double lookup_seconds = 0, record_seconds = 0, caustic_lookup_seconds = 0;
 };
 
+/// A cache's lookup grids over its first `records` records, handed from one render to the next
+/// that starts from the same records (a walk's frames): filing 100k carried records again was
+/// 2 to 5 % of a later frame. Valid only for the same records in the same order, under the
+/// same accuracy and cell sizes (IrradianceCache::insert checks the last two).
+struct IcGrids;
+
 class IrradianceCache {
 public:
     /// `caustics`: a map built already for this scene, `settings.caustic_photons` and seed (a
@@ -95,14 +101,18 @@ public:
     bool lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const;
 
     void insert(const IrradianceRecord& r);
-    /// Many at once (a frame's carried records, a file's): room for them made first.
-    void insert(const std::vector<IrradianceRecord>& records);
+    /// Many at once (a frame's carried records, a file's): room for them made first. With
+    /// `grids` of an earlier cache whose first records these are (same settings, this cache
+    /// still empty), its grids are taken over (moved out of `grids`) and only the records past
+    /// them filed; the cells list the same entries in the same order as filing them all.
+    void insert(const std::vector<IrradianceRecord>& records, IcGrids* grids = nullptr);
     /// Called after each piece of records is made (from the thread that asked for them): a
     /// fine accuracy makes records for minutes inside one D step, which a progress line must show.
     void set_progress(std::function<void(const IcStats&)> progress) { progress_ = std::move(progress); }
     const std::vector<IrradianceRecord>& records() const { return records_; }
-    /// The records, moved out (a render's result): the cache is empty after.
-    std::vector<IrradianceRecord> take_records();
+    /// The records, moved out (a render's result): the cache is empty after. `grids`, when
+    /// given, takes the lookup grids over them (for IrradianceCache::insert of a next render).
+    std::vector<IrradianceRecord> take_records(std::shared_ptr<IcGrids>* grids = nullptr);
     const IcSettings& settings() const { return settings_; }
     const IcStats& stats() const { return stats_; }
     double min_radius() const { return r_min_; }
@@ -157,6 +167,13 @@ private:
     IcStats stats_;
     std::shared_ptr<const CausticPhotons> caustics_;  ///< null when off or the scene has no caustics
     std::function<void(const IcStats&)> progress_;
+};
+
+struct IcGrids {
+    size_t records = 0;  ///< the grids file the first `records` records
+    double max_aa = 0;
+    std::vector<double> cell_size;
+    std::vector<std::vector<CellTable>> grids;
 };
 
 /// A D query as it was answered (for the progressive cache: the same samples are answered

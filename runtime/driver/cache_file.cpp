@@ -9,7 +9,7 @@
 namespace crex {
 
 size_t load_cache_file(IrradianceCache& cache, const RunSettings& s) {
-    cache.insert(s.ic_records);
+    cache.insert(s.ic_records, s.ic_grids.get());
     std::error_code ec;
     if (!s.ic_file_bytes && (s.ic_file.empty() || !s.ic_file_read || !std::filesystem::exists(s.ic_file, ec))) return 0;
     const size_t before = cache.records().size();

@@ -578,7 +578,8 @@ RunResult PlanRun::finish() {
     if (cache_) {
         out_.ic_stats = cache_->stats();
         if (!s_.ic_file.empty() && group_.saves_cache_file()) save_cache_file(*cache_, s_.ic_file);
-        out_.ic_records = cache_->take_records();  // moved, not copied: a walk's cache is 100k records and more
+        // Moved, not copied: a walk's cache is 100k records and more (and its grids, for the next frame).
+        out_.ic_records = cache_->take_records(s_.hand_on_ic_grids ? &out_.ic_grids : nullptr);
     }
     measure_light_left_out();
     return std::move(out_);

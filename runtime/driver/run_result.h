@@ -54,6 +54,7 @@ struct RunResult {
     /// before it, which in a closed room of high albedo makes them a lower bound.
     double light_cut_by_depth = 0, light_cut_by_weight = 0, light_cut_by_cache = 0;
     std::vector<IrradianceRecord> ic_records;  ///< the cache at the end (with an irradiance cache)
+    std::shared_ptr<IcGrids> ic_grids;         ///< its lookup grids, with RunSettings::hand_on_ic_grids
     IcStats ic_stats;
     size_t ic_loaded = 0;          ///< records read from `ic_file`
     /// The caustic map the render built or was given (the cache's or path tracing's; null:

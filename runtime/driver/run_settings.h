@@ -46,6 +46,11 @@ struct RunSettings {
     ExecutorOptions executor;   ///< base-quality shading, budget, profile
     std::optional<IcSettings> irradiance_cache;  ///< D through a Ward irradiance cache
     std::vector<IrradianceRecord> ic_records;    ///< records to start from
+    /// The lookup grids of an earlier render over the first of `ic_records` (RunResult::ic_grids),
+    /// taken over instead of filing those records again; null: all are filed.
+    std::shared_ptr<IcGrids> ic_grids;
+    /// Hand the cache's lookup grids on in RunResult::ic_grids (a sequence that carries its cache).
+    bool hand_on_ic_grids = false;
     std::string ic_file;        ///< with a cache: load records from it if it exists, save them there at the end
     /// The bytes of `ic_file` read already (distributed runs: by rank 0, the one process that
     /// has the file); loaded instead of reading `ic_file`, which is still where they are saved

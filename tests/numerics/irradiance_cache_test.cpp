@@ -304,6 +304,56 @@ TEST(IrradianceCache, ResultsDoNotDependOnTheThreadCount) {
     EXPECT_EQ(one, two);
 }
 
+TEST(IrradianceCache, GridsHandedOnAnswerAsFilingTheRecordsAgain) {
+    // A walk's next frame takes over the grids over its carried records (RunSettings::ic_grids)
+    // and files only records past them (another process's): every lookup as if all were filed.
+    Scene s = *builtin_scene("cornell_diffuse");
+    auto first = render_ic(s, 20, 2, 0.2, 2, 64);
+    ASSERT_GT(first.ic_records.size(), 20u);
+    RenderScene rs(s);
+    IcSettings set;
+    set.accuracy = 0.2, set.divisions = 64, set.bounces = 2;
+    const size_t carried = first.ic_records.size() - 10;
+    std::vector<IrradianceRecord> head(first.ic_records.begin(), first.ic_records.begin() + static_cast<std::ptrdiff_t>(carried));
+    IrradianceCache before(rs, set);
+    before.insert(head);
+    std::shared_ptr<IcGrids> grids;
+    const std::vector<IrradianceRecord> taken = before.take_records(&grids);
+    ASSERT_TRUE(grids);
+    EXPECT_EQ(grids->records, carried);
+    EXPECT_TRUE(before.records().empty());
+    IrradianceCache handed(rs, set), filed(rs, set);
+    handed.insert(first.ic_records, grids.get());
+    filed.insert(first.ic_records);
+    EXPECT_TRUE(grids->grids.empty());  // moved, not copied
+    EXPECT_EQ(taken.size(), carried);
+    // The same answer at every record and beside it in its plane, at both levels, bit for bit.
+    size_t answered = 0;
+    for (size_t i = 0; i < first.ic_records.size(); ++i) {
+        const IrradianceRecord& r = first.ic_records[i];
+        const Vec3 along = normalize_or_zero(cross(r.normal, std::abs(r.normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}));
+        for (const Vec3& x : {r.position, r.position + along * (0.05 * r.harmonic_distance)})
+            for (uint32_t level = 0; level < 2; ++level) {
+                Vec3 a, b;
+                const bool ha = handed.lookup(x, r.normal, 0.2, level, a), hb = filed.lookup(x, r.normal, 0.2, level, b);
+                ASSERT_EQ(ha, hb) << i;
+                if (ha) {
+                    EXPECT_EQ(a, b);
+                    ++answered;
+                }
+            }
+    }
+    EXPECT_GT(answered, first.ic_records.size());
+    // Grids of other settings are not taken: everything is filed.
+    IcSettings coarser = set;
+    coarser.accuracy = 0.4;
+    IrradianceCache other(rs, coarser);
+    std::shared_ptr<IcGrids> again;
+    std::vector<IrradianceRecord> records = filed.take_records(&again);
+    other.insert(records, again.get());
+    EXPECT_FALSE(again->grids.empty());
+}
+
 TEST(IrradianceCache, ASavedCacheIsReusedWithoutNewRecords) {
     Scene s = *builtin_scene("cornell_diffuse");
     auto first = render_ic(s, 20, 2, 0.2, 2, 64);
