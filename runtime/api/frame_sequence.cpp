@@ -336,9 +336,20 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
             f.budget_seconds = next.budget_seconds;
         }
         const auto start = std::chrono::steady_clock::now();
-        f.records_reused = next.settings.ic_records.size();
+        f.records_reused = next.settings.ic_records.size() + (next.settings.ic_grids ? next.settings.ic_grids->records.size() : 0);
         LocalGroup one;
-        RunOutcome outcome = run_resolved(in.plan, scene, next, one, observer);
+        // The run takes its settings by value: the records go in moved, not copied (a walk's
+        // cache is 100k records, 20 MB, and fresh memory costs page faults), and come back in
+        // the run's settings for a sequence that does not carry the frame's own.
+        ResolvedRun frame_run;
+        {
+            std::vector<IrradianceRecord> records = std::move(next.settings.ic_records);
+            next.settings.ic_records.clear();
+            frame_run = next;
+            frame_run.settings.ic_records = std::move(records);
+        }
+        RunOutcome outcome = run_resolved(in.plan, scene, std::move(frame_run), one, observer);
+        next.settings.ic_records = std::move(outcome.run.settings.ic_records);
         const RunResult& result = *outcome.result;
         f.records_reused += result.ic_loaded;
         f.records_made = result.ic_stats.records;
@@ -400,12 +411,18 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         // this frame's records now: --ic-file saves after every frame).
         next.settings.ic_file_read = false;
         if (o.carry_cache && next.settings.irradiance_cache) {
-            next.settings.ic_records = std::move(outcome.result->ic_records);
-            next.settings.ic_grids = std::move(outcome.result->ic_grids);
+            // The records and their lookup grids, handed on together (moved: nothing copied).
+            std::shared_ptr<IcGrids> handed = std::move(outcome.result->ic_grids);
+            if (!handed) handed = std::make_shared<IcGrids>();
+            handed->records = std::move(outcome.result->ic_records);
+            handed->handed = handed->records.size();
+            next.settings.ic_grids = handed;
+            next.settings.ic_records.clear();
             next.settings.ic_file_bytes.reset();
             // The frame's own records are the cache's last (those it started with come first).
-            const size_t own = std::min<size_t>(result.ic_stats.records, next.settings.ic_records.size());
-            made.assign(next.settings.ic_records.end() - static_cast<std::ptrdiff_t>(own), next.settings.ic_records.end());
+            const std::vector<IrradianceRecord>& records = handed->records;
+            const size_t own = std::min<size_t>(result.ic_stats.records, records.size());
+            made.assign(records.end() - static_cast<std::ptrdiff_t>(own), records.end());
         }
         out.push_back(std::move(f));
         frame_done(index);

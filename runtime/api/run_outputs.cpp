@@ -68,7 +68,7 @@ RunFacts run_facts(const RunFiles& files, const RunRecord& record, const Written
     facts.budget = record.outcome->run.budget_seconds;
     facts.recorder = record.checkpoints;
     facts.ic = rs.irradiance_cache ? &*rs.irradiance_cache : nullptr;
-    facts.ic_loaded = result.ic_loaded + rs.ic_records.size();
+    facts.ic_loaded = result.ic_loaded + rs.ic_records.size() + (rs.ic_grids ? rs.ic_grids->handed : 0);
     facts.ic_file = rs.ic_file;
     facts.maps_dir = files.maps_dir;
     facts.report_dir = files.report_dir;

@@ -92,16 +92,22 @@ void IrradianceCache::file(uint32_t index) {
                                 static_cast<float>(r.harmonic_distance), index});
 }
 
-void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGrids* grids) {
+void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGrids* handed) {
     size_t first = records_.size();
-    records_.insert(records_.end(), records.begin(), records.end());
-    if (grids && first == 0 && grids->records <= records.size() && grids->max_aa == max_aa_ && grids->cell_size == cell_size_) {
-        grids_ = std::move(grids->grids);
-        first = grids->records;  // filed already, in the records' order
-        *grids = IcGrids{};
+    if (handed) {
+        if (first == 0 && handed->filed <= handed->records.size() && handed->max_aa == max_aa_ && handed->cell_size == cell_size_) {
+            records_ = std::move(handed->records);
+            grids_ = std::move(handed->grids);
+            first = handed->filed;  // filed already, in the records' order
+        } else {
+            records_.insert(records_.end(), std::make_move_iterator(handed->records.begin()), std::make_move_iterator(handed->records.end()));
+        }
+        handed->records = {};
+        handed->grids = {};
     }
+    records_.insert(records_.end(), records.begin(), records.end());
     uint32_t levels = 0;
-    for (const IrradianceRecord& r : records) levels = std::max(levels, r.level + 1u);
+    for (size_t i = first; i < records_.size(); ++i) levels = std::max(levels, records_[i].level + 1u);
     for (uint32_t level = 0; level < levels; ++level) make_grids(level);
     // Each bounce level has grids of its own: the levels are filed side by side, each in the
     // records' order, so every cell lists the same entries in the same order as one by one.
@@ -115,7 +121,7 @@ void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGri
 }
 
 std::vector<IrradianceRecord> IrradianceCache::take_records(std::shared_ptr<IcGrids>* grids) {
-    if (grids) *grids = std::make_shared<IcGrids>(IcGrids{records_.size(), max_aa_, cell_size_, std::move(grids_)});
+    if (grids) *grids = std::make_shared<IcGrids>(IcGrids{{}, 0, records_.size(), max_aa_, cell_size_, std::move(grids_)});
     grids_.clear();
     std::vector<IrradianceRecord> out;
     out.swap(records_);

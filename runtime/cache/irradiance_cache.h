@@ -82,10 +82,11 @@ struct IcStats {
     double lookup_seconds = 0, record_seconds = 0, caustic_lookup_seconds = 0;
 };
 
-/// A cache's lookup grids over its first `records` records, handed from one render to the next
-/// that starts from the same records (a walk's frames): filing 100k carried records again was
-/// 2 to 5 % of a later frame. Valid only for the same records in the same order, under the
-/// same accuracy and cell sizes (IrradianceCache::insert checks the last two).
+/// A cache's records and lookup grids, handed from one render to the next that starts from
+/// them (a walk's frames): copying 100k carried records into fresh memory (page faults) and
+/// filing them again were 2 to 5 % of a later frame. The grids are valid only for those
+/// records in that order, under the same accuracy and cell sizes (IrradianceCache::insert
+/// checks the last two and files the records again if they differ).
 struct IcGrids;
 
 class IrradianceCache {
@@ -102,16 +103,17 @@ public:
 
     void insert(const IrradianceRecord& r);
     /// Many at once (a frame's carried records, a file's): room for them made first. With
-    /// `grids` of an earlier cache whose first records these are (same settings, this cache
-    /// still empty), its grids are taken over (moved out of `grids`) and only the records past
-    /// them filed; the cells list the same entries in the same order as filing them all.
-    void insert(const std::vector<IrradianceRecord>& records, IcGrids* grids = nullptr);
+    /// `handed`, its records come first, moved in, and (same settings, this cache still empty)
+    /// its grids are taken over instead of filing them: the cells list the same entries in the
+    /// same order as filing them all. `handed` is left with its count only.
+    void insert(const std::vector<IrradianceRecord>& records, IcGrids* handed = nullptr);
     /// Called after each piece of records is made (from the thread that asked for them): a
     /// fine accuracy makes records for minutes inside one D step, which a progress line must show.
     void set_progress(std::function<void(const IcStats&)> progress) { progress_ = std::move(progress); }
     const std::vector<IrradianceRecord>& records() const { return records_; }
     /// The records, moved out (a render's result): the cache is empty after. `grids`, when
-    /// given, takes the lookup grids over them (for IrradianceCache::insert of a next render).
+    /// given, takes the lookup grids over them (IcGrids::records empty: the caller puts the
+    /// returned records there to hand both to IrradianceCache::insert of a next render).
     std::vector<IrradianceRecord> take_records(std::shared_ptr<IcGrids>* grids = nullptr);
     const IcSettings& settings() const { return settings_; }
     const IcStats& stats() const { return stats_; }
@@ -170,7 +172,9 @@ private:
 };
 
 struct IcGrids {
-    size_t records = 0;  ///< the grids file the first `records` records
+    std::vector<IrradianceRecord> records;  ///< the records handed on (moved out by insert)
+    size_t handed = 0;                      ///< how many they were (kept after insert)
+    size_t filed = 0;                       ///< the grids file the first `filed` of them
     double max_aa = 0;
     std::vector<double> cell_size;
     std::vector<std::vector<CellTable>> grids;

@@ -305,8 +305,9 @@ TEST(IrradianceCache, ResultsDoNotDependOnTheThreadCount) {
 }
 
 TEST(IrradianceCache, GridsHandedOnAnswerAsFilingTheRecordsAgain) {
-    // A walk's next frame takes over the grids over its carried records (RunSettings::ic_grids)
-    // and files only records past them (another process's): every lookup as if all were filed.
+    // A walk's next frame takes over the records and grids of the frame before
+    // (RunSettings::ic_grids) and files only records past them (another process's): every
+    // lookup as if all were filed.
     Scene s = *builtin_scene("cornell_diffuse");
     auto first = render_ic(s, 20, 2, 0.2, 2, 64);
     ASSERT_GT(first.ic_records.size(), 20u);
@@ -314,19 +315,23 @@ TEST(IrradianceCache, GridsHandedOnAnswerAsFilingTheRecordsAgain) {
     IcSettings set;
     set.accuracy = 0.2, set.divisions = 64, set.bounces = 2;
     const size_t carried = first.ic_records.size() - 10;
-    std::vector<IrradianceRecord> head(first.ic_records.begin(), first.ic_records.begin() + static_cast<std::ptrdiff_t>(carried));
+    const std::vector<IrradianceRecord> head(first.ic_records.begin(), first.ic_records.begin() + static_cast<std::ptrdiff_t>(carried));
+    const std::vector<IrradianceRecord> tail(first.ic_records.begin() + static_cast<std::ptrdiff_t>(carried), first.ic_records.end());
     IrradianceCache before(rs, set);
     before.insert(head);
     std::shared_ptr<IcGrids> grids;
-    const std::vector<IrradianceRecord> taken = before.take_records(&grids);
+    std::vector<IrradianceRecord> taken = before.take_records(&grids);
     ASSERT_TRUE(grids);
-    EXPECT_EQ(grids->records, carried);
+    EXPECT_EQ(grids->filed, carried);
     EXPECT_TRUE(before.records().empty());
+    grids->records = std::move(taken);
+    grids->handed = carried;
     IrradianceCache handed(rs, set), filed(rs, set);
-    handed.insert(first.ic_records, grids.get());
+    handed.insert(tail, grids.get());
     filed.insert(first.ic_records);
-    EXPECT_TRUE(grids->grids.empty());  // moved, not copied
-    EXPECT_EQ(taken.size(), carried);
+    EXPECT_TRUE(grids->grids.empty() && grids->records.empty());  // moved, not copied
+    EXPECT_EQ(grids->handed, carried);
+    ASSERT_EQ(handed.records().size(), first.ic_records.size());
     // The same answer at every record and beside it in its plane, at both levels, bit for bit.
     size_t answered = 0;
     for (size_t i = 0; i < first.ic_records.size(); ++i) {
@@ -344,14 +349,22 @@ TEST(IrradianceCache, GridsHandedOnAnswerAsFilingTheRecordsAgain) {
             }
     }
     EXPECT_GT(answered, first.ic_records.size());
-    // Grids of other settings are not taken: everything is filed.
+    // Grids of other settings are not taken: the records are, and filed again.
     IcSettings coarser = set;
     coarser.accuracy = 0.4;
-    IrradianceCache other(rs, coarser);
+    IrradianceCache other(rs, coarser), other_filed(rs, coarser);
     std::shared_ptr<IcGrids> again;
     std::vector<IrradianceRecord> records = filed.take_records(&again);
-    other.insert(records, again.get());
-    EXPECT_FALSE(again->grids.empty());
+    other_filed.insert(records);
+    again->records = std::move(records);
+    other.insert({}, again.get());
+    ASSERT_EQ(other.records().size(), first.ic_records.size());
+    for (const IrradianceRecord& r : first.ic_records) {
+        Vec3 a, b;
+        const bool ha = other.lookup(r.position, r.normal, 0.4, r.level, a), hb = other_filed.lookup(r.position, r.normal, 0.4, r.level, b);
+        ASSERT_TRUE(ha && hb);
+        EXPECT_EQ(a, b);
+    }
 }
 
 TEST(IrradianceCache, ASavedCacheIsReusedWithoutNewRecords) {
