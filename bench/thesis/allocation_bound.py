@@ -1,7 +1,7 @@
 """How much any per-pixel allocation of samples could gain over uniform rendering, measured.
 
   /usr/bin/python3 bench/thesis/allocation_bound.py --scene SCENE [--size 960x540] [--seeds 8]
-      [--weights MAP.exr] [--reference REF.exr] [--out DIR] -- [crex run options, e.g.
+      [--weights MAP.exr] [--cost RAYS.exr] [--reference REF.exr] [--out DIR] [--reuse] -- [crex run options, e.g.
       --ic --aa 0.3 --shadow-rays 4 --ad 512 --spp 4]
 
 Renders one frame K times with `crex run` and the options after `--`, seeds 1..K, and takes
@@ -41,13 +41,19 @@ def import_modules():
     np, crexpy = numpy_and_crex("allocation_bound.py")
 
 
-def ratios(sigma):
-    """(mean-|error| ratio, RMSE ratio) of the oracle allocation over uniform, in time."""
+def ratios(sigma, cost=None):
+    """(mean-|error| ratio, RMSE ratio) of the oracle allocation over uniform, in time.
+
+    With a per-pixel cost c_i of a sample (--cost), the oracle weighs it too: for the mean
+    |error| n_i ~ (sigma_i / c_i)^(2/3), ratio mean(sigma)^2 mean(c) / mean(sigma^(2/3) c^(1/3))^3;
+    for RMSE n_i ~ sigma_i / sqrt(c_i), ratio mean(sigma^2) mean(c) / mean(sigma sqrt(c))^2.
+    Without one every sample costs the same (c = 1)."""
     s = np.maximum(sigma.ravel(), 0.0)
+    c = np.ones_like(s) if cost is None else np.maximum(cost.ravel().astype(np.float64), 1e-12)
     if not s.any():
         return 1.0, 1.0
-    mean_abs = (s.mean() / np.mean(s ** (2 / 3)) ** 1.5) ** 2
-    rms = np.mean(s ** 2) / s.mean() ** 2
+    mean_abs = s.mean() ** 2 * c.mean() / np.mean(s ** (2 / 3) * c ** (1 / 3)) ** 3
+    rms = np.mean(s ** 2) * c.mean() / np.mean(s * np.sqrt(c)) ** 2
     return float(mean_abs), float(rms)
 
 
@@ -58,6 +64,11 @@ def main():
     ap.add_argument("--seeds", type=int, default=8)
     ap.add_argument("--weights", help="a map (EXR, first channel) to weight each pixel's error by")
     ap.add_argument("--reference", help="a converged EXR of the same frame (black pixels skipped)")
+    ap.add_argument("--reuse", action="store_true",
+                    help="take the renders an earlier run left in --out (the same options) instead of rendering them again")
+    ap.add_argument("--cost", help="a map (EXR, first channel) of each pixel's cost per sample, e.g. "
+                    "rays_per_pixel.exr of `crex run --maps` at the same settings: the oracle then "
+                    "also gives fewer samples where they cost more")
     ap.add_argument("--out", default=os.path.join(ROOT, "out/allocation_bound"))
     ap.add_argument("run", nargs="*", help="crex run options after --")
     a = ap.parse_args()
@@ -66,7 +77,8 @@ def main():
     images = []
     for k in range(1, a.seeds + 1):
         path = os.path.join(a.out, f"seed{k}.exr")
-        crex(a.crex, ["run", "--scene", a.scene, "--size", a.size, "--seed", str(k), "-o", path] + a.run)
+        if not (a.reuse and os.path.exists(path)):
+            crex(a.crex, ["run", "--scene", a.scene, "--size", a.size, "--seed", str(k), "-o", path] + a.run)
         images.append(crexpy.read_image(path).astype(np.float64))
     stack = np.stack(images)
     exposure = crexpy.display_exposure(stack.mean(axis=0))
@@ -77,12 +89,23 @@ def main():
     print(f"  per-pixel display sigma: mean {sigma.mean():.5f}, median {np.median(sigma):.5f}, "
           f"90th percentile {np.percentile(sigma, 90):.5f}, 99th {np.percentile(sigma, 99):.5f}")
     print(f"  oracle allocation over uniform, time at equal error: mean |error| {mean_abs:.3f}x, RMSE {rms:.3f}x")
+    cost = None
+    if a.cost:
+        cost = crexpy.read_image(a.cost).astype(np.float64)[..., 0]
+        if cost.shape != sigma.shape:
+            sys.exit(f"--cost {a.cost}: {cost.shape[1]}x{cost.shape[0]}, the frame is {a.size}")
+        cm, cr = ratios(sigma, cost)
+        print(f"  with each pixel's cost from {os.path.basename(a.cost)} (mean {cost.mean():.2f}, "
+              f"{cost.min():.0f} to {cost.max():.0f}): mean |error| {cm:.3f}x, RMSE {cr:.3f}x")
     if a.weights:
         w = crexpy.read_image(a.weights).astype(np.float64)[..., 0]
         if w.shape != sigma.shape:
             sys.exit(f"--weights {a.weights}: {w.shape[1]}x{w.shape[0]}, the frame is {a.size}")
         wm, wr = ratios(np.clip(w, 0, None) * sigma)
         print(f"  weighted by {os.path.basename(a.weights)}: mean |error| {wm:.3f}x, RMSE {wr:.3f}x")
+        if cost is not None:
+            wm, wr = ratios(np.clip(w, 0, None) * sigma, cost)
+            print(f"  weighted, with the cost: mean |error| {wm:.3f}x, RMSE {wr:.3f}x")
     if a.reference:
         ref, covered = reference_on_frame(a.reference, sigma.shape)
         err = np.abs(shown - crexpy.to_display(ref, exposure)).mean(axis=3)[:, covered].mean()
