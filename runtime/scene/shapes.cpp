@@ -368,10 +368,6 @@ double squared_distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
     return d2_to(a + ab * (vb / sum) + ac * (vc / sum));
 }
 
-}  // namespace
-
-namespace {
-
 /// Distance along `d` from `o` to the triangle (a, b, c), or infinity; `back` says whether the
 /// ray meets its back (the side its winding faces away from). Moeller-Trumbore, both sides.
 double ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c, bool& back) {
