@@ -338,18 +338,9 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         const auto start = std::chrono::steady_clock::now();
         f.records_reused = next.settings.ic_records.size() + (next.settings.ic_grids ? next.settings.ic_grids->records.size() : 0);
         LocalGroup one;
-        // The run takes its settings by value: the records go in moved, not copied (a walk's
-        // cache is 100k records, 20 MB, and fresh memory costs page faults), and come back in
-        // the run's settings for a sequence that does not carry the frame's own.
-        ResolvedRun frame_run;
-        {
-            std::vector<IrradianceRecord> records = std::move(next.settings.ic_records);
-            next.settings.ic_records.clear();
-            frame_run = next;
-            frame_run.settings.ic_records = std::move(records);
-        }
-        RunOutcome outcome = run_resolved(in.plan, scene, std::move(frame_run), one, observer);
-        next.settings.ic_records = std::move(outcome.run.settings.ic_records);
+        // The run takes its settings by value; the carried records are not in them but in
+        // ic_grids (shared, moved into the frame's cache), so nothing large is copied.
+        RunOutcome outcome = run_resolved(in.plan, scene, next, one, observer);
         const RunResult& result = *outcome.result;
         f.records_reused += result.ic_loaded;
         f.records_made = result.ic_stats.records;
