@@ -313,8 +313,11 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         next.settings.history.reset();
         // Each frame its own samples when it inherits: with the seed of the frame before, a
         // pixel's new samples would repeat the pattern its inherited ones were drawn from, and
-        // the camera's motion would drag that fixed pattern across the surfaces as streaks.
+        // the camera's motion would drag that fixed pattern across the surfaces as streaks. A
+        // pixel that inherits nothing (an outline) keeps frame 0's places in the pixel instead:
+        // drawn anew, its blend of two surfaces jumped from frame to frame.
         next.settings.seed = reusing || o.seed_per_frame ? frame_seed(run.settings.seed, f.frame) : run.settings.seed;
+        if (reusing && !o.new_positions_every_frame) next.settings.position_seed = frame_seed(run.settings.seed, 0);
         if (reusing && previous_history && previous_geometry) {
             if (inherits.empty()) inherits = shapes_that_inherit(scene);
             const std::vector<PixelTaps> from = previous_taps(*previous_geometry, *geometry, probe_scene->embree->origin_offset());

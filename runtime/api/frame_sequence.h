@@ -84,6 +84,9 @@ struct SequenceOptions {
     /// not repeat the ones they inherit. A frame's seed depends on its number alone, so a frame
     /// rendered by itself is the frame of the walk.
     bool seed_per_frame = false;
+    /// With reuse_frames: a pixel that inherits nothing draws its samples at new positions in
+    /// every frame too, as before RunSettings::position_seed (for comparing the two; no flag).
+    bool new_positions_every_frame = false;
 };
 
 /// "" when `reference` (SequenceOptions::reference) has at least one frame of `range`, each

@@ -126,6 +126,11 @@ private:
         return SubsampleGrid(s_.width, s_.height, std::vector<double>(out_.film.pixel_count(), static_cast<double>(stride)));
     }
     void redo_preview_direct_light(const SelectiveSetup& sel);
+    // The seeds of pixel p's camera samples (RunSettings::position_seed).
+    CameraSeeds camera_seeds(size_t p) const {
+        const bool inherits = s_.history && s_.history->samples(p) > 0;
+        return {s_.seed, s_.position_seed && !inherits ? *s_.position_seed : s_.seed};
+    }
     // Samples [first, first + spp) of every pixel, less what it inherits from the frame before
     // (RunSettings::history): one sample of its own at least. A pixel new to the frame (seen
     // from behind an edge, or come in at the border) takes all of them, so it does not stand
@@ -796,7 +801,7 @@ void PlanRun::trace_camera_rays(const SamplePass& pass, const SampleRanges& rang
         for (size_t p = range.begin(); p < range.end(); ++p) {
             const uint32_t n = samples_of(p);
             for (uint32_t k = 0; k < n; ++k) {
-                RayRecord r = camera_ray(*camera_, s_.seed, s_.width, static_cast<uint32_t>(p), first_of(p) + k, s_.filter);
+                RayRecord r = camera_ray(*camera_, camera_seeds(p), s_.width, static_cast<uint32_t>(p), first_of(p) + k, s_.filter);
                 rays.write(at[p - p0] + k, &r, 1);
             }
         }
@@ -896,7 +901,7 @@ void PlanRun::redo_preview_direct_light(const SelectiveSetup& sel) {
     for (size_t p = p0; p < p1; ++p) {
         if (sel.shadow_rays[p] <= preview_shadow_rays_) continue;
         const uint32_t kept = std::min(s_.spp, out_.film.samples(static_cast<uint32_t>(p)));
-        append_camera_rays(*camera_, s_.seed, s_.width, static_cast<uint32_t>(p), 0, kept, rays, s_.filter);
+        append_camera_rays(*camera_, camera_seeds(p), s_.width, static_cast<uint32_t>(p), 0, kept, rays, s_.filter);
     }
     if (rays.empty()) return;
     std::vector<Vec3> delta;

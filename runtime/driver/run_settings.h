@@ -110,6 +110,12 @@ struct RunSettings {
     /// `--reuse-frames`): it takes that many fewer of its own, at least one, and the image
     /// blends them in. Null: none.
     std::shared_ptr<const PixelHistory> history;
+    /// A walk whose frames inherit: where in its pixel a sample lies, for a pixel that inherits
+    /// nothing (no `history` there), from this seed instead of `seed`, the same in every frame.
+    /// Such a pixel (an object's outline, where two surfaces meet) takes all its samples afresh
+    /// every frame; drawn at new positions, its blend of the two surfaces jumped from frame to
+    /// frame (half of a walk's flicker). Its light is still drawn from `seed`. Unset: `seed`.
+    std::optional<uint64_t> position_seed;
 };
 
 /// Input the run cannot use (a malformed irradiance-cache file, a plan this runtime cannot

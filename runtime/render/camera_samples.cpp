@@ -48,27 +48,27 @@ void camera_sample_offset(uint64_t seed, uint32_t pixel, uint32_t sample, double
     }
 }
 
-RayRecord camera_ray(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t sample, PixelFilter filter) {
+RayRecord camera_ray(const CameraRays& camera, CameraSeeds seeds, int width, uint32_t pixel, uint32_t sample, PixelFilter filter) {
     uint32_t x = pixel % static_cast<uint32_t>(width), y = pixel / static_cast<uint32_t>(width);
     double u, v;
-    camera_sample_offset(seed, pixel, sample, u, v, filter);
+    camera_sample_offset(seeds.position, pixel, sample, u, v, filter);
     RayRecord r;
     // Outside a fisheye's circle there is no ray: a weightless one along the view keeps the
     // sample (and its pixel's count) while adding no light.
     const bool valid = camera.generate(x + u, y + v, r.origin, r.direction);
     r.beta = valid ? Vec3{1, 1, 1} : Vec3{};
     r.pixel = pixel;
-    r.path = camera_path_id(seed, pixel, sample);
+    r.path = camera_path_id(seeds.path, pixel, sample);
     r.flags = (sample & 1) ? kRayOddSample : 0;
     return r;
 }
 
-void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
+void append_camera_rays(const CameraRays& camera, CameraSeeds seeds, int width, uint32_t pixel, uint32_t first, uint32_t count,
                         RayBatch& rays, PixelFilter filter) {
     std::array<RayRecord, 16> buffer;  // appended in bulk, not ray by ray
     size_t buffered = 0;
     for (uint32_t k = first; k < first + count; ++k) {
-        buffer[buffered++] = camera_ray(camera, seed, width, pixel, k, filter);
+        buffer[buffered++] = camera_ray(camera, seeds, width, pixel, k, filter);
         if (buffered == buffer.size()) rays.append(buffer.data(), buffered), buffered = 0;
     }
     rays.append(buffer.data(), buffered);

@@ -19,11 +19,21 @@ namespace crex {
 /// Halton sequence and per-pixel sample counts work unchanged.
 enum class PixelFilter { kBox, kGaussian };
 
+/// The seeds of a camera sample: `path` keys every random number along its path, `position`
+/// where in its pixel it lies. They differ only in a walk whose frames inherit light
+/// (RunSettings::position_seed): a pixel that inherits nothing keeps its positions from frame
+/// to frame while its light is drawn afresh.
+struct CameraSeeds {
+    uint64_t path = 0, position = 0;
+    CameraSeeds(uint64_t seed) : path(seed), position(seed) {}  // NOLINT: one seed for both
+    CameraSeeds(uint64_t path_seed, uint64_t position_seed) : path(path_seed), position(position_seed) {}
+};
+
 /// The camera ray of sample `sample` of `pixel`.
-RayRecord camera_ray(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t sample,
+RayRecord camera_ray(const CameraRays& camera, CameraSeeds seeds, int width, uint32_t pixel, uint32_t sample,
                      PixelFilter filter = PixelFilter::kBox);
 /// Appends the camera rays of samples [first, first + count) of `pixel`.
-void append_camera_rays(const CameraRays& camera, uint64_t seed, int width, uint32_t pixel, uint32_t first, uint32_t count,
+void append_camera_rays(const CameraRays& camera, CameraSeeds seeds, int width, uint32_t pixel, uint32_t first, uint32_t count,
                         RayBatch& rays, PixelFilter filter = PixelFilter::kBox);
 /// Adds to `ambient` (per pixel RGB, sample-summed) av times the throughput of every ray
 /// waiting in bin D: what stands in for D work that was never executed (spec §3).

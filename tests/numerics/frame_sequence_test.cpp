@@ -47,7 +47,8 @@ protected:
         run_ = resolve_run(in_.plan, o);
     }
 
-    std::vector<FrameRun> render(const std::string& name, FrameRange frames, bool carry, float reuse = 0, bool seed_per_frame = false) {
+    std::vector<FrameRun> render(const std::string& name, FrameRange frames, bool carry, float reuse = 0, bool seed_per_frame = false,
+                                 bool new_positions = false) {
         RunFiles files;
         files.images = {path(name + ".exr")};
         SequenceOptions o;
@@ -56,6 +57,7 @@ protected:
         o.carry_cache = carry;
         o.reuse_frames = reuse;
         o.seed_per_frame = seed_per_frame;
+        o.new_positions_every_frame = new_positions;
         RunObserver nobody;
         return render_frames(in_, run_, files, o, nobody);
     }
@@ -207,6 +209,10 @@ TEST_F(FrameSequence, APipelinesPreviewTakesOnlyWhatItsPixelsDoNotInherit) {
 // this guards), a pixel's own sample repeated the first of the samples it inherited, the
 // camera's motion dragged that fixed pattern into streaks, and a still camera gained nothing:
 // measured error frame 6 / frame 0 1.12 with it (0.300 / 0.267), 0.70 with a seed per frame.
+// The pixels that inherit nothing (a third here) keep frame 0's positions since
+// (APixelThatInheritsNothingKeepsItsSamplePositions), so their error is frame 0's in every
+// frame, where a new draw was as likely better as worse (a few bright outline pixels hold half
+// of it): 0.89 at this seed, 0.87 to 0.90 at seeds 7 to 9; the bound still fails 1.12.
 TEST_F(FrameSequence, InheritingFramesDrawNewSamplesEveryFrame) {
     DiagnosticSink sink;
     SourceFile file("still.json", R"({"timing": "keys", "keys": [
@@ -222,7 +228,41 @@ TEST_F(FrameSequence, InheritingFramesDrawNewSamplesEveryFrame) {
     ASSERT_EQ(frames.size(), 7u);
     EXPECT_GT(frames[6].inherited_pixels, 0.3);
     const double first = relative_difference("still", "still_converged", 0), last = relative_difference("still", "still_converged", 6, 0);
-    EXPECT_LT(last, 0.85 * first) << "frame 0: " << first << ", frame 6: " << last;
+    EXPECT_LT(last, 0.95 * first) << "frame 0: " << first << ", frame 6: " << last;
+}
+
+// The same still camera: a pixel that inherits nothing (where two surfaces meet in its 3x3
+// neighbourhood, a third of the pixels at 32x24) draws all its samples every frame. At new
+// positions in its pixel each frame, its blend of the two surfaces jumped from frame to frame;
+// at the same positions (RunSettings::position_seed) only its light is new. Measured, frames
+// 1-4 through the cache with 16 shadow rays a hit (as walks render): flicker 0.00136 at the
+// same positions against 0.00543 at new ones (0.25). The bound fails positions drawn afresh
+// and leaves room for other rounding.
+TEST_F(FrameSequence, APixelThatInheritsNothingKeepsItsSamplePositions) {
+    DiagnosticSink sink;
+    SourceFile file("still.json", R"({"timing": "keys", "keys": [
+        {"time": 0, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]},
+        {"time": 1, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]}]})");
+    path_ = read_camera_path(file, 30, sink);
+    ASSERT_TRUE(path_);
+    RunOptions o;  // the fixture's cache, direct light quiet (16 shadow rays), as walks render
+    o.width = 32, o.height = 24, o.spp = 4, o.shadow_rays = 16;
+    o.irradiance_cache = true;
+    o.ab = 2, o.ad = 64;
+    o.caustic_photons = 0;
+    run_ = resolve_run(in_.plan, o);
+    auto flicker = [](const std::vector<FrameRun>& frames) {
+        double sum = 0;
+        for (size_t k = 1; k < frames.size(); ++k) sum += frames[k].flicker.value_or(1);
+        return sum / static_cast<double>(frames.size() - 1);
+    };
+    const auto kept = render("kept", {0, 4, 1}, true, 8);
+    const auto moved = render("moved", {0, 4, 1}, true, 8, false, true);
+    ASSERT_EQ(kept.size(), 5u);
+    ASSERT_EQ(moved.size(), 5u);
+    EXPECT_EQ(kept[0].rays, moved[0].rays) << "frame 0: every pixel at frame 0's positions";
+    EXPECT_LT(kept[4].inherited_pixels, 0.9) << "some pixels inherit nothing";
+    EXPECT_LT(flicker(kept), 0.5 * flicker(moved)) << "kept " << flicker(kept) << ", moved " << flicker(moved);
 }
 
 // A walk with --reuse-frames stopped after frame 1 and run again: frame 2 inherits from frame
