@@ -62,6 +62,16 @@ protected:
         return render_frames(in_, run_, files, o, nobody);
     }
 
+    /// The camera stands still, 3 m from the corridor's far end, for the whole path.
+    void stand_still() {
+        DiagnosticSink sink;
+        SourceFile file("still.json", R"({"timing": "keys", "keys": [
+            {"time": 0, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]},
+            {"time": 1, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]}]})");
+        path_ = read_camera_path(file, 30, sink);
+        ASSERT_TRUE(path_);
+    }
+
     std::vector<float> image(const std::string& name, int64_t frame) {
         int w = 0, h = 0;
         std::vector<float> rgb;
@@ -214,12 +224,7 @@ TEST_F(FrameSequence, APipelinesPreviewTakesOnlyWhatItsPixelsDoNotInherit) {
 // frame, where a new draw was as likely better as worse (a few bright outline pixels hold half
 // of it): 0.89 at this seed, 0.87 to 0.90 at seeds 7 to 9; the bound still fails 1.12.
 TEST_F(FrameSequence, InheritingFramesDrawNewSamplesEveryFrame) {
-    DiagnosticSink sink;
-    SourceFile file("still.json", R"({"timing": "keys", "keys": [
-        {"time": 0, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]},
-        {"time": 1, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]}]})");
-    path_ = read_camera_path(file, 30, sink);
-    ASSERT_TRUE(path_);
+    ASSERT_NO_FATAL_FAILURE(stand_still());
     run_.settings.irradiance_cache.reset();
     run_.settings.spp = 256;
     render("still_converged", {0, 0, 1}, false);
@@ -239,12 +244,7 @@ TEST_F(FrameSequence, InheritingFramesDrawNewSamplesEveryFrame) {
 // same positions against 0.00543 at new ones (0.25). The bound fails positions drawn afresh
 // and leaves room for other rounding.
 TEST_F(FrameSequence, APixelThatInheritsNothingKeepsItsSamplePositions) {
-    DiagnosticSink sink;
-    SourceFile file("still.json", R"({"timing": "keys", "keys": [
-        {"time": 0, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]},
-        {"time": 1, "position": [0, 1.6, 6.5], "look_at": [0, 1.4, 0]}]})");
-    path_ = read_camera_path(file, 30, sink);
-    ASSERT_TRUE(path_);
+    ASSERT_NO_FATAL_FAILURE(stand_still());
     RunOptions o;  // the fixture's cache, direct light quiet (16 shadow rays), as walks render
     o.width = 32, o.height = 24, o.spp = 4, o.shadow_rays = 16;
     o.irradiance_cache = true;
