@@ -40,7 +40,10 @@ std::string value(Bytes& b) {
     case 2: return b.byte() & 1 ? "true" : "false";
     case 3: return "[1]";
     case 4: return "{}";
-    case 5: return std::to_string(static_cast<int64_t>(b.number()));  // whole, maybe huge or negative
+    case 5: {  // whole, maybe huge or negative (a double outside int64's range has no cast)
+        const double v = b.number();
+        return std::isfinite(v) && std::fabs(v) < 9.2e18 ? std::to_string(static_cast<int64_t>(v)) : "-9223372036854775808";
+    }
     case 6: return "1e999";
     case 7: return "-0";
     default: {
