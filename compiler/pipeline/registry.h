@@ -82,8 +82,8 @@ inline constexpr std::array<OperatorSignature, kGuidanceOperatorCount> kGuidance
 
 // ---- Selective variables ------------------------------------------------------------------
 
-enum class SelectiveVariable : uint8_t { kSpp, kShadowRays, kIcRadius, kSubsample, kMediaSamples, kSpecularThreshold };
-inline constexpr size_t kSelectiveVariableCount = 6;
+enum class SelectiveVariable : uint8_t { kSpp, kShadowRays, kIcRadius, kSubsample, kMediaSamples, kSpecularThreshold, kIcRays };
+inline constexpr size_t kSelectiveVariableCount = 7;
 
 struct VariableSignature {
     SelectiveVariable variable;
@@ -102,6 +102,9 @@ inline constexpr std::array<VariableSignature, kSelectiveVariableCount> kSelecti
     {SelectiveVariable::kSubsample, "subsample", 1, 1024, true, true},
     {SelectiveVariable::kMediaSamples, "media_samples", 1, 1024, true},
     {SelectiveVariable::kSpecularThreshold, "specular_threshold", 0, 1, false},
+    // Hemisphere rays of the irradiance records a pixel's queries make and accept (RADIANCE's
+    // -ad, per pixel): quieter records where the map is high.
+    {SelectiveVariable::kIcRays, "ic_rays", 16, 65535, true},
 }};
 
 // ---- Modulation functions (`vary ... using F`) --------------------------------------------
@@ -127,7 +130,7 @@ constexpr bool variables_in_order() {
 static_assert(operators_in_order(), "kGuidanceOperators: row i must describe GuidanceOperator i");
 static_assert(variables_in_order(), "kSelectiveVariables: row i must describe SelectiveVariable i");
 static_assert(static_cast<size_t>(GuidanceOperator::kNoise) + 1 == kGuidanceOperatorCount);
-static_assert(static_cast<size_t>(SelectiveVariable::kSpecularThreshold) + 1 == kSelectiveVariableCount);
+static_assert(static_cast<size_t>(SelectiveVariable::kIcRays) + 1 == kSelectiveVariableCount);
 static_assert(static_cast<size_t>(ModulationFunction::kStep) + 1 == kModulationFunctionCount);
 }  // namespace registry_detail
 

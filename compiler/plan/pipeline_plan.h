@@ -128,7 +128,7 @@ struct PipelinePlan {
     /// A pipeline runs in stages (preview, guidance, selective: spec §1); a crex's plan (false)
     /// runs both programs in every sample pass.
     bool staged = false;
-    /// D through a Ward irradiance cache (`vary ic_radius` with a D step left for the scene).
+    /// D through a Ward irradiance cache (`vary ic_radius` or `vary ic_rays` with a D step left for the scene).
     bool irradiance_cache = false;
     std::vector<PlanMap> maps;               ///< live maps and nested calls, inputs before their users
     std::vector<PlanBuffer> buffers;

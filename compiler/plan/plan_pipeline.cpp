@@ -223,14 +223,19 @@ void prune_steps_for_scene(const BinSet& spawnable, const std::string& scene, co
     plan.program = prune_dead_steps(plan.program, spawnable);
 }
 
+namespace {
+// `vary ic_radius` and `vary ic_rays` are the irradiance cache's: a pipeline with either renders D through it.
+bool varies_the_cache(const pipeline::ResolvedVariable& v) { return v.name == "ic_radius" || v.name == "ic_rays"; }
+}  // namespace
+
 std::vector<const pipeline::ResolvedVariable*> prune_variables(const pipeline::ResolvedPipeline& p, PipelinePlan& plan) {
     const bool d_left = has_exec(plan.program.preselective, Component::kD) || has_exec(plan.program.selective, Component::kD);
     // The cache exists while a D step is left; without one there is no cache to vary.
-    plan.irradiance_cache = d_left && std::any_of(p.vary.begin(), p.vary.end(), [](const auto& v) { return v.name == "ic_radius"; });
+    plan.irradiance_cache = d_left && std::any_of(p.vary.begin(), p.vary.end(), varies_the_cache);
     std::vector<const pipeline::ResolvedVariable*> vary;
     for (const auto& v : p.vary) {
-        if (v.name == "ic_radius" && !d_left) {
-            plan.pruned.push_back({"vary ic_radius", "", "no D step is left for this scene, so there is no irradiance cache"});
+        if (varies_the_cache(v) && !d_left) {
+            plan.pruned.push_back({"vary " + v.name, "", "no D step is left for this scene, so there is no irradiance cache"});
             continue;
         }
         if (!v.component.empty()) {  // checked: one of D G S T R M
@@ -324,7 +329,7 @@ void build_plan_graph(const pipeline::ResolvedPipeline& p, const std::vector<con
         g.node("irradiance_cache", "cache", "selective", "irradiance cache");
         g.edge("preselective", "irradiance_cache", "cache", "records");
         g.edge("irradiance_cache", "selective", "cache", "records");
-    } else if (std::any_of(p.vary.begin(), p.vary.end(), [](const auto& v) { return v.name == "ic_radius"; })) {
+    } else if (std::any_of(p.vary.begin(), p.vary.end(), varies_the_cache)) {
         plan.pruned.push_back({"irradiance cache", "", "no D step is left for this scene"});
     }
     g.node("composite", "composite", "output", "composite");

@@ -128,8 +128,10 @@ std::vector<IrradianceRecord> IrradianceCache::take_records(std::shared_ptr<IcGr
     return out;
 }
 
-bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const {
+bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e, uint16_t divisions) const {
     aa = level_accuracy(aa, level);
+    // A pixel that asks for quieter records than the cache's (`vary ic_rays`) takes none made with fewer rays.
+    const uint32_t min_divisions = divisions ? divisions_of(divisions) : 0;
     const double aa2 = aa * aa;
     double sum_w = 0;
     Vec3 sum{};
@@ -164,6 +166,7 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
     // the `ic` map first lifted a pixel above the preview's accuracy.)
     auto use = [&](uint32_t index) {
         const IrradianceRecord& r = records_[index];
+        if (min_divisions && divisions_of(r.divisions) < min_divisions) return;
         Vec3 dv = x - r.position;
         if (!(dot(dv, dv) < aa2 * r.harmonic_distance * r.harmonic_distance)) return;
         double w = ward_weight(r, x, n);
@@ -216,7 +219,7 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
         const auto lookup_start = Clock::now();
         tbb::parallel_for(size_t{0}, pending.size(), [&](size_t k) {
             const IcQuery& q = queries[pending[k]];
-            found[k] = lookup(q.position, q.normal, q.accuracy, level, out[pending[k]]) ? 1 : 0;
+            found[k] = lookup(q.position, q.normal, q.accuracy, level, out[pending[k]], q.divisions) ? 1 : 0;
         });
         lookups += since(lookup_start);
         std::vector<uint32_t> misses;
@@ -259,12 +262,20 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
         // so memory stays bounded: a piece's records ask the next bounce for theirs while its
         // buffers are alive, so up to `bounces` pieces are held at once (at 1 Mi rays a piece,
         // prog_dis_all at 512x512 peaked at 1.18 GB).
-        size_t per_piece = std::max<size_t>(1, (size_t{1} << 18) / std::max(16u, settings_.divisions >> std::min(level, 16u)));
-        for (size_t begin = 0; begin < sites.size(); begin += per_piece) {
-            std::vector<IcQuery> piece(sites.begin() + static_cast<std::ptrdiff_t>(begin),
-                                       sites.begin() + static_cast<std::ptrdiff_t>(std::min(sites.size(), begin + per_piece)));
+        // A piece's sites share their hemisphere rays (`vary ic_rays`): the quietest first, each
+        // group in site order (a render of one setting keeps its order).
+        std::stable_sort(sites.begin(), sites.end(),
+                         [&](const IcQuery& a, const IcQuery& b) { return divisions_of(a.divisions) > divisions_of(b.divisions); });
+        for (size_t begin = 0; begin < sites.size();) {
+            const uint32_t divisions = divisions_of(sites[begin].divisions);
+            const size_t per_piece = std::max<size_t>(1, (size_t{1} << 18) / std::max(16u, divisions >> std::min(level, 16u)));
+            const size_t limit = std::min(sites.size(), begin + per_piece);
+            size_t end = begin + 1;
+            while (end < limit && divisions_of(sites[end].divisions) == divisions) ++end;
+            std::vector<IcQuery> piece(sites.begin() + static_cast<std::ptrdiff_t>(begin), sites.begin() + static_cast<std::ptrdiff_t>(end));
             for (const auto& r : compute(piece, level)) insert(r);
             if (progress_) progress_(stats_);
+            begin = end;
         }
         pending = std::move(misses);
         if (round > 40) {  // cannot happen (a record covers its own site); never loop forever
@@ -304,26 +315,19 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
     return "";
 }
 
-std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
-    IrradianceCache& cache, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
-    std::vector<IcAnswer>* log) {
-    return executor_hook([&cache](const std::vector<IcQuery>& q, std::vector<Vec3>& e) { cache.irradiance(q, 0, e); }, aa, aa_per_pixel,
-                         priority, log);
-}
-
-std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
-    IcAnswerFn answer, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
-    std::vector<IcAnswer>* log) {
-    return [answer = std::move(answer), aa, aa_per_pixel, priority, log](const RayBatch& rays, size_t begin, size_t end, std::vector<Vec3>& e) {
+std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(IcAnswerFn answer, const IcPixelSettings& pixels,
+                                                                                      std::vector<IcAnswer>* log) {
+    return [answer = std::move(answer), pixels, log](const RayBatch& rays, size_t begin, size_t end, std::vector<Vec3>& e) {
         std::vector<IcQuery> q(end - begin);
         for (size_t i = begin; i < end; ++i) {
             uint32_t p = rays.pixel[i];
             IcQuery& x = q[i - begin];
             x.position = {rays.ox[i], rays.oy[i], rays.oz[i]};
             x.normal = normalize_or_zero(Vec3{rays.dx[i], rays.dy[i], rays.dz[i]});
-            x.accuracy = aa_per_pixel ? (*aa_per_pixel)[p] : static_cast<float>(aa);
-            x.priority = priority ? (*priority)[p] : 0.0f;
+            x.accuracy = pixels.accuracy ? (*pixels.accuracy)[p] : static_cast<float>(pixels.aa);
+            x.priority = pixels.priority ? (*pixels.priority)[p] : 0.0f;
             x.key = rays.path[i];
+            x.divisions = pixels.divisions ? (*pixels.divisions)[p] : uint16_t{0};
         }
         answer(q, e);
         if (log)

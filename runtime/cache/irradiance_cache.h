@@ -62,6 +62,9 @@ struct IcQuery {
     float accuracy = 0.15f; ///< aa of this query's pixel
     float priority = 0;     ///< larger first (pixel importance)
     uint64_t key = 0;       ///< random-number key of the records it may create
+    /// Hemisphere rays (ad) of the records it makes and accepts (`vary ic_rays`); 0: the
+    /// cache's own, and any record is accepted.
+    uint16_t divisions = 0;
 };
 
 struct IcStats {
@@ -98,8 +101,9 @@ public:
 
     /// E at every query of `level`, creating the records that are missing.
     void irradiance(const std::vector<IcQuery>& queries, uint32_t level, std::vector<Vec3>& out);
-    /// Interpolation only: false if no record is valid at (x, n) for accuracy aa.
-    bool lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e) const;
+    /// Interpolation only: false if no record is valid at (x, n) for accuracy aa. With
+    /// `divisions` (a pixel's `ic_rays`), records made with fewer hemisphere rays are not valid.
+    bool lookup(const Vec3& x, const Vec3& n, double aa, uint32_t level, Vec3& e, uint16_t divisions = 0) const;
 
     void insert(const IrradianceRecord& r);
     /// Many at once (a frame's carried records, a file's): room for them made first. With
@@ -151,6 +155,8 @@ private:
     /// Record `index` into the cells of its level's grids that its largest validity radius reaches.
     void file(uint32_t index);
     double level_accuracy(double aa, uint32_t level) const;
+    /// The level-0 hemisphere rays a query's or record's `divisions` stands for.
+    uint32_t divisions_of(uint16_t divisions) const { return divisions ? divisions : settings_.divisions; }
 
     /// Grid levels at most: halving from 2 r_max, 24 levels span radii over a factor 2^23
     /// (smaller records sit in the finest); lookup() sizes its per-level arrays by it.
@@ -193,19 +199,21 @@ struct IcAnswer {
     float accuracy = 0;
 };
 
-/// The executor's D hook for `cache`: each query at its pixel's accuracy (`aa_per_pixel`, else
-/// `aa`), pixels of higher `priority` first; answers are appended to `log` when given.
-std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
-    IrradianceCache& cache, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
-    std::vector<IcAnswer>* log = nullptr);
-
 /// E at a batch of queries (bounce level 0): IrradianceCache::irradiance, or another process
 /// answering them (distributed rendering, --ic-share component).
 using IcAnswerFn = std::function<void(const std::vector<IcQuery>& queries, std::vector<Vec3>& irradiance)>;
 
-/// The executor's D hook with the queries answered by `answer`.
-std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(
-    IcAnswerFn answer, double aa, const std::vector<float>* aa_per_pixel, const std::vector<float>* priority,
-    std::vector<IcAnswer>* log = nullptr);
+/// What each pixel's D queries ask of the cache (null: the same for every pixel).
+struct IcPixelSettings {
+    double aa = 0.15;                                 ///< accuracy where `accuracy` is null
+    const std::vector<float>* accuracy = nullptr;     ///< `vary ic_radius`
+    const std::vector<float>* priority = nullptr;     ///< higher first (pixel importance)
+    const std::vector<uint16_t>* divisions = nullptr; ///< `vary ic_rays`; else the cache's ad
+};
+
+/// The executor's D hook with the queries answered by `answer`, each as its pixel asks; answers
+/// are appended to `log` when given.
+std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(IcAnswerFn answer, const IcPixelSettings& pixels,
+                                                                                      std::vector<IcAnswer>* log = nullptr);
 
 }  // namespace crex

@@ -83,6 +83,17 @@ std::string encode_irradiance_cache(const IcFileSettings& settings, const std::v
         put_floats(bytes, {r.quality, static_cast<double>(r.level)});
     }
     j["records"] = nlohmann::json::binary(std::move(bytes));
+    // Each record's own hemisphere rays (`vary ic_rays`), only when a record has them: a cache
+    // of one setting is written as before.
+    if (std::any_of(records.begin(), records.end(), [](const IrradianceRecord& r) { return r.divisions != 0; })) {
+        std::vector<std::uint8_t> divisions;
+        divisions.reserve(records.size() * 2);
+        for (const auto& r : records) {  // little-endian, as the floats
+            divisions.push_back(static_cast<std::uint8_t>(r.divisions & 0xffu));
+            divisions.push_back(static_cast<std::uint8_t>(r.divisions >> 8));
+        }
+        j["divisions"] = nlohmann::json::binary(std::move(divisions));
+    }
     std::vector<std::uint8_t> cbor = nlohmann::json::to_cbor(j);
     return std::string(cbor.begin(), cbor.end());
 }
@@ -137,6 +148,9 @@ std::string decode_irradiance_cache(const std::string& data, const std::string& 
                 return fmt::format("'{}' is truncated: {} bytes of records for {}", path, bin.size(), count);
             std::vector<float> f(count * kRecordFloats);
             if (!f.empty()) std::memcpy(f.data(), bin.data(), bin.size());
+            const std::vector<std::uint8_t>* divisions = j.contains("divisions") ? &j.at("divisions").get_binary() : nullptr;
+            if (divisions && divisions->size() != 2 * count)
+                return fmt::format("'{}' is truncated: {} bytes of record rays for {} records", path, divisions->size(), count);
             for (size_t i = 0; i < count; ++i) {
                 const float* x = &f[i * kRecordFloats];
                 IrradianceRecord rec;
@@ -150,6 +164,7 @@ std::string decode_irradiance_cache(const std::string& data, const std::string& 
                 if (!(x[29] >= 0 && x[29] < 65536))
                     return fmt::format("'{}' holds a broken record: record {} of {}: its bounce is not a level", path, i + 1, count);
                 rec.level = static_cast<uint16_t>(x[29]);
+                if (divisions) rec.divisions = static_cast<uint16_t>((*divisions)[2 * i] | (*divisions)[2 * i + 1] << 8);
                 if (!keep(rec)) return broken;
             }
         } else if (version == 1) {

@@ -2,7 +2,8 @@
 /// The irradiance cache's file, apart from the cache (reuse across frames and runs, and the
 /// bytes ranks exchange). Version 2: CBOR (nlohmann-json), a header of the settings the
 /// records depend on, and the records as one byte string of little-endian float32, 30 each
-/// (position, normal, E, R, rotation and translation gradients, quality, level). Version 1
+/// (position, normal, E, R, rotation and translation gradients, quality, level), and when any
+/// record was made with rays of its own (`vary ic_rays`) a byte string of their uint16 counts. Version 1
 /// (JSON text, 19.6 MB for a 256x256 render's records) is still read. Reading checks every
 /// record against the scene before any is kept: a damaged file loads nothing.
 #pragma once

@@ -25,6 +25,9 @@ struct IrradianceRecord {
     std::array<Vec3, 3> translation{};///< translational gradient of E, per channel
     float quality = 1;                ///< the accuracy `aa` of the pixel that asked for it
     uint16_t level = 0;               ///< ambient bounce: 0 for records camera paths use
+    /// The level-0 hemisphere rays (ad) of the query that made it (`vary ic_rays`; level k
+    /// traced ad / 2^k); 0: the cache's own setting.
+    uint16_t divisions = 0;
 };
 
 /// Ward's weight of record `r` at point `x` with unit normal `n`:

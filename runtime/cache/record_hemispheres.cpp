@@ -52,7 +52,8 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
 // site's key), traced to their first hits as one batch.
 IrradianceCache::Hemispheres IrradianceCache::cast_hemispheres(const std::vector<IcQuery>& sites, uint32_t level) {
     Hemispheres h;
-    const uint32_t ad = std::max(16u, settings_.divisions >> std::min(level, 16u));
+    // Every site of a piece asks for the same rays (irradiance() groups them).
+    const uint32_t ad = std::max(16u, (sites.empty() ? settings_.divisions : divisions_of(sites.front().divisions)) >> std::min(level, 16u));
     h.M = std::max(1, static_cast<int>(std::lround(std::sqrt(ad / kPi))));
     h.N = std::max(1, static_cast<int>(std::lround(static_cast<double>(ad) / h.M)));
     h.per = static_cast<size_t>(h.M) * static_cast<size_t>(h.N);
@@ -253,7 +254,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         const IcQuery& site = sites[i / h.per];
         if (max_component(h.albedo[i]) > 0) {
             if (deeper) {
-                h.next[i] = {f.position, f.shading, site.accuracy, site.priority, key};
+                h.next[i] = {f.position, f.shading, site.accuracy, site.priority, key, site.divisions};
                 h.wants_next[i] = 1;
             } else {
                 l += h.albedo[i] * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
@@ -261,7 +262,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         }
         if (max_component(h.albedo_far[i]) > 0) {
             if (deeper) {
-                h.next_far[i] = {f.position, -f.shading, site.accuracy, site.priority, hash_combine(key, 0xfa5ull)};
+                h.next_far[i] = {f.position, -f.shading, site.accuracy, site.priority, hash_combine(key, 0xfa5ull), site.divisions};
                 h.wants_far[i] = 1;
             } else {
                 l += h.albedo_far[i] * settings_.ambient;
@@ -327,6 +328,7 @@ std::vector<IrradianceRecord> IrradianceCache::records_from(const Hemispheres& h
         // their light is); the camera's queries add it at their own point (irradiance()).
         if (caustics_ && level > 0) rec.irradiance += caustics_->irradiance(site.position, site.normal);
         rec.quality = static_cast<float>(level_accuracy(site.accuracy, level));
+        rec.divisions = site.divisions;
         rec.level = static_cast<uint16_t>(level);
         // Rotation: (pi / MN) sum_k v_k sum_j (-tan theta_j) L_jk, v_k at phi_k + pi/2.
         // Translation: Ward and Heckbert's cell-boundary differences, distances min'ed.

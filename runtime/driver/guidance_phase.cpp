@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "base/check.h"
@@ -12,6 +13,10 @@
 #include "runtime/pipeline/svt.h"
 
 namespace crex {
+
+uint16_t ic_rays_step(double rays) {
+    return static_cast<uint16_t>(1u << static_cast<int>(std::clamp(std::round(std::log2(std::max(rays, 1.0))), 4.0, 15.0)));
+}
 namespace {
 
 bool needs_probe(const PipelinePlan& plan) {
@@ -189,6 +194,17 @@ SelectiveSetup run_guidance(const GuidanceContext& ctx, const std::vector<float>
             auto v = variable_values(var.from, var.to, var.modulation, m, false);
             sel.ic_accuracy.assign(v.begin(), v.end());
             sel.ic_priority = m;
+            break;
+        }
+        case V::kIcRays: {
+            if (!ctx.has_cache) {
+                out.notes.push_back("ic_rays is not executed: the render has no irradiance cache");
+                break;
+            }
+            auto v = variable_values(var.from, var.to, var.modulation, m, false);
+            sel.ic_divisions.resize(pixels);
+            for (size_t p = 0; p < pixels; ++p) sel.ic_divisions[p] = ic_rays_step(v[p]);
+            if (sel.ic_priority.empty()) sel.ic_priority = m;  // quieter pixels' records first
             break;
         }
         case V::kMediaSamples: {

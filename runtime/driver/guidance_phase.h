@@ -22,6 +22,11 @@ struct RunSettings;
 struct RunResult;
 struct Scene;
 
+/// `vary ic_rays`' value as it is used: the nearest power of two from 16 to 32768. A record
+/// serves pixels that ask for as many rays or fewer, so every shade of a map asking for its own
+/// count made records no neighbour would take, and each count is a batch of its own.
+uint16_t ic_rays_step(double rays);
+
 /// The per-pixel values the svt gives the selective stage.
 struct SelectiveSetup {
     ShadeParams shade;
@@ -30,6 +35,7 @@ struct SelectiveSetup {
     std::vector<uint16_t> media_samples;
     std::vector<float> specular_threshold;
     std::vector<float> ic_accuracy, ic_priority;
+    std::vector<uint16_t> ic_divisions;  ///< `vary ic_rays`: each pixel's hemisphere rays a record
     std::vector<float> modulation;  ///< I(p) of `{ }`
 };
 

@@ -314,7 +314,7 @@ void PlanRun::start() {
         eo.shade.ic_queries = true;
         // The preview's answers are kept only where a pixel may ask for them again, finer
         // (reanswer_preview_queries): at 960x540 they were 150 MB of edge_aa's 530 MB peak.
-        eo.irradiance = executor_hook(answer_queries(), base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance,
+        eo.irradiance = executor_hook(answer_queries(), {base_aa_, nullptr, out_.staged ? nullptr : s_.executor.importance},
                                       out_.staged && may_refine_accuracy(plan_) ? &preview_answers_ : nullptr);
     }
     eo.shade.caustic_irradiance = caustic_lookup_;
@@ -453,8 +453,9 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
     if (round == 1) redo_preview_direct_light(sel);
     if (cache_) {
         if (round == 1) reanswer_preview_queries(sel);
-        ex_->set_irradiance(executor_hook(answer_queries(), base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
-                                          sel.ic_priority.empty() ? nullptr : &sel.ic_priority));
+        ex_->set_irradiance(executor_hook(answer_queries(), {base_aa_, sel.ic_accuracy.empty() ? nullptr : &sel.ic_accuracy,
+                                                             sel.ic_priority.empty() ? nullptr : &sel.ic_priority,
+                                                             sel.ic_divisions.empty() ? nullptr : &sel.ic_divisions}));
     }
     if (out_.component_subsample.any()) {  // capict: this round's grids gate the new samples' first bounces
         first_bounce_runs_ = out_.component_subsample.first_bounce_runs(pixels);
@@ -840,14 +841,19 @@ SampleRanges PlanRun::unsampled_corners(const SubsampleGrid& grid, uint64_t& sam
 void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     // The preview's D samples of pixels that now ask for a finer accuracy are answered again,
     // important pixels first; the old answer's light is taken back out of the film.
-    if (sel.ic_accuracy.empty()) return;
+    // (Or more hemisphere rays: the preview's records have the cache's own, `ic_rays`' `from`.)
+    if (sel.ic_accuracy.empty() && sel.ic_divisions.empty()) return;
+    const uint32_t preview_divisions = cache_->settings().divisions;
     std::vector<IcQuery> again;
     std::vector<const IcAnswer*> from;
     for (const auto& a : preview_answers_) {
         uint32_t p = a.pixel;
-        if (!(sel.ic_accuracy[p] < a.accuracy - 1e-9) || inherits_its_quality(sel, p)) continue;
+        const bool finer = !sel.ic_accuracy.empty() && sel.ic_accuracy[p] < a.accuracy - 1e-9;
+        const bool quieter = !sel.ic_divisions.empty() && sel.ic_divisions[p] > preview_divisions;
+        if (!(finer || quieter) || inherits_its_quality(sel, p)) continue;
         const Vec3 origin{a.origin[0], a.origin[1], a.origin[2]}, direction{a.direction[0], a.direction[1], a.direction[2]};
-        again.push_back({origin, normalize_or_zero(direction), sel.ic_accuracy[p], sel.ic_priority[p], a.path});
+        again.push_back({origin, normalize_or_zero(direction), sel.ic_accuracy.empty() ? a.accuracy : sel.ic_accuracy[p], sel.ic_priority[p],
+                         a.path, sel.ic_divisions.empty() ? uint16_t{0} : sel.ic_divisions[p]});
         from.push_back(&a);
     }
     // Under a budget, in batches of the most important pixels first, while time is left: a
@@ -937,13 +943,19 @@ IcSettings plan_cache_settings(const PipelinePlan& plan, IcSettings ics) {
             // The preview uses the accuracy where the map is 0 (spec: `from`); the selective stage refines.
             ics.accuracy = v.from;
             ics.max_accuracy = std::max({v.from, v.to, ics.accuracy});
+        } else if (v.variable == pipeline::SelectiveVariable::kIcRays) {
+            // The preview's records have the fewer rays of the two ends (whichever end the map's 0
+            // is): the preview stays cheap, and pixels that ask for more make their own.
+            ics.divisions = ic_rays_step(std::min(v.from, v.to));
         }
     return ics;
 }
 
 bool may_refine_accuracy(const PipelinePlan& plan) {
     for (const PlanVariable& v : plan.variables)
-        if (v.variable == pipeline::SelectiveVariable::kIcRadius && v.to < v.from) return true;  // a smaller accuracy is finer
+        if ((v.variable == pipeline::SelectiveVariable::kIcRadius && v.to < v.from) ||  // a smaller accuracy is finer
+            (v.variable == pipeline::SelectiveVariable::kIcRays && ic_rays_step(v.to) != ic_rays_step(v.from)))
+            return true;
     return false;
 }
 

@@ -54,11 +54,13 @@ RunResult render(const Scene& scene, const sched::Program& program, const RunSet
 RunResult render(const Scene& scene, const sched::Program& program, const RunSettings& settings);
 
 /// The cache's settings for `plan`: a plan varying ic_radius starts at its `from` accuracy and
-/// sizes the index for the coarsest of its values.
+/// sizes the index for the coarsest of its values; one varying ic_rays makes the preview's
+/// records with the fewer rays of its two ends.
 IcSettings plan_cache_settings(const PipelinePlan& plan, IcSettings settings);
 
 /// Can a pixel ask the cache for a finer accuracy than the preview's (`vary ic_radius A .. B`
-/// with B < A)? Only then are the preview's answers kept, to be answered again.
+/// with B < A) or for more rays (`vary ic_rays` over two values)? Only then are the preview's
+/// answers kept, to be answered again.
 bool may_refine_accuracy(const PipelinePlan& plan);
 
 /// The plan's rounds of guidance and selective rendering (the cyclic process), at least 1.

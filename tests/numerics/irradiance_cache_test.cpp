@@ -169,6 +169,49 @@ TEST(IrradianceCache, RecordsFiledAllAtOnceAnswerAsRecordsFiledOneByOne) {
             }
 }
 
+// `vary ic_rays`: a query makes records with the rays it asks for and takes none made with
+// fewer; one that asks for nothing (0: the cache's own) takes any. Files keep each record's rays.
+TEST(IrradianceCache, AQueryTakesNoRecordMadeWithFewerRaysThanItAsksFor) {
+    FurnaceCache f(32, 2);
+    std::vector<IcQuery> q;
+    for (int i = 0; i < 20; ++i) {  // the left half asks for 256 rays, the right half for the cache's 32
+        const double x = -0.95 + 0.1 * i;
+        q.push_back({{x, 0, -1 + 1e-9}, {0, 0, 1}, 0.1f, 0, static_cast<uint64_t>(i + 1), static_cast<uint16_t>(x < 0 ? 256 : 0)});
+    }
+    std::vector<Vec3> e;
+    f.cache.irradiance(q, 0, e);
+    size_t quiet = 0, loud = 0;
+    for (const IrradianceRecord& r : f.cache.records()) {
+        if (r.level != 0) continue;
+        (r.divisions == 256 ? quiet : loud) += 1;
+        EXPECT_TRUE(r.divisions == 256 || r.divisions == 0);
+        if (r.divisions == 256) EXPECT_LT(r.position.x, 0.1);  // made for the left half only
+    }
+    ASSERT_GT(quiet, 0u);
+    ASSERT_GT(loud, 0u);
+    // 32 rays a level-0 record of the right, 256 on the left (deeper levels half as many).
+    EXPECT_GT(f.cache.stats().hemisphere_rays, quiet * 256);
+    const Vec3 n{0, 0, 1}, left{-0.5, 0, -1 + 1e-9}, right{0.5, 0, -1 + 1e-9};
+    Vec3 v;
+    EXPECT_TRUE(f.cache.lookup(left, n, 0.1, 0, v, 256));
+    EXPECT_FALSE(f.cache.lookup(right, n, 0.1, 0, v, 256));  // only 32-ray records there
+    EXPECT_TRUE(f.cache.lookup(right, n, 0.1, 0, v, 32));
+    EXPECT_TRUE(f.cache.lookup(right, n, 0.1, 0, v));
+    EXPECT_TRUE(f.cache.lookup(left, n, 0.1, 0, v, 32));  // quieter records serve too
+    // In the furnace every record is exact, whatever its rays: both halves answer alike.
+    for (const Vec3& x : e) EXPECT_NEAR(x.x, e.front().x, 1e-9 * e.front().x);
+    // Saved and read back, each record keeps its rays; a cache of one setting writes none.
+    IrradianceCache copy(f.rs, FurnaceCache::settings(32, 2));
+    ASSERT_EQ(copy.load_bytes(f.cache.to_bytes(), "<bytes>"), "");
+    ASSERT_EQ(copy.records().size(), f.cache.records().size());
+    for (size_t i = 0; i < copy.records().size(); ++i) EXPECT_EQ(copy.records()[i].divisions, f.cache.records()[i].divisions);
+    EXPECT_FALSE(copy.lookup(right, n, 0.1, 0, v, 256));
+    FurnaceCache plain(32, 2);
+    for (IcQuery& x : q) x.divisions = 0;
+    plain.cache.irradiance(q, 0, e);
+    EXPECT_LT(plain.cache.to_bytes().size(), plain.cache.records().size() * 30 * 4 + 1024);  // no byte more a record
+}
+
 RunResult render_ic(const Scene& s, int size, uint32_t spp, double aa, uint32_t bounces, uint32_t ad = 128) {
     RunSettings o;
     o.width = o.height = size;

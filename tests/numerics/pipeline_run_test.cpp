@@ -297,6 +297,46 @@ TEST(PipelineRun, OnlyAPlanThatCanRefineTheCacheKeepsThePreviewsAnswers) {
     EXPECT_GT(same.ic_preview_records, 0u);
 }
 
+// `vary ic_rays`: a pixel whose map asks for more hemisphere rays than the preview's records
+// have answers its D samples again from records made with them; at one value everywhere it is
+// the cache at that `ad`, bit for bit.
+TEST(PipelineRun, QuieterRecordsAreMadeWhereTheMapAsksForThem) {
+    Scene scene = load("builtin:cornell_diffuse");
+    auto text = [](const std::string& value, const std::string& vary) {
+        return "pipeline p {\n preselective { crex \"(TTMRSGD)*\" spp 1 }\n guidance { c = constant(" + value + ") }\n selective { " +
+               vary + " }\n}\n";
+    };
+    RunSettings o = cached_settings(24);
+    const auto loud = run_plan(scene, plan_for(text("0", "vary ic_rays 32 .. 256 by c"), scene), o);
+    const auto quiet = run_plan(scene, plan_for(text("1", "vary ic_rays 32 .. 256 by c"), scene), o);
+    EXPECT_TRUE(may_refine_accuracy(plan_for(text("1", "vary ic_rays 32 .. 256 by c"), scene)));
+    EXPECT_TRUE(may_refine_accuracy(plan_for(text("1", "vary ic_rays 256 .. 32 by c"), scene)));  // the preview has 32
+    EXPECT_FALSE(may_refine_accuracy(plan_for(text("1", "vary ic_rays 64 .. 70 by c"), scene)));  // both are 64
+    // Map 0: the preview's records (the cache's own rays, set to the map-0 value 32; a record
+    // says 0 for them) serve every pixel; nothing is answered again.
+    EXPECT_EQ(loud.ic_reprocessed, 0u);
+    EXPECT_EQ(loud.ic_selective_records, 0u);
+    for (const IrradianceRecord& r : loud.ic_records) EXPECT_EQ(r.divisions, 0u);
+    // Map 1: every preview D sample is answered again from records of 256 rays (and their
+    // deeper bounces' 128), made for it.
+    EXPECT_GT(quiet.ic_reprocessed, 24u * 24u / 2);
+    EXPECT_GT(quiet.ic_selective_records, 0u);
+    size_t made_quiet = 0;
+    for (const IrradianceRecord& r : quiet.ic_records) made_quiet += r.divisions == 256;
+    EXPECT_EQ(made_quiet, quiet.ic_selective_records);
+    EXPECT_GT(quiet.ic_stats.hemisphere_rays, 2 * loud.ic_stats.hemisphere_rays);
+    EXPECT_EQ(quiet.film.aov_image(kCameraAov), loud.film.aov_image(kCameraAov));
+    EXPECT_NEAR(testing::mean_luminance(quiet.image()), testing::mean_luminance(loud.image()), 0.05 * testing::mean_luminance(loud.image()));
+    // One value everywhere is the cache at that ad: the same image as --ad 32 (the records say
+    // how many rays they have, which changes nothing else).
+    RunSettings ad32 = o;
+    ad32.irradiance_cache->divisions = 32;
+    const auto plain = run_plan(scene, plan_for(text("1", "vary ic_radius 0.15 .. 0.15 by c"), scene), ad32);
+    const auto varied = run_plan(scene, plan_for(text("1", "vary ic_rays 32 .. 32 by c\n vary ic_radius 0.15 .. 0.15 by c"), scene), o);
+    EXPECT_EQ(varied.image(), plain.image());
+    EXPECT_EQ(varied.ic_records.size(), plain.ic_records.size());
+}
+
 // --uniform max is the pipeline's own gold: the same image as the pipeline whose every map is
 // constant(1) (the thesis protocol's denominator is exactly that pipeline, not another renderer).
 TEST(PipelineRun, UniformMaxIsThePipelineWithEveryMapAtOne) {
