@@ -112,6 +112,12 @@ run_fuzz() {
       build/release/apps/crex/crex run --size "$size" --spp 1 --ad 16 --ab 1 --caustic-photons 0 -q -o build/fuzz/corpus/seed.exr \
           --ic-file "build/fuzz/corpus/ic/seed_$size"
     done
+    # One whose records carry rays of their own (`vary ic_rays`: the file's optional byte string).
+    printf 'pipeline q {\n preselective { crex "(TTMRSGD)*" spp 1 }\n guidance { c = constant(1) }\n selective { vary ic_rays 16 .. 32 by c }\n}\n' \
+      > build/fuzz/corpus/seed.pipe
+    build/release/apps/crex/crex run build/fuzz/corpus/seed.pipe --size 4x4 --ab 1 --caustic-photons 0 -q -o build/fuzz/corpus/seed.exr \
+        --ic-file build/fuzz/corpus/ic/seed_rays
+    rm -f build/fuzz/corpus/seed.pipe
     # The records of a cache with ic_records_fuzzer's settings (--ad 16 --ab 2), behind its
     # one leading byte: the CBOR byte string after "records".
     build/release/apps/crex/crex run --size 4x4 --spp 1 --ad 16 --ab 2 --caustic-photons 0 -q -o build/fuzz/corpus/seed.exr \
