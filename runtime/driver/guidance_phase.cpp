@@ -17,6 +17,7 @@ namespace crex {
 uint16_t ic_rays_step(double rays) {
     return static_cast<uint16_t>(1u << static_cast<int>(std::clamp(std::round(std::log2(std::max(rays, 1.0))), 4.0, 15.0)));
 }
+
 namespace {
 
 bool needs_probe(const PipelinePlan& plan) {

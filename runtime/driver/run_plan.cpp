@@ -841,7 +841,7 @@ SampleRanges PlanRun::unsampled_corners(const SubsampleGrid& grid, uint64_t& sam
 void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     // The preview's D samples of pixels that now ask for a finer accuracy are answered again,
     // important pixels first; the old answer's light is taken back out of the film.
-    // (Or more hemisphere rays: the preview's records have the cache's own, `ic_rays`' `from`.)
+    // (Or more hemisphere rays: the preview's records have the fewer of `ic_rays`' two ends.)
     if (sel.ic_accuracy.empty() && sel.ic_divisions.empty()) return;
     const uint32_t preview_divisions = cache_->settings().divisions;
     std::vector<IcQuery> again;
