@@ -185,7 +185,9 @@ TEST(IrradianceCache, AQueryTakesNoRecordMadeWithFewerRaysThanItAsksFor) {
         if (r.level != 0) continue;
         (r.divisions == 256 ? quiet : loud) += 1;
         EXPECT_TRUE(r.divisions == 256 || r.divisions == 0);
-        if (r.divisions == 256) EXPECT_LT(r.position.x, 0.1);  // made for the left half only
+        if (r.divisions == 256) {
+            EXPECT_LT(r.position.x, 0.1);  // made for the left half only
+        }
     }
     ASSERT_GT(quiet, 0u);
     ASSERT_GT(loud, 0u);
