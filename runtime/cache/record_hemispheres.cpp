@@ -19,21 +19,32 @@
 
 namespace crex {
 
+namespace {
+
+// Frees a buffer's memory now (clear() keeps it).
+template <typename T>
+void release(std::vector<T>& v) {
+    std::vector<T>().swap(v);
+}
+
+}  // namespace
+
 /// The hemisphere rays of a batch of sites: `per` = M x N stratified rays each, site s's rays
 /// at [s per, (s + 1) per). What each phase leaves for the next.
 struct IrradianceCache::Hemispheres {
     int M = 1, N = 1;  ///< strata in cos^2 theta and in phi
     size_t per = 1, n = 0;
     double eps = 0;
-    std::vector<RTCRayHit> first;  ///< first hits: their distances make R and the gradients
-    std::vector<RTCRayHit> last;   ///< what each ray reached after any specular interfaces
+    std::vector<float> first_distance;  ///< to the first hits: they make R and the gradients
+    std::vector<RTCRayHit> last;        ///< what each ray reached after any specular interfaces
     std::vector<Vec3> last_dir, throughput;
     /// The ray reached what it shades through a delta shape or a trans surface's specular
     /// transmission (emitters are seen along it; `light` ones are the photon map's).
     std::vector<uint8_t> passed;
     std::vector<Vec3> radiance;
-    /// Where shading asks the next bounce: reflected (near) and diffusely transmitted (far).
-    std::vector<IcQuery> next, next_far;
+    /// Where shading asks the next bounce: reflected (near, on the side of `next_normal`) and
+    /// diffusely transmitted (far, the other side); the rest of each query is its site's.
+    std::vector<Vec3> next_position, next_normal;
     std::vector<Vec3> albedo, albedo_far;
     std::vector<uint8_t> wants_next, wants_far;
 
@@ -44,7 +55,11 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     Hemispheres h = cast_hemispheres(sites, level);
     pass_specular_interfaces(h, sites, level);
     shade_hemispheres(h, sites, level);
-    add_next_bounce(h, level);
+    // What shading alone needed goes before the next bounce's records are made: up to
+    // `bounces` batches are alive at once, and each kept only this (about 130 of 600 bytes a
+    // ray; prog_all's refinement at 960x540 held 350 MB of them).
+    release(h.last), release(h.last_dir), release(h.throughput), release(h.passed);
+    add_next_bounce(h, sites, level);
     return records_from(h, sites, level);
 }
 
@@ -61,7 +76,7 @@ IrradianceCache::Hemispheres IrradianceCache::cast_hemispheres(const std::vector
     stats_.records += sites.size();
     stats_.hemisphere_rays += h.n;
     h.eps = scene_.embree->ray_epsilon();
-    h.first.resize(h.n);
+    h.last.resize(h.n);
     h.last_dir.resize(h.n);
     const int M = h.M, N = h.N;
     tbb::parallel_for(size_t{0}, sites.size(), [&](size_t s) {
@@ -77,12 +92,13 @@ IrradianceCache::Hemispheres IrradianceCache::cast_hemispheres(const std::vector
                 Vec3 d = t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi)) + sites[s].normal * cos_t;
                 h.last_dir[i] = d;
                 Vec3 o = sites[s].position + sites[s].normal * h.eps;
-                set_ray(h.first[i], static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
+                set_ray(h.last[i], static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
                         static_cast<float>(d.y), static_cast<float>(d.z), static_cast<unsigned>(i));
             }
     });
-    intersect_batch(*scene_.embree, h.first.data(), h.n, false);
-    h.last = h.first;
+    intersect_batch(*scene_.embree, h.last.data(), h.n, false);
+    h.first_distance.resize(h.n);
+    for (size_t i = 0; i < h.n; ++i) h.first_distance[i] = h.last[i].ray.tfar;
     h.throughput.assign(h.n, Vec3{1, 1, 1});
     h.passed.assign(h.n, 0);
     return h;
@@ -181,8 +197,8 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     h.radiance.assign(n, Vec3{});
     h.albedo.assign(n, Vec3{});
     h.albedo_far.assign(n, Vec3{});
-    h.next.assign(n, IcQuery{});
-    h.next_far.assign(n, IcQuery{});
+    h.next_position.assign(n, Vec3{});
+    h.next_normal.assign(n, Vec3{});
     h.wants_next.assign(n, 0);
     h.wants_far.assign(n, 0);
     // Shadow rays: direct light at each ray's hit, then (in a medium) light scattered once into
@@ -251,10 +267,9 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         h.albedo[i] = beta * b.diffuse;
         h.albedo_far[i] = beta * b.diffuse_transmit;
         l = l * beta;
-        const IcQuery& site = sites[i / h.per];
+        if (deeper) h.next_position[i] = f.position, h.next_normal[i] = f.shading;
         if (max_component(h.albedo[i]) > 0) {
             if (deeper) {
-                h.next[i] = {f.position, f.shading, site.accuracy, site.priority, key, site.divisions};
                 h.wants_next[i] = 1;
             } else {
                 l += h.albedo[i] * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
@@ -262,7 +277,6 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         }
         if (max_component(h.albedo_far[i]) > 0) {
             if (deeper) {
-                h.next_far[i] = {f.position, -f.shading, site.accuracy, site.priority, hash_combine(key, 0xfa5ull), site.divisions};
                 h.wants_far[i] = 1;
             } else {
                 l += h.albedo_far[i] * settings_.ambient;
@@ -283,15 +297,24 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
 
 // rho/pi E from records one level deeper (made now where missing), for every ray shading
 // asked it for. This recurses through irradiance(): up to `bounces` batches are alive at once.
-void IrradianceCache::add_next_bounce(Hemispheres& h, uint32_t level) {
+void IrradianceCache::add_next_bounce(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
     if (level + 1 >= settings_.bounces) return;
     std::vector<IcQuery> q;
     std::vector<size_t> from;
     std::vector<Vec3> weight;
     for (size_t i = 0; i < h.n; ++i) {
-        if (h.wants_next[i]) q.push_back(h.next[i]), from.push_back(i), weight.push_back(h.albedo[i]);
-        if (h.wants_far[i]) q.push_back(h.next_far[i]), from.push_back(i), weight.push_back(h.albedo_far[i]);
+        const IcQuery& site = sites[i / h.per];
+        const uint64_t key = h.ray_key(sites, i);
+        if (h.wants_next[i]) {
+            q.push_back({h.next_position[i], h.next_normal[i], site.accuracy, site.priority, key, site.divisions});
+            from.push_back(i), weight.push_back(h.albedo[i]);
+        }
+        if (h.wants_far[i]) {
+            q.push_back({h.next_position[i], -h.next_normal[i], site.accuracy, site.priority, hash_combine(key, 0xfa5ull), site.divisions});
+            from.push_back(i), weight.push_back(h.albedo_far[i]);
+        }
     }
+    release(h.next_position), release(h.next_normal), release(h.albedo), release(h.albedo_far), release(h.wants_next), release(h.wants_far);
     std::vector<Vec3> e;
     irradiance(q, level + 1, e);
     for (size_t k = 0; k < q.size(); ++k) h.radiance[from[k]] += weight[k] * e[k] / kPi;
@@ -308,7 +331,7 @@ std::vector<IrradianceRecord> IrradianceCache::records_from(const Hemispheres& h
         orthonormal_basis(site.normal, t, b);
         auto L = [&](int j, int k) { return h.radiance[s * per + static_cast<size_t>(j * N + k)]; };
         auto r = [&](int j, int k) {
-            float d = h.first[s * per + static_cast<size_t>(j * N + k)].ray.tfar;
+            float d = h.first_distance[s * per + static_cast<size_t>(j * N + k)];
             return std::isfinite(d) && d > 0 ? static_cast<double>(d) : 1e30;
         };
         Vec3 sum{};
