@@ -316,7 +316,7 @@ std::string IrradianceCache::load_bytes(const std::string& data, const std::stri
 }
 
 std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(IcAnswerFn answer, const IcPixelSettings& pixels,
-                                                                                      std::vector<IcAnswer>* log) {
+                                                                                      IcAnswerLog* log) {
     return [answer = std::move(answer), pixels, log](const RayBatch& rays, size_t begin, size_t end, std::vector<Vec3>& e) {
         std::vector<IcQuery> q(end - begin);
         for (size_t i = begin; i < end; ++i) {
@@ -331,9 +331,13 @@ std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executo
         }
         answer(q, e);
         if (log)
-            for (size_t i = begin; i < end; ++i)
-                log->push_back({{rays.ox[i], rays.oy[i], rays.oz[i]}, {rays.dx[i], rays.dy[i], rays.dz[i]}, {rays.br[i], rays.bg[i], rays.bb[i]},
-                                rays.pixel[i], rays.flags[i], rays.path[i], e[i - begin], q[i - begin].accuracy});
+            for (size_t i = begin; i < end; ++i) {
+                const Vec3& irradiance = e[i - begin];
+                log->push_back({rays.path[i], {rays.ox[i], rays.oy[i], rays.oz[i]}, {rays.dx[i], rays.dy[i], rays.dz[i]},
+                                {rays.br[i], rays.bg[i], rays.bb[i]},
+                                {static_cast<float>(irradiance.x), static_cast<float>(irradiance.y), static_cast<float>(irradiance.z)},
+                                rays.pixel[i], q[i - begin].accuracy, rays.flags[i]});
+            }
     };
 }
 

@@ -26,6 +26,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
@@ -189,15 +190,19 @@ struct IcGrids {
 /// A D query as it was answered (for the progressive cache: the same samples are answered
 /// again at a finer accuracy in the selective stage).
 struct IcAnswer {
-    // The query's ray as the ray batch holds it (floats: exact, and 80 bytes an answer where a
-    // RayRecord of doubles made it 120; a preview at 960x540 logs a million of them).
-    std::array<float, 3> origin, direction, beta;
-    uint32_t pixel = 0;
-    uint8_t flags = 0;
+    // The query's ray as the ray batch holds it, and its answer, in floats (72 bytes an answer
+    // where a RayRecord of doubles made it 120; a preview at 960x540 logs three million of them).
     uint64_t path = 0;
-    Vec3 irradiance;
+    std::array<float, 3> origin, direction, beta, irradiance;
+    uint32_t pixel = 0;
     float accuracy = 0;
+    uint8_t flags = 0;
 };
+
+/// The preview's answers, in blocks: a vector's growth held its old and new arrays at once,
+/// three times the log (738 MB of a 1.27 GB peak at 960x540), and the log shrinks from its
+/// tail once guidance has said which answers are asked again.
+using IcAnswerLog = std::deque<IcAnswer>;
 
 /// E at a batch of queries (bounce level 0): IrradianceCache::irradiance, or another process
 /// answering them (distributed rendering, --ic-share component).
@@ -214,6 +219,6 @@ struct IcPixelSettings {
 /// The executor's D hook with the queries answered by `answer`, each as its pixel asks; answers
 /// are appended to `log` when given.
 std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executor_hook(IcAnswerFn answer, const IcPixelSettings& pixels,
-                                                                                      std::vector<IcAnswer>* log = nullptr);
+                                                                                      IcAnswerLog* log = nullptr);
 
 }  // namespace crex

@@ -199,7 +199,7 @@ private:
     // caustic paths: RunResult::caustic_map.
     std::shared_ptr<const CausticPhotons> caustic_map_;
     std::function<Vec3(const Vec3&, const Vec3&)> caustic_lookup_;  ///< empty: path traced
-    std::vector<IcAnswer> preview_answers_;
+    IcAnswerLog preview_answers_;
     uint32_t preview_shadow_rays_ = 1;  ///< the base quality the preview's hits were shaded at
     std::optional<PixelProbe> surfaces_;      // what each pixel centre sees (task maps, capict)
     std::vector<float> replay_start_image_;   // capict, reports: the image before the refinement round running
@@ -844,48 +844,61 @@ void PlanRun::reanswer_preview_queries(const SelectiveSetup& sel) {
     // (Or more hemisphere rays: the preview's records have the fewer of `ic_rays`' two ends.)
     if (sel.ic_accuracy.empty() && sel.ic_divisions.empty()) return;
     const uint32_t preview_divisions = cache_->settings().divisions;
-    std::vector<IcQuery> again;
-    std::vector<const IcAnswer*> from;
-    for (const auto& a : preview_answers_) {
-        uint32_t p = a.pixel;
+    auto asked_again = [&](const IcAnswer& a) {
+        const uint32_t p = a.pixel;
         const bool finer = !sel.ic_accuracy.empty() && sel.ic_accuracy[p] < a.accuracy - 1e-9;
         const bool quieter = !sel.ic_divisions.empty() && sel.ic_divisions[p] > preview_divisions;
-        if (!(finer || quieter) || inherits_its_quality(sel, p)) continue;
-        const Vec3 origin{a.origin[0], a.origin[1], a.origin[2]}, direction{a.direction[0], a.direction[1], a.direction[2]};
-        again.push_back({origin, normalize_or_zero(direction), sel.ic_accuracy.empty() ? a.accuracy : sel.ic_accuracy[p], sel.ic_priority[p],
-                         a.path, sel.ic_divisions.empty() ? uint16_t{0} : sel.ic_divisions[p]});
-        from.push_back(&a);
-    }
-    // Under a budget, in batches of the most important pixels first, while time is left: a
-    // sample not answered again keeps its coarser (valid) answer. (Answered in one go, the new
-    // records of prog_tc's fine pixels took a 0.96 s budget to 1.46 s on the Cornell box.)
-    std::vector<size_t> order(again.size());
+        return (finer || quieter) && !inherits_its_quality(sel, p);
+    };
+    // The answers not asked again are dropped first, their blocks freed: the queries are made a
+    // batch at a time from the answers left, not all beside the whole log (a copy, its pointers
+    // and a batch's copy held 3.3 times the log at once).
+    IcAnswerLog& log = preview_answers_;
+    log.erase(std::remove_if(log.begin(), log.end(), [&](const IcAnswer& a) { return !asked_again(a); }), log.end());
+    auto query_of = [&](const IcAnswer& a) {
+        const uint32_t p = a.pixel;
+        return IcQuery{{a.origin[0], a.origin[1], a.origin[2]},
+                       normalize_or_zero(Vec3{a.direction[0], a.direction[1], a.direction[2]}),
+                       sel.ic_accuracy.empty() ? a.accuracy : sel.ic_accuracy[p],
+                       sel.ic_priority[p],
+                       a.path,
+                       sel.ic_divisions.empty() ? uint16_t{0} : sel.ic_divisions[p]};
+    };
+    // Said as the selective stage's first step: the cache's progress lines come from here.
+    progress_ = {};
+    progress_.stage = "selective: the preview's D samples answered again";
+    stage_start_ = Clock::now();
+    stage_samples_ = log.size(), stage_samples_done_ = 0, pass_samples_ = 0;
+    std::vector<size_t> order(log.size());
     std::iota(order.begin(), order.end(), size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return again[a].priority > again[b].priority; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return sel.ic_priority[log[a].pixel] > sel.ic_priority[log[b].pixel]; });
     // Batches start small and double, each predicted from the one before (its time per query):
     // the first answers make most of the new records, so their cost is unknown until measured.
     // The first is two queries a thread: a fine record can make a cascade of deeper ones
     // (prog_tc on the room: 5.8 ms a query, so a first batch of 64 took 0.32 s of a 0.78 s
     // budget that had 0.14 s left).
     size_t batch = budget_.budgeted() ? 2 * static_cast<size_t>(std::max(1, tbb::this_task_arena::max_concurrency()))
-                                      : std::max<size_t>(1, again.size());
+                                      : std::max<size_t>(1, log.size());
     size_t done = 0;
     double per_query = 0;
     while (done < order.size() && budget_.fits(now(), per_query * static_cast<double>(std::min(batch, order.size() - done)))) {
         const double t = now();
         const size_t end = std::min(order.size(), done + batch);
         std::vector<IcQuery> part;
-        for (size_t k = done; k < end; ++k) part.push_back(again[order[k]]);
+        part.reserve(end - done);
+        for (size_t k = done; k < end; ++k) part.push_back(query_of(log[order[k]]));
         std::vector<Vec3> e;
         answer_queries()(part, e);
         for (size_t k = done; k < end; ++k) {
-            const IcAnswer& a = *from[order[k]];
-            const Vec3 beta{a.beta[0], a.beta[1], a.beta[2]};
-            Vec3 delta = beta * (e[k - done] - a.irradiance) / kPi;
+            const IcAnswer& a = log[order[k]];
+            const Vec3 beta{a.beta[0], a.beta[1], a.beta[2]}, before{a.irradiance[0], a.irradiance[1], a.irradiance[2]};
+            Vec3 delta = beta * (e[k - done] - before) / kPi;
             if (is_finite(delta)) out_.film.add(aov_of(Component::kD), a.pixel, delta, a.flags);
         }
         per_query = (now() - t) / static_cast<double>(end - done);
         done = end;
+        stage_samples_done_ = done;
         batch *= 2;
     }
     out_.ic_reprocessed = done;
