@@ -67,8 +67,10 @@ public:
                          rate.c_str(), p.step.c_str());
             drawn_ = true;
         } else {
-            std::fprintf(stderr, "crex: %.0f s: %s%s%s %.0f%%%s%s%s%s\n", s, p.stage.c_str(), pass.empty() ? "" : " ", pass.c_str(),
-                         100 * p.fraction, eta.empty() ? "" : ", ", eta.c_str(), rate.empty() ? "" : ", ", rate.c_str());
+            // The step too: a stage without passes (the cache's records made again) says its work there.
+            std::fprintf(stderr, "crex: %.0f s: %s%s%s %.0f%%%s%s%s%s%s%s\n", s, p.stage.c_str(), pass.empty() ? "" : " ", pass.c_str(),
+                         100 * p.fraction, eta.empty() ? "" : ", ", eta.c_str(), rate.empty() ? "" : ", ", rate.c_str(),
+                         p.step.empty() ? "" : "; ", p.step.c_str());
             std::fflush(stderr);
             printed_ = true;
         }
