@@ -217,7 +217,7 @@ TEST_P(StdlibPipelines, RenderFiniteImagesWithMapsInTheUnitInterval) {
 
 std::vector<StdlibCase> stdlib_cases() {
     std::vector<StdlibCase> out;
-    for (const char* p : {"gold", "sel_rp", "osd", "sel_edge", "cbr", "sel_st", "sel_task", "prog_rp", "prog_all", "tc_rp", "apict", "adaptive"})
+    for (const char* p : {"gold", "sel_rp", "osd", "sel_edge", "cbr", "sel_st", "sel_task", "prog_rp", "prog_all", "sel_quiet", "tc_rp", "apict", "adaptive"})
         for (const char* s : {"builtin:cornell", CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json"}) out.push_back({p, s});
     return out;
 }
