@@ -268,7 +268,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 // Whether the photon passes a trans surface is the material's constants' choice
                 // (as in the loop above); the lobes it scatters into are the surface's own.
                 Bsdf textured;
-                const Bsdf& b = through_trans[j] ? scene.bsdf_of(h.hit.geomID) : surface_at(scene, h.hit, f, textured, SurfaceDetail::kIndirect);
+                const Bsdf& b = through_trans[j] ? scene.bsdf_of(h.hit.geomID) : surface_at(scene, h.hit, f, textured, SurfaceDetail::kAveraged);
                 h = RTCRayHit{};
                 h.ray.tnear = 1.0f, h.ray.tfar = 0.0f, h.ray.mask = 0xFFFFFFFFu;
                 h.hit.geomID = RTC_INVALID_GEOMETRY_ID;

@@ -158,7 +158,7 @@ void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector
             // Passing a trans surface is decided on the material's constants (above); the lobes
             // a ray scatters into are the surface's own.
             Bsdf textured;
-            const Bsdf& b = through_trans[i] ? scene_.bsdf_of(hit.hit.geomID) : surface_at(scene_, hit.hit, f, textured, SurfaceDetail::kIndirect);
+            const Bsdf& b = through_trans[i] ? scene_.bsdf_of(hit.hit.geomID) : surface_at(scene_, hit.hit, f, textured, SurfaceDetail::kAveraged);
             Lobe lobe;
             double prob = 0;
             if (through_trans[i]) {
@@ -248,7 +248,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
             return;
         }
         Bsdf textured;
-        const Bsdf& b = surface_at(scene_, hit.hit, f, textured, SurfaceDetail::kIndirect);
+        const Bsdf& b = surface_at(scene_, hit.hit, f, textured, SurfaceDetail::kAveraged);
         // Through a mirror, glass or a trans surface's specular transmission, emitters are
         // seen; a `light` emitter's light along those paths is the photon map's when there is
         // one (its photons follow the same lobes), else a rare ray onto a small bright lamp

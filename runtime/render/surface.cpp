@@ -220,7 +220,8 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     if (!textured) return scene.bsdfs[material];
     SurfacePoint p;
     p.position = f.position + scene.embree->origin_offset();
-    p.indirect = detail == SurfaceDetail::kIndirect;
+    p.indirect = detail != SurfaceDetail::kSeen;
+    p.coarse = detail == SurfaceDetail::kAveraged;
     Vec3 dpdu, dpdv;
     scene.footprint.at(f.position, f.normal, p.dpdx, p.dpdy);
     if (!g.sphere && !g.uvs.empty()) {
@@ -230,7 +231,12 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
         uv_change(dpdu, dpdv, p.dpdx, p.dudx, p.dvdx);
         uv_change(dpdu, dpdv, p.dpdy, p.dudy, p.dvdy);
     }
-    if (scene.textures->perturbs_normal(material)) f.shading = scene.textures->perturbed_normal(material, p, f.shading, dpdu, dpdv);
+    // A normal or bump map's detail is left out where light is averaged over many hits: read
+    // from a coarse copy it bent the normals of records' hits texel by texel, so deeper records
+    // served fewer neighbours (18 % more records in a textured room), for detail that the
+    // average over hundreds of hemisphere rays does not keep.
+    if (detail != SurfaceDetail::kAveraged && scene.textures->perturbs_normal(material))
+        f.shading = scene.textures->perturbed_normal(material, p, f.shading, dpdu, dpdv);
     scratch = Bsdf::of(scene.scene.materials[material], scene.textures->values(material, p));
     scratch.directional = scene.bsdfs[material].directional;
     scratch.redirect = scene.bsdfs[material].redirect;

@@ -72,8 +72,10 @@ private:
 /// mesh's vertex normal, then its normal or bump map) and returns the Bsdf to shade with:
 /// the material's prepared one, or one made in `scratch` from its textures' values there.
 /// A hit the camera sees (directly or through mirrors and glass) reads its textures through
-/// the full filter; any other through a cheaper one (TextureLookup::indirect).
-enum class SurfaceDetail { kSeen, kIndirect };
+/// the full filter; any other through a cheaper one (TextureLookup::indirect); a hit whose
+/// light is averaged with hundreds of others' (an irradiance record's hemisphere ray, a
+/// photon) from each image's coarse copy (SurfacePoint::coarse).
+enum class SurfaceDetail { kSeen, kIndirect, kAveraged };
 const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch, SurfaceDetail detail);
 
 /// True when `hit` is on the front of an illum (seen as its alternate material). Direct

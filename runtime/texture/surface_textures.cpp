@@ -20,6 +20,25 @@ constexpr double kMinTexturedRoughness = 1e-3;
 // map then changes nothing at all, not a 0.2 degree tilt.
 constexpr double kFlatNormal = 1.01 / 255;
 
+// A coarse copy's longest side. An irradiance record averages hundreds of hemisphere rays and
+// interpolates over many pixels: 128 texels hold the image's colours at a scale finer than
+// either, and 64 Ki floats of four channels (256 KiB) an image.
+constexpr int kCoarseSize = 128;
+
+// Texel index i of a row of n under a wrap mode; -1: outside a black border.
+int64_t wrapped(int64_t i, int64_t n, BackendWrap w) {
+    switch (w) {
+    case BackendWrap::kPeriodic: return ((i % n) + n) % n;
+    case BackendWrap::kClamp: return std::clamp<int64_t>(i, 0, n - 1);
+    case BackendWrap::kMirror: {
+        const int64_t m = ((i % (2 * n)) + 2 * n) % (2 * n);
+        return m < n ? m : 2 * n - 1 - m;
+    }
+    case BackendWrap::kBlack: return i < 0 || i >= n ? -1 : i;
+    }
+    return -1;
+}
+
 double clamp01(double x) { return min_of(max_of(x, 0.0), 1.0); }
 Vec3 clamp01(const Vec3& v) { return {clamp01(v.x), clamp01(v.y), clamp01(v.z)}; }
 
@@ -71,6 +90,8 @@ SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::ve
         s.any = t.any();
         s.cuts_out = s.opacity.image >= 0 || m.opacity < 1;
     }
+    coarse_.resize(images_.size());
+    for (auto& c : coarse_) c = std::make_unique<CoarseImage>();
 }
 
 SurfaceTextures::~SurfaceTextures() = default;
@@ -145,16 +166,75 @@ TextureLookup SurfaceTextures::coordinates(const Slot& slot, const SurfacePoint&
     if (!std::isfinite(at.s) || !std::isfinite(at.t)) at = TextureLookup{0.5f, 0.5f};
     if (!std::isfinite(at.dsdx + at.dtdx + at.dsdy + at.dtdy)) at.dsdx = at.dtdx = at.dsdy = at.dtdy = 0;
     at.indirect = p.indirect;
+    at.coarse = p.coarse;
     return at;
 }
 
+const SurfaceTextures::CoarseImage& SurfaceTextures::coarse_image(size_t image) const {
+    CoarseImage& c = *coarse_[image];
+    std::call_once(c.once, [&] {
+        const TextureImageInfo& info = images_[image].info;
+        if (ids_[image] < 0 || info.width <= 0 || info.height <= 0 || info.channels <= 0) return;
+        // The first MIP level no larger than kCoarseSize a side (OpenImageIO halves each side,
+        // rounding down, to at least 1), each texel the backend's filtered lookup over its own
+        // footprint: the same filter as an indirect lookup of that footprint.
+        int level = 0;
+        while ((info.width >> level) > kCoarseSize || (info.height >> level) > kCoarseSize) ++level;
+        c.width = std::max(1, info.width >> level), c.height = std::max(1, info.height >> level);
+        c.channels = std::min(info.channels, 4);
+        c.texels.assign(static_cast<size_t>(c.width) * static_cast<size_t>(c.height) * static_cast<size_t>(c.channels), 0.0f);
+        TextureLookup at;
+        at.indirect = true;
+        at.dsdx = 1.0f / static_cast<float>(c.width), at.dtdy = 1.0f / static_cast<float>(c.height);
+        for (int y = 0; y < c.height; ++y)
+            for (int x = 0; x < c.width; ++x) {
+                at.s = (static_cast<float>(x) + 0.5f) * at.dsdx, at.t = (static_cast<float>(y) + 0.5f) * at.dtdy;
+                float* texel = c.texels.data() + (static_cast<size_t>(y) * static_cast<size_t>(c.width) + static_cast<size_t>(x)) * static_cast<size_t>(c.channels);
+                if (!backend_->lookup(ids_[image], at, BackendWrap::kClamp, BackendWrap::kClamp, 0, c.channels, texel)) return;
+            }
+        for (float v : c.texels)
+            if (!std::isfinite(v)) return;
+        c.ok = true;
+    });
+    return c;
+}
+
+bool SurfaceTextures::read_coarse(const Slot& slot, const TextureLookup& at, int first_channel, int n, float* out) const {
+    const CoarseImage& c = coarse_image(static_cast<size_t>(slot.image));
+    if (!c.ok || first_channel < 0 || first_channel + n > c.channels) return false;
+    // Bilinear between the four texel centres around (s, t) (t = 0 is the image's top row).
+    const double x = static_cast<double>(at.s) * c.width - 0.5, y = static_cast<double>(at.t) * c.height - 0.5;
+    const double fx0 = std::floor(x), fy0 = std::floor(y);
+    if (!(std::fabs(fx0) < 1e15 && std::fabs(fy0) < 1e15)) return false;
+    const int64_t x0 = static_cast<int64_t>(fx0), y0 = static_cast<int64_t>(fy0);
+    const float ax = static_cast<float>(x - fx0), ay = static_cast<float>(y - fy0);
+    const BackendWrap ws = wrap_of(slot.ref.wrap_s), wt = wrap_of(slot.ref.wrap_t);
+    const int64_t xs[2] = {wrapped(x0, c.width, ws), wrapped(x0 + 1, c.width, ws)};
+    const int64_t ys[2] = {wrapped(y0, c.height, wt), wrapped(y0 + 1, c.height, wt)};
+    const float wx[2] = {1 - ax, ax}, wy[2] = {1 - ay, ay};
+    for (int k = 0; k < n; ++k) out[k] = 0;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            if (xs[i] < 0 || ys[j] < 0) continue;  // a black border
+            const float w = wx[i] * wy[j];
+            const float* texel = c.texels.data() + (static_cast<size_t>(ys[j]) * static_cast<size_t>(c.width) + static_cast<size_t>(xs[i])) * static_cast<size_t>(c.channels);
+            for (int k = 0; k < n; ++k) out[k] += w * texel[first_channel + k];
+        }
+    return true;
+}
+
 bool SurfaceTextures::read(const Slot& slot, const TextureLookup& at, int n, float* out, float* d_ds, float* d_dt) const {
+    const int channels = slot.grey ? 1 : n;
+    if (at.coarse && !d_ds && !d_dt && read_coarse(slot, at, slot.ref.channel, channels, out)) {
+        ++counters_.local().coarse_lookups;
+        if (channels < n) out[1] = out[2] = out[0];
+        return true;
+    }
     // Every lookup is timed: the first ones of an image read and MIP-map it (milliseconds),
     // so a sample of them would not stand for the rest. Two clock reads cost ~40 ns.
     Counters& c = counters_.local();
     ++c.lookups;
     const auto start = std::chrono::steady_clock::now();
-    const int channels = slot.grey ? 1 : n;
     bool ok = backend_->lookup(ids_[static_cast<size_t>(slot.image)], at, wrap_of(slot.ref.wrap_s), wrap_of(slot.ref.wrap_t), slot.ref.channel,
                                channels, out, d_ds, d_dt);
     c.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -280,6 +360,7 @@ nlohmann::json to_json(const TextureStats& s, double render_thread_seconds, doub
                   {"file_io_seconds", s.cache.file_io_seconds}, {"queries", s.cache.queries}};
     j["lookups"] = s.lookups;
     j["lookup_seconds"] = s.lookup_seconds;
+    j["coarse_lookups"] = s.coarse_lookups;
     j["render_thread_seconds"] = render_thread_seconds;
     j["render_cpu_seconds"] = render_cpu_seconds;
     j["lookup_share_of_render"] = render_thread_seconds > 0 ? s.lookup_seconds / render_thread_seconds : 0.0;
@@ -290,7 +371,7 @@ TextureStats SurfaceTextures::stats() const {
     TextureStats s;
     s.images = images_;
     if (backend_) s.cache = backend_->stats();
-    for (const Counters& c : counters_) s.lookups += c.lookups, s.lookup_seconds += c.seconds;
+    for (const Counters& c : counters_) s.lookups += c.lookups, s.lookup_seconds += c.seconds, s.coarse_lookups += c.coarse_lookups;
     return s;
 }
 
@@ -298,6 +379,7 @@ TextureStats TextureStats::since(const TextureStats& earlier) const {
     TextureStats s = *this;
     s.lookups -= std::min(earlier.lookups, lookups);
     s.lookup_seconds = std::max(0.0, lookup_seconds - earlier.lookup_seconds);
+    s.coarse_lookups -= std::min(earlier.coarse_lookups, coarse_lookups);
     s.cache.queries -= std::min(earlier.cache.queries, cache.queries);
     s.cache.bytes_read -= std::min(earlier.cache.bytes_read, cache.bytes_read);
     s.cache.cache_misses -= std::min(earlier.cache.cache_misses, cache.cache_misses);

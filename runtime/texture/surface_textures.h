@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,11 @@ struct SurfacePoint {
     double u = 0, v = 0;   ///< the mesh's texture coordinates (0 without them)
     double dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;
     bool indirect = false;  ///< no eye sees it: the cheaper filter (TextureLookup::indirect)
+    /// Its light is averaged with hundreds of others' (an irradiance record's hemisphere ray,
+    /// a photon): read bilinearly from the image's coarse copy, at most kCoarseSize texels a
+    /// side, made once by the backend's own filter. A lookup through the TextureSystem cost
+    /// ~450 ns, and such hits made most of a textured room's lookups.
+    bool coarse = false;
 };
 
 /// One image the scene uses, as `crex scene-info` and `--format json` list it.
@@ -56,6 +62,7 @@ struct TextureStats {
     TextureCacheStats cache;
     uint64_t lookups = 0;          ///< crex's requests (a colour is one, a bump map's height one)
     double lookup_seconds = 0;     ///< in the TextureSystem's lookups, summed over threads
+    uint64_t coarse_lookups = 0;   ///< answered from the images' coarse copies (not timed, not in `lookups`)
     /// What was counted after `earlier` (the same textures' stats, taken before): a render of a
     /// scene that an earlier one built. Sizes (memory, peaks, files) stay as they are now.
     TextureStats since(const TextureStats& earlier) const;
@@ -118,13 +125,27 @@ private:
     Vec3 colour(const Slot& slot, const SurfacePoint& p, const Vec3& constant) const;
     double scalar(const Slot& slot, const SurfacePoint& p, double constant) const;
 
+    /// An image's coarse copy (SurfacePoint::coarse): all its channels (at most 4), made on
+    /// first use; `ok` false when the image cannot be read (lookups then go to the backend).
+    struct CoarseImage {
+        std::once_flag once;
+        int width = 0, height = 0, channels = 0;
+        std::vector<float> texels;
+        bool ok = false;
+    };
+    const CoarseImage& coarse_image(size_t image) const;
+    /// A bilinear lookup of `n` channels from `first_channel` of `slot`'s coarse copy; false
+    /// when the copy cannot answer it.
+    bool read_coarse(const Slot& slot, const TextureLookup& at, int first_channel, int n, float* out) const;
+
     const Scene& scene_;
     std::unique_ptr<TextureBackend> backend_;
     std::vector<TextureImage> images_;
     std::vector<int> ids_;  ///< per image: the backend's id, -1 when it cannot be read
     std::vector<MaterialSlots> slots_;  ///< per scene material
+    mutable std::vector<std::unique_ptr<CoarseImage>> coarse_;  ///< per image
     struct Counters {
-        uint64_t lookups = 0;
+        uint64_t lookups = 0, coarse_lookups = 0;
         double seconds = 0;
     };
     mutable tbb::enumerable_thread_specific<Counters> counters_;
