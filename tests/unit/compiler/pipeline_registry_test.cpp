@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "compiler/pipeline/check.h"
+#include "compiler/plan/pipeline_plan.h"
 #include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/settings_table.h"
 #include "runtime/pipeline/svt.h"
@@ -87,6 +88,21 @@ TEST(PipelineRegistry, PlanSchemaEnumsAreTheRegistryNames) {
     EXPECT_EQ(names(props["variables"]["items"]["properties"]["variable"]["enum"]), vars);
     EXPECT_EQ(names(props["variables"]["items"]["properties"]["modulation"]["enum"]), fns);
     EXPECT_EQ(names(props["settings"]["properties"]["policy"]["enum"]), policies);
+}
+
+// Every setting a plan can hold is in the schema: a pipeline that set `ad` wrote a plan the
+// schema refused (sel_quiet's), which no golden had shown.
+TEST(PipelineRegistry, PlanSchemaHoldsEverySettingAPlanWrites) {
+    std::ifstream in(CREX_SOURCE_DIR "/docs/plan.schema.json");
+    const auto schema = nlohmann::json::parse(in);
+    const auto& allowed = schema["properties"]["settings"]["properties"];
+    PlanSettings all;
+    all.width = 4, all.height = 4, all.selective_spp = 2, all.rounds = 2, all.seed = 1, all.lw = 0.01, all.av = 0.1, all.aa = 0.2;
+    all.max_depth = 8, all.ab = 2, all.ad = 512, all.shadow_rays = 4, all.budget = PlanBudget{10, false, {}};
+    all.policy = SchedulingPolicy::kTasks, all.reference = "ref.exr";
+    const nlohmann::json written = plan_settings_to_json(all);
+    EXPECT_EQ(written.size(), 15u);  // every field: a new one must be added here and to the schema
+    for (const auto& [key, value] : written.items()) EXPECT_TRUE(allowed.contains(key)) << key << " is not in docs/plan.schema.json";
 }
 
 TEST(SettingsTable, RangesMatchTheFlagsOfCrexRun) {
