@@ -34,9 +34,6 @@ struct TextureLookup {
     /// such a hit gives is averaged over a hemisphere of rays; the anisotropic filter a seen
     /// hit gets was over half of a textured room's lookup time (docs/textures.md).
     bool indirect = false;
-    /// Read from crex's coarse copy of the image instead (SurfacePoint::coarse); the backend
-    /// never sees it.
-    bool coarse = false;
 };
 
 enum class BackendWrap { kBlack, kClamp, kPeriodic, kMirror };

@@ -166,7 +166,6 @@ TextureLookup SurfaceTextures::coordinates(const Slot& slot, const SurfacePoint&
     if (!std::isfinite(at.s) || !std::isfinite(at.t)) at = TextureLookup{0.5f, 0.5f};
     if (!std::isfinite(at.dsdx + at.dtdx + at.dsdy + at.dtdy)) at.dsdx = at.dtdx = at.dsdy = at.dtdy = 0;
     at.indirect = p.indirect;
-    at.coarse = p.coarse;
     return at;
 }
 
@@ -223,9 +222,10 @@ bool SurfaceTextures::read_coarse(const Slot& slot, const TextureLookup& at, int
     return true;
 }
 
-bool SurfaceTextures::read(const Slot& slot, const TextureLookup& at, int n, float* out, float* d_ds, float* d_dt) const {
+bool SurfaceTextures::read(const Slot& slot, const SurfacePoint& p, int n, float* out, float* d_ds, float* d_dt) const {
+    const TextureLookup at = coordinates(slot, p);
     const int channels = slot.grey ? 1 : n;
-    if (at.coarse && !d_ds && !d_dt && read_coarse(slot, at, slot.ref.channel, channels, out)) {
+    if (p.coarse && !d_ds && !d_dt && read_coarse(slot, at, slot.ref.channel, channels, out)) {
         ++counters_.local().coarse_lookups;
         if (channels < n) out[1] = out[2] = out[0];
         return true;
@@ -246,7 +246,7 @@ Vec3 SurfaceTextures::colour(const Slot& slot, const SurfacePoint& p, const Vec3
     if (slot.image == kNone) return constant;
     if (slot.image == kMissing) return {1, 0, 1};  // magenta: seen, not mistaken for the material
     float texel[3] = {0, 0, 0};
-    if (!read(slot, coordinates(slot, p), 3, texel)) return {1, 0, 1};
+    if (!read(slot, p, 3, texel)) return {1, 0, 1};
     Vec3 c{texel[0], texel[1], texel[2]};
     if (slot.srgb) c = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z)};
     c = vmax(c, Vec3{}) * slot.ref.scale;
@@ -257,7 +257,7 @@ Vec3 SurfaceTextures::colour(const Slot& slot, const SurfacePoint& p, const Vec3
 double SurfaceTextures::scalar(const Slot& slot, const SurfacePoint& p, double constant) const {
     if (slot.image < 0) return constant;
     float texel = 0;
-    if (!read(slot, coordinates(slot, p), 1, &texel)) return constant;
+    if (!read(slot, p, 1, &texel)) return constant;
     double x = max_of(static_cast<double>(texel), 0.0);
     if (slot.srgb) x = srgb_to_linear(x);
     x *= slot.ref.scale.x;
@@ -308,7 +308,7 @@ Vec3 SurfaceTextures::perturbed_normal(uint32_t m, const SurfacePoint& p, const 
     Vec3 dpds, dpdt;
     if (s.normal.image >= 0 && in_texture_space(s.normal, dpds, dpdt)) {
         float texel[3] = {0.5f, 0.5f, 1.0f};
-        if (read(s.normal, coordinates(s.normal, p), 3, texel)) {
+        if (read(s.normal, p, 3, texel)) {
             const double k = s.normal.ref.scale.x;
             const double x = (2.0 * texel[0] - 1.0) * k, y = (2.0 * texel[1] - 1.0) * k, z = 2.0 * texel[2] - 1.0;
             if (std::fabs(x) > kFlatNormal || std::fabs(y) > kFlatNormal) {
@@ -323,7 +323,7 @@ Vec3 SurfaceTextures::perturbed_normal(uint32_t m, const SurfacePoint& p, const 
     }
     if (s.bump.image >= 0 && in_texture_space(s.bump, dpds, dpdt)) {
         float h = 0, dh_ds = 0, dh_dt = 0;
-        if (read(s.bump, coordinates(s.bump, p), 1, &h, &dh_ds, &dh_dt)) {
+        if (read(s.bump, p, 1, &h, &dh_ds, &dh_dt)) {
             // The surface displaced by height x scale along its normal: its new tangents, crossed.
             const double k = s.bump.ref.scale.x;
             const Vec3 ts = dpds + out * (k * dh_ds), tt = dpdt + out * (k * dh_dt);

@@ -120,8 +120,9 @@ private:
     Slot open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene, std::vector<Diagnostic>& warnings);
     /// (s, t) and footprint of `slot` at `p`.
     TextureLookup coordinates(const Slot& slot, const SurfacePoint& p) const;
-    /// A filtered lookup of `n` channels (1 or 3); false when the slot's image cannot be read.
-    bool read(const Slot& slot, const TextureLookup& at, int n, float* out, float* d_ds = nullptr, float* d_dt = nullptr) const;
+    /// A filtered lookup of `n` channels (1 or 3) at `p` (from the coarse copy where `p` asks and
+    /// no derivatives are wanted); false when the slot's image cannot be read.
+    bool read(const Slot& slot, const SurfacePoint& p, int n, float* out, float* d_ds = nullptr, float* d_dt = nullptr) const;
     Vec3 colour(const Slot& slot, const SurfacePoint& p, const Vec3& constant) const;
     double scalar(const Slot& slot, const SurfacePoint& p, double constant) const;
 
