@@ -252,8 +252,9 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
         if (!line.empty()) out << "  profile's cost per ray against this run's: " << line << "\n";
     }
     if (r.textures)
-        out << fmt::format("  textures: {} image{}, {} lookups, {:.1f} % of the render's thread time; cache {:.1f} of {:.0f} MiB, {:.1f} MiB read\n",
+        out << fmt::format("  textures: {} image{}, {} lookups{}, {:.1f} % of the render's thread time; cache {:.1f} of {:.0f} MiB, {:.1f} MiB read\n",
                            r.textures->images.size(), r.textures->images.size() == 1 ? "" : "s", r.textures->lookups,
+                           r.textures->coarse_lookups > 0 ? fmt::format(" (and {} from coarse copies)", r.textures->coarse_lookups) : "",
                            r.render_thread_seconds > 0 ? 100 * r.textures->lookup_seconds / r.render_thread_seconds : 0.0,
                            r.textures->cache.memory_bytes / double(1 << 20), r.textures->cache.memory_limit / double(1 << 20),
                            r.textures->cache.bytes_read / double(1 << 20));
