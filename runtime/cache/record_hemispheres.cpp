@@ -4,7 +4,9 @@
 // the next bounce from records one level deeper); fold each site's rays into a record (E,
 // harmonic distance, Ward-Heckbert gradients). Every phase works on the whole batch, so Embree
 // sees large batches and the order of every sum is fixed (images do not depend on threads).
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <array>
@@ -26,6 +28,9 @@ template <typename T>
 void release(std::vector<T>& v) {
     std::vector<T>().swap(v);
 }
+
+// Hemisphere rays shaded (and their shadow rays traced) by one task at a time.
+constexpr size_t kShadowBlock = 1024;
 
 }  // namespace
 
@@ -205,13 +210,21 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     // its last segment, as into every path's (runtime/render/shade.cpp).
     const bool scatters = scene_.medium && max_component(scene_.medium->sigma_s) > 0 && !scene_.lights->empty();
     const size_t slots = scatters ? 2 : 1;
-    std::vector<RTCRay> shadows(slots * n);
-    std::vector<Vec3> shadow_value(slots * n), through(slots * n);
-    std::vector<uint8_t> weak(slots * n, 0);
     const bool deeper = level + 1 < settings_.bounces;
-    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-        for (size_t k = 0; k < slots; ++k) make_hole(shadows[slots * i + k], static_cast<unsigned>(i));
-        RTCRay& s = shadows[slots * i];
+    // Shadow rays are aimed, traced and added a block of rays at a time, by the task that
+    // shades the block (as trace_and_shade() does): arrays of them for the whole batch (97
+    // bytes a hemisphere ray, fresh memory for every piece of records) were a quarter of the
+    // page faults of a cached render. Each ray adds its own slots in order, as before.
+    struct HemisphereShadows {
+        std::vector<RTCRay> rays;
+        std::vector<Vec3> value, through;
+        std::vector<uint8_t> weak;
+    };
+    // One hemisphere ray: its radiance but for direct light, whose shadow rays it aims in its
+    // `slots` (holes where it has none).
+    auto shade_ray = [&](size_t i, RTCRay* shadows, Vec3* shadow_value, uint8_t* weak) {
+        for (size_t k = 0; k < slots; ++k) make_hole(shadows[k], static_cast<unsigned>(k));
+        RTCRay& s = shadows[0];
         const RTCRayHit& hit = h.last[i];
         const bool miss = hit.hit.geomID == RTC_INVALID_GEOMETRY_ID;
         const uint64_t key = h.ray_key(sites, i);
@@ -220,9 +233,9 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
             const Vec3 origin{hit.ray.org_x, hit.ray.org_y, hit.ray.org_z};
             if (single_scatter_sample(scene_, *scene_.medium, origin, h.last_dir[i], miss ? INFINITY : double(hit.ray.tfar), h.throughput[i],
                                       HitRandom(hash_combine(key, 0x5ca7ull), static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
-                aim_shadow_ray(shadows[slots * i + 1], sample);
-                shadow_value[slots * i + 1] = sample.value;
-                weak[slots * i + 1] = sample.weak_target;
+                aim_shadow_ray(shadows[1], sample);
+                shadow_value[1] = sample.value;
+                weak[1] = sample.weak_target;
             }
         }
         // In a medium, what the last segment reaches is seen through its transmittance (the
@@ -260,8 +273,8 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
             if (direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position), beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1,
                                     sample)) {
                 aim_shadow_ray(s, sample);
-                shadow_value[slots * i] = sample.value;
-                weak[slots * i] = sample.weak_target;
+                shadow_value[0] = sample.value;
+                weak[0] = sample.weak_target;
             }
         }
         h.albedo[i] = beta * b.diffuse;
@@ -283,16 +296,32 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
             }
         }
         h.radiance[i] = is_finite(l) ? l : Vec3{};
-    });
+    };
+    tbb::enumerable_thread_specific<HemisphereShadows> block_shadows;
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, n, kShadowBlock),
+        [&](const tbb::blocked_range<size_t>& block) {
+            HemisphereShadows& local = block_shadows.local();
+            const size_t count = slots * block.size();
+            local.rays.resize(count);
+            local.value.assign(count, Vec3{});
+            local.through.resize(count);
+            local.weak.assign(count, 0);
+            for (size_t i = block.begin(); i < block.end(); ++i) {
+                const size_t at = slots * (i - block.begin());
+                shade_ray(i, local.rays.data() + at, local.value.data() + at, local.weak.data() + at);
+            }
+            trace_shadow_rays_in_this_task(scene_, local.rays.data(), local.weak.data(), local.through.data(), count);
+            for (size_t j = 0; j < count; ++j)
+                if (!is_hole(local.rays[j]) && max_component(local.through[j]) > 0) h.radiance[block.begin() + j / slots] += local.value[j] * local.through[j];
+        },
+        tbb::simple_partitioner());
     // What the next level brings to this one, on average (IcStats): in order, so the same sum at
     // any thread count.
     if (stats_.albedo_sum.size() <= level) stats_.albedo_sum.resize(level + 1), stats_.albedo_rays.resize(level + 1);
     for (size_t i = 0; i < n; ++i)
         if (const Vec3 a = h.albedo[i] + h.albedo_far[i]; is_finite(a)) stats_.albedo_sum[level] += luminance(a);
     stats_.albedo_rays[level] += n;
-    trace_shadow_rays(scene_, shadows.data(), weak.data(), through.data(), slots * n);
-    for (size_t j = 0; j < slots * n; ++j)
-        if (!is_hole(shadows[j]) && max_component(through[j]) > 0) h.radiance[j / slots] += shadow_value[j] * through[j];
 }
 
 // rho/pi E from records one level deeper (made now where missing), for every ray shading
