@@ -258,7 +258,7 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
             }
             if (!near) sites.push_back(query);
         }
-        // In pieces of about 256 Ki hemisphere rays (~70 MB of rays, hits and throughputs),
+        // In pieces of about 256 Ki hemisphere rays (~40 MB of rays, hits and throughputs),
         // so memory stays bounded: a piece's records ask the next bounce for theirs while its
         // buffers are alive, so up to `bounces` pieces are held at once (at 1 Mi rays a piece,
         // prog_dis_all at 512x512 peaked at 1.18 GB).

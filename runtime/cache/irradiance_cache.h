@@ -148,7 +148,7 @@ private:
     Hemispheres cast_hemispheres(const std::vector<IcQuery>& sites, uint32_t level);
     void pass_specular_interfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
     void shade_hemispheres(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
-    void add_next_bounce(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
+    void add_next_bounce(Hemispheres& h, uint32_t level);
     std::vector<IrradianceRecord> records_from(const Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) const;
     uint64_t cell_key(int x, int y, int z) const;
     /// The grids of bounce `level`, made when missing.

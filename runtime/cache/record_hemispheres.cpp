@@ -2,11 +2,11 @@
 // stratified hemisphere rays of every site; carry the rays that met glass, a mirror or a
 // translucent surface through them; shade what each ray reached (emission, one light sample,
 // the next bounce from records one level deeper); fold each site's rays into a record (E,
-// harmonic distance, Ward-Heckbert gradients). Every phase works on the whole batch, so Embree
-// sees large batches and the order of every sum is fixed (images do not depend on threads).
+// harmonic distance, Ward-Heckbert gradients). Every phase works on the whole batch (shading
+// in fixed blocks of rays, each tracing its own shadow rays), so Embree sees large batches and
+// the order of every sum is fixed (images do not depend on threads).
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <array>
@@ -30,7 +30,7 @@ void release(std::vector<T>& v) {
 }
 
 // Hemisphere rays shaded (and their shadow rays traced) by one task at a time.
-constexpr size_t kShadowBlock = 1024;
+constexpr size_t kHemisphereBlock = 1024;
 
 }  // namespace
 
@@ -47,11 +47,16 @@ struct IrradianceCache::Hemispheres {
     /// transmission (emitters are seen along it; `light` ones are the photon map's).
     std::vector<uint8_t> passed;
     std::vector<Vec3> radiance;
-    /// Where shading asks the next bounce: reflected (near, on the side of `next_normal`) and
-    /// diffusely transmitted (far, the other side); the rest of each query is its site's.
-    std::vector<Vec3> next_position, next_normal;
-    std::vector<Vec3> albedo, albedo_far;
-    std::vector<uint8_t> wants_next, wants_far;
+    /// What shading asks the next bounce, per block of kHemisphereBlock rays in ray order: for each
+    /// ray, its reflected query (on the side it arrived from) before its diffusely transmitted
+    /// one (the other side), each with the ray and the albedo its answer is weighted by.
+    struct NextBounce {
+        std::vector<IcQuery> queries;
+        std::vector<uint32_t> from;
+        std::vector<Vec3> weight;
+        double albedo_sum = 0;  ///< the block's rays' albedo (luminance), in ray order (IcStats)
+    };
+    std::vector<NextBounce> next;
 
     uint64_t ray_key(const std::vector<IcQuery>& sites, size_t i) const { return hash_combine(sites[i / per].key, 0x1c0000ull + i % per); }
 };
@@ -61,10 +66,11 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     pass_specular_interfaces(h, sites, level);
     shade_hemispheres(h, sites, level);
     // What shading alone needed goes before the next bounce's records are made: up to
-    // `bounces` batches are alive at once, and each kept only this (about 130 of 600 bytes a
-    // ray; prog_all's refinement at 960x540 held 350 MB of them).
+    // `bounces` batches are alive at once, and each keeps only its radiance and distances
+    // (28 of the 157 bytes a ray its arrays hold; prog_all's refinement at 960x540 once held
+    // 350 MB of such arrays).
     release(h.last), release(h.last_dir), release(h.throughput), release(h.passed);
-    add_next_bounce(h, sites, level);
+    add_next_bounce(h, level);
     return records_from(h, sites, level);
 }
 
@@ -200,21 +206,18 @@ void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector
 void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
     const size_t n = h.n;
     h.radiance.assign(n, Vec3{});
-    h.albedo.assign(n, Vec3{});
-    h.albedo_far.assign(n, Vec3{});
-    h.next_position.assign(n, Vec3{});
-    h.next_normal.assign(n, Vec3{});
-    h.wants_next.assign(n, 0);
-    h.wants_far.assign(n, 0);
+    const size_t blocks = (n + kHemisphereBlock - 1) / kHemisphereBlock;
+    h.next.assign(blocks, {});
     // Shadow rays: direct light at each ray's hit, then (in a medium) light scattered once into
     // its last segment, as into every path's (runtime/render/shade.cpp).
     const bool scatters = scene_.medium && max_component(scene_.medium->sigma_s) > 0 && !scene_.lights->empty();
     const size_t slots = scatters ? 2 : 1;
     const bool deeper = level + 1 < settings_.bounces;
     // Shadow rays are aimed, traced and added a block of rays at a time, by the task that
-    // shades the block (as trace_and_shade() does): arrays of them for the whole batch (97
-    // bytes a hemisphere ray, fresh memory for every piece of records) were a quarter of the
-    // page faults of a cached render. Each ray adds its own slots in order, as before.
+    // shades the block (as trace_and_shade() does), and the next bounce's queries are listed
+    // per block: arrays of them for the whole batch (219 bytes a hemisphere ray, fresh memory
+    // for every piece of records) were half the page faults of a cached render. Each ray adds
+    // its own slots in order, and the lists join in block order: the same sums as before.
     struct HemisphereShadows {
         std::vector<RTCRay> rays;
         std::vector<Vec3> value, through;
@@ -222,7 +225,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     };
     // One hemisphere ray: its radiance but for direct light, whose shadow rays it aims in its
     // `slots` (holes where it has none).
-    auto shade_ray = [&](size_t i, RTCRay* shadows, Vec3* shadow_value, uint8_t* weak) {
+    auto shade_ray = [&](size_t i, RTCRay* shadows, Vec3* shadow_value, uint8_t* weak, Hemispheres::NextBounce& next) {
         for (size_t k = 0; k < slots; ++k) make_hole(shadows[k], static_cast<unsigned>(k));
         RTCRay& s = shadows[0];
         const RTCRayHit& hit = h.last[i];
@@ -277,73 +280,71 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
                 weak[0] = sample.weak_target;
             }
         }
-        h.albedo[i] = beta * b.diffuse;
-        h.albedo_far[i] = beta * b.diffuse_transmit;
+        const Vec3 albedo = beta * b.diffuse, albedo_far = beta * b.diffuse_transmit;
+        if (const Vec3 a = albedo + albedo_far; is_finite(a)) next.albedo_sum += luminance(a);
         l = l * beta;
-        if (deeper) h.next_position[i] = f.position, h.next_normal[i] = f.shading;
-        if (max_component(h.albedo[i]) > 0) {
+        const IcQuery& site = sites[i / h.per];
+        auto ask = [&](const Vec3& normal, uint64_t query_key, const Vec3& weight) {
+            next.queries.push_back({f.position, normal, site.accuracy, site.priority, query_key, site.divisions});
+            next.from.push_back(static_cast<uint32_t>(i));
+            next.weight.push_back(weight);
+        };
+        if (max_component(albedo) > 0) {
             if (deeper) {
-                h.wants_next[i] = 1;
+                ask(f.shading, key, albedo);
             } else {
-                l += h.albedo[i] * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
+                l += albedo * settings_.ambient;  // av beyond the last bounce: rho/pi * (pi av)
             }
         }
-        if (max_component(h.albedo_far[i]) > 0) {
+        if (max_component(albedo_far) > 0) {
             if (deeper) {
-                h.wants_far[i] = 1;
+                ask(-f.shading, hash_combine(key, 0xfa5ull), albedo_far);
             } else {
-                l += h.albedo_far[i] * settings_.ambient;
+                l += albedo_far * settings_.ambient;
             }
         }
         h.radiance[i] = is_finite(l) ? l : Vec3{};
     };
     tbb::enumerable_thread_specific<HemisphereShadows> block_shadows;
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, n, kShadowBlock),
-        [&](const tbb::blocked_range<size_t>& block) {
-            HemisphereShadows& local = block_shadows.local();
-            const size_t count = slots * block.size();
-            local.rays.resize(count);
-            local.value.assign(count, Vec3{});
-            local.through.resize(count);
-            local.weak.assign(count, 0);
-            for (size_t i = block.begin(); i < block.end(); ++i) {
-                const size_t at = slots * (i - block.begin());
-                shade_ray(i, local.rays.data() + at, local.value.data() + at, local.weak.data() + at);
-            }
-            trace_shadow_rays_in_this_task(scene_, local.rays.data(), local.weak.data(), local.through.data(), count);
-            for (size_t j = 0; j < count; ++j)
-                if (!is_hole(local.rays[j]) && max_component(local.through[j]) > 0) h.radiance[block.begin() + j / slots] += local.value[j] * local.through[j];
-        },
-        tbb::simple_partitioner());
-    // What the next level brings to this one, on average (IcStats): in order, so the same sum at
-    // any thread count.
+    tbb::parallel_for(size_t{0}, blocks, [&](size_t block) {
+        const size_t first = block * kHemisphereBlock, last = std::min(n, first + kHemisphereBlock);
+        HemisphereShadows& local = block_shadows.local();
+        const size_t count = slots * (last - first);
+        local.rays.resize(count);
+        local.value.assign(count, Vec3{});
+        local.through.resize(count);
+        local.weak.assign(count, 0);
+        for (size_t i = first; i < last; ++i) {
+            const size_t at = slots * (i - first);
+            shade_ray(i, local.rays.data() + at, local.value.data() + at, local.weak.data() + at, h.next[block]);
+        }
+        trace_shadow_rays_in_this_task(scene_, local.rays.data(), local.weak.data(), local.through.data(), count);
+        for (size_t j = 0; j < count; ++j)
+            if (!is_hole(local.rays[j]) && max_component(local.through[j]) > 0) h.radiance[first + j / slots] += local.value[j] * local.through[j];
+    });
+    // What the next level brings to this one, on average (IcStats): block by block in order,
+    // so the same sum at any thread count.
     if (stats_.albedo_sum.size() <= level) stats_.albedo_sum.resize(level + 1), stats_.albedo_rays.resize(level + 1);
-    for (size_t i = 0; i < n; ++i)
-        if (const Vec3 a = h.albedo[i] + h.albedo_far[i]; is_finite(a)) stats_.albedo_sum[level] += luminance(a);
+    for (const Hemispheres::NextBounce& next : h.next) stats_.albedo_sum[level] += next.albedo_sum;
     stats_.albedo_rays[level] += n;
 }
 
 // rho/pi E from records one level deeper (made now where missing), for every ray shading
 // asked it for. This recurses through irradiance(): up to `bounces` batches are alive at once.
-void IrradianceCache::add_next_bounce(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
+void IrradianceCache::add_next_bounce(Hemispheres& h, uint32_t level) {
     if (level + 1 >= settings_.bounces) return;
+    size_t total = 0;
+    for (const Hemispheres::NextBounce& next : h.next) total += next.queries.size();
     std::vector<IcQuery> q;
-    std::vector<size_t> from;
+    std::vector<uint32_t> from;
     std::vector<Vec3> weight;
-    for (size_t i = 0; i < h.n; ++i) {
-        const IcQuery& site = sites[i / h.per];
-        const uint64_t key = h.ray_key(sites, i);
-        if (h.wants_next[i]) {
-            q.push_back({h.next_position[i], h.next_normal[i], site.accuracy, site.priority, key, site.divisions});
-            from.push_back(i), weight.push_back(h.albedo[i]);
-        }
-        if (h.wants_far[i]) {
-            q.push_back({h.next_position[i], -h.next_normal[i], site.accuracy, site.priority, hash_combine(key, 0xfa5ull), site.divisions});
-            from.push_back(i), weight.push_back(h.albedo_far[i]);
-        }
+    q.reserve(total), from.reserve(total), weight.reserve(total);
+    for (Hemispheres::NextBounce& next : h.next) {  // in block order; each block's freed once copied
+        q.insert(q.end(), next.queries.begin(), next.queries.end());
+        from.insert(from.end(), next.from.begin(), next.from.end());
+        weight.insert(weight.end(), next.weight.begin(), next.weight.end());
+        next = {};
     }
-    release(h.next_position), release(h.next_normal), release(h.albedo), release(h.albedo_far), release(h.wants_next), release(h.wants_far);
     std::vector<Vec3> e;
     irradiance(q, level + 1, e);
     for (size_t k = 0; k < q.size(); ++k) h.radiance[from[k]] += weight[k] * e[k] / kPi;
