@@ -47,9 +47,10 @@ struct IrradianceCache::Hemispheres {
     /// transmission (emitters are seen along it; `light` ones are the photon map's).
     std::vector<uint8_t> passed;
     std::vector<Vec3> radiance;
-    /// What shading asks the next bounce, per block of kHemisphereBlock rays in ray order: for each
-    /// ray, its reflected query (on the side it arrived from) before its diffusely transmitted
-    /// one (the other side), each with the ray and the albedo its answer is weighted by.
+    /// What shading asks the next bounce, per block of kHemisphereBlock rays, in ray order:
+    /// each ray's reflected query (on the side it arrived from) before its diffusely
+    /// transmitted one (the other side), each with the ray and the albedo its answer is
+    /// weighted by.
     struct NextBounce {
         std::vector<IcQuery> queries;
         std::vector<uint32_t> from;
