@@ -315,9 +315,11 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         local.value.assign(count, Vec3{});
         local.through.resize(count);
         local.weak.assign(count, 0);
+        Hemispheres::NextBounce& next = h.next[block];
+        if (deeper) next.queries.reserve(last - first), next.from.reserve(last - first), next.weight.reserve(last - first);  // a query a ray, mostly
         for (size_t i = first; i < last; ++i) {
             const size_t at = slots * (i - first);
-            shade_ray(i, local.rays.data() + at, local.value.data() + at, local.weak.data() + at, h.next[block]);
+            shade_ray(i, local.rays.data() + at, local.value.data() + at, local.weak.data() + at, next);
         }
         trace_shadow_rays_in_this_task(scene_, local.rays.data(), local.weak.data(), local.through.data(), count);
         for (size_t j = 0; j < count; ++j)
