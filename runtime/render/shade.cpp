@@ -299,7 +299,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
 
     out.contribution.resize(n);
     if (camera) out.emission.resize(n);
-    const size_t blocks = (n + kShadeBlock - 1) / kShadeBlock;
+    const size_t block_rays = shade_block_rays(n), blocks = (n + block_rays - 1) / block_rays;
     if (out.block_children.size() < blocks) out.block_children.resize(blocks);
     if (out.block_spawned.size() < blocks) out.block_spawned.resize(blocks);
     if (scratch.block_shadows.size() < blocks) scratch.block_shadows.resize(blocks);
@@ -320,7 +320,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             for (auto& v : spawned_rays) v.clear();
             BlockShadows& shadows = scratch.block_shadows[block];
             shadows.clear();
-            const size_t first = block * kShadeBlock, last = std::min(n, first + kShadeBlock);
+            const size_t first = block * block_rays, last = std::min(n, first + block_rays);
             if (!captured) aim(first, last);
             intersect_serial(*scene.embree, hits.data() + first, last - first, camera);
             SpawnScratch spawn;

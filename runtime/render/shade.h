@@ -5,6 +5,7 @@
 /// the result does not depend on the thread count.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <vector>
@@ -58,11 +59,18 @@ inline uint32_t shadow_rays_at(const ShadeParams& params, uint32_t pixel, uint8_
     return params.shadow_rays_per_pixel ? std::min<uint32_t>(params.shadow_rays, (*params.shadow_rays_per_pixel)[pixel]) : params.shadow_rays;
 }
 
-/// Rays are shaded in fixed blocks of this many; each block spawns into its own buffers,
+/// Rays are shaded in blocks of at most this many; each block spawns into its own buffers,
 /// which are joined in block order, so bins do not depend on the thread count.
 inline constexpr size_t kShadeBlock = 512;
+/// A chunk of fewer than 16 full blocks is cut into 16 (of at least this many rays): most bins
+/// of a crex's loop hold a few thousand rays, and in 512-ray blocks the last block of such a
+/// chunk kept one thread busy while the others waited at the join.
+inline constexpr size_t kMinShadeBlock = 64;
+/// Rays per block for a chunk of n rays: n alone decides it, so the blocks, and the sums made
+/// in block order, are the same at any thread count.
+inline size_t shade_block_rays(size_t n) { return std::clamp<size_t>((n + 15) / 16, kMinShadeBlock, kShadeBlock); }
 
-/// The shadow rays of one block of kShadeBlock rays, traced as soon as the block is shaded
+/// The shadow rays of one block of rays, traced as soon as the block is shaded
 /// (its hits still in cache), only those aimed: a slot per possible shadow ray, most of them
 /// empty where a deeper hit takes one of `--shadow-rays 8`, was written, skipped by Embree and
 /// read back for nothing.
@@ -101,7 +109,7 @@ struct ShadeScratch {
 struct ShadeOutput {
     std::vector<Vec3> contribution;  ///< per input ray, times its beta
     std::vector<Vec3> emission;      ///< camera rays: the emitted part of it
-    /// Spawned rays, per block of kShadeBlock input rays, per component.
+    /// Spawned rays, per block of input rays (shade_block_rays), per component.
     std::vector<std::array<RayBatch, kComponentCount>> block_children;
     /// The same, as records while a block is shaded (converted to arrays at its end).
     std::vector<std::array<std::vector<RayRecord>, kComponentCount>> block_spawned;
