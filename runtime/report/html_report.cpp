@@ -136,8 +136,8 @@ bool append_report_figure(const ReportImage& img, std::string& html, std::string
         bar = fmt::format("<div class=\"scale\"><span>{}</span><div class=\"ramp\" style=\"background: {}\"></div><span>{}{}</span></div>",
                           tick_label(img.scale->lo), img.scale->gradient, tick_label(img.scale->hi),
                           img.scale->unit.empty() ? "" : " " + html_escape(img.scale->unit));
-    html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\">{2}<figcaption>{0}</figcaption></figure>\n",
-                        html_escape(img.title), base64(bytes.str()), bar);
+    html += fmt::format("<figure><img alt=\"{0}\" src=\"data:image/png;base64,{1}\">{2}<figcaption>{0}{3}</figcaption></figure>\n",
+                        html_escape(img.title), base64(bytes.str()), bar, img.note.empty() ? "" : ": " + html_escape(img.note));
     return true;
 }
 

@@ -23,6 +23,7 @@ struct ReportImage {
     std::string title;
     std::string png_path;  ///< read and embedded
     std::optional<ColourScale> scale;
+    std::string note = "";  ///< said after the title in the caption (not in the alt text)
 };
 
 struct ReportPage {

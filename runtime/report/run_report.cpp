@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
 
 #include "runtime/base/atomic_file.h"
+#include "runtime/base/vec3.h"
 #include "runtime/io/heat_map.h"
 #include "runtime/io/image_io.h"
 #include "runtime/metrics/metrics.h"
@@ -41,6 +43,24 @@ std::string report_folder_refusal(const std::string& dir) {
     return fmt::format("--report {}: the folder exists and is not a crex report (no index.html written by crex), so crex will not "
                        "replace it: give a new or empty folder",
                        dir);
+}
+
+namespace {
+
+// The summed Rec. 709 luminance of a linear RGB image.
+double light_of(const std::vector<float>& rgb) {
+    double sum = 0;
+    for (size_t i = 0; i + 2 < rgb.size(); i += 3) sum += luminance(Vec3{rgb[i], rgb[i + 1], rgb[i + 2]});
+    return sum;
+}
+
+}  // namespace
+
+std::string light_share_note(double part, double whole) {
+    if (!(whole > 0) || !std::isfinite(part) || !std::isfinite(whole)) return "";
+    const double percent = 100 * part / whole;
+    if (percent > 0 && percent < 0.1) return "under 0.1 % of the image's light";
+    return fmt::format("{:.1f} % of the image's light", percent);
 }
 
 std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve) {
@@ -100,10 +120,13 @@ std::string write_run_report(const RunReport& r, std::vector<CurvePoint>& curve)
     for (const auto& [title, rgb] : r.images)
         if (title == "reference") exposure = display_exposure(rgb);
     if (!exposure) exposure = r.images.empty() ? 1.0 : display_exposure(r.images.front().second);
+    // A component's caption says its share of the final image's light, so that a dark tile
+    // reads as a small share rather than as a failure.
+    const double final_light = r.images.empty() ? 0.0 : light_of(r.images.front().second);
     for (const auto& [title, rgb] : r.images) {
         std::string path = (fs::path(r.dir) / "images" / (safe_name(title) + ".png")).string();
         if (std::string e = write_image(path, r.width, r.height, {{"", to_display(rgb, *exposure), true}}); !e.empty()) return e;
-        page.images.push_back({title, path, std::nullopt});
+        page.images.push_back({title, path, std::nullopt, title.rfind("component ", 0) == 0 ? light_share_note(light_of(rgb), final_light) : ""});
     }
     // --equal-time: the two images in one exposure, and where each differs from the reference.
     if (const auto& e = r.equal_time) {

@@ -50,6 +50,10 @@ struct RunReport {
 /// asks before rendering, so a folder of the user's own is never removed.
 std::string report_folder_refusal(const std::string& dir);
 
+/// A component image's caption: its light (summed luminance) as a share of the final image's,
+/// e.g. "12.5 % of the image's light"; "" when the final image holds no light.
+std::string light_share_note(double part, double whole);
+
 /// Writes the report into `report.dir` (a fresh folder); returns "" or what failed. `curve`
 /// receives the error curve.
 std::string write_run_report(const RunReport& report, std::vector<CurvePoint>& curve);

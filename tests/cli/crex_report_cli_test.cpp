@@ -101,6 +101,20 @@ TEST_F(ReportCli, TheReportHoldsCheckpointsAFallingCurveAndThePage) {
     EXPECT_EQ(html.find("src=\"images/"), std::string::npos);
     EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
     EXPECT_NE(html.find("id=\"error-plot\""), std::string::npos);
+    // Each component's caption gives its share of the image's light; with every component
+    // shown (none stood in), the shares add up to the whole image (one decimal each).
+    double total = 0;
+    size_t components = 0;
+    for (size_t at = html.find("<figcaption>component "); at != std::string::npos; at = html.find("<figcaption>component ", at + 1)) {
+        const size_t colon = html.find(": ", at), end = html.find(" % of the image's light</figcaption>", at);
+        ASSERT_NE(end, std::string::npos) << html.substr(at, 80);
+        ASSERT_LT(colon, end);
+        const std::string number = html.substr(colon + 2, end - colon - 2);
+        if (number != "under 0.1") total += std::stod(number);
+        ++components;
+    }
+    EXPECT_GE(components, 2u);
+    EXPECT_NEAR(total, 100.0, 0.1 * static_cast<double>(components));
 }
 
 }  // namespace
