@@ -175,6 +175,7 @@ void AmbientStandIns::finish_automatic(const Film& film, const ExecutorStats& st
     const Vec3 mean = Vec3{sums[0], sums[1], sums[2]} / double(std::max<size_t>(pixels_, 1));
     std::array<Vec3, kComponentCount> av_of_left{};
     std::array<bool, kComponentCount> applied{};
+    std::string unmeasured;  // the components none of whose rays ran: one note for them all
     for (size_t c = 0; c < kComponentCount; ++c) {
         // Whether any process left rays of c, from the counts: a scan of the buffers for a
         // non-zero value was a serial pass over up to 1.3 MB per component at 384x288 on the
@@ -185,10 +186,20 @@ void AmbientStandIns::finish_automatic(const Film& film, const ExecutorStats& st
         const Vec3 av = measured ? per_unit({at[0], at[1], at[2]}, {at[3], at[4], at[5]}) : mean;
         auto_ambient[c] = av_of_left[c] = av;
         applied[c] = true;
-        notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), {}", kComponentTable[c].letter, av.x,
-                                    av.y, av.z,
-                                    measured ? "what its executed rays brought back per unit throughput"
-                                             : "the mean radiance of the image (none of its rays ran)"));
+        if (measured)
+            notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), what its executed rays brought back "
+                                        "per unit throughput",
+                                        kComponentTable[c].letter, av.x, av.y, av.z));
+        else
+            unmeasured += kComponentTable[c].letter;
+    }
+    if (!unmeasured.empty()) {
+        std::string letters;  // "G", "G and S", "G, S and R"
+        for (size_t i = 0; i < unmeasured.size(); ++i)
+            letters += (i == 0 ? "" : i + 1 == unmeasured.size() ? " and " : ", ") + std::string(1, unmeasured[i]);
+        notes.push_back(fmt::format("unexecuted {} rays stood in with av = ({:.3g}, {:.3g}, {:.3g}), the mean radiance of the image (none of {} "
+                                    "rays ran)",
+                                    letters, mean.x, mean.y, mean.z, unmeasured.size() == 1 ? "its" : "their"));
     }
     add_stand_ins(left_, av_of_left, applied, ambient_);
     // The buffers stay until release(), after the render's clock: freeing megabytes is time too.

@@ -58,6 +58,16 @@ TEST(AmbientStandIn, SkippedComponentsNeverLeaveAPixelBlackThatTheFullRenderLigh
     EXPECT_LT(sum_a, 3.0 * sum_f);
     // No D ray ran anywhere: D stood in with the preview's mean radiance.
     EXPECT_GT(stood_in.auto_ambient[static_cast<size_t>(Component::kD)].x, 0);
+    // Every component none of whose rays ran stands in with that one mean: one note names them
+    // all ("unexecuted D, S, R and M rays ..."), not a line each.
+    size_t notes = 0;
+    std::string note;
+    for (const std::string& n : stood_in.notes)
+        if (n.find("stood in") != std::string::npos) ++notes, note = n;
+    EXPECT_EQ(notes, 1u);
+    EXPECT_EQ(note.rfind("unexecuted D, ", 0), 0u) << note;
+    EXPECT_NE(note.find(" and M rays stood in with av = "), std::string::npos) << note;
+    EXPECT_NE(note.find("(none of their rays ran)"), std::string::npos) << note;
 }
 
 TEST(AmbientStandIn, MeasuredFromTheComponentsOwnRaysWhereSomeRan) {
