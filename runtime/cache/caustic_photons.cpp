@@ -168,13 +168,21 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
     const size_t total_photons = settings.photons;
     const double eps = scene.embree->ray_epsilon();
     const uint64_t base = hash_combine(settings.seed, 0xca057ull);
-    // In chunks of 1 Mi photons (about 170 MB of rays and state), so memory stays bounded
-    // whatever --caustic-photons asks; photon j's numbers depend on j alone.
-    constexpr size_t kChunk = size_t{1} << 20;
+    // In chunks of 64 Ki photons, each in the memory of the chunk before (11 MB of rays and
+    // state): memory stays bounded whatever --caustic-photons asks, and pages touched for the
+    // first time, which cost more than tracing on some machines (a 200,000-photon map on the
+    // Cornell box spent half its time in page faults when a chunk held them all), are touched
+    // once. Photon j's numbers depend on j alone, so the chunk size changes no photon.
+    constexpr size_t kChunk = size_t{1} << 16;
+    const size_t most = std::min(kChunk, total_photons);
+    std::vector<RTCRayHit> rays(most), batch(most);
+    std::vector<Vec3> power(most), dir(most);
+    std::vector<uint8_t> state(most), through_trans(most), passed(most);
+    std::vector<Photon> stored(most);
+    std::vector<size_t> go;
+    go.reserve(most);
     for (size_t first = 0; first < total_photons; first += kChunk) {
         const size_t n = std::min(kChunk, total_photons - first);
-        std::vector<RTCRayHit> rays(n);
-        std::vector<Vec3> power(n), dir(n);
         // Emission: a point on an emitter (by power), then a direction uniformly in the union of
         // the cones towards the targets, chosen by solid angle: pdf(w) = (cones holding w) / sum of
         // their solid angles, so overlapping cones are counted once each (one-sample MIS).
@@ -226,11 +234,11 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
         // transmission (the lobes the cache's hemisphere rays follow, chosen the same way);
         // keep it at the first surface it is shaded at after at least one of them, if that has
         // a diffuse lobe. A photon shaded at its first hit is light the records see by themselves.
-        std::vector<uint8_t> state(n, 0);  // 0 travelling, 1 stored, 2 dropped
-        std::vector<uint8_t> through_trans(n, 0), passed(n, 0);
-        std::vector<Photon> stored(n);
+        std::fill_n(state.begin(), n, uint8_t{0});  // 0 travelling, 1 stored, 2 dropped
+        std::fill_n(through_trans.begin(), n, uint8_t{0});
+        std::fill_n(passed.begin(), n, uint8_t{0});
         for (uint32_t bounce = 0; bounce <= 8; ++bounce) {
-            std::vector<size_t> go;
+            go.clear();
             tbb::parallel_for(size_t{0}, n, [&](size_t j) {
                 if (state[j] != 0) return;
                 through_trans[j] = 0;
@@ -293,9 +301,8 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
                         static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(j));
             });
-            std::vector<RTCRayHit> batch(go.size());
             for (size_t g = 0; g < go.size(); ++g) batch[g] = rays[go[g]];
-            intersect_batch(*scene.embree, batch.data(), batch.size(), false);
+            intersect_batch(*scene.embree, batch.data(), go.size(), false);
             for (size_t g = 0; g < go.size(); ++g) rays[go[g]] = batch[g];
             rays_ += go.size();
         }
