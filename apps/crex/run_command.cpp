@@ -26,6 +26,7 @@
 #include "runtime/api/shared_inputs.h"
 #include "runtime/base/output_folder.h"
 #include "runtime/api/sequence_outputs.h"
+#include "runtime/io/image_io.h"
 #include "runtime/io/video_file.h"
 #include "runtime/scene/camera_path_file.h"
 #include "runtime/scene/gltf/gltf_camera_path.h"
@@ -459,13 +460,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
         j["scene"] = in.scene_spec;
         std::cout << j.dump(2) << "\n";
     } else if (!r.quiet) {
-        std::cout << frames_summary_text(frames);
-        if (r.sequence.budget_seconds > 0)
-            std::cout << fmt::format("  sequence budget {:.2f} s: took {:.2f} s ({:+.1f} %)\n", r.sequence.budget_seconds, took,
-                                     100 * (took / r.sequence.budget_seconds - 1));
-        if (group.distributed())
-            std::cout << fmt::format("  on {} processes, each a run of consecutive frames, their caches' new records shared after each frame\n",
-                                     group.processes());
+        std::cout << frames_summary_text(frames, r.sequence.budget_seconds, took, group.distributed() ? group.processes() : 1);
     }
     std::vector<std::string> wrote;
     const SequenceDescription described{r.camera_path,       r.sequence.reference, r.sequence.fps, run.settings.width, run.settings.height,
@@ -509,6 +504,9 @@ int run_request(Request& r) {
                                                "(the same command without mpirun)\n");
         return kExitUsage;
     }
+    // The lead writes the images at the end: OpenImageIO's libraries load (0.3 s) while it
+    // reads the scene and renders, instead of after.
+    const std::future<void> image_plugin = group->leads() ? preload_image_plugin() : std::future<void>{};
     // The lead alone reads, checks and plans; the others get it as data.
     LeadChecks lead;
     RunInputs in = share_run_inputs(*group, [&] {

@@ -538,7 +538,7 @@ std::string frame_line(const FrameRun& f, size_t index, size_t count) {
     return line;
 }
 
-std::string frames_summary_text(const std::vector<FrameRun>& frames) {
+static std::string frames_summary_body(const std::vector<FrameRun>& frames) {
     std::vector<const FrameRun*> rendered;
     for (const FrameRun& f : frames)
         if (!f.skipped) rendered.push_back(&f);
@@ -567,6 +567,15 @@ std::string frames_summary_text(const std::vector<FrameRun>& frames) {
     for (size_t k = 0; k < first.files.size() && k < last.files.size(); ++k)  // one line per -o, not per frame
         text += first.frame == last.frame ? fmt::format("  wrote {}\n", first.files[k])
                                           : fmt::format("  wrote {} .. {}\n", first.files[k], last.files[k]);
+    return text;
+}
+
+std::string frames_summary_text(const std::vector<FrameRun>& frames, double budget_seconds, double took, int processes) {
+    std::string text = frames_summary_body(frames);
+    if (budget_seconds > 0)
+        text += fmt::format("  sequence budget {:.2f} s: took {:.2f} s ({:+.1f} %)\n", budget_seconds, took, 100 * (took / budget_seconds - 1));
+    if (processes > 1)
+        text += fmt::format("  on {} processes, each a run of consecutive frames, their caches' new records shared after each frame\n", processes);
     return text;
 }
 

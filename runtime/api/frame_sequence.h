@@ -168,7 +168,8 @@ nlohmann::json frames_json(const std::vector<FrameRun>& frames, double fps);
 std::string frame_line(const FrameRun& f, size_t index, size_t count);
 
 /// A summary for people: frames rendered and skipped, the first frame against the mean of
-/// the rest, records made.
-std::string frames_summary_text(const std::vector<FrameRun>& frames);
+/// the rest, records made; the sequence's budget against the time it `took` when it had one
+/// (`budget_seconds` > 0), and the processes it ran on when more than one.
+std::string frames_summary_text(const std::vector<FrameRun>& frames, double budget_seconds = 0, double took = 0, int processes = 1);
 
 }  // namespace crex

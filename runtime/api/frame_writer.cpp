@@ -11,10 +11,7 @@ namespace crex {
 
 FrameWriter::FrameWriter() {
     // A failure to load is not this frame's to report: the first write meets it and says so.
-    pending_ = std::async(std::launch::async, [] {
-        (void)load_image_plugin();
-        return std::string();
-    });
+    plugin_ = preload_image_plugin();
 }
 
 FrameWriter::~FrameWriter() {

@@ -37,6 +37,7 @@ public:
     double finish();
 
 private:
+    std::future<void> plugin_;  // declared first: destroyed last, after the frame in flight
     std::future<std::string> pending_;
     int64_t frame_ = -1;
 };

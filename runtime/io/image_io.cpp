@@ -10,8 +10,10 @@
 #include <filesystem>
 #include <mutex>
 #include <string>
+#include <system_error>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "base/input_file.h"
 #include "base/install_paths.h"
@@ -82,6 +84,17 @@ const Plugin& plugin() {
 }  // namespace
 
 std::string load_image_plugin() { return plugin().error; }
+
+std::future<void> preload_image_plugin() {
+    // TBB dlopens its allocator and its thread server at its first parallel loop; under way
+    // beside the plugin's load, that loop would wait for the loader's lock until the load ends.
+    tbb::parallel_for(0, 1, [](int) {});
+    try {
+        return std::async(std::launch::async, [] { (void)plugin(); });
+    } catch (const std::system_error&) {  // no thread to be had: the first read or write loads it
+        return {};
+    }
+}
 
 std::string ImageAttribute::text() const {
     struct Text {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <future>
 #include <string>
 #include <variant>
 #include <vector>
@@ -67,6 +68,12 @@ std::string write_image(const std::string& path, int width, int height, const st
 /// relocates OpenImageIO's libraries), for a write that must be quick when it comes: rank 0's
 /// finished rows, in the second mpirun gives it between SIGTERM and SIGKILL. "" when loaded.
 std::string load_image_plugin();
+/// Starts load_image_plugin() on a thread of its own and returns at once, so that a command
+/// which will write images renders while OpenImageIO's libraries are relocated (0.3 s here)
+/// instead of after. Whoever reads or writes an image first waits for the load; the returned
+/// future's destructor waits too, so no load outlives the command. A failure to load is not
+/// the preload's to say: the first read or write meets it and says so.
+std::future<void> preload_image_plugin();
 
 /// Tone map of spec/pipeline.md §7 to 8-bit sRGB (exposed for tests and reports).
 std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);

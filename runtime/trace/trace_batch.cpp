@@ -1,5 +1,6 @@
 #include "runtime/trace/trace_batch.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -90,19 +91,25 @@ void occluded_block(const EmbreeScene& scene, RTCRay* rays, size_t begin, size_t
     const bool passing = pass && scene.any_shadow_passes();
     ShadowContext context;
     rtcInitIntersectContext(&context.embree);
-    thread_local std::vector<Crossings> crossings;
+    // Each thread's crossings, kept from block to block. Not a thread_local: the first touch of
+    // one with a destructor takes the dynamic loader's lock, so a render's first shadow rays
+    // would wait out the image plugin's load (preload_image_plugin) on another thread.
+    static tbb::enumerable_thread_specific<std::vector<Crossings>> per_thread;
+    Crossings* crossings = nullptr;
     if (passing) {
-        crossings.assign(end - begin, Crossings{});
+        std::vector<Crossings>& mine = per_thread.local();
+        mine.assign(end - begin, Crossings{});
+        crossings = mine.data();
         for (size_t k = begin; k < end; ++k) rays[k].id = static_cast<unsigned>(k);
         context.pass = pass;
         context.weak_target = weak_target;
-        context.crossings = crossings.data();
+        context.crossings = crossings;
         context.first = begin;
     }
     rtcOccluded1M(scene.handle(), &context.embree, rays + begin, static_cast<unsigned>(end - begin), sizeof(RTCRay));
     if (through)
         for (size_t k = begin; k < end; ++k)
-            through[k] = rays[k].tfar == -INFINITY ? Vec3{} : passing ? crossings[k - begin].through : Vec3{1, 1, 1};
+            through[k] = rays[k].tfar == -INFINITY ? Vec3{} : crossings ? crossings[k - begin].through : Vec3{1, 1, 1};
 }
 
 }  // namespace
