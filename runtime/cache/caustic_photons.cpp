@@ -116,7 +116,7 @@ private:
     float* dist2_;
 };
 
-/// nanoflann's view of points with a `position` (photons, or irradiance estimates).
+/// nanoflann's view of points with a `position` (the photons, for their density estimates).
 template <class Point>
 struct PointTree {
     struct Cloud {
@@ -141,12 +141,6 @@ struct PointTree {
 };
 
 }  // namespace
-
-struct CausticPhotons::Tree {
-    explicit Tree(const std::vector<Photon>& p) : photons(p) {}
-    PointTree<Photon> photons;
-    std::unique_ptr<PointTree<Estimate>> estimates;
-};
 
 CausticPhotons::~CausticPhotons() = default;
 
@@ -312,22 +306,28 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
     photons_.shrink_to_fit();
 
     if (photons_.empty()) return;
-    tree_ = std::make_unique<Tree>(photons_);
     precompute();
+    build_disc_grid();
 }
 
-Vec3 CausticPhotons::density(const Vec3& x, const Vec3& n, double& r2_out) const {
+namespace {
+
+// The density estimate at x (Jensen): the k nearest photons within max_radius on the side
+// `n` faces, through an Epanechnikov kernel over the disc to the k-th of them; r2_out is the
+// disc's squared radius.
+Vec3 photon_density(const std::vector<CausticPhotons::Photon>& photons, const PointTree<CausticPhotons::Photon>& tree, uint32_t k,
+                    double max_radius, const Vec3& x, const Vec3& n, double& r2_out) {
     std::array<uint32_t, 1024> index{};
     std::array<float, 1024> dist2{};
-    const float r_max2 = static_cast<float>(max_radius_ * max_radius_);
-    const size_t found = tree_->photons.nearest(x, neighbours_, r_max2, index.data(), dist2.data());
+    const float r_max2 = static_cast<float>(max_radius * max_radius);
+    const size_t found = tree.nearest(x, k, r_max2, index.data(), dist2.data());
     // The disc reaches the k-th neighbour, or max_radius when fewer are that close.
-    const double r2 = found == neighbours_ ? std::min<double>(dist2[0], r_max2) : r_max2;
+    const double r2 = found == k ? std::min<double>(dist2[0], r_max2) : r_max2;
     r2_out = r2;
     if (found == 0 || !(r2 > 0)) return {};
     Vec3 sum{};
     for (size_t i = 0; i < found; ++i) {
-        const Photon& p = photons_[index[i]];
+        const CausticPhotons::Photon& p = photons[index[i]];
         if (!(dot(to_vec(p.normal), n) > 0.5)) continue;  // another surface, or the far side of this one
         sum += to_vec(p.power) * std::fmax(0.0, 1 - dist2[i] / r2);
     }
@@ -335,11 +335,20 @@ Vec3 CausticPhotons::density(const Vec3& x, const Vec3& n, double& r2_out) const
     return is_finite(e) ? e : Vec3{};
 }
 
+// The cells a disc's bounding cube covers along each axis, clamped to the grid.
+struct CellSpan {
+    int lo[3], hi[3];
+    size_t count() const { return size_t(hi[0] - lo[0] + 1) * size_t(hi[1] - lo[1] + 1) * size_t(hi[2] - lo[2] + 1); }
+};
+
+}  // namespace
+
 void CausticPhotons::precompute() {
     // Christensen (1999): the density estimate at every 8th photon, once; a query then blends
-    // the 8 nearest estimates instead of gathering k photons (64-spp --ic on the Cornell box
+    // the estimates near it instead of gathering k photons (64-spp --ic on the Cornell box
     // spent 2 of its 5 s gathering). Every 8th with k = 32 measured as good as every 4th with
     // k = 64 (FLIP 0.0354 against 0.0358, 16 spp) at two thirds of the build time.
+    const PointTree<Photon> tree(photons_);  // needed for the estimates alone
     constexpr size_t kStride = 8;
     estimates_.resize((photons_.size() + kStride - 1) / kStride);
     tbb::parallel_for(size_t{0}, estimates_.size(), [&](size_t i) {
@@ -348,84 +357,92 @@ void CausticPhotons::precompute() {
         std::copy(p.position, p.position + 3, e.position);
         std::copy(p.normal, p.normal + 3, e.normal);
         double r2 = 0;
-        put(e.irradiance, density(to_vec(p.position), to_vec(p.normal), r2));
+        put(e.irradiance, photon_density(photons_, tree, neighbours_, max_radius_, to_vec(p.position), to_vec(p.normal), r2));
         e.radius2 = static_cast<float>(r2);
     });
-    max_estimate_r2_ = 0;
-    for (const Estimate& e : estimates_) max_estimate_r2_ = std::max(max_estimate_r2_, e.radius2);
-    tree_->estimates = std::make_unique<PointTree<Estimate>>(estimates_);
-    // The grid over every disc's bounding cube (with a margin of float rounding), 64 cells
-    // along its longest side.
-    auto cube = [](const Estimate& e, double grow) {
-        const double r = std::sqrt(static_cast<double>(e.radius2)) * (1 + 1e-5) + grow;
-        const Vec3 p = to_vec(e.position);
-        return std::pair{p - Vec3{r, r, r}, p + Vec3{r, r, r}};
-    };
+}
+
+void CausticPhotons::build_disc_grid() {
+    if (estimates_.empty() || estimates_.size() > std::numeric_limits<uint32_t>::max()) return;
+    // Each disc's bounding cube, a little larger than the disc (float rounding of the test
+    // d2 < r2 at a query must never find a disc in a cell it was not listed in).
+    std::vector<std::pair<Vec3, Vec3>> cubes(estimates_.size());
     constexpr double kInf = std::numeric_limits<double>::infinity();
     Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-    for (const Estimate& e : estimates_) {
-        const auto [a, b] = cube(e, 0);
-        lo = {std::fmin(lo.x, a.x), std::fmin(lo.y, a.y), std::fmin(lo.z, a.z)};
-        hi = {std::fmax(hi.x, b.x), std::fmax(hi.y, b.y), std::fmax(hi.z, b.z)};
+    for (size_t i = 0; i < estimates_.size(); ++i) {
+        const Estimate& e = estimates_[i];
+        const Vec3 p = to_vec(e.position);
+        const double r = std::sqrt(static_cast<double>(e.radius2)) * (1 + 1e-5) + 1e-6 * length(p);
+        cubes[i] = {p - Vec3{r, r, r}, p + Vec3{r, r, r}};
+        lo = vmin(lo, cubes[i].first), hi = vmax(hi, cubes[i].second);
     }
     const double side = std::fmax(hi.x - lo.x, std::fmax(hi.y - lo.y, hi.z - lo.z));
-    if (!(side > 0) || !std::isfinite(side)) return;  // no grid: every query searches
-    constexpr int kCells = 64;
-    reach_.cell = side / kCells;
-    reach_.origin = lo;
-    const double extent[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
-    for (int a = 0; a < 3; ++a) reach_.dims[a] = std::clamp(static_cast<int>(std::ceil(extent[a] / reach_.cell)) + 1, 1, kCells + 1);
-    reach_.bits.assign((static_cast<size_t>(reach_.dims[0]) * reach_.dims[1] * reach_.dims[2] + 63) / 64, 0);
-    const double margin = 1e-6 * side;
-    for (const Estimate& e : estimates_) {
-        const auto [a, b] = cube(e, margin);
-        reach_.mark(a, b);
-    }
-}
-
-void CausticPhotons::ReachGrid::mark(const Vec3& lo, const Vec3& hi) {
-    int a[3], b[3];
-    const double l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z}, o[3] = {origin.x, origin.y, origin.z};
-    for (int k = 0; k < 3; ++k) {
-        a[k] = std::clamp(static_cast<int>(std::floor((l[k] - o[k]) / cell)), 0, dims[k] - 1);
-        b[k] = std::clamp(static_cast<int>(std::floor((h[k] - o[k]) / cell)), 0, dims[k] - 1);
-    }
-    for (int x = a[0]; x <= b[0]; ++x)
-        for (int y = a[1]; y <= b[1]; ++y)
-            for (int z = a[2]; z <= b[2]; ++z) {
-                const size_t i = (static_cast<size_t>(x) * dims[1] + y) * dims[2] + z;
-                bits[i / 64] |= uint64_t{1} << (i % 64);
+    if (!(side > 0) || !std::isfinite(side)) return;  // no grid: no query finds a disc
+    // Cells as small as 64 along the longest side allow, grown while the lists would hold more
+    // than 8 Mi entries (32 MB; a disc of a sparse region spans many small cells).
+    constexpr int kMostCells = 64;
+    constexpr size_t kMostEntries = size_t{8} << 20;
+    grid_.origin = lo;
+    grid_.cell = side / kMostCells;
+    std::vector<CellSpan> spans(cubes.size());
+    for (;;) {
+        const double extent[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+        for (int a = 0; a < 3; ++a) grid_.dims[a] = std::clamp(static_cast<int>(std::ceil(extent[a] / grid_.cell)) + 1, 1, kMostCells + 1);
+        size_t entries = 0;
+        for (size_t i = 0; i < cubes.size(); ++i) {
+            const double l[3] = {cubes[i].first.x, cubes[i].first.y, cubes[i].first.z}, h[3] = {cubes[i].second.x, cubes[i].second.y, cubes[i].second.z};
+            const double o[3] = {lo.x, lo.y, lo.z};
+            for (int a = 0; a < 3; ++a) {
+                spans[i].lo[a] = std::clamp(static_cast<int>(std::floor((l[a] - o[a]) / grid_.cell)), 0, grid_.dims[a] - 1);
+                spans[i].hi[a] = std::clamp(static_cast<int>(std::floor((h[a] - o[a]) / grid_.cell)), 0, grid_.dims[a] - 1);
             }
+            entries += spans[i].count();
+        }
+        if (entries <= kMostEntries || (grid_.dims[0] == 1 && grid_.dims[1] == 1 && grid_.dims[2] == 1)) break;
+        grid_.cell *= 1.5;
+    }
+    // Compressed rows: count each cell's discs, then list them in index order.
+    const size_t cells = static_cast<size_t>(grid_.dims[0]) * grid_.dims[1] * grid_.dims[2];
+    auto for_each_cell = [&](const CellSpan& s, auto&& visit) {
+        for (int x = s.lo[0]; x <= s.hi[0]; ++x)
+            for (int y = s.lo[1]; y <= s.hi[1]; ++y)
+                for (int z = s.lo[2]; z <= s.hi[2]; ++z) visit((static_cast<size_t>(x) * grid_.dims[1] + y) * grid_.dims[2] + z);
+    };
+    grid_.first.assign(cells + 1, 0);
+    for (const CellSpan& s : spans) for_each_cell(s, [&](size_t c) { ++grid_.first[c + 1]; });
+    for (size_t c = 0; c < cells; ++c) grid_.first[c + 1] += grid_.first[c];
+    grid_.discs.resize(grid_.first[cells]);
+    std::vector<uint32_t> next(grid_.first.begin(), grid_.first.end() - 1);
+    for (size_t i = 0; i < spans.size(); ++i) for_each_cell(spans[i], [&](size_t c) { grid_.discs[next[c]++] = static_cast<uint32_t>(i); });
 }
 
-bool CausticPhotons::ReachGrid::reached(const Vec3& x) const {
-    if (bits.empty()) return true;
+int64_t CausticPhotons::DiscGrid::cell_of(const Vec3& x) const {
+    if (first.empty()) return -1;
     const double p[3] = {x.x, x.y, x.z}, o[3] = {origin.x, origin.y, origin.z};
-    int c[3];
+    int64_t c[3];
     for (int k = 0; k < 3; ++k) {
         const double f = std::floor((p[k] - o[k]) / cell);
-        if (!(f >= 0 && f < dims[k])) return !std::isfinite(f);  // outside every disc (NaN: let the search decide)
-        c[k] = static_cast<int>(f);
+        if (!(f >= 0 && f < dims[k])) return -1;  // outside every disc, or not a number
+        c[k] = static_cast<int64_t>(f);
     }
-    const size_t i = (static_cast<size_t>(c[0]) * dims[1] + c[1]) * dims[2] + c[2];
-    return (bits[i / 64] >> (i % 64)) & 1;
+    return (c[0] * dims[1] + c[1]) * dims[2] + c[2];
 }
 
 Vec3 CausticPhotons::irradiance(const Vec3& x, const Vec3& n) const {
-    if (!tree_ || !reach_.reached(x)) return {};
-    constexpr uint32_t kBlend = 8;
-    std::array<uint32_t, kBlend> index{};
-    std::array<float, kBlend> dist2{};
-    const size_t found = tree_->estimates->nearest(x, kBlend, max_estimate_r2_, index.data(), dist2.data());
-    // Each estimate reaches x through its own disc's kernel, normalised by its area: weights of
-    // (1 - d^2/r^2) alone favoured the sparse side's larger discs (-8 % where a mirror's
-    // caustic fades).
+    const int64_t c = grid_.cell_of(x);
+    if (c < 0) return {};
+    const float q[3] = {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)};
+    // Each estimate whose disc holds x reaches it through its own kernel, normalised by the
+    // disc's area: weights of (1 - d^2/r^2) alone favoured the sparse side's larger discs (-8 %
+    // where a mirror's caustic fades).
     double sum_w = 0;
     Vec3 sum{};
-    for (size_t i = 0; i < found; ++i) {
-        const Estimate& e = estimates_[index[i]];
-        if (!(dist2[i] < e.radius2) || !(dot(to_vec(e.normal), n) > 0.5)) continue;
-        double w = (1 - dist2[i] / e.radius2) / e.radius2;
+    for (uint32_t k = grid_.first[static_cast<size_t>(c)], end = grid_.first[static_cast<size_t>(c) + 1]; k < end; ++k) {
+        const Estimate& e = estimates_[grid_.discs[k]];
+        const float dx = q[0] - e.position[0], dy = q[1] - e.position[1], dz = q[2] - e.position[2];
+        const float d2 = dx * dx + dy * dy + dz * dz;
+        if (!(d2 < e.radius2) || !(dot(to_vec(e.normal), n) > 0.5)) continue;
+        const double w = (1 - d2 / e.radius2) / e.radius2;
         sum_w += w;
         sum += to_vec(e.irradiance) * w;
     }

@@ -55,8 +55,9 @@ double lamp_irradiance(double x, double z, double h) {
 
 // The map's irradiance on the ceiling (facing down) against `expect`, averaged over 7 x 7
 // points 0.07 apart around each place: each place within `each`, all of them within `all`.
-// Each estimate is k = 32 photons blended over 8 estimates, about 10 % noise whatever the
-// photon count; the 49 points average it to about 5 %, the places together to about 2 %.
+// Each estimate is k = 32 photons, blended with the others whose discs hold the point: about
+// 10 % noise whatever the photon count; the 49 points average it to about 5 %, the places
+// together to about 2 %.
 void expect_ceiling_irradiance(const RenderScene& rs, const CausticPhotons& map, const std::vector<std::pair<double, double>>& places,
                                const std::function<double(double, double)>& expect_at, double each, double all) {
     const Vec3 down{0, -1, 0}, offset = rs.embree->origin_offset();
@@ -161,6 +162,55 @@ TEST(CausticPhotons, TheMapDoesNotDependOnTheThreadCount) {
     double sum = 0;
     for (const Vec3& e : one) sum += e.x;
     EXPECT_GT(sum, 0.0);  // the glass ball's caustic lies on this line of the floor
+}
+
+TEST(CausticPhotons, AQueryBlendsEveryEstimateWhoseDiscHoldsIt) {
+    // The map finds a query's estimates through a grid of the cells their discs reach: the
+    // answer must be the blend over all estimates, looked at one by one, whose disc holds the
+    // point and faces its side, added in index order. Points on and near the Cornell box's
+    // walls, floor and ceiling (where the glass ball's caustic and the mirror ball's
+    // reflections land), and a few beyond it.
+    Scene s = *builtin_scene("cornell");
+    RenderScene rs(s);
+    CausticPhotonSettings set;
+    set.photons = 50000;
+    CausticPhotons map(rs, set);
+    ASSERT_FALSE(map.estimates().empty());
+    auto blend_of_all = [&](const Vec3& x, const Vec3& n) {
+        const float q[3] = {static_cast<float>(x.x), static_cast<float>(x.y), static_cast<float>(x.z)};
+        double sum_w = 0;
+        Vec3 sum{};
+        for (const CausticPhotons::Estimate& e : map.estimates()) {
+            const float dx = q[0] - e.position[0], dy = q[1] - e.position[1], dz = q[2] - e.position[2];
+            const float d2 = dx * dx + dy * dy + dz * dz;
+            if (!(d2 < e.radius2) || !(dot(Vec3{e.normal[0], e.normal[1], e.normal[2]}, n) > 0.5)) continue;
+            const double w = (1 - d2 / e.radius2) / e.radius2;
+            sum_w += w;
+            sum += Vec3{e.irradiance[0], e.irradiance[1], e.irradiance[2]} * w;
+        }
+        return sum_w > 0 ? sum / sum_w : Vec3{};
+    };
+    const Vec3 offset = rs.embree->origin_offset();
+    size_t lit = 0;
+    uint64_t state = 0x9e3779b97f4a7c15ull;
+    auto uniform = [&] { return static_cast<double>((state = state * 6364136223846793005ull + 1442695040888963407ull) >> 11) * 0x1.0p-53; };
+    const Vec3 normals[6] = {{0, 1, 0}, {0, -1, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int i = 0; i < 20000; ++i) {
+        const int face = i % 6;
+        const Vec3 n = normals[face];
+        // A point on the face the normal looks away from (the floor for up), within 0.02 of it.
+        Vec3 p{2.4 * uniform() - 1.2, 2.4 * uniform() - 1.2, 2.4 * uniform() - 1.2};
+        const double wall = -1 + 0.02 * uniform();
+        if (n.x != 0) p.x = n.x * wall;
+        if (n.y != 0) p.y = n.y * wall;
+        if (n.z != 0) p.z = n.z * wall;
+        const Vec3 x = p - offset;
+        const Vec3 got = map.irradiance(x, n), want = blend_of_all(x, n);
+        ASSERT_EQ(got, want) << "at " << p.x << ", " << p.y << ", " << p.z << " facing " << face;
+        lit += got.x > 0;
+    }
+    RecordProperty("points_lit", static_cast<int>(lit));
+    EXPECT_GT(lit, 1000u);  // the points meet the caustics, not only the dark
 }
 
 // E at points of the Cornell box's ceiling (lit only by bounces and the mirror ball's caustic)
