@@ -215,6 +215,42 @@ void LightSampler::sample_sphere(const Entry& e, double u, double v, LightSample
     s.position = e.a + s.normal * e.b.x;
 }
 
+bool LightSampler::sample_sphere_seen(const Entry& e, const Vec3& x, double u, double v, LightSample& s) {
+    const double radius = e.b.x;
+    const Vec3 to_centre = e.a - x;
+    const double d2c = dot(to_centre, to_centre);
+    // Within 0.1 % of the radius of the surface (or inside), the cone is nearly the half space
+    // and its point ill-conditioned: area sampling serves as well there.
+    if (!(d2c > radius * radius * 1.002) || !std::isfinite(d2c)) return false;
+    const double dc = std::sqrt(d2c);
+    const Vec3 axis = to_centre / dc;
+    // 1 - cos of the cone's half angle, without cancellation for a small, far sphere.
+    const double sin2_max = radius * radius / d2c, cos_max = std::sqrt(std::fmax(0.0, 1 - sin2_max));
+    const double one_minus_cos_max = sin2_max / (1 + cos_max);
+    const double cos_t = 1 - u * one_minus_cos_max, sin2_t = std::fmax(0.0, (1 - cos_t) * (1 + cos_t));
+    const double sin_t = std::sqrt(sin2_t);
+    double cos_p, sin_p;
+    sincos_2pi(v, cos_p, sin_p);
+    Vec3 t1, t2;
+    orthonormal_basis(axis, t1, t2);
+    const Vec3 dir = t1 * (sin_t * cos_p) + t2 * (sin_t * sin_p) + axis * cos_t;
+    // The near crossing of the ray x + dir t with the sphere.
+    const double dist = dc * cos_t - std::sqrt(std::fmax(0.0, radius * radius - d2c * sin2_t));
+    if (!(dist > 0)) return false;
+    const Vec3 normal = normalize_or_zero(x + dir * dist - e.a);
+    const double cos_l = -dot(normal, dir);
+    if (!(cos_l > 0)) return false;
+    // Uniform in the cone: 1 / (2 pi (1 - cos_max)) per steradian, cos_l / dist^2 steradians
+    // per unit area at the point; times the probability of choosing this emitter, which
+    // s.pdf_area holds now as that per unit area of the whole sphere.
+    const double pdf = s.pdf_area * e.area * cos_l / (2 * kPi * one_minus_cos_max * dist * dist);
+    if (!(pdf > 0) || !std::isfinite(pdf)) return false;
+    s.normal = normal;
+    s.position = e.a + normal * radius;
+    s.pdf_area = pdf;
+    return true;
+}
+
 // ---- the camera ----------------------------------------------------------------------------
 
 namespace {

@@ -123,9 +123,11 @@ public:
         double w[kLocalChoiceMax];  // left unset: only the sampler's first entries are read
         double total = 0;
         bool by_power = false;      // more emitters than kLocalChoiceMax: chosen by power alone
+        Vec3 point{};               // the shading point: a sphere is sampled in the cone it fills there
     };
     LocalWeights weights_at(const Vec3& x) const {
         LocalWeights lw;
+        lw.point = x;
         if (entries_.size() > kLocalChoiceMax) {
             lw.by_power = true;
             return lw;
@@ -138,7 +140,7 @@ public:
     /// emitter faces it.
     LightSample sample(const LocalWeights& weights, double u_pick, double u, double v) const {
         const Choice c = choose(weights, u_pick);
-        return c.pdf_area > 0 ? at(c, u, v) : LightSample{};
+        return c.pdf_area > 0 ? at(c, u, v, &weights.point) : LightSample{};
     }
 
     /// The same choice of emitter made with u, whose position within the chosen emitter's
@@ -148,7 +150,7 @@ public:
     /// noisier than independent ones on the Cornell box's two-triangle lamp.)
     LightSample sample_reusing(const LocalWeights& weights, double u, double v) const {
         const Choice c = choose(weights, u);
-        return c.pdf_area > 0 ? at(c, c.rescaled, v) : LightSample{};
+        return c.pdf_area > 0 ? at(c, c.rescaled, v, &weights.point) : LightSample{};
     }
 
     /// An emitter point chosen by power alone (no shading point).
@@ -222,7 +224,9 @@ private:
         }
         return {chosen, w[chosen] / (total * entries_[chosen].area), place(target, acc - w[chosen], w[chosen])};
     }
-    LightSample at(const Choice& c, double u, double v) const {
+    /// A point of the chosen emitter; seen from `from` (a shading point), a sphere's point is
+    /// sampled uniformly in the cone of directions it fills there, else uniformly by area.
+    LightSample at(const Choice& c, double u, double v, const Vec3* from = nullptr) const {
         const Entry& e = entries_[c.index];
         if (e.distant >= 0) {  // pdf_area holds the choice's probability per steradian here
             LightSample s;
@@ -238,8 +242,8 @@ private:
             s.radiance = e.radiance;
             s.limits = e.limits;
             s.sphere = true;
-            sample_sphere(e, u, v, s);
             s.pdf_area = c.pdf_area;
+            if (!from || !sample_sphere_seen(e, *from, u, v, s)) sample_sphere(e, u, v, s);
             s.weak = e.weak;
             return s;
         }
@@ -260,6 +264,11 @@ private:
     std::vector<std::unique_ptr<EmitterLimits>> limits_;
     DistantEmitters distant_;
     static void sample_sphere(const Entry& e, double u, double v, LightSample& s);  // position, normal
+    /// A point of the part of the sphere seen from x, uniform in the cone of directions it fills
+    /// (pdf_area scaled from the emitter's by area to that per unit area of this point): area
+    /// sampling spent half its samples on the far side, which x cannot see. False, leaving s
+    /// as it was, when x is inside the sphere or too near it to tell.
+    static bool sample_sphere_seen(const Entry& e, const Vec3& x, double u, double v, LightSample& s);
 };
 
 /// The camera's rays for image positions: pixel (0, 0) is the top-left; (x + u, y + v) for u, v

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "runtime/base/sampling.h"
+#include "runtime/render/render_scene.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -56,6 +57,36 @@ INSTANTIATE_TEST_SUITE_P(EpsilonAgainstTheSphere, SphereLight,
                          ::testing::Values(Case{0.3, 2, 1}, Case{0.3, 2, 1e-3}, Case{0.3, 2, 1e3},  // epsilon << sphere
                                            Case{0.05, 2, 1}, Case{0.05, 2000, 1}),                  // small lamp, small or big scene
                          [](const auto& p) { return "case" + std::to_string(p.index); });
+
+TEST(SphereLight, ASampleSeenFromAPointLiesOnTheSideItSeesAndEstimatesItsIrradiance) {
+    // Seen from a point of the floor under the lamp, a sample is uniform in the cone the sphere
+    // fills, so none falls on its far side, and each sample's estimate of the irradiance,
+    // L cos_x / pdf per steradian, varies only with the floor's cosine: area sampling over the
+    // whole sphere gave half its samples nothing (a relative spread above 1).
+    const double rho = 0.5, L = 4.0, r = 0.3, h = 1.0;
+    Scene s = sphere_light_over_plane(rho, L, r, h, 2, 1);
+    RenderScene rs(s);
+    const Vec3 x = Vec3{0, 0, 0} - rs.embree->origin_offset(), up{0, 1, 0};
+    const LightSampler::LocalWeights weights = rs.lights->weights_at(x);
+    const int n = 4096;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < n; ++i) {
+        double u, v;
+        rotated_halton(static_cast<uint32_t>(i), 0.25, 0.5, u, v);
+        const LightSample ls = rs.lights->sample(weights, 0.5, u, v);
+        ASSERT_GT(ls.pdf_area, 0.0);
+        const Vec3 to = ls.position - x;
+        const double d2 = dot(to, to), d = std::sqrt(d2);
+        const Vec3 wi = to / d;
+        const double cos_l = -dot(ls.normal, wi), cos_x = dot(up, wi);
+        ASSERT_GT(cos_l, 0.0) << "sample " << i << " on the far side";
+        const double e = ls.radiance.x * cos_x * cos_l / (d2 * ls.pdf_area);
+        sum += e, sum2 += e * e;
+    }
+    const double mean = sum / n, spread = std::sqrt(std::fmax(0.0, sum2 / n - mean * mean)) / mean;
+    EXPECT_NEAR(mean / (kPi * L * (r / h) * (r / h)), 1.0, 0.01);
+    EXPECT_LT(spread, 0.1);
+}
 
 }  // namespace
 }  // namespace crex
