@@ -190,14 +190,19 @@ inline Vec3 sample_cosine(const Vec3& n, double u1, double u2) {
     return t * (r * c) + b * (r * s) + n * z;
 }
 
-/// Direction around unit `axis` with pdf (e+1)/(2 pi) cos^e (normalised Phong lobe).
-inline Vec3 sample_phong(const Vec3& axis, double exponent, double u1, double u2) {
-    double cos_t = std::pow(u1, 1.0 / (exponent + 1));
+/// The unit direction at angle cosine `cos_t` from unit `axis`, a fraction `turn` of the way
+/// round it.
+inline Vec3 direction_around(const Vec3& axis, double cos_t, double turn) {
     double sin_t2 = 1 - cos_t * cos_t, sin_t = std::sqrt(sin_t2 > 0 ? sin_t2 : 0.0), c, s;
-    sincos_2pi(u2, c, s);
+    sincos_2pi(turn, c, s);
     Vec3 t, b;
     orthonormal_basis(axis, t, b);
     return t * (sin_t * c) + b * (sin_t * s) + axis * cos_t;
+}
+
+/// Direction around unit `axis` with pdf (e+1)/(2 pi) cos^e (normalised Phong lobe).
+inline Vec3 sample_phong(const Vec3& axis, double exponent, double u1, double u2) {
+    return direction_around(axis, std::pow(u1, 1.0 / (exponent + 1)), u2);
 }
 
 inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - n * (2 * dot(d, n)); }

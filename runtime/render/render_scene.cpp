@@ -228,12 +228,7 @@ bool LightSampler::sample_sphere_seen(const Entry& e, const Vec3& x, double u, d
     const double sin2_max = radius * radius / d2c, cos_max = std::sqrt(std::fmax(0.0, 1 - sin2_max));
     const double one_minus_cos_max = sin2_max / (1 + cos_max);
     const double cos_t = 1 - u * one_minus_cos_max, sin2_t = std::fmax(0.0, (1 - cos_t) * (1 + cos_t));
-    const double sin_t = std::sqrt(sin2_t);
-    double cos_p, sin_p;
-    sincos_2pi(v, cos_p, sin_p);
-    Vec3 t1, t2;
-    orthonormal_basis(axis, t1, t2);
-    const Vec3 dir = t1 * (sin_t * cos_p) + t2 * (sin_t * sin_p) + axis * cos_t;
+    const Vec3 dir = direction_around(axis, cos_t, v);
     // The near crossing of the ray x + dir t with the sphere.
     const double dist = dc * cos_t - std::sqrt(std::fmax(0.0, radius * radius - d2c * sin2_t));
     if (!(dist > 0)) return false;
