@@ -175,11 +175,24 @@ public:
             // longer axis, which blurred a grazing footprint far beyond what it covers.
             const float w = std::sqrt(std::fabs(dsdx * dtdy - dtdx * dsdy));
             dsdx = dtdy = w, dtdx = dsdy = 0;
+        } else if (dsdx == 0 && dtdx == 0 && dsdy == 0 && dtdy == 0) {
+            opt.interpmode = OIIO::TextureOpt::InterpBilinear;  // the default magnifies bicubically
         }
         // handles_ only grows under the mutex before rendering starts: reading it here is safe.
         OIIO::TextureSystem& system = textures_.system();
         return system.texture(handles_[static_cast<size_t>(id)], system.get_perthread_info(), opt, at.s, at.t, dsdx, dtdx, dsdy, dtdy,
                               channels, out, d_ds, d_dt);
+    }
+
+    bool texels(int id, int first_channel, int channels, float* out) override {
+        OIIO::TextureSystem& system = textures_.system();
+        OIIO::TextureSystem::TextureHandle* handle = handles_[static_cast<size_t>(id)];
+        int resolution[2] = {0, 0};
+        if (!system.get_texture_info(handle, nullptr, 0, OIIO::ustring("resolution"), OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), resolution))
+            return false;
+        OIIO::TextureOpt opt;
+        return system.get_texels(handle, system.get_perthread_info(), opt, 0, 0, resolution[0], 0, resolution[1], 0, 1, first_channel,
+                                 first_channel + channels, OIIO::TypeFloat, out);
     }
 
     // The process's cache over this render: its counters' growth since the render opened it

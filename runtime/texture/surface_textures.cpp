@@ -54,6 +54,32 @@ BackendWrap wrap_of(TextureWrap w) {
     return BackendWrap::kPeriodic;
 }
 
+// Channels [first, first + n) of a w x h image of `channels` channels (texels times `scale`)
+// at `at`, bilinear between the four texel centres around it (t = 0 is the top row), under
+// `ref`'s wrap modes; false where the coordinates are beyond any image.
+template <class Texel>
+bool bilinear(const Texel* texels, int w, int h, int channels, int first, int n, float scale, const TextureLookup& at, const TextureRef& ref,
+              float* out) {
+    const double x = static_cast<double>(at.s) * w - 0.5, y = static_cast<double>(at.t) * h - 0.5;
+    const double fx0 = std::floor(x), fy0 = std::floor(y);
+    if (!(std::fabs(fx0) < 1e15 && std::fabs(fy0) < 1e15)) return false;
+    const int64_t x0 = static_cast<int64_t>(fx0), y0 = static_cast<int64_t>(fy0);
+    const float ax = static_cast<float>(x - fx0), ay = static_cast<float>(y - fy0);
+    const BackendWrap ws = wrap_of(ref.wrap_s), wt = wrap_of(ref.wrap_t);
+    const int64_t xs[2] = {wrapped(x0, w, ws), wrapped(x0 + 1, w, ws)};
+    const int64_t ys[2] = {wrapped(y0, h, wt), wrapped(y0 + 1, h, wt)};
+    const float wx[2] = {1 - ax, ax}, wy[2] = {1 - ay, ay};
+    for (int k = 0; k < n; ++k) out[k] = 0;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            if (xs[i] < 0 || ys[j] < 0) continue;  // a black border
+            const float weight = wx[i] * wy[j];
+            const Texel* texel = texels + (static_cast<size_t>(ys[j]) * static_cast<size_t>(w) + static_cast<size_t>(xs[i])) * static_cast<size_t>(channels);
+            for (int k = 0; k < n; ++k) out[k] += weight * (static_cast<float>(texel[first + k]) * scale);
+        }
+    return true;
+}
+
 }  // namespace
 
 size_t texture_cache_bytes(size_t max_memory) {
@@ -92,6 +118,46 @@ SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::ve
     }
     coarse_.resize(images_.size());
     for (auto& c : coarse_) c = std::make_unique<CoarseImage>();
+    size_t mask_budget = cache_bytes / kMaskShare;
+    for (MaterialSlots& s : slots_) plan_mask(s.opacity, mask_budget);
+}
+
+void SurfaceTextures::plan_mask(Slot& slot, size_t& budget) {
+    if (slot.image < 0 || slot.ref.channel < 0) return;
+    for (size_t k = 0; k < masks_.size(); ++k)
+        if (masks_[k]->image == slot.image && masks_[k]->channel == slot.ref.channel) {
+            slot.mask = static_cast<int>(k);
+            return;
+        }
+    const TextureImageInfo& info = images_[static_cast<size_t>(slot.image)].info;
+    const uint64_t bytes = uint64_t(info.width) * uint64_t(info.height) * (info.eight_bit ? 1u : 4u);
+    if (info.width <= 0 || info.height <= 0 || bytes > budget) return;
+    budget -= bytes;
+    mask_bytes_ += bytes;
+    auto m = std::make_unique<OpacityMask>();
+    m->image = slot.image, m->channel = slot.ref.channel;
+    slot.mask = static_cast<int>(masks_.size());
+    masks_.push_back(std::move(m));
+}
+
+const SurfaceTextures::OpacityMask& SurfaceTextures::opacity_mask(int mask) const {
+    OpacityMask& m = *masks_[static_cast<size_t>(mask)];
+    std::call_once(m.once, [&] {
+        const TextureImageInfo& info = images_[static_cast<size_t>(m.image)].info;
+        std::vector<float> texels(size_t(info.width) * size_t(info.height));
+        if (!backend_->texels(ids_[static_cast<size_t>(m.image)], m.channel, 1, texels.data())) return;
+        for (float v : texels)
+            if (!std::isfinite(v)) return;
+        if (info.eight_bit) {
+            m.bytes.resize(texels.size());
+            for (size_t k = 0; k < texels.size(); ++k) m.bytes[k] = static_cast<uint8_t>(std::lround(std::clamp(texels[k], 0.0f, 1.0f) * 255.0f));
+        } else {
+            m.floats = std::move(texels);
+        }
+        m.width = info.width, m.height = info.height;
+        m.ok = true;
+    });
+    return m;
 }
 
 SurfaceTextures::~SurfaceTextures() = default;
@@ -201,30 +267,22 @@ const SurfaceTextures::CoarseImage& SurfaceTextures::coarse_image(size_t image) 
 bool SurfaceTextures::read_coarse(const Slot& slot, const TextureLookup& at, int first_channel, int n, float* out) const {
     const CoarseImage& c = coarse_image(static_cast<size_t>(slot.image));
     if (!c.ok || first_channel < 0 || first_channel + n > c.channels) return false;
-    // Bilinear between the four texel centres around (s, t) (t = 0 is the image's top row).
-    const double x = static_cast<double>(at.s) * c.width - 0.5, y = static_cast<double>(at.t) * c.height - 0.5;
-    const double fx0 = std::floor(x), fy0 = std::floor(y);
-    if (!(std::fabs(fx0) < 1e15 && std::fabs(fy0) < 1e15)) return false;
-    const int64_t x0 = static_cast<int64_t>(fx0), y0 = static_cast<int64_t>(fy0);
-    const float ax = static_cast<float>(x - fx0), ay = static_cast<float>(y - fy0);
-    const BackendWrap ws = wrap_of(slot.ref.wrap_s), wt = wrap_of(slot.ref.wrap_t);
-    const int64_t xs[2] = {wrapped(x0, c.width, ws), wrapped(x0 + 1, c.width, ws)};
-    const int64_t ys[2] = {wrapped(y0, c.height, wt), wrapped(y0 + 1, c.height, wt)};
-    const float wx[2] = {1 - ax, ax}, wy[2] = {1 - ay, ay};
-    for (int k = 0; k < n; ++k) out[k] = 0;
-    for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-            if (xs[i] < 0 || ys[j] < 0) continue;  // a black border
-            const float w = wx[i] * wy[j];
-            const float* texel = c.texels.data() + (static_cast<size_t>(ys[j]) * static_cast<size_t>(c.width) + static_cast<size_t>(xs[i])) * static_cast<size_t>(c.channels);
-            for (int k = 0; k < n; ++k) out[k] += w * texel[first_channel + k];
-        }
-    return true;
+    return bilinear(c.texels.data(), c.width, c.height, c.channels, first_channel, n, 1.0f, at, slot.ref, out);
 }
 
 bool SurfaceTextures::read(const Slot& slot, const SurfacePoint& p, int n, float* out, float* d_ds, float* d_dt) const {
     const TextureLookup at = coordinates(slot, p);
     const int channels = slot.grey ? 1 : n;
+    if (slot.mask >= 0 && channels == 1 && !d_ds && !d_dt && at.dsdx == 0 && at.dtdx == 0 && at.dsdy == 0 && at.dtdy == 0) {
+        const OpacityMask& m = opacity_mask(slot.mask);
+        const bool read = m.ok && (m.bytes.empty() ? bilinear(m.floats.data(), m.width, m.height, 1, 0, 1, 1.0f, at, slot.ref, out)
+                                                   : bilinear(m.bytes.data(), m.width, m.height, 1, 0, 1, 1.0f / 255, at, slot.ref, out));
+        if (read) {
+            ++counters_.local().mask_lookups;
+            if (channels < n) out[1] = out[2] = out[0];
+            return true;
+        }
+    }
     if (p.coarse && !d_ds && !d_dt && read_coarse(slot, at, slot.ref.channel, channels, out)) {
         ++counters_.local().coarse_lookups;
         if (channels < n) out[1] = out[2] = out[0];
@@ -361,6 +419,8 @@ nlohmann::json to_json(const TextureStats& s, double render_thread_seconds, doub
     j["lookups"] = s.lookups;
     j["lookup_seconds"] = s.lookup_seconds;
     j["coarse_lookups"] = s.coarse_lookups;
+    j["mask_lookups"] = s.mask_lookups;
+    j["mask_bytes"] = s.mask_bytes;
     j["render_thread_seconds"] = render_thread_seconds;
     j["render_cpu_seconds"] = render_cpu_seconds;
     j["lookup_share_of_render"] = render_thread_seconds > 0 ? s.lookup_seconds / render_thread_seconds : 0.0;
@@ -371,7 +431,9 @@ TextureStats SurfaceTextures::stats() const {
     TextureStats s;
     s.images = images_;
     if (backend_) s.cache = backend_->stats();
-    for (const Counters& c : counters_) s.lookups += c.lookups, s.lookup_seconds += c.seconds, s.coarse_lookups += c.coarse_lookups;
+    for (const Counters& c : counters_)
+        s.lookups += c.lookups, s.lookup_seconds += c.seconds, s.coarse_lookups += c.coarse_lookups, s.mask_lookups += c.mask_lookups;
+    s.mask_bytes = mask_bytes_;
     return s;
 }
 
@@ -380,6 +442,7 @@ TextureStats TextureStats::since(const TextureStats& earlier) const {
     s.lookups -= std::min(earlier.lookups, lookups);
     s.lookup_seconds = std::max(0.0, lookup_seconds - earlier.lookup_seconds);
     s.coarse_lookups -= std::min(earlier.coarse_lookups, coarse_lookups);
+    s.mask_lookups -= std::min(earlier.mask_lookups, mask_lookups);
     s.cache.queries -= std::min(earlier.cache.queries, cache.queries);
     s.cache.bytes_read -= std::min(earlier.cache.bytes_read, cache.bytes_read);
     s.cache.cache_misses -= std::min(earlier.cache.cache_misses, cache.cache_misses);

@@ -63,6 +63,8 @@ struct TextureStats {
     uint64_t lookups = 0;          ///< crex's requests (a colour is one, a bump map's height one)
     double lookup_seconds = 0;     ///< in the TextureSystem's lookups, summed over threads
     uint64_t coarse_lookups = 0;   ///< answered from the images' coarse copies (not timed, not in `lookups`)
+    uint64_t mask_lookups = 0;     ///< cut-out tests answered from opacity masks (not timed, not in `lookups`)
+    uint64_t mask_bytes = 0;       ///< the opacity masks' texels
     /// What was counted after `earlier` (the same textures' stats, taken before): a render of a
     /// scene that an earlier one built. Sizes (memory, peaks, files) stay as they are now.
     TextureStats since(const TextureStats& earlier) const;
@@ -109,6 +111,7 @@ private:
         TextureRef ref;
         bool srgb = false;
         bool grey = false;  ///< a one-channel image read as a colour: its value thrice
+        int mask = -1;      ///< an opacity slot's mask (masks_), -1: read through the backend
     };
     struct MaterialSlots {
         Slot color, specular_color, specularity, roughness, metallic, normal, bump, opacity, emission;
@@ -139,14 +142,36 @@ private:
     /// when the copy cannot answer it.
     bool read_coarse(const Slot& slot, const TextureLookup& at, int first_channel, int n, float* out) const;
 
+    /// A cut-out's opacity channel at full resolution, in memory: a cut-out is tested at every
+    /// candidate hit Embree finds on it (shadow and cache rays through foliage too), and the
+    /// backend's sharp lookup, ~700 ns, was a tenth of a textured room's render. Read
+    /// bilinearly, as the backend reads a lookup without a footprint. Made on first use; `ok`
+    /// false when the image cannot be read (tests then go to the backend).
+    struct OpacityMask {
+        std::once_flag once;
+        int image = 0, channel = 0;
+        int width = 0, height = 0;
+        std::vector<uint8_t> bytes;  ///< 8-bit images: the texels as stored
+        std::vector<float> floats;   ///< any other
+        bool ok = false;
+    };
+    /// Masks take at most this share of the texture cache's bytes, given out in material order
+    /// (a render's masks do not depend on which thread asks first); the rest read the backend.
+    static constexpr size_t kMaskShare = 8;
+    const OpacityMask& opacity_mask(int mask) const;
+    /// The slot's mask for `slot`, planned within `budget` bytes (left unplanned beyond it).
+    void plan_mask(Slot& slot, size_t& budget);
+
     const Scene& scene_;
     std::unique_ptr<TextureBackend> backend_;
     std::vector<TextureImage> images_;
     std::vector<int> ids_;  ///< per image: the backend's id, -1 when it cannot be read
     std::vector<MaterialSlots> slots_;  ///< per scene material
     mutable std::vector<std::unique_ptr<CoarseImage>> coarse_;  ///< per image
+    mutable std::vector<std::unique_ptr<OpacityMask>> masks_;
+    uint64_t mask_bytes_ = 0;
     struct Counters {
-        uint64_t lookups = 0, coarse_lookups = 0;
+        uint64_t lookups = 0, coarse_lookups = 0, mask_lookups = 0;
         double seconds = 0;
     };
     mutable tbb::enumerable_thread_specific<Counters> counters_;
