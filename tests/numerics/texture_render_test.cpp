@@ -189,6 +189,27 @@ TEST(TexturedPlane, EightBitColourTexturesAreDecodedFromSrgb) {
     for (float v : r.image()) ASSERT_NEAR(v / expected, 1.0, 0.01);
 }
 
+// Every 8-bit value decodes to the sRGB curve's exact value (crex reads the curve's power
+// from a table), read at its texel's centre.
+TEST(TexturedPlane, EveryEightBitValueDecodesToTheSrgbCurve) {
+    std::vector<float> rgb(256 * 3);
+    for (int k = 0; k < 256; ++k) rgb[size_t(3 * k)] = rgb[size_t(3 * k + 1)] = rgb[size_t(3 * k + 2)] = float(k) / 255.0f;
+    Scene s;
+    Material m = testing::make_material("ramp", MaterialType::kPlastic, {0.5, 0.5, 0.5});
+    m.textures.color = texture(write_texture("srgb_ramp.png", 256, 1, rgb));
+    s.materials.push_back(m);
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures textures(s, size_t{16} << 20, warnings);
+    ASSERT_TRUE(warnings.empty());
+    for (int k = 0; k < 256; ++k) {
+        SurfacePoint p;
+        p.u = (k + 0.5) / 256, p.v = 0.5;
+        // The table's 1.0e-7 and the lookup's float arithmetic; a table one entry off errs by 1e-3.
+        const double c = k / 255.0, exact = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+        EXPECT_NEAR(textures.values(0, p).color.x, exact, 3e-7) << k;
+    }
+}
+
 TEST(TexturedPlane, AMissingTextureIsMagentaNotGrey) {
     const Scene s = plane_under_sky(texture((scratch() / "no_such_texture.png").string()));
     RunResult r = testing::render_crex(s, "D", 8, 1);
