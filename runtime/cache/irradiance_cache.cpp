@@ -89,7 +89,8 @@ void IrradianceCache::file(uint32_t index) {
             for (int z = z0; z <= z1; ++z)
                 table.at(cell_key(x, y, z))
                     .push_back({static_cast<float>(r.position.x), static_cast<float>(r.position.y), static_cast<float>(r.position.z),
-                                static_cast<float>(r.harmonic_distance), index});
+                                static_cast<float>(r.harmonic_distance), static_cast<float>(r.normal.x), static_cast<float>(r.normal.y),
+                                static_cast<float>(r.normal.z), index});
 }
 
 void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGrids* handed) {
@@ -139,6 +140,10 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
     const std::vector<CellTable>& grids = grids_[level];
     const float xf = static_cast<float>(x.x), yf = static_cast<float>(x.y), zf = static_cast<float>(x.z);
     const float aa_f = static_cast<float>(aa) * 1.001f;
+    // Ward's weight passes only where sqrt(1 - n.n_i) < aa, so n.n_i > 1 - aa^2 (and > 0): the
+    // entries' test asks that too, less a margin far beyond float's rounding of unit normals.
+    const float min_cos = static_cast<float>(std::max(1 - aa2, 0.0)) - 1e-5f;
+    const float nxf = static_cast<float>(n.x), nyf = static_cast<float>(n.y), nzf = static_cast<float>(n.z);
     // A lookup waits on memory more than it computes: the slot of x's cell at every level,
     // the cell's entries, each record it reads. Each of those steps is asked for at every
     // level (and for every candidate) before the first is used, so the waits overlap; the
@@ -178,14 +183,14 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
         sum_w += w;
         sum += extrapolate(r, x, n) * w;
     };
-    // w > 1/aa needs |x - x_i| < aa R_i: most candidates fail this cheap test, first on the
-    // entries (in float, with a margin), then exactly on the record. Those that pass are
+    // w > 1/aa needs |x - x_i| < aa R_i and n.n_i > 1 - aa^2: most candidates fail these cheap
+    // tests, first on the entries (in float, with a margin), then exactly on the record. Those that pass are
     // gathered (their records asked for) and used in their order.
     constexpr size_t kGather = 32;
     std::array<uint32_t, kGather> gathered;
     size_t pending = 0;
     for (size_t c = 0; c < found; ++c)
-        cells[c]->for_each_near(xf, yf, zf, aa_f, position_slack_, [&](uint32_t index) {
+        cells[c]->for_each_near(xf, yf, zf, aa_f, position_slack_, nxf, nyf, nzf, min_cos, [&](uint32_t index) {
             if (pending == kGather) {
                 for (size_t k = 0; k < pending; ++k) use(gathered[k]);
                 pending = 0;
