@@ -62,8 +62,17 @@ uint64_t IrradianceCache::cell_key(int x, int y, int z) const {
     return (u(x) << 42) | (u(y) << 21) | u(z);
 }
 
+void IrradianceCache::sync_normals() {
+    normals_.reserve(records_.size());
+    for (size_t i = normals_.size(); i < records_.size(); ++i) {
+        const Vec3& n = records_[i].normal;
+        normals_.push_back({static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)});
+    }
+}
+
 void IrradianceCache::insert(const IrradianceRecord& r) {
     records_.push_back(r);
+    sync_normals();
     make_grids(r.level);
     file(static_cast<uint32_t>(records_.size() - 1));
 }
@@ -89,8 +98,7 @@ void IrradianceCache::file(uint32_t index) {
             for (int z = z0; z <= z1; ++z)
                 table.at(cell_key(x, y, z))
                     .push_back({static_cast<float>(r.position.x), static_cast<float>(r.position.y), static_cast<float>(r.position.z),
-                                static_cast<float>(r.harmonic_distance), static_cast<float>(r.normal.x), static_cast<float>(r.normal.y),
-                                static_cast<float>(r.normal.z), index});
+                                static_cast<float>(r.harmonic_distance), index});
 }
 
 void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGrids* handed) {
@@ -107,6 +115,7 @@ void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGri
         handed->grids = {};
     }
     records_.insert(records_.end(), records.begin(), records.end());
+    sync_normals();
     uint32_t levels = 0;
     for (size_t i = first; i < records_.size(); ++i) levels = std::max(levels, records_[i].level + 1u);
     for (uint32_t level = 0; level < levels; ++level) make_grids(level);
@@ -126,6 +135,7 @@ std::vector<IrradianceRecord> IrradianceCache::take_records(std::shared_ptr<IcGr
     grids_.clear();
     std::vector<IrradianceRecord> out;
     out.swap(records_);
+    normals_.clear();
     return out;
 }
 
@@ -140,8 +150,9 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
     const std::vector<CellTable>& grids = grids_[level];
     const float xf = static_cast<float>(x.x), yf = static_cast<float>(x.y), zf = static_cast<float>(x.z);
     const float aa_f = static_cast<float>(aa) * 1.001f;
-    // Ward's weight passes only where sqrt(1 - n.n_i) < aa, so n.n_i > 1 - aa^2 (and > 0): the
-    // entries' test asks that too, less a margin far beyond float's rounding of unit normals.
+    // Ward's weight passes only where sqrt(1 - n.n_i) < aa, so n.n_i > 1 - aa^2 (and > 0): a
+    // candidate is asked that of its normal (in float, less a margin far beyond float's
+    // rounding of unit normals) before its record is fetched.
     const float min_cos = static_cast<float>(std::max(1 - aa2, 0.0)) - 1e-5f;
     const float nxf = static_cast<float>(n.x), nyf = static_cast<float>(n.y), nzf = static_cast<float>(n.z);
     // A lookup waits on memory more than it computes: the slot of x's cell at every level,
@@ -184,17 +195,19 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
         sum += extrapolate(r, x, n) * w;
     };
     // w > 1/aa needs |x - x_i| < aa R_i and n.n_i > 1 - aa^2: most candidates fail these cheap
-    // tests, first on the entries (in float, with a margin), then exactly on the record. Those that pass are
+    // tests, first on the entries and normals_ (in float, with margins), then exactly on the record. Those that pass are
     // gathered (their records asked for) and used in their order.
     constexpr size_t kGather = 32;
     std::array<uint32_t, kGather> gathered;
     size_t pending = 0;
     for (size_t c = 0; c < found; ++c)
-        cells[c]->for_each_near(xf, yf, zf, aa_f, position_slack_, nxf, nyf, nzf, min_cos, [&](uint32_t index) {
+        cells[c]->for_each_near(xf, yf, zf, aa_f, position_slack_, [&](uint32_t index) {
             if (pending == kGather) {
                 for (size_t k = 0; k < pending; ++k) use(gathered[k]);
                 pending = 0;
             }
+            const std::array<float, 3>& m = normals_[index];
+            if (!(nxf * m[0] + nyf * m[1] + nzf * m[2] > min_cos)) return;
             const char* r = reinterpret_cast<const char*>(&records_[index]);
             for (size_t line = 0; line < sizeof(IrradianceRecord); line += 64) __builtin_prefetch(r + line);
             __builtin_prefetch(r + sizeof(IrradianceRecord) - 1);

@@ -14,10 +14,9 @@
 /// A cell holds its entries in blocks of 8, each coordinate contiguous, so the first test runs
 /// on several entries at once (SIMD compares): records are filed by their reach at the coarsest
 /// accuracy the render uses, so a lookup at a finer one scans many that fail it (on the
-/// corridor walk of sel_aa, 116 entries a lookup, of which 8 passed). The first test takes the
-/// record's normal too: on the textured living room (sel_quiet) a lookup scanned 119 entries,
-/// 12.8 were within reach and only 2.7 of those passed Ward's weight, the rest facing another
-/// way (a chair's legs, leaves, a wall at a corner), each of them a 232-byte record read.
+/// corridor walk of sel_aa, 116 entries a lookup, of which 8 passed). The normals are not
+/// here but beside the records (IrradianceCache::normals_): most cells hold one or two
+/// entries in a block of eight lanes, and three floats more a lane cost 43 MB at the peak.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +32,6 @@ namespace crex {
 struct GridEntry {
     float x, y, z;    ///< position (local coordinates), rounded
     float radius;     ///< harmonic distance R
-    float nx, ny, nz; ///< unit normal, rounded
     uint32_t index;   ///< into the cache's records
 };
 
@@ -47,7 +45,6 @@ public:
         Block& b = blocks_.back();
         const size_t k = size_ % kLanes;
         b.x[k] = e.x, b.y[k] = e.y, b.z[k] = e.z, b.radius[k] = e.radius, b.index[k] = e.index;
-        b.nx[k] = e.nx, b.ny[k] = e.ny, b.nz[k] = e.nz;
         ++size_;
     }
     size_t size() const { return size_; }
@@ -59,18 +56,15 @@ public:
     }
 
     /// Calls near(index) for each entry, in insertion order, whose position is within
-    /// `scale * radius + slack` of (px, py, pz) and whose normal's dot product with (qx, qy, qz)
-    /// is above `min_cos` (in float; NaN anywhere fails the test).
+    /// `scale * radius + slack` of (px, py, pz) (in float; NaN anywhere fails the test).
     template <class Near>
-    void for_each_near(float px, float py, float pz, float scale, float slack, float qx, float qy, float qz, float min_cos,
-                       Near&& near) const {
+    void for_each_near(float px, float py, float pz, float scale, float slack, Near&& near) const {
         for (const Block& b : blocks_) {
             // Arithmetic and compares without a branch, over the lanes: SIMD instructions.
             int32_t in[kLanes];
             for (size_t k = 0; k < kLanes; ++k) {
                 const float dx = px - b.x[k], dy = py - b.y[k], dz = pz - b.z[k], reach = scale * b.radius[k] + slack;
-                const float facing = qx * b.nx[k] + qy * b.ny[k] + qz * b.nz[k];
-                in[k] = (dx * dx + dy * dy + dz * dz < reach * reach) & (facing > min_cos) ? -1 : 0;
+                in[k] = dx * dx + dy * dy + dz * dz < reach * reach ? -1 : 0;
             }
             int32_t any = 0;
             for (size_t k = 0; k < kLanes; ++k) any |= in[k];
@@ -85,7 +79,6 @@ private:
         // Lanes past the cell's size sit at infinity: no lookup finds them near.
         float x[kLanes] = {kFar, kFar, kFar, kFar, kFar, kFar, kFar, kFar};
         float y[kLanes] = {}, z[kLanes] = {}, radius[kLanes] = {};
-        float nx[kLanes] = {}, ny[kLanes] = {}, nz[kLanes] = {};
         uint32_t index[kLanes] = {};
     };
     static constexpr float kFar = std::numeric_limits<float>::infinity();
