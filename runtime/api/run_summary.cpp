@@ -251,13 +251,19 @@ void print_run_summary(const RunFacts& f, std::ostream& out) {
         for (const auto& [what, percent] : profile_errors(*f.predicted, st)) line += fmt::format("{}{} {:+.1f} %", line.empty() ? "" : ", ", what, percent);
         if (!line.empty()) out << "  profile's cost per ray against this run's: " << line << "\n";
     }
-    if (r.textures)
+    if (r.textures) {
+        // What crex answered itself, beside the TextureSystem's timed lookups.
+        std::string own;
+        if (r.textures->coarse_lookups > 0) own = fmt::format("{} from coarse copies", r.textures->coarse_lookups);
+        if (r.textures->mask_lookups > 0)
+            own += fmt::format("{}{} cut-out tests from opacity masks", own.empty() ? "" : ", ", r.textures->mask_lookups);
         out << fmt::format("  textures: {} image{}, {} lookups{}, {:.1f} % of the render's thread time; cache {:.1f} of {:.0f} MiB, {:.1f} MiB read\n",
                            r.textures->images.size(), r.textures->images.size() == 1 ? "" : "s", r.textures->lookups,
-                           r.textures->coarse_lookups > 0 ? fmt::format(" (and {} from coarse copies)", r.textures->coarse_lookups) : "",
+                           own.empty() ? "" : " (and " + own + ")",
                            r.render_thread_seconds > 0 ? 100 * r.textures->lookup_seconds / r.render_thread_seconds : 0.0,
                            r.textures->cache.memory_bytes / double(1 << 20), r.textures->cache.memory_limit / double(1 << 20),
                            r.textures->cache.bytes_read / double(1 << 20));
+    }
     if (!f.ic_file.empty())
         out << fmt::format("  irradiance cache {}: {} records loaded, {} made, {} saved\n", f.ic_file, f.ic_loaded,
                            r.ic_stats.records, r.ic_records.size());

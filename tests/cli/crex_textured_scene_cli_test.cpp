@@ -61,14 +61,18 @@ TEST(TexturedSceneCli, RunReportsTheTextureCache) {
     const size_t first = said.find("  textures: ");
     ASSERT_NE(first, std::string::npos) << said;
     EXPECT_EQ(said.find("  textures: ", first + 1), std::string::npos) << said;
-    // With the cache on, its hemisphere rays read the coarse copies, and the line counts them too.
+    // With the cache on, its hemisphere rays read the coarse copies, and the line counts them too,
+    // and the cut-out tests answered from masks.
     auto cached = crex_cli({"run", "--scene", kRoom, "--size", "32x24", "--spp", "1", "--ic", "--ad", "64", "-o",
                             (std::filesystem::temp_directory_path() / "crex_cli_living_room.exr").string()});
     ASSERT_EQ(cached.exit_code, 0) << cached.err;
     const std::string cached_said = cached.out + cached.err;
     const size_t line = cached_said.find("  textures: ");
     ASSERT_NE(line, std::string::npos) << cached_said;
-    EXPECT_NE(cached_said.substr(line, cached_said.find('\n', line) - line).find(" from coarse copies"), std::string::npos) << cached_said;
+    const std::string textures_line = cached_said.substr(line, cached_said.find('\n', line) - line);
+    EXPECT_NE(textures_line.find(" from coarse copies"), std::string::npos) << cached_said;
+    // The plant's leaves are alpha cut-outs: their tests are answered from its opacity mask.
+    EXPECT_NE(textures_line.find(" cut-out tests from opacity masks"), std::string::npos) << cached_said;
     std::filesystem::remove(std::filesystem::temp_directory_path() / "crex_cli_living_room.exr");
 }
 
