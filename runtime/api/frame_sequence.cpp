@@ -120,7 +120,7 @@ std::string check_sequence_reference(const std::string& reference, const FrameRa
 
 std::string parse_frame_range(const std::string& text, FrameRange& range) {
     const std::string expected = "expected FIRST..LAST or FIRST..LAST:STEP (whole frame numbers from 0, e.g. 0..59 or 0..59:2), or one frame";
-    // Whole numbers only, of at most 7 digits: frame 9,999,999 at 30 fps is over three days in.
+    // Whole numbers only, of at most 7 digits: up to kMaxFrame, over three days in at 30 fps.
     auto whole = [](const std::string& s, int64_t& v, int64_t lo) {
         if (s.empty() || s.size() > 7 || s.find_first_not_of("0123456789") != std::string::npos) return false;
         v = std::stoll(s);
@@ -161,11 +161,26 @@ std::vector<int64_t> FrameRange::frames() const {
 
 FrameRange path_frames(const CameraPath& path, double fps) {
     // Times of whole frames within the span, allowing for the division's rounding at its ends.
-    const double slack = 1e-9;
+    // Clamped in double before the conversion: a path ending at 1e308 s has an infinite last
+    // frame, which as an integer was undefined (INT64_MIN here: "0 frames", exit 0).
+    const double slack = 1e-9, top = static_cast<double>(kMaxFrame + 1);
+    auto frame = [top](double f) { return static_cast<int64_t>(std::isnan(f) ? top : std::clamp(f, -top, top)); };
     FrameRange r;
-    r.first = static_cast<int64_t>(std::ceil(path.start_time() * fps - slack));
-    r.last = static_cast<int64_t>(std::floor(path.end_time() * fps + slack));
+    r.first = frame(std::ceil(path.start_time() * fps - slack));
+    r.last = frame(std::floor(path.end_time() * fps + slack));
     return r;
+}
+
+std::string check_path_frames(const CameraPath& path, double fps) {
+    const FrameRange all = path_frames(path, fps);
+    if (all.last < all.first)
+        return fmt::format("the camera path runs from {:g} s to {:g} s, which holds no whole frame at {:g} fps (frame f is at f / fps s): "
+                           "give a higher --fps or a longer path",
+                           path.start_time(), path.end_time(), fps);
+    if (all.last > kMaxFrame)
+        return fmt::format("the camera path runs to {:g} s, past frame {} at {:g} fps: give --frames (at most {}) or a lower --fps",
+                           path.end_time(), kMaxFrame, fps, kMaxFrame);
+    return "";
 }
 
 std::string check_frame_range(const FrameRange& range, const CameraPath& path, double fps) {

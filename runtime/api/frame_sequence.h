@@ -36,8 +36,18 @@ std::string parse_frame_range(const std::string& text, FrameRange& range);
 /// Ranges separated by commas (`--high-quality-frames 0..9,20`); "" or what is wrong, with the item.
 std::string parse_frame_ranges(const std::string& text, std::vector<FrameRange>& ranges);
 
-/// The frames a path at `fps` covers: those whose time f / fps lies within its keys' span.
+/// The largest frame number: `--frames` takes at most seven digits (frame 9,999,999 at 30 fps
+/// is over three days in), and a sequence's frames are listed in memory.
+inline constexpr int64_t kMaxFrame = 9'999'999;
+
+/// The frames a path at `fps` covers: those whose time f / fps lies within its keys' span,
+/// the last no later than kMaxFrame + 1 (a longer path, or one whose end overflows, says so
+/// there rather than through an integer out of range).
 FrameRange path_frames(const CameraPath& path, double fps);
+
+/// "" when a sequence can render every frame of the path at `fps` (what it renders without
+/// `--frames`), else what is wrong: it holds no whole frame, or more than kMaxFrame.
+std::string check_path_frames(const CameraPath& path, double fps);
 
 /// "" when every frame of `range` is on the path at `fps`, else what is wrong (with the
 /// frames the path has).

@@ -354,6 +354,9 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
         {{"--camera-path", path_file, "--frames", "0..2:0"}, 2, "STEP from 1"},
         {{"--camera-path", path_file, "--frames", "a..b"}, 2, "expected FIRST..LAST"},
         {{"--camera-path", path_file, "--frames", "25..31"}, 2, "it has frames 0..30 (0 s to 1 s)"},
+        {{"--camera-path", write("brief.json", "{\"keys\": [{\"time\": 0.01, \"position\": [0, 1, 3], \"look_at\": [0, 1, 0]},"
+                                               " {\"time\": 0.02, \"position\": [0, 1, 2], \"look_at\": [0, 1, 0]}]}")},
+         2, "holds no whole frame at 30 fps"},
         {{"--camera-path", path_file, "--view", path_file}, 2, "--view does not go with --camera-path"},
         {{"--camera-path", path("missing.json")}, 3, "--camera-path"},
         {{"--high-quality-frames", "1"}, 2, "--high-quality-frames is for frames along a camera path"},

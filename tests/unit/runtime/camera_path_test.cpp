@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "runtime/api/frame_sequence.h"
 #include "runtime/scene/camera_path_file.h"
 #include "runtime/scene/gltf/gltf_camera_path.h"
 
@@ -73,6 +74,30 @@ TEST(CameraPath, PassesThroughEveryKeyExactly) {
 // Equal times, equal arc lengths: the 20 twentieths of the time each cover a twentieth of the
 // path within 0.1 %. The path's own table has 128 chords a segment; the check measures with
 // 400 chords per interval of the camera's actual positions, so the table's error shows.
+// The frames a path holds at an fps, what a sequence renders without --frames: whole
+// frames within its span, and never a frame number past kMaxFrame, however long the path (a
+// path ending at 1e308 s rendered "0 frames" with exit 0: its last frame overflowed).
+TEST(CameraPath, ItsFramesAreWholeFramesUpToTheLargestFrameNumber) {
+    const CameraPath walk = read_path(kWalk);  // 1 s to 5 s
+    const FrameRange frames = path_frames(walk, 30);
+    EXPECT_EQ(frames.first, 30);
+    EXPECT_EQ(frames.last, 150);
+    EXPECT_EQ(check_path_frames(walk, 30), "");
+    auto two_keys = [](const char* t0, const char* t1) {
+        return read_path(std::string(R"({"keys": [{"time": )") + t0 + R"(, "position": [0, 1, 3], "look_at": [0, 1, 0]},
+                                                  {"time": )" + t1 + R"(, "position": [0, 1, 2], "look_at": [0, 1, 0]}]})");
+    };
+    for (const char* end : {"1e308", "1e6"}) {
+        const CameraPath endless = two_keys("0", end);
+        EXPECT_EQ(path_frames(endless, 30).last, kMaxFrame + 1) << end;
+        EXPECT_NE(check_path_frames(endless, 30).find("past frame 9999999"), std::string::npos) << check_path_frames(endless, 30);
+    }
+    const CameraPath between = two_keys("0.01", "0.02");  // frame 0 at 0 s, frame 1 at 0.033 s
+    EXPECT_LT(path_frames(between, 30).last, path_frames(between, 30).first);
+    EXPECT_NE(check_path_frames(between, 30).find("holds no whole frame at 30 fps"), std::string::npos);
+    EXPECT_EQ(check_path_frames(between, 1000), "");  // frames 10..20
+}
+
 TEST(CameraPath, MovesAtConstantSpeed) {
     const CameraPath path = read_path(kWalk);
     const int n = 20;
