@@ -9,7 +9,13 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -163,6 +169,8 @@ py::array_t<float> image_array(const std::vector<float>& rgb, int width, int hei
 
 std::vector<float> rgb_of(const py::array_t<float, py::array::c_style | py::array::forcecast>& a, int& width, int& height) {
     if (a.ndim() != 3 || a.shape(2) != 3) throw std::invalid_argument("an image is an array of shape (height, width, 3)");
+    if (a.shape(0) < 1 || a.shape(1) < 1 || a.shape(0) > 65535 || a.shape(1) > 65535)
+        throw std::invalid_argument(fmt::format("an image is {} x {} pixels: each side from 1 to 65535", a.shape(1), a.shape(0)));
     height = static_cast<int>(a.shape(0)), width = static_cast<int>(a.shape(1));
     return std::vector<float>(a.data(), a.data() + a.size());
 }
@@ -226,43 +234,83 @@ private:
     std::chrono::steady_clock::time_point last_{};
 };
 
+// The keyword options crex.run() takes, as `crex run`'s flags of the same names.
+constexpr std::array<const char*, 15> kRunOptions = {"size", "spp", "seed", "lw", "max_depth", "rounds", "ambient", "budget", "no_budget",
+                                                     "policy", "shadow_rays", "uniform", "irradiance_cache", "max_memory_mib", "components"};
+
+// A number given for option `key`: a whole one where `whole` (Python and numpy integers, not
+// bool), within [lo, hi] as the flag of `crex run` takes it. Else TypeError or ValueError
+// naming the option (pybind11's own cast said "Unable to cast Python instance to C++ type").
+double option_number(const char* key, const py::handle& v, double lo, double hi, bool whole) {
+    const char* kind = whole ? "a whole number" : "a number";
+    if (py::isinstance<py::bool_>(v) || !PyNumber_Check(v.ptr()) || (whole && !PyIndex_Check(v.ptr())))
+        throw py::type_error(fmt::format("{}: expected {} from {:.15g} to {:.15g}, got {}", key, kind, lo, hi, py::str(py::type::of(v).attr("__name__")).cast<std::string>()));
+    // As a double (exact for every whole number in range); one too large for a double is out of range.
+    const py::object as_float = py::reinterpret_steal<py::object>(PyNumber_Float(v.ptr()));
+    if (!as_float) PyErr_Clear();
+    const double x = as_float ? PyFloat_AsDouble(as_float.ptr()) : std::nan("");
+    if (!(x >= lo && x <= hi)) throw py::value_error(fmt::format("{}: {} is out of range: expected {} from {:.15g} to {:.15g}", key, py::repr(v).cast<std::string>(), kind, lo, hi));
+    return x;
+}
+
+bool option_bool(const char* key, const py::handle& v) {
+    if (!py::isinstance<py::bool_>(v)) throw py::type_error(fmt::format("{}: expected True or False", key));
+    return v.cast<bool>();
+}
+
+std::string option_text(const char* key, const py::handle& v) {
+    if (!py::isinstance<py::str>(v)) throw py::type_error(fmt::format("{}: expected a string", key));
+    return v.cast<std::string>();
+}
+
 // A run's options from keyword arguments (unset: the plan's settings, else the defaults of
-// runtime/api/run_options.h), no text in between.
+// runtime/api/run_options.h), no text in between. An unknown keyword is a TypeError, as
+// Python's own functions raise: a misspelt option must not render with its default.
 RunOptions options_of(const py::dict& kw) {
+    for (const auto& [key, value] : kw) {
+        const std::string name = py::str(key).cast<std::string>();
+        if (std::find(kRunOptions.begin(), kRunOptions.end(), name) == kRunOptions.end())
+            throw py::type_error(fmt::format("run() got an unexpected keyword argument '{}' (options: {})", name, fmt::join(kRunOptions, ", ")));
+    }
     RunOptions o;
     auto get = [&](const char* key) -> std::optional<py::object> {
         if (!kw.contains(key) || kw[key].is_none()) return std::nullopt;
         return py::reinterpret_borrow<py::object>(kw[key]);
     };
     if (auto v = get("size")) {
-        auto [w, h] = v->cast<std::pair<int, int>>();
-        if (w < 1 || h < 1 || w > 16384 || h > 16384) throw std::invalid_argument("size: (width, height), each 1 to 16384");
-        o.width = w, o.height = h;
+        const py::sequence wh = py::isinstance<py::sequence>(*v) && !py::isinstance<py::str>(*v) ? v->cast<py::sequence>() : py::sequence();
+        if (wh.size() != 2) throw py::type_error("size: expected (width, height)");
+        o.width = static_cast<int>(option_number("size", wh[0], 1, 16384, true));
+        o.height = static_cast<int>(option_number("size", wh[1], 1, 16384, true));
     }
-    if (auto v = get("spp")) o.spp = v->cast<uint32_t>();
-    if (auto v = get("seed")) o.seed = v->cast<uint64_t>();
-    if (auto v = get("lw")) o.lw = v->cast<double>();
-    if (auto v = get("max_depth")) o.max_depth = v->cast<uint32_t>();
-    if (auto v = get("rounds")) o.rounds = v->cast<uint32_t>();
+    if (auto v = get("spp")) o.spp = static_cast<uint32_t>(option_number("spp", *v, 1, 1 << 20, true));
+    if (auto v = get("seed")) o.seed = static_cast<uint64_t>(option_number("seed", *v, 0, 9007199254740992.0, true));
+    if (auto v = get("lw")) o.lw = option_number("lw", *v, 0, 1, false);
+    if (auto v = get("max_depth")) o.max_depth = static_cast<uint32_t>(option_number("max_depth", *v, 0, 65535, true));
+    if (auto v = get("rounds")) o.rounds = static_cast<uint32_t>(option_number("rounds", *v, 1, 1024, true));
     if (auto v = get("ambient")) {
-        if (py::isinstance<py::str>(*v) && v->cast<std::string>() == "auto") o.ambient = AmbientStandIn{true, 0};
-        else o.ambient = AmbientStandIn{false, v->cast<double>()};
+        if (py::isinstance<py::str>(*v)) {
+            if (v->cast<std::string>() != "auto") throw py::value_error("ambient: a radiance (a number >= 0) or \"auto\"");
+            o.ambient = AmbientStandIn{true, 0};
+        } else {
+            o.ambient = AmbientStandIn{false, option_number("ambient", *v, 0, 1e30, false)};
+        }
     }
-    if (auto v = get("budget")) o.budget = PlanBudget{v->cast<double>(), false, {}};  // seconds
-    if (auto v = get("no_budget")) o.no_budget = v->cast<bool>();
+    if (auto v = get("budget")) o.budget = PlanBudget{option_number("budget", *v, 1e-3, 1e9, false), false, {}};  // seconds
+    if (auto v = get("no_budget")) o.no_budget = option_bool("no_budget", *v);
     if (auto v = get("policy")) {
-        o.policy = pipeline::scheduling_policy_from_name(v->cast<std::string>());
-        if (!o.policy) throw std::invalid_argument("policy: one of tasks, batches, queues, progressive");
+        o.policy = pipeline::scheduling_policy_from_name(option_text("policy", *v));
+        if (!o.policy) throw py::value_error("policy: one of tasks, batches, queues, progressive");
     }
-    if (auto v = get("shadow_rays")) o.shadow_rays = v->cast<uint32_t>();
+    if (auto v = get("shadow_rays")) o.shadow_rays = static_cast<uint32_t>(option_number("shadow_rays", *v, 1, 1024, true));
     if (auto v = get("uniform")) {
-        const std::string u = v->cast<std::string>();
-        if (u != "min" && u != "max") throw std::invalid_argument("uniform: \"min\" or \"max\"");
+        const std::string u = option_text("uniform", *v);
+        if (u != "min" && u != "max") throw py::value_error("uniform: \"min\" or \"max\"");
         o.uniform = u == "max" ? UniformQuality::kMax : UniformQuality::kMin;
     }
-    if (auto v = get("irradiance_cache")) o.irradiance_cache = v->cast<bool>();
-    if (auto v = get("max_memory_mib")) o.max_memory = static_cast<size_t>(v->cast<double>() * double(1 << 20));
-    if (auto v = get("components")) o.component_images = v->cast<bool>();
+    if (auto v = get("irradiance_cache")) o.irradiance_cache = option_bool("irradiance_cache", *v);
+    if (auto v = get("max_memory_mib")) o.max_memory = static_cast<size_t>(option_number("max_memory_mib", *v, 64, 1048576, false) * double(1 << 20));
+    if (auto v = get("components")) o.component_images = option_bool("components", *v);
     return o;
 }
 
@@ -352,6 +400,11 @@ py::dict compare(const py::array_t<float, py::array::c_style | py::array::forcec
     test.rgb = rgb_of(test_array, test.width, test.height);
     ref.rgb = rgb_of(reference_array, ref.width, ref.height);
     if (test.width != ref.width || test.height != ref.height) throw std::invalid_argument("the images differ in size");
+    // As `crex compare` refuses an EXR with them: a NaN made rmse NaN and FLIP 0 ("perfect").
+    for (const auto& [image, name] : {std::pair{&test.rgb, "test"}, std::pair{&ref.rgb, "reference"}}) {
+        const size_t bad = static_cast<size_t>(std::count_if(image->begin(), image->end(), [](float x) { return !std::isfinite(x); }));
+        if (bad) throw std::invalid_argument(fmt::format("the {} image holds {} non-finite value{} (NaN or Inf): nothing to compare", name, bad, bad == 1 ? "" : "s"));
+    }
     // Linear radiance, both seen through the reference's exposure, as `crex compare` sees EXRs
     // (the same metrics::compare_images).
     metrics::MetricChoice choice;

@@ -57,7 +57,8 @@ def run(plan, scene=None, *, progress=None, output=None, **options):
     irradiance_cache, max_memory_mib, components (default True; False: no per-component images,
     and a film a seventh of the size, for large frames). `progress(info)` is called now and then with a dict
     (stage, fraction, pass, passes, rays, step); raising from it stops the render. `output`: an
-    image path (or a list of them) written once the render is done, all or none.
+    image path (or a list of them) written once the render is done, all or none. An unknown
+    option raises TypeError; a value out of its flag's range in `crex run`, ValueError.
     """
     if not isinstance(plan, Plan):
         plan = compile(plan, scene)

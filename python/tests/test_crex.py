@@ -166,3 +166,36 @@ def test_to_display_is_the_tone_map_of_the_metrics_on_any_stack_of_images():
     assert np.allclose(shown[0], expected, atol=1e-6) and not shown[1].any() and not shown[2].any()
     with pytest.raises(ValueError):
         crex.to_display(np.zeros((4, 6, 2), dtype=np.float32), 1.0)
+
+
+def test_options_are_checked_as_the_cli_checks_its_flags():
+    # A misspelt option must not render with its default, and a wrong value names its option.
+    with pytest.raises(TypeError, match="unexpected keyword argument 'sps'"):
+        crex.run("(TTMRSGD)*", size=(8, 8), sps=64)
+    with pytest.raises(ValueError, match=r"spp: 0 is out of range: expected a whole number from 1 to 1048576"):
+        crex.run("(TTMRSGD)*", size=(8, 8), spp=0)
+    with pytest.raises(ValueError, match="shadow_rays: 2000 is out of range"):
+        crex.run("(TTMRSGD)*", size=(8, 8), shadow_rays=2000)
+    with pytest.raises(TypeError, match="size: expected a whole number from 1 to 16384, got float"):
+        crex.run("(TTMRSGD)*", size=(8.5, 8))
+    with pytest.raises(TypeError, match="spp: expected a whole number"):
+        crex.run("(TTMRSGD)*", size=(8, 8), spp=True)
+    with pytest.raises(ValueError, match="lw: 2 is out of range"):
+        crex.run("(TTMRSGD)*", size=(8, 8), lw=2)
+    with pytest.raises(TypeError, match="components: expected True or False"):
+        crex.run("(TTMRSGD)*", size=(8, 8), components="no")
+    # numpy integers are whole numbers, as Python's are.
+    r = crex.run("(TTMRSGD)*", size=(np.int64(8), np.int32(6)), spp=np.uint16(1), seed=np.int64(3))
+    assert r.image.shape == (6, 8, 3)
+
+
+def test_compare_refuses_what_crex_compare_refuses():
+    zero = np.zeros((4, 4, 3), np.float32)
+    nan = zero.copy()
+    nan[1, 2, 0] = np.nan
+    with pytest.raises(ValueError, match="the test image holds 1 non-finite value"):
+        crex.compare(nan, zero)
+    with pytest.raises(ValueError, match="the reference image holds 1 non-finite value"):
+        crex.compare(zero, nan)
+    with pytest.raises(ValueError, match="each side from 1"):
+        crex.compare(np.zeros((0, 4, 3), np.float32), np.zeros((0, 4, 3), np.float32))
