@@ -117,7 +117,12 @@ bool is_file(const std::string& source, const char* extension) {
 // `scene` as Python gives it: a Scene, a spec, or None (`fallback`, else builtin:cornell).
 PythonScene scene_of(const py::object& scene, const std::string& fallback = "") {
     if (py::isinstance<PythonScene>(scene)) return scene.cast<PythonScene>();
-    if (!scene.is_none()) return load_scene(scene.cast<std::string>());
+    if (!scene.is_none()) {
+        if (!py::isinstance<py::str>(scene) && !py::isinstance(scene, py::module_::import("os").attr("PathLike")))
+            throw py::type_error(fmt::format("scene: expected a crex.Scene, a scene's path or builtin: name, or None; got {}",
+                                             py::str(py::type::of(scene).attr("__name__")).cast<std::string>()));
+        return load_scene(py::str(py::module_::import("os").attr("fspath")(scene)).cast<std::string>());
+    }
     return load_scene(fallback.empty() ? "builtin:cornell" : fallback);
 }
 
@@ -191,6 +196,8 @@ double display_exposure_of(const py::array_t<float, py::array::c_style | py::arr
 
 py::array_t<float> to_display_array(const py::array_t<float, py::array::c_style | py::array::forcecast>& image, double exposure) {
     if (image.ndim() < 1 || image.shape(image.ndim() - 1) != 3) throw std::invalid_argument("to_display takes an array whose last axis is RGB (size 3)");
+    if (!(exposure > 0) || !std::isfinite(exposure))
+        throw std::invalid_argument(fmt::format("exposure: {} is not a number above 0 (crex.display_exposure(image) gives the metrics' own)", exposure));
     py::array_t<float> out(std::vector<py::ssize_t>(image.shape(), image.shape() + image.ndim()));
     to_display(image.data(), out.mutable_data(), static_cast<size_t>(image.size()), exposure);
     return out;
@@ -319,8 +326,17 @@ py::dict run(const PythonPlan& p, const py::object& scene_given, py::object prog
     RunOptions options = options_of(kw);
     RunFiles files;
     if (!output.is_none()) {
-        files.images = py::isinstance<py::str>(output) ? std::vector<std::string>{output.cast<std::string>()}
-                                                        : output.cast<std::vector<std::string>>();
+        auto path_of = [](const py::handle& p) {
+            if (!py::isinstance<py::str>(p) && !py::isinstance(p, py::module_::import("os").attr("PathLike")))
+                throw py::type_error("output: expected an image path or a list of them");
+            return py::str(py::module_::import("os").attr("fspath")(p)).cast<std::string>();
+        };
+        if (py::isinstance<py::str>(output) || py::isinstance(output, py::module_::import("os").attr("PathLike"))) {
+            files.images = {path_of(output)};
+        } else {
+            if (!py::isinstance<py::sequence>(output)) throw py::type_error("output: expected an image path or a list of them");
+            for (const py::handle& p : output.cast<py::sequence>()) files.images.push_back(path_of(p));
+        }
         for (const auto& path : files.images)  // checked before anything renders
             if (std::string error = check_output_path(path); !error.empty()) raise_input_error(error);
     }

@@ -199,3 +199,14 @@ def test_compare_refuses_what_crex_compare_refuses():
         crex.compare(zero, nan)
     with pytest.raises(ValueError, match="each side from 1"):
         crex.compare(np.zeros((0, 4, 3), np.float32), np.zeros((0, 4, 3), np.float32))
+
+
+def test_wrong_kinds_of_scene_output_and_exposure_say_which_argument():
+    with pytest.raises(TypeError, match="scene: expected a crex.Scene"):
+        crex.run("(TTMRSGD)*", scene=42, size=(8, 8))
+    with pytest.raises(TypeError, match="output: expected an image path or a list of them"):
+        crex.run("(TTMRSGD)*", size=(8, 8), output=["a.png", 3])
+    with pytest.raises(ValueError, match="exposure: nan is not a number above 0"):
+        crex.to_display(np.ones((2, 2, 3), np.float32), float("nan"))
+    with pytest.raises(ValueError, match="exposure: -1 is not a number above 0"):
+        crex.to_display(np.ones((2, 2, 3), np.float32), -1.0)
