@@ -118,6 +118,18 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
     rs.caustic_photons = o.caustic_photons;
     if (o.policy) rs.policy = *o.policy;
 
+    // What `crex run`'s flags and Python's options are checked for, for every caller of the
+    // library: spp 0 from C++ rendered a black image of 0 rays without a word.
+    auto need = [](bool ok, const char* what) {
+        if (!ok) throw RunOptionError(what, "");
+    };
+    need(rs.width >= 1 && rs.height >= 1, "the image needs a width and a height of at least 1 pixel");
+    need(rs.spp >= 1, "spp: at least 1 camera sample a pixel");
+    need(shade.shadow_rays >= 1 && shade.shadow_rays <= 1024, "shadow_rays: 1 to 1024 a hit");
+    need(shade.media_samples >= 1 && shade.media_samples <= 1024, "media_samples: 1 to 1024 a camera ray");
+    need(shade.weight_limit >= 0 && shade.weight_limit <= 1, "lw: a weight limit from 0 to 1");
+    need(std::isfinite(rs.ambient.x) && rs.ambient.x >= 0, "ambient: a radiance of 0 or more");
+
     resolve_budget(run, plan, o);
     // Where the limits W404 names were set: the plan's line, unless an option overrides it.
     auto at = [](bool overridden, const SourceLocation& where) { return overridden || !where.known() ? std::string() : where.to_string(); };
