@@ -235,15 +235,8 @@ int read_camera_path_file(Request& r, LeadChecks& lead) {
                                  sink.error_count() == 1 ? "" : "s");
         return kExitInputErrors;
     }
-    if (!r.frames) {  // every frame of the path
-        if (std::string all = check_path_frames(*lead.path, r.sequence.fps); !all.empty()) {
-            std::cerr << "crex run: error: " << all << "\n";
-            return kExitUsage;
-        }
-    }
-    r.sequence.frames = r.frames ? *r.frames : path_frames(*lead.path, r.sequence.fps);
-    if (std::string range = check_frame_range(r.sequence.frames, *lead.path, r.sequence.fps); !range.empty()) {
-        std::cerr << "crex run: error: --frames: " << range << "\n";
+    if (std::string wrong = sequence_frames(*lead.path, r.sequence.fps, r.frames, r.sequence.frames); !wrong.empty()) {
+        std::cerr << "crex run: error: " << wrong << "\n";
         return kExitUsage;
     }
     return kExitOk;

@@ -190,6 +190,16 @@ std::string check_frame_range(const FrameRange& range, const CameraPath& path, d
                        range.last, fps, on.first, on.last, path.start_time(), path.end_time());
 }
 
+std::string sequence_frames(const CameraPath& path, double fps, const std::optional<FrameRange>& given, FrameRange& out) {
+    if (!given) {
+        out = path_frames(path, fps);
+        return check_path_frames(path, fps);
+    }
+    out = *given;
+    const std::string off_path = check_frame_range(out, path, fps);
+    return off_path.empty() ? "" : "--frames: " + off_path;
+}
+
 std::string frame_file_name(const std::string& path, int64_t frame) {
     const std::filesystem::path p(path);
     return (p.parent_path() / fmt::format("{}.{:04d}{}", p.stem().string(), frame, p.extension().string())).string();

@@ -49,6 +49,10 @@ FrameRange path_frames(const CameraPath& path, double fps);
 /// `--frames`), else what is wrong: it holds no whole frame, or more than kMaxFrame.
 std::string check_path_frames(const CameraPath& path, double fps);
 
+/// The frames a sequence renders into `out`: `given` (`--frames`) when set, each on the path,
+/// else every frame of the path (check_path_frames). "" or what is wrong.
+std::string sequence_frames(const CameraPath& path, double fps, const std::optional<FrameRange>& given, FrameRange& out);
+
 /// "" when every frame of `range` is on the path at `fps`, else what is wrong (with the
 /// frames the path has).
 std::string check_frame_range(const FrameRange& range, const CameraPath& path, double fps);
