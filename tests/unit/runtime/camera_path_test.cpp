@@ -71,9 +71,6 @@ TEST(CameraPath, PassesThroughEveryKeyExactly) {
     EXPECT_DOUBLE_EQ(path.key_time(4), 5);
 }
 
-// Equal times, equal arc lengths: the 20 twentieths of the time each cover a twentieth of the
-// path within 0.1 %. The path's own table has 128 chords a segment; the check measures with
-// 400 chords per interval of the camera's actual positions, so the table's error shows.
 // The frames a path holds at an fps, what a sequence renders without --frames: whole
 // frames within its span, and never a frame number past kMaxFrame, however long the path (a
 // path ending at 1e308 s rendered "0 frames" with exit 0: its last frame overflowed).
@@ -98,6 +95,9 @@ TEST(CameraPath, ItsFramesAreWholeFramesUpToTheLargestFrameNumber) {
     EXPECT_EQ(check_path_frames(between, 1000), "");  // frames 10..20
 }
 
+// Equal times, equal arc lengths: the 20 twentieths of the time each cover a twentieth of the
+// path within 0.1 %. The path's own table has 128 chords a segment; the check measures with
+// 400 chords per interval of the camera's actual positions, so the table's error shows.
 TEST(CameraPath, MovesAtConstantSpeed) {
     const CameraPath path = read_path(kWalk);
     const int n = 20;
