@@ -63,7 +63,8 @@ uint64_t IrradianceCache::cell_key(int x, int y, int z) const {
 }
 
 void IrradianceCache::sync_normals() {
-    normals_.reserve(records_.size());
+    // push_back's own doubling: a reserve of exactly records_.size() here reallocated at every
+    // single insert().
     for (size_t i = normals_.size(); i < records_.size(); ++i) {
         const Vec3& n = records_[i].normal;
         normals_.push_back({static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)});
@@ -195,8 +196,8 @@ bool IrradianceCache::lookup(const Vec3& x, const Vec3& n, double aa, uint32_t l
         sum += extrapolate(r, x, n) * w;
     };
     // w > 1/aa needs |x - x_i| < aa R_i and n.n_i > 1 - aa^2: most candidates fail these cheap
-    // tests, first on the entries and normals_ (in float, with margins), then exactly on the record. Those that pass are
-    // gathered (their records asked for) and used in their order.
+    // tests, first on the entries and normals_ (in float, with margins), then exactly on the
+    // record. Those that pass are gathered (their records asked for) and used in their order.
     constexpr size_t kGather = 32;
     std::array<uint32_t, kGather> gathered;
     size_t pending = 0;

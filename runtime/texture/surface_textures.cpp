@@ -49,8 +49,9 @@ Vec3 clamp01(const Vec3& v) { return {clamp01(v.x), clamp01(v.y), clamp01(v.z)};
 
 // sRGB's curve above its linear toe, x^2.4 for x in [0, 1], from a table between whose
 // entries it is linear: within 1.0e-7 of std::pow (the curvature bound h^2/8 max|f''|, with
-// max|f''| = 3.36), about a 39,000th of an 8-bit step. Every colour of an 8-bit image is decoded, several a hit (the
-// cache's hemisphere hits too), and three pow calls a colour were 2.5 % of a textured render.
+// max|f''| = 3.36), about a 39,000th of an 8-bit step. Every colour of an 8-bit image is
+// decoded, several a hit (the cache's hemisphere hits too), and three pow calls a colour were
+// 2.5 % of a textured render.
 constexpr int kSrgbSteps = 2048;
 const std::array<double, kSrgbSteps + 2>& srgb_power_table() {
     static const std::array<double, kSrgbSteps + 2> table = [] {
