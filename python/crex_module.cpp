@@ -114,14 +114,18 @@ bool is_file(const std::string& source, const char* extension) {
            std::filesystem::is_regular_file(source, ec);
 }
 
+// A path as Python's file functions take one: a str or an os.PathLike (pathlib.Path).
+bool is_path(const py::handle& p) { return py::isinstance<py::str>(p) || py::isinstance(p, py::module_::import("os").attr("PathLike")); }
+std::string path_text(const py::handle& p) { return py::str(py::module_::import("os").attr("fspath")(p)).cast<std::string>(); }
+
 // `scene` as Python gives it: a Scene, a spec, or None (`fallback`, else builtin:cornell).
 PythonScene scene_of(const py::object& scene, const std::string& fallback = "") {
     if (py::isinstance<PythonScene>(scene)) return scene.cast<PythonScene>();
     if (!scene.is_none()) {
-        if (!py::isinstance<py::str>(scene) && !py::isinstance(scene, py::module_::import("os").attr("PathLike")))
+        if (!is_path(scene))
             throw py::type_error(fmt::format("scene: expected a crex.Scene, a scene's path or builtin: name, or None; got {}",
                                              py::str(py::type::of(scene).attr("__name__")).cast<std::string>()));
-        return load_scene(py::str(py::module_::import("os").attr("fspath")(scene)).cast<std::string>());
+        return load_scene(path_text(scene));
     }
     return load_scene(fallback.empty() ? "builtin:cornell" : fallback);
 }
@@ -248,7 +252,8 @@ constexpr std::array<const char*, 15> kRunOptions = {"size", "spp", "seed", "lw"
 // A number given for option `key`: a whole one where `whole` (Python and numpy integers, not
 // bool), within [lo, hi] as the flag of `crex run` takes it. Else TypeError or ValueError
 // naming the option (pybind11's own cast said "Unable to cast Python instance to C++ type").
-double option_number(const char* key, const py::handle& v, double lo, double hi, bool whole) {
+double option_number(const char* key, const py::handle& v, OptionRange range, bool whole) {
+    const double lo = range.lo, hi = range.hi;
     const char* kind = whole ? "a whole number" : "a number";
     if (py::isinstance<py::bool_>(v) || !PyNumber_Check(v.ptr()) || (whole && !PyIndex_Check(v.ptr())))
         throw py::type_error(fmt::format("{}: expected {} from {:.15g} to {:.15g}, got {}", key, kind, lo, hi, py::str(py::type::of(v).attr("__name__")).cast<std::string>()));
@@ -287,36 +292,36 @@ RunOptions options_of(const py::dict& kw) {
     if (auto v = get("size")) {
         const py::sequence wh = py::isinstance<py::sequence>(*v) && !py::isinstance<py::str>(*v) ? v->cast<py::sequence>() : py::sequence();
         if (wh.size() != 2) throw py::type_error("size: expected (width, height)");
-        o.width = static_cast<int>(option_number("size", wh[0], 1, 16384, true));
-        o.height = static_cast<int>(option_number("size", wh[1], 1, 16384, true));
+        o.width = static_cast<int>(option_number("size", wh[0], kImageSideRange, true));
+        o.height = static_cast<int>(option_number("size", wh[1], kImageSideRange, true));
     }
-    if (auto v = get("spp")) o.spp = static_cast<uint32_t>(option_number("spp", *v, 1, 1 << 20, true));
-    if (auto v = get("seed")) o.seed = static_cast<uint64_t>(option_number("seed", *v, 0, 9007199254740992.0, true));
-    if (auto v = get("lw")) o.lw = option_number("lw", *v, 0, 1, false);
-    if (auto v = get("max_depth")) o.max_depth = static_cast<uint32_t>(option_number("max_depth", *v, 0, 65535, true));
-    if (auto v = get("rounds")) o.rounds = static_cast<uint32_t>(option_number("rounds", *v, 1, 1024, true));
+    if (auto v = get("spp")) o.spp = static_cast<uint32_t>(option_number("spp", *v, kSppRange, true));
+    if (auto v = get("seed")) o.seed = static_cast<uint64_t>(option_number("seed", *v, {0, 9007199254740992.0}, true));
+    if (auto v = get("lw")) o.lw = option_number("lw", *v, kWeightLimitRange, false);
+    if (auto v = get("max_depth")) o.max_depth = static_cast<uint32_t>(option_number("max_depth", *v, kMaxDepthRange, true));
+    if (auto v = get("rounds")) o.rounds = static_cast<uint32_t>(option_number("rounds", *v, {1, 1024}, true));
     if (auto v = get("ambient")) {
         if (py::isinstance<py::str>(*v)) {
             if (v->cast<std::string>() != "auto") throw py::value_error("ambient: a radiance (a number >= 0) or \"auto\"");
             o.ambient = AmbientStandIn{true, 0};
         } else {
-            o.ambient = AmbientStandIn{false, option_number("ambient", *v, 0, 1e30, false)};
+            o.ambient = AmbientStandIn{false, option_number("ambient", *v, {0, 1e30}, false)};
         }
     }
-    if (auto v = get("budget")) o.budget = PlanBudget{option_number("budget", *v, 1e-3, 1e9, false), false, {}};  // seconds
+    if (auto v = get("budget")) o.budget = PlanBudget{option_number("budget", *v, {1e-3, 1e9}, false), false, {}};  // seconds
     if (auto v = get("no_budget")) o.no_budget = option_bool("no_budget", *v);
     if (auto v = get("policy")) {
         o.policy = pipeline::scheduling_policy_from_name(option_text("policy", *v));
         if (!o.policy) throw py::value_error("policy: one of tasks, batches, queues, progressive");
     }
-    if (auto v = get("shadow_rays")) o.shadow_rays = static_cast<uint32_t>(option_number("shadow_rays", *v, 1, 1024, true));
+    if (auto v = get("shadow_rays")) o.shadow_rays = static_cast<uint32_t>(option_number("shadow_rays", *v, kShadowRaysRange, true));
     if (auto v = get("uniform")) {
         const std::string u = option_text("uniform", *v);
         if (u != "min" && u != "max") throw py::value_error("uniform: \"min\" or \"max\"");
         o.uniform = u == "max" ? UniformQuality::kMax : UniformQuality::kMin;
     }
     if (auto v = get("irradiance_cache")) o.irradiance_cache = option_bool("irradiance_cache", *v);
-    if (auto v = get("max_memory_mib")) o.max_memory = static_cast<size_t>(option_number("max_memory_mib", *v, 64, 1048576, false) * double(1 << 20));
+    if (auto v = get("max_memory_mib")) o.max_memory = static_cast<size_t>(option_number("max_memory_mib", *v, {64, 1048576}, false) * double(1 << 20));
     if (auto v = get("components")) o.component_images = option_bool("components", *v);
     return o;
 }
@@ -326,16 +331,15 @@ py::dict run(const PythonPlan& p, const py::object& scene_given, py::object prog
     RunOptions options = options_of(kw);
     RunFiles files;
     if (!output.is_none()) {
-        auto path_of = [](const py::handle& p) {
-            if (!py::isinstance<py::str>(p) && !py::isinstance(p, py::module_::import("os").attr("PathLike")))
-                throw py::type_error("output: expected an image path or a list of them");
-            return py::str(py::module_::import("os").attr("fspath")(p)).cast<std::string>();
+        auto path_of = [](const py::handle& item) {
+            if (!is_path(item)) throw py::type_error("output: expected an image path or a list of them");
+            return path_text(item);
         };
-        if (py::isinstance<py::str>(output) || py::isinstance(output, py::module_::import("os").attr("PathLike"))) {
+        if (is_path(output)) {
             files.images = {path_of(output)};
         } else {
             if (!py::isinstance<py::sequence>(output)) throw py::type_error("output: expected an image path or a list of them");
-            for (const py::handle& p : output.cast<py::sequence>()) files.images.push_back(path_of(p));
+            for (const py::handle& item : output.cast<py::sequence>()) files.images.push_back(path_of(item));
         }
         for (const auto& path : files.images)  // checked before anything renders
             if (std::string error = check_output_path(path); !error.empty()) raise_input_error(error);

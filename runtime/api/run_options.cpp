@@ -124,10 +124,10 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
         if (!ok) throw RunOptionError(what, "");
     };
     need(rs.width >= 1 && rs.height >= 1, "the image needs a width and a height of at least 1 pixel");
-    need(rs.spp >= 1, "spp: at least 1 camera sample a pixel");
-    need(shade.shadow_rays >= 1 && shade.shadow_rays <= 1024, "shadow_rays: 1 to 1024 a hit");
-    need(shade.media_samples >= 1 && shade.media_samples <= 1024, "media_samples: 1 to 1024 a camera ray");
-    need(shade.weight_limit >= 0 && shade.weight_limit <= 1, "lw: a weight limit from 0 to 1");
+    need(kSppRange.holds(rs.spp), "spp: at least 1 camera sample a pixel, at most 1048576");
+    need(kShadowRaysRange.holds(shade.shadow_rays), "shadow_rays: 1 to 1024 a hit");
+    need(kShadowRaysRange.holds(shade.media_samples), "media_samples: 1 to 1024 a camera ray");
+    need(kWeightLimitRange.holds(shade.weight_limit), "lw: a weight limit from 0 to 1");
     need(std::isfinite(rs.ambient.x) && rs.ambient.x >= 0, "ambient: a radiance of 0 or more");
 
     resolve_budget(run, plan, o);

@@ -44,6 +44,18 @@ struct LimitOrigins {
 /// The JSON text `--save-profile` writes (run_inputs.h's read_profile() reads it back).
 std::string profile_json_text(const Profile& profile, double full_render_seconds, const StageCosts& stages = {});
 
+/// The values a run's settings may take, inclusive: what `resolve_run` refuses outside them,
+/// and what the CLI's flags and Python's options check, in their own words, before.
+struct OptionRange {
+    double lo, hi;
+    bool holds(double v) const { return v >= lo && v <= hi; }
+};
+inline constexpr OptionRange kSppRange{1, 1 << 20};
+inline constexpr OptionRange kShadowRaysRange{1, 1024};  ///< also media samples
+inline constexpr OptionRange kWeightLimitRange{0, 1};
+inline constexpr OptionRange kMaxDepthRange{0, 65535};
+inline constexpr OptionRange kImageSideRange{1, 16384};
+
 struct RunOptions {
     // The plan's settings, overridden; unset: the plan's own, else the default named.
     std::optional<int> width, height;           ///< 256 x 256
