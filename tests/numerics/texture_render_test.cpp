@@ -390,7 +390,7 @@ TEST(AlphaCutout, TheOpacityMaskReadsWhatTheBackendReads) {
         state = state * 6364136223846793005ull + 1442695040888963407ull;
         v = static_cast<float>(state >> 40) / float(1 << 24);
     }
-    for (const std::string file : {write_texture("mask.png", w, h, rgb), write_texture("mask.exr", w, h, rgb)}) {
+    for (const std::string& file : {write_texture("mask.png", w, h, rgb), write_texture("mask.exr", w, h, rgb)}) {
         Scene s;
         for (TextureWrap wrap : {TextureWrap::kRepeat, TextureWrap::kClamp, TextureWrap::kMirror, TextureWrap::kBlack}) {
             Material m = testing::make_material("leaf" + std::to_string(int(wrap)), MaterialType::kPlastic, {0.5, 0.5, 0.5});
