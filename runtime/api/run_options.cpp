@@ -120,14 +120,15 @@ ResolvedRun resolve_run(const PipelinePlan& plan, const RunOptions& o) {
 
     // What `crex run`'s flags and Python's options are checked for, for every caller of the
     // library: spp 0 from C++ rendered a black image of 0 rays without a word.
-    auto need = [](bool ok, const char* what) {
+    // The messages are written from the ranges, so the two cannot drift apart.
+    auto need = [](bool ok, const std::string& what) {
         if (!ok) throw RunOptionError(what, "");
     };
     need(rs.width >= 1 && rs.height >= 1, "the image needs a width and a height of at least 1 pixel");
-    need(kSppRange.holds(rs.spp), "spp: at least 1 camera sample a pixel, at most 1048576");
-    need(kShadowRaysRange.holds(shade.shadow_rays), "shadow_rays: 1 to 1024 a hit");
-    need(kShadowRaysRange.holds(shade.media_samples), "media_samples: 1 to 1024 a camera ray");
-    need(kWeightLimitRange.holds(shade.weight_limit), "lw: a weight limit from 0 to 1");
+    need(kSppRange.holds(rs.spp), fmt::format("spp: at least {} camera sample a pixel, at most {}", kSppRange.lo, kSppRange.hi));
+    need(kShadowRaysRange.holds(shade.shadow_rays), fmt::format("shadow_rays: {} to {} a hit", kShadowRaysRange.lo, kShadowRaysRange.hi));
+    need(kShadowRaysRange.holds(shade.media_samples), fmt::format("media_samples: {} to {} a camera ray", kShadowRaysRange.lo, kShadowRaysRange.hi));
+    need(kWeightLimitRange.holds(shade.weight_limit), fmt::format("lw: a weight limit from {} to {}", kWeightLimitRange.lo, kWeightLimitRange.hi));
     need(std::isfinite(rs.ambient.x) && rs.ambient.x >= 0, "ambient: a radiance of 0 or more");
 
     resolve_budget(run, plan, o);
