@@ -169,8 +169,8 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_flag("--no-carry-cache", opt->no_carry_cache, "With --frames: start every frame from an empty irradiance cache (or "
                                                            "the --ic-file's) instead of the frame before's: what carrying it saves");
     cmd->add_option("--reuse-frames", opt->reuse_frames, "With --frames: each frame inherits the one before's light where its pixels "
-                                                         "see the same diffuse or glossy point, up to N samples' worth, and takes that many fewer "
-                                                         "of its own (at least one): faster frames, less flicker, a lag of up to N frames; implies "
+                                                         "see the same diffuse or glossy point, up to N frames' worth of its own samples, and takes that many "
+                                                         "fewer of its own (at least one): faster frames, less flicker, a lag of up to N frames; implies "
                                                          "--seed-per-frame, but a pixel inheriting nothing (an outline) keeps its samples' places")
         ->check(number_in(0, 1e4));
     cmd->add_flag("--seed-per-frame", opt->seed_per_frame, "With --frames: new noise every frame (the seed mixed with the frame "

@@ -72,7 +72,7 @@ struct RunFlags {
     double fps = 30;
     bool force = false;       ///< render frames whose files exist too
     bool no_carry_cache = false;
-    double reuse_frames = 0;  ///< --reuse-frames N: samples a pixel may inherit from the frame before
+    double reuse_frames = 0;  ///< --reuse-frames N: frames' worth of its own samples a pixel may inherit
     bool seed_per_frame = false;  ///< --seed-per-frame: new noise every frame
     std::string high_quality_frames;          ///< --high-quality-frames A..B[:S],... (Case II)
     bool high_quality_without_distractors = false;  ///< --high-quality-without-distractors

@@ -40,11 +40,12 @@ std::vector<char> shapes_that_inherit(const Scene& scene) {
 }
 
 PixelHistory inherited_history(const PixelHistory& previous, const std::vector<PixelTaps>& from, const std::vector<int32_t>& shape,
-                               const std::vector<char>& inherits, float most) {
+                               const std::vector<char>& inherits, float frames) {
     const size_t n = from.size();
     PixelHistory out;
     out.rgb.assign(3 * n, 0.0f);
     out.weight.assign(n, 0.0f);
+    out.frames = frames;
     if (previous.weight.size() != n || previous.rgb.size() != 3 * n || shape.size() != n) return out;
     for (size_t p = 0; p < n; ++p) {
         const int32_t s = shape[p];
@@ -60,7 +61,7 @@ PixelHistory inherited_history(const PixelHistory& previous, const std::vector<P
             for (size_t c = 0; c < 3; ++c) rgb[c] += w * previous.rgb[3 * k + c];
         }
         if (!(total > 0)) continue;
-        out.weight[p] = static_cast<float>(std::min<double>(weight / total, most));
+        out.weight[p] = static_cast<float>(weight / total);
         for (size_t c = 0; c < 3; ++c) out.rgb[3 * p + c] = static_cast<float>(rgb[c] / total);
     }
     return out;
@@ -69,8 +70,12 @@ PixelHistory inherited_history(const PixelHistory& previous, const std::vector<P
 std::pair<double, double> inherited_share(const PixelHistory& history) {
     size_t inherited = 0;
     double samples = 0;
-    for (const float w : history.weight)
-        if (w > 0) ++inherited, samples += w;
+    for (size_t p = 0; p < history.weight.size(); ++p) {
+        const double w = history.weight[p];
+        if (!(w > 0)) continue;
+        ++inherited;
+        samples += history.frames > 0 ? history.counted(p, std::ceil(w / (history.frames + 1.0) - 1e-9)) : w;
+    }
     return {static_cast<double>(inherited) / static_cast<double>(std::max<size_t>(1, history.weight.size())),
             inherited ? samples / static_cast<double>(inherited) : 0.0};
 }

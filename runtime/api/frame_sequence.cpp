@@ -83,13 +83,14 @@ void score_against_reference(FrameRun& f, const std::string& reference, const st
 // file (EXR or HDR: a PNG holds display values, not light), every pixel counted at the cap,
 // as nearly every pixel of a walk is after a frame or two: so a restarted walk goes on as it
 // would have. Nothing when the file is not linear light of the frame's size.
-std::optional<PixelHistory> history_from_file(const std::string& file, int width, int height, float most) {
+std::optional<PixelHistory> history_from_file(const std::string& file, int width, int height, float frames) {
     const std::string ext = lower_extension(file);
     if (ext != ".exr" && ext != ".hdr") return std::nullopt;
     PixelHistory h;
     int w = 0, ht = 0;
     if (!read_image(file, w, ht, h.rgb).empty() || w != width || ht != height) return std::nullopt;
-    h.weight.assign(static_cast<size_t>(w) * static_cast<size_t>(ht), most);
+    h.weight.assign(static_cast<size_t>(w) * static_cast<size_t>(ht), frames);
+    h.frames = frames;
     for (size_t p = 0; p < h.weight.size(); ++p)
         for (size_t c = 0; c < 3; ++c)
             if (!std::isfinite(h.rgb[3 * p + c])) h.weight[p] = 0;

@@ -89,8 +89,9 @@ struct SequenceOptions {
     /// `crex compare` does). "" for none; check_sequence_reference() before rendering.
     std::string reference;
     /// `--reuse-frames N` (frame_reuse.h): every frame after the first inherits the one
-    /// before's light where its pixels see the same point, up to N samples' worth, and takes
-    /// that many fewer of its own (at least one). 0: none; each frame renders alone.
+    /// before's light where its pixels see the same point, up to N frames' worth of the
+    /// pixel's own samples, and takes that many fewer of its own (at least one, and at least
+    /// a (N + 1)th of what it asks for). 0: none; each frame renders alone.
     float reuse_frames = 0;
     /// `--seed-per-frame`: each frame its own seed (the run's and the frame number mixed), so
     /// its noise is new every frame rather than a pattern fixed to the screen that the scene

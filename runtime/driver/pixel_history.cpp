@@ -16,7 +16,7 @@ void blend_history(std::vector<float>& rgb, const Film& film, const PixelHistory
     // Rows in parallel: each pixel reads the frame's own values (a copy) and writes only itself.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t p = range.begin(); p < range.end(); ++p) {
-            const double own = film.samples(static_cast<uint32_t>(p)), inherited = history.weight[p];
+            const double own = film.samples(static_cast<uint32_t>(p)), inherited = history.counted(p, own);
             if (!(own > 0) || !(inherited > 0)) continue;
             // The inherited value clipped to what the pixel's 3x3 neighbourhood of this frame's own
             // samples makes likely (mean +- kHistoryClip standard deviations, each channel): light
@@ -53,13 +53,14 @@ PixelHistory history_of(const std::vector<float>& image, const Film& film, const
     PixelHistory out;
     out.rgb = image;
     out.weight.assign(n, 0.0f);
+    if (inherited) out.frames = inherited->frames;
     if (image.size() != 3 * n) return out;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t p = range.begin(); p < range.end(); ++p) {
             const uint32_t own = film.samples(static_cast<uint32_t>(p));
             bool finite = true;
             for (size_t c = 0; c < 3; ++c) finite = finite && std::isfinite(image[3 * p + c]);
-            if (own > 0 && finite) out.weight[p] = static_cast<float>(own) + (inherited ? inherited->samples(p) : 0.0f);
+            if (own > 0 && finite) out.weight[p] = static_cast<float>(own + (inherited ? inherited->counted(p, own) : 0.0));
         }
     });
     return out;

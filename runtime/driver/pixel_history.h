@@ -3,8 +3,9 @@
 /// frame's final value at the surface point each pixel sees, counted as some of the pixel's
 /// samples. A pixel that inherits h of them takes h fewer of its own (at least one), and its
 /// image is its own samples' mean and the inherited value, weighted by their counts: the
-/// temporal accumulation of real-time renderers, with the count capped so that what a frame
-/// inherits fades. Inherited light is the light of a point seen from where the camera was a
+/// temporal accumulation of real-time renderers, with the count capped at N frames' worth of
+/// the pixel's own samples (`--reuse-frames N`) so that what a frame inherits fades, by
+/// N / (N + 1) a frame whatever the pixel's own count. Inherited light is the light of a point seen from where the camera was a
 /// frame ago: right for light that does not depend on the view, so frame_reuse.h lets only
 /// surfaces without an ideal specular lobe inherit.
 #pragma once
@@ -20,15 +21,29 @@ namespace crex {
 
 struct PixelHistory {
     std::vector<float> rgb;     ///< per pixel RGB radiance (linear)
-    std::vector<float> weight;  ///< per pixel, the samples the value counts as (0: none)
+    std::vector<float> weight;  ///< per pixel, the samples the value carries (0: none), before the cap
+    /// The cap: beside n samples of its own a pixel's inherited value counts as at most
+    /// `frames` x n samples (`--reuse-frames`; 0: no cap).
+    float frames = 0;
     float samples(size_t pixel) const { return pixel < weight.size() ? weight[pixel] : 0.0f; }
+    /// What pixel `pixel`'s inherited value counts as beside `own` samples of its own.
+    double counted(size_t pixel, double own) const {
+        const double h = std::max(0.0f, samples(pixel));
+        return frames > 0 ? std::min(h, static_cast<double>(frames) * own) : h;
+    }
 };
 
-/// Of `spp` samples a pixel is to have, those it takes itself when it inherits `inherited`:
-/// the rest, and at least one (new light at every pixel every frame).
-inline uint32_t own_samples(uint32_t spp, float inherited) {
-    const double rest = std::ceil(static_cast<double>(spp) - static_cast<double>(std::max(0.0f, inherited)) - 1e-9);
-    return spp == 0 ? 0 : static_cast<uint32_t>(std::clamp(rest, 1.0, static_cast<double>(spp)));
+/// Of `spp` samples a pixel asks for, those it takes itself when it carries `inherited` from
+/// the frame before, capped at `frames` times its own (PixelHistory::frames): the rest, and
+/// at least spp / (frames + 1), and at least one (new light at every pixel every frame). The
+/// second keeps the weight of a frame's own samples at 1 / (frames + 1) however many a pixel
+/// asks for: with the rest alone, a pixel asking for 16 beside 8 inherited took 8, weighed
+/// half its image and flickered more than one asking for 9, which took 1 at a ninth.
+inline uint32_t own_samples(double spp, float inherited, float frames) {
+    if (!(spp > 0)) return 0;
+    const double rest = std::ceil(spp - static_cast<double>(std::max(0.0f, inherited)) - 1e-9);
+    const double share = frames > 0 ? std::ceil(spp / (static_cast<double>(frames) + 1) - 1e-9) : 0.0;
+    return static_cast<uint32_t>(std::clamp(std::max(rest, share), 1.0, std::ceil(spp - 1e-9)));
 }
 
 /// How far an inherited value may lie from the mean of its pixel's neighbourhood in this

@@ -139,7 +139,7 @@ private:
         SampleRanges r{first, first + s_.spp, {}, {}};
         if (!s_.history) return r;
         r.end_of.resize(out_.film.pixel_count());
-        for (size_t p = 0; p < r.end_of.size(); ++p) r.end_of[p] = first + own_samples(s_.spp, s_.history->samples(p));
+        for (size_t p = 0; p < r.end_of.size(); ++p) r.end_of[p] = first + own_samples(s_.spp, s_.history->samples(p), s_.history->frames);
         return r;
     }
     // A pixel whose only samples of its own are the preview's, the rest inherited from the
@@ -147,7 +147,7 @@ private:
     // asks for; its preview sample, a small share of the pixel, keeps the preview's.
     bool inherits_its_quality(const SelectiveSetup& sel, size_t p) const {
         if (!s_.history || !(s_.history->samples(p) > 0)) return false;
-        return own_samples(std::max(s_.spp, sel.spp_end[p]), s_.history->samples(p)) <= s_.spp;
+        return own_samples(std::max(s_.spp, sel.spp_end[p]), s_.history->samples(p), s_.history->frames) <= s_.spp;
     }
 
     // Distributed rendering: rows (and the cache's records) exchanged with the other processes,
@@ -499,7 +499,8 @@ void PlanRun::selective_round(uint32_t round, uint32_t rounds, const SelectiveSe
     for (size_t p = 0; p < pixels; ++p) {
         ranges.start_of[p] = out_.film.samples(static_cast<uint32_t>(p));
         double target = sel.spp_end[p] <= s_.spp ? 0 : s_.spp + double(sel.spp_end[p] - s_.spp) * round / rounds;
-        if (s_.history) target -= s_.history->samples(p);  // inherited samples count (the preview's stay: at least one own)
+        // Inherited samples count, up to the cap (own_samples); the preview's stay.
+        if (s_.history && target > 0) target = own_samples(target, s_.history->samples(p), s_.history->frames);
         ranges.end_of[p] = static_cast<uint32_t>(std::max(0.0, std::ceil(target - 1e-9)));
     }
     last_stage_ = round == rounds;

@@ -9,14 +9,41 @@ namespace crex {
 namespace {
 
 TEST(PixelHistory, APixelTakesWhatItDoesNotInheritAndAlwaysOneSample) {
-    EXPECT_EQ(own_samples(8, 0), 8u);
-    EXPECT_EQ(own_samples(8, 3), 5u);
-    EXPECT_EQ(own_samples(8, 2.5f), 6u);  // a part of a sample is not one
-    EXPECT_EQ(own_samples(8, 7.9f), 1u);
-    EXPECT_EQ(own_samples(8, 100), 1u);
-    EXPECT_EQ(own_samples(1, 5), 1u);
-    EXPECT_EQ(own_samples(0, 5), 0u);
-    EXPECT_EQ(own_samples(4, -3), 4u);
+    EXPECT_EQ(own_samples(8, 0, 8), 8u);
+    EXPECT_EQ(own_samples(8, 3, 8), 5u);
+    EXPECT_EQ(own_samples(8, 2.5f, 8), 6u);  // a part of a sample is not one
+    EXPECT_EQ(own_samples(8, 7.9f, 8), 1u);
+    EXPECT_EQ(own_samples(8, 100, 8), 1u);
+    EXPECT_EQ(own_samples(1, 5, 8), 1u);
+    EXPECT_EQ(own_samples(0, 5, 8), 0u);
+    EXPECT_EQ(own_samples(4, -3, 8), 4u);
+    EXPECT_EQ(own_samples(8, 100, 0), 1u);  // no cap
+}
+
+// A pixel asking for more than frames + 1 samples takes at least spp / (frames + 1) of its
+// own, however much it carries: so its own samples keep a weight of 1 / (frames + 1).
+TEST(PixelHistory, APixelAskingForManyTakesAShareOfThemEveryFrame) {
+    EXPECT_EQ(own_samples(16, 8, 8), 8u);    // the rest: 8 beside 8 inherited
+    EXPECT_EQ(own_samples(16, 16, 8), 2u);   // 16 / 9, up: 2 beside 16
+    EXPECT_EQ(own_samples(18, 100, 8), 2u);  // at the cap
+    EXPECT_EQ(own_samples(27, 24, 8), 3u);
+    EXPECT_EQ(own_samples(9, 100, 8), 1u);   // up to frames + 1 as before
+    EXPECT_EQ(own_samples(16, 100, 0), 1u);  // no cap: no share
+}
+
+// The inherited value counts as at most `frames` times the pixel's own samples.
+TEST(PixelHistory, TheInheritedCountIsCappedAtFramesTimesTheOwnSamples) {
+    PixelHistory h;
+    h.weight = {20, 4, 0};
+    h.frames = 8;
+    EXPECT_DOUBLE_EQ(h.counted(0, 1), 8.0);
+    EXPECT_DOUBLE_EQ(h.counted(0, 2), 16.0);
+    EXPECT_DOUBLE_EQ(h.counted(0, 3), 20.0);
+    EXPECT_DOUBLE_EQ(h.counted(1, 1), 4.0);
+    EXPECT_DOUBLE_EQ(h.counted(2, 1), 0.0);
+    EXPECT_DOUBLE_EQ(h.counted(7, 1), 0.0);  // beyond the image
+    h.frames = 0;
+    EXPECT_DOUBLE_EQ(h.counted(0, 1), 20.0);
 }
 
 // Pixels 0 and 1 have two samples each of their own, means 1 and 3; pixel 2 none. Each
@@ -68,9 +95,9 @@ TEST(FrameReuse, OnlySurfacesWhoseLightHoldsAsTheEyeMovesInherit) {
 }
 
 // Pixel p blends its taps' values and counts by their weights, over the taps whose pixel had
-// samples of its own; the count capped. Nothing across a shape that may not inherit, nor
-// where no tap matched.
-TEST(FrameReuse, APixelBlendsItsTapsAndCapsTheirCount) {
+// samples of its own; the count carried uncapped with the cap beside it. Nothing across a
+// shape that may not inherit, nor where no tap matched.
+TEST(FrameReuse, APixelBlendsItsTapsAndCarriesTheirCountAndTheCap) {
     PixelHistory before;
     before.rgb = {1, 1, 1, 2, 2, 2, 3, 3, 3};
     before.weight = {20, 4, 0};
@@ -87,7 +114,12 @@ TEST(FrameReuse, APixelBlendsItsTapsAndCapsTheirCount) {
     EXPECT_FLOAT_EQ(h.weight[1], 4.0f);
     EXPECT_FLOAT_EQ(h.weight[2], 0.0f);  // no tap
     const PixelHistory capped = inherited_history(before, {taps({{0, 1}}), taps({}), taps({})}, {0, 0, 0}, {1}, 5);
-    EXPECT_FLOAT_EQ(capped.weight[0], 5.0f);
+    EXPECT_FLOAT_EQ(capped.weight[0], 20.0f);
+    EXPECT_FLOAT_EQ(capped.frames, 5.0f);
+    EXPECT_DOUBLE_EQ(capped.counted(0, 1), 5.0);
+    // What the frame says it inherited: the count beside the fewest own samples that carry it
+    // on (20 at a cap of 5 frames is ceil(20 / 6) = 4 own samples, 20 counted).
+    EXPECT_DOUBLE_EQ(inherited_share(capped).second, 20.0);
     EXPECT_FLOAT_EQ(inherited_history(before, from, {1, 1, 1}, {1, 0}, 8).weight[0], 0.0f) << "shape 1 may not inherit";
 }
 
