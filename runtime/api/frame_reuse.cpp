@@ -74,7 +74,7 @@ std::pair<double, double> inherited_share(const PixelHistory& history) {
         const double w = history.weight[p];
         if (!(w > 0)) continue;
         ++inherited;
-        samples += history.frames > 0 ? history.counted(p, std::ceil(w / (history.frames + 1.0) - 1e-9)) : w;
+        samples += history.counted(p, own_samples(w, static_cast<float>(w), history.frames));  // the fewest own that carry it
     }
     return {static_cast<double>(inherited) / static_cast<double>(std::max<size_t>(1, history.weight.size())),
             inherited ? samples / static_cast<double>(inherited) : 0.0};

@@ -5,9 +5,9 @@
 /// image is its own samples' mean and the inherited value, weighted by their counts: the
 /// temporal accumulation of real-time renderers, with the count capped at N frames' worth of
 /// the pixel's own samples (`--reuse-frames N`) so that what a frame inherits fades, by
-/// N / (N + 1) a frame whatever the pixel's own count. Inherited light is the light of a point seen from where the camera was a
-/// frame ago: right for light that does not depend on the view, so frame_reuse.h lets only
-/// surfaces without an ideal specular lobe inherit.
+/// N / (N + 1) a frame whatever the pixel's own count. Inherited light is the light of a
+/// point seen from where the camera was a frame ago: right for light that does not depend on
+/// the view, so frame_reuse.h lets only surfaces without an ideal specular lobe inherit.
 #pragma once
 
 #include <algorithm>
