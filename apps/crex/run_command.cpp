@@ -216,25 +216,24 @@ int read_camera_path_file(Request& r, LeadChecks& lead) {
         return kExitFailure;
     }
     DiagnosticSink sink;
+    auto refused = [&] {
+        std::cerr << fmt::format("crex run: {} error{} in the camera path; nothing rendered\n", sink.error_count(),
+                                 sink.error_count() == 1 ? "" : "s");
+        return kExitInputErrors;
+    };
     if (is_gltf_path(r.camera_path)) {  // its camera's animation, as a path of keys
         SceneSources sources;
         text = gltf_camera_path_json(r.camera_path, r.input.camera, sources, sink);
         if (!text) {
             std::cerr << render_text(sink.sorted());
-            std::cerr << fmt::format("crex run: {} error{} in the camera path; nothing rendered\n", sink.error_count(),
-                                     sink.error_count() == 1 ? "" : "s");
-            return kExitInputErrors;
+            return refused();
         }
     }
     lead.path_text = *text;
     const SourceFile file(r.camera_path, std::move(*text));
     lead.path = read_camera_path(file, r.sequence.fps, sink);
     std::cerr << render_text(sink.sorted());
-    if (!lead.path || sink.has_errors()) {
-        std::cerr << fmt::format("crex run: {} error{} in the camera path; nothing rendered\n", sink.error_count(),
-                                 sink.error_count() == 1 ? "" : "s");
-        return kExitInputErrors;
-    }
+    if (!lead.path || sink.has_errors()) return refused();
     if (std::string wrong = sequence_frames(*lead.path, r.sequence.fps, r.frames, r.sequence.frames); !wrong.empty()) {
         std::cerr << "crex run: error: " << wrong << "\n";
         return kExitUsage;
@@ -292,6 +291,10 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
     if (files.images.empty()) files.images = defaults = {"out/render.exr", "out/render.png"};
     if (!r.camera_path.empty()) {
         if (int status = read_camera_path_file(r, lead); status != kExitOk) return status;
+        if (std::string far = check_path_cameras(*lead.path, r.sequence.fps, r.sequence.frames, *in.scene->scene); !far.empty()) {
+            std::cerr << fmt::format("crex run: error: --camera-path: {}; nothing rendered\n", far);
+            return kExitInputErrors;
+        }
         const double frames = static_cast<double>(r.sequence.frames.frames().size());
         if (r.sequence.budget_seconds > 0 && run->fixed_costs && !r.options.budget_floor_ok &&
             r.sequence.budget_seconds / frames < run->fixed_costs->floor_seconds) {

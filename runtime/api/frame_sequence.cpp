@@ -191,6 +191,14 @@ std::string check_frame_range(const FrameRange& range, const CameraPath& path, d
                        range.last, fps, on.first, on.last, path.start_time(), path.end_time());
 }
 
+std::string check_path_cameras(const CameraPath& path, double fps, const FrameRange& range, const Scene& scene) {
+    const SceneBox box = scene_box(scene);
+    for (const int64_t frame : range.frames())
+        if (std::string problem = camera_problem(path.camera_at(frame_time(frame, fps), scene.camera), box); !problem.empty())
+            return fmt::format("frame {}: the camera is {}", frame, problem);
+    return "";
+}
+
 std::string sequence_frames(const CameraPath& path, double fps, const std::optional<FrameRange>& given, FrameRange& out) {
     if (!given) {
         out = path_frames(path, fps);

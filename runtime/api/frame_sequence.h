@@ -57,6 +57,11 @@ std::string sequence_frames(const CameraPath& path, double fps, const std::optio
 /// frames the path has).
 std::string check_frame_range(const FrameRange& range, const CameraPath& path, double fps);
 
+/// "" when the camera of every frame in `range` can view `scene` (camera_problem: finite, and
+/// within float rays' reach of the scene), else the first frame that cannot and why. A path's
+/// keys can be anywhere its file allows; the scene decides how far is too far.
+std::string check_path_cameras(const CameraPath& path, double fps, const FrameRange& range, const Scene& scene);
+
 /// `out/walk.png`, 7 -> `out/walk.0007.png` (more digits past 9999).
 std::string frame_file_name(const std::string& path, int64_t frame);
 

@@ -176,6 +176,17 @@ RunInputs load_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
         sink.withdraw("W305");  // the scene's missing view: this one replaces it
         apply_radiance_view(*in.view_source, view_file_words(*in.view_source), scene->camera, true, sink);
     }
+    // The loader checked the scene's own camera; one chosen or given here is checked alike.
+    if ((!spec.camera.empty() || in.view_source) && scene)
+        if (std::string problem = camera_problem(scene->camera, scene_box(*scene)); !problem.empty()) {
+            if (in.view_source) {
+                sink.report("E303", {in.view_source.get(), 0, static_cast<uint32_t>(in.view_source->line_text(1).size())}, "view: the camera is " + problem);
+            } else {
+                in.failure = fmt::format("--camera {}: the camera is {}", spec.camera, problem);
+                in.failure_in_content = true;
+                return in;
+            }
+        }
     if (!spec.profile.empty()) {
         std::string error;
         auto text = read_input(spec.profile, error);

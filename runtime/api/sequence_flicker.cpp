@@ -26,6 +26,7 @@ std::string sequence_flicker(const std::vector<std::string>& files, const std::v
     std::optional<Scene> scene = load_scene(out.scene, sources, sink, failure);
     if (!scene) return fmt::format("the scene {} does not load: {}", out.scene, failure.message.empty() ? render_text(sink.sorted()) : failure.message);
     const Camera scene_camera = scene->camera;
+    const SceneBox box = scene_box(*scene);
     const RenderScene rs(*scene);
     std::optional<FrameGeometry> previous_geometry;
     std::vector<float> previous_image;
@@ -44,6 +45,8 @@ std::string sequence_flicker(const std::vector<std::string>& files, const std::v
         Camera camera = scene_camera;
         apply_radiance_view(view_file, view_file_words(view_file), camera, false, view_sink);
         if (view_sink.has_errors()) return render_text(view_sink.sorted());
+        if (std::string problem = camera_problem(camera, box); !problem.empty())  // a header can say anything
+            return fmt::format("{}: its view (crex:view) puts the camera {}", files[i], problem);
         scene->camera = camera;  // the render scene traces from the scene's camera as it is now
         FrameGeometry geometry = frame_geometry(rs, w, h);
         if (!(exposure > 0)) exposure = display_exposure(rgb);

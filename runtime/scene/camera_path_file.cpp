@@ -146,6 +146,10 @@ public:
                     return std::nullopt;
                 }
         CameraPath path(std::move(out), *aim, timing, std::move(fields));
+        if (!std::isfinite(path.length())) {
+            sink_.report("E303", doc_.span("/keys"), "keys: the positions are too far apart to measure the path between them (its length overflows)");
+            return std::nullopt;
+        }
         if (long s = degenerate_segment(path); s >= 0) {
             sink_.report("E306", doc_.span(pointers[static_cast<size_t>(s) + (path.segments() > 0 ? 1 : 0)]),
                          path.segments() == 0
@@ -252,7 +256,13 @@ std::optional<CameraPath> read_view_lines(const SourceFile& file, double fps, Di
     PathFields fields;
     fields.up = fields.fov = true;
     fields.base = first;
-    return CameraPath(std::move(keys), PathAim::kDirection, PathTiming::kKeys, std::move(fields));
+    CameraPath path(std::move(keys), PathAim::kDirection, PathTiming::kKeys, std::move(fields));
+    if (!std::isfinite(path.length())) {
+        sink.report("E303", {&file, 0, static_cast<uint32_t>(file.line_text(1).size())},
+                    "the views' positions are too far apart to measure the path between them (its length overflows)");
+        return std::nullopt;
+    }
+    return path;
 }
 
 }  // namespace

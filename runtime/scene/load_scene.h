@@ -4,6 +4,7 @@
 /// E3xx/W3xx); a scene is returned only when there were no errors.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -70,6 +71,22 @@ std::string scene_json_text(const Scene& scene);
 /// a hash of its bytes and its file name instead of its path (kept where it cannot be read).
 /// The same scene in another checkout gives the same text; an edited image gives another.
 std::string scene_identity_text(const Scene& scene);
+
+/// Rays are float in coordinates centred on the scene (runtime/trace): beyond this many units
+/// from that centre they lose all precision, and Embree aborted (exit 134) near 1.8e18.
+inline constexpr double kMaxReach = 1e15;
+
+/// The box around every shape of a scene (lo > hi: no shapes).
+struct SceneBox {
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+};
+SceneBox scene_box(const Scene& scene);
+/// What keeps `camera` from viewing the scene in `box` with float rays: a non-finite position,
+/// direction or up, a direction that is zero or along up, or a place more than kMaxReach from
+/// the box's centre; "" if nothing.
+/// Every camera a run renders from is checked: the scene's, a --view's, --camera's, and
+/// each frame's on a camera path.
+std::string camera_problem(const Camera& camera, const SceneBox& box);
 
 /// Checks that apply to every loader's result: finite camera, materials referenced by shapes
 /// exist, geometry not degenerate (relative to the scene's size), at least one light (W302).

@@ -16,9 +16,29 @@ const Material* Scene::find_material(const std::string& name) const {
     return nullptr;
 }
 
+SceneBox scene_box(const Scene& scene) {
+    SceneBox box;
+    for (const auto& s : scene.shapes) expand_bounds(s, box.lo, box.hi);
+    return box;
+}
+
+std::string camera_problem(const Camera& c, const SceneBox& box) {
+    if (!is_finite(c.position) || !is_finite(c.direction) || !is_finite(c.up)) return "non-finite position, direction or up vector";
+    // Camera rays span the plane across the direction and up: without it every ray is the same.
+    if (!(length(cross(normalize_or_zero(c.direction), normalize_or_zero(c.up))) > 1e-6))
+        return "looking along its up vector (or nowhere): it has no image plane";
+    if (is_finite(box.hi - box.lo) && length(box.hi - box.lo) <= kMaxReach) {
+        const double d = length(c.position - (box.lo + box.hi) * 0.5);
+        if (!(d <= kMaxReach))
+            return std::isfinite(d) ? fmt::format("{:.3g} units from the scene, more than float rays can represent ({:g})", d, kMaxReach)
+                                    : fmt::format("farther from the scene than float rays can represent ({:g} units)", kMaxReach);
+    }
+    return "";
+}
+
 void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::function<SourceSpan(size_t)>& locate) {
-    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (const auto& s : scene.shapes) expand_bounds(s, lo, hi);
+    const SceneBox box = scene_box(scene);
+    const Vec3 lo = box.lo, hi = box.hi;
     size_t lights = 0;
     std::set<std::string> over_bright;  // said once a material
     for (size_t i = 0; i < scene.shapes.size(); ++i) {
@@ -76,21 +96,12 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
     if (!(max_component(scene.background) <= kMaxRadiance))
         sink.report("E303", locate(SIZE_MAX), fmt::format("background: radiance {:g} is beyond the {:g} crex can render",
                                                           max_component(scene.background), kMaxRadiance));
-    const Camera& c = scene.camera;
-    if (!is_finite(c.position) || !is_finite(c.direction) || !is_finite(c.up))
-        sink.report("E303", locate(SIZE_MAX), "camera: non-finite position, direction or up vector");
-    // Rays are float in coordinates centred on the scene (runtime/trace): beyond ~1e15 units
-    // from that centre they lose all precision, and Embree aborted (exit 134) near 1.8e18.
-    constexpr double kMaxReach = 1e15;
-    if (is_finite(hi - lo)) {
-        Vec3 centre = (lo + hi) * 0.5;
-        if (length(hi - lo) > kMaxReach)
-            sink.report("E303", locate(SIZE_MAX), fmt::format("the scene spans {:.3g} units: more than float rays can represent ({:g})",
-                                                              length(hi - lo), kMaxReach));
-        if (is_finite(c.position) && length(c.position - centre) > kMaxReach)
-            sink.report("E303", locate(SIZE_MAX), fmt::format("camera: {:.3g} units from the scene, more than float rays can represent ({:g})",
-                                                              length(c.position - centre), kMaxReach))
-                .help = "move the camera closer, or scale the scene down";
+    if (is_finite(hi - lo) && length(hi - lo) > kMaxReach)
+        sink.report("E303", locate(SIZE_MAX), fmt::format("the scene spans {:.3g} units: more than float rays can represent ({:g})",
+                                                          length(hi - lo), kMaxReach));
+    if (const std::string problem = camera_problem(scene.camera, box); !problem.empty()) {
+        Diagnostic& d = sink.report("E303", locate(SIZE_MAX), "camera: " + problem);
+        if (problem.find("from the scene") != std::string::npos) d.help = "move the camera closer, or scale the scene down";
     }
     if (scene.shapes.empty())
         sink.report("W302", locate(SIZE_MAX), "the scene has no shapes: the image will show the background only")

@@ -253,6 +253,22 @@ TEST_F(CrexFramesCli, CompareScoresSequencesAndTheirFlickerFromTheFiles) {
     EXPECT_NE(missing.err.find("t.0004.exr"), std::string::npos) << missing.err;
     auto alone = crex_cli({"compare", frame_file(path("t.exr"), 0), frame_file(path("r.exr"), 0), "--flicker"});
     EXPECT_EQ(alone.exit_code, 2) << alone.err;
+    // A header whose view puts the camera beyond float rays' reach is said, not traced (Embree
+    // aborted, exit 134).
+    for (int f = 0; f < 2; ++f) {
+        int w = 0, h = 0;
+        ImageMetadata metadata;
+        ASSERT_EQ(read_image_metadata(frame_file(path("t.exr"), f), w, h, metadata), "");
+        for (ImageAttribute& a : metadata)
+            if (f == 1 && a.name == "crex:view") a.value = std::string("-vp 0 1e300 0 -vd 0 0 -1 -vu 0 1 0");
+        ImageLayer layer;
+        layer.rgb = pixels(frame_file(path("t.exr"), f));
+        ASSERT_EQ(write_image(frame_file(path("far.exr"), f), w, h, {layer}, metadata), "");
+    }
+    auto far = crex_cli({"compare", path("far.exr"), path("t.exr"), "--frames", "0..1", "--flicker"});
+    EXPECT_NE(far.exit_code, 0);
+    EXPECT_NE(far.exit_code, 134);
+    EXPECT_NE(far.err.find("far.0001.exr: its view (crex:view) puts the camera farther from the scene"), std::string::npos) << far.err;
 }
 
 // --reference with a path names a sequence: each frame it has is scored as `crex compare`
@@ -374,6 +390,20 @@ TEST_F(CrexFramesCli, RefusesWhatDoesNotGoTogether) {
         {{"--camera-path", path_file, "--sequence-budget", "soon"}, 2, "--sequence-budget soon"},
         {{"--camera-path", path_file, "--reference", "auto"}, 2, "give the reference sequence's name"},
         {{"--camera-path", path_file, "--frames", "0..2", "--reference", path("none.exr")}, 3, "no frame of 0 .. 2 exists"},
+        // Cameras float rays cannot trace from: Embree aborted (exit 134) on each (camera_path_fuzzer).
+        {{"--camera-path", write("far.json", "{\"keys\": [{\"time\": 0, \"position\": [0, 1e17, 3], \"look_at\": [0, 1e17, 0]},"
+                                             " {\"time\": 1, \"position\": [0, 1, 3], \"look_at\": [0, 1, 0]}]}")},
+         1, "--camera-path: frame 0: the camera is 1e+17 units from the scene, more than float rays can represent"},
+        {{"--camera-path", write("huge.vf", "-vp 0 1.5e308 3 -vd 0 0 -1 -vu 0 1 0\n-vp 0 1.5 2.9 -vd 0.1 0 -1 -vu 0 1 0\n")}, 1,
+         "huge.vf:1:1: error[E303]: the views' positions are too far apart"},
+        {{"--camera-path", write("huge.json", "{\"keys\": [{\"time\": 0, \"position\": [0, 1e300, 3], \"look_at\": [0, 0, 0]},"
+                                              " {\"time\": 1, \"position\": [0, 1, 3], \"look_at\": [0, 0, 0]}]}")},
+         1, "huge.json:1:10: error[E303]: keys: the positions are too far apart"},
+        // No "up": the scene camera's, which the path's last direction is parallel to.
+        {{"--camera-path", write("up.json", "{\"keys\": [{\"time\": 0, \"position\": [0, 1, 3], \"direction\": [0, 0, -1]},"
+                                            " {\"time\": 1, \"position\": [0, 1, 2], \"direction\": [0, 1, 0]}]}")},
+         1, "--camera-path: frame 30: the camera is looking along its up vector"},
+        {{"--view", write("far.vf", "-vp 0 2e18 3 -vd 0 0 -1 -vu 0 1 0\n")}, 1, "far.vf:1:1: error[E303]: view: the camera is 2e+18 units"},
     };
     for (const Case& c : cases) {
         auto r = crex_cli(run_args(c.args));

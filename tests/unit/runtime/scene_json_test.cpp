@@ -253,5 +253,30 @@ TEST(SceneDegeneracy, ACameraBeyondWhatFloatRaysReachIsALocatedError) {
     EXPECT_NE(far.find("E303")->message.find("more than float rays can represent"), std::string::npos) << far.find("E303")->message;
 }
 
+TEST(SceneDegeneracy, ACameraIsJudgedAgainstTheScenesCentreNotTheOrigin) {
+    // Every camera a run renders from (--view, --camera, each frame of a path) goes through
+    // camera_problem, as the scene's own does.
+    SceneBox box;
+    box.lo = {1e16 - 1, -1, -1};
+    box.hi = {1e16 + 1, 1, 1};
+    Camera near;
+    near.position = {1e16, 0, 5};
+    EXPECT_EQ(camera_problem(near, box), "");
+    Camera far = near;
+    far.position = {0, 0, 5};
+    EXPECT_NE(camera_problem(far, box).find("1e+16 units from the scene"), std::string::npos) << camera_problem(far, box);
+    far.position = {0, 1.5e308, 0};  // its distance overflows: still said in words, not "inf"
+    EXPECT_NE(camera_problem(far, box).find("farther from the scene than float rays can represent"), std::string::npos);
+    Camera nan = near;
+    nan.direction.x = NAN;
+    EXPECT_NE(camera_problem(nan, box).find("non-finite"), std::string::npos);
+    EXPECT_EQ(camera_problem(far, SceneBox{}), "");  // a scene without shapes has no centre to be far from
+    Camera up = near;
+    up.direction = {0, 2, 0};  // along its up: every camera ray would be the same
+    EXPECT_NE(camera_problem(up, box).find("looking along its up vector"), std::string::npos) << camera_problem(up, box);
+    up.direction = {};
+    EXPECT_NE(camera_problem(up, box).find("looking along its up vector"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace crex
