@@ -93,9 +93,9 @@ run_fuzz() {
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
   local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer view_fuzzer obj_fuzzer profile_fuzzer
-                 profile_numbers_fuzzer ic_records_fuzzer gltf_fuzzer mtl_fuzzer)
+                 profile_numbers_fuzzer ic_records_fuzzer gltf_fuzzer mtl_fuzzer camera_path_fuzzer)
   cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl}
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl,camera_path}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
   for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad tests/fuzz/radiance_seed.rad tests/fuzz/radiance_patterns_seed.rad; do
@@ -143,12 +143,16 @@ PY
   printf '{"format": "crex-profile", "version": 1, "full_render_seconds": 1.33, "seconds_per_ray": {"D": 3.5e-06, "T": 2.7e-06, "camera": 4.1e-07}}\n' \
     > build/fuzz/corpus/profile/seed_profile
   head -c 96 /dev/urandom > build/fuzz/corpus/profile_numbers/seed_random
+  cp examples/paths/*.json build/fuzz/corpus/camera_path/
+  printf 'rpict -vtv -vp 0 1.5 3 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45\n-vp 0 1.5 2.9 -vd 0.1 0 -1 -vu 0 1 0\n' > build/fuzz/corpus/camera_path/seed_views
   local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan
                    [ic_file_fuzzer]=ic [view_fuzzer]=view [obj_fuzzer]=obj [profile_fuzzer]=profile
-                   [profile_numbers_fuzzer]=profile_numbers [ic_records_fuzzer]=ic_records [gltf_fuzzer]=gltf [mtl_fuzzer]=mtl)
+                   [profile_numbers_fuzzer]=profile_numbers [ic_records_fuzzer]=ic_records [gltf_fuzzer]=gltf [mtl_fuzzer]=mtl
+                   [camera_path_fuzzer]=camera_path)
   local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384
                     [ic_file_fuzzer]=65536 [view_fuzzer]=512 [obj_fuzzer]=4096 [profile_fuzzer]=2048
-                    [profile_numbers_fuzzer]=256 [ic_records_fuzzer]=4096 [gltf_fuzzer]=65536 [mtl_fuzzer]=4096)
+                    [profile_numbers_fuzzer]=256 [ic_records_fuzzer]=4096 [gltf_fuzzer]=65536 [mtl_fuzzer]=4096
+                    [camera_path_fuzzer]=4096)
   # Every target runs even when one finds a crash (its input is written as crash-*); the
   # script fails at the end if any did.
   local failed=()
