@@ -180,7 +180,8 @@ RunInputs load_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
     if ((!spec.camera.empty() || in.view_source) && scene)
         if (std::string problem = camera_problem(scene->camera, scene_box(*scene)); !problem.empty()) {
             if (in.view_source) {
-                sink.report("E303", {in.view_source.get(), 0, static_cast<uint32_t>(in.view_source->line_text(1).size())}, "view: the camera is " + problem);
+                const SourceSpan first_line{in.view_source.get(), 0, static_cast<uint32_t>(in.view_source->line_text(1).size())};
+                sink.report("E303", first_line, "view: the camera is " + problem);
             } else {
                 in.failure = fmt::format("--camera {}: the camera is {}", spec.camera, problem);
                 in.failure_in_content = true;

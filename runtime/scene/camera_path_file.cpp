@@ -147,7 +147,8 @@ public:
                 }
         CameraPath path(std::move(out), *aim, timing, std::move(fields));
         if (!std::isfinite(path.length())) {
-            sink_.report("E303", doc_.span("/keys"), "keys: the positions are too far apart to measure the path between them (its length overflows)");
+            sink_.report("E303", doc_.span("/keys"),
+                         "keys: the positions are too far apart to measure the path between them (its length overflows)");
             return std::nullopt;
         }
         if (long s = degenerate_segment(path); s >= 0) {
