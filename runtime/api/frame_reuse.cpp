@@ -71,10 +71,10 @@ std::pair<double, double> inherited_share(const PixelHistory& history) {
     size_t inherited = 0;
     double samples = 0;
     for (size_t p = 0; p < history.weight.size(); ++p) {
-        const double w = history.weight[p];
+        const float w = history.weight[p];
         if (!(w > 0)) continue;
         ++inherited;
-        samples += history.counted(p, own_samples(w, static_cast<float>(w), history.frames));  // the fewest own that carry it
+        samples += history.counted(p, own_samples(w, w, history.frames));  // the fewest own that carry it
     }
     return {static_cast<double>(inherited) / static_cast<double>(std::max<size_t>(1, history.weight.size())),
             inherited ? samples / static_cast<double>(inherited) : 0.0};
