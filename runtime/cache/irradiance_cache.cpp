@@ -226,6 +226,7 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
     const auto start = Clock::now();
     double lookups = 0;
     out.assign(queries.size(), Vec3{});
+    if (level == 0) stopped_ = false;
     std::vector<uint32_t> pending(queries.size());
     std::iota(pending.begin(), pending.end(), 0u);
     // Important pixels first: their records are made at their own (finer) accuracy.
@@ -291,8 +292,19 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
             const size_t limit = std::min(sites.size(), begin + per_piece);
             size_t end = begin + 1;
             while (end < limit && divisions_of(sites[end].divisions) == divisions) ++end;
+            if (stopped_ || (stop_ && stop_())) {
+                stopped_ = true;
+                out.clear();
+                return;
+            }
             std::vector<IcQuery> piece(sites.begin() + static_cast<std::ptrdiff_t>(begin), sites.begin() + static_cast<std::ptrdiff_t>(end));
-            for (const auto& r : compute(piece, level)) insert(r);
+            std::vector<IrradianceRecord> made = compute(piece, level);
+            if (stopped_) {  // a deeper level was stopped: these records lack its light
+                out.clear();
+                return;
+            }
+            for (const auto& r : made) insert(r);
+            stats_.records += made.size();  // counted when kept (a stopped piece's are not)
             if (progress_) progress_(stats_);
             begin = end;
         }
@@ -349,6 +361,7 @@ std::function<void(const RayBatch&, size_t, size_t, std::vector<Vec3>&)> executo
             x.divisions = pixels.divisions ? (*pixels.divisions)[p] : uint16_t{0};
         }
         answer(q, e);
+        if (e.size() != q.size()) return;  // the cache was stopped (set_stop): nothing answered
         if (log)
             for (size_t i = begin; i < end; ++i) {
                 const Vec3& irradiance = e[i - begin];

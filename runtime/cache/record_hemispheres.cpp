@@ -72,6 +72,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     // 350 MB of such arrays).
     release(h.last), release(h.last_dir), release(h.throughput), release(h.passed);
     add_next_bounce(h, level);
+    if (stopped_) return {};  // set_stop: the caller drops this piece
     return records_from(h, sites, level);
 }
 
@@ -85,7 +86,6 @@ IrradianceCache::Hemispheres IrradianceCache::cast_hemispheres(const std::vector
     h.N = std::max(1, static_cast<int>(std::lround(static_cast<double>(ad) / h.M)));
     h.per = static_cast<size_t>(h.M) * static_cast<size_t>(h.N);
     h.n = sites.size() * h.per;
-    stats_.records += sites.size();
     stats_.hemisphere_rays += h.n;
     h.eps = scene_.embree->ray_epsilon();
     h.last.resize(h.n);
@@ -351,6 +351,7 @@ void IrradianceCache::add_next_bounce(Hemispheres& h, uint32_t level) {
     }
     std::vector<Vec3> e;
     irradiance(q, level + 1, e);
+    if (stopped_) return;  // e is empty: the records of this level are dropped
     for (size_t k = 0; k < q.size(); ++k) h.radiance[from[k]] += weight[k] * e[k] / kPi;
 }
 

@@ -310,6 +310,10 @@ void PlanRun::start() {
         cache_->set_progress([this](const IcStats& st) {
             report_progress(fmt::format("D: irradiance cache, {} records, {:.1f} M hemisphere rays", st.records, st.hemisphere_rays / 1e6));
         });
+        // Under a budget, one query's records can outlast it: the cache stops between pieces
+        // once paced queries find the budget spent (not across processes, which answer
+        // each other's queries in step).
+        if (!group_.distributed()) cache_->set_stop([this] { return ex_ && ex_->paced_queries_out_of_time(); });
         out_.ic_loaded = load_cache_file(*cache_, s_);
         eo.shade.ic_queries = true;
         // The preview's answers are kept only where a pixel may ask for them again, finer

@@ -78,7 +78,13 @@ size_t Executor::execute_rays(const RayBatch& rays, bool camera, size_t aov, Com
         for (size_t i = begin; i < end; ++i) stats.beta[0] += rays.br[i], stats.beta[1] += rays.bg[i], stats.beta[2] += rays.bb[i];
         if (queries) {  // cached D: interpolate
             std::vector<Vec3> e;
+            pacing_queries_ = paced;  // the cache may stop making records once the budget is spent
             options_.irradiance(rays, begin, end, e);
+            pacing_queries_ = false;
+            if (e.size() != end - begin) {  // stopped: these queries are left, like the rest
+                if (paced) break;
+                e.resize(end - begin);
+            }
             for (size_t i = begin; i < end; ++i) {
                 Vec3 beta{rays.br[i], rays.bg[i], rays.bb[i]};
                 Vec3 c = beta * e[i - begin] / kPi;
@@ -231,8 +237,16 @@ bool Executor::exec(const sched::Node& node) {
             head.append(take, 0, pilot);
             ++stats.executions;
             stats_.steps.push_back({node.component, pilot});
-            execute_rays(head, false, aov_of(node.component), stats, letter, node.component);
-            first = pilot;
+            // Paced: a pilot of cache queries may make records for far longer than the budget.
+            first = execute_rays(head, false, aov_of(node.component), stats, letter, node.component, true);
+            if (first < pilot) {  // the budget was spent inside the pilot
+                stats_.steps.back().rays = first;
+                stats_.skipped.push_back({fmt::format("{} at {} ({} of {} rays)", letter, node.where.to_string(), take.size() - first, take.size()),
+                                          static_cast<double>(take.size() - first) * admission_cost(node.component).value_or(0),
+                                          options_.budget_seconds - now()});
+                put_back(take, first);
+                return first > 0;
+            }
             if (first == take.size()) return true;
             remaining = options_.budget_seconds - now();
             cost = admission_cost(node.component);

@@ -145,6 +145,9 @@ public:
     void run_camera_rays(const RayBatch& camera_rays);
     /// Runs one stage's program over the current bins; returns true if any step had work.
     bool run(const sched::Node& node);
+    /// Whether the budget is spent while cache queries run paced (their caller keeps what is
+    /// not run): the irradiance cache's stop test (IrradianceCache::set_stop).
+    bool paced_queries_out_of_time() const { return pacing_queries_ && now() >= options_.budget_seconds; }
     /// Runs a stage's whole program: as run(), or under a budget with kQueues as queues.
     bool run_stage(const sched::Node& program);
 
@@ -212,6 +215,7 @@ private:
     std::array<RayBatch, kComponentCount> pending_;
     const RayBatch* running_ = nullptr;  // the rays execute_rays is running, from running_next_ on
     size_t running_next_ = 0;
+    bool pacing_queries_ = false;  // execute_rays is handing paced queries to the cache
     // Per component, memory for its bin's next step (see exec()): each bin refills into memory
     // sized by its own last step, not by whichever bin ran before it.
     std::array<RayBatch, kComponentCount> spare_;

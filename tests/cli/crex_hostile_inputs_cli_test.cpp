@@ -415,5 +415,25 @@ TEST_F(HostileInputs, LightLeftOutByTheLimitsIsSaid) {
     EXPECT_FALSE(has(quiet.err, "W404")) << quiet.err;
 }
 
+// A 2 s budget with --ad 16384 --ab 64 ran 14.5 s (at --ad 65536 past a minute): the first 17
+// queries' records, each hemisphere ray asking the next bounce for its own. The cache now stops
+// between pieces of records once the budget is spent and the queries wait: a run ends, the D
+// rays not answered are said, and the records finished are kept in --ic-file for the next run.
+TEST_F(HostileInputs, ACacheThatWouldOutlastTheBudgetStopsInsideIt) {
+    auto r = bounded({"run", "--size", "4x4", "--ic", "--ad", "65536", "--ab", "64", "--budget", "0.3s", "--format", "json", "--ic-file",
+                      path("x.ic"), "-o", path("x.exr")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out, nullptr, false);
+    ASSERT_TRUE(j.is_object()) << r.out;
+    EXPECT_GT(j["components"]["D"]["rays_left"].get<uint64_t>(), 0u) << r.out;
+    EXPECT_TRUE(has(j["skipped_tasks"].dump(), "D at <crex>:1:8")) << r.out;
+    EXPECT_EQ(j["irradiance_cache"]["records"].get<uint64_t>(), j["irradiance_cache"]["records_made"].get<uint64_t>());
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    ASSERT_EQ(read_image(path("x.exr"), w, h, rgb), "");
+    ASSERT_EQ(rgb.size(), 4u * 4u * 3u);
+    for (float v : rgb) ASSERT_TRUE(std::isfinite(v));
+}
+
 }  // namespace
 }  // namespace crex

@@ -370,6 +370,63 @@ TEST(BudgetScheduling, CacheQueriesDearerThanTheProfileSaysStopAtTheBudget) {
     EXPECT_NEAR(static_cast<double>(ran), 500.0, 3.0);
 }
 
+// Without a profile the first queries of a step are a pilot, whose cost is measured; cache
+// queries cost what the records they make cost, so their pilot is paced too: 4,096 queries at
+// 100 us each (the fake clock) and no profile made a pilot of one chunk of all 4,096, run whole
+// in 410 ms of a 50 ms budget. And where queries turn dear inside a part (the 101st on cost
+// 10 ms each), the cache stops (IrradianceCache::set_stop; its answers come back empty) and
+// the stopped part waits in the bin with the rest.
+TEST(BudgetScheduling, APilotOfCacheQueriesIsPacedAndAStoppedPartWaits) {
+    Scene s = testing::furnace_box(0.5, 0.1);
+    RenderScene scene(s);
+    for (const bool turns_dear : {false, true}) {
+        Film film(16, 16);
+        double fake_now = 0;
+        ExecutorOptions o;
+        o.budget_seconds = 0.05;
+        o.clock = [&] { return fake_now; };
+        o.task_admission = ExecutorOptions::TaskAdmission::kWhole;
+        Executor ex(scene, film, o);
+        size_t answered = 0;
+        bool stopped = false;
+        ex.set_irradiance([&](const RayBatch&, size_t begin, size_t end, std::vector<Vec3>& e) {
+            for (size_t i = begin; i < end; ++i) {
+                fake_now += turns_dear && answered + i - begin >= 100 ? 10e-3 : 100e-6;
+                if (ex.paced_queries_out_of_time()) {  // the cache's stop test, between its pieces
+                    stopped = true;
+                    e.clear();
+                    return;
+                }
+            }
+            answered += end - begin;
+            e.assign(end - begin, Vec3{1, 1, 1});
+        });
+        RayBatch& d = ex.bins()[static_cast<size_t>(Component::kD)];
+        for (uint32_t i = 0; i < 4096; ++i) {
+            RayRecord r;
+            r.direction = {0, 1, 0};
+            r.beta = {1, 1, 1};
+            r.pixel = i % 256;
+            r.depth = 1;
+            r.flags = kRayIcQuery;
+            d.push(r);
+        }
+        ex.run_stage(testing::lower_or_die("D").preselective);
+        const uint64_t ran = ex.stats().components[static_cast<size_t>(Component::kD)].rays;
+        EXPECT_EQ(ran, answered);
+        EXPECT_EQ(ran + ex.bins()[static_cast<size_t>(Component::kD)].size(), 4096u) << "a query either ran or waits";
+        EXPECT_GT(ran, 0u);
+        EXPECT_LT(ran, 1000u);
+        if (turns_dear) {
+            EXPECT_TRUE(stopped);
+            EXPECT_LE(fake_now, o.budget_seconds + 10e-3) << "one dear query past the budget at most";
+        } else {
+            EXPECT_FALSE(stopped) << "paced parts of half the time left end before the budget";
+            EXPECT_LE(fake_now, o.budget_seconds);
+        }
+    }
+}
+
 // What a budget admits rays on follows this render's latest batches (RecentCosts) where the
 // Profile, weighing 65,536 rays, lags: D queries that cost 5 us and then ten times that.
 TEST(BudgetScheduling, RecentCostsFollowTheLatestBatches) {
