@@ -97,9 +97,8 @@ void IrradianceCache::file(uint32_t index) {
     for (int x = x0; x <= x1; ++x)
         for (int y = y0; y <= y1; ++y)
             for (int z = z0; z <= z1; ++z)
-                table.at(cell_key(x, y, z))
-                    .push_back({static_cast<float>(r.position.x), static_cast<float>(r.position.y), static_cast<float>(r.position.z),
-                                static_cast<float>(r.harmonic_distance), index});
+                table.add(cell_key(x, y, z), {static_cast<float>(r.position.x), static_cast<float>(r.position.y),
+                                              static_cast<float>(r.position.z), static_cast<float>(r.harmonic_distance), index});
 }
 
 void IrradianceCache::insert(const std::vector<IrradianceRecord>& records, IcGrids* handed) {
@@ -248,6 +247,11 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
         if (first) stats_.interpolated += pending.size() - misses.size();
         first = false;
         if (misses.empty()) break;
+        if (full()) {  // no more records: the rest take the value beyond the last bounce
+            for (uint32_t q : misses) out[q] = settings_.ambient * kPi;
+            stats_.over_limit += misses.size();
+            break;
+        }
         ++stats_.rounds;
         // Sites: sparse first, four times denser each round down to the cache's resolution
         // (records no closer than aa r_min, RADIANCE's -ar); after 8 rounds every miss is a site.
@@ -292,6 +296,7 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
             const size_t limit = std::min(sites.size(), begin + per_piece);
             size_t end = begin + 1;
             while (end < limit && divisions_of(sites[end].divisions) == divisions) ++end;
+            if (full()) break;  // the next round gives the queries still missing the ambient value
             if (stopped_ || (stop_ && stop_())) {
                 stopped_ = true;
                 out.clear();
@@ -323,6 +328,15 @@ void IrradianceCache::irradiance(const std::vector<IcQuery>& queries, uint32_t l
         stats_.caustic_lookup_seconds += since(start) - before_caustics;
     }
 }
+
+size_t IrradianceCache::bytes() const {
+    size_t total = records_.size() * sizeof(IrradianceRecord) + normals_.size() * sizeof(normals_[0]);
+    for (const auto& level : grids_)
+        for (const CellTable& table : level) total += table.bytes();
+    return total;
+}
+
+bool IrradianceCache::full() const { return settings_.max_bytes > 0 && bytes() >= settings_.max_bytes; }
 
 IcFileSettings IrradianceCache::file_settings() const {
     return {settings_.divisions, settings_.bounces, caustics_ ? settings_.caustic_photons : 0u, r_min_, r_max_, scene_.embree->extent()};

@@ -56,6 +56,11 @@ struct IcSettings {
     /// Photons aimed at the delta shapes for the caustic map (0: caustics from the hemisphere
     /// rays, a few of which happen to reach an emitter's image: noisy).
     uint32_t caustic_photons = 200000;
+    /// The records and their lookup grids stop growing at this many bytes (0: no limit); the
+    /// queries that would make more take the ambient value, counted in IcStats::over_limit.
+    /// A fine cache on a deep enough scene grows without end: --aa 0.001 --ar 1e6 on the
+    /// Cornell box at 8x8 held 4.2 GB after 150 s, every hemisphere ray a record of its own.
+    size_t max_bytes = 0;
 };
 
 struct IcQuery {
@@ -71,6 +76,7 @@ struct IcQuery {
 struct IcStats {
     uint64_t lookups = 0, interpolated = 0, records = 0, hemisphere_rays = 0, rounds = 0;
     uint64_t caustic_photons = 0;  ///< stored in the caustic map
+    uint64_t over_limit = 0;       ///< queries given the ambient value: the cache was full (IcSettings::max_bytes)
     double caustic_seconds = 0;    ///< building it
     /// Per bounce level: the luminance of the diffuse reflectance (times throughput) the
     /// hemisphere rays of its records met, summed, and those rays: the share of a record's
@@ -128,6 +134,8 @@ public:
     std::vector<IrradianceRecord> take_records(std::shared_ptr<IcGrids>* grids = nullptr);
     const IcSettings& settings() const { return settings_; }
     const IcStats& stats() const { return stats_; }
+    /// What the records and their lookup grids hold, in bytes (what IcSettings::max_bytes limits).
+    size_t bytes() const;
     double min_radius() const { return r_min_; }
     double max_radius() const { return r_max_; }
     /// The caustic map it adds to D (null: none).
@@ -157,6 +165,8 @@ private:
     void add_next_bounce(Hemispheres& h, uint32_t level);
     std::vector<IrradianceRecord> records_from(const Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) const;
     uint64_t cell_key(int x, int y, int z) const;
+    /// At IcSettings::max_bytes: no more records are made.
+    bool full() const;
     /// The grids of bounce `level`, made when missing.
     void make_grids(uint32_t level);
     /// Record `index` into the cells of its level's grids that its largest validity radius reaches.

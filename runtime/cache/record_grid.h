@@ -40,13 +40,17 @@ class GridCell {
 public:
     static constexpr size_t kLanes = 8;
 
-    void push_back(const GridEntry& e) {
-        if (size_ % kLanes == 0) blocks_.emplace_back();
+    /// Returns whether it took a new block (memory the cache counts: IrradianceCache::bytes).
+    bool push_back(const GridEntry& e) {
+        const bool fresh = size_ % kLanes == 0;
+        if (fresh) blocks_.emplace_back();
         Block& b = blocks_.back();
         const size_t k = size_ % kLanes;
         b.x[k] = e.x, b.y[k] = e.y, b.z[k] = e.z, b.radius[k] = e.radius, b.index[k] = e.index;
         ++size_;
+        return fresh;
     }
+    static constexpr size_t block_bytes() { return sizeof(Block); }
     size_t size() const { return size_; }
     /// Asks for the first block's cache lines ahead of for_each_near.
     void prefetch() const {
@@ -121,6 +125,11 @@ public:
         }
     }
 
+    /// Files an entry in cell `key`.
+    void add(uint64_t key, const GridEntry& e) { blocks_ += at(key).push_back(e) ? 1 : 0; }
+    /// What the table holds, in bytes (its slots and cells at their sizes, and their blocks).
+    size_t bytes() const { return slots_.size() * sizeof(Slot) + cells_.size() * sizeof(GridCell) + blocks_ * GridCell::block_bytes(); }
+
 private:
     static constexpr uint64_t kEmpty = ~uint64_t{0};  // cell keys use 63 bits
     struct Slot {
@@ -142,6 +151,7 @@ private:
 
     std::vector<Slot> slots_;
     std::vector<GridCell> cells_;
+    size_t blocks_ = 0;  ///< the cells' blocks, taken by add()
 };
 
 }  // namespace crex

@@ -305,6 +305,7 @@ void PlanRun::start() {
     if (s_.irradiance_cache) {
         // The store of D's irradiance: a plan varying ic_radius starts at its `from` accuracy.
         IcSettings ics = plan_cache_settings(plan_, *s_.irradiance_cache);
+        ics.max_bytes = s_.max_memory;  // the records alone never outgrow the process's limit (W406)
         base_aa_ = ics.accuracy;
         cache_.emplace(*rs_, ics, caustic_map_);
         cache_->set_progress([this](const IcStats& st) {
@@ -573,6 +574,13 @@ RunResult PlanRun::finish() {
     for (const Diagnostic& w : out_.warnings) said.add(w);  // the textures'
     for (const Diagnostic& w : ex_->warnings()) said.add(w);
     for (Diagnostic& w : modulation_warnings(out_.stats, plan_, s_.executor.constant_importance)) said.add(std::move(w));
+    if (cache_ && cache_->stats().over_limit > 0)
+        said.add(run_diagnostic(
+            "W406", "crex run",
+            fmt::format("the irradiance cache filled --max-memory {:.0f} MiB ({} records): {} queries after that took the ambient "
+                        "value (--ambient) instead of records, and the image lacks their indirect light; coarsen --aa or --ar, "
+                        "lower --ad, or raise --max-memory",
+                        static_cast<double>(s_.max_memory) / (1 << 20), cache_->records().size(), cache_->stats().over_limit)));
     out_.warnings = said.sorted();
     out_.render_seconds = clock_();
     out_.end_seconds = std::max(0.0, out_.render_seconds - end_start);

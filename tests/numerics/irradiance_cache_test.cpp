@@ -189,6 +189,52 @@ TEST(IrradianceCache, AStopKeepsOnlyFinishedRecordsAndLeavesNoTrace) {
     }
 }
 
+// A fine cache can make a record for nearly every hemisphere ray, bounce after bounce, and
+// grow without end (4.2 GB after 150 s on the Cornell box at 8x8, --aa 0.001 --ar 1e6). With
+// max_bytes it stops once past the limit and the queries that would make more take the ambient
+// value, counted; under the limit nothing changes.
+TEST(IrradianceCache, RecordsStopAtTheMemoryLimitAndTheRestTakeTheAmbientValue) {
+    std::vector<IcQuery> q;
+    for (int i = 0; i < 64; ++i)
+        q.push_back({{-0.9 + 0.028 * i, 0.3, -1 + 1e-9}, {0, 0, 1}, 0.001f, 0, static_cast<uint64_t>(i + 1)});
+    IcSettings set = FurnaceCache::settings(32, 3);
+    set.resolution = 1e6;  // records as close as they like: every query and every hemisphere ray its own
+    set.ambient = {0.25, 0.25, 0.25};
+    Scene scene = testing::furnace_box(0.5, 1.0);
+    RenderScene rs(scene);
+    IrradianceCache free(rs, set);
+    std::vector<Vec3> e;
+    free.irradiance(q, 0, e);
+    const size_t unlimited = free.bytes();
+    ASSERT_GT(unlimited, size_t{1} << 20);
+    EXPECT_EQ(free.stats().over_limit, 0u);
+
+    set.max_bytes = unlimited / 8;
+    IrradianceCache capped(rs, set);
+    capped.irradiance(q, 0, e);
+    ASSERT_EQ(e.size(), q.size());
+    for (const Vec3& v : e) EXPECT_TRUE(is_finite(v));
+    EXPECT_GT(capped.stats().over_limit, 0u);
+    EXPECT_GE(capped.bytes(), set.max_bytes);
+    // Past the limit by the pieces under way (one a bounce; here the first level-0 piece's
+    // whole chain of bounces, 6.8 of the 12.4 MB), never by what the queries left would make.
+    EXPECT_LT(capped.bytes(), unlimited * 3 / 4);
+    EXPECT_LT(capped.stats().hemisphere_rays, free.stats().hemisphere_rays * 3 / 4);
+    // Asked again: no record is made, every miss takes the ambient value at once.
+    const size_t held = capped.records().size();
+    std::vector<IcQuery> elsewhere = q;
+    for (IcQuery& x : elsewhere) x.position.y = -0.3, x.key += 1000;
+    capped.irradiance(elsewhere, 0, e);
+    EXPECT_EQ(capped.records().size(), held);
+    for (const Vec3& v : e) EXPECT_NEAR(v.x, 0.25 * kPi, 1e-12);
+
+    set.max_bytes = 2 * unlimited;  // above what it needs: the same records
+    IrradianceCache roomy(rs, set);
+    roomy.irradiance(q, 0, e);
+    EXPECT_EQ(roomy.records().size(), free.records().size());
+    EXPECT_EQ(roomy.stats().over_limit, 0u);
+}
+
 // A walk's later frame files the records carried in all at once, the bounce levels side by
 // side: every lookup at every level must sum the same records in the same order as a cache
 // filed one record at a time, so the images are the same bit for bit.
@@ -272,6 +318,30 @@ RunResult render_ic(const Scene& s, int size, uint32_t spp, double aa, uint32_t 
     ic.accuracy = aa, ic.divisions = ad, ic.bounces = bounces;
     o.irradiance_cache = ic;
     return render(s, testing::lower_or_die("(TTMRSGD)*"), o);
+}
+
+// A render whose cache fills --max-memory says so (W406) with the count of queries that took
+// the ambient value; the image stays finite. (The tool's smallest --max-memory is 64 MiB; the
+// run settings take any limit.)
+TEST(IrradianceCache, ARenderWhoseCacheFillsTheMemoryLimitSaysSo) {
+    RunSettings o;
+    o.width = o.height = 4;
+    o.spp = 1;
+    o.max_memory = size_t{1} << 20;
+    IcSettings ic;
+    ic.accuracy = 0.001, ic.resolution = 1e6, ic.divisions = 32, ic.bounces = 3, ic.caustic_photons = 0;
+    o.irradiance_cache = ic;
+    RunResult r = render(*builtin_scene("cornell_diffuse"), testing::lower_or_die("(TTMRSGD)*"), o);
+    EXPECT_GT(r.ic_stats.over_limit, 0u);
+    const auto w = std::find_if(r.warnings.begin(), r.warnings.end(), [](const Diagnostic& d) { return d.code == "W406"; });
+    ASSERT_NE(w, r.warnings.end());
+    EXPECT_EQ(w->severity, Severity::kWarning);
+    EXPECT_NE(w->message.find(std::to_string(r.ic_stats.over_limit) + " queries after that took the ambient value"), std::string::npos) << w->message;
+    for (float v : r.image()) ASSERT_TRUE(std::isfinite(v));
+    o.max_memory = size_t{1} << 30;  // the same render within its limit: no word
+    RunResult roomy = render(*builtin_scene("cornell_diffuse"), testing::lower_or_die("(TTMRSGD)*"), o);
+    EXPECT_EQ(roomy.ic_stats.over_limit, 0u);
+    for (const Diagnostic& d : roomy.warnings) EXPECT_NE(d.code, "W406");
 }
 
 TEST(IrradianceCache, WhiteFurnaceGivesTheTruncatedSeriesExactly) {
