@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct CausticPhotonSettings {
     uint32_t neighbours = 32;    ///< k of the density estimate
     double max_radius = 0;       ///< of the density estimate; 0: the scene's extent / 16
     uint64_t seed = 0;
+    /// Called as the map is built (from the thread that builds it) with the phase ("tracing",
+    /// "photon tree", "density estimates") and the share of it done: 20 million photons took
+    /// 54 s before the first camera ray, 40 of them in the estimates.
+    std::function<void(const char* phase, double done)> progress;
 };
 
 class CausticPhotons {
@@ -82,7 +87,7 @@ private:
         /// The cell x lies in, or -1 outside the grid (and for a non-finite x).
         int64_t cell_of(const Vec3& x) const;
     };
-    void precompute();
+    void precompute(const std::function<void(const char* phase, double done)>& progress);
     void build_disc_grid();
     std::vector<Photon> photons_;
     std::vector<Estimate> estimates_;
@@ -96,7 +101,8 @@ private:
 /// irradiance cache build theirs. It is empty when the scene has no such paths (no delta shape or
 /// trans surface, no lamp, or no photon through them lands on a diffuse surface); kept so, it
 /// tells a later render of the same scene (a sequence's next frame) not to trace them again.
-std::shared_ptr<const CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed);
+std::shared_ptr<const CausticPhotons> build_caustic_photons(const RenderScene& scene, uint32_t photons, uint64_t seed,
+                                                           std::function<void(const char* phase, double done)> progress = nullptr);
 
 /// `map` when it holds photons, else null: what a render looks caustics up in.
 inline std::shared_ptr<const CausticPhotons> photons_in(const std::shared_ptr<const CausticPhotons>& map) {

@@ -16,7 +16,7 @@ namespace crex {
 
 /// What the driver is doing, for a progress line.
 struct RunProgress {
-    std::string stage;            ///< "render", "pre-selective", "guidance", "selective"
+    std::string stage;            ///< "setup" (the caustic map), "render", "pre-selective", "guidance", "selective"
     size_t pass = 0, passes = 0;  ///< 1-based pass within the stage
     double fraction = 0;          ///< of the stage's camera samples traced so far
     double stage_seconds = 0;     ///< since the stage began

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -162,6 +163,37 @@ TEST(CausticPhotons, TheMapDoesNotDependOnTheThreadCount) {
     double sum = 0;
     for (const Vec3& e : one) sum += e.x;
     EXPECT_GT(sum, 0.0);  // the glass ball's caustic lies on this line of the floor
+}
+
+// The map is built before the first camera ray and 20 million photons took 54 s without a
+// word: it says how far it got, phase by phase, each from 0 to 1, and the map is the same.
+TEST(CausticPhotons, TheBuildSaysHowFarItGotPhaseByPhase) {
+    Scene s = *builtin_scene("cornell");
+    RenderScene rs(s);
+    CausticPhotonSettings set;
+    set.photons = 150000;  // three chunks of 64 Ki photons
+    CausticPhotons quiet(rs, set);
+    std::vector<std::pair<std::string, double>> said;
+    set.progress = [&](const char* phase, double done) { said.emplace_back(phase, done); };
+    CausticPhotons told(rs, set);
+    ASSERT_FALSE(said.empty());
+    std::vector<std::string> phases;
+    for (size_t i = 0; i < said.size(); ++i) {
+        if (phases.empty() || phases.back() != said[i].first) {
+            phases.push_back(said[i].first);
+            EXPECT_EQ(said[i].second, 0.0) << said[i].first << " starts at 0";
+        } else {
+            EXPECT_GE(said[i].second, said[i - 1].second) << said[i].first;
+        }
+        if (i + 1 == said.size() || said[i + 1].first != said[i].first)
+            EXPECT_TRUE(said[i].first == "photon tree" || said[i].second == 1.0) << said[i].first << " ends at 1";
+    }
+    EXPECT_EQ(phases, (std::vector<std::string>{"tracing", "photon tree", "density estimates"}));
+    EXPECT_EQ(std::count_if(said.begin(), said.end(), [](const auto& p) { return p.first == "tracing"; }), 4) << "0, then per chunk";
+    for (int i = 0; i < 20; ++i) {
+        const Vec3 x = Vec3{-0.9 + 0.09 * i, -1, 0.3} - rs.embree->origin_offset();
+        EXPECT_EQ(told.irradiance(x, {0, 1, 0}), quiet.irradiance(x, {0, 1, 0}));
+    }
 }
 
 TEST(CausticPhotons, AQueryBlendsEveryEstimateWhoseDiscHoldsIt) {
