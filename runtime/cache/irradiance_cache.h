@@ -167,6 +167,8 @@ private:
     uint64_t cell_key(int x, int y, int z) const;
     /// At IcSettings::max_bytes: no more records are made.
     bool full() const;
+    /// Whether set_stop()'s test has said stop during this batch (asked now if not yet).
+    bool stopping();
     /// The grids of bounce `level`, made when missing.
     void make_grids(uint32_t level);
     /// Record `index` into the cells of its level's grids that its largest validity radius reaches.

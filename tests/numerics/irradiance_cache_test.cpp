@@ -161,11 +161,10 @@ TEST(IrradianceCache, AStopKeepsOnlyFinishedRecordsAndLeavesNoTrace) {
     EXPECT_TRUE(never.cache.records().empty());
     EXPECT_EQ(never.cache.stats().hemisphere_rays, 0u) << "stopped before the first piece";
 
-    // Stopped at the first deeper piece: the level-0 piece under way is dropped with it; asked
-    // again without a stop, the cache answers as one never stopped.
+    // Stopped once the first level-0 piece has cast its hemispheres (at the next bounce): that
+    // piece is dropped; asked again without a stop, the cache answers as one never stopped.
     FurnaceCache once(64, 3);
-    int asked = 0;
-    once.cache.set_stop([&] { return ++asked > 1; });
+    once.cache.set_stop([&] { return once.cache.stats().hemisphere_rays > 0; });
     once.cache.irradiance(q, 0, e);
     EXPECT_TRUE(e.empty());
     EXPECT_TRUE(once.cache.records().empty());
