@@ -328,6 +328,20 @@ TEST(BudgetScheduling, ProfileWeighsMeasurementsByTheirRays) {
     EXPECT_NEAR(*p.cost(Component::kD), 2e-6, 0.02e-6);
 }
 
+// `n` cache queries in D's bin, spread over a 16x16 film's pixels.
+void add_cache_queries(Executor& ex, uint32_t n) {
+    RayBatch& d = ex.bins()[static_cast<size_t>(Component::kD)];
+    for (uint32_t i = 0; i < n; ++i) {
+        RayRecord r;
+        r.direction = {0, 1, 0};
+        r.beta = {1, 1, 1};
+        r.pixel = i % 256;
+        r.depth = 1;
+        r.flags = kRayIcQuery;
+        d.push(r);
+    }
+}
+
 // Cache queries cost what the records they make cost, which no profile predicts: a profile
 // that says 1 us a query, queries that take 100 us each (on the fake clock), and a queue of
 // 4,096 of them under a 50 ms budget. The queue admits a batch of all 4,096 on the profile's
@@ -351,16 +365,7 @@ TEST(BudgetScheduling, CacheQueriesDearerThanTheProfileSaysStopAtTheBudget) {
         e.assign(end - begin, Vec3{1, 1, 1});
         fake_now += 100e-6 * static_cast<double>(end - begin);
     });
-    RayBatch& d = ex.bins()[static_cast<size_t>(Component::kD)];
-    for (uint32_t i = 0; i < 4096; ++i) {
-        RayRecord r;
-        r.direction = {0, 1, 0};
-        r.beta = {1, 1, 1};
-        r.pixel = i % 256;
-        r.depth = 1;
-        r.flags = kRayIcQuery;
-        d.push(r);
-    }
+    add_cache_queries(ex, 4096);
     const sched::Program program = testing::lower_or_die("D");
     ex.run_stage(program.preselective);
     EXPECT_LE(fake_now, o.budget_seconds);
@@ -401,16 +406,7 @@ TEST(BudgetScheduling, APilotOfCacheQueriesIsPacedAndAStoppedPartWaits) {
             answered += end - begin;
             e.assign(end - begin, Vec3{1, 1, 1});
         });
-        RayBatch& d = ex.bins()[static_cast<size_t>(Component::kD)];
-        for (uint32_t i = 0; i < 4096; ++i) {
-            RayRecord r;
-            r.direction = {0, 1, 0};
-            r.beta = {1, 1, 1};
-            r.pixel = i % 256;
-            r.depth = 1;
-            r.flags = kRayIcQuery;
-            d.push(r);
-        }
+        add_cache_queries(ex, 4096);
         ex.run_stage(testing::lower_or_die("D").preselective);
         const uint64_t ran = ex.stats().components[static_cast<size_t>(Component::kD)].rays;
         EXPECT_EQ(ran, answered);
