@@ -107,8 +107,9 @@ public:
     ~IrradianceCache();
 
     /// E at every query of `level`, creating the records that are missing. When set_stop()'s
-    /// test says stop (asked between pieces of records, at every level), `out` comes back empty
-    /// and the records of the pieces under way are dropped; those finished stay.
+    /// test says stop (asked at every level before each piece of records, each round's choice of
+    /// sites and between parts of lookups), `out` comes back empty and the records of the pieces
+    /// under way are dropped; those finished stay.
     void irradiance(const std::vector<IcQuery>& queries, uint32_t level, std::vector<Vec3>& out);
     /// Interpolation only: false if no record is valid at (x, n) for accuracy aa. With
     /// `divisions` (a pixel's `ic_rays`), records made with fewer hemisphere rays are not valid.
@@ -123,8 +124,8 @@ public:
     /// Called after each piece of records is made (from the thread that asked for them): a
     /// fine accuracy makes records for minutes inside one D step, which a progress line must show.
     void set_progress(std::function<void(const IcStats&)> progress) { progress_ = std::move(progress); }
-    /// Asked before each piece of records (from the thread that asked for them): true stops
-    /// the batch under way. A time budget's: one query's records can take far longer than the
+    /// Asked between the steps of making records (from the thread that asked for them; see
+    /// irradiance()): true stops the batch under way. A time budget's: one query's records can take far longer than the
     /// budget (--ad 16384 --ab 64 took 14.5 s for 17 queries of a 2 s budget).
     void set_stop(std::function<bool()> stop) { stop_ = std::move(stop); }
     const std::vector<IrradianceRecord>& records() const { return records_; }

@@ -107,7 +107,7 @@ private:
     std::vector<float> composite_now() const;  // film + what waiting rays stand in for
     void report_progress(const std::string& step);
     // The caustic map's share traced, as progress of the stage "setup": it is built before the
-    // first camera ray (20 million photons took 70 s without a word).
+    // first camera ray (20 million photons took about a minute without a word).
     std::function<void(const char*, double)> caustic_progress(uint32_t photons) {
         return [this, photons, phase = std::string(), start = Clock::now()](const char* now_in, double done) mutable {
             if (phase != now_in) phase = now_in, start = Clock::now();  // each phase its own share and ETA
@@ -324,7 +324,7 @@ void PlanRun::start() {
         cache_->set_progress([this](const IcStats& st) {
             report_progress(fmt::format("D: irradiance cache, {} records, {:.1f} M hemisphere rays", st.records, st.hemisphere_rays / 1e6));
         });
-        // Under a budget, one query's records can outlast it: the cache stops between pieces
+        // Under a budget, one query's records can outlast it: the cache stops between its steps
         // once paced queries find the budget spent (not across processes, which answer
         // each other's queries in step).
         if (!group_.distributed()) cache_->set_stop([this] { return ex_ && ex_->paced_queries_out_of_time(); });
