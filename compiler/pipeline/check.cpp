@@ -35,11 +35,12 @@ std::string_view type_name(Type t) {
     return "?";
 }
 
+// What a parameter takes, with its article (literal_ok's ranges).
 std::string_view literal_name(LiteralKind k) {
     switch (k) {
-    case LiteralKind::kNumber: return "number";
-    case LiteralKind::kAngle: return "angle";
-    case LiteralKind::kString: return "string";
+    case LiteralKind::kNumber: return "a finite number";
+    case LiteralKind::kAngle: return "an angle above 0 and below 180 deg, like 2 deg";
+    case LiteralKind::kString: return "a string";
     case LiteralKind::kNone: break;
     }
     return "?";
@@ -444,7 +445,7 @@ private:
                 }
                 if (p->literal != LiteralKind::kNone) {
                     if (a.expr.kind != Expr::Kind::kLiteral || !literal_ok(a.expr.literal, p->literal))
-                        sink_.report("E206", a.span, fmt::format("{}(): expected a {} here", op->name, literal_name(p->literal)));
+                        sink_.report("E206", a.span, fmt::format("{}(): expected {} here", op->name, literal_name(p->literal)));
                     continue;
                 }
                 auto t = expr(a.expr);
@@ -465,8 +466,7 @@ private:
                 if (q.name == a.name) p = &q;
             if (p) {
                 if (!literal_ok(a.value, p->literal))
-                    sink_.report("E206", a.value.span, fmt::format("{}(): '{}' expects a {}{}", op->name, a.name, literal_name(p->literal),
-                                                                   p->literal == LiteralKind::kAngle ? " like 2 deg" : ""));
+                    sink_.report("E206", a.value.span, fmt::format("{}(): '{}' expects {}", op->name, a.name, literal_name(p->literal)));
                 if (op->op == GuidanceOperator::kImportance && a.name == "op" && a.value.kind == Value::Kind::kString &&
                     a.value.text != "+" && a.value.text != "max" && a.value.text != "*")
                     sink_.report("E206", a.value.span, "importance(): op is \"+\", \"max\" or \"*\"");

@@ -84,6 +84,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"use_before_definition", "  guidance { a = edges(b)\n b = saliency(preview) }", "E205", 2, 24, "'b' is not defined"},
         Case{"wrong_type", "  guidance { t = task_map(preview) }", "E206", 2, 27, "expected a set of tagged objects"},
         Case{"bad_op", "  guidance { a = saliency(preview)\n  i = importance(a 1, op \"-\") }", "E206", 3, 26, "op is"},
+        // A fovea of 1e30 deg said "expects a angle like 2 deg": the range, and the article.
+        Case{"angle_out_of_range", "  guidance { t = task_map(tagged(), fovea 1e30 deg) }", "E206", 2, 43,
+             "task_map(): 'fovea' expects an angle above 0 and below 180 deg, like 2 deg"},
         Case{"unknown_variable", "  selective { vary spp_max 1 .. 2 by constant(1) }", "E207", 2, 20, "unknown selective variable"},
         // capict's per-component variable: only subsample takes a component, and only D G S T R M.
         Case{"component_of_spp", "  selective { vary spp(D) 1 .. 2 by constant(1) }", "E207", 2, 24, "only subsample takes one"},
