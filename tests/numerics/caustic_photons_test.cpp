@@ -185,8 +185,9 @@ TEST(CausticPhotons, TheBuildSaysHowFarItGotPhaseByPhase) {
         } else {
             EXPECT_GE(said[i].second, said[i - 1].second) << said[i].first;
         }
-        if (i + 1 == said.size() || said[i + 1].first != said[i].first)
+        if (i + 1 == said.size() || said[i + 1].first != said[i].first) {
             EXPECT_TRUE(said[i].first == "photon tree" || said[i].second == 1.0) << said[i].first << " ends at 1";
+        }
     }
     EXPECT_EQ(phases, (std::vector<std::string>{"tracing", "photon tree", "density estimates"}));
     EXPECT_EQ(std::count_if(said.begin(), said.end(), [](const auto& p) { return p.first == "tracing"; }), 4) << "0, then per chunk";
