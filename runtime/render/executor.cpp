@@ -241,9 +241,7 @@ bool Executor::exec(const sched::Node& node) {
             first = execute_rays(head, false, aov_of(node.component), stats, letter, node.component, true);
             if (first < pilot) {  // the budget was spent inside the pilot
                 stats_.steps.back().rays = first;
-                stats_.skipped.push_back({fmt::format("{} at {} ({} of {} rays)", letter, node.where.to_string(), take.size() - first, take.size()),
-                                          static_cast<double>(take.size() - first) * admission_cost(node.component).value_or(0),
-                                          options_.budget_seconds - now()});
+                note_rays_skipped(letter, node, take.size() - first, take.size(), admission_cost(node.component).value_or(0));
                 put_back(take, first);
                 return first > 0;
             }
@@ -271,6 +269,11 @@ bool Executor::exec(const sched::Node& node) {
     stats_.steps.push_back({node.component, take.size()});
     execute_rays(take, false, aov_of(node.component), stats, letter, node.component);
     return true;
+}
+
+void Executor::note_rays_skipped(const std::string& letter, const sched::Node& node, size_t left, size_t of, double cost) {
+    stats_.skipped.push_back({fmt::format("{} at {} ({} of {} rays)", letter, node.where.to_string(), left, of), static_cast<double>(left) * cost,
+                              options_.budget_seconds - now()});
 }
 
 RayBatch Executor::by_importance(const RayBatch& rays, size_t first) const {
@@ -312,8 +315,7 @@ bool Executor::run_in_batches(RayBatch& take, size_t first, double cost, RayBatc
         if (ran < n) break;  // the budget is spent
     }
     if (done < sorted.size()) {
-        stats_.skipped.push_back({fmt::format("{} at {} ({} of {} rays)", letter, node.where.to_string(), sorted.size() - done, sorted.size() - start),
-                                  static_cast<double>(sorted.size() - done) * cost, options_.budget_seconds - now()});
+        note_rays_skipped(letter, node, sorted.size() - done, sorted.size() - start, cost);
         RayBatch rest;
         rest.append(sorted, done, sorted.size());
         rest.append(bin);

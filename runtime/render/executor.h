@@ -193,6 +193,8 @@ private:
     bool run_queues(const sched::Node& program);
     /// Rays [first, end) of `rays`, most important pixels first (stable: ties keep their order).
     RayBatch by_importance(const RayBatch& rays, size_t first) const;
+    /// The budget left `left` of a step's `of` rays, predicted at `cost` seconds a ray.
+    void note_rays_skipped(const std::string& letter, const sched::Node& node, size_t left, size_t of, double cost);
     bool run_in_batches(RayBatch& take, size_t first, double cost, RayBatch& bin, ComponentStats& stats, const std::string& letter,
                         const sched::Node& node);
     size_t chunk_rays() const;
