@@ -16,6 +16,7 @@ namespace crex {
 /// What a texture image is, as the backend found it.
 struct TextureImageInfo {
     int width = 0, height = 0, channels = 0;
+    int alpha_channel = -1;  ///< which channel is alpha (-1: none)
     int bytes_per_channel = 0;
     bool eight_bit = false;   ///< 8-bit integer texels (so sRGB-encoded when they are colours)
     bool tiled = false;       ///< tiled in the file (maketx's .tx), so read tile by tile

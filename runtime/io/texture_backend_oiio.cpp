@@ -93,6 +93,10 @@ private:
         cache_->attribute("automip", 1);
         cache_->attribute("accept_untiled", 1);
         cache_->attribute("accept_unmipped", 1);
+        // Texels as the file holds them: PNG and TGA store colour apart from alpha (glTF's base
+        // colour too), and an RGBA colour map multiplied by its alpha came out dark (a half-
+        // transparent texel at half its colour) or black where the alpha was 0.
+        cache_->attribute("unassociatedalpha", 1);
         // A bad texel file must not stop a render: its lookups fail and the caller shows it.
         cache_->attribute("failure_retries", 0);
         system_ = OIIO::TextureSystem::create(false, cache_);
@@ -147,6 +151,7 @@ public:
         }
         info.width = resolution[0], info.height = resolution[1];
         info.channels = spec.nchannels;
+        info.alpha_channel = spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
         info.eight_bit = spec.format == OIIO::TypeDesc::UINT8;
         info.bytes_per_channel = static_cast<int>(spec.format.size());
         info.tiled = spec.tile_width > 0 && spec.tile_width < spec.width;

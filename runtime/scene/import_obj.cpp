@@ -47,10 +47,14 @@ SourceSpan texture_line(const MtlContext& mtl, const std::string& name) {
     return {mtl.file, 0, 0};
 }
 
+// What an MTL map gives: a colour (or a normal) reads its three channels from the first; a
+// number reads the one -imfchan names.
+enum class MtlMap { kColour, kScalar };
+
 // An MTL texture statement (its name and options) as a texture reference: the path from the
 // MTL's folder, OBJ's v flipped (t = 1 - v: OBJ's v runs up, images' t down), -o and -s as a
 // uv transform, -clamp, -imfchan and -colorspace.
-std::optional<TextureRef> mtl_texture(const std::string& name, const tinyobj::texture_option_t& opt, const MtlContext& mtl,
+std::optional<TextureRef> mtl_texture(const std::string& name, const tinyobj::texture_option_t& opt, MtlMap map, const MtlContext& mtl,
                                       DiagnosticSink& sink) {
     if (name.empty()) return std::nullopt;
     TextureRef t;
@@ -66,11 +70,17 @@ std::optional<TextureRef> mtl_texture(const std::string& name, const tinyobj::te
     const double ou = finite_or(opt.origin_offset[0], 0), ov = finite_or(opt.origin_offset[1], 0);
     t.uv_transform = {su, 0, ou, 0, -sv, 1 - ov};
     if (opt.clamp) t.wrap_s = t.wrap_t = TextureWrap::kClamp;
-    switch (opt.imfchan) {
-    case 'g': t.channel = 1; break;
-    case 'b': t.channel = 2; break;
-    case 'm': t.channel = 3; break;
-    default: t.channel = 0; break;
+    // -imfchan picks a scalar map's channel; tinyobjloader gives 'm' (matte) to every map not
+    // a bump, whether written or not. Read as channel 3 it dropped every RGB map_Kd (W311) and
+    // made an RGBA one grey with its alpha: 'm' is the alpha where the image has one, else its
+    // first channel (a grey or RGB mask's value); 'l' (luminance) and 'z' read the first too.
+    if (map == MtlMap::kScalar) {
+        switch (opt.imfchan) {
+        case 'g': t.channel = 1; break;
+        case 'b': t.channel = 2; break;
+        case 'm': t.prefer_alpha = true; break;
+        default: break;
+        }
     }
     if (opt.colorspace == "sRGB" || opt.colorspace == "srgb") t.color_space = TextureColorSpace::kSrgb;
     else if (opt.colorspace == "linear") t.color_space = TextureColorSpace::kLinear;
@@ -111,28 +121,27 @@ Material convert_material(const tinyobj::material_t& m, const std::string& name,
     MaterialTextures& tex = out.textures;
     // map_Kd multiplies Kd, so the diffuse lobe is Kd x texel; a Kd of 0 with a map (some
     // exporters write that) means the texture alone.
-    if ((tex.color = mtl_texture(m.diffuse_texname, m.diffuse_texopt, mtl, sink)) && out.type == MaterialType::kPlastic)
+    if ((tex.color = mtl_texture(m.diffuse_texname, m.diffuse_texopt, MtlMap::kColour, mtl, sink)) && out.type == MaterialType::kPlastic)
         tex.color->scale = max_component(kd) > 0 ? out.color : Vec3{1, 1, 1} / (1 - std::min(out.specularity, 0.999));
-    if ((tex.specular_color = mtl_texture(m.specular_texname, m.specular_texopt, mtl, sink)) && out.specularity > 0)
+    if ((tex.specular_color = mtl_texture(m.specular_texname, m.specular_texopt, MtlMap::kColour, mtl, sink)) && out.specularity > 0)
         tex.specular_color->scale = clamp01(ks / out.specularity);
     // map_Ns scales Ns: roughness = sqrt(2 / Ns) ~ (Ns texel / 2)^(-1/2).
-    if ((tex.roughness = mtl_texture(m.specular_highlight_texname, m.specular_highlight_texopt, mtl, sink))) {
+    if ((tex.roughness = mtl_texture(m.specular_highlight_texname, m.specular_highlight_texopt, MtlMap::kScalar, mtl, sink))) {
         const double ns = m.shininess > 0 ? m.shininess : 1000;
         tex.roughness->scale = Vec3{1, 1, 1} * (ns / 2), tex.roughness->power = -0.5;
         tex.roughness->color_space = TextureColorSpace::kLinear;
     }
-    if ((tex.opacity = mtl_texture(m.alpha_texname, m.alpha_texopt, mtl, sink))) {
+    if ((tex.opacity = mtl_texture(m.alpha_texname, m.alpha_texopt, MtlMap::kScalar, mtl, sink))) {
         tex.opacity->scale = Vec3{1, 1, 1} * std::clamp<double>(m.dissolve, 0, 1);
-        if (m.alpha_texopt.imfchan == 'm') tex.opacity->channel = 3;
         tex.opacity->color_space = TextureColorSpace::kLinear;
     }
     // bump: height = texel x -bm x 1 cm (MTL heights have no unit; scenes are in metres by convention).
-    if ((tex.bump = mtl_texture(m.bump_texname, m.bump_texopt, mtl, sink))) {
+    if ((tex.bump = mtl_texture(m.bump_texname, m.bump_texopt, MtlMap::kScalar, mtl, sink))) {
         tex.bump->scale = Vec3{1, 1, 1} * (0.01 * (std::isfinite(m.bump_texopt.bump_multiplier) ? m.bump_texopt.bump_multiplier : 1.0));
         tex.bump->color_space = TextureColorSpace::kLinear;
     }
-    if ((tex.normal = mtl_texture(m.normal_texname, m.normal_texopt, mtl, sink))) tex.normal->color_space = TextureColorSpace::kLinear;
-    if ((tex.emission = mtl_texture(m.emissive_texname, m.emissive_texopt, mtl, sink)))
+    if ((tex.normal = mtl_texture(m.normal_texname, m.normal_texopt, MtlMap::kColour, mtl, sink))) tex.normal->color_space = TextureColorSpace::kLinear;
+    if ((tex.emission = mtl_texture(m.emissive_texname, m.emissive_texopt, MtlMap::kColour, mtl, sink)))
         tex.emission->scale = max_component(ke) > 0 ? vmax(ke, Vec3{}) : Vec3{1, 1, 1};
     if (out.type != MaterialType::kPlastic) {  // glass and mirrors: their colour and cut-outs only
         tex.specular_color.reset(), tex.roughness.reset();

@@ -408,7 +408,7 @@ private:
     // A texture reference (docs/scene-format.md, "Textures").
     std::optional<TextureRef> read_texture(ObjectReader& parent, const std::string& key) {
         ObjectReader r(doc_, sink_, parent.at(key), parent.pointer() + "/" + key);
-        r.warn_unknown({"file", "image", "color_space", "wrap", "scale", "power", "channel", "uv_transform", "mapping", "planar"});
+        r.warn_unknown({"file", "image", "color_space", "wrap", "scale", "power", "channel", "prefer_alpha", "uv_transform", "mapping", "planar"});
         TextureRef t;
         std::string file;
         if (r.has("file") == r.has("image")) {
@@ -443,6 +443,7 @@ private:
         }
         r.number("power", t.power, kPositive);
         r.integer("channel", t.channel, 0, 63);
+        r.boolean("prefer_alpha", t.prefer_alpha);
         if (r.has("uv_transform")) read_uv_transform(r, t);
         if (r.string("mapping", name)) {
             if (auto m = texture_mapping_from_name(name)) t.mapping = *m;

@@ -40,6 +40,7 @@ nlohmann::json texture_json(const TextureRef& t) {
     if (t.scale != d.scale) j["scale"] = vec(t.scale);
     if (t.power != d.power) j["power"] = t.power;
     if (t.channel != d.channel) j["channel"] = t.channel;
+    if (t.prefer_alpha != d.prefer_alpha) j["prefer_alpha"] = t.prefer_alpha;
     if (t.uv_transform != d.uv_transform) j["uv_transform"] = {{"matrix", t.uv_transform}};
     if (t.mapping != d.mapping) j["mapping"] = std::string(texture_mapping_name(t.mapping));
     if (t.planar != d.planar) j["planar"] = t.planar;

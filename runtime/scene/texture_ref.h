@@ -59,6 +59,10 @@ struct TextureRef {
     Vec3 scale{1, 1, 1};  ///< multiplies the texel (a scalar parameter uses scale.x)
     double power = 1;     ///< after scale (glTF roughness: 2, its perceptual roughness squared)
     int channel = 0;      ///< first channel read: a colour reads 3 from it, a scalar 1
+    /// Read the image's alpha channel where it has one (RGBA, grey and alpha, an EXR's A),
+    /// `channel` where it has none: glTF's opacity (channel 3: none, so opaque), MTL's
+    /// `-imfchan m`, its default for scalar maps (channel 0: a grey or RGB mask's first).
+    bool prefer_alpha = false;
     UvTransform uv_transform = kIdentityUv;
     TextureMapping mapping = TextureMapping::kUv;
     /// kPlanar: u = planar[0..2] . P + planar[3], v = planar[4..6] . P + planar[7].

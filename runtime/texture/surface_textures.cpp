@@ -222,14 +222,15 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
         slot.image = kMissing;
         return slot;
     }
+    if (slot.ref.prefer_alpha && image.info.alpha_channel >= 0) slot.ref.channel = image.info.alpha_channel;
     // A channel the image does not have: an opacity from the alpha of an image without one
     // (glTF's RGB base colour) is opaque, as glTF says; anything else is a warning.
     const int needed = kind == SlotKind::kVector ? 3 : 1;
-    if (ref->channel + needed > image.info.channels) {
+    if (slot.ref.channel + needed > image.info.channels) {
         if (kind != SlotKind::kOpacity)
             warnings.push_back(run_diagnostic("W311", name,
                                               fmt::format("texture has {} channel{}, not channel {}{}: the material's constant is used instead",
-                                                          image.info.channels, image.info.channels == 1 ? "" : "s", ref->channel,
+                                                          image.info.channels, image.info.channels == 1 ? "" : "s", slot.ref.channel,
                                                           needed > 1 ? fmt::format(" and the {} after it", needed - 1) : "")));
         slot.image = kNone;
         return slot;
@@ -237,7 +238,7 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
     slot.image = static_cast<int>(index);
     slot.srgb = colour ? (ref->color_space == TextureColorSpace::kAuto ? image.info.eight_bit : ref->color_space == TextureColorSpace::kSrgb)
                        : ref->color_space == TextureColorSpace::kSrgb;
-    slot.grey = colour && image.info.channels - ref->channel < 3;
+    slot.grey = colour && image.info.channels - slot.ref.channel < 3;
     return slot;
 }
 

@@ -184,7 +184,7 @@ public:
             m.opacity = clamp01(base[3]);
             if (tex.color) {
                 tex.opacity = *tex.color;
-                tex.opacity->channel = 3, tex.opacity->scale = Vec3{1, 1, 1} * base[3], tex.opacity->color_space = TextureColorSpace::kLinear;
+                tex.opacity->channel = 3, tex.opacity->prefer_alpha = true, tex.opacity->scale = Vec3{1, 1, 1} * base[3], tex.opacity->color_space = TextureColorSpace::kLinear;
             }
         }
         // A constant emission is a sampled emitter (a lamp); a textured one (a screen) glows

@@ -1,12 +1,15 @@
 // OBJ/MTL textures (issue 33): map_Kd, map_Ks, map_Ns, map_d, bump, norm, map_Ke, found
 // relative to the MTL's own folder, with their options; texture coordinates and normals from
-// vt and vn; a texture that is not there is a warning at its MTL line (it renders magenta).
+// vt and vn; a texture that is not there is a warning at its MTL line (it renders magenta);
+// each map reads the channels it should from RGB, RGBA and grey images.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "runtime/texture/surface_textures.h"
 #include "tests/support/scene_helpers.h"
 
 namespace crex {
@@ -60,6 +63,67 @@ TEST(SceneObjTextures, MtlTexturesAreFoundBesideTheMtl) {
     // The missing texture: a warning at its line of the MTL.
     testing::expect_diagnostic(r, "missing texture", "W310", 18, 0, "tex/missing.png");
     EXPECT_EQ(r.find("W310")->span.file->name(), (dir / "mats" / "room.mtl").string());
+    fs::remove_all(dir);
+}
+
+// An uncompressed TGA of one colour: `bytes` its channels (grey; B G R; B G R A, as TGA
+// stores them), 2 x 2 texels.
+void write_tga(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
+    const bool grey = bytes.size() == 1;
+    const uint8_t header[18] = {0, 0, uint8_t(grey ? 3 : 2), 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 2, 0, uint8_t(8 * bytes.size()),
+                                uint8_t(bytes.size() == 4 ? 8 : 0)};
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(header), sizeof header);
+    for (int texel = 0; texel < 4; ++texel) out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+double srgb_decoded(int byte) {
+    const double c = byte / 255.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+// tinyobjloader gives every map but a bump -imfchan 'm' whether the MTL says so or not. Taken
+// as channel 3 it dropped an RGB map_Kd (W311: the constant rendered instead) and made an RGBA
+// one grey with its alpha. A colour map reads R, G, B; a scalar map the alpha where the image
+// has one, else its first channel, or the channel -imfchan names.
+TEST(SceneObjTextures, EachMapReadsItsChannelsFromRgbRgbaAndGreyImages) {
+    const fs::path dir = fs::temp_directory_path() / ("crex_obj_channels_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    write_tga(dir / "rgb.tga", {153, 102, 51});       // R 51, G 102, B 153
+    write_tga(dir / "rgba.tga", {102, 153, 204, 64});  // R 204, G 153, B 102, A 64
+    write_tga(dir / "grey.tga", {191});
+    std::ofstream(dir / "m.obj") << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                                    "usemtl rgb\nf 1/1 2/2 3/3\nusemtl rgba\nf 1/1 2/2 3/3\nusemtl cut_rgba\nf 1/1 2/2 3/3\n"
+                                    "usemtl cut_grey\nf 1/1 2/2 3/3\nusemtl cut_rgb\nf 1/1 2/2 3/3\nusemtl cut_green\nf 1/1 2/2 3/3\n";
+    std::ofstream(dir / "m.mtl") << "newmtl rgb\nKd 1 1 1\nmap_Kd rgb.tga\n"
+                                    "newmtl rgba\nKd 1 1 1\nmap_Kd rgba.tga\n"
+                                    "newmtl cut_rgba\nKd 1 1 1\nmap_d rgba.tga\n"
+                                    "newmtl cut_grey\nKd 1 1 1\nmap_d grey.tga\n"
+                                    "newmtl cut_rgb\nKd 1 1 1\nmap_d rgb.tga\n"
+                                    "newmtl cut_green\nKd 1 1 1\nmap_d -imfchan g rgba.tga\n";
+    auto r = testing::load_path((dir / "m.obj").string());
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    std::vector<Diagnostic> warnings;
+    const SurfaceTextures textures(*r.scene, size_t{16} << 20, warnings);
+    for (const Diagnostic& w : warnings) ADD_FAILURE() << w.code << ": " << w.message;
+    auto index = [&](const std::string& name) {
+        const Material* m = r.scene->find_material("m/" + name);
+        EXPECT_TRUE(m) << name;
+        return static_cast<uint32_t>(m - r.scene->materials.data());
+    };
+    SurfacePoint p;
+    p.u = p.v = 0.5;
+    const Vec3 rgb = textures.values(index("rgb"), p).color, rgba = textures.values(index("rgba"), p).color;
+    const double tolerance = 1e-3;
+    EXPECT_NEAR(rgb.x, srgb_decoded(51), tolerance);
+    EXPECT_NEAR(rgb.y, srgb_decoded(102), tolerance);
+    EXPECT_NEAR(rgb.z, srgb_decoded(153), tolerance);
+    EXPECT_NEAR(rgba.x, srgb_decoded(204), tolerance);
+    EXPECT_NEAR(rgba.z, srgb_decoded(102), tolerance);
+    EXPECT_NEAR(textures.opacity(index("cut_rgba"), p), 64 / 255.0, tolerance);   // its alpha
+    EXPECT_NEAR(textures.opacity(index("cut_grey"), p), 191 / 255.0, tolerance);  // its one channel
+    EXPECT_NEAR(textures.opacity(index("cut_rgb"), p), 51 / 255.0, tolerance);    // no alpha: its first
+    EXPECT_NEAR(textures.opacity(index("cut_green"), p), 153 / 255.0, tolerance); // as -imfchan says
     fs::remove_all(dir);
 }
 
