@@ -121,7 +121,7 @@ std::optional<Document> read_document(const std::string& path, SceneSources& sou
     }
     // Where each image's texels are: a file beside the glTF, or bytes carried in it.
     const size_t n = doc.model.images.size();
-    doc.image_files.resize(n), doc.image_bytes.resize(n), doc.image_mime.resize(n);
+    doc.image_files.resize(n), doc.image_bytes.resize(n), doc.image_mime.resize(n), doc.image_problem.resize(n);
     for (size_t i = 0; i < n; ++i) {
         const tinygltf::Image& image = doc.model.images[i];
         doc.image_mime[i] = image.mimeType;
@@ -131,18 +131,18 @@ std::optional<Document> read_document(const std::string& path, SceneSources& sou
             const auto absolute = std::filesystem::absolute(p, ec);
             doc.image_files[i] = (ec ? p : absolute).lexically_normal().string();
         } else if (image.bufferView >= 0) {
-            // Read from the buffer view here, with its bounds checked.
+            // Read from the buffer view here, with its bounds checked. A view that is not there
+            // costs the image, not the scene: the texture that uses it says so (W310, magenta).
             const auto& views = doc.model.bufferViews;
-            const std::string where = fmt::format("/images/{}/bufferView", i);
             if (static_cast<size_t>(image.bufferView) >= views.size() || views[size_t(image.bufferView)].buffer < 0 ||
                 static_cast<size_t>(views[size_t(image.bufferView)].buffer) >= doc.model.buffers.size()) {
-                sink.report("E303", doc.at(where), fmt::format("image {}: its bufferView does not exist", i));
+                doc.image_problem[i] = "its bufferView does not exist";
                 continue;
             }
             const auto& view = views[size_t(image.bufferView)];
             const auto& data = doc.model.buffers[size_t(view.buffer)].data;
             if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
-                sink.report("E303", doc.at(where), fmt::format("image {}: its bufferView reaches past the end of its buffer", i));
+                doc.image_problem[i] = "its bufferView reaches past the end of its buffer";
                 continue;
             }
             doc.image_bytes[i].assign(reinterpret_cast<const char*>(data.data()) + view.byteOffset, view.byteLength);

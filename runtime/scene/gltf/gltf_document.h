@@ -37,6 +37,8 @@ struct Document {
     std::vector<std::string> image_files;
     std::vector<std::string> image_bytes;  ///< per glTF image: encoded bytes when embedded
     std::vector<std::string> image_mime;
+    /// Per glTF image: why its embedded bytes cannot be had ("" when they can, or it has none).
+    std::vector<std::string> image_problem;
 
     /// The span of the construct at JSON pointer `pointer` ("/meshes/2/primitives/0/mode"),
     /// or of the nearest enclosing one.

@@ -77,7 +77,11 @@ public:
             ref.image = fmt::format("{}#image{}", doc_.name, image);
             if (embedded_.insert(image).second) images_.push_back({ref.image, doc_.image_mime[image], doc_.image_bytes[image]});
         } else {
-            sink_.report("W310", doc_.at(fmt::format("/images/{}", image)), fmt::format("image {} holds no data: it renders magenta", image));
+            const std::string& problem = doc_.image_problem[image];
+            if (warned_missing_.insert(image).second)
+                sink_.report("W310", doc_.at(fmt::format("/images/{}{}", image, problem.empty() ? "" : "/bufferView")),
+                             problem.empty() ? fmt::format("image {} holds no data: it renders magenta", image)
+                                             : fmt::format("image {} cannot be read ({}): it renders magenta", image, problem));
             ref.file = fmt::format("{}#image{}", doc_.name, image);  // not a file: read as missing
         }
         if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < m.samplers.size()) {

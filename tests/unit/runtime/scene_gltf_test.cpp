@@ -383,6 +383,27 @@ TEST(SceneGltf, BrokenFilesAreLocatedErrors) {
     EXPECT_NE(r.find("E303")->message.find("tree"), std::string::npos);
 }
 
+// An image whose buffer view reaches past its buffer costs the image, not the scene: the
+// fuzzer found such a scene loaded with an error beside it (E303 at the view, then W310).
+TEST(SceneGltf, AnImageWhoseBufferViewIsTooShortRendersMagentaAndTheSceneLoads) {
+    const std::string images = R"("images": [{"uri": "wood%20grain.png"}])";
+    const std::string last_view = R"({"buffer": 0, "byteOffset": 44, "byteLength": 24}])";
+    std::string json = room_gltf();
+    json.replace(json.find(images), images.size(), R"("images": [{"bufferView": 3, "mimeType": "image/png"}])");
+    json.replace(json.find(last_view), last_view.size(),
+                 R"({"buffer": 0, "byteOffset": 44, "byteLength": 24}, {"buffer": 0, "byteOffset": 60, "byteLength": 100}])");
+    auto r = testing::load_path(write("broken_image.gltf", json));
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    for (const Diagnostic& d : r.diagnostics) EXPECT_NE(d.severity, Severity::kError) << d.code << ": " << d.message;
+    const Diagnostic* w = r.find("W310");
+    ASSERT_TRUE(w);
+    EXPECT_NE(w->message.find("image 0 cannot be read (its bufferView reaches past the end of its buffer): it renders magenta"), std::string::npos)
+        << w->message;
+    EXPECT_EQ(r.where("W310").line, 35u);  // the image's line
+    const Material* glaze = r.scene->find_material("broken_image/glaze");
+    ASSERT_TRUE(glaze && glaze->textures.color);  // read as missing: magenta, not the constant
+}
+
 TEST(SceneGltf, BinaryFilesCarryTheirImages) {
     // A .glb whose base colour image is a buffer view: the image travels with the scene.
     std::string json = room_gltf();
