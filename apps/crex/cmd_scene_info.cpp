@@ -52,7 +52,7 @@ std::vector<TextureImage> texture_images(const Scene& scene, std::vector<Diagnos
     for (const auto& m : scene.materials) any = any || m.textures.any();
     if (!any) return {};
     try {
-        return SurfaceTextures(scene, texture_cache_bytes(0), warnings).stats().images;
+        return SurfaceTextures(scene, texture_cache_bytes(kDefaultMaxMemory), warnings).stats().images;  // as a render at the default
     } catch (const std::exception& e) {
         warnings.push_back(run_diagnostic("W310", "crex scene-info", e.what()));  // no image plugin, say
         return {};

@@ -120,7 +120,8 @@ uint64_t TextureImage::memory_bytes() const {
     return top + top / 3;
 }
 
-SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings) : scene_(scene) {
+SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings)
+    : scene_(scene), cache_bytes_(cache_bytes) {
     bool referenced = false;
     for (const Material& m : scene.materials) referenced = referenced || m.textures.any();
     if (referenced) {  // the image plugin only when there are images
@@ -211,6 +212,17 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
         }
         int id = -1;
         if (image.error.empty()) id = backend_->open(name, bytes, image.info, image.error);
+        // An image without tiles is read whole, and its MIP levels made whole, whatever the
+        // cache's limit: a 2.6 MB PNG of 30000x30000 texels held 6.9 GB. One larger than the
+        // cache may hold is not read (a tiled copy is read tile by tile within it).
+        if (id >= 0 && !image.info.tiled && image.memory_bytes() > cache_bytes_) {
+            image.error = fmt::format("{}x{} texels without tiles, {:.0f} MiB with their MIP levels, more than the {:.0f} MiB the "
+                                      "texture cache may hold (an eighth of --max-memory); 'maketx FILE -o FILE.tx' makes a tiled "
+                                      "copy, read tile by tile",
+                                      image.info.width, image.info.height, double(image.memory_bytes()) / (1 << 20),
+                                      double(cache_bytes_) / (1 << 20));
+            id = -1;
+        }
         if (id < 0)
             warnings.push_back(run_diagnostic("W310", name, fmt::format("texture cannot be read ({}): it renders magenta where it gives a colour", image.error)));
         ids_.push_back(id);

@@ -163,6 +163,7 @@ private:
     void plan_mask(Slot& slot, size_t& budget);
 
     const Scene& scene_;
+    size_t cache_bytes_ = 0;  ///< the texture cache's share of --max-memory
     std::unique_ptr<TextureBackend> backend_;
     std::vector<TextureImage> images_;
     std::vector<int> ids_;  ///< per image: the backend's id, -1 when it cannot be read

@@ -223,6 +223,28 @@ TEST(TexturedPlane, AMissingTextureIsMagentaNotGrey) {
     EXPECT_NEAR(p.z, 1, 1e-6);
 }
 
+// An image without tiles is read whole, MIP levels and all, whatever the cache's limit (a
+// 2.6 MB PNG of 30000x30000 texels held 6.9 GB): one larger than the cache may hold is not
+// read, says why and what to do, and renders magenta; the same image within the limit reads.
+TEST(TexturedPlane, AnImageWithoutTilesLargerThanTheCacheIsNotRead) {
+    const Scene s = plane_under_sky(texture(write_texture("untiled.exr", 64, 64, std::vector<float>(64 * 64 * 3, 0.5f))));
+    const uint64_t bytes = uint64_t(64) * 64 * 3 * 4 * 4 / 3;  // float RGB with its MIP levels
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures over(s, bytes - 1, warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0].code, "W310");
+    EXPECT_NE(warnings[0].message.find("64x64 texels without tiles"), std::string::npos) << warnings[0].message;
+    EXPECT_NE(warnings[0].message.find("maketx"), std::string::npos) << warnings[0].message;
+    SurfacePoint p;
+    p.u = p.v = 0.5;
+    const Vec3 magenta = over.values(0, p).color;
+    EXPECT_EQ(magenta, (Vec3{1, 0, 1}));
+    warnings.clear();
+    SurfaceTextures within(s, bytes, warnings);
+    EXPECT_TRUE(warnings.empty());
+    EXPECT_NEAR(within.values(0, p).color.y, 0.5, 1e-6);
+}
+
 // A checkerboard on a ground plane seen at grazing angles, as an emission (no lighting: the
 // image is the filtered texture itself, no other noise). Checks of 4 texels: OpenImageIO's
 // bicubic B-spline, what a lookup without a footprint reads, smooths single-texel checks
@@ -401,7 +423,9 @@ TEST(AlphaCutout, TheOpacityMaskReadsWhatTheBackendReads) {
         }
         std::vector<Diagnostic> warnings;
         SurfaceTextures masked(s, size_t{16} << 20, warnings);
-        SurfaceTextures unmasked(s, 1000, warnings);  // 125 bytes for masks: none fits
+        // A cache that holds the image (PNG 3,404 bytes with its MIP levels, EXR 13,616) but
+        // not its mask in its eighth (PNG 851 bytes, EXR 3,404).
+        SurfaceTextures unmasked(s, file.ends_with(".png") ? 5000 : 20000, warnings);
         ASSERT_TRUE(warnings.empty());
         EXPECT_EQ(masked.stats().mask_bytes, uint64_t(w) * h * (file.ends_with(".png") ? 1 : 4));
         EXPECT_EQ(unmasked.stats().mask_bytes, 0u);
