@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 
@@ -210,6 +211,10 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
                 if (e.name == ref->image) bytes = &e.bytes;
             if (!bytes) image.error = "no embedded image of that name";
         }
+        // Only a regular file is opened: a device or a pipe (/dev/zero, a FIFO) never ends.
+        std::error_code ec;
+        if (image.error.empty() && !ref->file.empty() && !std::filesystem::is_regular_file(ref->file, ec))
+            image.error = std::filesystem::exists(ref->file, ec) ? "not a regular file" : "no such file";
         int id = -1;
         if (image.error.empty()) id = backend_->open(name, bytes, image.info, image.error);
         // An image without tiles is read whole, and its MIP levels made whole, whatever the

@@ -137,6 +137,22 @@ TEST_F(HostileInputs, DevicesAndFifosAreRefusedNotReadForEver) {
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
 
+// A texture is an input too: an OBJ whose map_Kd named /dev/zero or a FIFO hung the render in
+// the image reader. It is not opened; the render goes on with it magenta (W310, exit 0).
+TEST_F(HostileInputs, ATextureThatIsADeviceOrAFifoIsNotOpened) {
+    ASSERT_EQ(::mkfifo(path("leaf.png").c_str(), 0600), 0);
+    for (const std::string& texture : {std::string("/dev/zero"), path("leaf.png")}) {
+        write("quad.obj", "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                          "usemtl tex\nf 1/1 2/2 3/3 4/4\nv -0.5 -0.5 2\nv 0.5 -0.5 2\nv 0.5 0.5 2\nv -0.5 0.5 2\nusemtl lamp\nf 8 7 6 5\n");
+        write("quad.mtl", "newmtl tex\nKd 1 1 1\nmap_Kd " + texture + "\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+        auto r = bounded({"run", "--scene", path("quad.obj"), "--size", "8x8", "--spp", "1", "-o", path("x.exr")});
+        EXPECT_NE(r.exit_code, 124) << texture << ": hung";
+        EXPECT_EQ(r.exit_code, 0) << texture << ": " << r.err;
+        EXPECT_TRUE(has(r.err, "warning[W310]: texture cannot be read (not a regular file): it renders magenta")) << r.err;
+        EXPECT_TRUE(fs::exists(path("x.exr")));
+    }
+}
+
 // Every input is read up to a stated size: a larger one is refused before it is read, by name.
 TEST_F(HostileInputs, InputsLargerThanTheCapAreRefusedBeforeTheyAreRead) {
     std::ofstream(path("big.pipe")) << "pipeline big {}\n";
