@@ -149,6 +149,7 @@ SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::ve
     }
     coarse_.resize(images_.size());
     for (auto& c : coarse_) c = std::make_unique<CoarseImage>();
+    failed_lookups_ = std::make_unique<std::atomic<uint64_t>[]>(images_.size());
     size_t mask_budget = cache_bytes / kMaskShare;
     for (MaterialSlots& s : slots_) plan_mask(s.opacity, mask_budget);
 }
@@ -343,6 +344,7 @@ bool SurfaceTextures::read(const Slot& slot, const SurfacePoint& p, int n, float
     bool ok = backend_->lookup(ids_[static_cast<size_t>(slot.image)], at, wrap_of(slot.ref.wrap_s), wrap_of(slot.ref.wrap_t), slot.ref.channel,
                                channels, out, d_ds, d_dt);
     c.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!ok) failed_lookups_[static_cast<size_t>(slot.image)].fetch_add(1, std::memory_order_relaxed);
     if (ok && channels < n) out[1] = out[2] = out[0];
     return ok;
 }
@@ -450,6 +452,7 @@ nlohmann::json images_json(const std::vector<TextureImage>& images) {
             e["width"] = i.info.width, e["height"] = i.info.height, e["channels"] = i.info.channels;
             e["format"] = i.info.format, e["file_bytes"] = i.info.file_bytes;
             e["memory_bytes"] = i.memory_bytes(), e["tiled"] = i.info.tiled, e["mip_levels"] = i.info.mip_levels;
+            if (i.failed_lookups > 0) e["failed_lookups"] = i.failed_lookups;
         }
         out.push_back(e);
     }
@@ -477,6 +480,7 @@ nlohmann::json to_json(const TextureStats& s, double render_thread_seconds, doub
 TextureStats SurfaceTextures::stats() const {
     TextureStats s;
     s.images = images_;
+    for (size_t i = 0; i < s.images.size(); ++i) s.images[i].failed_lookups = failed_lookups_[i].load(std::memory_order_relaxed);
     if (backend_) s.cache = backend_->stats();
     for (const Counters& c : counters_)
         s.lookups += c.lookups, s.lookup_seconds += c.seconds, s.coarse_lookups += c.coarse_lookups, s.mask_lookups += c.mask_lookups;
@@ -486,6 +490,8 @@ TextureStats SurfaceTextures::stats() const {
 
 TextureStats TextureStats::since(const TextureStats& earlier) const {
     TextureStats s = *this;
+    for (size_t i = 0; i < s.images.size() && i < earlier.images.size(); ++i)
+        s.images[i].failed_lookups -= std::min(earlier.images[i].failed_lookups, s.images[i].failed_lookups);
     s.lookups -= std::min(earlier.lookups, lookups);
     s.lookup_seconds = std::max(0.0, lookup_seconds - earlier.lookup_seconds);
     s.coarse_lookups -= std::min(earlier.coarse_lookups, coarse_lookups);

@@ -13,6 +13,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -52,6 +53,7 @@ struct TextureImage {
     std::string name;   ///< the file, or the embedded image's name
     TextureImageInfo info;
     std::string error;  ///< why it cannot be read ("" when it can)
+    uint64_t failed_lookups = 0;  ///< lookups the backend could not answer (a damaged or truncated file): magenta
     /// Texels held when all of it is in memory, MIP levels included (4/3 of the top level).
     uint64_t memory_bytes() const;
 };
@@ -170,6 +172,7 @@ private:
     std::vector<MaterialSlots> slots_;  ///< per scene material
     mutable std::vector<std::unique_ptr<CoarseImage>> coarse_;  ///< per image
     mutable std::vector<std::unique_ptr<OpacityMask>> masks_;
+    mutable std::unique_ptr<std::atomic<uint64_t>[]> failed_lookups_;  ///< per image
     uint64_t mask_bytes_ = 0;
     struct Counters {
         uint64_t lookups = 0, coarse_lookups = 0, mask_lookups = 0;

@@ -223,6 +223,27 @@ TEST(TexturedPlane, AMissingTextureIsMagentaNotGrey) {
     EXPECT_NEAR(p.z, 1, 1e-6);
 }
 
+// A file whose header reads but whose texels do not (a PNG cut short) failed its lookups in
+// silence, but for libpng's own line: the render says how many, and those pixels are magenta.
+TEST(TexturedPlane, ATruncatedTextureSaysItsLookupsFailed) {
+    std::vector<float> rgb(256 * 256 * 3);
+    for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = float((i * 7919) % 256) / 255.0f;  // incompressible enough
+    const std::string file = write_texture("cut_short.png", 256, 256, rgb);
+    fs::resize_file(file, fs::file_size(file) / 4);
+    RunResult r = testing::render_crex(plane_under_sky(texture(file)), "D", 8, 1);
+    const Diagnostic* failed = nullptr;
+    for (const Diagnostic& w : r.warnings)
+        if (w.code == "W310" && w.message.find("could not be read where") != std::string::npos) failed = &w;
+    ASSERT_TRUE(failed) << (r.warnings.empty() ? "no warnings" : r.warnings[0].message);
+    EXPECT_NE(failed->where.find("cut_short.png"), std::string::npos) << failed->where;
+    ASSERT_TRUE(r.textures.has_value());
+    ASSERT_EQ(r.textures->images.size(), 1u);
+    EXPECT_GT(r.textures->images[0].failed_lookups, 0u);
+    const Vec3 p = pixel(r.image(), 8, 4, 4);
+    EXPECT_NEAR(p.x, 1, 1e-6);
+    EXPECT_NEAR(p.y, 0, 1e-6);
+}
+
 // An image without tiles is read whole, MIP levels and all, whatever the cache's limit (a
 // 2.6 MB PNG of 30000x30000 texels held 6.9 GB): one larger than the cache may hold is not
 // read, says why and what to do, and renders magenta; the same image within the limit reads.
