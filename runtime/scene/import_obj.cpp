@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -58,11 +59,23 @@ std::optional<TextureRef> mtl_texture(const std::string& name, const tinyobj::te
                                       DiagnosticSink& sink) {
     if (name.empty()) return std::nullopt;
     TextureRef t;
-    std::filesystem::path p(name);
-    if (p.is_relative()) p = std::filesystem::path(mtl.directory) / p;
+    auto resolve = [&](const std::string& written) {
+        std::filesystem::path p(written);
+        if (p.is_relative()) p = std::filesystem::path(mtl.directory) / p;
+        std::error_code ec;
+        const auto absolute = std::filesystem::absolute(p, ec);
+        return (ec ? p : absolute).lexically_normal().string();
+    };
+    t.file = resolve(name);
     std::error_code ec;
-    const auto absolute = std::filesystem::absolute(p, ec);
-    t.file = (ec ? p : absolute).lexically_normal().string();
+    // MTL files written on Windows name their maps with backslashes (".\wood.jpg"), which a
+    // POSIX path keeps as part of the name: where that file is not there, the name read with
+    // slashes is tried.
+    if (!std::filesystem::is_regular_file(t.file, ec) && name.find('\\') != std::string::npos) {
+        std::string slashed = name;
+        std::replace(slashed.begin(), slashed.end(), '\\', '/');
+        if (std::filesystem::is_regular_file(resolve(slashed), ec)) t.file = resolve(slashed);
+    }
     if (!std::filesystem::is_regular_file(t.file, ec))
         sink.report("W310", texture_line(mtl, name), fmt::format("cannot find the texture '{}': it renders magenta", name));
     auto finite_or = [](double x, double fallback) { return std::isfinite(x) ? x : fallback; };

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -26,13 +27,15 @@ TEST(SceneObjTextures, MtlTexturesAreFoundBesideTheMtl) {
                                        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
                                        "usemtl wood\nf 1/1/1 2/2/1 3/3/1\n"
                                        "usemtl leaf\nf 1/1 2/2 3/3\n"
-                                       "usemtl screen\nf 1 2 3\n";
+                                       "usemtl screen\nf 1 2 3\n"
+                                       "usemtl windows\nf 1/1 2/2 3/3\n";
     std::ofstream(dir / "mats" / "room.mtl") << "newmtl wood\nKd 0.8 0.6 0.4\nKs 0.2 0.2 0.2\nNs 100\n"
                                                 "map_Kd -s 2 3 1 -o 0.5 0 0 tex/wood.png\nmap_Ks tex/spec.png\nmap_Ns tex/gloss.png\n"
                                                 "bump -bm 2 tex/bumps.png\nnorm tex/normals.png\n"
                                                 "newmtl leaf\nKd 0.3 0.6 0.2\nd 1\nmap_d -clamp on tex/leaf.png\n"
                                                 "newmtl screen\nKd 0.05 0.05 0.05\nKe 1 1 1\nmap_Ke tex/screen.png\n"
-                                                "map_Kd tex/missing.png\n";
+                                                "map_Kd tex/missing.png\n"
+                                                "newmtl windows\nKd 1 1 1\nmap_Kd .\\tex\\leaf.png\n";
     auto r = testing::load_path((dir / "room.obj").string());
     ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
     const Material* wood = r.scene->find_material("room/wood");
@@ -60,9 +63,14 @@ TEST(SceneObjTextures, MtlTexturesAreFoundBesideTheMtl) {
         EXPECT_EQ(s.uvs.size(), s.material == "room/screen" ? 0u : s.vertices.size()) << s.material;
         EXPECT_EQ(s.normals.size(), s.material == "room/wood" ? s.vertices.size() : 0u) << s.material;
     }
-    // The missing texture: a warning at its line of the MTL.
+    // A path written on Windows, with backslashes: found with slashes.
+    const Material* windows = r.scene->find_material("room/windows");
+    ASSERT_TRUE(windows && windows->textures.color);
+    EXPECT_EQ(fs::path(windows->textures.color->file), fs::absolute(dir / "mats" / "tex" / "leaf.png").lexically_normal());
+    // The missing texture: a warning at its line of the MTL (and only it).
     testing::expect_diagnostic(r, "missing texture", "W310", 18, 0, "tex/missing.png");
     EXPECT_EQ(r.find("W310")->span.file->name(), (dir / "mats" / "room.mtl").string());
+    EXPECT_EQ(std::count_if(r.diagnostics.begin(), r.diagnostics.end(), [](const Diagnostic& d) { return d.code == "W310"; }), 1);
     fs::remove_all(dir);
 }
 
