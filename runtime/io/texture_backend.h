@@ -18,7 +18,10 @@ struct TextureImageInfo {
     int width = 0, height = 0, channels = 0;
     int alpha_channel = -1;  ///< which channel is alpha (-1: none)
     int bytes_per_channel = 0;
-    bool eight_bit = false;   ///< 8-bit integer texels (so sRGB-encoded when they are colours)
+    bool eight_bit = false;   ///< 8-bit integer texels
+    /// Colours held sRGB-encoded: the file says so (PNG and JPEG at any depth, a gamma of about
+    /// 2.2), or says nothing and holds 8-bit texels.
+    bool srgb = false;
     bool tiled = false;       ///< tiled in the file (maketx's .tx), so read tile by tile
     int mip_levels = 0;       ///< those of the file, or made in memory for a file without them
     uint64_t file_bytes = 0;  ///< on disk (or embedded), 0 when unknown

@@ -2,6 +2,7 @@
 // ImageCache and TextureSystem for the process, in which each render opens its images.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagecache.h>
+#include <OpenImageIO/strutil.h>
 #include <OpenImageIO/texture.h>
 
 #include <cmath>
@@ -153,6 +154,11 @@ public:
         info.channels = spec.nchannels;
         info.alpha_channel = spec.alpha_channel < spec.nchannels ? spec.alpha_channel : -1;
         info.eight_bit = spec.format == OIIO::TypeDesc::UINT8;
+        // A 16-bit PNG is sRGB-encoded as an 8-bit one is (it was read as linear: a colour of 0.5
+        // rendered as 0.5 where it means 0.214).
+        const std::string space = spec.get_string_attribute("oiio:ColorSpace");
+        info.srgb = OIIO::Strutil::iequals(space, "sRGB") || OIIO::Strutil::istarts_with(space, "GammaCorrected2.2") ||
+                    (space.empty() && info.eight_bit);
         info.bytes_per_channel = static_cast<int>(spec.format.size());
         info.tiled = spec.tile_width > 0 && spec.tile_width < spec.width;
         int levels = 0;

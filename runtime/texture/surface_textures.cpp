@@ -254,7 +254,7 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
         return slot;
     }
     slot.image = static_cast<int>(index);
-    slot.srgb = colour ? (ref->color_space == TextureColorSpace::kAuto ? image.info.eight_bit : ref->color_space == TextureColorSpace::kSrgb)
+    slot.srgb = colour ? (ref->color_space == TextureColorSpace::kAuto ? image.info.srgb : ref->color_space == TextureColorSpace::kSrgb)
                        : ref->color_space == TextureColorSpace::kSrgb;
     slot.grey = colour && image.info.channels - slot.ref.channel < 3;
     return slot;

@@ -12,9 +12,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "runtime/io/image_io.h"
 #include "runtime/texture/surface_textures.h"
@@ -187,6 +189,52 @@ TEST(TexturedPlane, EightBitColourTexturesAreDecodedFromSrgb) {
     RunResult r = testing::render_crex(s, "D", 8, 1);
     const double expected = std::pow((188.0 / 255.0 + 0.055) / 1.055, 2.4);
     for (float v : r.image()) ASSERT_NEAR(v / expected, 1.0, 0.01);
+}
+
+// A 16-bit grey PNG of one value (stored deflate blocks: no zlib needed).
+std::string write_png16(const std::string& name, int w, int h, uint16_t value) {
+    auto crc32 = [](const std::string& bytes) {
+        uint32_t c = 0xffffffffu;
+        for (unsigned char b : bytes) {
+            c ^= b;
+            for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+        }
+        return c ^ 0xffffffffu;
+    };
+    auto be32 = [](uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
+    auto chunk = [&](const std::string& type, const std::string& data) { return be32(uint32_t(data.size())) + type + data + be32(crc32(type + data)); };
+    std::string raw;
+    for (int y = 0; y < h; ++y) {
+        raw += '\0';  // no filter
+        for (int x = 0; x < w; ++x) raw += char(value >> 8), raw += char(value & 0xff);
+    }
+    uint32_t a = 1, b = 0;  // Adler-32
+    for (unsigned char c : raw) a = (a + c) % 65521, b = (b + a) % 65521;
+    std::string deflate = "\x78\x01";
+    for (size_t at = 0; at < raw.size(); at += 65535) {
+        const size_t n = std::min<size_t>(65535, raw.size() - at);
+        deflate += char(at + n == raw.size() ? 1 : 0);
+        deflate += char(n & 0xff), deflate += char(n >> 8), deflate += char(~n & 0xff), deflate += char((~n >> 8) & 0xff);
+        deflate += raw.substr(at, n);
+    }
+    deflate += be32((b << 16) | a);
+    const std::string header = be32(uint32_t(w)) + be32(uint32_t(h)) + std::string{16, 0, 0, 0, 0};  // 16 bits, grey
+    const std::string path = (scratch() / name).string();
+    std::ofstream(path, std::ios::binary) << "\x89PNG\r\n\x1a\n" << chunk("IHDR", header) << chunk("IDAT", deflate) << chunk("IEND", "");
+    return path;
+}
+
+// A PNG is sRGB-encoded at 16 bits as at 8 (the PNG spec; OpenImageIO says "sRGB"): a 16-bit
+// colour texture used to be read as linear, 2.3 times too bright at half scale.
+TEST(TexturedPlane, SixteenBitPngColourTexturesAreDecodedFromSrgbToo) {
+    const Scene s = plane_under_sky(texture(write_png16("grey16.png", 4, 4, 32768)));
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures textures(s, size_t{16} << 20, warnings);
+    ASSERT_TRUE(warnings.empty()) << warnings[0].message;
+    SurfacePoint p;
+    p.u = p.v = 0.5;
+    const double c = 32768.0 / 65535.0, expected = std::pow((c + 0.055) / 1.055, 2.4);
+    EXPECT_NEAR(textures.values(0, p).color.x, expected, 1e-4);
 }
 
 // Every 8-bit value decodes to the sRGB curve's exact value (crex reads the curve's power
