@@ -74,7 +74,8 @@ std::optional<TextureRef> mtl_texture(const std::string& name, const tinyobj::te
     if (!std::filesystem::is_regular_file(t.file, ec) && name.find('\\') != std::string::npos) {
         std::string slashed = name;
         std::replace(slashed.begin(), slashed.end(), '\\', '/');
-        if (std::filesystem::is_regular_file(resolve(slashed), ec)) t.file = resolve(slashed);
+        slashed = resolve(slashed);
+        if (std::filesystem::is_regular_file(slashed, ec)) t.file = slashed;
     }
     if (!std::filesystem::is_regular_file(t.file, ec))
         sink.report("W310", texture_line(mtl, name), fmt::format("cannot find the texture '{}': it renders magenta", name));
