@@ -324,6 +324,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             if (!captured) aim(first, last);
             intersect_serial(*scene.embree, hits.data() + first, last - first, camera);
             SpawnScratch spawn;
+            // Filled by direct_light_sample() wherever it returns true: one made for every
+            // sample was zeroed first (a `rep stos` of 88 bytes).
+            ShadowSample light_sample;
             Bsdf textured;  // surface_at()'s, made once a block: a Bsdf made at every hit was zeroed at every hit
             uint32_t block_hits = 0;
             // One ray: its emission or what it escaped to, direct light's shadow rays, children.
@@ -389,9 +392,8 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                     const HitLighting lighting = hit_lighting(params, ray, camera);
                     const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position);
                     for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
-                        ShadowSample sample;
-                        if (direct_light_sample(scene, b, f, weights, ray.beta, random, j, lighting.shadow_rays, sample, lighting.sampling))
-                            shadows.add(sample, static_cast<uint32_t>(i));
+                        if (direct_light_sample(scene, b, f, weights, ray.beta, random, j, lighting.shadow_rays, light_sample, lighting.sampling))
+                            shadows.add(light_sample, static_cast<uint32_t>(i));
                     }
                 }
                 int spawned = spawn_children(b, f, ray, random, eps, params, spawn);
