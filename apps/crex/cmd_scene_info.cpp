@@ -52,7 +52,7 @@ std::vector<TextureImage> texture_images(const Scene& scene, std::vector<Diagnos
     for (const auto& m : scene.materials) any = any || m.textures.any();
     if (!any) return {};
     try {
-        return SurfaceTextures(scene, texture_cache_bytes(kDefaultMaxMemory), warnings).stats().images;  // as a render at the default
+        return SurfaceTextures(scene, texture_cache_bytes(kDefaultMaxMemory), warnings, TiledCopies::kFindOnly).stats().images;  // as a render at the default, making no copy
     } catch (const std::exception& e) {
         warnings.push_back(run_diagnostic("W310", "crex scene-info", e.what()));  // no image plugin, say
         return {};
@@ -122,9 +122,7 @@ void print_text(const Scene& scene, const Census& c, const Stats& st, const std:
                 continue;
             }
             file += i.info.file_bytes, memory += i.memory_bytes();
-            std::cout << fmt::format("  {}  {}x{}, {} channel{}, {}, {:.1f} KiB on disk, {:.1f} MiB in memory\n", i.name, i.info.width,
-                                     i.info.height, i.info.channels, i.info.channels == 1 ? "" : "s", i.info.format,
-                                     i.info.file_bytes / 1024.0, i.memory_bytes() / double(1 << 20));
+            std::cout << "  " << image_text(i);
         }
         std::cout << fmt::format("  {} image{}: {:.1f} MiB on disk, {:.1f} MiB in memory\n", images.size(), images.size() == 1 ? "" : "s",
                                  file / double(1 << 20), memory / double(1 << 20));

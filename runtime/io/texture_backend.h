@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -70,6 +71,11 @@ public:
     /// False when the image cannot be read (out then undefined). Thread-safe.
     virtual bool texels(int id, int first_channel, int channels, float* out) = 0;
     virtual TextureCacheStats stats() const = 0;
+    /// Writes a tiled, MIP-mapped copy (a TIFF, as maketx's .tx) of image file `source` at
+    /// `target`, reading the source row by row in bounded memory (tiled_copy_oiio.h); false
+    /// with `error`, and nothing at `target`, on failure. `progress`: the fraction written.
+    virtual bool make_tiled_copy(const std::string& source, const std::string& target, std::string& error,
+                                 const std::function<void(double)>& progress) = 0;
 };
 
 /// A backend whose cache holds at most `cache_bytes` of texels (OpenImageIO may hold more

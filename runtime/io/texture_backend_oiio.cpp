@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "runtime/io/texture_backend.h"
+#include "runtime/io/tiled_copy_oiio.h"
 
 namespace crex::oiio {
 namespace {
@@ -160,7 +161,7 @@ public:
         info.srgb = OIIO::Strutil::iequals(space, "sRGB") || OIIO::Strutil::istarts_with(space, "GammaCorrected2.2") ||
                     (space.empty() && info.eight_bit);
         info.bytes_per_channel = static_cast<int>(spec.format.size());
-        info.tiled = spec.tile_width > 0 && spec.tile_width < spec.width;
+        info.tiled = spec.tile_width > 0 && (spec.tile_width < spec.width || spec.tile_height < spec.height);
         int levels = 0;
         if (system.get_texture_info(image->handle, nullptr, 0, OIIO::ustring("miplevels"), OIIO::TypeInt, &levels)) info.mip_levels = levels;
         const char* format = nullptr;
@@ -204,6 +205,11 @@ public:
         OIIO::TextureOpt opt;
         return system.get_texels(handle, system.get_perthread_info(), opt, 0, 0, resolution[0], 0, resolution[1], 0, 1, first_channel,
                                  first_channel + channels, OIIO::TypeFloat, out);
+    }
+
+    bool make_tiled_copy(const std::string& source, const std::string& target, std::string& error,
+                         const std::function<void(double)>& progress) override {
+        return write_tiled_copy(source, target, error, progress);
     }
 
     // The process's cache over this render: its counters' growth since the render opened it

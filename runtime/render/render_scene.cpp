@@ -386,11 +386,11 @@ bool CameraRays::world_to_ndc(std::array<double, 16>& m) const {
     return true;
 }
 
-RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes) : scene(s) {
+RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes, TextureProgress progress) : scene(s) {
     bool any_texture = false, any_cutout = false, any_pattern = false, any_clip = false;
     for (const Material& m : s.materials)
         any_texture = any_texture || m.textures.any(), any_cutout = any_cutout || m.opacity < 1, any_clip = any_clip || !m.clips.empty();
-    if (any_texture || any_cutout) textures = std::make_unique<SurfaceTextures>(s, texture_cache_bytes, warnings);
+    if (any_texture || any_cutout) textures = std::make_unique<SurfaceTextures>(s, texture_cache_bytes, warnings, TiledCopies::kMake, std::move(progress));
     if (any_texture || any_cutout || any_clip) {
         cutouts = std::make_unique<SceneCutouts>(s, textures.get());
         if (!cutouts->any()) cutouts.reset();

@@ -314,7 +314,8 @@ struct RenderScene {
     PixelFootprint footprint;
     std::vector<Diagnostic> warnings;  ///< textures that cannot be read (they render magenta)
 
-    explicit RenderScene(const Scene& s, size_t texture_cache_bytes = kDefaultTextureCacheBytes);
+    /// `progress`: long work while it is built (a texture's tiled copy being made).
+    explicit RenderScene(const Scene& s, size_t texture_cache_bytes = kDefaultTextureCacheBytes, TextureProgress progress = {});
     /// Texture filtering for images of width x height through the scene's camera, over
     /// `filter_width` pixels (1: one pixel's footprint; 0: the sharpest lookups, which alias).
     void set_view(int width, int height, double filter_width = 1);

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "base/fnv1a.h"
+#include "runtime/base/cache_folder.h"
 #include "runtime/scene/load_scene.h"
 
 namespace crex {
@@ -24,13 +25,7 @@ std::string reference_key(const Scene& scene, const ReferenceSettings& s) {
                           fmt::format("\n{}x{} seed {} crex {} lw {:.17g} max_depth {} v1", s.width, s.height, s.seed, s.crex, s.lw, s.max_depth));
 }
 
-std::string reference_cache_dir() {
-    namespace fs = std::filesystem;
-    if (const char* c = std::getenv("CREX_CACHE"); c && *c) return (fs::path(c) / "references").string();
-    if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return (fs::path(x) / "crex" / "references").string();
-    const char* home = std::getenv("HOME");
-    return (fs::path(home && *home ? home : ".") / ".cache" / "crex" / "references").string();
-}
+std::string reference_cache_dir() { return (std::filesystem::path(crex_cache_folder()) / "references").string(); }
 
 std::string reference_path(const Scene& scene, const ReferenceSettings& s) {
     return (std::filesystem::path(reference_cache_dir()) / fmt::format("{}_spp{}.exr", reference_key(scene, s), s.spp)).string();

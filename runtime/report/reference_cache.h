@@ -29,7 +29,7 @@ std::string scene_content_hash(const Scene& scene);
 /// 16 hex digits (FNV-1a 64 of the scene's identity text and the settings but spp, which is in the
 /// file name: KEY_sppN.exr).
 std::string reference_key(const Scene& scene, const ReferenceSettings& s);
-/// $CREX_CACHE, else $XDG_CACHE_HOME/crex, else ~/.cache/crex; then references/.
+/// references/ in crex_cache_folder() (runtime/base/cache_folder.h).
 std::string reference_cache_dir();
 std::string reference_path(const Scene& scene, const ReferenceSettings& s);
 /// The cached reference with these settings and the most samples (s.spp ignored); "" if none.

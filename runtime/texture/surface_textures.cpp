@@ -10,6 +10,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "runtime/texture/tiled_copies.h"
+
 namespace crex {
 namespace {
 
@@ -121,8 +123,9 @@ uint64_t TextureImage::memory_bytes() const {
     return top + top / 3;
 }
 
-SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings)
-    : scene_(scene), cache_bytes_(cache_bytes) {
+SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings, TiledCopies copies,
+                                 TextureProgress progress)
+    : scene_(scene), cache_bytes_(cache_bytes), copies_(copies), progress_(std::move(progress)) {
     bool referenced = false;
     for (const Material& m : scene.materials) referenced = referenced || m.textures.any();
     if (referenced) {  // the image plugin only when there are images
@@ -194,6 +197,60 @@ const SurfaceTextures::OpacityMask& SurfaceTextures::opacity_mask(int mask) cons
 
 SurfaceTextures::~SurfaceTextures() = default;
 
+int SurfaceTextures::open_tiled_copy(const std::string& file, int id, TextureImage& image, std::vector<Diagnostic>& warnings) {
+    namespace fs = std::filesystem;
+    const std::string too_large =
+        fmt::format("{}x{} texels without tiles, {:.0f} MiB with their MIP levels, more than the {:.0f} MiB the texture cache may hold "
+                    "(an eighth of --max-memory)",
+                    image.info.width, image.info.height, double(image.memory_bytes()) / (1 << 20), double(cache_bytes_) / (1 << 20));
+    const std::string maketx = "'maketx FILE -o FILE.tx' makes a tiled copy, read tile by tile";
+    if (file.empty()) {  // embedded in the scene's file
+        image.error = fmt::format("{}; an embedded image is not copied: {}", too_large, maketx);
+        return -1;
+    }
+    const std::string copy = tiled_copy_path(file);
+    if (copy.empty() || tiled_copy_memory(image.info) > cache_bytes_) {  // a band of rows would not fit either
+        image.error = fmt::format("{}; {}", too_large, maketx);
+        return -1;
+    }
+    std::error_code ec;
+    image.tiled_copy = copy;
+    if (!fs::is_regular_file(copy, ec)) {
+        if (copies_ == TiledCopies::kFindOnly) return id;  // what a render would make
+        const auto start = std::chrono::steady_clock::now();
+        fs::create_directories(fs::path(copy).parent_path(), ec);
+        std::string error;
+        const std::string step = fmt::format("a tiled copy of {} ({}x{})", fs::path(file).filename().string(), image.info.width, image.info.height);
+        auto progress = [&](double done) {
+            if (progress_) progress_(step, done);
+        };
+        if (!backend_->make_tiled_copy(file, copy, error, progress)) {
+            image.error = fmt::format("{}, and its tiled copy could not be made at {} ({}); {}", too_large, copy, error, maketx);
+            return -1;
+        }
+        image.tiled_copy_made = true;
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        warnings.push_back(run_diagnostic("W312", file,
+                                          fmt::format("{}: read through a tiled copy made in {:.1f} s at {} ({:.1f} MiB; the folder may "
+                                                      "be emptied at any time); a tiled file beside it ({}) or a larger --max-memory "
+                                                      "is read directly",
+                                                      too_large, seconds, copy, double(fs::file_size(copy, ec)) / (1 << 20), maketx)));
+    }
+    TextureImageInfo info;
+    std::string error;
+    const int copy_id = backend_->open(copy, nullptr, info, error);
+    if (copy_id < 0 || info.width != image.info.width || info.height != image.info.height || info.channels != image.info.channels) {
+        image.error = fmt::format("{}, and its tiled copy at {} cannot be read ({}); {}", too_large, copy,
+                                  error.empty() ? "not an image of the same size" : error, maketx);
+        return -1;
+    }
+    // The source's own colour space and alpha (a TIFF may not say the sRGB a PNG implies), and
+    // the copy's tiles (64x64: an image no larger is one tile, which info.tiled does not count).
+    image.info.tiled = true;
+    image.info.mip_levels = info.mip_levels;
+    return copy_id;
+}
+
 SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene,
                                                  std::vector<Diagnostic>& warnings) {
     const bool colour = kind == SlotKind::kColour;
@@ -220,15 +277,8 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
         if (image.error.empty()) id = backend_->open(name, bytes, image.info, image.error);
         // An image without tiles is read whole, and its MIP levels made whole, whatever the
         // cache's limit: a 2.6 MB PNG of 30000x30000 texels held 6.9 GB. One larger than the
-        // cache may hold is not read (a tiled copy is read tile by tile within it).
-        if (id >= 0 && !image.info.tiled && image.memory_bytes() > cache_bytes_) {
-            image.error = fmt::format("{}x{} texels without tiles, {:.0f} MiB with their MIP levels, more than the {:.0f} MiB the "
-                                      "texture cache may hold (an eighth of --max-memory); 'maketx FILE -o FILE.tx' makes a tiled "
-                                      "copy, read tile by tile",
-                                      image.info.width, image.info.height, double(image.memory_bytes()) / (1 << 20),
-                                      double(cache_bytes_) / (1 << 20));
-            id = -1;
-        }
+        // cache may hold is read through a tiled copy, tile by tile within the limit.
+        if (id >= 0 && !image.info.tiled && image.memory_bytes() > cache_bytes_) id = open_tiled_copy(ref->file, id, image, warnings);
         if (id < 0)
             warnings.push_back(run_diagnostic("W310", name, fmt::format("texture cannot be read ({}): it renders magenta where it gives a colour", image.error)));
         ids_.push_back(id);
@@ -442,6 +492,16 @@ Vec3 SurfaceTextures::perturbed_normal(uint32_t m, const SurfacePoint& p, const 
     return out;
 }
 
+std::string image_text(const TextureImage& i) {
+    std::string text = fmt::format("{}  {}x{}, {} channel{}, {}, {:.1f} KiB on disk, {:.1f} MiB in memory\n", i.name, i.info.width, i.info.height,
+                                   i.info.channels, i.info.channels == 1 ? "" : "s", i.info.format, double(i.info.file_bytes) / 1024.0,
+                                   double(i.memory_bytes()) / double(1 << 20));
+    if (!i.tiled_copy.empty())
+        text += fmt::format("      no tiles and larger than the cache: read through {} tiled copy at {}\n",
+                            i.info.tiled ? "the" : "the first render's", i.tiled_copy);
+    return text;
+}
+
 nlohmann::json images_json(const std::vector<TextureImage>& images) {
     nlohmann::json out = nlohmann::json::array();
     for (const auto& i : images) {
@@ -453,6 +513,7 @@ nlohmann::json images_json(const std::vector<TextureImage>& images) {
             e["format"] = i.info.format, e["file_bytes"] = i.info.file_bytes;
             e["memory_bytes"] = i.memory_bytes(), e["tiled"] = i.info.tiled, e["mip_levels"] = i.info.mip_levels;
             if (i.failed_lookups > 0) e["failed_lookups"] = i.failed_lookups;
+            if (!i.tiled_copy.empty()) e["tiled_copy"] = i.tiled_copy, e["tiled_copy_made"] = i.tiled_copy_made;
         }
         out.push_back(e);
     }

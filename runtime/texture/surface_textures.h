@@ -15,6 +15,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -54,9 +55,17 @@ struct TextureImage {
     TextureImageInfo info;
     std::string error;  ///< why it cannot be read ("" when it can)
     uint64_t failed_lookups = 0;  ///< lookups the backend could not answer (a damaged or truncated file): magenta
+    /// The tiled copy it is read through (tiled_copies.h), "" when it is read itself. With
+    /// TiledCopies::kFindOnly, where the copy a render would make goes (tiled_copy_made false).
+    std::string tiled_copy;
+    bool tiled_copy_made = false;
     /// Texels held when all of it is in memory, MIP levels included (4/3 of the top level).
     uint64_t memory_bytes() const;
 };
+
+/// One readable image as `crex scene-info` lists it: name, size, channels, format, bytes on disk
+/// and in memory, and the tiled copy it is read through; a line each, each ending in a newline.
+std::string image_text(const TextureImage& image);
 
 /// What the textures cost a render.
 struct TextureStats {
@@ -78,11 +87,22 @@ struct TextureStats {
 nlohmann::json images_json(const std::vector<TextureImage>& images);
 nlohmann::json to_json(const TextureStats& s, double render_thread_seconds, double render_cpu_seconds);
 
+/// What SurfaceTextures does with a file without tiles larger than its cache: makes its tiled
+/// copy where there is none yet (a render), or only uses one that is there (`crex scene-info`,
+/// which reads headers only).
+enum class TiledCopies { kMake, kFindOnly };
+
+/// Progress of long work while textures are opened (a tiled copy being made): what, and the
+/// fraction done.
+using TextureProgress = std::function<void(const std::string& step, double fraction)>;
+
 class SurfaceTextures {
 public:
     /// Opens every image the materials reference. `warnings`: one line per image that cannot
-    /// be read. Throws std::runtime_error when the image plugin cannot be loaded at all.
-    SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings);
+    /// be read, or read through a tiled copy just made. Throws std::runtime_error when the
+    /// image plugin cannot be loaded at all.
+    SurfaceTextures(const Scene& scene, size_t cache_bytes, std::vector<Diagnostic>& warnings, TiledCopies copies = TiledCopies::kMake,
+                    TextureProgress progress = {});
     ~SurfaceTextures();
 
     /// Has material `m` any texture (else its constants are all there is)?
@@ -123,6 +143,9 @@ private:
     /// opacity (a missing alpha channel is opaque).
     enum class SlotKind { kColour, kScalar, kVector, kOpacity };
     Slot open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene, std::vector<Diagnostic>& warnings);
+    /// `image` (file `file`, opened as `id`) has no tiles and is larger than the cache: its
+    /// tiled copy's id, made if need be, or -1 with image.error (or, finding only, `id`).
+    int open_tiled_copy(const std::string& file, int id, TextureImage& image, std::vector<Diagnostic>& warnings);
     /// (s, t) and footprint of `slot` at `p`.
     TextureLookup coordinates(const Slot& slot, const SurfacePoint& p) const;
     /// A filtered lookup of `n` channels (1 or 3) at `p` (from the coarse copy where `p` asks and
@@ -166,6 +189,8 @@ private:
 
     const Scene& scene_;
     size_t cache_bytes_ = 0;  ///< the texture cache's share of --max-memory
+    TiledCopies copies_ = TiledCopies::kMake;
+    TextureProgress progress_;
     std::unique_ptr<TextureBackend> backend_;
     std::vector<TextureImage> images_;
     std::vector<int> ids_;  ///< per image: the backend's id, -1 when it cannot be read

@@ -8,6 +8,7 @@
 //    rays, and lets irradiance-cache rays through; its opacity mask reads what the backend does;
 //  - a flat normal map changes nothing, bit for bit;
 //  - a missing texture is magenta, not grey;
+//  - an image without tiles larger than the cache is read through a tiled copy, as it is whole;
 //  - averaged hits read a coarse copy that gives a linear ramp back under every wrap mode.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -292,26 +293,166 @@ TEST(TexturedPlane, ATruncatedTextureSaysItsLookupsFailed) {
     EXPECT_NEAR(p.y, 0, 1e-6);
 }
 
+// Points spread over a texture, on and between texels.
+std::vector<SurfacePoint> spread_points() {
+    std::vector<SurfacePoint> points;
+    for (double u : {0.01, 0.26, 0.5, 0.73, 0.99})
+        for (double v : {0.02, 0.31, 0.5, 0.88}) {
+            SurfacePoint p;
+            p.u = u, p.v = v;
+            points.push_back(p);
+        }
+    return points;
+}
+
+// crex's cache folder set to a fresh one for the test's life.
+class CacheFolder {
+public:
+    explicit CacheFolder(const std::string& name) : path_(scratch() / name) {
+        fs::remove_all(path_);
+        ::setenv("CREX_CACHE", path_.c_str(), 1);
+    }
+    ~CacheFolder() { ::unsetenv("CREX_CACHE"); }
+    const fs::path& path() const { return path_; }
+
+private:
+    fs::path path_;
+};
+
 // An image without tiles is read whole, MIP levels and all, whatever the cache's limit (a
-// 2.6 MB PNG of 30000x30000 texels held 6.9 GB): one larger than the cache may hold is not
-// read, says why and what to do, and renders magenta; the same image within the limit reads.
-TEST(TexturedPlane, AnImageWithoutTilesLargerThanTheCacheIsNotRead) {
-    const Scene s = plane_under_sky(texture(write_texture("untiled.exr", 64, 64, std::vector<float>(64 * 64 * 3, 0.5f))));
-    const uint64_t bytes = uint64_t(64) * 64 * 3 * 4 * 4 / 3;  // float RGB with its MIP levels
+// 2.6 MB PNG of 30000x30000 texels held 6.9 GB): one larger than the cache may hold is read
+// through a tiled copy made once in crex's cache folder (W312 says so when it is made), whose
+// finest level holds the very texels: sharp lookups read what the image read whole gives.
+TEST(TexturedPlane, AnImageWithoutTilesLargerThanTheCacheIsReadThroughATiledCopy) {
+    const CacheFolder cache("tiled_copy_cache");
+    // Large enough that a band of 64 of its rows, what making the copy holds, fits the cache.
+    std::vector<float> rgb(512 * 384 * 3);
+    for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = float((i * 37) % 101) / 100.0f;  // no two neighbours alike
+    const Scene s = plane_under_sky(texture(write_texture("untiled.exr", 512, 384, rgb)));
+    const uint64_t bytes = uint64_t(512) * 384 * 3 * 4 * 4 / 3;  // float RGB with its MIP levels
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures whole(s, bytes, warnings);
+    EXPECT_TRUE(warnings.empty());
+    EXPECT_TRUE(whole.stats().images[0].tiled_copy.empty());
+
+    SurfaceTextures over(s, bytes - 1, warnings);
+    ASSERT_EQ(warnings.size(), 1u) << warnings[0].message << "\n" << warnings.back().message;
+    EXPECT_EQ(warnings[0].code, "W312");
+    EXPECT_NE(warnings[0].message.find("512x384 texels without tiles"), std::string::npos) << warnings[0].message;
+    const TextureImage made = over.stats().images[0];
+    EXPECT_TRUE(made.tiled_copy_made);
+    EXPECT_TRUE(made.info.tiled);
+    EXPECT_EQ(made.info.mip_levels, 10);  // 512x384 down to 1x1
+    EXPECT_EQ(fs::path(made.tiled_copy).parent_path(), cache.path() / "textures");
+    EXPECT_TRUE(fs::is_regular_file(made.tiled_copy));
+    for (const SurfacePoint& p : spread_points()) {
+        const Vec3 a = over.values(0, p).color, b = whole.values(0, p).color;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-6) << "at " << p.u << ", " << p.v;
+    }
+    // Its coarsest level is about the whole image's mean (box averages of box averages over a
+    // size that halves evenly down to 4x3, then rounds down): a lookup whose footprint is the
+    // whole image reads about it.
+    double mean = 0;
+    for (size_t i = 0; i < rgb.size(); i += 3) mean += rgb[i];
+    mean /= double(rgb.size() / 3);
+    SurfacePoint all;
+    all.u = all.v = 0.5;
+    all.dudx = all.dvdy = 4;
+    EXPECT_NEAR(over.values(0, all).color.x, mean, 0.03);
+
+    // The next render finds the copy and says nothing.
+    warnings.clear();
+    SurfaceTextures again(s, bytes - 1, warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings[0].message;
+    EXPECT_EQ(again.stats().images[0].tiled_copy, made.tiled_copy);
+    EXPECT_FALSE(again.stats().images[0].tiled_copy_made);
+    EXPECT_EQ(again.values(0, spread_points()[7]).color, over.values(0, spread_points()[7]).color);
+}
+
+// An 8-bit RGBA image of odd sizes (a TGA, stored unassociated): the copy keeps its texels as
+// stored (colour not multiplied by alpha), its sRGB, and its alpha.
+TEST(TexturedPlane, ATiledCopyKeepsAnRgbaImagesTexelsAlphaAndColourSpace) {
+    const CacheFolder cache("tiled_copy_rgba");
+    const int w = 301, h = 333;
+    const std::string path = (scratch() / "odd_rgba.tga").string();
+    {
+        const uint8_t header[18] = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, uint8_t(w & 255), uint8_t(w >> 8), uint8_t(h & 255), uint8_t(h >> 8), 32, 8 | 0x20};
+        std::ofstream out(path, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(header), sizeof header);
+        for (int i = 0; i < w * h * 4; ++i) out.put(static_cast<char>((i * 53 + i / 4 * 7) % 256));  // B, G, R, A
+    }
+    Scene s = plane_under_sky(texture(path));
+    TextureRef opacity = texture(path);
+    opacity.prefer_alpha = true;
+    s.materials[0].textures.opacity = opacity;
+    const uint64_t bytes = uint64_t(w) * h * 4 * 4 / 3;
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures whole(s, bytes + 16, warnings);
+    SurfaceTextures copy(s, bytes - 16, warnings);
+    ASSERT_EQ(warnings.size(), 1u) << warnings[0].message << "\n" << warnings.back().message;
+    EXPECT_EQ(warnings[0].code, "W312");
+    EXPECT_TRUE(copy.stats().images[0].info.srgb);
+    for (const SurfacePoint& p : spread_points()) {
+        const Vec3 a = copy.values(0, p).color, b = whole.values(0, p).color;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-6) << "at " << p.u << ", " << p.v;
+        EXPECT_NEAR(copy.opacity(0, p), whole.opacity(0, p), 1e-6) << "at " << p.u << ", " << p.v;
+    }
+}
+
+// Where the copy cannot be made (the cache folder cannot be), the image is not read: W310 says
+// why and what to do, and it renders magenta. `crex scene-info` (find only) makes no copy.
+TEST(TexturedPlane, AnImageWhoseTiledCopyCannotBeMadeIsNotRead) {
+    const fs::path blocker = scratch() / "not_a_folder";
+    std::ofstream(blocker) << "a file where the cache folder would go";
+    ::setenv("CREX_CACHE", (blocker / "cache").c_str(), 1);
+    const Scene s = plane_under_sky(texture(write_texture("uncopied.exr", 256, 256, std::vector<float>(256 * 256 * 3, 0.5f))));
+    const uint64_t bytes = uint64_t(256) * 256 * 3 * 4 * 4 / 3;
     std::vector<Diagnostic> warnings;
     SurfaceTextures over(s, bytes - 1, warnings);
+    ::unsetenv("CREX_CACHE");
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_EQ(warnings[0].code, "W310");
-    EXPECT_NE(warnings[0].message.find("64x64 texels without tiles"), std::string::npos) << warnings[0].message;
+    EXPECT_NE(warnings[0].message.find("could not be made"), std::string::npos) << warnings[0].message;
     EXPECT_NE(warnings[0].message.find("maketx"), std::string::npos) << warnings[0].message;
     SurfacePoint p;
     p.u = p.v = 0.5;
-    const Vec3 magenta = over.values(0, p).color;
-    EXPECT_EQ(magenta, (Vec3{1, 0, 1}));
+    EXPECT_EQ(over.values(0, p).color, (Vec3{1, 0, 1}));
+
+    const CacheFolder cache("find_only");
     warnings.clear();
-    SurfaceTextures within(s, bytes, warnings);
+    SurfaceTextures info(s, bytes - 1, warnings, TiledCopies::kFindOnly);
     EXPECT_TRUE(warnings.empty());
-    EXPECT_NEAR(within.values(0, p).color.y, 0.5, 1e-6);
+    const TextureImage& image = info.stats().images[0];
+    EXPECT_FALSE(image.tiled_copy.empty());
+    EXPECT_FALSE(image.tiled_copy_made);
+    EXPECT_FALSE(image.info.tiled);
+    EXPECT_FALSE(fs::exists(cache.path()));
+}
+
+// A PNG whose header says it is a million texels a side (and holds none): a band of its rows
+// alone would be 960 MB, more than the cache may hold, so no copy is tried; W310 at once.
+TEST(TexturedPlane, APngThatSaysItIsAMillionTexelsWideIsNotCopied) {
+    const CacheFolder cache("million");
+    auto crc32 = [](const std::string& bytes) {
+        uint32_t c = 0xffffffffu;
+        for (unsigned char b : bytes) {
+            c ^= b;
+            for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+        }
+        return c ^ 0xffffffffu;
+    };
+    auto be32 = [](uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
+    auto chunk = [&](const std::string& type, const std::string& data) { return be32(uint32_t(data.size())) + type + data + be32(crc32(type + data)); };
+    const std::string path = (scratch() / "million.png").string();
+    std::ofstream(path, std::ios::binary) << std::string("\x89PNG\r\n\x1a\n", 8)
+                                          << chunk("IHDR", be32(1000000) + be32(1000000) + std::string("\x08\x02\x00\x00\x00", 5))
+                                          << chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) << chunk("IEND", "");
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures textures(plane_under_sky(texture(path)), texture_cache_bytes(size_t{1} << 30), warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0].code, "W310") << warnings[0].message;
+    EXPECT_NE(warnings[0].message.find("1000000x1000000 texels without tiles"), std::string::npos) << warnings[0].message;
+    EXPECT_FALSE(fs::exists(cache.path()));
 }
 
 // A checkerboard on a ground plane seen at grazing angles, as an emission (no lighting: the
