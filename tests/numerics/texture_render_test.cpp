@@ -399,6 +399,26 @@ TEST(TexturedPlane, ATiledCopyKeepsAnRgbaImagesTexelsAlphaAndColourSpace) {
     }
 }
 
+// An image embedded in the scene's file (a .glb's PNG, named "scene.glb#image0") reads the texels
+// the same image reads as a file: OpenImageIO picks its reader by the name's extension, and
+// found none for such a name (every embedded image rendered magenta).
+TEST(TexturedPlane, AnEmbeddedImageReadsAsTheSameFileDoes) {
+    std::vector<float> rgb(16 * 16 * 3);
+    for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = float((i * 29) % 256) / 255.0f;
+    const std::string path = write_texture("embedded_small.png", 16, 16, rgb);
+    std::ifstream file(path, std::ios::binary);
+    Scene embedded = plane_under_sky({});
+    embedded.images.push_back({"scene.glb#image0", "image/png", std::string(std::istreambuf_iterator<char>(file), {})});
+    embedded.materials[0].textures.color.emplace().image = "scene.glb#image0";
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures from_bytes(embedded, kDefaultTextureCacheBytes, warnings), from_file(plane_under_sky(texture(path)), kDefaultTextureCacheBytes, warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings[0].message;
+    for (const SurfacePoint& p : spread_points()) {
+        const Vec3 a = from_bytes.values(0, p).color, b = from_file.values(0, p).color;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-6) << "at " << p.u << ", " << p.v;
+    }
+}
+
 // Where the copy cannot be made (the cache folder cannot be), the image is not read: W310 says
 // why and what to do, and it renders magenta. `crex scene-info` (find only) makes no copy.
 TEST(TexturedPlane, AnImageWhoseTiledCopyCannotBeMadeIsNotRead) {
@@ -422,7 +442,7 @@ TEST(TexturedPlane, AnImageWhoseTiledCopyCannotBeMadeIsNotRead) {
     warnings.clear();
     SurfaceTextures info(s, bytes - 1, warnings, TiledCopies::kFindOnly);
     EXPECT_TRUE(warnings.empty());
-    const TextureImage& image = info.stats().images[0];
+    const TextureImage image = info.stats().images[0];
     EXPECT_FALSE(image.tiled_copy.empty());
     EXPECT_FALSE(image.tiled_copy_made);
     EXPECT_FALSE(image.info.tiled);
