@@ -197,18 +197,15 @@ const SurfaceTextures::OpacityMask& SurfaceTextures::opacity_mask(int mask) cons
 
 SurfaceTextures::~SurfaceTextures() = default;
 
-int SurfaceTextures::open_tiled_copy(const std::string& file, int id, TextureImage& image, std::vector<Diagnostic>& warnings) {
+int SurfaceTextures::open_tiled_copy(const std::string& file, const std::string* bytes, int id, TextureImage& image,
+                                     std::vector<Diagnostic>& warnings) {
     namespace fs = std::filesystem;
     const std::string too_large =
         fmt::format("{}x{} texels without tiles, {:.0f} MiB with their MIP levels, more than the {:.0f} MiB the texture cache may hold "
                     "(an eighth of --max-memory)",
                     image.info.width, image.info.height, double(image.memory_bytes()) / (1 << 20), double(cache_bytes_) / (1 << 20));
     const std::string maketx = "'maketx FILE -o FILE.tx' makes a tiled copy, read tile by tile";
-    if (file.empty()) {  // embedded in the scene's file
-        image.error = fmt::format("{}; an embedded image is not copied: {}", too_large, maketx);
-        return -1;
-    }
-    const std::string copy = tiled_copy_path(file);
+    const std::string copy = bytes ? embedded_tiled_copy_path(image.name, *bytes) : tiled_copy_path(file);
     if (copy.empty() || tiled_copy_memory(image.info) > cache_bytes_) {  // a band of rows would not fit either
         image.error = fmt::format("{}; {}", too_large, maketx);
         return -1;
@@ -220,17 +217,21 @@ int SurfaceTextures::open_tiled_copy(const std::string& file, int id, TextureIma
         const auto start = std::chrono::steady_clock::now();
         fs::create_directories(fs::path(copy).parent_path(), ec);
         std::string error;
-        const std::string step = fmt::format("a tiled copy of {} ({}x{})", fs::path(file).filename().string(), image.info.width, image.info.height);
+        const std::string step = fmt::format("a tiled copy of {} ({}x{})", fs::path(image.name).filename().string(), image.info.width, image.info.height);
         auto progress = [&](double done) {
             if (progress_) progress_(step, done);
         };
-        if (!backend_->make_tiled_copy(file, copy, error, progress)) {
+        // An image embedded in the scene's file (a .glb's) is made a file of its own first.
+        const std::string source = bytes ? write_embedded_source(copy, *bytes, error) : file;
+        const bool made = !source.empty() && backend_->make_tiled_copy(source, copy, error, progress);
+        if (bytes && !source.empty()) fs::remove(source, ec);
+        if (!made) {
             image.error = fmt::format("{}, and its tiled copy could not be made at {} ({}); {}", too_large, copy, error, maketx);
             return -1;
         }
         image.tiled_copy_made = true;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        warnings.push_back(run_diagnostic("W312", file,
+        warnings.push_back(run_diagnostic("W312", image.name,
                                           fmt::format("{}: read through a tiled copy made in {:.1f} s at {} ({:.1f} MiB; the folder may "
                                                       "be emptied at any time); a tiled file beside it ({}) or a larger --max-memory "
                                                       "is read directly",
@@ -278,7 +279,7 @@ SurfaceTextures::Slot SurfaceTextures::open_slot(const std::optional<TextureRef>
         // An image without tiles is read whole, and its MIP levels made whole, whatever the
         // cache's limit: a 2.6 MB PNG of 30000x30000 texels held 6.9 GB. One larger than the
         // cache may hold is read through a tiled copy, tile by tile within the limit.
-        if (id >= 0 && !image.info.tiled && image.memory_bytes() > cache_bytes_) id = open_tiled_copy(ref->file, id, image, warnings);
+        if (id >= 0 && !image.info.tiled && image.memory_bytes() > cache_bytes_) id = open_tiled_copy(ref->file, bytes, id, image, warnings);
         if (id < 0)
             warnings.push_back(run_diagnostic("W310", name, fmt::format("texture cannot be read ({}): it renders magenta where it gives a colour", image.error)));
         ids_.push_back(id);

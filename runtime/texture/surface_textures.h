@@ -143,9 +143,10 @@ private:
     /// opacity (a missing alpha channel is opaque).
     enum class SlotKind { kColour, kScalar, kVector, kOpacity };
     Slot open_slot(const std::optional<TextureRef>& ref, SlotKind kind, const Scene& scene, std::vector<Diagnostic>& warnings);
-    /// `image` (file `file`, opened as `id`) has no tiles and is larger than the cache: its
-    /// tiled copy's id, made if need be, or -1 with image.error (or, finding only, `id`).
-    int open_tiled_copy(const std::string& file, int id, TextureImage& image, std::vector<Diagnostic>& warnings);
+    /// `image` (file `file`, or the embedded `bytes`; opened as `id`) has no tiles and is larger
+    /// than the cache: its tiled copy's id, made if need be, or -1 with image.error (or,
+    /// finding only, `id`).
+    int open_tiled_copy(const std::string& file, const std::string* bytes, int id, TextureImage& image, std::vector<Diagnostic>& warnings);
     /// (s, t) and footprint of `slot` at `p`.
     TextureLookup coordinates(const Slot& slot, const SurfacePoint& p) const;
     /// A filtered lookup of `n` channels (1 or 3) at `p` (from the coarse copy where `p` asks and

@@ -4,11 +4,26 @@
 
 #include <cctype>
 #include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
 
 #include "base/fnv1a.h"
 #include "runtime/base/cache_folder.h"
 
 namespace crex {
+
+namespace {
+
+// textures/NAME-KEY.tx: the name's letters, digits, - and _ first, so a person can tell the copies apart.
+std::string copy_path(const std::string& name, uint64_t key) {
+    std::string stem;
+    for (char c : name)
+        if (stem.size() < 40) stem += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
+    return (std::filesystem::path(crex_cache_folder()) / "textures" / fmt::format("{}-{}.tx", stem, hex16(key))).string();
+}
+
+}  // namespace
 
 std::string tiled_copy_path(const std::string& file) {
     namespace fs = std::filesystem;
@@ -21,11 +36,26 @@ std::string tiled_copy_path(const std::string& file) {
     if (ec) return "";
     const std::string identity = fmt::format("{}\n{}\n{}\ntiled copy v1", absolute.lexically_normal().string(), size,
                                              static_cast<long long>(time.time_since_epoch().count()));
-    // The file's own name first (its letters, digits, - and _), so a person can tell the copies apart.
-    std::string stem;
-    for (char c : absolute.stem().string())
-        if (stem.size() < 40) stem += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
-    return (fs::path(crex_cache_folder()) / "textures" / fmt::format("{}-{}.tx", stem, hex16(fnv1a64(identity)))).string();
+    return copy_path(absolute.stem().string(), fnv1a64(identity));
+}
+
+std::string embedded_tiled_copy_path(const std::string& name, const std::string& bytes) {
+    return copy_path(std::filesystem::path(name).filename().string(), fnv1a64(bytes, fnv1a64("embedded tiled copy v1\n")));
+}
+
+std::string write_embedded_source(const std::string& copy, const std::string& bytes, std::string& error) {
+    const bool png = bytes.rfind("\x89PNG", 0) == 0, jpeg = bytes.rfind("\xff\xd8", 0) == 0;
+    const std::string path = fmt::format("{}.{}.source{}", copy, ::getpid(), png ? ".png" : jpeg ? ".jpg" : "");
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) {
+        error = "cannot write " + path;
+        std::error_code ec;
+        std::filesystem::remove(path, ec);
+        return "";
+    }
+    return path;
 }
 
 }  // namespace crex

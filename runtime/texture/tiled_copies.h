@@ -18,6 +18,14 @@ namespace crex {
 /// size or time cannot be read.
 std::string tiled_copy_path(const std::string& file);
 
+/// The same for an image embedded in a scene file (a .glb's), named `name`: KEY hashes its bytes.
+std::string embedded_tiled_copy_path(const std::string& name, const std::string& bytes);
+
+/// Writes an embedded image's `bytes` beside `copy` as a file of its own for the copy to be made
+/// from (named with this process's id and, for PNG and JPEG, their extension); its path, or ""
+/// with `error`.
+std::string write_embedded_source(const std::string& copy, const std::string& bytes, std::string& error);
+
 /// What making the copy of an image holds in memory: a band of 64 rows as floats, and the
 /// writer's band as stored (runtime/io/tiled_copy_oiio.cpp). A PNG may say it is a million
 /// texels wide.

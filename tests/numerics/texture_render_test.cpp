@@ -419,6 +419,32 @@ TEST(TexturedPlane, AnEmbeddedImageReadsAsTheSameFileDoes) {
     }
 }
 
+// An image embedded in the scene's file (a .glb's PNG) is copied as a file is, keyed by its bytes.
+TEST(TexturedPlane, AnEmbeddedImageLargerThanTheCacheIsReadThroughATiledCopy) {
+    const CacheFolder cache("embedded_copy");
+    std::vector<float> rgb(300 * 400 * 3);
+    for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = float((i * 29) % 256) / 255.0f;
+    std::ifstream file(write_texture("embedded.png", 300, 400, rgb), std::ios::binary);
+    Scene s = plane_under_sky({});
+    s.images.push_back({"scene.glb#image0", "image/png", std::string(std::istreambuf_iterator<char>(file), {})});
+    s.materials[0].textures.color.emplace().image = "scene.glb#image0";
+    const uint64_t bytes = uint64_t(300) * 400 * 3 * 4 / 3;
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures whole(s, bytes, warnings);
+    SurfaceTextures copy(s, bytes - 1, warnings);
+    ASSERT_EQ(warnings.size(), 1u) << warnings.front().message;
+    EXPECT_EQ(warnings[0].code, "W312");
+    const TextureImage image = copy.stats().images[0];
+    EXPECT_TRUE(image.tiled_copy_made);
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(cache.path() / "textures")) files.push_back(e.path().filename().string());
+    EXPECT_EQ(files, std::vector<std::string>{fs::path(image.tiled_copy).filename().string()});  // the bytes' own file removed
+    for (const SurfacePoint& p : spread_points()) {
+        const Vec3 a = copy.values(0, p).color, b = whole.values(0, p).color;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-6) << "at " << p.u << ", " << p.v;
+    }
+}
+
 // Where the copy cannot be made (the cache folder cannot be), the image is not read: W310 says
 // why and what to do, and it renders magenta. `crex scene-info` (find only) makes no copy.
 TEST(TexturedPlane, AnImageWhoseTiledCopyCannotBeMadeIsNotRead) {
