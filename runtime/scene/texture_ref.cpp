@@ -36,10 +36,13 @@ std::string_view texture_mapping_name(TextureMapping m) { return name_in(kMappin
 std::optional<TextureMapping> texture_mapping_from_name(std::string_view name) { return value_in(kMappings, name); }
 
 UvTransform uv_transform_of(double offset_u, double offset_v, double rotation, double scale_u, double scale_v) {
-    // The extension's GLSL: translation * rotation * scale, its rotation matrix written
-    // column by column as (cos, sin), (-sin, cos).
+    // Translation * rotation * scale, the rotation turning (u, v) to (c u + s v, c v - s u): as
+    // the extension's own test model (TextureTransformTest's arrow points to its green marker),
+    // three.js and Cesium turn it. Its README's GLSL, read as written, turns the other way (the
+    // model's red marker: "the rotation was applied in the opposite direction"), which crex
+    // followed until 2026-12-05.
     const double c = std::cos(rotation), s = std::sin(rotation);
-    return {c * scale_u, -s * scale_v, offset_u, s * scale_u, c * scale_v, offset_v};
+    return {c * scale_u, s * scale_v, offset_u, -s * scale_u, c * scale_v, offset_v};
 }
 
 }  // namespace crex

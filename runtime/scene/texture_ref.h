@@ -48,7 +48,8 @@ using UvTransform = std::array<double, 6>;
 inline constexpr UvTransform kIdentityUv{1, 0, 0, 0, 1, 0};
 
 /// glTF's KHR_texture_transform: scale, then rotate by `rotation` radians, then offset, as
-/// one matrix (T * R * S in the extension's words).
+/// one matrix (T * R * S in the extension's words): s = c su u + s sv v + offset_u,
+/// t = c sv v - s su u + offset_v, with c and s the rotation's cosine and sine.
 UvTransform uv_transform_of(double offset_u, double offset_v, double rotation, double scale_u, double scale_v);
 
 struct TextureRef {

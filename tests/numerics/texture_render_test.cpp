@@ -293,6 +293,28 @@ TEST(TexturedPlane, ATruncatedTextureSaysItsLookupsFailed) {
     EXPECT_NEAR(p.y, 0, 1e-6);
 }
 
+// KHR_texture_transform's rotation turns (u, v) to (c u + s v, c v - s u), as the extension's
+// test model (TextureTransformTest: the arrow of its rotation quad points at the green marker,
+// not at the red one, "applied in the opposite direction"), three.js and Cesium turn it. A
+// quarter turn of the quadrant texture: (0.25, 0.25) reads (0.25, -0.25), repeated (0.25, 0.75),
+// the bottom-left quadrant; (0.25, 0.75) reads the bottom-right one. crex turned the other way
+// (top-right and top-left) until 2026-12-05.
+TEST(TexturedPlane, AUvRotationTurnsAsTheGltfTestModelSays) {
+    TextureRef t = texture(write_texture("quadrants_turned.exr", 8, 8, quadrant_texels()));
+    t.uv_transform = uv_transform_of(0, 0, kPi / 2, 1, 1);
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures textures(plane_under_sky(t), kDefaultTextureCacheBytes, warnings);
+    SurfacePoint p;
+    p.u = 0.25, p.v = 0.25;
+    const Vec3 a = textures.values(0, p).color;
+    p.v = 0.75;
+    const Vec3 b = textures.values(0, p).color;
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(a[k], kQuadrant[2][k], 1e-5);
+        EXPECT_NEAR(b[k], kQuadrant[3][k], 1e-5);
+    }
+}
+
 // Points spread over a texture, on and between texels.
 std::vector<SurfacePoint> spread_points() {
     std::vector<SurfacePoint> points;
