@@ -64,11 +64,12 @@ TEST(SceneTextureJson, EveryFieldIsRead) {
 }
 
 TEST(SceneTextureJson, UvTransformFollowsKhrTextureTransform) {
-    // Scale, then rotate, then offset: (1, 0) scaled by 2 is (2, 0); rotated a quarter turn,
-    // (0, 2); offset by (0.5, 0), (0.5, 2).
+    // Scale, then rotate, then offset: (1, 0) scaled by 2 is (2, 0); turned a quarter as the
+    // extension's test model turns it ((u, v) to (c u + s v, c v - s u)), (0, -2); offset by
+    // (0.5, 0), (0.5, -2).
     const UvTransform m = uv_transform_of(0.5, 0, std::acos(-1.0) / 2, 2, 3);
     EXPECT_NEAR(m[0] * 1 + m[1] * 0 + m[2], 0.5, 1e-12);
-    EXPECT_NEAR(m[3] * 1 + m[4] * 0 + m[5], 2, 1e-12);
+    EXPECT_NEAR(m[3] * 1 + m[4] * 0 + m[5], -2, 1e-12);
 }
 
 TEST(SceneTextureJson, BadReferencesAreLocatedErrors) {
