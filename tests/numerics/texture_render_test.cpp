@@ -192,18 +192,20 @@ TEST(TexturedPlane, EightBitColourTexturesAreDecodedFromSrgb) {
     for (float v : r.image()) ASSERT_NEAR(v / expected, 1.0, 0.01);
 }
 
+// PNG's pieces, written by hand: a big-endian 32-bit number, and a chunk with its CRC.
+std::string be32(uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; }
+
+std::string png_chunk(const std::string& type, const std::string& data) {
+    uint32_t c = 0xffffffffu;
+    for (unsigned char b : type + data) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return be32(uint32_t(data.size())) + type + data + be32(c ^ 0xffffffffu);
+}
+
 // A 16-bit grey PNG of one value (stored deflate blocks: no zlib needed).
 std::string write_png16(const std::string& name, int w, int h, uint16_t value) {
-    auto crc32 = [](const std::string& bytes) {
-        uint32_t c = 0xffffffffu;
-        for (unsigned char b : bytes) {
-            c ^= b;
-            for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-        }
-        return c ^ 0xffffffffu;
-    };
-    auto be32 = [](uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
-    auto chunk = [&](const std::string& type, const std::string& data) { return be32(uint32_t(data.size())) + type + data + be32(crc32(type + data)); };
     std::string raw;
     for (int y = 0; y < h; ++y) {
         raw += '\0';  // no filter
@@ -221,7 +223,7 @@ std::string write_png16(const std::string& name, int w, int h, uint16_t value) {
     deflate += be32((b << 16) | a);
     const std::string header = be32(uint32_t(w)) + be32(uint32_t(h)) + std::string{16, 0, 0, 0, 0};  // 16 bits, grey
     const std::string path = (scratch() / name).string();
-    std::ofstream(path, std::ios::binary) << "\x89PNG\r\n\x1a\n" << chunk("IHDR", header) << chunk("IDAT", deflate) << chunk("IEND", "");
+    std::ofstream(path, std::ios::binary) << "\x89PNG\r\n\x1a\n" << png_chunk("IHDR", header) << png_chunk("IDAT", deflate) << png_chunk("IEND", "");
     return path;
 }
 
@@ -501,20 +503,10 @@ TEST(TexturedPlane, AnImageWhoseTiledCopyCannotBeMadeIsNotRead) {
 // alone would be 960 MB, more than the cache may hold, so no copy is tried; W310 at once.
 TEST(TexturedPlane, APngThatSaysItIsAMillionTexelsWideIsNotCopied) {
     const CacheFolder cache("million");
-    auto crc32 = [](const std::string& bytes) {
-        uint32_t c = 0xffffffffu;
-        for (unsigned char b : bytes) {
-            c ^= b;
-            for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
-        }
-        return c ^ 0xffffffffu;
-    };
-    auto be32 = [](uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
-    auto chunk = [&](const std::string& type, const std::string& data) { return be32(uint32_t(data.size())) + type + data + be32(crc32(type + data)); };
     const std::string path = (scratch() / "million.png").string();
     std::ofstream(path, std::ios::binary) << std::string("\x89PNG\r\n\x1a\n", 8)
-                                          << chunk("IHDR", be32(1000000) + be32(1000000) + std::string("\x08\x02\x00\x00\x00", 5))
-                                          << chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) << chunk("IEND", "");
+                                          << png_chunk("IHDR", be32(1000000) + be32(1000000) + std::string("\x08\x02\x00\x00\x00", 5))
+                                          << png_chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) << png_chunk("IEND", "");
     std::vector<Diagnostic> warnings;
     SurfaceTextures textures(plane_under_sky(texture(path)), texture_cache_bytes(size_t{1} << 30), warnings);
     ASSERT_EQ(warnings.size(), 1u);
