@@ -216,6 +216,7 @@ int SurfaceTextures::open_tiled_copy(const std::string& file, const std::string*
         if (copies_ == TiledCopies::kFindOnly) return id;  // what a render would make
         const auto start = std::chrono::steady_clock::now();
         fs::create_directories(fs::path(copy).parent_path(), ec);
+        remove_stale_temporaries(copy);
         std::string error;
         const std::string step = fmt::format("a tiled copy of {} ({}x{})", fs::path(image.name).filename().string(), image.info.width, image.info.height);
         auto progress = [&](double done) {

@@ -3,9 +3,12 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include "base/fnv1a.h"
@@ -41,6 +44,23 @@ std::string tiled_copy_path(const std::string& file) {
 
 std::string embedded_tiled_copy_path(const std::string& name, const std::string& bytes) {
     return copy_path(std::filesystem::path(name).filename().string(), fnv1a64(bytes, fnv1a64("embedded tiled copy v1\n")));
+}
+
+void remove_stale_temporaries(const std::string& copy) {
+    namespace fs = std::filesystem;
+    const std::string prefix = fs::path(copy).filename().string() + ".";
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(fs::path(copy).parent_path(), ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind(prefix, 0) != 0) continue;
+        // NAME-KEY.tx.PID.part, .PID.levelN or .PID.source...: the maker's process id first.
+        const std::string rest = name.substr(prefix.size());
+        char* end = nullptr;
+        const long pid = std::strtol(rest.c_str(), &end, 10);
+        if (pid <= 0 || end == rest.c_str() || *end != '.') continue;
+        if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // its maker still runs
+        fs::remove(entry.path(), ec);
+    }
 }
 
 std::string write_embedded_source(const std::string& copy, const std::string& bytes, std::string& error) {

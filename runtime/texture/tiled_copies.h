@@ -21,6 +21,11 @@ std::string tiled_copy_path(const std::string& file);
 /// The same for an image embedded in a scene file (a .glb's), named `name`: KEY hashes its bytes.
 std::string embedded_tiled_copy_path(const std::string& name, const std::string& bytes);
 
+/// Removes what a process making `copy` left behind when it was killed (its temporary files,
+/// named with its process id: the coarser levels of a large image are gigabytes), where no
+/// process of that id runs any more.
+void remove_stale_temporaries(const std::string& copy);
+
 /// Writes an embedded image's `bytes` beside `copy` as a file of its own for the copy to be made
 /// from (named with this process's id and, for PNG and JPEG, their extension); its path, or ""
 /// with `error`.
