@@ -306,7 +306,8 @@ TEST(TexturedPlane, AUvRotationTurnsAsTheGltfTestModelSays) {
     TextureRef t = texture(write_texture("quadrants_turned.exr", 8, 8, quadrant_texels()));
     t.uv_transform = uv_transform_of(0, 0, kPi / 2, 1, 1);
     std::vector<Diagnostic> warnings;
-    SurfaceTextures textures(plane_under_sky(t), kDefaultTextureCacheBytes, warnings);
+    const Scene scene = plane_under_sky(t);  // the textures keep a reference to it
+    SurfaceTextures textures(scene, kDefaultTextureCacheBytes, warnings);
     SurfacePoint p;
     p.u = 0.25, p.v = 0.25;
     const Vec3 a = textures.values(0, p).color;
@@ -436,7 +437,8 @@ TEST(TexturedPlane, AnEmbeddedImageReadsAsTheSameFileDoes) {
     embedded.images.push_back({"scene.glb#image0", "image/png", std::string(std::istreambuf_iterator<char>(file), {})});
     embedded.materials[0].textures.color.emplace().image = "scene.glb#image0";
     std::vector<Diagnostic> warnings;
-    SurfaceTextures from_bytes(embedded, kDefaultTextureCacheBytes, warnings), from_file(plane_under_sky(texture(path)), kDefaultTextureCacheBytes, warnings);
+    const Scene file_scene = plane_under_sky(texture(path));  // the textures keep a reference to it
+    SurfaceTextures from_bytes(embedded, kDefaultTextureCacheBytes, warnings), from_file(file_scene, kDefaultTextureCacheBytes, warnings);
     EXPECT_TRUE(warnings.empty()) << warnings[0].message;
     for (const SurfacePoint& p : spread_points()) {
         const Vec3 a = from_bytes.values(0, p).color, b = from_file.values(0, p).color;
@@ -530,7 +532,8 @@ TEST(TexturedPlane, APngThatSaysItIsAMillionTexelsWideIsNotCopied) {
                                           << png_chunk("IHDR", be32(1000000) + be32(1000000) + std::string("\x08\x02\x00\x00\x00", 5))
                                           << png_chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) << png_chunk("IEND", "");
     std::vector<Diagnostic> warnings;
-    SurfaceTextures textures(plane_under_sky(texture(path)), texture_cache_bytes(size_t{1} << 30), warnings);
+    const Scene scene = plane_under_sky(texture(path));  // the textures keep a reference to it
+    SurfaceTextures textures(scene, texture_cache_bytes(size_t{1} << 30), warnings);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_EQ(warnings[0].code, "W310") << warnings[0].message;
     EXPECT_NE(warnings[0].message.find("1000000x1000000 texels without tiles"), std::string::npos) << warnings[0].message;
