@@ -11,9 +11,9 @@
 #include <map>
 #include <mutex>
 #include <set>
-#include <string_view>
 #include <vector>
 
+#include "runtime/base/image_signature.h"
 #include "runtime/io/texture_backend.h"
 #include "runtime/io/tiled_copy_oiio.h"
 
@@ -28,18 +28,6 @@ OIIO::TextureOpt::Wrap wrap_of(BackendWrap w) {
     case BackendWrap::kMirror: return OIIO::TextureOpt::WrapMirror;
     }
     return OIIO::TextureOpt::WrapPeriodic;
-}
-
-// The extension of the format an embedded image's bytes begin with ("" when none is known:
-// OpenImageIO then tries its readers in turn).
-std::string embedded_extension(const std::string& bytes) {
-    using namespace std::string_view_literals;
-    static const std::pair<std::string_view, const char*> kMagic[] = {
-        {"\x89PNG"sv, ".png"}, {"\xff\xd8\xff"sv, ".jpg"}, {"RIFF"sv, ".webp"}, {"DDS "sv, ".dds"}, {"\x76\x2f\x31\x01"sv, ".exr"},
-        {"#?RADIANCE"sv, ".hdr"}, {"#?RGBE"sv, ".hdr"}, {"II*\0"sv, ".tif"}, {"MM\0*"sv, ".tif"}, {"BM"sv, ".bmp"}, {"GIF8"sv, ".gif"}};
-    for (const auto& [magic, extension] : kMagic)
-        if (std::string_view(bytes).substr(0, magic.size()) == magic) return extension;
-    return "";
 }
 
 // One OpenImageIO cache and texture system for the whole process, never destroyed; each
@@ -75,7 +63,7 @@ public:
         // An embedded image's name in the cache ends in its format's extension: OpenImageIO
         // picks the reader by it ("scene.glb#image0" found none, and every embedded image of a
         // .glb rendered magenta).
-        image->name = OIIO::ustring(bytes ? key + embedded_extension(*bytes) : key);
+        image->name = OIIO::ustring(bytes ? key + image_extension_of(*bytes) : key);
         if (bytes) {
             image->bytes = *bytes;
             image->proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(image->bytes.data(), image->bytes.size());

@@ -13,6 +13,7 @@
 
 #include "base/fnv1a.h"
 #include "runtime/base/cache_folder.h"
+#include "runtime/base/image_signature.h"
 
 namespace crex {
 
@@ -64,8 +65,7 @@ void remove_stale_temporaries(const std::string& copy) {
 }
 
 std::string write_embedded_source(const std::string& copy, const std::string& bytes, std::string& error) {
-    const bool png = bytes.rfind("\x89PNG", 0) == 0, jpeg = bytes.rfind("\xff\xd8", 0) == 0;
-    const std::string path = fmt::format("{}.{}.source{}", copy, ::getpid(), png ? ".png" : jpeg ? ".jpg" : "");
+    const std::string path = fmt::format("{}.{}.source{}", copy, ::getpid(), image_extension_of(bytes));
     std::ofstream out(path, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     out.close();

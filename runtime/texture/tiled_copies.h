@@ -27,7 +27,7 @@ std::string embedded_tiled_copy_path(const std::string& name, const std::string&
 void remove_stale_temporaries(const std::string& copy);
 
 /// Writes an embedded image's `bytes` beside `copy` as a file of its own for the copy to be made
-/// from (named with this process's id and, for PNG and JPEG, their extension); its path, or ""
+/// from (named with this process's id and their format's extension); its path, or ""
 /// with `error`.
 std::string write_embedded_source(const std::string& copy, const std::string& bytes, std::string& error);
 
