@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "base/base64.h"
 #include "base/input_file.h"
 
 namespace crex::gltf {
@@ -61,6 +62,35 @@ std::string uri_decode(const std::string& uri) {
             out += uri[i];
         }
     }
+    return out;
+}
+
+// A data URI (RFC 2397: "data:[<media type>][;<parameter>]*[;base64],<data>") as its bytes and
+// media type. tinygltf decodes only the media types it lists ("image/png", "image/jpeg", ...);
+// files in the wild also say "image/jpg", "image/webp", carry parameters, or say nothing, and
+// OpenImageIO finds the format from the bytes anyway. Empty bytes with `problem` set when the
+// URI cannot be decoded.
+struct DataUri {
+    std::string bytes, media_type, problem;
+};
+DataUri decode_data_uri(const std::string& uri) {
+    DataUri out;
+    const size_t comma = uri.find(',');
+    if (uri.rfind("data:", 0) != 0 || comma == std::string::npos) {
+        out.problem = "its data URI has no ',' before the data";
+        return out;
+    }
+    const std::string header = uri.substr(5, comma - 5);
+    const bool base64_encoded = header.size() >= 7 && header.compare(header.size() - 7, 7, ";base64") == 0;
+    out.media_type = header.substr(0, header.find(';'));
+    const std::string_view data(uri.data() + comma + 1, uri.size() - comma - 1);
+    if (base64_encoded) {
+        if (auto bytes = base64_decode(data)) out.bytes = std::move(*bytes);
+        else out.problem = "its data URI says base64 but the data is not base64";
+    } else {
+        out.bytes = uri_decode(std::string(data));
+    }
+    if (out.bytes.empty() && out.problem.empty()) out.problem = "its data URI holds no bytes";
     return out;
 }
 
@@ -130,6 +160,12 @@ std::optional<Document> read_document(const std::string& path, SceneSources& sou
             std::error_code ec;
             const auto absolute = std::filesystem::absolute(p, ec);
             doc.image_files[i] = (ec ? p : absolute).lexically_normal().string();
+        } else if (!image.uri.empty() && doc.image_bytes[i].empty()) {
+            // A data URI tinygltf did not decode (a media type it does not list).
+            DataUri decoded = decode_data_uri(image.uri);
+            doc.image_bytes[i] = std::move(decoded.bytes);
+            doc.image_problem[i] = std::move(decoded.problem);
+            if (doc.image_mime[i].empty()) doc.image_mime[i] = decoded.media_type;
         } else if (image.bufferView >= 0) {
             // Read from the buffer view here, with its bounds checked. A view that is not there
             // costs the image, not the scene: the texture that uses it says so (W310, magenta).

@@ -79,7 +79,9 @@ public:
         } else {
             const std::string& problem = doc_.image_problem[image];
             if (warned_missing_.insert(image).second)
-                sink_.report("W310", doc_.at(fmt::format("/images/{}{}", image, problem.empty() ? "" : "/bufferView")),
+                sink_.report("W310", doc_.at(fmt::format("/images/{}{}", image, problem.empty()                ? ""
+                                                                          : m.images[image].bufferView >= 0 ? "/bufferView"
+                                                                                                            : "/uri")),
                              problem.empty() ? fmt::format("image {} holds no data: it renders magenta", image)
                                              : fmt::format("image {} cannot be read ({}): it renders magenta", image, problem));
             ref.file = fmt::format("{}#image{}", doc_.name, image);  // not a file: read as missing

@@ -404,6 +404,35 @@ TEST(SceneGltf, AnImageWhoseBufferViewIsTooShortRendersMagentaAndTheSceneLoads) 
     ASSERT_TRUE(glaze && glaze->textures.color);  // read as missing: magenta, not the constant
 }
 
+// Images as data URIs: tinygltf decodes only the media types it lists; the rest (seen in the
+// wild: "image/jpg", parameters, no media type, percent-encoding) were kept as three bytes of
+// "data" and rendered magenta.
+TEST(SceneGltf, DataUriImagesCarryTheirBytesWhateverTheirMediaType) {
+    const std::string images = R"("images": [{"uri": "wood%20grain.png"}])";
+    const std::string png = "\x89PNG\r\n\x1a\n-not-decoded-here-";
+    const std::string percent = "%89PNG%0D%0A%1A%0A-not-decoded-here-";
+    for (const std::string uri : {"data:image/png;base64," + base64(png), "data:image/jpg;base64," + base64(png),
+                                  "data:image/png;charset=binary;base64," + base64(png), "data:;base64," + base64(png),
+                                  "data:image/webp;base64," + base64(png), "data:image/png," + percent}) {
+        std::string json = room_gltf();
+        json.replace(json.find(images), images.size(), R"("images": [{"uri": ")" + uri + R"("}])");
+        auto r = testing::load_path(write("inline.gltf", json));
+        ASSERT_TRUE(r.scene) << uri;
+        EXPECT_FALSE(r.find("W310")) << uri << ": " << r.find("W310")->message;
+        ASSERT_EQ(r.scene->images.size(), 1u) << uri;
+        EXPECT_EQ(r.scene->images[0].bytes, png) << uri;
+    }
+    // Data that is not what its URI says is a located warning, and the scene still loads.
+    std::string json = room_gltf();
+    json.replace(json.find(images), images.size(), R"("images": [{"uri": "data:image/jpg;base64,@@@"}])");
+    auto r = testing::load_path(write("inline.gltf", json));
+    ASSERT_TRUE(r.scene);
+    const Diagnostic* w = r.find("W310");
+    ASSERT_TRUE(w);
+    EXPECT_NE(w->message.find("its data URI says base64 but the data is not base64"), std::string::npos) << w->message;
+    EXPECT_EQ(r.where("W310").line, 35u);  // the image's line
+}
+
 TEST(SceneGltf, BinaryFilesCarryTheirImages) {
     // A .glb whose base colour image is a buffer view: the image travels with the scene.
     std::string json = room_gltf();
