@@ -467,7 +467,8 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 for (size_t s = first[i]; s < first[i + 1]; ++s) make_hole(shadows[s], static_cast<unsigned>(i));
                 const RTCRayHit& h = hits[i];
                 if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-                if (!scene.bsdf_of(h.hit.geomID).direct_response && !(scene.textures && scene.textures->textured(scene.embree->geometries()[h.hit.geomID].material)))
+                const GeometryInfo& g = scene.embree->geometries()[h.hit.geomID];
+                if (!scene.bsdf_of(h.hit.geomID).direct_response && !(scene.textures && scene.textures->textured(g.material)) && g.colors.empty())
                     continue;
                 // As trace_and_shade() shades a camera hit: the same frame, throughput and random numbers.
                 const size_t r = begin + i;

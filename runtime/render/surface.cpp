@@ -35,6 +35,18 @@ void interpolate_uv(const GeometryInfo& g, const std::array<uint32_t, 3>& t, dou
     v = b0 * g.uvs[t[0]][1] + b1 * g.uvs[t[1]][1] + b2 * g.uvs[t[2]][1];
 }
 
+// The mesh's vertex colour at barycentrics (b1, b2) of triangle t.
+Vec3 interpolate_color(const GeometryInfo& g, const std::array<uint32_t, 3>& t, double b1, double b2) {
+    const double b0 = 1 - b1 - b2;
+    Vec3 c;
+    for (int k = 0; k < 3; ++k) {
+        const auto& v = g.colors[t[size_t(k)]];
+        const double b = k == 0 ? b0 : k == 1 ? b1 : b2;
+        c = c + Vec3{v[0], v[1], v[2]} * b;
+    }
+    return {std::fmax(c.x, 0.0), std::fmax(c.y, 0.0), std::fmax(c.z, 0.0)};
+}
+
 // Least-squares (u, v) change for a position change `dp` on the surface (pbrt's), bounded.
 void uv_change(const Vec3& dpdu, const Vec3& dpdv, const Vec3& dp, double& du, double& dv) {
     const double a00 = dot(dpdu, dpdu), a01 = dot(dpdu, dpdv), a11 = dot(dpdv, dpdv);
@@ -217,7 +229,17 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
         scratch.redirect = scene.bsdfs[material].redirect;
         return scratch;
     }
-    if (!textured) return scene.bsdfs[material];
+    const bool colored = !g.sphere && !g.colors.empty();
+    if (!textured && !colored) return scene.bsdfs[material];
+    const Material& m = scene.scene.materials[material];
+    if (!textured) {
+        MaterialValues values = constant_values(m);
+        values.color = values.color * interpolate_color(g, g.indices[hit.primID], hit.u, hit.v);
+        scratch = Bsdf::of(m, values);
+        scratch.directional = scene.bsdfs[material].directional;
+        scratch.redirect = scene.bsdfs[material].redirect;
+        return scratch;
+    }
     SurfacePoint p;
     p.position = f.position + scene.embree->origin_offset();
     p.indirect = detail != SurfaceDetail::kSeen;
@@ -237,7 +259,9 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     // average over hundreds of hemisphere rays does not keep.
     if (detail != SurfaceDetail::kAveraged && scene.textures->perturbs_normal(material))
         f.shading = scene.textures->perturbed_normal(material, p, f.shading, dpdu, dpdv);
-    scratch = Bsdf::of(scene.scene.materials[material], scene.textures->values(material, p));
+    MaterialValues values = scene.textures->values(material, p);
+    if (colored) values.color = values.color * interpolate_color(g, g.indices[hit.primID], hit.u, hit.v);
+    scratch = Bsdf::of(m, values);
     scratch.directional = scene.bsdfs[material].directional;
     scratch.redirect = scene.bsdfs[material].redirect;
     return scratch;

@@ -565,7 +565,7 @@ private:
             r.number("radius", s.radius, kPositive, true);
             break;
         case ShapeType::kMesh:
-            r.warn_unknown({"type", "name", "material", "tag", "vertices", "triangles", "uvs", "normals", "file"});
+            r.warn_unknown({"type", "name", "material", "tag", "vertices", "triangles", "uvs", "normals", "colors", "file"});
             if (r.has("file")) {
                 read_obj_mesh(r, s, scene);
                 return;
@@ -576,6 +576,16 @@ private:
             if (r.vec3_list("normals", s.normals, false) && s.normals.size() != s.vertices.size())
                 sink_.report("E303", r.span("normals"), fmt::format("{}: {} normals for {} vertices (give one per vertex)",
                                                                     r.path("normals"), s.normals.size(), s.vertices.size()));
+            if (r.vec3_list("colors", s.colors, false)) {
+                if (s.colors.size() != s.vertices.size())
+                    sink_.report("E303", r.span("colors"), fmt::format("{}: {} vertex colours for {} vertices (give one per vertex)",
+                                                                       r.path("colors"), s.colors.size(), s.vertices.size()));
+                for (const Vec3& c : s.colors)
+                    if (c.x < 0 || c.y < 0 || c.z < 0) {
+                        sink_.report("E303", r.span("colors"), fmt::format("{}: a vertex colour is negative", r.path("colors")));
+                        break;
+                    }
+            }
             break;
         }
         shape_index_.push_back(current_index_);

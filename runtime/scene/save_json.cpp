@@ -177,6 +177,8 @@ nlohmann::json scene_to_json(const Scene& scene) {
             if (!s.uvs.empty()) e["uvs"] = s.uvs;
             if (!s.normals.empty())
                 for (const auto& n : s.normals) e["normals"].push_back(vec(n));
+            if (!s.colors.empty())
+                for (const auto& c : s.colors) e["colors"].push_back(vec(c));
             break;
         case ShapeType::kBox: e["min"] = vec(s.min), e["max"] = vec(s.max); break;
         case ShapeType::kRing:

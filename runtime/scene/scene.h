@@ -217,6 +217,9 @@ struct Shape {
     /// per vertex). Without normals a mesh is shaded flat.
     std::vector<std::array<double, 2>> uvs;
     std::vector<Vec3> normals;
+    /// mesh, optional: per-vertex linear RGB that multiplies the material's colour (glTF's
+    /// COLOR_0; its texture's colour too), one per vertex or none.
+    std::vector<Vec3> colors;
     std::string file;                                  ///< mesh: the OBJ it came from, if any
     // box
     Vec3 min, max;

@@ -227,6 +227,10 @@ std::optional<std::string> shape_problem(const Shape& s) {
             return fmt::format("{} texture coordinates for {} vertices", s.uvs.size(), s.vertices.size());
         if (!s.normals.empty() && s.normals.size() != s.vertices.size())
             return fmt::format("{} normals for {} vertices", s.normals.size(), s.vertices.size());
+        if (!s.colors.empty() && s.colors.size() != s.vertices.size())
+            return fmt::format("{} vertex colours for {} vertices", s.colors.size(), s.vertices.size());
+        for (const auto& c : s.colors)
+            if (!is_finite(c) || c.x < 0 || c.y < 0 || c.z < 0) return "a vertex colour that is negative or not finite";
         for (const auto& uv : s.uvs)
             if (!std::isfinite(uv[0]) || !std::isfinite(uv[1])) return "non-finite texture coordinate";
         for (const auto& n : s.normals)
@@ -272,12 +276,15 @@ void append_triangles(const Shape& s, TriangleMesh& out, size_t* dropped) {
         uint32_t base = static_cast<uint32_t>(out.positions.size());
         // Per-vertex attributes stay aligned with the positions only while every mesh
         // appended has them.
-        const bool aligned_uvs = out.uvs.size() == base, aligned_normals = out.normals.size() == base;
+        const bool aligned_uvs = out.uvs.size() == base, aligned_normals = out.normals.size() == base,
+                   aligned_colors = out.colors.size() == base;
         for (const auto& v : s.vertices) out.positions.push_back(v);
         if (aligned_uvs && s.uvs.size() == s.vertices.size()) out.uvs.insert(out.uvs.end(), s.uvs.begin(), s.uvs.end());
         else out.uvs.clear();
         if (aligned_normals && s.normals.size() == s.vertices.size()) out.normals.insert(out.normals.end(), s.normals.begin(), s.normals.end());
         else out.normals.clear();
+        if (aligned_colors && s.colors.size() == s.vertices.size()) out.colors.insert(out.colors.end(), s.colors.begin(), s.colors.end());
+        else out.colors.clear();
         for (const auto& t : s.triangles) {
             Vec3 n = cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]);
             if (!(length(n) > 0)) {  // zero-area triangles have no normal: never hand them to the tracer
@@ -316,6 +323,7 @@ void tessellate(const Shape& s, TriangleMesh& out, size_t* dropped) {
     // Per-vertex attributes are all or nothing.
     if (out.uvs.size() != out.positions.size()) out.uvs.clear();
     if (out.normals.size() != out.positions.size()) out.normals.clear();
+    if (out.colors.size() != out.positions.size()) out.colors.clear();
 }
 
 size_t triangle_count(const Shape& s) {

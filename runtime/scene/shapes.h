@@ -26,6 +26,7 @@ struct TriangleMesh {
     /// to one TriangleMesh do not all have them).
     std::vector<std::array<double, 2>> uvs;
     std::vector<Vec3> normals;
+    std::vector<Vec3> colors;  ///< per position, multiplying the material's colour (Shape::colors)
 };
 
 /// Why `shape` cannot be rendered (non-finite numbers, zero radius, degenerate normal or axis,

@@ -147,6 +147,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
             info.indices = mesh.indices;
             for (const auto& uv : mesh.uvs) info.uvs.push_back({static_cast<float>(uv[0]), static_cast<float>(uv[1])});
             for (const auto& n : mesh.normals) info.vertex_normals.push_back(normalize_or_zero(n));
+            for (const auto& c : mesh.colors) info.colors.push_back({static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)});
             info.normals.reserve(mesh.indices.size());
             for (const auto& t : mesh.indices) {
                 const Vec3 &p0 = mesh.positions[t[0]], &p1 = mesh.positions[t[1]], &p2 = mesh.positions[t[2]];

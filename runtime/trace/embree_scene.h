@@ -66,6 +66,7 @@ struct GeometryInfo {
     std::vector<Vec3> normals;  ///< triangles: unit geometric normal, zero when degenerate
     std::vector<std::array<float, 2>> uvs;  ///< meshes that have them: per vertex texture coordinates
     std::vector<Vec3> vertex_normals;        ///< meshes that have them: per vertex shading normals (unit)
+    std::vector<std::array<float, 3>> colors;  ///< meshes that have them: per vertex colour (Shape::colors)
 };
 
 class EmbreeScene {

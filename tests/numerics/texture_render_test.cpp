@@ -115,6 +115,37 @@ TEST(TexturedPlane, UnderAWhiteSkyIsTheFilteredTextureTimesTheIrradiance) {
             }
 }
 
+// Vertex colours (glTF's COLOR_0) multiply the material's colour, and its texture's where it
+// has one: under the white sky each pixel is albedo times colour exactly (1 spp, as above).
+TEST(VertexColours, MultiplyTheMaterialsColourAndItsTexture) {
+    const Vec3 tint{0.9, 0.5, 0.25};
+    const int n = 32;
+    for (const bool textured : {false, true}) {
+        Scene s = plane_under_sky(texture(write_texture("quadrants.exr", 8, 8, quadrant_texels())));
+        if (!textured) s.materials[0].textures.color.reset();
+        s.shapes[0].colors.assign(4, tint);
+        const std::vector<float> img = testing::render_crex(s, "D", n, 1).image();
+        ASSERT_TRUE(testing::all_finite(img));
+        for (int q = 0; q < 4; ++q)
+            for (int y = 6; y < 10; ++y)
+                for (int x = 6; x < 10; ++x) {
+                    const Vec3 p = pixel(img, n, x + (q % 2) * 16, y + (q / 2) * 16);
+                    const Vec3 albedo = textured ? kQuadrant[q] : Vec3{0.5, 0.5, 0.5};
+                    for (int k = 0; k < 3; ++k)
+                        ASSERT_NEAR(p[k] / (albedo[k] * tint[k]), 1.0, 0.01) << (textured ? "textured" : "plain") << " quadrant " << q;
+                }
+    }
+    // Colours that differ per vertex are interpolated across each triangle: black at one corner,
+    // white at the others, the pixel beside the black corner is darker than the far one.
+    Scene s = plane_under_sky(texture(""));
+    s.materials[0].textures.color.reset();
+    s.shapes[0].colors = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
+    const std::vector<float> img = testing::render_crex(s, "D", n, 1).image();
+    const double near_black = pixel(img, n, 0, n - 1)[1], far = pixel(img, n, n - 1, 0)[1];
+    EXPECT_NEAR(far, 0.5, 0.01);
+    EXPECT_LT(near_black, 0.05);
+}
+
 // A walk's frames are renders one after another in one process. Each render used to make and
 // destroy a texture cache of its own, which crashed walks over textured scenes every few frames
 // (inside OpenImageIO: the threads kept per-thread state of the cache they had used). Now

@@ -172,6 +172,14 @@ private:
             const int uv_accessor = attribute(materials_.tex_coord[material] == 1 ? "TEXCOORD_1" : "TEXCOORD_0");
             std::vector<double> uv = uv_accessor >= 0 ? gltf::read_accessor(doc_, uv_accessor, 2, at + "/attributes/TEXCOORD", sink_)
                                                       : std::vector<double>{};
+            // COLOR_0 (linear RGB or RGBA) multiplies the base colour; its alpha is not used.
+            const int color_accessor = attribute("COLOR_0");
+            const int color_components = color_accessor >= 0 && static_cast<size_t>(color_accessor) < doc_.model.accessors.size() &&
+                                                 doc_.model.accessors[size_t(color_accessor)].type == TINYGLTF_TYPE_VEC4
+                                             ? 4 : 3;
+            const std::vector<double> colors =
+                color_accessor >= 0 ? gltf::read_accessor(doc_, color_accessor, color_components, at + "/attributes/COLOR_0", sink_)
+                                    : std::vector<double>{};
             std::vector<uint32_t> idx;
             if (p.indices >= 0) idx = gltf::read_indices(doc_, p.indices, at + "/indices", sink_);
             if (sink_.error_count() != errors) continue;
@@ -207,6 +215,12 @@ private:
                 }
             if (uv.size() / 2 == n)
                 for (size_t i = 0; i < n; ++i) s.uvs.push_back({std::isfinite(uv[2 * i]) ? uv[2 * i] : 0.0, std::isfinite(uv[2 * i + 1]) ? uv[2 * i + 1] : 0.0});
+            if (colors.size() / size_t(color_components) == n)
+                for (size_t i = 0; i < n; ++i) {
+                    const double* c = &colors[size_t(color_components) * i];
+                    auto channel = [](double x) { return std::isfinite(x) ? std::clamp(x, 0.0, 1.0) : 1.0; };
+                    s.colors.push_back({channel(c[0]), channel(c[1]), channel(c[2])});
+                }
             // Triangles of the primitive's mode.
             auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
                 if (a >= n || b >= n || c >= n) return false;

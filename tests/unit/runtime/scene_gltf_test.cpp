@@ -433,6 +433,38 @@ TEST(SceneGltf, DataUriImagesCarryTheirBytesWhateverTheirMediaType) {
     EXPECT_EQ(r.where("W310").line, 35u);  // the image's line
 }
 
+// COLOR_0 multiplies the base colour (glTF 2.0, 3.7.2.1): it was dropped without a word.
+// Normalised bytes (RGBA, alpha unused) are read as [0, 1], and the colours round-trip through
+// the native format.
+TEST(SceneGltf, VertexColoursAreRead) {
+    std::string json = room_gltf();
+    std::string b = triangle_buffer();
+    b += std::string("\xff\x00\x00\xff\x00\x80\x00\xff\x00\x00\xff\x80", 12);
+    auto replace = [&](const std::string& from, const std::string& to) {
+        ASSERT_NE(json.find(from), std::string::npos) << from;
+        json.replace(json.find(from), from.size(), to);
+    };
+    replace(buffers(), R"("buffers": [{"byteLength": 80, "uri": "data:application/octet-stream;base64,)" + base64(b) + R"("}])");
+    replace(R"({"buffer": 0, "byteOffset": 44, "byteLength": 24}])",
+            R"({"buffer": 0, "byteOffset": 44, "byteLength": 24}, {"buffer": 0, "byteOffset": 68, "byteLength": 12}])");
+    replace(R"({"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}])",
+            R"({"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"},
+                {"bufferView": 3, "componentType": 5121, "normalized": true, "count": 3, "type": "VEC4"}])");
+    replace(R"("POSITION": 0, "TEXCOORD_0": 2})", R"("POSITION": 0, "TEXCOORD_0": 2, "COLOR_0": 3})");
+    auto r = testing::load_path(write("coloured.gltf", json));
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Shape* cup = shape_named(*r.scene, "task2:cup");
+    ASSERT_TRUE(cup);
+    ASSERT_EQ(cup->colors.size(), 3u);
+    EXPECT_EQ(cup->colors[0], (Vec3{1, 0, 0}));
+    EXPECT_NEAR(cup->colors[1].y, 128.0 / 255.0, 1e-12);
+    EXPECT_EQ(cup->colors[2], (Vec3{0, 0, 1}));
+    EXPECT_TRUE(shape_named(*r.scene, "screen")->colors.empty());
+    auto back = testing::load_json_text(scene_json_text(*r.scene));
+    ASSERT_TRUE(back.scene) << (back.diagnostics.empty() ? "" : back.diagnostics[0].message);
+    EXPECT_EQ(shape_named(*back.scene, "task2:cup")->colors, cup->colors);
+}
+
 TEST(SceneGltf, BinaryFilesCarryTheirImages) {
     // A .glb whose base colour image is a buffer view: the image travels with the scene.
     std::string json = room_gltf();
