@@ -29,7 +29,7 @@ struct ImageLayer {
 /// The interface version of the image plugin (libcrex_oiio.so): raised whenever the entry
 /// points change, so a plugin from another build is refused instead of called wrongly (an
 /// old binary that loaded a newer plugin crashed at the end of a 40-minute render).
-inline constexpr int kImagePluginAbi = 8;
+inline constexpr int kImagePluginAbi = 9;
 
 /// A 4x4 matrix as OpenEXR's M44f holds it (worldToCamera, worldToNDC): row-major, points as
 /// row vectors (p' = p M), so the translation is the last row.

@@ -76,6 +76,9 @@ public:
     /// with `error`, and nothing at `target`, on failure. `progress`: the fraction written.
     virtual bool make_tiled_copy(const std::string& source, const std::string& target, std::string& error,
                                  const std::function<void(double)>& progress) = 0;
+    /// Forgets what was read of file `name` (a damaged tiled copy about to be made again): the
+    /// next open or lookup reads the file afresh.
+    virtual void forget(const std::string& name) = 0;
 };
 
 /// A backend whose cache holds at most `cache_bytes` of texels (OpenImageIO may hold more

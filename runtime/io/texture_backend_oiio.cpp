@@ -88,6 +88,12 @@ public:
         cache_->attribute("max_memory_MB", static_cast<float>(static_cast<double>(bytes) / (1 << 20)));
     }
 
+    /// Drops the cache's tiles and open handle of file `name`, and that it found it broken.
+    void forget(const std::string& name) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        cache_->invalidate(OIIO::ustring(name), true);
+    }
+
     OIIO::ImageCache& cache() const { return *cache_; }
     OIIO::TextureSystem& system() const { return *system_; }
 
@@ -142,6 +148,8 @@ public:
         textures_.reserve(cache_bytes);
         start_ = counters_now();
     }
+
+    void forget(const std::string& name) override { textures_.forget(name); }
 
     int open(const std::string& name, const std::string* bytes, TextureImageInfo& info, std::string& error) override {
         std::lock_guard<std::mutex> lock(mutex_);

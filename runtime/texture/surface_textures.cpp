@@ -212,8 +212,8 @@ int SurfaceTextures::open_tiled_copy(const std::string& file, const std::string*
     }
     std::error_code ec;
     image.tiled_copy = copy;
-    if (!fs::is_regular_file(copy, ec)) {
-        if (copies_ == TiledCopies::kFindOnly) return id;  // what a render would make
+    // Makes the copy (false with image.error set when it cannot be made).
+    auto make = [&] {
         const auto start = std::chrono::steady_clock::now();
         fs::create_directories(fs::path(copy).parent_path(), ec);
         remove_stale_temporaries(copy);
@@ -228,7 +228,7 @@ int SurfaceTextures::open_tiled_copy(const std::string& file, const std::string*
         if (bytes && !source.empty()) fs::remove(source, ec);
         if (!made) {
             image.error = fmt::format("{}, and its tiled copy could not be made at {} ({}); {}", too_large, copy, error, maketx);
-            return -1;
+            return false;
         }
         image.tiled_copy_made = true;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -237,11 +237,30 @@ int SurfaceTextures::open_tiled_copy(const std::string& file, const std::string*
                                                       "be emptied at any time); a tiled file beside it ({}) or a larger --max-memory "
                                                       "is read directly",
                                                       too_large, seconds, copy, double(fs::file_size(copy, ec)) / (1 << 20), maketx)));
+        return true;
+    };
+    if (!fs::is_regular_file(copy, ec)) {
+        if (copies_ == TiledCopies::kFindOnly) return id;  // what a render would make
+        if (!make()) return -1;
     }
     TextureImageInfo info;
     std::string error;
-    const int copy_id = backend_->open(copy, nullptr, info, error);
-    if (copy_id < 0 || info.width != image.info.width || info.height != image.info.height || info.channels != image.info.channels) {
+    auto open_copy = [&] {
+        const int copy_id = backend_->open(copy, nullptr, info, error);
+        return copy_id >= 0 && info.width == image.info.width && info.height == image.info.height && info.channels == image.info.channels
+                   ? copy_id : -1;
+    };
+    int copy_id = open_copy();
+    if (copy_id < 0 && !image.tiled_copy_made && copies_ == TiledCopies::kMake) {
+        // A copy an earlier render left that cannot be read now (damaged, or written by another
+        // program under its name): made again, once.
+        fs::remove(copy, ec);
+        backend_->forget(copy);
+        error.clear();
+        if (!make()) return -1;
+        copy_id = open_copy();
+    }
+    if (copy_id < 0) {
         image.error = fmt::format("{}, and its tiled copy at {} cannot be read ({}); {}", too_large, copy,
                                   error.empty() ? "not an image of the same size" : error, maketx);
         return -1;

@@ -426,6 +426,32 @@ TEST(TexturedPlane, AnImageWithoutTilesLargerThanTheCacheIsReadThroughATiledCopy
     EXPECT_EQ(again.values(0, spread_points()[7]).color, over.values(0, spread_points()[7]).color);
 }
 
+// A copy in the cache folder that cannot be read (damaged, or another program's file under its
+// name) used to make the texture magenta in every later render: it is made again, once.
+TEST(TexturedPlane, ATiledCopyThatCannotBeReadIsMadeAgain) {
+    const CacheFolder cache("damaged_copy_cache");
+    std::vector<float> rgb(512 * 384 * 3);
+    for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = float((i * 53) % 97) / 96.0f;
+    const Scene s = plane_under_sky(texture(write_texture("damaged_copy.exr", 512, 384, rgb)));
+    const uint64_t bytes = uint64_t(512) * 384 * 3 * 4 * 4 / 3;
+    const std::string copy = tiled_copy_path(s.materials[0].textures.color->file);
+    fs::create_directories(fs::path(copy).parent_path());
+    std::ofstream(copy, std::ios::binary) << "II*\0 a tiff cut short";
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures over(s, bytes - 1, warnings);
+    ASSERT_EQ(warnings.size(), 1u) << warnings.back().message;
+    EXPECT_EQ(warnings[0].code, "W312");
+    const TextureImage made = over.stats().images[0];
+    EXPECT_TRUE(made.error.empty()) << made.error;
+    EXPECT_TRUE(made.tiled_copy_made);
+    EXPECT_EQ(made.tiled_copy, copy);
+    SurfaceTextures whole(s, bytes, warnings);
+    for (const SurfacePoint& p : spread_points()) {
+        const Vec3 a = over.values(0, p).color, b = whole.values(0, p).color;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], b[k], 1e-6) << "at " << p.u << ", " << p.v;
+    }
+}
+
 // An 8-bit RGBA image of odd sizes (a TGA, stored unassociated): the copy keeps its texels as
 // stored (colour not multiplied by alpha), its sRGB, and its alpha.
 TEST(TexturedPlane, ATiledCopyKeepsAnRgbaImagesTexelsAlphaAndColourSpace) {
