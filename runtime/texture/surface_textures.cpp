@@ -206,14 +206,20 @@ int SurfaceTextures::open_tiled_copy(const std::string& file, const std::string*
                     image.info.width, image.info.height, double(image.memory_bytes()) / (1 << 20), double(cache_bytes_) / (1 << 20));
     const std::string maketx = "'maketx FILE -o FILE.tx' makes a tiled copy, read tile by tile";
     const std::string copy = bytes ? embedded_tiled_copy_path(image.name, *bytes) : tiled_copy_path(file);
-    if (copy.empty() || tiled_copy_memory(image.info) > cache_bytes_) {  // a band of rows would not fit either
+    if (copy.empty()) {
         image.error = fmt::format("{}; {}", too_large, maketx);
         return -1;
     }
+    const bool band_fits = tiled_copy_memory(image.info) <= cache_bytes_;  // making it holds a band of rows
     std::error_code ec;
     image.tiled_copy = copy;
-    // Makes the copy (false with image.error set when it cannot be made).
+    // Makes the copy (false with image.error set when it cannot be made). A copy made before,
+    // under a larger cache, is read tile by tile all the same.
     auto make = [&] {
+        if (!band_fits) {
+            image.error = fmt::format("{}; {}", too_large, maketx);
+            return false;
+        }
         const auto start = std::chrono::steady_clock::now();
         fs::create_directories(fs::path(copy).parent_path(), ec);
         remove_stale_temporaries(copy);
@@ -240,7 +246,11 @@ int SurfaceTextures::open_tiled_copy(const std::string& file, const std::string*
         return true;
     };
     if (!fs::is_regular_file(copy, ec)) {
-        if (copies_ == TiledCopies::kFindOnly) return id;  // what a render would make
+        if (copies_ == TiledCopies::kFindOnly) {  // what a render would make
+            if (band_fits) return id;
+            image.error = fmt::format("{}; {}", too_large, maketx);
+            return -1;
+        }
         if (!make()) return -1;
     }
     TextureImageInfo info;

@@ -424,6 +424,14 @@ TEST(TexturedPlane, AnImageWithoutTilesLargerThanTheCacheIsReadThroughATiledCopy
     EXPECT_EQ(again.stats().images[0].tiled_copy, made.tiled_copy);
     EXPECT_FALSE(again.stats().images[0].tiled_copy_made);
     EXPECT_EQ(again.values(0, spread_points()[7]).color, over.values(0, spread_points()[7]).color);
+
+    // A render whose cache could not hold the band of rows that making it takes reads the copy
+    // made: it is read tile by tile (it was refused, as if no copy could be made).
+    warnings.clear();
+    SurfaceTextures small(s, 64 << 10, warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings[0].message;
+    EXPECT_TRUE(small.stats().images[0].error.empty()) << small.stats().images[0].error;
+    EXPECT_EQ(small.values(0, spread_points()[7]).color, over.values(0, spread_points()[7]).color);
 }
 
 // A copy in the cache folder that cannot be read (damaged, or another program's file under its
