@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <tuple>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -202,6 +203,14 @@ private:
                 s.vertices.push_back(v);
             }
             if (s.vertices.size() != n) continue;
+            // An attribute with another count than POSITION's (invalid glTF) is left out, said once per primitive.
+            for (const auto& [name, values, components] : {std::tuple<const char*, const std::vector<double>*, size_t>{"NORMAL", &nrm, 3},
+                                                           {materials_.tex_coord[material] == 1 ? "TEXCOORD_1" : "TEXCOORD_0", &uv, 2},
+                                                           {"COLOR_0", &colors, size_t(color_components)}})
+                if (!values->empty() && values->size() / components != n)
+                    sink_.report("W311", doc_.at(at + "/attributes/" + name),
+                                 fmt::format("mesh '{}' primitive {}: {} has {} elements for {} vertices: it is not used", mesh.name, k, name,
+                                             values->size() / components, n));
             if (nrm.size() == pos.size())
                 for (size_t i = 0; i < n; ++i) {
                     const Vec3 v = world.normal({nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]});

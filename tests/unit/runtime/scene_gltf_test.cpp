@@ -463,6 +463,16 @@ TEST(SceneGltf, VertexColoursAreRead) {
     auto back = testing::load_json_text(scene_json_text(*r.scene));
     ASSERT_TRUE(back.scene) << (back.diagnostics.empty() ? "" : back.diagnostics[0].message);
     EXPECT_EQ(shape_named(*back.scene, "task2:cup")->colors, cup->colors);
+
+    // Colours for fewer vertices than the mesh has (invalid glTF) are left out, with a located warning.
+    replace(R"("normalized": true, "count": 3, "type": "VEC4")", R"("normalized": true, "count": 2, "type": "VEC4")");
+    auto short_colors = testing::load_path(write("coloured.gltf", json));
+    ASSERT_TRUE(short_colors.scene);
+    EXPECT_TRUE(shape_named(*short_colors.scene, "task2:cup")->colors.empty());
+    const auto said = std::count_if(short_colors.diagnostics.begin(), short_colors.diagnostics.end(), [](const Diagnostic& d) {
+        return d.code == "W311" && d.message == "mesh 'cup' primitive 0: COLOR_0 has 2 elements for 3 vertices: it is not used";
+    });
+    EXPECT_EQ(said, 1);
 }
 
 TEST(SceneGltf, BinaryFilesCarryTheirImages) {
