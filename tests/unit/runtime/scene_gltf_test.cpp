@@ -411,7 +411,7 @@ TEST(SceneGltf, DataUriImagesCarryTheirBytesWhateverTheirMediaType) {
     const std::string images = R"("images": [{"uri": "wood%20grain.png"}])";
     const std::string png = "\x89PNG\r\n\x1a\n-not-decoded-here-";
     const std::string percent = "%89PNG%0D%0A%1A%0A-not-decoded-here-";
-    for (const std::string uri : {"data:image/png;base64," + base64(png), "data:image/jpg;base64," + base64(png),
+    for (const std::string& uri : {"data:image/png;base64," + base64(png), "data:image/jpg;base64," + base64(png),
                                   "data:image/png;charset=binary;base64," + base64(png), "data:;base64," + base64(png),
                                   "data:image/webp;base64," + base64(png), "data:image/png," + percent}) {
         std::string json = room_gltf();
