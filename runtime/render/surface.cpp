@@ -37,14 +37,10 @@ void interpolate_uv(const GeometryInfo& g, const std::array<uint32_t, 3>& t, dou
 
 // The mesh's vertex colour at barycentrics (b1, b2) of triangle t.
 Vec3 interpolate_color(const GeometryInfo& g, const std::array<uint32_t, 3>& t, double b1, double b2) {
+    const auto &c0 = g.colors[t[0]], &c1 = g.colors[t[1]], &c2 = g.colors[t[2]];
     const double b0 = 1 - b1 - b2;
-    Vec3 c;
-    for (int k = 0; k < 3; ++k) {
-        const auto& v = g.colors[t[size_t(k)]];
-        const double b = k == 0 ? b0 : k == 1 ? b1 : b2;
-        c = c + Vec3{v[0], v[1], v[2]} * b;
-    }
-    return {std::fmax(c.x, 0.0), std::fmax(c.y, 0.0), std::fmax(c.z, 0.0)};
+    auto channel = [&](int k) { return std::fmax(b0 * c0[size_t(k)] + b1 * c1[size_t(k)] + b2 * c2[size_t(k)], 0.0); };
+    return {channel(0), channel(1), channel(2)};
 }
 
 // Least-squares (u, v) change for a position change `dp` on the surface (pbrt's), bounded.
@@ -186,6 +182,35 @@ bool illum_front(const RenderScene& scene, const RTCHit& hit, const HitFrame& f)
     return f.front && g.emitter != g.material && scene.scene.materials[g.emitter].type == MaterialType::kIllum;
 }
 
+namespace {
+
+// Material `material`'s textured values at the hit, its normal or bump map applied to f.shading.
+MaterialValues textured_values(const RenderScene& scene, const RTCHit& hit, HitFrame& f, const GeometryInfo& g, uint32_t material,
+                               SurfaceDetail detail) {
+    SurfacePoint p;
+    p.position = f.position + scene.embree->origin_offset();
+    p.indirect = detail != SurfaceDetail::kSeen;
+    p.coarse = detail == SurfaceDetail::kAveraged;
+    Vec3 dpdu, dpdv;
+    scene.footprint.at(f.position, f.normal, p.dpdx, p.dpdy);
+    if (!g.sphere && !g.uvs.empty()) {
+        const auto& tri = g.indices[hit.primID];
+        interpolate_uv(g, tri, hit.u, hit.v, p.u, p.v);
+        triangle_dpduv(g, tri, dpdu, dpdv);
+        uv_change(dpdu, dpdv, p.dpdx, p.dudx, p.dvdx);
+        uv_change(dpdu, dpdv, p.dpdy, p.dudy, p.dvdy);
+    }
+    // A normal or bump map's detail is left out where light is averaged over many hits: read
+    // from a coarse copy it bent the normals of records' hits texel by texel, so deeper records
+    // served fewer neighbours (18 % more records in a textured room), for detail that the
+    // average over hundreds of hemisphere rays does not keep.
+    if (detail != SurfaceDetail::kAveraged && scene.textures->perturbs_normal(material))
+        f.shading = scene.textures->perturbed_normal(material, p, f.shading, dpdu, dpdv);
+    return scene.textures->values(material, p);
+}
+
+}  // namespace
+
 const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch, SurfaceDetail detail) {
     const GeometryInfo& g = scene.embree->geometries()[hit.geomID];
     uint32_t material = g.material;
@@ -232,34 +257,7 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     const bool colored = !g.sphere && !g.colors.empty();
     if (!textured && !colored) return scene.bsdfs[material];
     const Material& m = scene.scene.materials[material];
-    if (!textured) {
-        MaterialValues values = constant_values(m);
-        values.color = values.color * interpolate_color(g, g.indices[hit.primID], hit.u, hit.v);
-        scratch = Bsdf::of(m, values);
-        scratch.directional = scene.bsdfs[material].directional;
-        scratch.redirect = scene.bsdfs[material].redirect;
-        return scratch;
-    }
-    SurfacePoint p;
-    p.position = f.position + scene.embree->origin_offset();
-    p.indirect = detail != SurfaceDetail::kSeen;
-    p.coarse = detail == SurfaceDetail::kAveraged;
-    Vec3 dpdu, dpdv;
-    scene.footprint.at(f.position, f.normal, p.dpdx, p.dpdy);
-    if (!g.sphere && !g.uvs.empty()) {
-        const auto& tri = g.indices[hit.primID];
-        interpolate_uv(g, tri, hit.u, hit.v, p.u, p.v);
-        triangle_dpduv(g, tri, dpdu, dpdv);
-        uv_change(dpdu, dpdv, p.dpdx, p.dudx, p.dvdx);
-        uv_change(dpdu, dpdv, p.dpdy, p.dudy, p.dvdy);
-    }
-    // A normal or bump map's detail is left out where light is averaged over many hits: read
-    // from a coarse copy it bent the normals of records' hits texel by texel, so deeper records
-    // served fewer neighbours (18 % more records in a textured room), for detail that the
-    // average over hundreds of hemisphere rays does not keep.
-    if (detail != SurfaceDetail::kAveraged && scene.textures->perturbs_normal(material))
-        f.shading = scene.textures->perturbed_normal(material, p, f.shading, dpdu, dpdv);
-    MaterialValues values = scene.textures->values(material, p);
+    MaterialValues values = textured ? textured_values(scene, hit, f, g, material, detail) : constant_values(m);
     if (colored) values.color = values.color * interpolate_color(g, g.indices[hit.primID], hit.u, hit.v);
     scratch = Bsdf::of(m, values);
     scratch.directional = scene.bsdfs[material].directional;
