@@ -677,7 +677,10 @@ private:
         std::filesystem::path p = std::filesystem::path(base_dir_) / rel;
         DiagnosticSink obj_sink;
         auto obj = import_obj(p.string(), obj_sink, sources_);
-        for (const auto& d : obj_sink.diagnostics()) sink_.add(d);
+        // Whether anything lights the scene is this file's question, asked of the whole scene:
+        // the OBJ's own "no light" (W302) would be wrong when the file around it has the sky.
+        for (const auto& d : obj_sink.diagnostics())
+            if (d.code != "W302") sink_.add(d);
         if (!obj) {
             Diagnostic& d = sink_.report("E308", r.span("file"), fmt::format("{}: cannot load the mesh '{}'", r.path("file"), rel));
             if (obj_sink.diagnostics().empty()) d.help = "check that the file exists and is a Wavefront OBJ";
