@@ -1,6 +1,8 @@
 // Wavefront OBJ (+ MTL) -> Scene, through Debian's tinyobjloader (double precision build).
 // One mesh shape per (OBJ object, material), with its texture coordinates (vt) and normals
-// (vn) when every face has them. MTL parameters map onto our materials:
+// (vn) when every face has them, and vertex colours (`v x y z r g b`, the extension MeshLab and
+// most scanners write) when every vertex has them: they multiply the material's colour, as
+// glTF's COLOR_0 does (imported_vertex_color). MTL parameters map onto our materials:
 //   Ke > 0 (no map_Ke)              -> light (radiance Ke)
 //   d < 1 (no map_d) or illum 4/6/7/9 -> glass (transmission Kd or Tf, ior Ni)
 //   illum 3/5 with black Kd         -> mirror (Ks)
@@ -208,7 +210,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     if (sink.error_count() != errors_first) return std::nullopt;
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
-    config.vertex_color = false;
+    config.vertex_color = false;  // colours only when every `v` line has them (no white fill)
     config.mtl_search_path = std::filesystem::path(path).parent_path().string();
     tinyobj::ObjReader reader;
     const bool ok = reader.ParseFromFile(path, config);
@@ -228,6 +230,9 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
         positions.push_back(v);
     }
     if (sink.error_count() != errors_before) return std::nullopt;
+
+    // tinyobjloader keeps colours only when every vertex line has three after its position.
+    const bool colored = !attrib.colors.empty() && attrib.colors.size() == attrib.vertices.size();
 
     Scene scene;
     scene.source = path;
@@ -275,6 +280,10 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
                         const size_t t = static_cast<size_t>(std::max(ti, 0)), nn = static_cast<size_t>(std::max(ni, 0));
                         mesh.uvs.push_back(ti >= 0 ? std::array<double, 2>{attrib.texcoords[2 * t], attrib.texcoords[2 * t + 1]} : std::array<double, 2>{0, 0});
                         mesh.normals.push_back(ni >= 0 ? Vec3{attrib.normals[3 * nn], attrib.normals[3 * nn + 1], attrib.normals[3 * nn + 2]} : Vec3{});
+                        if (colored) {
+                            const size_t c = 3 * static_cast<size_t>(vi);
+                            mesh.colors.push_back(imported_vertex_color(attrib.colors[c], attrib.colors[c + 1], attrib.colors[c + 2]));
+                        }
                     }
                     tri[k] = it->second;
                 }

@@ -203,6 +203,11 @@ bool degenerate_polygon(const Shape& s) {
     return !(area > 1e-12 * size * size);
 }
 
+Vec3 imported_vertex_color(double r, double g, double b) {
+    auto channel = [](double x) { return std::isfinite(x) ? std::clamp(x, 0.0, 1.0) : 1.0; };
+    return {channel(r), channel(g), channel(b)};
+}
+
 std::optional<std::string> shape_problem(const Shape& s) {
     switch (s.type) {
     case ShapeType::kSphere:

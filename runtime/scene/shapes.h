@@ -35,6 +35,11 @@ struct TriangleMesh {
 /// "zero-area". A zero-area polygon is not a problem here but degenerate_polygon().
 std::optional<std::string> shape_problem(const Shape& shape);
 
+/// A vertex colour read from a file (glTF COLOR_0, OBJ `v x y z r g b`): each channel clamped to
+/// [0, 1], one that is not finite white. It multiplies an albedo, and must not make a surface give
+/// back more light than it receives.
+Vec3 imported_vertex_color(double r, double g, double b);
+
 /// A polygon whose area is zero relative to its own size: it has no normal, and is dropped
 /// with a warning (RADIANCE warns too) rather than failing the scene.
 bool degenerate_polygon(const Shape& shape);

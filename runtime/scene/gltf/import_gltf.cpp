@@ -227,8 +227,7 @@ private:
             if (colors.size() / size_t(color_components) == n)
                 for (size_t i = 0; i < n; ++i) {
                     const double* c = &colors[size_t(color_components) * i];
-                    auto channel = [](double x) { return std::isfinite(x) ? std::clamp(x, 0.0, 1.0) : 1.0; };
-                    s.colors.push_back({channel(c[0]), channel(c[1]), channel(c[2])});
+                    s.colors.push_back(imported_vertex_color(c[0], c[1], c[2]));
                 }
             // Triangles of the primitive's mode.
             auto add = [&](uint32_t a, uint32_t b, uint32_t c) {

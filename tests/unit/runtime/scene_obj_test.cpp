@@ -1,6 +1,7 @@
 // OBJ + MTL through tinyobjloader: materials map onto ours, one mesh per material.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -83,6 +84,57 @@ TEST_F(SceneObj, NonFiniteVertexNeverReachesTheScene) {
     } else {
         EXPECT_EQ(r.where("E303").line, 3u);
     }
+}
+
+// An OBJ without a light of its own inside a scene that has one: the OBJ's "nothing lights
+// this" (W302) belonged to the OBJ alone; the scene is asked as a whole, and warns only when
+// nothing in it lights it.
+TEST_F(SceneObj, AnObjWithoutLightsInALitSceneIsNotWarnedUnlit) {
+    std::ofstream(dir_ / "dark.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n";
+    auto count = [](const testing::SceneResult& r, const std::string& code) {
+        return std::count_if(r.diagnostics.begin(), r.diagnostics.end(), [&](const Diagnostic& d) { return d.code == code; });
+    };
+    std::ofstream(dir_ / "lit.json") << R"({"materials": [{"name": "l", "type": "light", "color": [1,1,1]}],
+      "shapes": [{"type": "mesh", "file": "dark.obj"}, {"type": "sphere", "material": "l", "center": [0, 5, 0], "radius": 1}]})";
+    auto lit = testing::load_path((dir_ / "lit.json").string());
+    ASSERT_TRUE(lit.scene);
+    EXPECT_EQ(count(lit, "W302"), 0);
+    std::ofstream(dir_ / "unlit.json") << R"({"shapes": [{"type": "mesh", "file": "dark.obj"}]})";
+    auto unlit = testing::load_path((dir_ / "unlit.json").string());
+    ASSERT_TRUE(unlit.scene);
+    EXPECT_EQ(count(unlit, "W302"), 1);
+    EXPECT_EQ(unlit.where("W302").line, 1u);
+}
+
+// `v x y z r g b` (MeshLab's and scanners' vertex colours): read when every vertex has them,
+// clamped to [0, 1], and carried to each mesh vertex made from that position, whatever its
+// texture coordinate; a file where one vertex lacks them has none (no white fill).
+TEST_F(SceneObj, VertexColoursAreReadWhenEveryVertexHasThem) {
+    std::ofstream(dir_ / "c.obj") << "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 2 -0.5 0.25\n"
+                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+                                     "f 1/1 2/2 3/3\nf 1/5 3/3 4/4\n";
+    auto r = testing::load_path((dir_ / "c.obj").string());
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    ASSERT_EQ(r.scene->shapes.size(), 1u);
+    const Shape& mesh = r.scene->shapes[0];
+    ASSERT_EQ(mesh.colors.size(), mesh.vertices.size());
+    ASSERT_EQ(mesh.vertices.size(), 5u);  // position 1 twice: two texture coordinates
+    const Vec3 expected[4] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0.25}};
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+        const Vec3& v = mesh.vertices[i];
+        const size_t position = v.x == 0 ? (v.y == 0 ? 0 : 3) : (v.y == 0 ? 1 : 2);
+        EXPECT_EQ(mesh.colors[i], expected[position]) << i;
+    }
+    EXPECT_FALSE(shape_problem(mesh));
+
+    std::ofstream(dir_ / "some.obj") << "v 0 0 0 1 0 0\nv 1 0 0\nv 1 1 0 0 0 1\nf 1 2 3\n";
+    r = testing::load_path((dir_ / "some.obj").string());
+    ASSERT_TRUE(r.scene);
+    EXPECT_TRUE(r.scene->shapes[0].colors.empty());
+    std::ofstream(dir_ / "none.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n";
+    r = testing::load_path((dir_ / "none.obj").string());
+    ASSERT_TRUE(r.scene);
+    EXPECT_TRUE(r.scene->shapes[0].colors.empty());
 }
 
 }  // namespace
