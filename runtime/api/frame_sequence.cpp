@@ -290,9 +290,13 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     // texture bindings (a walk of the textured living room built them again at every frame:
     // 0.05 s of set-up a frame). Flicker and inheritance trace what each pixel centre sees in
     // it, and warp the frame before onto the next.
+    // Building it may make tiled copies of large textures (a minute for a 30000x30000 PNG): said
+    // as the first frame's "setup", as a single render says it.
     std::shared_ptr<RenderScene> probe_scene;
+    RunProgress setup_line;
     auto built_scene = [&] {
-        if (!probe_scene) probe_scene = std::make_shared<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory));
+        if (!probe_scene)
+            probe_scene = std::make_shared<RenderScene>(scene, texture_cache_bytes(next.settings.max_memory), setup_progress(observer, setup_line));
         return probe_scene;
     };
     std::optional<FrameGeometry> previous_geometry;

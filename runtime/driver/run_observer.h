@@ -5,6 +5,7 @@
 /// observer may throw (RunCancelled, say) to stop the render there, and nothing of it is kept.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
@@ -53,5 +54,20 @@ public:
 private:
     std::function<void(const RunProgress&)> f_;
 };
+
+/// Long work while a scene is made ready (a texture's tiled copy: a 30000x30000 PNG's took 53 s)
+/// as progress of the stage "setup" in `line`, told to `observer`: each step (an image) its own
+/// share and ETA. Both outlive the function.
+inline std::function<void(const std::string& step, double fraction)> setup_progress(RunObserver& observer, RunProgress& line) {
+    using Clock = std::chrono::steady_clock;
+    return [&observer, &line, phase = std::string(), start = Clock::now()](const std::string& step, double done) mutable {
+        if (phase != step) phase = step, start = Clock::now();
+        line.stage = "setup";
+        line.fraction = done;
+        line.stage_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+        line.step = step;
+        observer.progress(line);
+    };
+}
 
 }  // namespace crex

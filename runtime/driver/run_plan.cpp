@@ -106,18 +106,6 @@ private:
     std::vector<float> snapshot() const;       // the image a checkpoint records
     std::vector<float> composite_now() const;  // film + what waiting rays stand in for
     void report_progress(const std::string& step);
-    // Long work while the scene is made ready (a texture's tiled copy), as progress of the stage
-    // "setup": a 30000x30000 PNG's copy took 53 s.
-    TextureProgress setup_progress() {
-        return [this, phase = std::string(), start = Clock::now()](const std::string& step, double done) mutable {
-            if (phase != step) phase = step, start = Clock::now();  // each image its own share and ETA
-            progress_.stage = "setup";
-            progress_.fraction = done;
-            progress_.stage_seconds = seconds_since(start);
-            progress_.step = step;
-            observer_.progress(progress_);
-        };
-    }
     // The caustic map's share traced, as progress of the stage "setup": it is built before the
     // first camera ray (20 million photons took about a minute without a word).
     std::function<void(const char*, double)> caustic_progress(uint32_t photons) {
@@ -249,7 +237,7 @@ void PlanRun::start() {
         rs_ = s_.render_scene.get();
         if (rs_->textures) textures_before_ = rs_->textures->stats();
     } else {
-        rs_ = &own_scene_.emplace(scene_, texture_cache_bytes(s_.max_memory), setup_progress());
+        rs_ = &own_scene_.emplace(scene_, texture_cache_bytes(s_.max_memory), setup_progress(observer_, progress_));
     }
     rs_->set_view(s_.width, s_.height, s_.texture_filter_width);
     for (const auto& w : rs_->warnings) out_.warnings.push_back(w);

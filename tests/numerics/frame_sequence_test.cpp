@@ -341,6 +341,49 @@ TEST_F(FrameSequence, AFrameThatCannotBeWrittenStopsTheSequenceWithTheFramesBefo
     (void)image("walk", 0);  // frame 0 reads back whole
 }
 
+// A walk builds its scene once, before the first frame; a texture larger than the texture
+// cache is then read through a tiled copy, whose making took a minute for a 30000x30000 PNG.
+// It is said as the first frame's "setup" progress, as a single render says it (a walk used
+// to make it without a word).
+TEST_F(FrameSequence, TheFirstFramesTiledCopyIsSaidAsSetupProgress) {
+    const std::string cache = path("cache");
+    ::setenv("CREX_CACHE", cache.c_str(), 1);
+    ImageLayer layer;
+    layer.rgb.assign(size_t{1200} * 1200 * 3, 0.5f);  // 23 MB with its MIP levels: over 16 MiB
+    ASSERT_EQ(write_image(path("big.exr"), 1200, 1200, {layer}), "");
+    std::ofstream(path("textured.json")) << R"({
+      "materials": [{"name": "t", "type": "plastic", "color": {"file": "big.exr"}}],
+      "shapes": [{"type": "mesh", "material": "t", "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]],
+                  "triangles": [[0, 1, 2], [0, 2, 3]], "uvs": [[0, 1], [1, 1], [1, 0], [0, 0]]}],
+      "background": [1, 1, 1]})";
+    DiagnosticSink sink;
+    InputSpec spec;
+    spec.scene = path("textured.json");
+    in_ = load_run_inputs(spec, sink);
+    ASSERT_TRUE(in_.ready()) << in_.failure;
+    RunOptions ro;
+    ro.width = 16, ro.height = 12, ro.spp = 1;
+    ro.max_memory = size_t{128} << 20;  // the texture cache's least: 16 MiB
+    run_ = resolve_run(in_.plan, ro);
+    RunFiles files;
+    files.images = {path("t.exr")};
+    SequenceOptions o;
+    o.path = &*path_;
+    o.frames = FrameRange{0, 1, 1};
+    o.flicker = false;
+    std::vector<RunProgress> setup;
+    ProgressFunction watch([&](const RunProgress& p) {
+        if (p.stage == "setup") setup.push_back(p);
+    });
+    const auto frames = render_frames(in_, run_, files, o, watch);
+    ::unsetenv("CREX_CACHE");
+    ASSERT_EQ(frames.size(), 2u);
+    ASSERT_FALSE(setup.empty());
+    EXPECT_NE(setup.front().step.find("tiled copy of big.exr (1200x1200)"), std::string::npos) << setup.front().step;
+    EXPECT_DOUBLE_EQ(setup.back().fraction, 1.0);
+    EXPECT_TRUE(std::filesystem::is_directory(std::filesystem::path(cache) / "textures"));
+}
+
 TEST(FrameFlicker, OneCameraTwiceIsThePixelwiseDifference) {
     const Scene scene = *builtin_scene("cornell");
     const RenderScene rs(scene);
