@@ -9,11 +9,11 @@
 #                         TARGETs named, e.g. gltf_fuzzer) for S seconds (120)
 #
 # Build trees: build/release, build/asan, build/fuzz. Safe to rerun: installs only what is
-# missing and rebuilds incrementally.
+# missing and rebuilds incrementally. JOBS=n limits the build's parallel jobs (all cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
-JOBS=$(nproc)
+JOBS=${JOBS:-$(nproc)}
 
 log() { printf '\n== %s\n' "$*" >&2; }
 
@@ -138,6 +138,8 @@ PY
   # glTF seeds: Debian's assimp-testmodels (valid and broken files), when installed.
   find /usr/share/assimp/models/glTF2 \( -name '*.gltf' -o -name '*.glb' \) -size -64k 2>/dev/null |
     while read -r f; do cp "$f" "build/fuzz/corpus/gltf/$(echo "$f" | tr '/' '_')"; done
+  # One of crex's own: vertex colours and an image in a data URI of a type tinygltf does not list.
+  cp tests/fuzz/gltf_seed.gltf build/fuzz/corpus/gltf/
   printf 'newmtl a\nKd 0.8 0.6 0.4\nKs 0.2 0.2 0.2\nNs 100\nmap_Kd -s 2 3 1 -o 0.5 0 0 -clamp on tex/wood.png\nmap_Ks tex/wood.png\nmap_Ns tex/wood.png\nbump -bm 2 tex/wood.png\nnorm tex/wood.png\nnewmtl b\nKd 0.3 0.6 0.2\nmap_d -imfchan m tex/leaf.png\nnewmtl c\nKe 1 1 1\nmap_Ke -colorspace sRGB tex/screen.png\nnewmtl d\nd 0.5\nNi 1.5\nillum 7\n' \
     > build/fuzz/corpus/mtl/seed_textures
   printf '{"format": "crex-profile", "version": 1, "full_render_seconds": 1.33, "seconds_per_ray": {"D": 3.5e-06, "T": 2.7e-06, "camera": 4.1e-07}}\n' \

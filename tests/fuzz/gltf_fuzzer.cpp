@@ -1,7 +1,7 @@
 // libFuzzer target: any bytes as a glTF 2.0 file (.glb when they start with "glTF", else
 // .gltf). Invariants: no crash, hang or sanitizer report; a scene only when there are no
 // errors, and then only finite vertices, per-vertex attributes that match, materials that
-// exist and texture references to images that exist. Its camera animation, read as a camera
+// exist, vertex colours finite and not negative, and texture references to images that exist. Its camera animation, read as a camera
 // path, likewise never crashes.
 #include <unistd.h>
 
@@ -43,6 +43,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (!is_finite(v)) std::abort();
         if (!shape.uvs.empty() && shape.uvs.size() != shape.vertices.size()) std::abort();
         if (!shape.normals.empty() && shape.normals.size() != shape.vertices.size()) std::abort();
+        if (!shape.colors.empty() && shape.colors.size() != shape.vertices.size()) std::abort();
+        for (const auto& c : shape.colors)
+            if (!is_finite(c) || c.x < 0 || c.y < 0 || c.z < 0) std::abort();
         for (const auto& t : shape.triangles)
             for (uint32_t i : t)
                 if (i >= shape.vertices.size()) std::abort();
