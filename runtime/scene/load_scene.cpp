@@ -37,6 +37,37 @@ RadianceOptions radiance_options() {
     return options;
 }
 
+// A model file (OBJ, glTF) in which direct lighting samples nothing: OBJ has no lights, and
+// most glTF models ship without any, so they rendered black with W302. A model viewer shows
+// them under an environment; crex lights them by a uniform white sky of radiance 1 all round
+// (a white surface shows its albedo; the camera sees it behind the model), and says so (W313,
+// where W302 was). A scene file that names the model (a JSON scene's mesh `file`) lights it
+// as that file says.
+std::optional<Scene> lit_model(std::optional<Scene> scene, DiagnosticSink& sink) {
+    if (!scene || scene->shapes.empty() || sampled_light_count(*scene) > 0) return scene;
+    SourceSpan at;
+    for (const Diagnostic& d : sink.diagnostics())
+        if (d.code == "W302") at = d.span;
+    sink.withdraw("W302");
+    std::string name = "crex studio sky";
+    while (scene->find_material(name)) name += "'";
+    Material sky;
+    sky.name = name;
+    sky.type = MaterialType::kGlow;
+    sky.color = {1, 1, 1};
+    scene->materials.push_back(sky);
+    DistantLight all_round;
+    all_round.name = name;
+    all_round.material = name;
+    all_round.direction = {0, 1, 0};
+    all_round.angle_deg = 360;
+    scene->distant_lights.push_back(all_round);
+    sink.report("W313", at, "nothing in the model lights it: it is lit by a uniform white sky of radiance 1, which the camera sees behind it")
+        .help = "to light it otherwise, give the file lights (glTF: KHR_lights_punctual or an emissive material; OBJ: a material "
+                "with Ke) or name the OBJ from a JSON scene that has them (docs/scene-format.md)";
+    return scene;
+}
+
 }  // namespace
 
 const SourceFile& SceneSources::add(std::string name, std::string text) {
@@ -60,7 +91,7 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
             failure.message = fmt::format("cannot read scene '{}': {}", spec, std::strerror(ENOENT));
             return std::nullopt;
         }
-        return import_obj(spec, sink, sources);
+        return lit_model(import_obj(spec, sink, sources), sink);
     }
     if (ext == ".gltf" || ext == ".glb") {
         // Not a regular file of at most 1 GiB (missing, a directory, a FIFO): an I/O failure.
@@ -68,7 +99,7 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
             failure.message = why;
             return std::nullopt;
         }
-        return import_gltf(spec, sink, sources);
+        return lit_model(import_gltf(spec, sink, sources), sink);
     }
     if (ext != ".json" && ext != ".rad" && ext != ".rif") {
         failure.message = fmt::format("cannot tell the format of scene '{}': use .json (crex scene), .rad or .rif (RADIANCE), "

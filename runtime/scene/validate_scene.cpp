@@ -36,10 +36,21 @@ std::string camera_problem(const Camera& c, const SceneBox& box) {
     return "";
 }
 
+size_t sampled_light_count(const Scene& scene) {
+    size_t lights = 0;
+    for (const Shape& s : scene.shapes)
+        if (const Material* m = scene.find_material(s.material); m && is_sampled_emitter(*m) && is_emissive(*m)) ++lights;
+    for (const DistantLight& l : scene.distant_lights)
+        if (const Material* m = scene.find_material(l.material);
+            m && (m->type == MaterialType::kLight || m->type == MaterialType::kGlow || m->type == MaterialType::kIllum) && is_emissive(*m) &&
+            !(m->type == MaterialType::kGlow && m->glow_radius < 0))
+            ++lights;
+    return lights;
+}
+
 void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::function<SourceSpan(size_t)>& locate) {
     const SceneBox box = scene_box(scene);
     const Vec3 lo = box.lo, hi = box.hi;
-    size_t lights = 0;
     std::set<std::string> over_bright;  // said once a material
     for (size_t i = 0; i < scene.shapes.size(); ++i) {
         const Shape& s = scene.shapes[i];
@@ -67,7 +78,6 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
                 sink.report("W303", locate(i), fmt::format("mesh{}: {} of {} triangles have zero area and are dropped",
                                                            s.name.empty() ? "" : " '" + s.name + "'", dropped, s.triangles.size()));
         }
-        if (is_sampled_emitter(*m) && is_emissive(*m)) ++lights;
         // Every format's emitters (a JSON scene's were refused where they are written).
         if (const double e = max_component(emitted_radiance(*m)); !(e <= kMaxRadiance) && !over_bright.count(m->name)) {
             over_bright.insert(m->name);
@@ -89,7 +99,6 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
                                                               material_type_name(m->type)));
         if (!is_finite(l.direction) || !(length(l.direction) > 0) || !(l.angle_deg > 0 && l.angle_deg <= 360))
             sink.report("E306", locate(SIZE_MAX), fmt::format("{}: the direction must be non-zero and the angle in (0, 360]", what));
-        if (is_emissive(*m) && !(m->type == MaterialType::kGlow && m->glow_radius < 0)) ++lights;
         if (const double e = max_component(emitted_radiance(*m)) * (l.sky ? std::fmax(l.sky->zenith, l.sky->ground) : 1.0); !(e <= kMaxRadiance))
             sink.report("E303", locate(SIZE_MAX), fmt::format("{}: radiance {:g} is beyond the {:g} crex can render", what, e, kMaxRadiance));
     }
@@ -106,7 +115,7 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
     if (scene.shapes.empty())
         sink.report("W302", locate(SIZE_MAX), "the scene has no shapes: the image will show the background only")
             .help = "give the scene shapes and a 'light' material (a 0-byte file is an empty scene)";
-    else if (lights == 0)
+    else if (sampled_light_count(scene) == 0)
         sink.report("W302", locate(SIZE_MAX), "no shape or distant source is sampled by direct lighting (a light, an illum, "
                                               "a glow with a radius): direct lighting will be black")
             .help = "give an emitter the material type 'light' so it is sampled";
