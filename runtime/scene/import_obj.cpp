@@ -20,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <utility>
 
 #include "base/input_file.h"
@@ -46,6 +47,23 @@ SourceSpan texture_line(const MtlContext& mtl, const std::string& name) {
             const uint32_t b = mtl.file->line_start(line);
             return {mtl.file, b, b + static_cast<uint32_t>(t.size())};
         }
+    }
+    return {mtl.file, 0, 0};
+}
+
+// The span of material `name`'s `newmtl` line (the name as tinyobjloader reads it: all after
+// "newmtl ", trailing blanks removed).
+SourceSpan material_line(const MtlContext& mtl, const std::string& name) {
+    if (!mtl.file) return {};
+    for (uint32_t line = 1; line <= mtl.file->line_count(); ++line) {
+        std::string_view t = mtl.file->line_text(line);
+        const size_t at = t.find_first_not_of(" \t");
+        if (at == std::string_view::npos || t.substr(at, 7) != "newmtl ") continue;
+        std::string_view rest = t.substr(at + 7);
+        while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
+        if (rest != name) continue;
+        const uint32_t b = mtl.file->line_start(line);
+        return {mtl.file, b, b + static_cast<uint32_t>(t.size())};
     }
     return {mtl.file, 0, 0};
 }
@@ -121,6 +139,10 @@ Material convert_material(const tinyobj::material_t& m, const std::string& name,
         Vec3 tf{m.transmittance[0], m.transmittance[1], m.transmittance[2]};
         out.color = clamp01(max_component(tf) > 0 ? tf : Vec3{1, 1, 1});
         out.ior = m.ior > 0 ? m.ior : 1.5;
+        if (!(m.ior > 0))
+            sink.report("W311", material_line(mtl, m.name),
+                        fmt::format("material '{}' is glass with Ni {:g}, which is not an index of refraction: it refracts as Ni 1.5",
+                                    m.name, m.ior));
     } else if ((m.illum == 3 || m.illum == 5) && max_component(kd) <= 0 && m.diffuse_texname.empty()) {
         out.type = MaterialType::kMirror;
         out.color = clamp01(ks);
@@ -175,6 +197,23 @@ SourceSpan nth_line(const SourceFile& file, const std::string& prefix, size_t n)
         }
     }
     return {&file, 0, 0};
+}
+
+// Where each object or group is named: the first `o NAME` or `g NAME` line of each name
+// (tinyobjloader names a shape so), for locating what a mesh's check finds. One pass over
+// the file, whatever the number of meshes.
+std::map<std::string, SourceSpan, std::less<>> group_lines(const SourceFile& file) {
+    std::map<std::string, SourceSpan, std::less<>> out;
+    for (uint32_t line = 1; line <= file.line_count(); ++line) {
+        std::string_view t = file.line_text(line);
+        if (t.size() < 2 || (t[0] != 'o' && t[0] != 'g') || (t[1] != ' ' && t[1] != '\t')) continue;
+        std::string_view name = t.substr(2);
+        name.remove_prefix(std::min(name.find_first_not_of(" \t"), name.size()));
+        while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.remove_suffix(1);
+        const uint32_t b = file.line_start(line);
+        out.try_emplace(std::string(name), SourceSpan{&file, b, b + static_cast<uint32_t>(t.size())});
+    }
+    return out;
 }
 
 }  // namespace
@@ -322,7 +361,13 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     double radius = 0.5 * length(hi - lo);
     scene.camera.position = centre + Vec3{0, 0, radius * 2.5 + 1e-9};
     scene.camera.direction = {0, 0, -1};
-    validate_scene(scene, sink, [&](size_t) { return SourceSpan{&file, 0, 0}; });
+    std::optional<std::map<std::string, SourceSpan, std::less<>>> groups;  // made when a mesh is said
+    validate_scene(scene, sink, [&](size_t i) {
+        if (i >= scene.shapes.size()) return SourceSpan{&file, 0, 0};
+        if (!groups) groups = group_lines(file);
+        const auto it = groups->find(scene.shapes[i].name);
+        return it != groups->end() ? it->second : SourceSpan{&file, 0, 0};
+    });
     if (sink.error_count() != errors_before) return std::nullopt;
     return scene;
 }

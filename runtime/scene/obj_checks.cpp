@@ -155,10 +155,9 @@ void check_mtl_text(const SourceFile& mtl, DiagnosticSink& sink) {
         } else if (key == "Ns") {
             values(0, HUGE_VAL, "Ns (the Phong exponent)");
         } else if (key == "Ni") {
-            if (w.size() >= 2 && number(mtl, w[1], "Ni (the index of refraction)", -HUGE_VAL, HUGE_VAL, sink)) {
-                if (!(std::strtod(std::string(w[1].text).c_str(), nullptr) > 0))
-                    sink.report("E303", span_of(mtl, w[1]), fmt::format("Ni (the index of refraction): {} is not above 0", std::string(w[1].text)));
-            }
+            // Any finite number: exporters write `Ni 0` on opaque materials, where it means
+            // nothing; a glass with an Ni not above 0 is warned about where it is made (import_obj).
+            if (w.size() >= 2) number(mtl, w[1], "Ni (the index of refraction)", -HUGE_VAL, HUGE_VAL, sink);
         } else if (key == "d" || key == "Tr") {
             values(0, 1, key == "d" ? "d (opacity)" : "Tr (transparency)");
         } else if (key == "illum") {

@@ -86,6 +86,35 @@ TEST_F(SceneObj, NonFiniteVertexNeverReachesTheScene) {
     }
 }
 
+// What the scene's checks find in a mesh (W303: zero-area triangles dropped) is located at
+// the `o` or `g` line that names it; it was line 1, column 1 of the file for every mesh.
+TEST_F(SceneObj, AMeshesWarningIsLocatedAtTheLineNamingIt) {
+    std::ofstream(dir_ / "named.obj") << "# two objects\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\n"
+                                         "o floor\nf 1 2 3\ng  sliver \nf 1 2 4\nf 1 2 3\n";
+    auto r = testing::load_path((dir_ / "named.obj").string());
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const LineCol at = r.where("W303");
+    EXPECT_EQ(at.line, 8u);
+    EXPECT_EQ(at.col, 1u);
+}
+
+// `Ni 0` on an opaque material (exporters write it; assimp's regr_3429812.mtl has it) refused
+// the whole file with E303. It means nothing there; on glass it refracts as 1.5, warned at the
+// material's newmtl line.
+TEST_F(SceneObj, NiZeroLoadsAndOnGlassIsWarnedAtItsMaterial) {
+    std::ofstream(dir_ / "ni.mtl") << "newmtl trim\nd 1\nNi 0\nKd 1 1 1\n\nnewmtl pane \nKd 1 1 1\nd 0.3\nNi 0\n";
+    std::ofstream(dir_ / "ni.obj") << "mtllib ni.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl trim\nf 1 2 3\nusemtl pane\nf 1 3 2\n";
+    auto r = testing::load_path((dir_ / "ni.obj").string());
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    EXPECT_EQ(r.errors, 0u);
+    const Material* pane = r.scene->find_material("ni/pane");
+    ASSERT_TRUE(pane);
+    EXPECT_EQ(pane->type, MaterialType::kGlass);
+    EXPECT_EQ(pane->ior, 1.5);
+    EXPECT_EQ(r.where("W311").line, 6u);
+    EXPECT_EQ(std::count_if(r.diagnostics.begin(), r.diagnostics.end(), [](const Diagnostic& d) { return d.code == "W311"; }), 1);
+}
+
 // An OBJ without a light of its own inside a scene that has one: the OBJ's "nothing lights
 // this" (W302) belonged to the OBJ alone; the scene is asked as a whole, and warns only when
 // nothing in it lights it.
