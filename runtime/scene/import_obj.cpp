@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <utility>
 
 #include "base/input_file.h"
@@ -216,6 +217,61 @@ std::map<std::string, SourceSpan, std::less<>> group_lines(const SourceFile& fil
     return out;
 }
 
+// Material names with blanks in them (LightWave and 3ds Max write them): tinyobjloader's
+// `newmtl` keeps the whole name, its `usemtl` only the first word, so such a material was never
+// found and its faces fell back to the default. Both are given the name trimmed, its blanks
+// made kNameBlank, and the blanks are put back once the file is read. Lines keep their number.
+constexpr char kNameBlank = '\x1f';
+
+std::string join_material_names(std::string_view text, std::string_view keyword) {
+    std::string out(text);
+    size_t line = 0;
+    while (line < out.size()) {
+        const size_t end = std::min(out.find('\n', line), out.size());
+        const size_t at = out.find_first_not_of(" \t", line);
+        if (at < end && out.compare(at, keyword.size(), keyword) == 0 && at + keyword.size() < end &&
+            (out[at + keyword.size()] == ' ' || out[at + keyword.size()] == '\t')) {
+            size_t b = out.find_first_not_of(" \t", at + keyword.size()), e = end;
+            while (e > b && (out[e - 1] == ' ' || out[e - 1] == '\t' || out[e - 1] == '\r')) --e;
+            for (size_t k = b; k < e; ++k)
+                if (out[k] == ' ' || out[k] == '\t') out[k] = kNameBlank;
+            // The leading blanks go too (tinyobjloader's newmtl would keep them): "usemtl  a" names "a".
+            if (b > at + keyword.size() + 1 && b < end) out.erase(at + keyword.size() + 1, b - (at + keyword.size() + 1));
+        }
+        line = out.find('\n', line);
+        line = line == std::string::npos ? out.size() : line + 1;
+    }
+    return out;
+}
+
+std::string with_blanks(std::string name) {
+    std::replace(name.begin(), name.end(), kNameBlank, ' ');
+    return name;
+}
+
+// The MTL files tinyobjloader asks for, from the texts read and checked already (by the path
+// `mtllib` names, relative to the OBJ's folder), their material names joined.
+class MtlTexts final : public tinyobj::MaterialReader {
+public:
+    explicit MtlTexts(std::string dir) : dir_(std::move(dir)) {}
+    void add(const std::string& path, const SourceFile& text) { texts_[path] = &text; }
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials, std::map<std::string, int>* names,
+                    std::string* warn, std::string* err) override {
+        const auto it = texts_.find((std::filesystem::path(dir_) / name).string());
+        if (it == texts_.end()) {
+            if (warn) *warn += fmt::format("Material file [ {} ] not found in a path : {}\n", name, dir_);
+            return false;
+        }
+        std::istringstream in(join_material_names(it->second->text(), "newmtl"));
+        tinyobj::LoadMtl(names, materials, &in, warn, err);
+        return true;
+    }
+
+private:
+    std::string dir_;
+    std::map<std::string, const SourceFile*> texts_;
+};
+
 }  // namespace
 
 std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, SceneSources& sources) {
@@ -231,6 +287,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     check_obj_text(file, sink);
     // The first MTL's folder is where its textures are looked for; its text locates them.
     MtlContext mtl_context{std::filesystem::path(path).parent_path().string(), nullptr};
+    MtlTexts mtl_texts(std::filesystem::path(path).parent_path().string());
     bool first_library = true;
     for (const auto& lib : material_libraries(file, std::filesystem::path(path).parent_path().string())) {
         if (first_library) mtl_context.directory = std::filesystem::path(lib.path).parent_path().string();
@@ -244,23 +301,25 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
         }
         const SourceFile& mtl_file = sources.add(lib.path, std::move(*mtl));
         if (first) mtl_context.file = &mtl_file;
+        mtl_texts.add(lib.path, mtl_file);
         check_mtl_text(mtl_file, sink);
     }
     if (sink.error_count() != errors_first) return std::nullopt;
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
-    config.vertex_color = false;  // colours only when every `v` line has them (no white fill)
-    config.mtl_search_path = std::filesystem::path(path).parent_path().string();
-    tinyobj::ObjReader reader;
-    const bool ok = reader.ParseFromFile(path, config);
-    report_obj_messages(reader.Warning(), file, "W301", sink);
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> obj_shapes;
+    std::vector<tinyobj::material_t> obj_materials;
+    std::string obj_warnings, obj_errors;
+    std::istringstream obj_text(join_material_names(file.text(), "usemtl"));
+    // Triangulated; vertex colours only when every `v` line has them (no white fill).
+    const bool ok = tinyobj::LoadObj(&attrib, &obj_shapes, &obj_materials, &obj_warnings, &obj_errors, &obj_text, &mtl_texts, true, false);
+    report_obj_messages(with_blanks(obj_warnings), file, "W301", sink);
     if (!ok) {
-        if (reader.Error().find_first_not_of(" \n") == std::string::npos)
+        if (obj_errors.find_first_not_of(" \n") == std::string::npos)
             sink.report("E308", {&file, 0, 0}, fmt::format("cannot read OBJ '{}': malformed file", path));
-        report_obj_messages(reader.Error(), file, "E308", sink);
+        report_obj_messages(with_blanks(obj_errors), file, "E308", sink);
         return std::nullopt;
     }
-    const auto& attrib = reader.GetAttrib();
+    for (auto& m : obj_materials) m.name = with_blanks(m.name);
     size_t errors_before = sink.error_count();
     std::vector<Vec3> positions;
     for (size_t i = 0; i + 2 < attrib.vertices.size(); i += 3) {
@@ -278,7 +337,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     std::string stem = std::filesystem::path(path).stem().string();
     std::vector<std::string> material_names;
     const MtlContext& mtl = mtl_context;
-    for (const auto& m : reader.GetMaterials()) {
+    for (const auto& m : obj_materials) {
         std::string name = stem + "/" + m.name;
         material_names.push_back(name);
         scene.materials.push_back(convert_material(m, name, mtl, sink));
@@ -286,7 +345,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     std::string fallback = stem + "/default";
     bool fallback_used = false;
 
-    for (const auto& shape : reader.GetShapes()) {
+    for (const auto& shape : obj_shapes) {
         std::map<int, Shape> by_material;  // material id -> mesh
         // Per material: (position, texture coordinate, normal) indices -> the mesh's vertex.
         std::map<int, std::map<std::array<int, 3>, uint32_t>> remap;

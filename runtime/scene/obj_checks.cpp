@@ -167,8 +167,39 @@ void check_mtl_text(const SourceFile& mtl, DiagnosticSink& sink) {
     }
 }
 
+namespace {
+
+// The first line `keyword REST` of `obj` whose REST (blanks trimmed) is `name`, or holds it as a
+// word when `as_word`; the file's start when none is.
+SourceSpan first_line_naming(const SourceFile& obj, std::string_view keyword, const std::string& name, bool as_word) {
+    for (uint32_t line = 1; line <= obj.line_count(); ++line) {
+        std::string_view t = obj.line_text(line);
+        const size_t at = t.find_first_not_of(" \t");
+        if (at == std::string_view::npos || t.substr(at, keyword.size()) != keyword) continue;
+        std::string_view rest = t.substr(at + keyword.size());
+        if (rest.empty() || (rest[0] != ' ' && rest[0] != '\t')) continue;
+        rest.remove_prefix(std::min(rest.find_first_not_of(" \t"), rest.size()));
+        while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
+        bool named = rest == name;
+        for (size_t b = 0; as_word && !named && b < rest.size();) {
+            const size_t e = std::min(rest.find_first_of(" \t", b), rest.size());
+            named = rest.substr(b, e - b) == name;
+            b = std::min(rest.find_first_not_of(" \t", e), rest.size());
+        }
+        if (!named) continue;
+        const uint32_t b = obj.line_start(line);
+        return {&obj, b, b + static_cast<uint32_t>(t.size())};
+    }
+    return {&obj, 0, 0};
+}
+
+}  // namespace
+
 void report_obj_messages(const std::string& warnings, const SourceFile& obj, const char* code, DiagnosticSink& sink) {
     static const std::regex line_number(R"(line:? ?([0-9]+))");
+    // tinyobjloader names no line for these: the first usemtl or mtllib line naming it.
+    static const std::regex missing_material(R"(material \[ '(.*)' \] not found)");
+    static const std::regex missing_library(R"(Material file \[ (.*) \] not found)");
     size_t at = 0;
     while (at < warnings.size()) {
         size_t end = warnings.find('\n', at);
@@ -184,6 +215,10 @@ void report_obj_messages(const std::string& warnings, const SourceFile& obj, con
                 const uint32_t b = obj.line_start(static_cast<uint32_t>(n));
                 span = {&obj, b, b + static_cast<uint32_t>(obj.line_text(static_cast<uint32_t>(n)).size())};
             }
+        } else if (std::regex_search(w, m, missing_material)) {
+            span = first_line_naming(obj, "usemtl", m[1].str(), false);
+        } else if (std::regex_search(w, m, missing_library)) {
+            span = first_line_naming(obj, "mtllib", m[1].str(), true);
         }
         sink.report(code, span, fmt::format("OBJ: {}", w));
     }

@@ -25,7 +25,7 @@ struct MaterialLibrary {
 };
 std::vector<MaterialLibrary> material_libraries(const SourceFile& obj, const std::string& dir);
 
-/// E302/E303 for MTL values: Ka Kd Ks Ke Tf finite and >= 0, Ns >= 0, Ni > 0, d and Tr in
+/// E302/E303 for MTL values: Ka Kd Ks Ke Tf finite and >= 0, Ns >= 0, Ni finite, d and Tr in
 /// [0, 1], illum a whole number from 0 to 10.
 void check_mtl_text(const SourceFile& mtl, DiagnosticSink& sink);
 

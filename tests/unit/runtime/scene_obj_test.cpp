@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <set>
 #include <fstream>
 
 #include "runtime/scene/census.h"
@@ -96,6 +97,39 @@ TEST_F(SceneObj, AMeshesWarningIsLocatedAtTheLineNamingIt) {
     const LineCol at = r.where("W303");
     EXPECT_EQ(at.line, 8u);
     EXPECT_EQ(at.col, 1u);
+}
+
+// Material names with blanks (LightWave and 3ds Max write them; assimp's
+// space_in_material_name.obj): tinyobjloader's usemtl read only the first word, so the faces
+// fell back to the default material. A material that is not defined, and an MTL file that is
+// not there, are warned at the usemtl and mtllib lines naming them (they were at line 1).
+TEST_F(SceneObj, MaterialNamesWithBlanksAreFoundAndMissingOnesLocated) {
+    std::ofstream(dir_ / "spaced.mtl") << "newmtl Hard Shiny Plastic White\nKd 0.9 0.8 0.7\nnewmtl  lead  \nKd 0.1 0.2 0.3\n";
+    std::ofstream(dir_ / "spaced.obj") << "mtllib spaced.mtl\nmtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
+                                          "usemtl  Hard Shiny Plastic White \nf 1 2 3\nusemtl lead\nf 1 3 2\nusemtl Nowhere\nf 1 2 3\n";
+    auto r = testing::load_path((dir_ / "spaced.obj").string());
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    std::set<std::string> used;
+    for (const Shape& sh : r.scene->shapes) used.insert(sh.material);
+    EXPECT_EQ(used, (std::set<std::string>{"spaced/Hard Shiny Plastic White", "spaced/lead", "spaced/default"}));
+    const Material* white = r.scene->find_material("spaced/Hard Shiny Plastic White");
+    ASSERT_TRUE(white);
+    EXPECT_NEAR(white->color.y, 0.8, 1e-6);
+    int missing_material = 0, missing_file = 0;
+    for (const Diagnostic& d : r.diagnostics) {
+        if (d.code != "W301") continue;
+        const LineCol at = d.span.file->position(d.span.begin);
+        if (d.message.find("'Nowhere'") != std::string::npos) {
+            ++missing_material;
+            EXPECT_EQ(at.line, 10u) << d.message;
+        }
+        if (d.message.find("gone.mtl") != std::string::npos) {
+            ++missing_file;
+            EXPECT_EQ(at.line, 2u) << d.message;
+        }
+    }
+    EXPECT_EQ(missing_material, 1);
+    EXPECT_EQ(missing_file, 1);
 }
 
 // `Ni 0` on an opaque material (exporters write it; assimp's regr_3429812.mtl has it) refused
