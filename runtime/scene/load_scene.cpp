@@ -37,32 +37,24 @@ RadianceOptions radiance_options() {
     return options;
 }
 
-// A model file (OBJ, glTF) in which direct lighting samples nothing: OBJ has no lights, and
-// most glTF models ship without any, so they rendered black with W302. A model viewer shows
-// them under an environment; crex lights them by a uniform white sky of radiance 1 all round
-// (a white surface shows its albedo; the camera sees it behind the model), and says so (W313,
-// where W302 was). A scene file that names the model (a JSON scene's mesh `file`) lights it
-// as that file says.
+// A model file (OBJ, glTF) in which nothing lights it: OBJ has no lights, and most glTF
+// models ship without any, so they rendered black with W302. A model viewer shows them under an
+// environment; crex lights them by a uniform white one of radiance 1, the scene's background,
+// which every ray that leaves the scene sees (a white Lambertian surface shows its albedo; the
+// camera sees it behind the model), and says so (W313, where W302 was). A background rather
+// than a sampled sky: a ray leaving an unoccluded point carries exactly its weight, where a
+// sky's light samples fall behind the surface half the time (measured on assimp's
+// 2CylinderEngine at 16 spp: RMSE 0.033 against 0.101 for the sampled sky, the same mean). A
+// scene file that names the model (a JSON scene's mesh `file`) lights it as that file says.
 std::optional<Scene> lit_model(std::optional<Scene> scene, DiagnosticSink& sink) {
-    if (!scene || scene->shapes.empty() || sampled_light_count(*scene) > 0) return scene;
+    if (!scene || scene->shapes.empty() || sampled_light_count(*scene) > 0 || max_component(scene->background) > 0) return scene;
     SourceSpan at;
     for (const Diagnostic& d : sink.diagnostics())
         if (d.code == "W302") at = d.span;
     sink.withdraw("W302");
-    std::string name = "crex studio sky";
-    while (scene->find_material(name)) name += "'";
-    Material sky;
-    sky.name = name;
-    sky.type = MaterialType::kGlow;
-    sky.color = {1, 1, 1};
-    scene->materials.push_back(sky);
-    DistantLight all_round;
-    all_round.name = name;
-    all_round.material = name;
-    all_round.direction = {0, 1, 0};
-    all_round.angle_deg = 360;
-    scene->distant_lights.push_back(all_round);
-    sink.report("W313", at, "nothing in the model lights it: it is lit by a uniform white sky of radiance 1, which the camera sees behind it")
+    scene->background = {1, 1, 1};
+    sink.report("W313", at, "nothing in the model lights it: it is lit by a uniform white environment of radiance 1, which the camera "
+                            "sees behind it")
         .help = "to light it otherwise, give the file lights (glTF: KHR_lights_punctual or an emissive material; OBJ: a material "
                 "with Ke) or name the OBJ from a JSON scene that has them (docs/scene-format.md)";
     return scene;
