@@ -21,7 +21,8 @@
 #include <filesystem>
 #include <map>
 #include <optional>
-#include <sstream>
+#include <istream>
+#include <streambuf>
 #include <utility>
 
 #include "base/input_file.h"
@@ -223,26 +224,42 @@ std::map<std::string, SourceSpan, std::less<>> group_lines(const SourceFile& fil
 // made kNameBlank, and the blanks are put back once the file is read. Lines keep their number.
 constexpr char kNameBlank = '\x1f';
 
-std::string join_material_names(std::string_view text, std::string_view keyword) {
-    std::string out(text);
-    size_t line = 0;
-    while (line < out.size()) {
-        const size_t end = std::min(out.find('\n', line), out.size());
-        const size_t at = out.find_first_not_of(" \t", line);
-        if (at < end && out.compare(at, keyword.size(), keyword) == 0 && at + keyword.size() < end &&
-            (out[at + keyword.size()] == ' ' || out[at + keyword.size()] == '\t')) {
-            size_t b = out.find_first_not_of(" \t", at + keyword.size()), e = end;
-            while (e > b && (out[e - 1] == ' ' || out[e - 1] == '\t' || out[e - 1] == '\r')) --e;
-            for (size_t k = b; k < e; ++k)
-                if (out[k] == ' ' || out[k] == '\t') out[k] = kNameBlank;
+// The text with the names after `keyword` joined, or nullopt when none needs it (then the text
+// is read as it is, not copied: a scanned mesh's OBJ is 100 MB). One pass, appending.
+std::optional<std::string> joined_material_names(std::string_view text, std::string_view keyword) {
+    std::optional<std::string> out;
+    for (size_t line = 0; line < text.size();) {
+        const size_t end = std::min(text.find('\n', line), text.size()), next = std::min(end + 1, text.size());
+        const std::string_view t = text.substr(line, end - line);
+        const size_t at = t.find_first_not_of(" \t"), k = at + keyword.size();
+        std::string joined;
+        if (at != std::string_view::npos && t.substr(at, keyword.size()) == keyword && k < t.size() && (t[k] == ' ' || t[k] == '\t')) {
+            const size_t b = std::min(t.find_first_not_of(" \t", k), t.size());
+            size_t e = t.size();
+            while (e > b && (t[e - 1] == ' ' || t[e - 1] == '\t' || t[e - 1] == '\r')) --e;
+            const std::string_view name = t.substr(b, e - b);
             // The leading blanks go too (tinyobjloader's newmtl would keep them): "usemtl  a" names "a".
-            if (b > at + keyword.size() + 1 && b < end) out.erase(at + keyword.size() + 1, b - (at + keyword.size() + 1));
+            if (b > k + 1 || name.find_first_of(" \t") != std::string_view::npos) {
+                joined = std::string(t.substr(0, k + 1)) + std::string(name);
+                std::replace_if(joined.begin() + static_cast<std::ptrdiff_t>(k + 1), joined.end(), [](char c) { return c == ' ' || c == '\t'; },
+                                kNameBlank);
+                if (!out) out.emplace().reserve(text.size()), out->append(text.substr(0, line));
+            }
         }
-        line = out.find('\n', line);
-        line = line == std::string::npos ? out.size() : line + 1;
+        if (out) out->append(joined.empty() ? t : std::string_view(joined)), out->append(text.substr(end, next - end));
+        line = next;
     }
     return out;
 }
+
+// An input stream over text held elsewhere (no copy).
+class TextStream final : public std::streambuf {
+public:
+    explicit TextStream(std::string_view text) {
+        char* p = const_cast<char*>(text.data());  // read only: the get area is never written
+        setg(p, p, p + text.size());
+    }
+};
 
 std::string with_blanks(std::string name) {
     std::replace(name.begin(), name.end(), kNameBlank, ' ');
@@ -262,7 +279,9 @@ public:
             if (warn) *warn += fmt::format("Material file [ {} ] not found in a path : {}\n", name, dir_);
             return false;
         }
-        std::istringstream in(join_material_names(it->second->text(), "newmtl"));
+        const std::optional<std::string> joined = joined_material_names(it->second->text(), "newmtl");
+        TextStream buffer(joined ? std::string_view(*joined) : std::string_view(it->second->text()));
+        std::istream in(&buffer);
         tinyobj::LoadMtl(names, materials, &in, warn, err);
         return true;
     }
@@ -309,7 +328,9 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     std::vector<tinyobj::shape_t> obj_shapes;
     std::vector<tinyobj::material_t> obj_materials;
     std::string obj_warnings, obj_errors;
-    std::istringstream obj_text(join_material_names(file.text(), "usemtl"));
+    const std::optional<std::string> joined = joined_material_names(file.text(), "usemtl");
+    TextStream obj_buffer(joined ? std::string_view(*joined) : std::string_view(file.text()));
+    std::istream obj_text(&obj_buffer);
     // Triangulated; vertex colours only when every `v` line has them (no white fill).
     const bool ok = tinyobj::LoadObj(&attrib, &obj_shapes, &obj_materials, &obj_warnings, &obj_errors, &obj_text, &mtl_texts, true, false);
     report_obj_messages(with_blanks(obj_warnings), file, "W301", sink);
