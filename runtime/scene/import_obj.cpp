@@ -267,17 +267,28 @@ std::string with_blanks(std::string name) {
 }
 
 // The MTL files tinyobjloader asks for, from the texts read and checked already (by the path
-// `mtllib` names, relative to the OBJ's folder), their material names joined.
+// `mtllib` names, relative to the OBJ's folder), their material names joined. A name crex's
+// reading of `mtllib` did not make (tinyobjloader reads "my\ mats.mtl" as one file with a
+// blank) is read here the same way: bounded, a regular file, its values checked into `sink`.
 class MtlTexts final : public tinyobj::MaterialReader {
 public:
-    explicit MtlTexts(std::string dir) : dir_(std::move(dir)) {}
+    MtlTexts(std::string dir, SceneSources& sources, DiagnosticSink& sink) : dir_(std::move(dir)), sources_(sources), sink_(sink) {}
     void add(const std::string& path, const SourceFile& text) { texts_[path] = &text; }
     bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials, std::map<std::string, int>* names,
                     std::string* warn, std::string* err) override {
-        const auto it = texts_.find((std::filesystem::path(dir_) / name).string());
+        const std::string path = (std::filesystem::path(dir_) / name).string();
+        auto it = texts_.find(path);
         if (it == texts_.end()) {
-            if (warn) *warn += fmt::format("Material file [ {} ] not found in a path : {}\n", name, dir_);
-            return false;
+            std::string error;
+            std::error_code ec;
+            auto text = std::filesystem::exists(path, ec) ? read_input_file(path, error, kMaxDataInputBytes) : std::nullopt;
+            if (!text) {
+                if (warn) *warn += fmt::format("Material file [ {} ] not found in a path : {}{}\n", name, dir_, error.empty() ? "" : " (" + error + ")");
+                return false;
+            }
+            const SourceFile& file = sources_.add(path, std::move(*text));
+            check_mtl_text(file, sink_);
+            it = texts_.emplace(path, &file).first;
         }
         const std::optional<std::string> joined = joined_material_names(it->second->text(), "newmtl");
         TextStream buffer(joined ? std::string_view(*joined) : std::string_view(it->second->text()));
@@ -288,6 +299,8 @@ public:
 
 private:
     std::string dir_;
+    SceneSources& sources_;
+    DiagnosticSink& sink_;
     std::map<std::string, const SourceFile*> texts_;
 };
 
@@ -306,7 +319,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     check_obj_text(file, sink);
     // The first MTL's folder is where its textures are looked for; its text locates them.
     MtlContext mtl_context{std::filesystem::path(path).parent_path().string(), nullptr};
-    MtlTexts mtl_texts(std::filesystem::path(path).parent_path().string());
+    MtlTexts mtl_texts(std::filesystem::path(path).parent_path().string(), sources, sink);
     bool first_library = true;
     for (const auto& lib : material_libraries(file, std::filesystem::path(path).parent_path().string())) {
         if (first_library) mtl_context.directory = std::filesystem::path(lib.path).parent_path().string();
@@ -340,6 +353,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
         report_obj_messages(with_blanks(obj_errors), file, "E308", sink);
         return std::nullopt;
     }
+    if (sink.error_count() != errors_first) return std::nullopt;  // an MTL read while reading it had bad values
     for (auto& m : obj_materials) m.name = with_blanks(m.name);
     size_t errors_before = sink.error_count();
     std::vector<Vec3> positions;

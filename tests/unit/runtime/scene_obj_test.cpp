@@ -132,6 +132,21 @@ TEST_F(SceneObj, MaterialNamesWithBlanksAreFoundAndMissingOnesLocated) {
     EXPECT_EQ(missing_file, 1);
 }
 
+// `mtllib my\ mats.mtl` names one file with a blank in its name (tinyobjloader's escape): read
+// as tinyobjloader reads it, and its values checked like every MTL's.
+TEST_F(SceneObj, AnMtlNamedWithAnEscapedBlankIsReadAndChecked) {
+    std::ofstream(dir_ / "my mats.mtl") << "newmtl red\nKd 0.8 0.1 0.1\n";
+    std::ofstream(dir_ / "esc.obj") << "mtllib my\\ mats.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl red\nf 1 2 3\n";
+    auto r = testing::load_path((dir_ / "esc.obj").string());
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    ASSERT_EQ(r.scene->shapes.size(), 1u);
+    EXPECT_EQ(r.scene->shapes[0].material, "esc/red");
+    std::ofstream(dir_ / "my mats.mtl") << "newmtl red\nKd 0.8 0.1 0.1\nKe -1 0 0\n";
+    r = testing::load_path((dir_ / "esc.obj").string());
+    EXPECT_FALSE(r.scene);
+    EXPECT_EQ(r.where("E303").line, 3u);
+}
+
 // `Ni 0` on an opaque material (exporters write it; assimp's regr_3429812.mtl has it) refused
 // the whole file with E303. It means nothing there; on glass it refracts as 1.5, warned at the
 // material's newmtl line.
