@@ -12,7 +12,7 @@
 // normal map, map_Ke an emission; paths relative to the MTL's folder; -o, -s, -clamp,
 // -imfchan, -bm and -colorspace honoured. A texture that is not there is a warning at its
 // MTL line, and renders magenta.
-// A standalone OBJ gets a camera framing its bounds from +z.
+// A standalone OBJ gets a camera framing its bounds (frame_model).
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
@@ -27,6 +27,7 @@
 
 #include "base/input_file.h"
 #include "runtime/scene/load_scene.h"
+#include "runtime/scene/model_defaults.h"
 #include "runtime/scene/obj_checks.h"
 #include "runtime/scene/shapes.h"
 
@@ -448,13 +449,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
         sink.report("E306", {&file, 0, 0}, fmt::format("OBJ '{}' has no triangles", path));
         return std::nullopt;
     }
-    // Frame the bounds from +z, far enough for a 45-degree vertical field of view.
-    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (const auto& s : scene.shapes) expand_bounds(s, lo, hi);
-    Vec3 centre = (lo + hi) * 0.5;
-    double radius = 0.5 * length(hi - lo);
-    scene.camera.position = centre + Vec3{0, 0, radius * 2.5 + 1e-9};
-    scene.camera.direction = {0, 0, -1};
+    frame_model(scene);
     std::optional<std::map<std::string, SourceSpan, std::less<>>> groups;  // made when a mesh is said
     validate_scene(scene, sink, [&](size_t i) {
         if (i >= scene.shapes.size()) return SourceSpan{&file, 0, 0};

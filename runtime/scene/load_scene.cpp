@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <cctype>
-#include <cmath>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -11,8 +10,7 @@
 
 #include "base/input_file.h"
 #include "runtime/base/file_extension.h"
-#include "runtime/base/sampling.h"
-#include "runtime/scene/material.h"
+#include "runtime/scene/model_defaults.h"
 
 namespace crex {
 namespace {
@@ -40,53 +38,6 @@ RadianceOptions radiance_options() {
     return options;
 }
 
-// A model file (OBJ, glTF) in which nothing lights it: OBJ has no lights, and most glTF
-// models ship without any, so they rendered black with W302. crex lights it as a model viewer
-// does, and says so (W313, where W302 was):
-//  - a uniform grey environment of radiance 0.5, the scene's background, which every ray that
-//    leaves the scene sees (the camera's behind the model too). A background rather than a
-//    sampled sky: a ray leaving an unoccluded point carries exactly its weight, where a sky's
-//    light samples fall behind the surface half the time (assimp's 2CylinderEngine, 16 spp:
-//    RMSE 0.033 against 0.101, the same mean);
-//  - a key light, a sun 5 degrees wide above, right of and behind the camera, giving surfaces
-//    facing it up to 0.9 more: under the environment alone a convex white model is the
-//    background's colour everywhere and cannot be seen.
-// A scene file that names the model (a JSON scene's mesh `file`) lights it as that file says.
-constexpr double kStudioAmbient = 0.5, kStudioKey = 0.9, kStudioKeyAngleDeg = 5;
-
-Vec3 studio_key_direction(const Camera& c) {
-    const Vec3 forward = normalize_or_zero(c.direction), right = normalize_or_zero(cross(forward, c.up)), up = cross(right, forward);
-    return normalize_or_zero(right * 0.4 + up * 0.8 - forward * 0.6);
-}
-
-std::optional<Scene> lit_model(std::optional<Scene> scene, DiagnosticSink& sink) {
-    if (!scene || scene->shapes.empty() || sampled_light_count(*scene) > 0 || max_component(scene->background) > 0) return scene;
-    SourceSpan at;
-    for (const Diagnostic& d : sink.diagnostics())
-        if (d.code == "W302") at = d.span;
-    sink.withdraw("W302");
-    scene->background = Vec3{1, 1, 1} * kStudioAmbient;
-    std::string name = "crex studio key";
-    while (scene->find_material(name)) name += "'";
-    // Its radiance over its solid angle makes an irradiance of pi x kStudioKey at normal incidence.
-    const double solid_angle = 2 * kPi * (1 - std::cos(kStudioKeyAngleDeg * kPi / 360));
-    Material key;
-    key.name = name;
-    key.type = MaterialType::kLight;
-    key.color = Vec3{1, 1, 1} * (kPi * kStudioKey / solid_angle);
-    scene->materials.push_back(key);
-    DistantLight sun;
-    sun.name = sun.material = name;
-    sun.direction = studio_key_direction(scene->camera);
-    sun.angle_deg = kStudioKeyAngleDeg;
-    scene->distant_lights.push_back(sun);
-    sink.report("W313", at, "nothing in the model lights it: it is lit as a model viewer lights it, by a uniform grey environment "
-                            "(radiance 0.5, seen behind it) and a key light above, right of and behind the camera")
-        .help = "to light it otherwise, give the file lights (glTF: KHR_lights_punctual or an emissive material; OBJ: a material "
-                "with Ke) or name the OBJ from a JSON scene that has them (docs/scene-format.md)";
-    return scene;
-}
-
 }  // namespace
 
 const SourceFile& SceneSources::add(std::string name, std::string text) {
@@ -110,7 +61,7 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
             failure.message = fmt::format("cannot read scene '{}': {}", spec, std::strerror(ENOENT));
             return std::nullopt;
         }
-        return lit_model(import_obj(spec, sink, sources), sink);
+        return light_unlit_model(import_obj(spec, sink, sources), sink);
     }
     if (ext == ".gltf" || ext == ".glb") {
         // Not a regular file of at most 1 GiB (missing, a directory, a FIFO): an I/O failure.
@@ -118,7 +69,7 @@ std::optional<Scene> load_scene(const std::string& spec, SceneSources& sources, 
             failure.message = why;
             return std::nullopt;
         }
-        return lit_model(import_gltf(spec, sink, sources), sink);
+        return light_unlit_model(import_gltf(spec, sink, sources), sink);
     }
     if (ext != ".json" && ext != ".rad" && ext != ".rif") {
         failure.message = fmt::format("cannot tell the format of scene '{}': use .json (crex scene), .rad or .rif (RADIANCE), "

@@ -12,6 +12,7 @@
 #include "runtime/scene/gltf/gltf_document.h"
 #include "runtime/scene/gltf/gltf_transform.h"
 #include "runtime/base/file_extension.h"
+#include "runtime/base/sampling.h"
 
 namespace crex {
 namespace {
@@ -21,7 +22,6 @@ using gltf::Mat4;
 
 constexpr int kStepsBetweenKeys = 8;     // samples per span of the animation's own keys
 constexpr size_t kMostKeyTimes = 100000;  // an hour at 24 fps has 86,400
-constexpr double kPi = 3.14159265358979323846;
 
 // One animated property of one node: its key times and values (CUBICSPLINE: in-tangent,
 // value, out-tangent per key), `width` numbers a value.

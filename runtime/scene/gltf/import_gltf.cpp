@@ -21,6 +21,7 @@
 #include "runtime/scene/gltf/gltf_transform.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
+#include "runtime/scene/model_defaults.h"
 #include "runtime/scene/shapes.h"
 
 namespace crex {
@@ -92,12 +93,7 @@ public:
         if (!scene_.cameras.empty()) {
             scene_.camera = scene_.cameras.front().camera;
         } else {
-            // No camera: frame the bounds from +z (glTF's front), as for a standalone OBJ.
-            Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-            for (const auto& s : scene_.shapes) expand_bounds(s, lo, hi);
-            const Vec3 centre = (lo + hi) * 0.5;
-            scene_.camera.position = centre + Vec3{0, 0, 0.5 * length(hi - lo) * 2.5 + 1e-9};
-            scene_.camera.direction = {0, 0, -1};
+            frame_model(scene_);  // no camera: one framing the bounds, as for a standalone OBJ
         }
         validate_scene(scene_, sink_, [&](size_t i) { return doc_.at(i < where_.size() ? where_[i] : std::string()); });
         if (sink_.error_count() != errors) return std::nullopt;

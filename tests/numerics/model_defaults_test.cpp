@@ -1,4 +1,6 @@
-// An OBJ or glTF model rendered on its own with nothing that lights it (OBJ has no lights,
+// What a model file gets where it says nothing (runtime/scene/model_defaults.h).
+// A camera: one that frames it, which sees no flat model edge-on.
+// Light: an OBJ or glTF model rendered on its own with nothing that lights it (OBJ has no lights,
 // most glTF models ship without any) used to render black with W302. It is lit as a model
 // viewer lights a model, by a grey environment and a key light, and W313 says so; a model with a
 // light of its own, or an OBJ named from a JSON scene, is left as its file says.
@@ -15,9 +17,9 @@
 namespace crex {
 namespace {
 
-class ModelLighting : public testing::ScratchFolderTest {
+class ModelDefaults : public testing::ScratchFolderTest {
 protected:
-    ModelLighting() : ScratchFolderTest("crex_model_lighting_") {}
+    ModelDefaults() : ScratchFolderTest("crex_model_defaults_") {}
 
     static long count(const testing::SceneResult& r, const std::string& code) {
         return std::count_if(r.diagnostics.begin(), r.diagnostics.end(), [&](const Diagnostic& d) { return d.code == code; });
@@ -31,7 +33,7 @@ protected:
 // factor (1 + cos 2.5 deg) / 2 for the disc). Per pixel the sun's sample direction varies
 // within its disc: the mean of 12x12 central pixels at 4 spp is within 0.002 of the value,
 // each pixel within 0.02 (0.9 x 0.5 x sin 2.5 deg).
-TEST_F(ModelLighting, AnUnlitObjIsLitByTheStudioAndShowsItsAlbedo) {
+TEST_F(ModelDefaults, AnUnlitObjIsLitByTheStudioAndShowsItsAlbedo) {
     std::ofstream(path("plane.mtl")) << "newmtl grey\nKd 0.5 0.5 0.5\nKs 0 0 0\n";
     std::ofstream(path("plane.obj")) << "mtllib plane.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nusemtl grey\nf 1 2 3 4\n";
     auto r = testing::load_path(path("plane.obj"));
@@ -60,7 +62,7 @@ TEST_F(ModelLighting, AnUnlitObjIsLitByTheStudioAndShowsItsAlbedo) {
     EXPECT_NEAR(img[1], 0.5, 1e-6);
 }
 
-TEST_F(ModelLighting, AModelWithALightOfItsOwnIsLeftAsItIs) {
+TEST_F(ModelDefaults, AModelWithALightOfItsOwnIsLeftAsItIs) {
     std::ofstream(path("lamp.mtl")) << "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKe 4 4 4\n";
     std::ofstream(path("lamp.obj")) << "mtllib lamp.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 0 1\n"
                                        "usemtl grey\nf 1 2 3 4\nusemtl lamp\nf 1 2 5\n";
@@ -71,7 +73,7 @@ TEST_F(ModelLighting, AModelWithALightOfItsOwnIsLeftAsItIs) {
 }
 
 // glTF too: a quad without lights or emissive materials (its data in a data URI).
-TEST_F(ModelLighting, AnUnlitGltfIsLitByTheStudioToo) {
+TEST_F(ModelDefaults, AnUnlitGltfIsLitByTheStudioToo) {
     std::ofstream(path("quad.gltf")) << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
       "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
       "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0}}],
@@ -84,6 +86,28 @@ TEST_F(ModelLighting, AnUnlitGltfIsLitByTheStudioToo) {
     EXPECT_EQ(count(r, "W302"), 0);
     EXPECT_EQ(count(r, "W313"), 1);
     EXPECT_EQ(sampled_light_count(*r.scene), 1u);
+}
+
+// A panel in the yz plane was framed from +z, edge-on, and rendered as background alone; a
+// picture facing z is still framed straight from +z, filling the middle of the image.
+TEST_F(ModelDefaults, TheFramingCameraSeesAFlatModelFaceOn) {
+    std::ofstream(path("side.obj")) << "v 0 -1 -1\nv 0 -1 1\nv 0 1 1\nv 0 1 -1\nf 1 2 3 4\n";
+    auto r = testing::load_path(path("side.obj"));
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    const Vec3 d = normalize_or_zero(r.scene->camera.direction);
+    EXPECT_GT(std::fabs(d.x), 0.4) << "the panel's normal is x";
+    const int n = 32;
+    const std::vector<float> img = testing::render_crex(*r.scene, "D", n, 1).image();
+    int panel = 0;
+    for (size_t i = 1; i < img.size(); i += 3) panel += std::fabs(img[i] - 0.5) > 1e-3;  // not the environment
+    EXPECT_GT(panel, n * n / 10);
+
+    std::ofstream(path("card.obj")) << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n";
+    r = testing::load_path(path("card.obj"));
+    ASSERT_TRUE(r.scene);
+    EXPECT_EQ(normalize_or_zero(r.scene->camera.direction), (Vec3{0, 0, -1}));
+    EXPECT_EQ(r.scene->camera.position.x, 0);
+    EXPECT_EQ(r.scene->camera.position.y, 0);
 }
 
 }  // namespace
