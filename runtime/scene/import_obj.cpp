@@ -54,23 +54,6 @@ SourceSpan texture_line(const MtlContext& mtl, const std::string& name) {
     return {mtl.file, 0, 0};
 }
 
-// The span of material `name`'s `newmtl` line (the name as tinyobjloader reads it: all after
-// "newmtl ", trailing blanks removed).
-SourceSpan material_line(const MtlContext& mtl, const std::string& name) {
-    if (!mtl.file) return {};
-    for (uint32_t line = 1; line <= mtl.file->line_count(); ++line) {
-        std::string_view t = mtl.file->line_text(line);
-        const size_t at = t.find_first_not_of(" \t");
-        if (at == std::string_view::npos || t.substr(at, 7) != "newmtl ") continue;
-        std::string_view rest = t.substr(at + 7);
-        while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
-        if (rest != name) continue;
-        const uint32_t b = mtl.file->line_start(line);
-        return {mtl.file, b, b + static_cast<uint32_t>(t.size())};
-    }
-    return {mtl.file, 0, 0};
-}
-
 // What an MTL map gives: a colour (or a normal) reads its three channels from the first; a
 // number reads the one -imfchan names.
 enum class MtlMap { kColour, kScalar };
@@ -143,7 +126,7 @@ Material convert_material(const tinyobj::material_t& m, const std::string& name,
         out.color = clamp01(max_component(tf) > 0 ? tf : Vec3{1, 1, 1});
         out.ior = m.ior > 0 ? m.ior : 1.5;
         if (!(m.ior > 0))
-            sink.report("W311", material_line(mtl, m.name),
+            sink.report("W311", mtl.file ? first_line_naming(*mtl.file, "newmtl", m.name, false) : SourceSpan{},
                         fmt::format("material '{}' is glass with Ni {:g}, which is not an index of refraction: it refracts as Ni 1.5",
                                     m.name, m.ior));
     } else if ((m.illum == 3 || m.illum == 5) && max_component(kd) <= 0 && m.diffuse_texname.empty()) {
@@ -313,6 +296,12 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     const SourceFile& file = sources.add(path, text ? std::move(*text) : std::string());
     if (!text) {
         sink.report("E308", {&file, 0, 0}, error);
+        return std::nullopt;
+    }
+    // UTF-16 (a byte-order mark): tinyobjloader reads no line of it, and "no triangles" hid why.
+    if (const std::string_view t = file.text(); t.size() >= 2 && (t.substr(0, 2) == "\xFE\xFF" || t.substr(0, 2) == "\xFF\xFE")) {
+        sink.report("E308", {&file, 0, 0}, fmt::format("cannot read OBJ '{}': it is UTF-16 text; crex reads OBJ in ASCII or UTF-8", path))
+            .help = "save it as UTF-8 (iconv -f UTF-16 -t UTF-8)";
         return std::nullopt;
     }
     // Its text and its MTL files' values first (obj_checks.h): tinyobjloader reads them silently.

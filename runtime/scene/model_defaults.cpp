@@ -50,7 +50,6 @@ std::optional<Scene> light_unlit_model(std::optional<Scene> scene, DiagnosticSin
     return scene;
 }
 
-
 void frame_model(Scene& scene) {
     Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
     for (const auto& s : scene.shapes) expand_bounds(s, lo, hi);

@@ -167,10 +167,6 @@ void check_mtl_text(const SourceFile& mtl, DiagnosticSink& sink) {
     }
 }
 
-namespace {
-
-// The first line `keyword REST` of `obj` whose REST (blanks trimmed) is `name`, or holds it as a
-// word when `as_word`; the file's start when none is.
 SourceSpan first_line_naming(const SourceFile& obj, std::string_view keyword, const std::string& name, bool as_word) {
     for (uint32_t line = 1; line <= obj.line_count(); ++line) {
         std::string_view t = obj.line_text(line);
@@ -192,8 +188,6 @@ SourceSpan first_line_naming(const SourceFile& obj, std::string_view keyword, co
     }
     return {&obj, 0, 0};
 }
-
-}  // namespace
 
 void report_obj_messages(const std::string& warnings, const SourceFile& obj, const char* code, DiagnosticSink& sink) {
     static const std::regex line_number(R"(line:? ?([0-9]+))");

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "base/diagnostic.h"
@@ -24,6 +25,11 @@ struct MaterialLibrary {
     SourceSpan named_at;
 };
 std::vector<MaterialLibrary> material_libraries(const SourceFile& obj, const std::string& dir);
+
+/// The first line `keyword REST` of `obj` (an OBJ or MTL text) whose REST, blanks trimmed, is
+/// `name`, or holds it as a word when `as_word`: where `usemtl`, `newmtl` or `mtllib` names it.
+/// The file's start when no line does.
+SourceSpan first_line_naming(const SourceFile& obj, std::string_view keyword, const std::string& name, bool as_word);
 
 /// E302/E303 for MTL values: Ka Kd Ks Ke Tf finite and >= 0, Ns >= 0, Ni finite, d and Tr in
 /// [0, 1], illum a whole number from 0 to 10.

@@ -147,6 +147,20 @@ TEST_F(SceneObj, AnMtlNamedWithAnEscapedBlankIsReadAndChecked) {
     EXPECT_EQ(r.where("E303").line, 3u);
 }
 
+// A UTF-16 OBJ (assimp's box_UTF16BE.obj) read as no triangles (E306): it says what it is.
+TEST_F(SceneObj, AUtf16ObjSaysSo) {
+    for (const std::string& bom : {std::string("\xFE\xFF", 2), std::string("\xFF\xFE", 2)}) {
+        std::string text = bom;
+        for (char c : std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")) text += bom[0] == '\xFE' ? std::string{'\0', c} : std::string{c, '\0'};
+        std::ofstream(dir_ / "utf16.obj", std::ios::binary) << text;
+        auto r = testing::load_path((dir_ / "utf16.obj").string());
+        EXPECT_FALSE(r.scene);
+        ASSERT_FALSE(r.diagnostics.empty());
+        EXPECT_EQ(r.diagnostics[0].code, "E308");
+        EXPECT_NE(r.diagnostics[0].message.find("UTF-16"), std::string::npos) << r.diagnostics[0].message;
+    }
+}
+
 // `Ni 0` on an opaque material (exporters write it; assimp's regr_3429812.mtl has it) refused
 // the whole file with E303. It means nothing there; on glass it refracts as 1.5, warned at the
 // material's newmtl line.
