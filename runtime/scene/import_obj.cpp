@@ -191,13 +191,12 @@ SourceSpan nth_line(const SourceFile& file, const std::string& prefix, size_t n)
 std::map<std::string, SourceSpan, std::less<>> group_lines(const SourceFile& file) {
     std::map<std::string, SourceSpan, std::less<>> out;
     for (uint32_t line = 1; line <= file.line_count(); ++line) {
-        std::string_view t = file.line_text(line);
-        if (t.size() < 2 || (t[0] != 'o' && t[0] != 'g') || (t[1] != ' ' && t[1] != '\t')) continue;
-        std::string_view name = t.substr(2);
-        name.remove_prefix(std::min(name.find_first_not_of(" \t"), name.size()));
-        while (!name.empty() && (name.back() == ' ' || name.back() == '\t' || name.back() == '\r')) name.remove_suffix(1);
+        const std::string_view t = file.line_text(line);
+        std::optional<std::string_view> name = keyword_rest(t, "o");
+        if (!name) name = keyword_rest(t, "g");
+        if (!name) continue;
         const uint32_t b = file.line_start(line);
-        out.try_emplace(std::string(name), SourceSpan{&file, b, b + static_cast<uint32_t>(t.size())});
+        out.try_emplace(std::string(*name), SourceSpan{&file, b, b + static_cast<uint32_t>(t.size())});
     }
     return out;
 }

@@ -6,7 +6,6 @@
 #include "runtime/base/sampling.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/material.h"
-#include "runtime/scene/shapes.h"
 
 namespace crex {
 namespace {
@@ -51,9 +50,8 @@ std::optional<Scene> light_unlit_model(std::optional<Scene> scene, DiagnosticSin
 }
 
 void frame_model(Scene& scene) {
-    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (const auto& s : scene.shapes) expand_bounds(s, lo, hi);
-    const Vec3 centre = (lo + hi) * 0.5, size = hi - lo;
+    const SceneBox box = scene_box(scene);
+    const Vec3 centre = (box.lo + box.hi) * 0.5, size = box.hi - box.lo;
     const double radius = 0.5 * length(size);
     // Flat and facing z (a picture, a glTF test card): straight from +z; anything else from the
     // front, right and above, which sees three faces of a box and no flat thing edge-on.

@@ -167,15 +167,22 @@ void check_mtl_text(const SourceFile& mtl, DiagnosticSink& sink) {
     }
 }
 
+std::optional<std::string_view> keyword_rest(std::string_view line, std::string_view keyword) {
+    const size_t at = line.find_first_not_of(" \t");
+    if (at == std::string_view::npos || line.substr(at, keyword.size()) != keyword) return std::nullopt;
+    std::string_view rest = line.substr(at + keyword.size());
+    if (rest.empty() || (rest[0] != ' ' && rest[0] != '\t')) return std::nullopt;
+    rest.remove_prefix(std::min(rest.find_first_not_of(" \t"), rest.size()));
+    while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
+    return rest;
+}
+
 SourceSpan first_line_naming(const SourceFile& obj, std::string_view keyword, const std::string& name, bool as_word) {
     for (uint32_t line = 1; line <= obj.line_count(); ++line) {
-        std::string_view t = obj.line_text(line);
-        const size_t at = t.find_first_not_of(" \t");
-        if (at == std::string_view::npos || t.substr(at, keyword.size()) != keyword) continue;
-        std::string_view rest = t.substr(at + keyword.size());
-        if (rest.empty() || (rest[0] != ' ' && rest[0] != '\t')) continue;
-        rest.remove_prefix(std::min(rest.find_first_not_of(" \t"), rest.size()));
-        while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
+        const std::string_view t = obj.line_text(line);
+        const std::optional<std::string_view> found = keyword_rest(t, keyword);
+        if (!found) continue;
+        const std::string_view rest = *found;
         bool named = rest == name;
         for (size_t b = 0; as_word && !named && b < rest.size();) {
             const size_t e = std::min(rest.find_first_of(" \t", b), rest.size());

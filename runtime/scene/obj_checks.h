@@ -5,6 +5,7 @@
 /// no red). Apart from import_obj.cpp, which maps what tinyobjloader read onto materials.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,10 @@ struct MaterialLibrary {
     SourceSpan named_at;
 };
 std::vector<MaterialLibrary> material_libraries(const SourceFile& obj, const std::string& dir);
+
+/// REST of a line `keyword REST` (leading blanks allowed), its blanks trimmed; nullopt when
+/// the line's first word is not `keyword`.
+std::optional<std::string_view> keyword_rest(std::string_view line, std::string_view keyword);
 
 /// The first line `keyword REST` of `obj` (an OBJ or MTL text) whose REST, blanks trimmed, is
 /// `name`, or holds it as a word when `as_word`: where `usemtl`, `newmtl` or `mtllib` names it.
