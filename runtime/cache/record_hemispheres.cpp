@@ -275,7 +275,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         Vec3 l = caustic ? Vec3{} : emitted(b, f, h.passed[i] != 0, false);
         if (!scene_.lights->empty() && b.direct_response) {
             ShadowSample sample;
-            if (direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position), beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1,
+            if (direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position, horizon_of(b, f)), beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1,
                                     sample)) {
                 aim_shadow_ray(s, sample);
                 shadow_value[0] = sample.value;

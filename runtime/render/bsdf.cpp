@@ -51,6 +51,8 @@ Bsdf Bsdf::of(const Material& m, const MaterialValues& v) {
         b.direct_response = true;
         b.lambertian = false;
     }
+    b.reflects_only = b.direct_response && !positive(b.diffuse_transmit) && !positive(b.direct_diffuse_transmit) &&
+                      !positive(b.directional_transmit);
     return b;
 }
 

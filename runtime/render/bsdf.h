@@ -102,6 +102,9 @@ struct Bsdf {
     bool direct_response = false;  ///< a lobe that direct lighting can reach
     bool emits = false;            ///< light, glow, or an emission of its own
     bool lambertian = false;       ///< direct light reaches the D reflection lobe only
+    /// Direct light reaches it from the front of f.normal only (no D transmission, no
+    /// function transmitting behind): emitters below its horizon need no shadow rays.
+    bool reflects_only = false;
     /// trans: its specular transmission is clear (roughness 0: RADIANCE's "pure" transmission),
     /// so shadow rays cross it; a rough one scatters its light, and RADIANCE stops them there.
     bool clear_transmission = false;

@@ -47,7 +47,7 @@ struct Oracle {
         if (!is_finite(total)) total = {};
         if (!scene.lights->empty() && b.direct_response) {
             const HitLighting lighting = hit_lighting(params, r, camera);
-            const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position);
+            const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position, horizon_of(b, f));
             for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
                 ShadowSample sample;
                 if (!direct_light_sample(scene, b, f, weights, r.beta, random, j, lighting.shadow_rays, sample, lighting.sampling)) continue;

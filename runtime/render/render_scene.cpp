@@ -108,6 +108,33 @@ void DistantEmitters::sample(size_t i, double u, double v, Vec3& direction, Vec3
     pdf = band > 0 ? cell_pdf / (2 * kPi * band) : 0;
 }
 
+double DistantEmitters::cone_pdf(const Source& s, const Vec3& d) {
+    const double z = dot(d, s.axis), band = 1 - s.cos_max;
+    if (z < s.cos_max || !(band > 0)) return 0;
+    if (s.cdf.empty()) return 1 / (2 * kPi * band);
+    // The cell sample() places d in: its probability x number of cells, per solid angle.
+    const int iz = std::clamp(static_cast<int>((z - s.cos_max) / band * s.cells_z), 0, s.cells_z - 1);
+    double turn = std::atan2(dot(d, s.b), dot(d, s.t)) / (2 * kPi);
+    if (turn < 0) turn += 1;
+    const int ip = std::clamp(static_cast<int>(turn * s.cells_phi), 0, s.cells_phi - 1);
+    const size_t k = static_cast<size_t>(iz * s.cells_phi + ip);
+    const double probability = s.cdf[k] - (k == 0 ? 0.0 : s.cdf[k - 1]);
+    return probability * static_cast<double>(s.cdf.size()) / (2 * kPi * band);
+}
+
+void DistantEmitters::sample_above(size_t i, const Vec3& n, double u, double v, Vec3& direction, Vec3& radiance, double& pdf) const {
+    const Source& s = sources_[i];
+    const double share = s.cdf.empty() ? 1.0 : 0.3;  // of the cosine technique
+    if (u < share) {
+        direction = sample_cosine(n, u / share, v);
+        radiance = dot(direction, s.axis) >= s.cos_max ? radiance_of(s, direction) : Vec3{};
+    } else {
+        double cone_only;
+        sample(i, std::min((u - share) / (1 - share), 1.0), v, direction, radiance, cone_only);
+    }
+    pdf = share * std::fmax(dot(direction, n), 0.0) * kInvPi + (1 - share) * cone_pdf(s, direction);
+}
+
 Vec3 DistantEmitters::escaped(const Vec3& d) const {
     Vec3 sum;
     for (const Source& s : sources_)

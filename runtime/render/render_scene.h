@@ -73,8 +73,27 @@ public:
     double power(size_t i) const { return sources_[i].weight * scene_area_; }
     /// Source i is a glow (a sky), not a `light` (the sun).
     bool weak(size_t i) const { return sources_[i].weak; }
+    /// Every direction of source i is at or below the plane through the origin with unit
+    /// normal `n` (a cone no wider than a hemisphere, tipped away from n by at least its half
+    /// angle): a surface facing n sees none of it.
+    bool below_horizon(size_t i, const Vec3& n) const {
+        const Source& s = sources_[i];
+        return s.cos_max >= 0 && dot(s.axis, n) <= -std::sqrt(std::fmax(0.0, 1 - s.cos_max * s.cos_max));
+    }
     /// A direction of source i for (u, v); pdf per solid angle.
     void sample(size_t i, double u, double v, Vec3& direction, Vec3& radiance, double& pdf) const;
+    /// Source i covers a hemisphere or more (a sky, a ground): worth sampling from a surface's
+    /// side (sample_above) rather than over the whole cone.
+    bool wide(size_t i) const { return sources_[i].cos_max < 1e-9; }  // cos(90 degrees) is 6e-17
+    /// A direction of source i for a surface facing unit `n`: cosine-distributed about n, or,
+    /// for a sky with a brightness pattern, that 30 % of the time and by the pattern (sample())
+    /// otherwise (one sample of the two mixed; pdf the mixture's). Over the whole cone, half
+    /// of a 360-degree sky's directions were behind the surface, and a uniform sky lighting a
+    /// floor came out noisy where cosine sampling gives its exact irradiance. (A CIE clear sky
+    /// seen by a surface facing the sun is the exception: 12 % more variance there, where the
+    /// pattern alone is close to the product with the cosine; 30 % rather than half keeps that
+    /// small, tests/numerics/light_choice_test.cpp.) Directions outside the cone have radiance 0.
+    void sample_above(size_t i, const Vec3& n, double u, double v, Vec3& direction, Vec3& radiance, double& pdf) const;
     /// What an escaped ray along unit `d` sees of them all.
     Vec3 escaped(const Vec3& d) const;
 
@@ -95,6 +114,8 @@ private:
     /// The factor of its sky and pattern towards `d` (white without either), and its luminance.
     static Vec3 pattern_of(const Source& s, const Vec3& d);
     static double brightness_of(const Source& s, const Vec3& d);
+    /// sample()'s pdf of unit direction d (0 outside the cone).
+    static double cone_pdf(const Source& s, const Vec3& d);
     std::vector<Source> sources_;
     double scene_area_ = 1;
 };
@@ -124,15 +145,27 @@ public:
         double total = 0;
         bool by_power = false;      // more emitters than kLocalChoiceMax: chosen by power alone
         Vec3 point{};               // the shading point: a sphere is sampled in the cone it fills there
+        Vec3 horizon{};             // with `above`: the surface's unit normal there
+        bool above = false;         // a surface that only reflects: wide distant sources are sampled above it
     };
-    LocalWeights weights_at(const Vec3& x) const {
+    ///
+    /// With `horizon` (the unit normal of a surface that only reflects, Bsdf::reflects_only),
+    /// an emitter wholly at or below the surface's plane weighs 0: it cannot light x, and the
+    /// shadow rays it was given came to nothing (a table's underside under ceiling lamps, a
+    /// floor and RADIANCE's `ground` source, a ceiling and the `sky`, a wall facing away from
+    /// the sun). Exact: each such sample's value was 0.
+    LocalWeights weights_at(const Vec3& x, const Vec3* horizon = nullptr) const {
         LocalWeights lw;
         lw.point = x;
+        if (horizon) lw.horizon = *horizon, lw.above = true;
         if (entries_.size() > kLocalChoiceMax) {
             lw.by_power = true;
             return lw;
         }
-        for (size_t i = 0; i < entries_.size(); ++i) lw.total += lw.w[i] = local_weight(entries_[i], x);
+        for (size_t i = 0; i < entries_.size(); ++i) {
+            const Entry& e = entries_[i];
+            lw.total += lw.w[i] = horizon && below_horizon(e, x, *horizon) ? 0.0 : local_weight(e, x);
+        }
         return lw;
     }
 
@@ -140,7 +173,7 @@ public:
     /// emitter faces it.
     LightSample sample(const LocalWeights& weights, double u_pick, double u, double v) const {
         const Choice c = choose(weights, u_pick);
-        return c.pdf_area > 0 ? at(c, u, v, &weights.point) : LightSample{};
+        return c.pdf_area > 0 ? at(c, u, v, &weights) : LightSample{};
     }
 
     /// The same choice of emitter made with u, whose position within the chosen emitter's
@@ -150,7 +183,7 @@ public:
     /// noisier than independent ones on the Cornell box's two-triangle lamp.)
     LightSample sample_reusing(const LocalWeights& weights, double u, double v) const {
         const Choice c = choose(weights, u);
-        return c.pdf_area > 0 ? at(c, c.rescaled, v, &weights.point) : LightSample{};
+        return c.pdf_area > 0 ? at(c, c.rescaled, v, &weights) : LightSample{};
     }
 
     /// An emitter point chosen by power alone (no shading point).
@@ -176,6 +209,11 @@ private:
         double pattern_mean = 1;    // its pattern's mean over the directions it emits into
         const EmitterLimits* limits = nullptr;
     };
+    bool below_horizon(const Entry& e, const Vec3& x, const Vec3& n) const {
+        if (e.distant >= 0) return distant_.below_horizon(static_cast<size_t>(e.distant), n);
+        if (e.sphere) return dot(e.a - x, n) <= -e.b.x;
+        return dot(e.a - x, n) <= 0 && dot(e.b - x, n) <= 0 && dot(e.c - x, n) <= 0;
+    }
     static double local_weight(const Entry& e, const Vec3& x) {
         if (e.distant >= 0) return e.distant_weight;
         if (!e.sphere && !(dot(x - e.a, e.normal) > 0)) return 0;  // behind a planar emitter
@@ -225,15 +263,20 @@ private:
         return {chosen, w[chosen] / (total * entries_[chosen].area), place(target, acc - w[chosen], w[chosen])};
     }
     /// A point of the chosen emitter; seen from `from` (a shading point), a sphere's point is
-    /// sampled uniformly in the cone of directions it fills there, else uniformly by area.
-    LightSample at(const Choice& c, double u, double v, const Vec3* from = nullptr) const {
+    /// sampled uniformly in the cone of directions it fills there, else uniformly by area, and
+    /// a wide distant source above the surface there has one (DistantEmitters::sample_above).
+    LightSample at(const Choice& c, double u, double v, const LocalWeights* from = nullptr) const {
         const Entry& e = entries_[c.index];
         if (e.distant >= 0) {  // pdf_area holds the choice's probability per steradian here
             LightSample s;
             s.distant = true;
             s.weak = distant_.weak(static_cast<size_t>(e.distant));
             double pdf = 0;
-            distant_.sample(static_cast<size_t>(e.distant), u, v, s.direction, s.radiance, pdf);
+            const size_t i = static_cast<size_t>(e.distant);
+            if (from && from->above && distant_.wide(i))
+                distant_.sample_above(i, from->horizon, u, v, s.direction, s.radiance, pdf);
+            else
+                distant_.sample(i, u, v, s.direction, s.radiance, pdf);
             s.pdf_direction = pdf * c.pdf_area * e.area;
             return s;
         }
@@ -243,7 +286,7 @@ private:
             s.limits = e.limits;
             s.sphere = true;
             s.pdf_area = c.pdf_area;
-            if (!from || !sample_sphere_seen(e, *from, u, v, s)) sample_sphere(e, u, v, s);
+            if (!from || !sample_sphere_seen(e, from->point, u, v, s)) sample_sphere(e, u, v, s);
             s.weak = e.weak;
             return s;
         }

@@ -390,7 +390,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 if (camera) out.emission[i] = out.contribution[i];
                 if (lights && b.direct_response) {
                     const HitLighting lighting = hit_lighting(params, ray, camera);
-                    const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position);
+                    const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position, horizon_of(b, f));
                     for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
                         if (direct_light_sample(scene, b, f, weights, ray.beta, random, j, lighting.shadow_rays, light_sample, lighting.sampling))
                             shadows.add(light_sample, static_cast<uint32_t>(i));
@@ -483,7 +483,7 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 const HitRandom random(rays.path[r], rays.depth[r]);
                 const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
                 const uint32_t k = wanted(r);
-                const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position);
+                const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position, horizon_of(b, f));
                 auto sample = [&](uint32_t j, uint32_t of, size_t slot, double sign) {
                     ShadowSample s;
                     if (!direct_light_sample(scene, b, f, weights, beta, random, j, of, s, sampling)) return;

@@ -245,9 +245,14 @@ inline SurfaceDetail surface_detail(bool camera, uint8_t flags) {
     return camera || (flags & kRaySeenByCamera) ? SurfaceDetail::kSeen : SurfaceDetail::kIndirect;
 }
 
+/// The horizon a hit's emitters are weighed against (LightSampler::weights_at): its normal
+/// where the surface only reflects, none where light behind it counts too.
+inline const Vec3* horizon_of(const Bsdf& b, const HitFrame& f) { return b.reflects_only ? &f.normal : nullptr; }
+
 /// One direct-lighting sample j of n at a hit: the unoccluded contribution (beta included)
 /// and the shadow ray to test; false if it contributes nothing. `weights` are the emitters'
-/// at the hit (`scene.lights->weights_at(f.position)`), made once for its n samples.
+/// at the hit (`scene.lights->weights_at(f.position, horizon_of(b, f))`), made once for its
+/// n samples.
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSampler::LocalWeights& weights,
                          const Vec3& beta, const HitRandom& random, uint32_t j, uint32_t n, ShadowSample& out,
                          const LightSampling& sampling = {});

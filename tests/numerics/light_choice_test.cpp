@@ -1,12 +1,15 @@
 // Choosing an emitter by what it brings to the shading point (runtime/render/render_scene.h):
 // unbiased (the same irradiance as the choice by power), much less variance when one lamp is
-// near and another far, and never a lamp the point is behind.
+// near and another far, never a lamp the point is behind, and, for a surface that only
+// reflects, never an emitter below its horizon.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "runtime/render/render_scene.h"
+#include "runtime/render/shade.h"
+#include "runtime/scene/sky_model.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -35,7 +38,7 @@ struct Estimate {
 };
 
 // Irradiance at the origin (normal up) from n light samples, chosen locally or by power.
-Estimate irradiance_at_origin(const RenderScene& rs, bool local, size_t n) {
+Estimate irradiance_at_origin(const RenderScene& rs, bool local, size_t n, bool horizon = false) {
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> U(0, 1);
     const Vec3 x = Vec3{0, 0, 0} - rs.embree->origin_offset(), up{0, 1, 0};
@@ -43,7 +46,7 @@ Estimate irradiance_at_origin(const RenderScene& rs, bool local, size_t n) {
     Estimate e;
     for (size_t i = 0; i < n; ++i) {
         double a = U(rng), b = U(rng), c = U(rng);
-        LightSample ls = local ? rs.lights->sample(rs.lights->weights_at(x), a, b, c) : rs.lights->sample(a, b, c);
+        LightSample ls = local ? rs.lights->sample(rs.lights->weights_at(x, horizon ? &up : nullptr), a, b, c) : rs.lights->sample(a, b, c);
         double f = 0;
         if (ls.pdf_area > 0) {
             Vec3 to = ls.position - x;
@@ -51,7 +54,7 @@ Estimate irradiance_at_origin(const RenderScene& rs, bool local, size_t n) {
             Vec3 wi = to / std::sqrt(d2);
             double cos_x = std::fmax(0.0, dot(wi, up)), cos_l = std::fmax(0.0, -dot(ls.normal, wi));
             f = ls.radiance.y * cos_x * cos_l / (d2 * ls.pdf_area);
-            e.on_b += (ls.position + rs.embree->origin_offset()).x > 10;
+            e.on_b += (ls.position + rs.embree->origin_offset()).x > 1;  // A is within 0.1 of x = 0
         }
         sum += f, sum2 += f * f;
     }
@@ -79,6 +82,175 @@ TEST(LightChoice, NeverALampThePointIsBehind) {
     Estimate local = irradiance_at_origin(rs, true, 10000);
     EXPECT_EQ(local.on_b, 0u);
     EXPECT_GT(local.mean, 0.03);
+}
+
+// Lamp A above the origin as in two_lamps, and lamp B 1 below it facing up, 2 to the side: the
+// origin is in front of B (no "behind the lamp" test refuses it) but B is wholly below the
+// plane of a surface at the origin facing up.
+Scene lamp_above_and_lamp_below() {
+    Scene s = two_lamps(true);
+    s.shapes.pop_back();
+    const double h = 0.1;
+    s.shapes.push_back(testing::quad("lamp", {2 - h, -1, h}, {2 + h, -1, h}, {2 + h, -1, -h}, {2 - h, -1, -h}));
+    return s;
+}
+
+TEST(LightChoice, ASurfaceThatOnlyReflectsNeverChoosesALampBelowItsHorizon) {
+    Scene s = lamp_above_and_lamp_below();
+    RenderScene rs(s);
+    const size_t n = 200000;
+    Estimate plain = irradiance_at_origin(rs, true, n), horizon = irradiance_at_origin(rs, true, n, true);
+    // Without the horizon B weighs about as much as A (1 / (1 + 4) of it) and a sixth of the
+    // samples go to it, each worth 0; with it none do, and the irradiance is the same.
+    EXPECT_GT(plain.on_b, n / 10);
+    EXPECT_EQ(horizon.on_b, 0u);
+    const double se = std::sqrt((plain.variance + horizon.variance) / static_cast<double>(n));
+    EXPECT_NEAR(horizon.mean, plain.mean, 5 * se);
+    EXPECT_NEAR(horizon.mean, 0.04, 0.002);
+    EXPECT_LT(horizon.variance, 0.9 * plain.variance);
+}
+
+// RADIANCE's sky and ground (gensky's two glow sources over the upper and lower hemispheres)
+// and a sun at 45 degrees up toward +x.
+TEST(LightChoice, DistantSourcesWhollyBelowTheHorizonWeighNothing) {
+    Scene s = two_lamps(true);
+    s.shapes.clear();  // a grey floor only, for the scene's bounds
+    s.materials.push_back(testing::make_material("grey", MaterialType::kPlastic, {0.5, 0.5, 0.5}));
+    s.materials.push_back(testing::make_material("skyglow", MaterialType::kGlow, {1, 1, 1}));
+    s.materials.push_back(testing::make_material("sunlight", MaterialType::kLight, {1e5, 1e5, 1e5}));
+    s.shapes.push_back(testing::quad("grey", {-1, -1, 1}, {1, -1, 1}, {1, -1, -1}, {-1, -1, -1}));
+    s.distant_lights.push_back({"sky", "skyglow", {0, 1, 0}, 180, std::nullopt});
+    s.distant_lights.push_back({"ground", "skyglow", {0, -1, 0}, 180, std::nullopt});
+    s.distant_lights.push_back({"sun", "sunlight", {1, 1, 0}, 0.5, std::nullopt});
+    RenderScene rs(s);
+    const Vec3 x{0, 0, 0};
+    auto total = [&](Vec3 n) {
+        n = normalize_or_zero(n);
+        return rs.lights->weights_at(x, &n).total;
+    };
+    const double hemisphere = 2 * kPi, sun = 1e5 * 2 * kPi * (1 - std::cos(0.25 * kPi / 180));
+    EXPECT_NEAR(rs.lights->weights_at(x).total, 2 * hemisphere + sun, 1e-6 * sun);
+    EXPECT_NEAR(total({0, 1, 0}), hemisphere + sun, 1e-6 * sun);      // a floor: no ground
+    EXPECT_NEAR(total({0, -1, 0}), hemisphere, 1e-9);                 // a ceiling: the ground only
+    EXPECT_NEAR(total({1, 0, 0}), 2 * hemisphere + sun, 1e-6 * sun);  // a wall sees half of each
+    EXPECT_NEAR(total({-1, 0, 0}), 2 * hemisphere, 1e-9);             // and this one no sun
+    // The sun's disc is 0.25 degrees wide each side of its axis: a surface tipped 0.2 degrees
+    // past facing it edge-on still sees its edge, one tipped 0.3 degrees does not. (Such a
+    // surface sees half of the sky and of the ground whatever its tip.)
+    const double tip = kPi / 180;
+    auto tipped = [&](double angle) { return total({std::cos(angle), std::sin(angle), 0}) - 2 * hemisphere; };
+    EXPECT_NEAR(tipped(0.75 * kPi + 0.2 * tip), sun, 1e-6 * sun);
+    EXPECT_NEAR(tipped(0.75 * kPi + 0.3 * tip), 0, 1e-9);
+    // On a floor no sample goes down into the ground; without the horizon a third did.
+    auto down_share = [&](const LightSampler::LocalWeights& w) {
+        size_t down = 0;
+        for (int i = 0; i < 256; ++i) down += rs.lights->sample(w, (i + 0.5) / 256, 0.5, 0.37).direction.y < 0;
+        return static_cast<double>(down) / 256;
+    };
+    const Vec3 floor_normal{0, 1, 0};
+    EXPECT_EQ(down_share(rs.lights->weights_at(x, &floor_normal)), 0.0);
+    EXPECT_GT(down_share(rs.lights->weights_at(x)), 0.25);
+}
+
+// A sky of radiance 1 over the upper hemisphere and a ground of 0.3 below (z up, gensky's
+// pair), optionally with a CIE clear sky's pattern, and a floor under them for the bounds.
+Scene sky_and_ground(bool clear_sky) {
+    Scene s;
+    s.materials.push_back(testing::make_material("grey", MaterialType::kPlastic, {0.5, 0.5, 0.5}));
+    s.materials.push_back(testing::make_material("skyglow", MaterialType::kGlow, {1, 1, 1}));
+    s.materials.push_back(testing::make_material("groundglow", MaterialType::kGlow, {0.3, 0.3, 0.3}));
+    s.shapes.push_back(testing::quad("grey", {-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}));
+    std::optional<SkyModel> sky;
+    if (clear_sky) {
+        SkyModel m;
+        m.type = SkyModel::Type::kClear;
+        m.sun = normalize_or_zero(Vec3{0.5, 0.2, 0.4});
+        m.normalization = sky_normalization(m.type, m.sun);
+        sky = m;
+    }
+    s.distant_lights.push_back({"sky", "skyglow", {0, 0, 1}, 180, sky});
+    s.distant_lights.push_back({"ground", "groundglow", {0, 0, -1}, 180, std::nullopt});
+    s.camera.position = {0, -3, 0};
+    s.camera.direction = {0, 1, 0};
+    s.camera.up = {0, 0, 1};
+    return s;
+}
+
+// Irradiance at the origin of a surface facing n, estimated from n_samples light samples
+// (stratified picks), with or without the surface's horizon given to the sampler.
+Estimate sky_irradiance(const RenderScene& rs, Vec3 n, bool horizon, size_t n_samples) {
+    n = normalize_or_zero(n);
+    const LightSampler::LocalWeights w = rs.lights->weights_at({0, 0, 0}, horizon ? &n : nullptr);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U(0, 1);
+    double sum = 0, sum2 = 0;
+    for (size_t i = 0; i < n_samples; ++i) {
+        const LightSample ls = rs.lights->sample(w, (static_cast<double>(i) + U(rng)) / static_cast<double>(n_samples), U(rng), U(rng));
+        double e = 0;
+        if (ls.distant && ls.pdf_direction > 0) e = ls.radiance.y * std::fmax(dot(ls.direction, n), 0.0) / ls.pdf_direction;
+        sum += e, sum2 += e * e;
+    }
+    Estimate out;
+    out.mean = sum / static_cast<double>(n_samples);
+    out.variance = std::fmax(sum2 / static_cast<double>(n_samples) - out.mean * out.mean, 0.0);
+    return out;
+}
+
+TEST(LightChoice, AUniformSkyLightsAFloorWithoutNoise) {
+    Scene s = sky_and_ground(false);
+    RenderScene rs(s);
+    // Cosine sampling above the floor: every sample is the exact irradiance pi x 1.
+    const Estimate floor = sky_irradiance(rs, {0, 0, 1}, true, 4000);
+    EXPECT_NEAR(floor.mean, kPi, 1e-9);
+    EXPECT_LT(floor.variance, 1e-12);
+    // Without the horizon: the same mean, with noise (the ground's samples, and uniform ones).
+    const Estimate plain = sky_irradiance(rs, {0, 0, 1}, false, 400000);
+    EXPECT_NEAR(plain.mean, kPi, 5 * std::sqrt(plain.variance / 400000));
+    EXPECT_GT(plain.variance, 1.0);
+    // A wall sees half of each: pi/2 x (1 + 0.3), and less noise than without its horizon.
+    const size_t n = 400000;
+    const Estimate wall = sky_irradiance(rs, {1, 0, 0}, true, n), wall_plain = sky_irradiance(rs, {1, 0, 0}, false, n);
+    EXPECT_NEAR(wall.mean, 0.5 * kPi * 1.3, 5 * std::sqrt(wall.variance / static_cast<double>(n)));
+    EXPECT_NEAR(wall_plain.mean, 0.5 * kPi * 1.3, 5 * std::sqrt(wall_plain.variance / static_cast<double>(n)));
+    EXPECT_LT(wall.variance, 0.8 * wall_plain.variance);
+}
+
+// A CIE clear sky is sampled by its brightness 70 % of the time and by the cosine 30 % (one
+// sample of the mixture): the same irradiance as sampling by brightness alone, on surfaces
+// facing up, tipped toward the sun, away from it and down. Less noise where much of the sky is
+// behind the surface or far from the sun; a little more (at most a fifth) on a surface facing
+// the sun, where the brightness alone is already close to the product with the cosine.
+TEST(LightChoice, APatternedSkyAboveASurfaceHasTheSameIrradiance) {
+    Scene s = sky_and_ground(true);
+    RenderScene rs(s);
+    const size_t n = 400000;
+    struct Case {
+        Vec3 normal;
+        double most_variance;  // the ratio to the variance without the horizon it stays below
+    };
+    for (const Case c : {Case{{0, 0, 1}, 0.5}, Case{{0.5, 0.2, 0.3}, 1.2}, Case{{-0.7, 0.1, 0.2}, 0.8}, Case{{0.1, 0.9, -0.2}, 1.0}}) {
+        const Estimate above = sky_irradiance(rs, c.normal, true, n), plain = sky_irradiance(rs, c.normal, false, n);
+        const double se = std::sqrt((above.variance + plain.variance) / static_cast<double>(n));
+        EXPECT_NEAR(above.mean, plain.mean, 5 * se) << c.normal.x << " " << c.normal.y << " " << c.normal.z;
+        EXPECT_GT(above.mean, 1.0);
+        EXPECT_LT(above.variance, c.most_variance * plain.variance) << c.normal.x << " " << c.normal.y << " " << c.normal.z;
+    }
+}
+
+// Light from behind reaches a translucent surface (a lampshade, a blind): only a surface that
+// reflects alone is given a horizon.
+TEST(LightChoice, OnlyASurfaceThatReflectsAloneHasAHorizon) {
+    HitFrame f;
+    f.normal = f.geometric = f.shading = {0, 0, 1};
+    Material plastic = testing::make_material("p", MaterialType::kPlastic, {0.5, 0.5, 0.5});
+    EXPECT_EQ(horizon_of(Bsdf::of(plastic), f), &f.normal);
+    Material shade = testing::make_material("t", MaterialType::kTrans, {0.5, 0.5, 0.5});
+    shade.transmissivity = 0.5;
+    EXPECT_EQ(horizon_of(Bsdf::of(shade), f), nullptr);
+    shade.transmitted_specular = 1;  // all of it straight through: shadow rays cross it, it is lit from the front only
+    EXPECT_EQ(horizon_of(Bsdf::of(shade), f), &f.normal);
+    Material lamp = testing::make_material("l", MaterialType::kLight, {1, 1, 1});
+    EXPECT_EQ(horizon_of(Bsdf::of(lamp), f), nullptr);  // direct light does not reach it at all
 }
 
 }  // namespace
