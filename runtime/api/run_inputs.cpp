@@ -16,6 +16,7 @@
 #include "runtime/report/reference_cache.h"
 #include "runtime/scene/census.h"
 #include "runtime/scene/load_scene.h"
+#include "runtime/scene/model_defaults.h"
 #include "runtime/scene/radiance_view.h"
 #include "runtime/base/file_extension.h"
 
@@ -176,6 +177,7 @@ RunInputs load_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
         sink.withdraw("W305");  // the scene's missing view: this one replaces it
         apply_radiance_view(*in.view_source, view_file_words(*in.view_source), scene->camera, true, sink);
     }
+    if ((!spec.camera.empty() || in.view_source) && scene) aim_studio_key(*scene);
     // The loader checked the scene's own camera; one chosen or given here is checked alike.
     if ((!spec.camera.empty() || in.view_source) && scene)
         if (std::string problem = camera_problem(scene->camera, scene_box(*scene)); !problem.empty()) {

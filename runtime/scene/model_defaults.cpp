@@ -41,12 +41,18 @@ std::optional<Scene> light_unlit_model(std::optional<Scene> scene, DiagnosticSin
     sun.name = sun.material = name;
     sun.direction = studio_key_direction(scene->camera);
     sun.angle_deg = kStudioKeyAngleDeg;
+    sun.studio_key = true;
     scene->distant_lights.push_back(sun);
     sink.report("W313", at, "nothing in the model lights it: it is lit as a model viewer lights it, by a uniform grey environment "
                             "(radiance 0.5, seen behind it) and a key light above, right of and behind the camera")
         .help = "to light it otherwise, give the file lights (glTF: KHR_lights_punctual or an emissive material; OBJ: a material "
                 "with Ke) or name the OBJ from a JSON scene that has them (docs/scene-format.md)";
     return scene;
+}
+
+void aim_studio_key(Scene& scene) {
+    for (DistantLight& l : scene.distant_lights)
+        if (l.studio_key) l.direction = studio_key_direction(scene.camera);
 }
 
 void frame_model(Scene& scene) {

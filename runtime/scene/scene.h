@@ -252,6 +252,9 @@ struct DistantLight {
     Vec3 direction{0, 0, 1};  ///< towards the source; need not be unit length
     double angle_deg = 0.5;   ///< full angle, in (0, 360]
     std::optional<SkyModel> sky;  ///< the brightness pattern multiplying the material's colour
+    /// The studio's key light of a model without lights (model_defaults.h): placed from the
+    /// camera, so a camera chosen or given after loading (--camera, --view) moves it too.
+    bool studio_key = false;
 };
 
 /// How directions map to the image (RADIANCE's view types -vtv -vtl -vta -vth -vts -vtc).

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <fstream>
 
+#include "runtime/api/run_inputs.h"
+#include "runtime/scene/model_defaults.h"
 #include "tests/support/scene_helpers.h"
 #include "tests/support/scratch_folder.h"
 #include "tests/support/test_scenes.h"
@@ -108,6 +110,38 @@ TEST_F(ModelDefaults, TheFramingCameraSeesAFlatModelFaceOn) {
     EXPECT_EQ(normalize_or_zero(r.scene->camera.direction), (Vec3{0, 0, -1}));
     EXPECT_EQ(r.scene->camera.position.x, 0);
     EXPECT_EQ(r.scene->camera.position.y, 0);
+}
+
+// The key light is placed from the camera: a view given after loading (crex run --view) moves
+// it with the camera, so a model seen from behind is lit from behind the new camera, not from
+// behind the file's (which lit the side the camera no longer sees).
+TEST_F(ModelDefaults, TheKeyLightFollowsAViewGivenAfterLoading) {
+    std::ofstream(path("box.obj")) << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nf 1 2 3 4\n";
+    std::ofstream(path("behind.vf")) << "rview -vtv -vp 0.3 0.2 -5 -vd 0 0 1 -vu 0 1 0 -vh 40 -vv 40\n";
+    auto key_direction = [&](const std::string& view) {
+        InputSpec spec;
+        spec.scene = path("box.obj");
+        spec.view = view;
+        DiagnosticSink sink;
+        RunInputs in = load_run_inputs(spec, sink);
+        EXPECT_TRUE(in.failure.empty()) << in.failure;
+        EXPECT_TRUE(in.scene && in.scene->scene);
+        if (!in.scene || !in.scene->scene) return std::pair<Vec3, Camera>{};
+        const Scene& scene = *in.scene->scene;
+        EXPECT_EQ(scene.distant_lights.size(), 1u);
+        return std::pair<Vec3, Camera>{normalize_or_zero(scene.distant_lights.at(0).direction), scene.camera};
+    };
+    for (const std::string& view : {std::string(), path("behind.vf")}) {
+        const auto [key, camera] = key_direction(view);
+        const Vec3 forward = normalize_or_zero(camera.direction), right = normalize_or_zero(cross(forward, camera.up));
+        // Behind the camera, above it: (0.4, 0.8, 0.6) in its right, up and back.
+        EXPECT_NEAR(dot(key, forward), -0.6 / std::sqrt(1.16), 1e-9) << view;
+        EXPECT_NEAR(dot(key, cross(right, forward)), 0.8 / std::sqrt(1.16), 1e-9) << view;
+        EXPECT_NEAR(dot(key, right), 0.4 / std::sqrt(1.16), 1e-9) << view;
+    }
+    // From behind, the key now points to -z, the side the view sees.
+    EXPECT_LT(key_direction(path("behind.vf")).first.z, 0);
+    EXPECT_GT(key_direction("").first.z, 0);
 }
 
 }  // namespace
