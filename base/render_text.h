@@ -17,6 +17,10 @@
 namespace crex {
 
 std::string render_text(const Diagnostic& d);
+
+/// Each of `ds` in turn, but a warning code's first kWarningsShownPerCode only, then one line
+/// saying how many more there are (errors and notes are all shown).
+inline constexpr size_t kWarningsShownPerCode = 5;
 std::string render_text(const std::vector<Diagnostic>& ds);
 
 /// "file:line:col" of the span's start ("<unknown>" without a file).

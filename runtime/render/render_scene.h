@@ -148,8 +148,7 @@ public:
         Vec3 horizon{};             // with `above`: the surface's unit normal there
         bool above = false;         // a surface that only reflects: wide distant sources are sampled above it
     };
-    ///
-    /// With `horizon` (the unit normal of a surface that only reflects, Bsdf::reflects_only),
+    /// The weights at x. With `horizon` (the unit normal of a surface that only reflects, Bsdf::reflects_only),
     /// an emitter wholly at or below the surface's plane weighs 0: it cannot light x, and the
     /// shadow rays it was given came to nothing (a table's underside under ceiling lamps, a
     /// floor and RADIANCE's `ground` source, a ceiling and the `sky`, a wall facing away from

@@ -2,6 +2,8 @@
 // test passes on a different error. A few cases also pin the full rendered text.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include "base/render_json.h"
 #include "base/render_text.h"
 #include "compiler/crex/parse.h"
@@ -132,6 +134,33 @@ TEST(CrexDiagnostic, ALongLineIsShownAroundItsSpan) {
     const std::string whole = render_text(d);
     EXPECT_NE(whole.find("    1 | \xC3\xA9" + std::string(119, 'a') + "...\n      | ^" + std::string(119, '~') + "\n"), std::string::npos) << whole;
     EXPECT_LT(whole.size(), 400u);
+}
+
+// A warning said for each of many meshes is shown five times, then counted; an error after
+// them is shown, and a different warning code keeps its own five.
+TEST(CrexDiagnostic, AWarningRepeatedManyTimesIsShownFiveTimesThenCounted) {
+    std::vector<Diagnostic> ds;
+    auto add = [&](const std::string& code, Severity severity, const std::string& message) {
+        Diagnostic d;
+        d.code = code, d.severity = severity, d.message = message, d.where = "model.obj";
+        ds.push_back(d);
+    };
+    for (int i = 0; i < 300; ++i) add("W303", Severity::kWarning, fmt::format("mesh 'm{}': 1 of 12 triangles", i));
+    add("W304", Severity::kWarning, "polygon: zero area");
+    add("E305", Severity::kError, "shape uses material 'x', which is not defined");
+    const std::string out = render_text(ds);
+    auto count = [&](const std::string& what) {
+        size_t n = 0;
+        for (size_t at = out.find(what); at != std::string::npos; at = out.find(what, at + 1)) ++n;
+        return n;
+    };
+    EXPECT_EQ(count("warning[W303]: mesh"), 5u) << out;
+    EXPECT_NE(out.find("mesh 'm4':"), std::string::npos);
+    EXPECT_EQ(out.find("mesh 'm5':"), std::string::npos);
+    EXPECT_NE(out.find("warning[W303]: 295 more like it not shown (300 in all)\n"), std::string::npos) << out;
+    EXPECT_EQ(count("warning[W304]"), 1u);
+    EXPECT_EQ(count("error[E305]"), 1u);
+    EXPECT_EQ(count("more like it"), 1u);  // W304 was said once: nothing to count
 }
 
 TEST(CrexDiagnostic, E001ListsWhatIsAllowedAndSuggestsUpperCase) {
