@@ -32,9 +32,20 @@ Scene two_lamps(bool b_faces_down) {
     return s;
 }
 
+// The mean and variance of samples, added one by one.
 struct Estimate {
     double mean = 0, variance = 0;
     size_t on_b = 0;
+    void add(double f) { sum += f, sum2 += f * f, ++n; }
+    Estimate& finish() {
+        mean = sum / static_cast<double>(n);
+        variance = std::fmax(sum2 / static_cast<double>(n) - mean * mean, 0.0);
+        return *this;
+    }
+
+private:
+    double sum = 0, sum2 = 0;
+    size_t n = 0;
 };
 
 // Irradiance at the origin (normal up) from n light samples, chosen locally or by power.
@@ -42,7 +53,6 @@ Estimate irradiance_at_origin(const RenderScene& rs, bool local, size_t n, bool 
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> U(0, 1);
     const Vec3 x = Vec3{0, 0, 0} - rs.embree->origin_offset(), up{0, 1, 0};
-    double sum = 0, sum2 = 0;
     Estimate e;
     for (size_t i = 0; i < n; ++i) {
         double a = U(rng), b = U(rng), c = U(rng);
@@ -56,11 +66,9 @@ Estimate irradiance_at_origin(const RenderScene& rs, bool local, size_t n, bool 
             f = ls.radiance.y * cos_x * cos_l / (d2 * ls.pdf_area);
             e.on_b += (ls.position + rs.embree->origin_offset()).x > 1;  // A is within 0.1 of x = 0
         }
-        sum += f, sum2 += f * f;
+        e.add(f);
     }
-    e.mean = sum / static_cast<double>(n);
-    e.variance = sum2 / static_cast<double>(n) - e.mean * e.mean;
-    return e;
+    return e.finish();
 }
 
 TEST(LightChoice, SameIrradianceAsChoosingByPowerWithFarLessVariance) {
@@ -183,17 +191,14 @@ Estimate sky_irradiance(const RenderScene& rs, Vec3 n, bool horizon, size_t n_sa
     const LightSampler::LocalWeights w = rs.lights->weights_at({0, 0, 0}, horizon ? &n : nullptr);
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> U(0, 1);
-    double sum = 0, sum2 = 0;
+    Estimate out;
     for (size_t i = 0; i < n_samples; ++i) {
         const LightSample ls = rs.lights->sample(w, (static_cast<double>(i) + U(rng)) / static_cast<double>(n_samples), U(rng), U(rng));
         double e = 0;
         if (ls.distant && ls.pdf_direction > 0) e = ls.radiance.y * std::fmax(dot(ls.direction, n), 0.0) / ls.pdf_direction;
-        sum += e, sum2 += e * e;
+        out.add(e);
     }
-    Estimate out;
-    out.mean = sum / static_cast<double>(n_samples);
-    out.variance = std::fmax(sum2 / static_cast<double>(n_samples) - out.mean * out.mean, 0.0);
-    return out;
+    return out.finish();
 }
 
 TEST(LightChoice, AUniformSkyLightsAFloorWithoutNoise) {
