@@ -499,7 +499,14 @@ TEST(RunBudgetCli, TheProfilesErrorIsReportedPerComponent) {
     EXPECT_EQ(j["policy"], "queues");
     const auto& e = j["profile_error_percent"];
     ASSERT_TRUE(e.contains("camera")) << e.dump();
-    ASSERT_TRUE(e.contains("D")) << e.dump();
+    // An error for each component this run traced rays of, and for no other. Which ones those
+    // are depends on the machine: a stall in the camera rays of a loaded CI machine has spent
+    // the whole 50 % before the first D ray (it happened once), so D is asked for only when
+    // the run reached it. Usually it reaches all of D, T, R and M.
+    for (const auto& [what, c] : j["components"].items()) {
+        const bool any = c["rays"].get<uint64_t>() > 0;
+        EXPECT_EQ(e.contains(what), any) << what << ": " << e.dump();
+    }
     for (const auto& [what, percent] : e.items()) EXPECT_TRUE(std::isfinite(percent.get<double>())) << what;
     auto text = testing::crex_cli({"run", "-e", "(TT[RS]GMD)*", "--size", "32x32", "--spp", "4", "-o", (dir / "c.exr").string(),
                                    "--profile", profile, "--budget", "50%"});
