@@ -460,6 +460,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
         j["processes"] = group.processes();
         if (r.sequence.budget_seconds > 0) j["sequence_budget"] = {{"seconds", r.sequence.budget_seconds}, {"took", took}};
         j["scene"] = in.scene_spec;
+        j["warnings"] = in.load_warnings;  // each frame lists its own
         std::cout << j.dump(2) << "\n";
     } else if (!r.quiet) {
         std::cout << frames_summary_text(frames, r.sequence.budget_seconds, took, group.distributed() ? group.processes() : 1);

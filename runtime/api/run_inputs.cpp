@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "base/input_file.h"
+#include "base/render_json.h"
 #include "base/render_text.h"
 #include "runtime/io/image_io.h"
 #include "runtime/report/reference_cache.h"
@@ -99,9 +100,7 @@ namespace {
 
 bool is_pipeline_file(const std::string& path) { return path.size() > 5 && path.substr(path.size() - 5) == ".pipe"; }
 
-}  // namespace
-
-RunInputs load_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
+RunInputs read_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
     RunInputs in;
     std::string expected_census;
     in.scene_spec = spec.scene;
@@ -227,6 +226,15 @@ RunInputs load_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
                                     in.scene_spec, actual))
                 .help = "plan again for this scene: crex plan -e '...' --scene " + in.scene_spec;
     }
+    return in;
+}
+
+}  // namespace
+
+RunInputs load_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
+    RunInputs in = read_run_inputs(spec, sink);
+    for (const Diagnostic& d : sink.sorted())
+        if (d.severity == Severity::kWarning) in.load_warnings.push_back(to_json(d));
     return in;
 }
 

@@ -10,6 +10,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "base/diagnostic.h"
 #include "compiler/compiler.h"
 #include "runtime/api/run_options.h"
@@ -87,6 +89,10 @@ struct RunInputs {
     bool planned = false;                     ///< the plan compiled (or read) without errors
     std::optional<ProfileInput> profile;      ///< the cost per ray a budget is predicted from
     std::optional<std::string> ic_file_bytes; ///< the cache file as read (the driver loads these bytes)
+    /// The warnings said while reading them (the scene's, the plan's, the view's), as JSON made
+    /// while the files their places point into were still there: a run's JSON summary lists
+    /// them before the run's own.
+    nlohmann::json load_warnings = nlohmann::json::array();
     /// The caller's verdict on them: 0, the run goes on; else why not, in the caller's terms (an
     /// exit status), said already. shared_inputs.h gives every process the lead's.
     int status = 0;

@@ -76,6 +76,7 @@ RunFacts run_facts(const RunFiles& files, const RunRecord& record, const Written
     facts.preview_stride = result.preview_stride;
     facts.budget_floor = record.outcome->run.fixed_costs ? record.outcome->run.fixed_costs->floor_seconds : 0;
     facts.below_floor = record.outcome->run.below_floor;
+    facts.load_warnings = &in.load_warnings;
     if (written) {
         facts.pictures = &written->pictures;
         facts.curve = &written->curve;

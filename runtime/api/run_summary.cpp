@@ -101,7 +101,8 @@ nlohmann::json run_summary_json(const RunFacts& f) {
                                                             {"rays_left", r.rays_left[c]}};
     }
     j["components"] = comps;
-    j["warnings"] = to_json(r.warnings);
+    j["warnings"] = f.load_warnings ? *f.load_warnings : nlohmann::json::array();
+    for (auto& w : to_json(r.warnings)) j["warnings"].push_back(std::move(w));
     // Estimated shares of the image's light the limits left out (run_plan.h).
     j["light_left_out"] = {{"max_depth", r.light_cut_by_depth}, {"lw", r.light_cut_by_weight}, {"ab", r.light_cut_by_cache}};
     j["passes"] = r.passes;

@@ -43,6 +43,7 @@ struct RunFacts {
     uint32_t preview_stride = 1;         ///< the preview at every k-th pixel
     double budget_floor = 0;             ///< the smallest budget the pipeline can meet (0: unknown)
     bool below_floor = false;            ///< rendered under a budget below it (--budget-floor ok)
+    const nlohmann::json* load_warnings = nullptr;  ///< RunInputs::load_warnings, listed before the run's
 };
 
 /// Per component (and "camera"): how far the profile's cost per ray was from this run's

@@ -136,6 +136,38 @@ TEST_F(CrexRunCli, JsonSummaryCountsRaysPerComponent) {
     EXPECT_EQ(j["crex"], "TT");
 }
 
+// The JSON summary lists every warning of the run, those said while the scene loaded too, each
+// located in its file; stderr says them as text whatever the format.
+TEST_F(CrexRunCli, TheJsonSummaryListsTheScenesWarnings) {
+    { std::ofstream(path("w.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 2 2\nf 1 2 3\nusemtl nothere\nf 1 1 4\n"; }
+    auto r = crex_cli({"run", "--scene", path("w.obj"), "--size", "8x8", "--spp", "1", "--format", "json", "-o", path("w.exr")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    std::vector<std::string> codes;
+    for (const auto& w : j["warnings"]) {
+        codes.push_back(w["code"]);
+        if (w["code"] == "W301") {
+            EXPECT_EQ(w["file"], path("w.obj"));
+            EXPECT_EQ(w["line"], 6);
+            EXPECT_EQ(w["severity"], "warning");
+        }
+    }
+    for (const char* code : {"W301", "W303", "W313"})  // no material, a zero-area triangle, no lights
+        EXPECT_NE(std::find(codes.begin(), codes.end(), code), codes.end()) << code << " in " << j["warnings"].dump();
+    EXPECT_NE(r.err.find("warning[W301]"), std::string::npos) << r.err;
+    // A sequence lists them once, beside the frames.
+    { std::ofstream(path("walk.json")) << R"({"keys": [{"time": 0, "position": [0.3, 0.3, 3], "look_at": [0.3, 0.3, 0]},
+                                                      {"time": 1, "position": [0.4, 0.3, 3], "look_at": [0.3, 0.3, 0]}]})"; }
+    auto seq = crex_cli({"run", "--scene", path("w.obj"), "--size", "8x8", "--spp", "1", "--camera-path", path("walk.json"),
+                         "--frames", "0..1", "--fps", "1", "--format", "json", "-o", path("s.exr")});
+    ASSERT_EQ(seq.exit_code, 0) << seq.err;
+    const auto s = nlohmann::json::parse(seq.out);
+    ASSERT_TRUE(s["warnings"].is_array()) << seq.out;
+    size_t w301 = 0;
+    for (const auto& w : s["warnings"]) w301 += w["code"] == "W301";
+    EXPECT_EQ(w301, 1u) << s["warnings"].dump();
+}
+
 TEST_F(CrexRunCli, BadInputExitsOneAndWritesNothing) {
     auto bad_crex = crex_cli({"run", "-e", "{D*}", "-o", path("x.exr")});
     EXPECT_EQ(bad_crex.exit_code, 1);
