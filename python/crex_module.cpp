@@ -87,6 +87,7 @@ std::vector<PythonDiagnostic> diagnostics_of(const DiagnosticSink& sink) {
 struct PythonScene {
     std::string spec;
     std::shared_ptr<SceneInput> input;
+    nlohmann::json warnings = nlohmann::json::array();  // said while it loaded: a run's summary lists them
     const Scene& scene() const { return *input->scene; }
 };
 
@@ -95,7 +96,10 @@ PythonScene load_scene(const std::string& spec) {
     std::shared_ptr<SceneInput> in = load_scene_input(spec, sink);
     if (!in->failure.empty()) raise_input_error(in->failure);
     if (!in->scene || sink.has_errors()) raise_compile_error(sink, "the scene " + spec + " has errors");
-    return {spec, std::move(in)};
+    PythonScene out{spec, std::move(in)};
+    for (const Diagnostic& d : sink.sorted())
+        if (d.severity == Severity::kWarning) out.warnings.push_back(to_json(d));
+    return out;
 }
 
 // A compiled plan, with the source its diagnostics point into.
@@ -367,6 +371,7 @@ py::dict run(const PythonPlan& p, const py::object& scene_given, py::object prog
     inputs.scene = std::make_unique<SceneInput>();
     inputs.scene->scene = scene.scene();
     inputs.planned = true;
+    inputs.load_warnings = scene.warnings;
     RunRecord record;
     record.inputs = &inputs;
     record.outcome = &*out;

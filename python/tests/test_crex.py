@@ -123,6 +123,14 @@ def test_a_run_gives_components_maps_samples_and_the_summary(tmp_path):
     assert r.preview.shape == (h, w, 3)
 
 
+def test_the_summary_lists_the_warnings_the_scene_said_as_it_loaded(tmp_path):
+    obj = tmp_path / "w.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nusemtl nothere\nf 1 2 3\n")
+    r = crex.run("(TTMRSGD)*", scene=crex.load_scene(str(obj)), size=(8, 8), spp=1)
+    missing = [w for w in r.summary["warnings"] if w["code"] == "W301"]
+    assert len(missing) == 1 and missing[0]["file"] == str(obj) and missing[0]["line"] == 5, r.summary["warnings"]
+
+
 def test_check_compile_load_scene_and_compare():
     ds = crex.check("TT{TD*}2")  # as `crex check -e` says: the error, then the warning W101
     assert [(d.code, d.severity, d.column) for d in ds] == [("E004", "error", 6), ("W101", "warning", 8)]
