@@ -208,6 +208,32 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
     for (auto& e : entries_)
         e.power = e.distant >= 0 ? distant_.power(static_cast<size_t>(e.distant)) : e.area * std::fmax(luminance(e.radiance) * e.pattern_mean, 1e-12);
     make_cdf();
+    // Too many emitters to weigh each at every hit: the local ones go in a tree, and the distant
+    // ones (a sun and a sky, rarely more) are weighed one by one beside it.
+    size_t distant_count = 0;
+    for (const Entry& e : entries_) distant_count += e.distant >= 0;
+    if (entries_.size() <= kLocalChoiceMax || distant_count > kLocalChoiceMax) return;
+    std::vector<LightBound> bounds;
+    for (size_t i = 0; i < entries_.size(); ++i) {
+        const Entry& e = entries_[i];
+        if (e.distant >= 0) {
+            distant_entries_.push_back(i);
+            continue;
+        }
+        LightBound b;
+        if (e.sphere) {
+            const Vec3 r{e.b.x, e.b.x, e.b.x};
+            b.lo = e.centre - r, b.hi = e.centre + r;
+            b.axis = {0, 0, 1}, b.cos_spread = -1;
+        } else {
+            b.lo = vmin(e.a, vmin(e.b, e.c)), b.hi = vmax(e.a, vmax(e.b, e.c));
+            b.axis = e.normal, b.cos_spread = 1;
+        }
+        b.power = e.power;
+        bounds.push_back(b);
+        tree_entries_.push_back(i);
+    }
+    tree_ = LightTree(bounds);
 }
 
 void LightSampler::make_cdf() {

@@ -13,6 +13,7 @@
 #include "base/diagnostic.h"
 #include "runtime/render/bsdf.h"
 #include "runtime/render/function_patterns.h"
+#include "runtime/render/light_tree.h"
 #include "runtime/render/medium.h"
 #include "runtime/render/surface.h"
 #include "runtime/scene/scene.h"
@@ -125,7 +126,8 @@ private:
 /// one. Seen from a shading point x, scenes with up to kLocalChoiceMax emitters choose by an
 /// estimate of what each brings to x: power / max(distance to its centre^2, its area) (a
 /// distant source: radiance x solid angle), and 0 for a planar emitter x is behind (it cannot
-/// light x) or a glow x is beyond the reach of. Larger scenes choose by power alone.
+/// light x) or a glow x is beyond the reach of. Larger scenes descend a tree over their local
+/// emitters (light_tree.h) by the same estimate made for groups of them.
 class LightSampler {
 public:
     static constexpr size_t kLocalChoiceMax = 64;
@@ -141,9 +143,11 @@ public:
     /// once a hit for all of its shadow rays: with four shadow rays a hit, weighing every
     /// emitter again for each was 6 % of a cached render of the corridor.
     struct LocalWeights {
-        double w[kLocalChoiceMax];  // left unset: only the sampler's first entries are read
+        double w[kLocalChoiceMax];  // left unset: only the sampler's first entries are read (the distant ones' with a tree)
         double total = 0;
-        bool by_power = false;      // more emitters than kLocalChoiceMax: chosen by power alone
+        bool by_tree = false;       // more emitters than kLocalChoiceMax: the local ones by the tree
+        bool by_power = false;      // more distant sources than kLocalChoiceMax: all by power alone
+        double distant_total = 0;   // with the tree: the distant sources' weights; the tree's is total - distant_total
         Vec3 point{};               // the shading point: a sphere is sampled in the cone it fills there
         Vec3 horizon{};             // with `above`: the surface's unit normal there
         bool above = false;         // a surface that only reflects: wide distant sources are sampled above it
@@ -157,7 +161,16 @@ public:
         LocalWeights lw;
         lw.point = x;
         if (horizon) lw.horizon = *horizon, lw.above = true;
-        if (entries_.size() > kLocalChoiceMax) {
+        if (!tree_.empty()) {
+            lw.by_tree = true;
+            for (size_t k = 0; k < distant_entries_.size(); ++k) {
+                const Entry& e = entries_[distant_entries_[k]];
+                lw.distant_total += lw.w[k] = horizon && below_horizon(e, x, *horizon) ? 0.0 : e.distant_weight;
+            }
+            lw.total = lw.distant_total + tree_.importance_at(x, horizon);
+            return lw;
+        }
+        if (entries_.size() > kLocalChoiceMax) {  // and no tree: more distant sources than that
             lw.by_power = true;
             return lw;
         }
@@ -244,7 +257,31 @@ private:
         const double lo = i == 0 ? 0.0 : cdf_[i - 1];
         return {i, entries_[i].pdf_area, place(u_pick, lo, cdf_[i] - lo)};
     }
+    /// Whether local entry i can light the point `weights` were made at (exact: what
+    /// weights_at gives an entry 0 for).
+    bool can_light(const Entry& e, const LocalWeights& weights) const {
+        return !(weights.above && below_horizon(e, weights.point, weights.horizon)) && local_weight(e, weights.point) > 0;
+    }
+    Choice choose_in_tree(const LocalWeights& weights, double u_pick) const {
+        const double target = u_pick * weights.total;
+        if (!(weights.total > 0) || !std::isfinite(weights.total)) return {};
+        if (target < weights.distant_total) {  // a distant source, by its weight
+            double acc = 0;
+            size_t k = 0;
+            for (; k + 1 < distant_entries_.size() && !(target < acc + weights.w[k]); ++k) acc += weights.w[k];
+            const size_t i = distant_entries_[k];
+            return {i, weights.w[k] / (weights.total * entries_[i].area), place(target, acc, weights.w[k])};
+        }
+        const double tree_share = weights.total - weights.distant_total;
+        const double u = place(target, weights.distant_total, tree_share);
+        const LightTree::Choice c = tree_.choose(weights.point, weights.above ? &weights.horizon : nullptr, u,
+                                                 [&](uint32_t t) { return can_light(entries_[tree_entries_[t]], weights); });
+        if (!(c.probability > 0)) return {};
+        const size_t i = tree_entries_[c.index];
+        return {i, tree_share / weights.total * c.probability / entries_[i].area, c.rescaled};
+    }
     Choice choose(const LocalWeights& weights, double u_pick) const {
+        if (weights.by_tree) return choose_in_tree(weights, u_pick);
         if (weights.by_power) return choose_by_power(u_pick);
         // In a corridor of three equal lamps, choosing by power alone spent two thirds of the
         // shadow rays on far lamps: grain on every wall.
@@ -303,6 +340,9 @@ private:
     void make_cdf();  // cdf_ and each entry's pdf_area from the entries' power
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
+    LightTree tree_;                      // over the local entries, when there are more than kLocalChoiceMax entries
+    std::vector<size_t> tree_entries_;    // the tree's emitters: entries_ indices
+    std::vector<size_t> distant_entries_; // with the tree: the distant entries
     std::vector<std::unique_ptr<EmitterLimits>> limits_;
     DistantEmitters distant_;
     static void sample_sphere(const Entry& e, double u, double v, LightSample& s);  // position, normal
