@@ -42,46 +42,52 @@ void merge_cones(Vec3& axis, double& cos_spread, const Vec3& other_axis, double 
 
 LightTree::LightTree(const std::vector<LightBound>& lights) {
     if (lights.empty()) return;
-    std::vector<uint32_t> order(lights.size());
-    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    order_.resize(lights.size());
+    for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
     trails_.assign(lights.size(), 0);
-    nodes_.reserve(2 * lights.size());
+    nodes_.reserve(2 * (lights.size() / kLeafMax + 1));
     nodes_.emplace_back();
-    build(0, order, 0, order.size(), lights, 0, 0);
+    build(0, 0, order_.size(), lights, 0, 0);
 }
 
-// Node `at`'s subtree over order[begin, end): split at the median of the centres along their
-// widest extent; the two children side by side (the trails hold 64 levels: 2^64 lights).
-void LightTree::build(uint32_t at, std::vector<uint32_t>& order, size_t begin, size_t end, const std::vector<LightBound>& lights,
-                      uint64_t trail, int depth) {
-    if (end - begin == 1) {
-        const LightBound& l = lights[order[begin]];
+// Node `at` over order_[begin, end): a leaf of up to kLeafMax emitters, or split at the median
+// of the centres along their widest extent, the two children side by side (the trails hold
+// 64 levels: 2^67 emitters).
+void LightTree::build(uint32_t at, size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail, int depth) {
+    if (end - begin <= kLeafMax) {
         Node& n = nodes_[at];
-        n.lo = l.lo, n.hi = l.hi, n.axis = l.axis, n.cos_spread = l.cos_spread, n.power = l.power;
-        n.first = order[begin];
-        n.leaf = true;
+        const LightBound& l = lights[order_[begin]];
+        n.lo = l.lo, n.hi = l.hi, n.axis = l.axis, n.cos_spread = l.cos_spread, n.power = 0;
+        for (size_t i = begin; i < end; ++i) {
+            const LightBound& m = lights[order_[i]];
+            n.lo = vmin(n.lo, m.lo), n.hi = vmax(n.hi, m.hi);
+            n.power += m.power;
+            if (i > begin) merge_cones(n.axis, n.cos_spread, m.axis, m.cos_spread);
+            trails_[order_[i]] = trail;
+        }
+        n.first = static_cast<uint32_t>(begin);
+        n.count = static_cast<uint32_t>(end - begin);
         finish(n);
-        trails_[order[begin]] = trail;
         return;
     }
-    Vec3 clo = (lights[order[begin]].lo + lights[order[begin]].hi) / 2, chi = clo;
+    Vec3 clo = (lights[order_[begin]].lo + lights[order_[begin]].hi) / 2, chi = clo;
     for (size_t i = begin; i < end; ++i) {
-        const Vec3 c = (lights[order[i]].lo + lights[order[i]].hi) / 2;
+        const Vec3 c = (lights[order_[i]].lo + lights[order_[i]].hi) / 2;
         clo = vmin(clo, c), chi = vmax(chi, c);
     }
     const Vec3 extent = chi - clo;
     const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
     const size_t mid = begin + (end - begin) / 2;
-    std::nth_element(order.begin() + static_cast<std::ptrdiff_t>(begin), order.begin() + static_cast<std::ptrdiff_t>(mid),
-                     order.begin() + static_cast<std::ptrdiff_t>(end), [&](uint32_t a, uint32_t b) {
+    std::nth_element(order_.begin() + static_cast<std::ptrdiff_t>(begin), order_.begin() + static_cast<std::ptrdiff_t>(mid),
+                     order_.begin() + static_cast<std::ptrdiff_t>(end), [&](uint32_t a, uint32_t b) {
                          return lights[a].lo[axis] + lights[a].hi[axis] < lights[b].lo[axis] + lights[b].hi[axis];
                      });
     const uint32_t first = static_cast<uint32_t>(nodes_.size());
     nodes_.emplace_back();
     nodes_.emplace_back();
     nodes_[at].first = first;
-    build(first, order, begin, mid, lights, trail, depth + 1);
-    build(first + 1, order, mid, end, lights, trail | (uint64_t{1} << std::min(depth, 63)), depth + 1);
+    build(first, begin, mid, lights, trail, depth + 1);
+    build(first + 1, mid, end, lights, trail | (uint64_t{1} << std::min(depth, 63)), depth + 1);
     const Node a = nodes_[first], b = nodes_[first + 1];
     Node& n = nodes_[at];
     n.lo = vmin(a.lo, b.lo), n.hi = vmax(a.hi, b.hi);
@@ -104,11 +110,12 @@ void LightTree::finish(Node& n) {
 double LightTree::importance(const Node& n, const Vec3& x, const Vec3* normal) {
     const Vec3 to_x = x - n.centre;
     const double dist2 = dot(to_x, to_x), r2 = n.radius * n.radius;
+    if (!(dist2 > 0)) return n.power / max_of(r2, 1e-300);  // x at the centre: every bound is 1
+    const double inv_d = 1 / std::sqrt(dist2);  // one square root and one division: this runs ~12 times a shadow ray
+    const Vec3 w = to_x * inv_d;
     // The cone of directions from x that holds the bounding sphere (all of them from inside it).
     double cos_b = -1, sin_b = 0;
-    const double d = std::sqrt(dist2);
-    if (dist2 > r2) sin_b = n.radius / d, cos_b = std::sqrt(1 - sin_b * sin_b);
-    const Vec3 w = d > 0 ? to_x / d : Vec3{0, 0, 1};
+    if (dist2 > r2) sin_b = n.radius * inv_d, cos_b = std::sqrt(1 - sin_b * sin_b);
     // The smallest angle between an emitter's normal and a direction from it to x, less the
     // cone's: no emitter faces x when even that is past 90 degrees.
     double cos_x = 1, sin_x = 0;
@@ -122,11 +129,13 @@ double LightTree::importance(const Node& n, const Vec3& x, const Vec3* normal) {
     }
     const double cos_emit = cos_minus(sin_x, cos_x, sin_b, cos_b);
     if (cos_emit <= 0) return 0;
-    double importance = n.power * cos_emit / max_of(max_of(dist2, r2), 1e-300);
+    double importance = n.power * cos_emit * (dist2 > r2 ? inv_d * inv_d : 1 / max_of(r2, 1e-300));
     if (normal) {
         const double cos_i = -dot(w, *normal);
-        const double sin_i = std::sqrt(max_of(0.0, 1 - cos_i * cos_i));
-        importance *= max_of(0.0, cos_minus(sin_i, cos_i, sin_b, cos_b));
+        if (cos_i < cos_b) {  // else the sphere's cone holds the normal: the bound is 1
+            const double sin_i = std::sqrt(max_of(0.0, 1 - cos_i * cos_i));
+            importance *= max_of(0.0, cos_i * cos_b + sin_i * sin_b);
+        }
     }
     return std::isfinite(importance) ? max_of(importance, 0.0) : 0.0;
 }

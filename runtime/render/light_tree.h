@@ -36,61 +36,78 @@ public:
     double importance_at(const Vec3& x, const Vec3* normal) const { return nodes_.empty() ? 0.0 : importance(nodes_[0], x, normal); }
 
     struct Choice {
-        uint32_t index = 0;   ///< into the lights built from
+        uint32_t index = 0;      ///< into the lights built from
         double probability = 0;  ///< 0: no emitter can light x
-        double rescaled = 0;  ///< u's place within the chosen emitter's share, in [0, 1)
+        double rescaled = 0;     ///< u's place within the chosen emitter's share, in [0, 1)
     };
-    /// An emitter for x by u in [0, 1), descending by importance. `exact(i)` tells whether
-    /// emitter i can light x at all (its exact test: x behind it, beyond its reach, below the
-    /// horizon): a leaf that cannot has importance 0.
-    template <class Exact>
-    Choice choose(const Vec3& x, const Vec3* normal, double u, const Exact& exact) const {
+    /// An emitter for x by u in [0, 1): down the tree by the nodes' importance, then, among the
+    /// few emitters of the leaf reached, by `weight(i)`: emitter i's own estimate at x, 0 where it
+    /// cannot light x at all (x behind it, beyond its reach, below the horizon). Weighing
+    /// the last few one by one is both cheaper than more levels of cones and exact.
+    template <class Weight>
+    Choice choose(const Vec3& x, const Vec3* normal, double u, const Weight& weight) const {
         Choice c;
         if (nodes_.empty()) return c;
         double p = 1;
         uint32_t at = 0;
-        while (!nodes_[at].leaf) {
-            const Node& a = nodes_[nodes_[at].first];
-            const Node& b = nodes_[nodes_[at].first + 1];
-            const double wa = weigh(a, x, normal, exact), wb = weigh(b, x, normal, exact);
+        while (nodes_[at].count == 0) {
+            const uint32_t first = nodes_[at].first;
+            const double wa = importance(nodes_[first], x, normal), wb = importance(nodes_[first + 1], x, normal);
             const double total = wa + wb;
             if (!(total > 0) || !std::isfinite(total)) return c;
             const double pa = wa / total;
             if (u < pa) {
                 u = pa > 0 ? u / pa : 0;
                 p *= pa;
-                at = nodes_[at].first;
+                at = first;
             } else {
                 u = pa < 1 ? (u - pa) / (1 - pa) : 0;
                 p *= wb / total;  // as probability() has it, to the last bit
-                at = nodes_[at].first + 1;
+                at = first + 1;
             }
             u = std::fmin(std::fmax(u, 0.0), 0x1.fffffffffffffp-1);
         }
-        if (!exact(nodes_[at].first)) return c;
-        return {nodes_[at].first, p, u};
+        const Node& leaf = nodes_[at];
+        double w[kLeafMax], total = 0;
+        for (uint32_t k = 0; k < leaf.count; ++k) total += w[k] = weight(order_[leaf.first + k]);
+        if (!(total > 0) || !std::isfinite(total)) return c;
+        const double target = u * total;
+        double acc = 0;
+        uint32_t k = 0;
+        for (; k + 1 < leaf.count && !(target < acc + w[k]); ++k) acc += w[k];
+        while (!(w[k] > 0) && k > 0) acc -= w[--k];  // rounding past the last emitter that can light x
+        const double rescaled = w[k] > 0 ? std::fmin(std::fmax((target - acc) / w[k], 0.0), 0x1.fffffffffffffp-1) : 0;
+        return {order_[leaf.first + k], p * (w[k] / total), rescaled};
     }
 
     /// The probability that choose() picks emitter i at x (0 if it never does): the product of
-    /// the choices down the path to its leaf. For tests and for weighing a hit emitter.
-    template <class Exact>
-    double probability(uint32_t i, const Vec3& x, const Vec3* normal, const Exact& exact) const {
-        if (i >= trails_.size() || !exact(i)) return 0;
+    /// the choices down the path to its leaf and its share there. For tests and for weighing a
+    /// hit emitter.
+    template <class Weight>
+    double probability(uint32_t i, const Vec3& x, const Vec3* normal, const Weight& weight) const {
+        if (i >= trails_.size()) return 0;
         double p = 1;
         uint32_t at = 0;
-        for (uint64_t trail = trails_[i]; !nodes_[at].leaf; trail >>= 1) {
-            const Node& a = nodes_[nodes_[at].first];
-            const Node& b = nodes_[nodes_[at].first + 1];
-            const double wa = weigh(a, x, normal, exact), wb = weigh(b, x, normal, exact);
+        for (uint64_t trail = trails_[i]; nodes_[at].count == 0; trail >>= 1) {
+            const uint32_t first = nodes_[at].first;
+            const double wa = importance(nodes_[first], x, normal), wb = importance(nodes_[first + 1], x, normal);
             if (!(wa + wb > 0)) return 0;
             const bool second = trail & 1;
             p *= (second ? wb : wa) / (wa + wb);
-            at = nodes_[at].first + (second ? 1 : 0);
+            at = first + (second ? 1 : 0);
         }
-        return p;
+        const Node& leaf = nodes_[at];
+        double total = 0, mine = 0;
+        for (uint32_t k = 0; k < leaf.count; ++k) {
+            const double w = weight(order_[leaf.first + k]);
+            total += w;
+            if (order_[leaf.first + k] == i) mine = w;
+        }
+        return total > 0 && std::isfinite(total) ? p * (mine / total) : 0;
     }
 
 private:
+    static constexpr uint32_t kLeafMax = 8;  ///< emitters a leaf holds at most
     struct Node {
         Vec3 lo, hi, axis;
         double cos_spread = 1;
@@ -99,18 +116,15 @@ private:
         // bounding sphere), and the sine of the normals' spread.
         Vec3 centre;
         double radius = 0, sin_spread = 0;
-        uint32_t first = 0;  ///< a leaf: its light; else its first child (the second follows it)
-        bool leaf = false;
+        uint32_t first = 0;  ///< a leaf: its first emitter in order_; else its first child (the second follows it)
+        uint32_t count = 0;  ///< a leaf: its emitters (1 to kLeafMax); 0 for an inner node
     };
     static void finish(Node& n);
     static double importance(const Node& n, const Vec3& x, const Vec3* normal);
-    template <class Exact>
-    static double weigh(const Node& n, const Vec3& x, const Vec3* normal, const Exact& exact) {
-        return n.leaf && !exact(n.first) ? 0.0 : importance(n, x, normal);
-    }
-    void build(uint32_t at, std::vector<uint32_t>& order, size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail, int depth);
+    void build(uint32_t at, size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail, int depth);
     std::vector<Node> nodes_;
-    std::vector<uint64_t> trails_;  ///< per light: the choices (bit d: second child at depth d) down to its leaf
+    std::vector<uint32_t> order_;   ///< the emitters, each leaf's side by side
+    std::vector<uint64_t> trails_;  ///< per emitter: the choices (bit d: second child at depth d) down to its leaf
 };
 
 }  // namespace crex

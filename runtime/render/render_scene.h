@@ -257,10 +257,9 @@ private:
         const double lo = i == 0 ? 0.0 : cdf_[i - 1];
         return {i, entries_[i].pdf_area, place(u_pick, lo, cdf_[i] - lo)};
     }
-    /// Whether local entry i can light the point `weights` were made at (exact: what
-    /// weights_at gives an entry 0 for).
-    bool can_light(const Entry& e, const LocalWeights& weights) const {
-        return !(weights.above && below_horizon(e, weights.point, weights.horizon)) && local_weight(e, weights.point) > 0;
+    /// Local entry e's weight at the point `weights` were made at, as weights_at gives it.
+    double weight_at(const Entry& e, const LocalWeights& weights) const {
+        return weights.above && below_horizon(e, weights.point, weights.horizon) ? 0.0 : local_weight(e, weights.point);
     }
     Choice choose_in_tree(const LocalWeights& weights, double u_pick) const {
         const double target = u_pick * weights.total;
@@ -275,7 +274,7 @@ private:
         const double tree_share = weights.total - weights.distant_total;
         const double u = place(target, weights.distant_total, tree_share);
         const LightTree::Choice c = tree_.choose(weights.point, weights.above ? &weights.horizon : nullptr, u,
-                                                 [&](uint32_t t) { return can_light(entries_[tree_entries_[t]], weights); });
+                                                 [&](uint32_t t) { return weight_at(entries_[tree_entries_[t]], weights); });
         if (!(c.probability > 0)) return {};
         const size_t i = tree_entries_[c.index];
         return {i, tree_share / weights.total * c.probability / entries_[i].area, c.rescaled};
