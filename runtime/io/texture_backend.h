@@ -40,6 +40,8 @@ struct TextureLookup {
     /// such a hit gives is averaged over a hemisphere of rays; the anisotropic filter a seen
     /// hit gets was over half of a textured room's lookup time (docs/textures.md).
     bool indirect = false;
+    /// The nearest texel's value, not an interpolation (TextureFilter::kNearest).
+    bool nearest = false;
 };
 
 enum class BackendWrap { kBlack, kClamp, kPeriodic, kMirror };

@@ -202,6 +202,7 @@ public:
         } else if (dsdx == 0 && dtdx == 0 && dsdy == 0 && dtdy == 0) {
             opt.interpmode = OIIO::TextureOpt::InterpBilinear;  // the default magnifies bicubically
         }
+        if (at.nearest) opt.interpmode = OIIO::TextureOpt::InterpClosest;
         // handles_ only grows under the mutex before rendering starts: reading it here is safe.
         OIIO::TextureSystem& system = textures_.system();
         return system.texture(handles_[static_cast<size_t>(id)], system.get_perthread_info(), opt, at.s, at.t, dsdx, dtdx, dsdy, dtdy,

@@ -433,6 +433,10 @@ private:
             else sink_.report("E303", r.span("color_space"), fmt::format("{}: expected \"auto\", \"srgb\" or \"linear\", got \"{}\"", r.path("color_space"), name));
         }
         if (r.has("wrap")) read_wrap(r, t);
+        if (r.string("filter", name)) {
+            if (auto f = texture_filter_from_name(name)) t.filter = *f;
+            else sink_.report("E303", r.span("filter"), fmt::format("{}: expected \"smooth\" or \"nearest\", got \"{}\"", r.path("filter"), name));
+        }
         if (r.has("scale")) {
             double k;
             if (r.at("scale").is_number()) {

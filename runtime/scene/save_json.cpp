@@ -37,6 +37,7 @@ nlohmann::json texture_json(const TextureRef& t) {
     if (t.color_space != d.color_space) j["color_space"] = std::string(texture_color_space_name(t.color_space));
     if (t.wrap_s != d.wrap_s || t.wrap_t != d.wrap_t)
         j["wrap"] = {std::string(texture_wrap_name(t.wrap_s)), std::string(texture_wrap_name(t.wrap_t))};
+    if (t.filter != d.filter) j["filter"] = std::string(texture_filter_name(t.filter));
     if (t.scale != d.scale) j["scale"] = vec(t.scale);
     if (t.power != d.power) j["power"] = t.power;
     if (t.channel != d.channel) j["channel"] = t.channel;

@@ -15,6 +15,11 @@ constexpr std::array<std::pair<TextureWrap, std::string_view>, 4> kWraps = {{
     {TextureWrap::kBlack, "black"},
 }};
 
+constexpr std::array<std::pair<TextureFilter, std::string_view>, 2> kFilters = {{
+    {TextureFilter::kSmooth, "smooth"},
+    {TextureFilter::kNearest, "nearest"},
+}};
+
 constexpr std::array<std::pair<TextureColorSpace, std::string_view>, 3> kColorSpaces = {{
     {TextureColorSpace::kAuto, "auto"},
     {TextureColorSpace::kSrgb, "srgb"},
@@ -30,6 +35,8 @@ constexpr std::array<std::pair<TextureMapping, std::string_view>, 2> kMappings =
 
 std::string_view texture_wrap_name(TextureWrap w) { return name_in(kWraps, w); }
 std::optional<TextureWrap> texture_wrap_from_name(std::string_view name) { return value_in(kWraps, name); }
+std::string_view texture_filter_name(TextureFilter f) { return name_in(kFilters, f); }
+std::optional<TextureFilter> texture_filter_from_name(std::string_view name) { return value_in(kFilters, name); }
 std::string_view texture_color_space_name(TextureColorSpace c) { return name_in(kColorSpaces, c); }
 std::optional<TextureColorSpace> texture_color_space_from_name(std::string_view name) { return value_in(kColorSpaces, name); }
 std::string_view texture_mapping_name(TextureMapping m) { return name_in(kMappings, m); }

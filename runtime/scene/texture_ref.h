@@ -30,6 +30,11 @@ enum class TextureWrap { kRepeat, kClamp, kMirror, kBlack };
 /// (colour, specular colour, emission) read from 8-bit images, and nothing else.
 enum class TextureColorSpace { kAuto, kSrgb, kLinear };
 
+/// How a point between texels reads them: smoothly (interpolated, and filtered over the
+/// pixel's footprint), or the nearest texel's value (glTF's magFilter NEAREST: pixel art and
+/// lookup tables stay crisp when magnified).
+enum class TextureFilter { kSmooth, kNearest };
+
 /// Where the texture coordinates come from.
 enum class TextureMapping {
     kUv,      ///< the mesh's per-vertex (u, v); shapes without them get (0, 0)
@@ -38,6 +43,8 @@ enum class TextureMapping {
 
 std::string_view texture_wrap_name(TextureWrap w);
 std::optional<TextureWrap> texture_wrap_from_name(std::string_view name);
+std::string_view texture_filter_name(TextureFilter f);
+std::optional<TextureFilter> texture_filter_from_name(std::string_view name);
 std::string_view texture_color_space_name(TextureColorSpace c);
 std::optional<TextureColorSpace> texture_color_space_from_name(std::string_view name);
 std::string_view texture_mapping_name(TextureMapping m);
@@ -57,6 +64,7 @@ struct TextureRef {
     std::string image;  ///< or: the name of an image embedded in the scene (Scene::images); then `file` is empty
     TextureColorSpace color_space = TextureColorSpace::kAuto;
     TextureWrap wrap_s = TextureWrap::kRepeat, wrap_t = TextureWrap::kRepeat;
+    TextureFilter filter = TextureFilter::kSmooth;
     Vec3 scale{1, 1, 1};  ///< multiplies the texel (a scalar parameter uses scale.x)
     double power = 1;     ///< after scale (glTF roughness: 2, its perceptual roughness squared)
     int channel = 0;      ///< first channel read: a colour reads 3 from it, a scalar 1

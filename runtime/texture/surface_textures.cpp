@@ -87,16 +87,20 @@ BackendWrap wrap_of(TextureWrap w) {
 }
 
 // Channels [first, first + n) of a w x h image of `channels` channels (texels times `scale`)
-// at `at`, bilinear between the four texel centres around it (t = 0 is the top row), under
-// `ref`'s wrap modes; false where the coordinates are beyond any image.
+// at `at`, bilinear between the four texel centres around it (t = 0 is the top row), or the
+// texel it falls in for `at.nearest`, under `ref`'s wrap modes; false where the coordinates
+// are beyond any image.
 template <class Texel>
 bool bilinear(const Texel* texels, int w, int h, int channels, int first, int n, float scale, const TextureLookup& at, const TextureRef& ref,
               float* out) {
-    const double x = static_cast<double>(at.s) * w - 0.5, y = static_cast<double>(at.t) * h - 0.5;
-    const double fx0 = std::floor(x), fy0 = std::floor(y);
+    // The nearest texel: the one the point falls in, as the bilinear weights of a point at its
+    // centre's corner (all of the weight on (x0 + 1, y0 + 1)).
+    const double half = at.nearest ? 0.0 : 0.5;
+    const double x = static_cast<double>(at.s) * w - half, y = static_cast<double>(at.t) * h - half;
+    const double fx0 = std::floor(x) - (at.nearest ? 1 : 0), fy0 = std::floor(y) - (at.nearest ? 1 : 0);
     if (!(std::fabs(fx0) < 1e15 && std::fabs(fy0) < 1e15)) return false;
     const int64_t x0 = static_cast<int64_t>(fx0), y0 = static_cast<int64_t>(fy0);
-    const float ax = static_cast<float>(x - fx0), ay = static_cast<float>(y - fy0);
+    const float ax = at.nearest ? 1.0f : static_cast<float>(x - fx0), ay = at.nearest ? 1.0f : static_cast<float>(y - fy0);
     const BackendWrap ws = wrap_of(ref.wrap_s), wt = wrap_of(ref.wrap_t);
     const int64_t xs[2] = {wrapped(x0, w, ws), wrapped(x0 + 1, w, ws)};
     const int64_t ys[2] = {wrapped(y0, h, wt), wrapped(y0 + 1, h, wt)};
@@ -361,6 +365,7 @@ TextureLookup SurfaceTextures::coordinates(const Slot& slot, const SurfacePoint&
     if (!std::isfinite(at.s) || !std::isfinite(at.t)) at = TextureLookup{0.5f, 0.5f};
     if (!std::isfinite(at.dsdx + at.dtdx + at.dsdy + at.dtdy)) at.dsdx = at.dtdx = at.dsdy = at.dtdy = 0;
     at.indirect = p.indirect;
+    at.nearest = r.filter == TextureFilter::kNearest;
     return at;
 }
 

@@ -681,6 +681,43 @@ TEST(TextureFilter, UnseenHitsReadARoundFootprintOfTheSameAreaSeenOnesTheAnisotr
     EXPECT_GT(unseen, 0.8) << "seen: " << seen;
 }
 
+// A texture whose filter is "nearest" (glTF's magFilter NEAREST) reads the texel a point falls
+// in, with or without a footprint smaller than a texel, and its opacity mask does too; a smooth
+// one blends the texels around the point. A 2 x 2 checker of 0 and 1, read at s = 0.45 (in
+// texel 0, nearer texel 1's centre than a bilinear lookup's weights ignore).
+TEST(TextureFilter, NearestReadsTheTexelThePointFallsIn) {
+    const std::vector<float> rgb = {0, 0, 0, 1, 1, 1, 1, 1, 1, 0, 0, 0};
+    const std::string file = write_texture("checker.exr", 2, 2, rgb);
+    Scene s;
+    for (TextureFilter filter : {TextureFilter::kSmooth, TextureFilter::kNearest}) {
+        Material m = testing::make_material(std::string(texture_filter_name(filter)), MaterialType::kPlastic, {0, 0, 0});
+        m.textures.color = texture(file);
+        m.textures.color->filter = filter;
+        m.textures.opacity = texture(file);
+        m.textures.opacity->filter = filter;
+        s.materials.push_back(m);
+    }
+    std::vector<Diagnostic> warnings;
+    SurfaceTextures textures(s, size_t{16} << 20, warnings);
+    ASSERT_TRUE(warnings.empty());
+    for (const double footprint : {0.0, 0.01}) {
+        SurfacePoint p;
+        p.u = 0.45, p.v = 0.25;
+        p.dudx = p.dvdy = footprint;
+        const MaterialValues smooth = textures.values(0, p), nearest = textures.values(1, p);
+        EXPECT_EQ(nearest.color.x, 0.0) << "footprint " << footprint;
+        EXPECT_GT(smooth.color.x, 0.2) << "footprint " << footprint;
+        p.u = 0.55;  // in texel 1
+        EXPECT_EQ(textures.values(1, p).color.x, 1.0) << "footprint " << footprint;
+    }
+    SurfacePoint p;  // the opacity mask's own reader (no footprint)
+    p.u = 0.45, p.v = 0.25;
+    EXPECT_EQ(textures.opacity(1, p), 0.0);
+    EXPECT_GT(textures.opacity(0, p), 0.2);
+    p.u = 0.05, p.v = 0.95;  // texel (0, 1): 1
+    EXPECT_EQ(textures.opacity(1, p), 1.0);
+}
+
 // A hit whose light is averaged (an irradiance record's hemisphere ray, a photon) reads a
 // coarse copy of the image, bilinearly, under the texture's wrap modes; such lookups are
 // counted apart from the TextureSystem's. A ramp r = s, g = t over 512 x 256 texels: the copy

@@ -89,6 +89,9 @@ public:
         if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < m.samplers.size()) {
             ref.wrap_s = wrap_of(m.samplers[static_cast<size_t>(t.sampler)].wrapS);
             ref.wrap_t = wrap_of(m.samplers[static_cast<size_t>(t.sampler)].wrapT);
+            // Magnified texels are what a renderer shows of a pixel-art image; minification
+            // filters over the footprint either way.
+            if (m.samplers[static_cast<size_t>(t.sampler)].magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) ref.filter = TextureFilter::kNearest;
         }
         int set = tex_coord;
         if (auto it = ext.find("KHR_texture_transform"); it != ext.end()) {

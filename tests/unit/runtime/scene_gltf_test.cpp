@@ -91,7 +91,7 @@ std::string room_gltf() {
      "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}},
     {"name": "panel", "emissiveFactor": [1, 0.5, 0.25], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 2}}}],
   "textures": [{"source": 0, "sampler": 0}],
-  "samplers": [{"wrapS": 33071, "wrapT": 33648}],
+  "samplers": [{"wrapS": 33071, "wrapT": 33648, "magFilter": 9728}],
   "images": [{"uri": "wood%20grain.png"}],
   "cameras": [{"name": "front", "type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}},
               {"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}},
@@ -250,6 +250,7 @@ TEST(SceneGltf, MaterialsFollowTheDocumentedTable) {
     EXPECT_EQ(t.color->scale, (Vec3{0.8, 0.6, 0.4}));
     EXPECT_EQ(t.color->wrap_s, TextureWrap::kClamp);
     EXPECT_EQ(t.color->wrap_t, TextureWrap::kMirror);
+    EXPECT_EQ(t.color->filter, TextureFilter::kNearest);  // magFilter NEAREST
     EXPECT_EQ(t.color->uv_transform, (UvTransform{2, 0, 0.5, 0, 2, 0}));
     EXPECT_EQ(t.roughness->channel, 1);
     EXPECT_DOUBLE_EQ(t.roughness->power, 2);

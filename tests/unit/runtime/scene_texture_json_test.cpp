@@ -26,7 +26,7 @@ std::string scene_with(const std::string& material, const std::string& extra_top
 
 TEST(SceneTextureJson, EveryFieldIsRead) {
     auto r = testing::load_json_text(scene_with(R"({"name": "m", "type": "plastic", "specularity": 0.04,
-      "color": {"file": "wood.png", "color_space": "srgb", "wrap": ["clamp", "mirror"], "scale": [0.5, 0.6, 0.7],
+      "color": {"file": "wood.png", "color_space": "srgb", "wrap": ["clamp", "mirror"], "filter": "nearest", "scale": [0.5, 0.6, 0.7],
                 "uv_transform": {"offset": [0.25, 0.5], "rotation": 0, "scale": [2, 4]}},
       "roughness": {"file": "mr.png", "channel": 1, "power": 2, "scale": 0.9},
       "metallic": {"file": "mr.png", "channel": 2, "color_space": "linear"},
@@ -44,6 +44,8 @@ TEST(SceneTextureJson, EveryFieldIsRead) {
     EXPECT_EQ(t.color->color_space, TextureColorSpace::kSrgb);
     EXPECT_EQ(t.color->wrap_s, TextureWrap::kClamp);
     EXPECT_EQ(t.color->wrap_t, TextureWrap::kMirror);
+    EXPECT_EQ(t.color->filter, TextureFilter::kNearest);
+    EXPECT_EQ(t.roughness->filter, TextureFilter::kSmooth);
     EXPECT_EQ(t.color->scale, (Vec3{0.5, 0.6, 0.7}));
     EXPECT_EQ(t.color->uv_transform, (UvTransform{2, 0, 0.25, 0, 4, 0.5}));
     EXPECT_EQ(t.roughness->channel, 1);
@@ -84,6 +86,8 @@ TEST(SceneTextureJson, BadReferencesAreLocatedErrors) {
  "color": {"wrap": "clamp"}})", "E304", 2},
         {"unknown wrap", R"({"name": "m", "type": "plastic",
  "color": {"file": "a.png", "wrap": "spiral"}})", "E303", 2},
+        {"unknown filter", R"({"name": "m", "type": "plastic",
+ "color": {"file": "a.png", "filter": "blurry"}})", "E303", 2},
         {"unknown colour space", R"({"name": "m", "type": "plastic",
  "color": {"file": "a.png", "color_space": "acescg"}})", "E303", 2},
         {"channel out of range", R"({"name": "m", "type": "plastic",
@@ -114,7 +118,7 @@ TEST(SceneTextureJson, TexturesCamerasUnitsAndImagesRoundTrip) {
     const std::string png = base64("\x89PNG not really");
     auto a = testing::load_json_text(scene_with(R"({"name": "m", "type": "plastic", "metallic": 0.5, "opacity": 0.7,
       "color": {"image": "poster", "uv_transform": {"matrix": [1, 0, 0, 0, -1, 1]}},
-      "roughness": {"file": "/tmp/r.png", "power": 2, "wrap": "black"}})",
+      "roughness": {"file": "/tmp/r.png", "power": 2, "wrap": "black", "filter": "nearest"}})",
                                             R"("images": [{"name": "poster", "mime_type": "image/png", "data": ")" + png + R"("}],
       "cameras": [{"name": "door", "position": [0,0,5], "look_at": [0,0,0]}, {"name": "desk", "position": [3,0,5], "look_at": [0,0,0]}],
       "units": {"metres_per_unit": 0.01, "up": [0, 0, 1]},)"));
