@@ -7,7 +7,6 @@
 /// panels above the point, not on each panel by its share of the power.
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>

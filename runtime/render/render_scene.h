@@ -176,7 +176,7 @@ public:
         }
         for (size_t i = 0; i < entries_.size(); ++i) {
             const Entry& e = entries_[i];
-            lw.total += lw.w[i] = horizon && below_horizon(e, x, *horizon) ? 0.0 : local_weight(e, x);
+            lw.total += lw.w[i] = weight_of(e, x, horizon);
         }
         return lw;
     }
@@ -226,6 +226,11 @@ private:
         if (e.sphere) return dot(e.a - x, n) <= -e.b.x;
         return dot(e.a - x, n) <= 0 && dot(e.b - x, n) <= 0 && dot(e.c - x, n) <= 0;
     }
+    /// Entry e's weight at x, the one rule for weights_at and the tree's leaves: 0 below the
+    /// horizon of a surface that only reflects, else local_weight.
+    double weight_of(const Entry& e, const Vec3& x, const Vec3* horizon) const {
+        return horizon && below_horizon(e, x, *horizon) ? 0.0 : local_weight(e, x);
+    }
     static double local_weight(const Entry& e, const Vec3& x) {
         if (e.distant >= 0) return e.distant_weight;
         if (!e.sphere && !(dot(x - e.a, e.normal) > 0)) return 0;  // behind a planar emitter
@@ -257,10 +262,6 @@ private:
         const double lo = i == 0 ? 0.0 : cdf_[i - 1];
         return {i, entries_[i].pdf_area, place(u_pick, lo, cdf_[i] - lo)};
     }
-    /// Local entry e's weight at the point `weights` were made at, as weights_at gives it.
-    double weight_at(const Entry& e, const LocalWeights& weights) const {
-        return weights.above && below_horizon(e, weights.point, weights.horizon) ? 0.0 : local_weight(e, weights.point);
-    }
     Choice choose_in_tree(const LocalWeights& weights, double u_pick) const {
         const double target = u_pick * weights.total;
         if (!(weights.total > 0) || !std::isfinite(weights.total)) return {};
@@ -274,7 +275,7 @@ private:
         const double tree_share = weights.total - weights.distant_total;
         const double u = place(target, weights.distant_total, tree_share);
         const LightTree::Choice c = tree_.choose(weights.point, weights.above ? &weights.horizon : nullptr, u,
-                                                 [&](uint32_t t) { return weight_at(entries_[tree_entries_[t]], weights); });
+                                                 [&](uint32_t t) { return weight_of(entries_[tree_entries_[t]], weights.point, weights.above ? &weights.horizon : nullptr); });
         if (!(c.probability > 0)) return {};
         const size_t i = tree_entries_[c.index];
         return {i, tree_share / weights.total * c.probability / entries_[i].area, c.rescaled};
