@@ -2,6 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <utility>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 #include "runtime/base/sampling.h"
 
@@ -11,8 +16,23 @@ namespace {
 double safe_sqrt(double v) { return std::sqrt(std::fmax(0.0, v)); }
 double safe_acos(double c) { return std::acos(std::clamp(c, -1.0, 1.0)); }
 
-// cos(max(0, a - b)) and sin(max(0, a - b)) from the angles' sines and cosines.
-double cos_minus(double sin_a, double cos_a, double sin_b, double cos_b) { return cos_a > cos_b ? 1.0 : cos_a * cos_b + sin_a * sin_b; }
+// Four floats as one vector (GCC's and Clang's vector extension): the four children of a node.
+using F4 = float __attribute__((vector_size(16)));
+F4 splat(float v) { return F4{v, v, v, v}; }
+F4 load(const float* p) {
+    F4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+F4 max4(F4 a, F4 b) { return a > b ? a : b; }
+F4 sqrt4(F4 v) {
+#if defined(__SSE__)
+    return _mm_sqrt_ps(v);
+#else
+    for (int k = 0; k < 4; ++k) v[k] = std::sqrt(v[k]);
+    return v;
+#endif
+}
 
 // The smallest cone holding two cones of directions (pbrt-v4's DirectionCone Union).
 void merge_cones(Vec3& axis, double& cos_spread, const Vec3& other_axis, double other_cos) {
@@ -45,31 +65,20 @@ LightTree::LightTree(const std::vector<LightBound>& lights) {
     order_.resize(lights.size());
     for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
     trails_.assign(lights.size(), 0);
-    nodes_.reserve(2 * (lights.size() / kLeafMax + 1));
+    // Lanes hold powers over the whole tree's, so that single precision keeps their ratios
+    // whatever the scene's units.
+    double total = 0;
+    for (const LightBound& l : lights) total += l.power;
+    power_scale_ = total > 0 && std::isfinite(total) ? total : 1;
+    nodes_.reserve(lights.size() / kLeafMax + 2);
     nodes_.emplace_back();
-    build(0, 0, order_.size(), lights, 0, 0);
+    const Bound all = build(0, 0, order_.size(), lights, 0, 0);
+    set_lane(top_, 0, all);
 }
 
-// Node `at` over order_[begin, end): a leaf of up to kLeafMax emitters, or split at the median
-// of the centres along their widest extent, the two children side by side (the trails hold
-// 64 levels: 2^67 emitters).
-void LightTree::build(uint32_t at, size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail, int depth) {
-    if (end - begin <= kLeafMax) {
-        Node& n = nodes_[at];
-        const LightBound& l = lights[order_[begin]];
-        n.lo = l.lo, n.hi = l.hi, n.axis = l.axis, n.cos_spread = l.cos_spread, n.power = 0;
-        for (size_t i = begin; i < end; ++i) {
-            const LightBound& m = lights[order_[i]];
-            n.lo = vmin(n.lo, m.lo), n.hi = vmax(n.hi, m.hi);
-            n.power += m.power;
-            if (i > begin) merge_cones(n.axis, n.cos_spread, m.axis, m.cos_spread);
-            trails_[order_[i]] = trail;
-        }
-        n.first = static_cast<uint32_t>(begin);
-        n.count = static_cast<uint32_t>(end - begin);
-        finish(n);
-        return;
-    }
+// The emitters order_[begin, end) split at the median of their centres along the centres'
+// widest extent; returns the median's place.
+size_t LightTree::split(size_t begin, size_t end, const std::vector<LightBound>& lights) {
     Vec3 clo = (lights[order_[begin]].lo + lights[order_[begin]].hi) / 2, chi = clo;
     for (size_t i = begin; i < end; ++i) {
         const Vec3 c = (lights[order_[i]].lo + lights[order_[i]].hi) / 2;
@@ -82,62 +91,117 @@ void LightTree::build(uint32_t at, size_t begin, size_t end, const std::vector<L
                      order_.begin() + static_cast<std::ptrdiff_t>(end), [&](uint32_t a, uint32_t b) {
                          return lights[a].lo[axis] + lights[a].hi[axis] < lights[b].lo[axis] + lights[b].hi[axis];
                      });
-    const uint32_t first = static_cast<uint32_t>(nodes_.size());
-    nodes_.emplace_back();
-    nodes_.emplace_back();
-    nodes_[at].first = first;
-    build(first, begin, mid, lights, trail, depth + 1);
-    build(first + 1, mid, end, lights, trail | (uint64_t{1} << std::min(depth, 63)), depth + 1);
-    const Node a = nodes_[first], b = nodes_[first + 1];
-    Node& n = nodes_[at];
-    n.lo = vmin(a.lo, b.lo), n.hi = vmax(a.hi, b.hi);
-    n.power = a.power + b.power;
-    n.axis = a.axis, n.cos_spread = a.cos_spread;
-    merge_cones(n.axis, n.cos_spread, b.axis, b.cos_spread);
-    finish(n);
+    return mid;
 }
 
-void LightTree::finish(Node& n) {
-    n.centre = (n.lo + n.hi) / 2;
-    n.radius = length(n.hi - n.lo) / 2;
-    n.sin_spread = safe_sqrt(1 - n.cos_spread * n.cos_spread);
+LightTree::Bound LightTree::leaf_bound(size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail) {
+    const LightBound& l = lights[order_[begin]];
+    Bound b{l.lo, l.hi, l.axis, l.cos_spread, 0};
+    for (size_t i = begin; i < end; ++i) {
+        const LightBound& m = lights[order_[i]];
+        b.lo = vmin(b.lo, m.lo), b.hi = vmax(b.hi, m.hi);
+        b.power += m.power;
+        if (i > begin) merge_cones(b.axis, b.cos_spread, m.axis, m.cos_spread);
+        trails_[order_[i]] = trail;
+    }
+    return b;
+}
+
+// Node `at` over order_[begin, end): two median splits make up to four children (a half of at
+// most kLeafMax emitters is not split again), each a leaf of up to kLeafMax emitters or a
+// node of its own. `trail` holds the choices down to `at`, 2 bits a level (32 levels:
+// 8 x 4^32 emitters). Returns the bound of them all.
+LightTree::Bound LightTree::build(uint32_t at, size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail, int depth) {
+    size_t cut[kWidth + 1];
+    int parts = 0;
+    cut[0] = begin;
+    if (end - begin <= kLeafMax) {
+        cut[++parts] = end;
+    } else {
+        const size_t mid = split(begin, end, lights);
+        for (const auto& [lo, hi] : {std::pair{begin, mid}, std::pair{mid, end}}) {
+            if (hi - lo > kLeafMax) cut[++parts] = split(lo, hi, lights);
+            cut[++parts] = hi;
+        }
+    }
+    Bound all;
+    for (int k = 0; k < parts; ++k) {
+        const uint64_t lane_trail = trail | (static_cast<uint64_t>(k) << (2 * std::min(depth, 31)));
+        Bound b;
+        if (cut[k + 1] - cut[k] <= kLeafMax) {
+            b = leaf_bound(cut[k], cut[k + 1], lights, lane_trail);
+            nodes_[at].child[k] = static_cast<uint32_t>(cut[k]);
+            nodes_[at].count[k] = static_cast<uint32_t>(cut[k + 1] - cut[k]);
+        } else {
+            const uint32_t child = static_cast<uint32_t>(nodes_.size());
+            nodes_.emplace_back();
+            b = build(child, cut[k], cut[k + 1], lights, lane_trail, depth + 1);
+            nodes_[at].child[k] = child;
+            nodes_[at].count[k] = 0;
+        }
+        set_lane(nodes_[at], k, b);
+        if (k == 0) {
+            all = b;
+        } else {
+            all.lo = vmin(all.lo, b.lo), all.hi = vmax(all.hi, b.hi);
+            all.power += b.power;
+            merge_cones(all.axis, all.cos_spread, b.axis, b.cos_spread);
+        }
+    }
+    return all;
+}
+
+// Lane k of n from a bound, rounded so that it stays one: the sphere a little larger, the
+// power never 0 for a group that has some.
+void LightTree::set_lane(Node& n, int k, const Bound& b) const {
+    const Vec3 centre = (b.lo + b.hi) / 2;
+    n.cx[k] = static_cast<float>(centre.x), n.cy[k] = static_cast<float>(centre.y), n.cz[k] = static_cast<float>(centre.z);
+    n.radius[k] = static_cast<float>(length(b.hi - b.lo) / 2 * (1 + 1e-5) + 1e-6 * (std::fabs(centre.x) + std::fabs(centre.y) + std::fabs(centre.z)));
+    n.ax[k] = static_cast<float>(b.axis.x), n.ay[k] = static_cast<float>(b.axis.y), n.az[k] = static_cast<float>(b.axis.z);
+    n.cos_spread[k] = static_cast<float>(b.cos_spread);
+    n.sin_spread[k] = static_cast<float>(safe_sqrt(1 - b.cos_spread * b.cos_spread));
+    n.power[k] = b.power > 0 ? std::max(static_cast<float>(b.power / power_scale_), 1e-30f) : 0.0f;
 }
 
 // pbrt-v4's LightBounds::Importance for emitters that emit over the hemisphere about each of
-// their normals: power x the cosine at the emitters bounded from above / distance^2 (at least
-// the bounding sphere's radius squared), times the bound of the cosine at a surface that only
-// reflects (signed: nothing below its horizon). Angles as sines and cosines: no acos at a hit.
-double LightTree::importance(const Node& n, const Vec3& x, const Vec3* normal) {
-    const Vec3 to_x = x - n.centre;
-    const double dist2 = dot(to_x, to_x), r2 = n.radius * n.radius;
-    if (!(dist2 > 0)) return n.power / max_of(r2, 1e-300);  // x at the centre: every bound is 1
-    const double inv_d = 1 / std::sqrt(dist2);  // one square root and one division: this runs ~12 times a shadow ray
-    const Vec3 w = to_x * inv_d;
+// their normals, for the four children at once: power x the cosine at the emitters bounded from
+// above / distance^2 (at least the bounding sphere's radius squared), times the bound of the
+// cosine at a surface that only reflects (signed: nothing below its horizon). Angles as sines
+// and cosines: no acos at a hit; every lane the same arithmetic, no branches, so the compiler
+// makes it vector code. Both cosine bounds are raised by kSlack: in single precision a group
+// just able to light x must not round to 0 (a group that cannot costs a sample that finds
+// nothing, which the exact weights of its leaf then say).
+void LightTree::importances(const Node& n, const Vec3& x, const Vec3* normal, double w[kWidth]) {
+    static_assert(kWidth == 4, "one vector of four floats a node");
+    const F4 slack = splat(1e-5f), zero = splat(0.f), one = splat(1.f), tiny = splat(1e-30f);
+    const F4 tx = splat(static_cast<float>(x.x)) - load(n.cx), ty = splat(static_cast<float>(x.y)) - load(n.cy),
+             tz = splat(static_cast<float>(x.z)) - load(n.cz);
+    const F4 radius = load(n.radius), spread_cos = load(n.cos_spread), spread_sin = load(n.sin_spread);
+    const F4 d2 = tx * tx + ty * ty + tz * tz, r2 = radius * radius;
+    const auto outside = d2 > r2;
+    const F4 inv_d = one / sqrt4(max4(d2, tiny));
+    const F4 wx = tx * inv_d, wy = ty * inv_d, wz = tz * inv_d;
     // The cone of directions from x that holds the bounding sphere (all of them from inside it).
-    double cos_b = -1, sin_b = 0;
-    if (dist2 > r2) sin_b = n.radius * inv_d, cos_b = std::sqrt(1 - sin_b * sin_b);
+    const F4 sin_b = outside ? radius * inv_d : zero;
+    const F4 cos_b = outside ? sqrt4(max4(zero, one - sin_b * sin_b)) : splat(-1.f);
     // The smallest angle between an emitter's normal and a direction from it to x, less the
-    // cone's: no emitter faces x when even that is past 90 degrees.
-    double cos_x = 1, sin_x = 0;
-    if (n.cos_spread > -1) {
-        const double cos_w = dot(n.axis, w);
-        if (cos_w <= n.cos_spread) {
-            const double sin_w = std::sqrt(max_of(0.0, 1 - cos_w * cos_w));
-            cos_x = cos_w * n.cos_spread + sin_w * n.sin_spread;
-            sin_x = sin_w * n.cos_spread - cos_w * n.sin_spread;
-        }
+    // normals' cone: no emitter faces x when even that is past 90 degrees.
+    const F4 cos_w = load(n.ax) * wx + load(n.ay) * wy + load(n.az) * wz;
+    const F4 sin_w = sqrt4(max4(zero, one - cos_w * cos_w));
+    const auto within = (spread_cos <= splat(-1.f)) | (cos_w > spread_cos);
+    const F4 cos_x = within ? one : cos_w * spread_cos + sin_w * spread_sin;
+    const F4 sin_x = within ? zero : sin_w * spread_cos - cos_w * spread_sin;
+    const F4 cos_emit = (cos_x > cos_b ? one : cos_x * cos_b + sin_x * sin_b) + slack;
+    const F4 falloff = outside ? inv_d * inv_d : one / max4(r2, tiny);
+    F4 value = load(n.power) * max4(cos_emit, zero) * falloff;
+    if (normal) {  // the horizon: the smallest angle between the normal and a direction into the sphere
+        const F4 cos_i = -(wx * splat(static_cast<float>(normal->x)) + wy * splat(static_cast<float>(normal->y)) +
+                           wz * splat(static_cast<float>(normal->z)));
+        const F4 sin_i = sqrt4(max4(zero, one - cos_i * cos_i));
+        value = value * (cos_i < cos_b ? max4(zero, cos_i * cos_b + sin_i * sin_b + slack) : one);
     }
-    const double cos_emit = cos_minus(sin_x, cos_x, sin_b, cos_b);
-    if (cos_emit <= 0) return 0;
-    double importance = n.power * cos_emit * (dist2 > r2 ? inv_d * inv_d : 1 / max_of(r2, 1e-300));
-    if (normal) {
-        const double cos_i = -dot(w, *normal);
-        if (cos_i < cos_b) {  // else the sphere's cone holds the normal: the bound is 1
-            const double sin_i = std::sqrt(max_of(0.0, 1 - cos_i * cos_i));
-            importance *= max_of(0.0, cos_i * cos_b + sin_i * sin_b);
-        }
-    }
-    return std::isfinite(importance) ? max_of(importance, 0.0) : 0.0;
+    value = value < splat(3e38f) ? max4(value, zero) : zero;  // not NaN nor infinite
+    for (int k = 0; k < kWidth; ++k) w[k] = value[k];
 }
 
 }  // namespace crex

@@ -87,7 +87,9 @@ TEST(LightTree, ItsProbabilitiesAreADistributionThatLeavesOutNoEmitterThatCanLig
             }
         }
         EXPECT_LE(sum, 1.0 + 1e-9) << "point " << k;
-        if (lit > 0) EXPECT_GT(sum, 0.0) << "point " << k;
+        if (lit > 0) {
+            EXPECT_GT(sum, 0.0) << "point " << k;
+        }
     }
 }
 
@@ -126,6 +128,29 @@ TEST(LightTree, ItChoosesByItsProbabilities) {
         near_expected(count[i], p, "emitter " + std::to_string(i));
     }
     near_expected(lost, std::fmax(0.0, 1 - sum), "none");
+}
+
+// The tree holds its bounds in single precision: a scene in microns or in kilometres (positions
+// times s, powers times s^2, so what each emitter brings is the same) must get the same choices.
+TEST(LightTree, ItsProbabilitiesDoNotDependOnTheScenesUnits) {
+    const Emitters e = random_emitters(300);
+    const LightTree tree(e.bounds);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> U(0, 1);
+    for (const double s : {1e-5, 1e-2, 1e3, 1e6}) {
+        std::vector<LightBound> scaled = e.bounds;
+        for (LightBound& b : scaled) b.lo = b.lo * s, b.hi = b.hi * s, b.power *= s * s;
+        const LightTree other(scaled);
+        for (int k = 0; k < 20; ++k) {
+            const Vec3 x{14 * U(rng) - 2, 14 * U(rng) - 2, 14 * U(rng) - 2}, n = random_unit(rng);
+            auto exact = [&](uint32_t i) { return can_light(e, i, x, &n) ? e.bounds[i].power : 0.0; };
+            auto exact_scaled = [&](uint32_t i) { return can_light(e, i, x, &n) ? scaled[i].power : 0.0; };
+            for (uint32_t i = 0; i < e.bounds.size(); ++i) {
+                const double p = tree.probability(i, x, &n, exact), q = other.probability(i, x * s, &n, exact_scaled);
+                EXPECT_NEAR(q, p, 1e-3 * p + 1e-12) << "scale " << s << ", point " << k << ", emitter " << i;
+            }
+        }
+    }
 }
 
 // A 20 x 20 m hall lit by 10 x 10 small panels 3 m up (200 triangles): the irradiance at a
