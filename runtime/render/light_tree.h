@@ -34,6 +34,11 @@ public:
     /// The tree over `lights`; a chosen index is into this list.
     explicit LightTree(const std::vector<LightBound>& lights);
     bool empty() const { return nodes_.empty(); }
+    /// The emitters in the order of the tree's leaves, each leaf's side by side: `weight` below
+    /// is given a place in this order (a slot), so that a leaf's emitters can be read from
+    /// consecutive memory; emitter_at(slot) is the index into the lights built from.
+    size_t slots() const { return order_.size(); }
+    uint32_t emitter_at(uint32_t slot) const { return order_[slot]; }
 
     /// Upper estimate of what the tree's emitters bring to x (`normal`: the unit normal of a
     /// surface that only reflects, or null): the root's importance, in the units of power / distance^2.
@@ -46,12 +51,13 @@ public:
 
     struct Choice {
         uint32_t index = 0;      ///< into the lights built from
+        uint32_t slot = 0;       ///< its place in the leaves' order (emitter_at(slot) == index)
         double probability = 0;  ///< 0: no emitter can light x
         double rescaled = 0;     ///< u's place within the chosen emitter's share, in [0, 1)
     };
     /// An emitter for x by u in [0, 1): down the tree by the children's importance, then, among
-    /// the few emitters of the leaf reached, by `weight(i)`: emitter i's own estimate at x, 0 where
-    /// it cannot light x at all (x behind it, beyond its reach, below the horizon). Weighing
+    /// the few emitters of the leaf reached, by `weight(slot)`: the emitter in that slot's own
+    /// estimate at x, 0 where it cannot light x at all (x behind it, beyond its reach, below the horizon). Weighing
     /// the last few one by one is both cheaper than more levels of cones and exact.
     template <class Weight>
     Choice choose(const Vec3& x, const Vec3* normal, double u, const Weight& weight) const {
@@ -72,10 +78,11 @@ public:
                 continue;
             }
             double lw[kLeafMax], leaf_total = 0;
-            for (uint32_t e = 0; e < n.count[k]; ++e) leaf_total += lw[e] = weight(order_[n.child[k] + e]);
+            for (uint32_t e = 0; e < n.count[k]; ++e) leaf_total += lw[e] = weight(n.child[k] + e);
             const int e = pick(lw, leaf_total, u, static_cast<int>(n.count[k]));
             if (e < 0) return c;
-            return {order_[n.child[k] + static_cast<uint32_t>(e)], p * (lw[e] / leaf_total), u};
+            const uint32_t slot = n.child[k] + static_cast<uint32_t>(e);
+            return {order_[slot], slot, p * (lw[e] / leaf_total), u};
         }
     }
 
@@ -101,7 +108,7 @@ public:
             }
             double leaf_total = 0, mine = 0;
             for (uint32_t e = 0; e < n.count[k]; ++e) {
-                const double we = weight(order_[n.child[k] + e]);
+                const double we = weight(n.child[k] + e);
                 leaf_total += we;
                 if (order_[n.child[k] + e] == i) mine = we;
             }
@@ -141,7 +148,7 @@ private:
         for (; k + 1 < count && !(target < acc + w[k]); ++k) acc += w[k];
         while (!(w[k] > 0) && k > 0) acc -= w[--k];  // rounding past the last one that weighs
         if (!(w[k] > 0)) return -1;
-        u = std::fmin(std::fmax((target - acc) / w[k], 0.0), 0x1.fffffffffffffp-1);
+        u = min_of(max_of((target - acc) / w[k], 0.0), 0x1.fffffffffffffp-1);
         return k;
     }
     Bound build(uint32_t at, size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail, int depth);

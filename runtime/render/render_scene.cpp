@@ -234,6 +234,8 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         tree_entries_.push_back(i);
     }
     tree_ = LightTree(bounds);
+    tree_slots_.reserve(tree_.slots());
+    for (uint32_t slot = 0; slot < tree_.slots(); ++slot) tree_slots_.push_back(entries_[tree_entries_[tree_.emitter_at(slot)]]);
 }
 
 void LightSampler::make_cdf() {

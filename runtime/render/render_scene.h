@@ -240,13 +240,14 @@ private:
             const double near = std::sqrt(d2) - e.reach;  // no point of it is within reach of x
             if (near > e.limits->max_distance) return 0;
         }
-        return e.power / std::fmax(d2, e.area);
+        return e.power / max_of(d2, e.area);  // inline: std::fmax was a call into libm at every emitter weighed
     }
     /// An emitter, the probability of its area's points, and u_pick's place in its share.
     struct Choice {
         size_t index = 0;
         double pdf_area = 0;
         double rescaled = 0;
+        const Entry* entry = nullptr;  ///< entries_[index] or its copy in tree_slots_ (a leaf's memory, in cache)
     };
     static double place(double u, double lo, double width) {
         return width > 0 ? std::clamp((u - lo) / width, 0.0, 0x1.fffffffffffffp-1) : 0.5;
@@ -275,10 +276,10 @@ private:
         const double tree_share = weights.total - weights.distant_total;
         const double u = place(target, weights.distant_total, tree_share);
         const LightTree::Choice c = tree_.choose(weights.point, weights.above ? &weights.horizon : nullptr, u,
-                                                 [&](uint32_t t) { return weight_of(entries_[tree_entries_[t]], weights.point, weights.above ? &weights.horizon : nullptr); });
+                                                 [&](uint32_t slot) { return weight_of(tree_slots_[slot], weights.point, weights.above ? &weights.horizon : nullptr); });
         if (!(c.probability > 0)) return {};
-        const size_t i = tree_entries_[c.index];
-        return {i, tree_share / weights.total * c.probability / entries_[i].area, c.rescaled};
+        const Entry& e = tree_slots_[c.slot];
+        return {tree_entries_[c.index], tree_share / weights.total * c.probability / e.area, c.rescaled, &e};
     }
     Choice choose(const LocalWeights& weights, double u_pick) const {
         if (weights.by_tree) return choose_in_tree(weights, u_pick);
@@ -302,7 +303,7 @@ private:
     /// sampled uniformly in the cone of directions it fills there, else uniformly by area, and
     /// a wide distant source above the surface there has one (DistantEmitters::sample_above).
     LightSample at(const Choice& c, double u, double v, const LocalWeights* from = nullptr) const {
-        const Entry& e = entries_[c.index];
+        const Entry& e = c.entry ? *c.entry : entries_[c.index];
         if (e.distant >= 0) {  // pdf_area holds the choice's probability per steradian here
             LightSample s;
             s.distant = true;
@@ -342,6 +343,9 @@ private:
     std::vector<double> cdf_;  // cumulative, normalised
     LightTree tree_;                      // over the local entries, when there are more than kLocalChoiceMax entries
     std::vector<size_t> tree_entries_;    // the tree's emitters: entries_ indices
+    // The tree's emitters again, in its leaves' order: a leaf's are weighed from consecutive
+    // memory (read through two indices, each emitter's weight waited on a cache miss).
+    std::vector<Entry> tree_slots_;
     std::vector<size_t> distant_entries_; // with the tree: the distant entries
     std::vector<std::unique_ptr<EmitterLimits>> limits_;
     DistantEmitters distant_;

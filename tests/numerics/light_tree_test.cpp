@@ -73,13 +73,16 @@ TEST(LightTree, ItsProbabilitiesAreADistributionThatLeavesOutNoEmitterThatCanLig
     for (int k = 0; k < 200; ++k) {
         const Vec3 x{-2 + 14 * U(rng), -2 + 14 * U(rng), -2 + 14 * U(rng)}, n = random_unit(rng);
         const Vec3* normal = k % 2 ? &n : nullptr;
-        auto exact = [&](uint32_t i) { return can_light(e, i, x, normal) ? e.bounds[i].power : 0.0; };
+        auto exact = [&](uint32_t slot) {
+            const uint32_t i = tree.emitter_at(slot);
+            return can_light(e, i, x, normal) ? e.bounds[i].power : 0.0;
+        };
         double sum = 0;
         size_t lit = 0;
         for (uint32_t i = 0; i < e.bounds.size(); ++i) {
             const double p = tree.probability(i, x, normal, exact);
             sum += p;
-            if (exact(i) > 0) {
+            if (can_light(e, i, x, normal)) {
                 ++lit;
                 EXPECT_GT(p, 0) << "emitter " << i << " can light point " << k;
             } else {
@@ -97,7 +100,10 @@ TEST(LightTree, ItChoosesByItsProbabilities) {
     const Emitters e = random_emitters(120);
     const LightTree tree(e.bounds);
     const Vec3 x{5, 5, 1}, n{0, 0, 1};
-    auto exact = [&](uint32_t i) { return can_light(e, i, x, &n) ? e.bounds[i].power : 0.0; };
+    auto exact = [&](uint32_t slot) {
+        const uint32_t i = tree.emitter_at(slot);
+        return can_light(e, i, x, &n) ? e.bounds[i].power : 0.0;
+    };
     const size_t draws = 400000;
     std::vector<size_t> count(e.bounds.size(), 0);
     size_t lost = 0;
@@ -143,8 +149,14 @@ TEST(LightTree, ItsProbabilitiesDoNotDependOnTheScenesUnits) {
         const LightTree other(scaled);
         for (int k = 0; k < 20; ++k) {
             const Vec3 x{14 * U(rng) - 2, 14 * U(rng) - 2, 14 * U(rng) - 2}, n = random_unit(rng);
-            auto exact = [&](uint32_t i) { return can_light(e, i, x, &n) ? e.bounds[i].power : 0.0; };
-            auto exact_scaled = [&](uint32_t i) { return can_light(e, i, x, &n) ? scaled[i].power : 0.0; };
+            auto exact = [&](uint32_t slot) {
+                const uint32_t i = tree.emitter_at(slot);
+                return can_light(e, i, x, &n) ? e.bounds[i].power : 0.0;
+            };
+            auto exact_scaled = [&](uint32_t slot) {
+                const uint32_t i = other.emitter_at(slot);
+                return can_light(e, i, x, &n) ? scaled[i].power : 0.0;
+            };
             for (uint32_t i = 0; i < e.bounds.size(); ++i) {
                 const double p = tree.probability(i, x, &n, exact), q = other.probability(i, x * s, &n, exact_scaled);
                 EXPECT_NEAR(q, p, 1e-3 * p + 1e-12) << "scale " << s << ", point " << k << ", emitter " << i;
