@@ -165,6 +165,51 @@ TEST(LightTree, ItsProbabilitiesDoNotDependOnTheScenesUnits) {
     }
 }
 
+// Degenerate groups: every emitter at one point, boxes of no size, a normal of zero length,
+// emitters of no power, and the counts around a leaf's and a node's sizes. The probabilities stay
+// a distribution with no NaN, and every choice is of an emitter that can be chosen.
+TEST(LightTree, DegenerateEmittersStillGiveADistribution) {
+    std::vector<std::vector<LightBound>> cases;
+    for (const size_t n : {1, 2, 8, 9, 16, 17, 33, 65, 257}) {
+        std::vector<LightBound> same(n), flat(n);
+        for (size_t i = 0; i < n; ++i) {
+            same[i].lo = same[i].hi = Vec3{1, 2, 3};
+            same[i].axis = i % 3 ? Vec3{0, 0, -1} : Vec3{};  // some with no normal at all
+            same[i].power = i % 4 ? 1.0 : 0.0;
+            flat[i].lo = flat[i].hi = Vec3{static_cast<double>(i % 5), 0, static_cast<double>(i / 5)};
+            flat[i].axis = {0, 1, 0};
+            flat[i].power = 1e-20 * static_cast<double>(i + 1);
+        }
+        cases.push_back(same);
+        cases.push_back(flat);
+    }
+    const Vec3 up{0, 1, 0}, down{0, -1, 0};
+    for (const auto& lights : cases) {
+        const LightTree tree(lights);
+        ASSERT_EQ(tree.slots(), lights.size());
+        for (const Vec3 x : {Vec3{1, 2, 3}, Vec3{1, 1, 3}, Vec3{2, 5, 2}, Vec3{-4, -1, 0}})
+            for (const Vec3* normal : {static_cast<const Vec3*>(nullptr), &up, &down}) {
+                auto power = [&](uint32_t slot) { return lights[tree.emitter_at(slot)].power; };
+                double sum = 0;
+                for (uint32_t i = 0; i < lights.size(); ++i) {
+                    const double p = tree.probability(i, x, normal, power);
+                    ASSERT_TRUE(std::isfinite(p) && p >= 0) << lights.size() << " emitters";
+                    if (!(lights[i].power > 0)) EXPECT_EQ(p, 0);
+                    sum += p;
+                }
+                EXPECT_LE(sum, 1 + 1e-9);
+                for (const double u : {0.0, 0.3, 0.999999999}) {
+                    const LightTree::Choice c = tree.choose(x, normal, u, power);
+                    if (!(c.probability > 0)) continue;
+                    ASSERT_LT(c.index, lights.size());
+                    EXPECT_EQ(tree.emitter_at(c.slot), c.index);
+                    EXPECT_GT(lights[c.index].power, 0);
+                    EXPECT_DOUBLE_EQ(c.probability, tree.probability(c.index, x, normal, power));
+                }
+            }
+    }
+}
+
 // A 20 x 20 m hall lit by 10 x 10 small panels 3 m up (200 triangles): the irradiance at a
 // point of the floor, from samples chosen by the tree and chosen by power.
 struct Irradiance {
