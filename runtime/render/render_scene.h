@@ -229,18 +229,32 @@ private:
     /// Entry e's weight at x, the one rule for weights_at and the tree's leaves: 0 below the
     /// horizon of a surface that only reflects, else local_weight.
     double weight_of(const Entry& e, const Vec3& x, const Vec3* horizon) const {
-        return horizon && below_horizon(e, x, *horizon) ? 0.0 : local_weight(e, x);
+        return horizon && below_horizon(e, x, *horizon) ? 0.0 : local_weight(e, x, horizon);
     }
-    static double local_weight(const Entry& e, const Vec3& x) {
+    /// Its power over the squared distance (at least its area), times the two cosines of its
+    /// light on the way to x, each widened by the sine of the angle its sphere (its reach) fills
+    /// from x and at most 1: at the emitter (a flat one seen edge-on gives little) and at a
+    /// surface that only reflects (`horizon`: an emitter low over its plane gives little). One
+    /// square root, no bound's trigonometry: a weight only has to be positive wherever the
+    /// emitter can light x, and both are (x in front of a flat emitter has a positive cosine
+    /// to its centre; a point of it above the horizon, within `reach` of the centre, makes the
+    /// centre's cosine above minus that sine). 0 behind a flat emitter and beyond a glow's reach.
+    static double local_weight(const Entry& e, const Vec3& x, const Vec3* horizon) {
         if (e.distant >= 0) return e.distant_weight;
         if (!e.sphere && !(dot(x - e.a, e.normal) > 0)) return 0;  // behind a planar emitter
-        Vec3 d = x - e.centre;
+        const Vec3 d = x - e.centre;
         const double d2 = dot(d, d);
         if (e.limits && std::isfinite(e.limits->max_distance)) {
             const double near = std::sqrt(d2) - e.reach;  // no point of it is within reach of x
             if (near > e.limits->max_distance) return 0;
         }
-        return e.power / max_of(d2, e.area);  // inline: std::fmax was a call into libm at every emitter weighed
+        const double w = e.power / max_of(d2, e.area);
+        if (!(d2 > e.reach * e.reach) || (e.sphere && !horizon)) return w;  // x within its sphere: both factors are 1
+        const double inv_d = 1 / std::sqrt(d2), sin_b = e.reach * inv_d;
+        double cosines = 1;
+        if (!e.sphere) cosines *= min_of(1.0, dot(d, e.normal) * inv_d + sin_b);
+        if (horizon) cosines *= min_of(1.0, -dot(d, *horizon) * inv_d + sin_b);
+        return w * max_of(cosines, 1e-9);  // rounding must not make it 0
     }
     /// An emitter, the probability of its area's points, and u_pick's place in its share.
     struct Choice {
