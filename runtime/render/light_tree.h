@@ -57,8 +57,9 @@ public:
     };
     /// An emitter for x by u in [0, 1): down the tree by the children's importance, then, among
     /// the few emitters of the leaf reached, by `weight(slot)`: the emitter in that slot's own
-    /// estimate at x, 0 where it cannot light x at all (x behind it, beyond its reach, below the horizon). Weighing
-    /// the last few one by one is both cheaper than more levels of cones and exact.
+    /// estimate at x, 0 where it cannot light x at all (x behind it, beyond its reach, below the
+    /// horizon). Weighing the last few one by one is both cheaper than more levels of cones and
+    /// exact.
     template <class Weight>
     Choice choose(const Vec3& x, const Vec3* normal, double u, const Weight& weight) const {
         Choice c;
