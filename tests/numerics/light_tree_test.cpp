@@ -194,7 +194,9 @@ TEST(LightTree, DegenerateEmittersStillGiveADistribution) {
                 for (uint32_t i = 0; i < lights.size(); ++i) {
                     const double p = tree.probability(i, x, normal, power);
                     ASSERT_TRUE(std::isfinite(p) && p >= 0) << lights.size() << " emitters";
-                    if (!(lights[i].power > 0)) EXPECT_EQ(p, 0);
+                    if (!(lights[i].power > 0)) {
+                        EXPECT_EQ(p, 0);
+                    }
                     sum += p;
                 }
                 EXPECT_LE(sum, 1 + 1e-9);
