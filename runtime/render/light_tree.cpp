@@ -60,6 +60,12 @@ void merge_cones(Vec3& axis, double& cos_spread, const Vec3& other_axis, double 
 
 }  // namespace
 
+void LightTree::Bound::add(const Bound& other) {
+    lo = vmin(lo, other.lo), hi = vmax(hi, other.hi);
+    power += other.power;
+    merge_cones(axis, cos_spread, other.axis, other.cos_spread);
+}
+
 LightTree::LightTree(const std::vector<LightBound>& lights) {
     if (lights.empty()) return;
     order_.resize(lights.size());
@@ -95,13 +101,10 @@ size_t LightTree::split(size_t begin, size_t end, const std::vector<LightBound>&
 }
 
 LightTree::Bound LightTree::leaf_bound(size_t begin, size_t end, const std::vector<LightBound>& lights, uint64_t trail) {
-    const LightBound& l = lights[order_[begin]];
-    Bound b{l.lo, l.hi, l.axis, l.cos_spread, 0};
+    const auto bound_of = [](const LightBound& l) { return Bound{l.lo, l.hi, l.axis, l.cos_spread, l.power}; };
+    Bound b = bound_of(lights[order_[begin]]);
     for (size_t i = begin; i < end; ++i) {
-        const LightBound& m = lights[order_[i]];
-        b.lo = vmin(b.lo, m.lo), b.hi = vmax(b.hi, m.hi);
-        b.power += m.power;
-        if (i > begin) merge_cones(b.axis, b.cos_spread, m.axis, m.cos_spread);
+        if (i > begin) b.add(bound_of(lights[order_[i]]));
         trails_[order_[i]] = trail;
     }
     return b;
@@ -143,9 +146,7 @@ LightTree::Bound LightTree::build(uint32_t at, size_t begin, size_t end, const s
         if (k == 0) {
             all = b;
         } else {
-            all.lo = vmin(all.lo, b.lo), all.hi = vmax(all.hi, b.hi);
-            all.power += b.power;
-            merge_cones(all.axis, all.cos_spread, b.axis, b.cos_spread);
+            all.add(b);
         }
     }
     return all;
@@ -167,10 +168,10 @@ void LightTree::set_lane(Node& n, int k, const Bound& b) const {
 // their normals, for the four children at once: power x the cosine at the emitters bounded from
 // above / distance^2 (at least the bounding sphere's radius squared), times the bound of the
 // cosine at a surface that only reflects (signed: nothing below its horizon). Angles as sines
-// and cosines: no acos at a hit; every lane the same arithmetic, no branches, so the compiler
-// makes it vector code. Both cosine bounds are raised by kSlack: in single precision a group
-// just able to light x must not round to 0 (a group that cannot costs a sample that finds
-// nothing, which the exact weights of its leaf then say).
+// and cosines: no acos at a hit; every lane the same arithmetic, no branches, written in GCC's
+// vector extension (four floats; SSE where the target has it). Both cosine bounds are raised
+// by kSlack: in single precision a group just able to light x must not round to 0 (a group
+// that cannot costs a sample that finds nothing, which the exact weights of its leaf then say).
 void LightTree::importances(const Node& n, const Vec3& x, const Vec3* normal, double w[kWidth]) {
     static_assert(kWidth == 4, "one vector of four floats a node");
     const F4 slack = splat(1e-5f), zero = splat(0.f), one = splat(1.f), tiny = splat(1e-30f);

@@ -135,6 +135,8 @@ private:
     struct Bound {
         Vec3 lo, hi, axis;
         double cos_spread = 1, power = 0;
+        /// Grows to hold `other` as well: box, power and cone of normals.
+        void add(const Bound& other);
     };
     /// The importance of each child of n at x (0 for a missing one), upper bounds of what it brings
     /// there in units of the tree's power / distance^2.
