@@ -208,11 +208,16 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
     for (auto& e : entries_)
         e.power = e.distant >= 0 ? distant_.power(static_cast<size_t>(e.distant)) : e.area * std::fmax(luminance(e.radiance) * e.pattern_mean, 1e-12);
     make_cdf();
-    // Too many emitters to weigh each at every hit: the local ones go in a tree, and the distant
-    // ones (a sun and a sky, rarely more) are weighed one by one beside it.
     size_t distant_count = 0;
     for (const Entry& e : entries_) distant_count += e.distant >= 0;
-    if (entries_.size() <= kLocalChoiceMax || distant_count > kLocalChoiceMax) return;
+    // A few emitters: weighed two at a time where all are flat with no limit to their reach.
+    if (entries_.size() <= kLocalChoiceMax) {
+        triangles_ = flat_weights(entries_);
+        return;
+    }
+    // Too many emitters to weigh each at every hit: the local ones go in a tree, and the distant
+    // ones (a sun and a sky, rarely more) are weighed one by one beside it.
+    if (distant_count > kLocalChoiceMax) return;
     std::vector<LightBound> bounds;
     for (size_t i = 0; i < entries_.size(); ++i) {
         const Entry& e = entries_[i];
@@ -236,6 +241,15 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
     tree_ = LightTree(bounds);
     tree_slots_.reserve(tree_.slots());
     for (uint32_t slot = 0; slot < tree_.slots(); ++slot) tree_slots_.push_back(entries_[tree_entries_[tree_.emitter_at(slot)]]);
+}
+
+TriangleWeights LightSampler::flat_weights(const std::vector<Entry>& entries) {
+    std::vector<WeighedTriangle> triangles;
+    for (const Entry& e : entries) {
+        if (e.sphere || e.distant >= 0 || (e.limits && std::isfinite(e.limits->max_distance))) return {};
+        triangles.push_back({e.a, e.b, e.c, e.normal, e.centre, e.power, e.area, e.reach});
+    }
+    return TriangleWeights(triangles);
 }
 
 void LightSampler::make_cdf() {

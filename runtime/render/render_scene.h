@@ -14,6 +14,7 @@
 #include "runtime/render/bsdf.h"
 #include "runtime/render/function_patterns.h"
 #include "runtime/render/light_tree.h"
+#include "runtime/render/triangle_weights.h"
 #include "runtime/render/medium.h"
 #include "runtime/render/surface.h"
 #include "runtime/scene/scene.h"
@@ -172,6 +173,11 @@ public:
         }
         if (entries_.size() > kLocalChoiceMax) {  // and no tree: more distant sources than that
             lw.by_power = true;
+            return lw;
+        }
+        if (!triangles_.empty()) {
+            triangles_.weigh(x, horizon, lw.w);
+            for (size_t i = 0; i < entries_.size(); ++i) lw.total += lw.w[i];
             return lw;
         }
         for (size_t i = 0; i < entries_.size(); ++i) {
@@ -353,6 +359,9 @@ private:
                            .limits = e.limits};
     }
     void make_cdf();  // cdf_ and each entry's pdf_area from the entries' power
+    /// The entries' weights in vector code; empty unless every one is a flat emitter with no
+    /// limit to its reach (the rule local_weight() applies to those).
+    static TriangleWeights flat_weights(const std::vector<Entry>& entries);
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
     LightTree tree_;                      // over the local entries, when there are more than kLocalChoiceMax entries
@@ -361,6 +370,7 @@ private:
     // memory (read through two indices, each emitter's weight waited on a cache miss).
     std::vector<Entry> tree_slots_;
     std::vector<size_t> distant_entries_; // with the tree: the distant entries
+    TriangleWeights triangles_;  // when every entry is a flat emitter without a distance limit, and no tree: weights_at in vector code
     std::vector<std::unique_ptr<EmitterLimits>> limits_;
     DistantEmitters distant_;
     static void sample_sphere(const Entry& e, double u, double v, LightSample& s);  // position, normal
