@@ -14,9 +14,9 @@
 #include "runtime/render/bsdf.h"
 #include "runtime/render/function_patterns.h"
 #include "runtime/render/light_tree.h"
-#include "runtime/render/triangle_weights.h"
 #include "runtime/render/medium.h"
 #include "runtime/render/surface.h"
+#include "runtime/render/triangle_weights.h"
 #include "runtime/scene/scene.h"
 #include "runtime/trace/embree_scene.h"
 
