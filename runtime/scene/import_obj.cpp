@@ -23,9 +23,11 @@
 #include <optional>
 #include <istream>
 #include <streambuf>
+#include <unordered_map>
 #include <utility>
 
 #include "base/input_file.h"
+#include "runtime/base/sampling.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/model_defaults.h"
 #include "runtime/scene/obj_checks.h"
@@ -287,6 +289,14 @@ private:
     std::map<std::string, const SourceFile*> texts_;
 };
 
+// A face corner's three indices, mixed.
+struct CornerHash {
+    size_t operator()(const std::array<int, 3>& c) const {
+        const uint64_t first_two = static_cast<uint64_t>(static_cast<uint32_t>(c[0])) << 32 | static_cast<uint32_t>(c[1]);
+        return static_cast<size_t>(hash_combine(first_two, static_cast<uint32_t>(c[2])));
+    }
+};
+
 }  // namespace
 
 std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, SceneSources& sources) {
@@ -346,6 +356,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     for (auto& m : obj_materials) m.name = with_blanks(m.name);
     size_t errors_before = sink.error_count();
     std::vector<Vec3> positions;
+    positions.reserve(attrib.vertices.size() / 3);
     for (size_t i = 0; i + 2 < attrib.vertices.size(); i += 3) {
         Vec3 v{attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]};
         if (!is_finite(v)) sink.report("E303", nth_line(file, "v ", i / 3), fmt::format("vertex {} has a non-finite coordinate", i / 3 + 1));
@@ -369,10 +380,20 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
     std::string fallback = stem + "/default";
     bool fallback_used = false;
 
+    // A face corner (material, position, texture coordinate, normal) -> its mesh's vertex: the
+    // first corner met at each position in `first_use` (stamped with its shape), any other in
+    // a hash map. An ordered map of every corner was a fifth of loading a 2M-triangle OBJ.
+    struct FirstUse {
+        uint32_t shape = 0;  // 1 + the shape's index; 0: none yet
+        int material = 0, uv = 0, normal = 0;
+        uint32_t vertex = 0;
+    };
+    std::vector<FirstUse> first_use(positions.size());
+    uint32_t shape_stamp = 0;
     for (const auto& shape : obj_shapes) {
+        ++shape_stamp;
         std::map<int, Shape> by_material;  // material id -> mesh
-        // Per material: (position, texture coordinate, normal) indices -> the mesh's vertex.
-        std::map<int, std::map<std::array<int, 3>, uint32_t>> remap;
+        std::map<int, std::unordered_map<std::array<int, 3>, uint32_t, CornerHash>> remap;  // the corners after the first at a position
         std::map<int, bool> all_uvs, all_normals;  // does every corner of the mesh have them?
         size_t offset = 0;
         for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
@@ -380,7 +401,6 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
             int mid = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
             if (mid >= static_cast<int>(material_names.size())) mid = -1;
             Shape& mesh = by_material[mid];
-            auto& ids = remap[mid];
             all_uvs.try_emplace(mid, true), all_normals.try_emplace(mid, true);
             if (n == 3) {
                 std::array<uint32_t, 3> tri{};
@@ -396,7 +416,18 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
                     const int ni = index.normal_index >= 0 && 3 * size_t(index.normal_index) + 2 < attrib.normals.size() ? index.normal_index : -1;
                     all_uvs[mid] = all_uvs[mid] && ti >= 0;
                     all_normals[mid] = all_normals[mid] && ni >= 0;
-                    auto [it, fresh] = ids.try_emplace({vi, ti, ni}, static_cast<uint32_t>(mesh.vertices.size()));
+                    const uint32_t next = static_cast<uint32_t>(mesh.vertices.size());
+                    FirstUse& use = first_use[static_cast<size_t>(vi)];
+                    bool fresh = false;
+                    if (use.shape != shape_stamp) {
+                        use = {shape_stamp, mid, ti, ni, next};
+                        fresh = true;
+                    }
+                    uint32_t vertex = use.vertex;
+                    if (!fresh && (use.material != mid || use.uv != ti || use.normal != ni)) {
+                        const auto [it, added] = remap[mid].try_emplace({vi, ti, ni}, next);
+                        fresh = added, vertex = it->second;
+                    }
                     if (fresh) {
                         mesh.vertices.push_back(positions[static_cast<size_t>(vi)]);
                         const size_t t = static_cast<size_t>(std::max(ti, 0)), nn = static_cast<size_t>(std::max(ni, 0));
@@ -407,7 +438,7 @@ std::optional<Scene> import_obj(const std::string& path, DiagnosticSink& sink, S
                             mesh.colors.push_back(imported_vertex_color(attrib.colors[c], attrib.colors[c + 1], attrib.colors[c + 2]));
                         }
                     }
-                    tri[k] = it->second;
+                    tri[k] = vertex;
                 }
                 if (valid) mesh.triangles.push_back(tri);
             }

@@ -19,12 +19,13 @@ struct Word {
     uint32_t begin = 0;
 };
 
-// The words of line `line` of `file`, `#` comments dropped.
-std::vector<Word> words_of(const SourceFile& file, uint32_t line) {
+// The words of line `line` of `file`, `#` comments dropped, into `out` (one vector for all of
+// a file's lines: a vector a line was a malloc per line of a 100 MB OBJ).
+void words_of(const SourceFile& file, uint32_t line, std::vector<Word>& out) {
     std::string_view t = file.line_text(line);
     if (auto hash = t.find('#'); hash != std::string_view::npos) t = t.substr(0, hash);
     const uint32_t start = file.line_start(line);
-    std::vector<Word> out;
+    out.clear();
     size_t i = 0;
     while (i < t.size()) {
         while (i < t.size() && (t[i] == ' ' || t[i] == '\t' || t[i] == '\r')) ++i;
@@ -32,16 +33,25 @@ std::vector<Word> words_of(const SourceFile& file, uint32_t line) {
         while (i < t.size() && t[i] != ' ' && t[i] != '\t' && t[i] != '\r') ++i;
         if (i > b) out.push_back({t.substr(b, i - b), start + static_cast<uint32_t>(b)});
     }
+}
+std::vector<Word> words_of(const SourceFile& file, uint32_t line) {
+    std::vector<Word> out;
+    words_of(file, line, out);
     return out;
 }
 
 SourceSpan span_of(const SourceFile& file, const Word& w) { return {&file, w.begin, w.begin + static_cast<uint32_t>(w.text.size())}; }
 
 // A number word: false (and said) unless the whole word is a finite number in [lo, hi].
-bool number(const SourceFile& file, const Word& w, const std::string& what, double lo, double hi, DiagnosticSink& sink) {
+bool number(const SourceFile& file, const Word& w, std::string_view what, double lo, double hi, DiagnosticSink& sink) {
+    // from_chars first (no copy, no locale): a word it reads whole strtod reads to the same
+    // value; any other (a '+', hex, out of range) goes to strtod, which says what is wrong.
+    double v = 0;
+    const auto [stop, ec] = std::from_chars(w.text.data(), w.text.data() + w.text.size(), v);
+    if (ec == std::errc{} && stop == w.text.data() + w.text.size() && std::isfinite(v) && v >= lo && v <= hi) return true;
     const std::string text(w.text);
     char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
+    v = std::strtod(text.c_str(), &end);
     if (end != text.c_str() + text.size() || text.empty()) {
         sink.report("E302", span_of(file, w), fmt::format("{}: '{}' is not a number", what, printable(text)));
         return false;
@@ -94,8 +104,9 @@ void check_obj_text(const SourceFile& obj, DiagnosticSink& sink) {
     }
     size_t v = 0, vt = 0, vn = 0;
     const size_t errors_before = sink.error_count();
+    std::vector<Word> w;
     for (uint32_t line = 1; line <= obj.line_count() && sink.error_count() - errors_before < 100; ++line) {
-        const std::vector<Word> w = words_of(obj, line);
+        words_of(obj, line, w);
         if (w.empty()) continue;
         const std::string_view key = w[0].text;
         if (key == "v" || key == "vt" || key == "vn") {
@@ -130,8 +141,10 @@ void check_obj_text(const SourceFile& obj, DiagnosticSink& sink) {
 
 std::vector<MaterialLibrary> material_libraries(const SourceFile& obj, const std::string& dir) {
     std::vector<MaterialLibrary> out;
+    std::vector<Word> w;
     for (uint32_t line = 1; line <= obj.line_count(); ++line) {
-        const std::vector<Word> w = words_of(obj, line);
+        if (obj.line_text(line).find("mtllib") == std::string_view::npos) continue;
+        words_of(obj, line, w);
         if (w.empty() || w[0].text != "mtllib") continue;
         for (size_t k = 1; k < w.size(); ++k)
             out.push_back({(std::filesystem::path(dir) / std::string(w[k].text)).string(), span_of(obj, w[k])});

@@ -229,5 +229,28 @@ TEST_F(SceneObj, VertexColoursAreReadWhenEveryVertexHasThem) {
     EXPECT_TRUE(r.scene->shapes[0].colors.empty());
 }
 
+// A face corner is a mesh vertex of its own per distinct (position, texture coordinate,
+// normal) within its object and material: a seam's second corner, met again, is the vertex
+// made the first time; a position another object uses again is a vertex of that object's.
+TEST_F(SceneObj, CornersShareAVertexWithinTheirObjectOnly) {
+    std::ofstream(dir_ / "s.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+                                     "o a\nf 1/1 2/2 3/3\nf 1/5 3/3 4/4\nf 1/5 4/4 2/2\nf 1/1 3/3 4/4\n"
+                                     "o b\nf 4/4 1/5 3/3\n";
+    auto r = testing::load_path((dir_ / "s.obj").string());
+    ASSERT_TRUE(r.scene) << (r.diagnostics.empty() ? "" : r.diagnostics[0].message);
+    ASSERT_EQ(r.scene->shapes.size(), 2u);
+    const Shape& a = r.scene->shapes[0];
+    const Shape& b = r.scene->shapes[1];
+    ASSERT_EQ(a.vertices.size(), 5u);  // 1/1, 2/2, 3/3, 1/5, 4/4
+    const std::vector<std::array<uint32_t, 3>> a_triangles = {{0, 1, 2}, {3, 2, 4}, {3, 4, 1}, {0, 2, 4}};
+    EXPECT_EQ(a.triangles, a_triangles);
+    EXPECT_EQ(a.uvs[3], (std::array<double, 2>{0.5, 0.5}));
+    ASSERT_EQ(b.vertices.size(), 3u);
+    const std::vector<std::array<uint32_t, 3>> b_triangles = {{0, 1, 2}};
+    EXPECT_EQ(b.triangles, b_triangles);
+    EXPECT_EQ(b.uvs[1], (std::array<double, 2>{0.5, 0.5}));
+}
+
 }  // namespace
 }  // namespace crex
