@@ -39,6 +39,8 @@ INSTANTIATE_TEST_SUITE_P(
         RadCase{"xform_option_after_transform", L "!xform -t 1 0 0 -n late a.rad\n", "E303", 2, 17, "'-n' is not an option here"},
         RadCase{"xform_bad_number", L "!xform -rz ninety a.rad\n", "E302", 2, 12, "expected a number, got 'ninety'"},
         RadCase{"xform_bad_array", L "!xform -a 0 -t 1 0 0 a.rad\n", "E303", 2, 11, "count of copies"},
+        RadCase{"xform_arrays_of_arrays", L "!xform -a 1000 -t 1 0 0 -a 1000 -t 0 1 0 -a 3 -t 0 0 1 a.rad\n", "E303", 2, 8,
+                "its -a arrays make 3e+06 copies, more than 1000000"},
         RadCase{"xform_arg_file", L "!xform -f args.txt\n", "E307", 2, 8, "xform -f"},
         // Generators.
         RadCase{"genbox_size", L "!genbox l b 1 0 1\n", "E303", 2, 15, "sizes must be > 0"},
@@ -153,6 +155,16 @@ INSTANTIATE_TEST_SUITE_P(
         RadCase{"zero_radius_sphere", "void light l 0 0 3 1 1 1\nl sphere s 0 0 4 0 0 0 0\n", "E306", 2, 3, "radius must be > 0"},
         RadCase{"polygon_arity", "void light l 0 0 3 1 1 1\nl polygon p 0 0 7 0 0 0 1 1 1 2\n", "E303", 2, 3, "3 numbers per vertex"}),
     [](const ::testing::TestParamInfo<RadCase>& p) { return std::string(p.param.name); });
+
+// An array of copies that each fail the same way (here: a file that is not there) says so
+// once, and stops: a million copies were a million errors, and nested arrays ran for hours.
+TEST(RadianceArrays, ACopyThatFailsIsSaidOnce) {
+    auto r = testing::load_rad_text(L "!xform -a 1000 -t 1 0 0 -a 1000 -t 0 1 0 missing.rad\n");
+    EXPECT_FALSE(r.scene);
+    size_t e308 = 0;
+    for (const auto& d : r.diagnostics) e308 += d.code == "E308";
+    EXPECT_EQ(e308, 1u);
+}
 
 #undef L
 

@@ -21,6 +21,8 @@ constexpr int kMaxNesting = 32;
 // A scene that expands to more primitives than this is a runaway array, not a model: refuse
 // it before it exhausts memory.
 constexpr size_t kMaxPrimitives = 4000000;
+// The copies one xform command's -a arrays make, together.
+constexpr double kMaxCopies = 1e6;
 
 struct Place {
     XformContext context;
@@ -181,17 +183,31 @@ private:
 
     // `xform ...` as the first stage: its -a arrays repeat it; each copy reads its files.
     void xform(const CommandWords& w, const Place& place, bool piped) {
+        // Arrays of arrays multiply: their product is the copies made, refused past kMaxCopies
+        // (a command of a few nested arrays ran for hours).
+        double copies = 1;
+        for (size_t i = 1; i + 1 < w.size(); ++i) {
+            double n = 0;
+            if (w[i].text == "-a" && parse_real(w[i + 1].text, n) && n >= 1) copies *= n;
+        }
         for (size_t i = 1; i < w.size(); ++i) {
             if (w[i].text != "-a") continue;
             double n = 0;
-            if (i + 1 >= w.size() || !parse_real(w[i + 1].text, n) || n != std::floor(n) || n < 1 || n > 1e6) {
+            if (i + 1 >= w.size() || !parse_real(w[i + 1].text, n) || n != std::floor(n) || n < 1 || n > kMaxCopies) {
                 sink_.report("E303", w[std::min(i + 1, w.size() - 1)].span, "xform -a: expected a count of copies in 1 .. 1000000");
+                return;
+            }
+            if (copies > kMaxCopies) {
+                sink_.report("E303", w[i].span, fmt::format("xform: its -a arrays make {:.3g} copies, more than {}", copies, kMaxCopies));
                 return;
             }
             // As xform does: copy k replaces "-a n" by "-i k" and is named "<name>.k" (or "a<k>").
             bool named = false;
             for (size_t k = 2; k < w.size(); ++k) named = named || w[k - 1].text == "-n";
-            for (int k = 0; k < static_cast<int>(n) && !stopped_; ++k) {
+            const size_t errors_before = sink_.error_count();
+            // A copy that fails (a file that is not there, a bad option) fails in every copy:
+            // said once, not a million times.
+            for (int k = 0; k < static_cast<int>(n) && !stopped_ && sink_.error_count() == errors_before; ++k) {
                 CommandWords copy = w;
                 copy[i].text = "-i";
                 copy[i + 1].text = std::to_string(k);
