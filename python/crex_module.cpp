@@ -24,6 +24,7 @@
 
 #include "base/render_json.h"
 #include "base/render_text.h"
+#include "compiler/pipeline/stdlib_pipelines.h"
 #include "compiler/sched/print.h"
 #include "runtime/runtime.h"
 
@@ -134,22 +135,24 @@ PythonScene scene_of(const py::object& scene, const std::string& fallback = "") 
     return load_scene(fallback.empty() ? "builtin:cornell" : fallback);
 }
 
-// A pipeline file's text, a path to one (.pipe), or a crex.
+// A pipeline file's text, a path to one (.pipe), a stdlib pipeline's name, or a crex.
 PythonPlan compile(const std::string& source, const py::object& scene, const std::string& pipeline_name) {
     PythonPlan out;
     DiagnosticSink sink;
     std::string name = "<pipeline>", text = source;
-    if (is_file(source, ".pipe")) {
+    const pipeline::PipelineArgument stdlib = pipeline::pipeline_argument(source);  // "sel_rp", not a crex
+    if (is_file(source, ".pipe") || stdlib.stdlib) {
         std::string error;
-        auto read = read_input(source, error);
+        auto read = read_input(stdlib.path, error);
         if (!read) raise_input_error(error);
-        name = source, text = std::move(*read);
+        name = stdlib.path, text = std::move(*read);
     }
     const bool pipeline = name != "<pipeline>" || text.find("pipeline") != std::string::npos;
     if (!pipeline) {
         out.source = std::make_shared<SourceFile>("<crex>", text);
         CompiledCrex compiled = compile_crex(*out.source, sink);
-        if (!compiled.program || sink.has_errors()) raise_compile_error(sink, "the crex has errors");
+        if (!compiled.program || sink.has_errors())
+            raise_compile_error(sink, stdlib.hint.empty() ? "the crex has errors" : "the crex has errors; if a pipeline was meant: " + stdlib.hint);
         out.scene = scene_of(scene);
         const SceneFacts facts = scene_facts(out.scene->spec, out.scene->scene());
         out.crex = plan_crex(text, compiled, &facts);
@@ -504,7 +507,7 @@ PYBIND11_MODULE(_crex, m) {
 
     m.def("load_scene", &crex::python::load_scene, py::arg("spec"), "Loads a scene: a .json, .rad or .obj file, or builtin:NAME.");
     m.def("compile", &crex::python::compile, py::arg("source"), py::arg("scene") = py::none(), py::arg("pipeline") = "",
-          "Compiles a pipeline (its text or a .pipe path) or a crex for a scene; raises CompileError with the diagnostics.");
+          "Compiles a pipeline (its text, a .pipe path or a stdlib pipeline's name) or a crex for a scene; raises CompileError with the diagnostics.");
     m.def("check", &crex::python::check, py::arg("text"), py::arg("scene") = py::none(), "The diagnostics of a crex or a pipeline's text.");
     m.def("run", &crex::python::run, py::arg("plan"), py::arg("scene") = py::none(), py::arg("progress") = py::none(), py::arg("output") = py::none(),
           py::arg("options") = py::dict(), "Renders a plan (see crex.run).");

@@ -50,9 +50,9 @@ int run_check(const CheckOptions& opt) {
     }
     std::vector<std::unique_ptr<SourceFile>> sources;
     for (const auto& e : opt.expressions) sources.push_back(std::make_unique<SourceFile>("<expr>", e));
-    for (const auto& path : opt.files) {
-        std::string error;
-        auto text = read_input(path, error);
+    for (const auto& given : opt.files) {
+        std::string path, error;
+        auto text = read_input_or_stdlib(given, path, error);  // a file, or a stdlib pipeline by name
         if (!text) {
             std::cerr << "crex check: error: " << error << "\n";
             return kExitFailure;
@@ -153,7 +153,7 @@ Runner add_check_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("check", "Check crex expressions and crex files for errors");
     cmd->add_option("-e,--crex", opt->expressions, "A crex to check (repeatable), e.g. -e 'TT{TTMRSGD}2'")
         ->allow_extra_args(false);  // else CLI11 reads '[RS]' as a list literal
-    cmd->add_option("files", opt->files, "Pipeline files (.pipe) or crex files (one crex per line, '#' comments); '-' reads stdin");
+    cmd->add_option("files", opt->files, "Pipeline files (.pipe), stdlib pipelines by name (sel_quiet), or crex files (one crex per line, '#' comments); '-' reads stdin");
     cmd->add_option("--format", opt->format, "Diagnostics as text (stderr) or json (stdout)")
         ->check(CLI::IsMember({"text", "json"}));
     cmd->add_flag("--explain", opt->explain, "Print the steps each valid crex executes, in words");

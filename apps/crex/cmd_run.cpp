@@ -7,13 +7,14 @@
 #include "apps/crex/commands.h"
 #include "apps/crex/run_command.h"
 #include "apps/crex/run_flags.h"
+#include "compiler/pipeline/stdlib_pipelines.h"
 
 namespace crex::app {
 
 Runner add_run_command(CLI::App& app) {
     auto opt = std::make_shared<RunFlags>();
     CLI::App* cmd = app.add_subcommand("run", "Render a scene with a crex on the component-bin renderer");
-    cmd->add_option("plan", opt->plan, "A pipeline file (.pipe), or a plan made by 'crex plan --format json' (instead of -e)");
+    cmd->add_option("plan", opt->plan, "A pipeline file (.pipe), a stdlib pipeline by name (sel_quiet: listed below), or a plan made by 'crex plan --format json' (instead of -e)");
     cmd->add_option("--scene", opt->scene, "Scene: file.json, file.rad, file.rif, file.obj, file.gltf, file.glb or builtin:NAME "
                                            "(default: the plan's, else builtin:cornell)");
     cmd->add_option("--view", opt->view, "A RADIANCE view file (-vp -vd -vu -vh -vv -vo, view types -vtv -vtl -vta -vth -vts -vtc) replacing the scene's camera, as rpict -vf");
@@ -190,14 +191,14 @@ Runner add_run_command(CLI::App& app) {
     cmd->add_flag("--high-quality-without-distractors", opt->high_quality_without_distractors,
                   "With a pipeline's --frames: a frame that shows no shape tagged as an on-screen distractor renders at high "
                   "quality, one that shows one selectively (Case II: the distractor draws the eye)");
-    cmd->footer(R"(
+    cmd->footer([] { return R"(
 Camera rays are traced first; then the crex runs over the component bins (D G S T R M) and
 rays still waiting when it ends are dropped (--ambient stands in for waiting D rays).
 A pipeline file (or its plan) runs all three stages: the preview at the base spp, the guidance
 maps, then the selective pass with its variables per pixel (docs/guidance.md); --spp then sets
 the preview's samples, and flags override the pipeline's settings.
-
-Examples:
+)" + pipeline::stdlib_pipelines_said(); });  // when shown: the install moves the stdlib
+    cmd->footer(R"(Examples:
   crex run                                          built-in Cornell box, (TTMRSGD)*, 256x256
   crex run -e 'TT' --spp 4 -o tt.png                direct light plus two glass interfaces
   crex run --scene examples/scenes/corridor/scene.json -e '(DGSTR)*' --size 320x240
@@ -205,16 +206,16 @@ Examples:
   crex plan -e '(TTMRSGD)*' --scene S --format json -o p.json && crex run p.json   a kept plan
   crex run -e '(TT[RS]G)*D' --save-profile p.json            measure, then render in 25 % of the time:
   crex run -e '(TT[RS]G)*D' --profile p.json --budget 25%
-  crex run stdlib/pipelines/sel_rp.pipe --maps out/maps      saliency-driven rays per pixel, with its maps
+  crex run sel_rp --maps out/maps                   the stdlib's saliency-driven rays per pixel, with its maps
   crex run examples/pipelines/cornell_prog.pipe              writes what its output { } block names
   crex run examples/pipelines/cornell_prog.pipe --size 128x128 --format json
   crex run --size 512x512 --resume out/render.partial.exr   finish a run that failed under mpirun
   crex run --scene examples/scenes/corridor/scene.json --camera-path examples/paths/corridor_walk.json \
       --frames 0..59 --ic --size 320x240 --spp 4 -o out/walk.png          a walk, NAME.0000.png to NAME.0059.png
-  crex run stdlib/pipelines/prog_all.pipe --scene examples/scenes/corridor/scene.json \
+  crex run prog_all --scene examples/scenes/corridor/scene.json \
       --camera-path examples/paths/corridor_walk.json --frames 0..59 --high-quality-without-distractors -o out/walk.png
                                                     Case II: frames without the poster on screen at high quality
-  crex run stdlib/pipelines/prog_all.pipe --scene examples/scenes/corridor/scene.json \
+  crex run prog_all --scene examples/scenes/corridor/scene.json \
       --camera-path examples/paths/corridor_walk.json --frames 0..59 --reuse-frames 8 -o out/walk.exr
                                                     each frame inherits up to 8 samples from the one before
 

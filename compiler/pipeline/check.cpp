@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <set>
 
@@ -13,6 +12,7 @@
 #include "compiler/crex/compile.h"
 #include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/resolve.h"
+#include "compiler/pipeline/stdlib_pipelines.h"
 #include "compiler/pipeline/settings_table.h"
 
 namespace crex::pipeline {
@@ -502,21 +502,6 @@ private:
 };
 
 }  // namespace
-
-const std::vector<std::string>& stdlib_pipeline_names() {
-    static const std::vector<std::string> names = [] {
-        // Every stdlib/pipelines/NAME.pipe, where `extends NAME` looks (resolve.cpp). (W202, a
-        // thesis renderer not written yet, is retired: capict was the last.)
-        std::vector<std::string> out;
-        std::error_code ec;
-        for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(stdlib_dir()) / "pipelines", ec))
-            if (entry.path().extension() == ".pipe") out.push_back(entry.path().stem().string());
-        std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
-        return out;
-    }();
-    return names;
-}
 
 std::vector<std::string> guidance_operator_names() {
     std::vector<std::string> out;

@@ -14,9 +14,6 @@
 
 namespace crex::pipeline {
 
-/// Names of the thesis's renderers (spec/pipeline.md §5), which `extends` may name: the files
-/// of stdlib/pipelines and the few not written yet.
-const std::vector<std::string>& stdlib_pipeline_names();
 /// The guidance operators the checker knows (registry.h; for docs, `--help` and did-you-mean).
 std::vector<std::string> guidance_operator_names();
 

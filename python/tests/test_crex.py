@@ -42,6 +42,14 @@ def test_a_crex_error_is_raised_with_its_code_line_and_column():
     assert "E004" in str(caught.value)
 
 
+def test_a_stdlib_pipeline_compiles_by_its_name_alone():
+    by_name = crex.compile("sel_rp", scene="builtin:cornell")
+    assert by_name.to_dict() == crex.compile(SEL_RP, scene="builtin:cornell").to_dict()
+    with pytest.raises(crex.CompileError) as caught:  # neither a crex nor a stdlib name: both said
+        crex.compile("sel_r")
+    assert "did you mean 'sel_rp'?" in str(caught.value), str(caught.value)
+
+
 def test_a_pipeline_error_is_located_in_the_pipeline_text():
     text = 'pipeline broken {\n  preselective { crex "TT" spp 4 }\n  guidance { m = saliency(nothing) }\n  selective { vary spp 1 .. 8 by m }\n}\n'
     with pytest.raises(crex.CompileError) as caught:

@@ -13,6 +13,7 @@
 #include "base/input_file.h"
 #include "base/render_json.h"
 #include "base/render_text.h"
+#include "compiler/pipeline/stdlib_pipelines.h"
 #include "runtime/io/image_io.h"
 #include "runtime/report/reference_cache.h"
 #include "runtime/scene/census.h"
@@ -24,6 +25,14 @@
 namespace crex {
 
 std::optional<std::string> read_input(const std::string& path, std::string& error) { return read_input_file(path, error, kMaxTextInputBytes); }
+
+std::optional<std::string> read_input_or_stdlib(const std::string& arg, std::string& path, std::string& error) {
+    const pipeline::PipelineArgument argument = pipeline::pipeline_argument(arg);
+    path = argument.path;
+    auto text = read_input(path, error);
+    if (!text && !argument.hint.empty()) error += "; " + argument.hint;
+    return text;
+}
 
 std::string input_kind(const std::string& path, const std::string& text) {
     const std::string ext = lower_extension(path);
@@ -52,10 +61,10 @@ SceneFacts scene_facts(const std::string& spec, const Scene& scene) {
     return {spec, census_hash_hex(census.hash), census.spawnable, census.tags, census.has_medium};
 }
 
-std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, const std::string& pipeline_name,
+std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& file, const std::string& pipeline_name,
                                                    const std::string& scene_override, DiagnosticSink& sink) {
-    std::string error;
-    auto text = read_input(path, error);
+    std::string path, error;
+    auto text = read_input_or_stdlib(file, path, error);
     if (!text) {
         auto in = std::make_unique<PipelineInput>();
         in->failure = error;
@@ -104,7 +113,7 @@ RunInputs read_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
     RunInputs in;
     std::string expected_census;
     in.scene_spec = spec.scene;
-    if (is_pipeline_file(spec.file)) {
+    if (is_pipeline_file(pipeline::pipeline_argument(spec.file).path)) {  // a .pipe, or a stdlib pipeline by name
         auto pipe = load_pipeline_input(spec.file, "", spec.scene, sink);
         in.source = std::move(pipe->source);
         in.scene = std::move(pipe->scene);
@@ -118,8 +127,8 @@ RunInputs read_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
             in.scene_spec = pipe->scene_spec;
         }
     } else if (!spec.file.empty()) {
-        std::string read_error;
-        auto text = read_input(spec.file, read_error);
+        std::string path, read_error;
+        auto text = read_input_or_stdlib(spec.file, path, read_error);
         if (!text) {
             in.failure = read_error;
             return in;

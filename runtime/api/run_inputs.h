@@ -23,6 +23,10 @@ namespace crex {
 /// The whole file as bytes (`-`: standard input); nullopt with `error` set if it cannot be read.
 /// Bounded as base/input_file.h says (kMaxTextInputBytes).
 std::optional<std::string> read_input(const std::string& path, std::string& error);
+/// A pipeline argument's text: the file `arg`, or the stdlib pipeline a bare name names
+/// (`sel_quiet`: compiler/pipeline/stdlib_pipelines.h), its path in `path`. A name that is
+/// neither says in `error` what the stdlib has.
+std::optional<std::string> read_input_or_stdlib(const std::string& arg, std::string& path, std::string& error);
 
 /// What a file holds when it is not what the command reads, from its name and text: "a plan"
 /// (the JSON of 'crex plan --format json'), "a profile", "a scene" (.rad, .obj, .mtl, or JSON
@@ -52,7 +56,9 @@ struct PipelineInput {
     std::string failure;                ///< the file or scene could not be read
 };
 
-std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& path, const std::string& pipeline_name,
+/// A pipeline file (or a stdlib pipeline by its name alone, read_input_or_stdlib), checked,
+/// resolved and planned for its scene or `scene_override`.
+std::unique_ptr<PipelineInput> load_pipeline_input(const std::string& file, const std::string& pipeline_name,
                                                    const std::string& scene_override, DiagnosticSink& sink);
 /// The same for a pipeline already read (`crex check` reads its files first, stdin too).
 std::unique_ptr<PipelineInput> load_pipeline_input(std::unique_ptr<SourceFile> source, const std::string& pipeline_name,

@@ -15,12 +15,18 @@ LD_DEBUG=files "$prefix/bin/crex" run share/crex/stdlib/pipelines/sel_rp.pipe --
 test -s out.png
 grep -q "file=$prefix/lib[^ ]*/crex/libcrex_oiio.so" ld.log || { echo "the installed image plugin was not the one loaded"; exit 1; }
 
-# `extends` reads the installed stdlib: without its sel_rp, a pipeline extending it is refused.
+# A stdlib pipeline by its name alone, from any folder.
+mkdir elsewhere && (cd elsewhere && "$prefix/bin/crex" run sel_quiet --size 16x12 -q -o by_name.png) && test -s elsewhere/by_name.png
+
+# `extends` reads the installed stdlib: without its sel_rp, a pipeline extending it is refused,
+# and so is sel_rp by name.
 printf 'pipeline mine extends sel_rp {\n  preselective { spp 2 }\n}\n' > mine.pipe
 "$prefix/bin/crex" check -q mine.pipe
 rm share/crex/stdlib/pipelines/sel_rp.pipe
 if "$prefix/bin/crex" check -q mine.pipe 2> check.log; then echo "extends read a stdlib outside the prefix"; exit 1; fi
 grep -q "E210" check.log
+if "$prefix/bin/crex" run sel_rp --size 8x8 -q -o x.png 2> name.log; then echo "crex run sel_rp read a stdlib outside the prefix"; exit 1; fi
+grep -q "nor is it a stdlib pipeline" name.log
 
 # The man page (a section a command, from their --help) and bash completion (which reads the
 # installed tool's help), where man and bash-completion look.

@@ -14,6 +14,7 @@
 #include "compiler/plan/pipeline_plan.h"
 #include "compiler/pipeline/registry.h"
 #include "compiler/pipeline/settings_table.h"
+#include "compiler/pipeline/stdlib_pipelines.h"
 #include "runtime/pipeline/svt.h"
 
 namespace crex {
