@@ -44,6 +44,7 @@ test -s share/doc/crex/crex-language.md || { echo "the guides are not installed"
 [ "$(complete_words ru)" = run ] || { echo "completion of 'crex ru' gave '$(complete_words ru)'"; exit 1; }
 [ "$(complete_words run --pro)" = "--profile --progress" ] || { echo "completion of 'crex run --pro': '$(complete_words run --pro)'"; exit 1; }
 [ "$(complete_words run --progress p)" = plain ] || { echo "completion of 'crex run --progress p': '$(complete_words run --progress p)'"; exit 1; }
+[ "$(complete_words run sel_q)" = sel_quiet ] || { echo "completion of 'crex run sel_q': '$(complete_words run sel_q)'"; exit 1; }
 
 [ -n "$python" ] || exit 0
 # The package imports from the prefix, renders, and writes through the installed plugin.

@@ -1,6 +1,6 @@
 # bash completion for crex: its commands, each command's options and the values of an option
-# with a closed set (--progress auto|bar|plain|none), all read from the tool's own help, so
-# they cannot drift from the tool; file names elsewhere. Installed to
+# with a closed set (--progress auto|bar|plain|none), the stdlib's pipelines, all read from the
+# tool's own help, so they cannot drift from the tool; file names elsewhere. Installed to
 # share/bash-completion/completions/crex; to try it from a build: source tools/completion/crex.bash
 _crex() {
     local cur=${COMP_WORDS[COMP_CWORD]} prev=${COMP_WORDS[COMP_CWORD-1]} crex=${COMP_WORDS[0]} cmd="" i
@@ -36,5 +36,11 @@ _crex() {
     fi
     compopt -o filenames 2> /dev/null
     mapfile -t COMPREPLY < <(compgen -f -- "$cur")
+    # A pipeline argument may be a stdlib pipeline's name: the names 'crex run --help' lists.
+    if [[ $cmd == @(run|plan|check) && $prev != -* ]]; then
+        local names
+        names=$("$crex" help run 2>/dev/null | sed -n "/^working folder comes first). The stdlib's/,/^$/{/^  /p}")
+        mapfile -t -O "${#COMPREPLY[@]}" COMPREPLY < <(compgen -W "$names" -- "$cur")
+    fi
 }
 complete -F _crex crex
