@@ -231,7 +231,7 @@ Examples:
   crex plan -e '(TT[RS]G)*D' -o plan.png                           a picture of the plan (Graphviz)
   crex plan examples/pipelines/cornell_prog.pipe -o plan.svg         a pipeline's execution graph
   crex plan examples/pipelines/cornell_prog.pipe --format dot        ... as DOT text on stdout
-  crex plan stdlib/pipelines/gold.pipe --scene builtin:cornell_diffuse
+  crex plan gold --scene builtin:cornell_diffuse                     the stdlib's gold pipeline, by name
 
 Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O failure (or no Graphviz for svg, png).)");
     return [opt, crex] {

@@ -354,7 +354,7 @@ Examples:
   crex reference builtin:cornell --size 960x540 --windows auto --spp 4096 --seed 1 -o ref.exr
   crex reference --accumulate ref.exr --spp 4096           8192 spp in all
   crex compare render.exr ref.exr                        scored on the windows
-  crex run stdlib/pipelines/sel_rp.pipe --size 128x128 --reference auto --report out/report
+  crex run sel_rp --size 128x128 --reference auto --report out/report
 
 Exit status: 0 ok, 1 errors in the scene (or a reference of another scene), 2 usage, 3 I/O
 or runtime failure.)");
