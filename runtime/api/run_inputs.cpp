@@ -113,8 +113,9 @@ RunInputs read_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
     RunInputs in;
     std::string expected_census;
     in.scene_spec = spec.scene;
-    if (is_pipeline_file(pipeline::pipeline_argument(spec.file).path)) {  // a .pipe, or a stdlib pipeline by name
-        auto pipe = load_pipeline_input(spec.file, "", spec.scene, sink);
+    const pipeline::PipelineArgument argument = pipeline::pipeline_argument(spec.file);  // a stdlib pipeline by name too
+    if (is_pipeline_file(argument.path)) {
+        auto pipe = load_pipeline_input(argument.path, "", spec.scene, sink);
         in.source = std::move(pipe->source);
         in.scene = std::move(pipe->scene);
         if (!pipe->failure.empty()) {
@@ -127,10 +128,10 @@ RunInputs read_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
             in.scene_spec = pipe->scene_spec;
         }
     } else if (!spec.file.empty()) {
-        std::string path, read_error;
-        auto text = read_input_or_stdlib(spec.file, path, read_error);
+        std::string read_error;
+        auto text = read_input(spec.file, read_error);
         if (!text) {
-            in.failure = read_error;
+            in.failure = argument.hint.empty() ? read_error : read_error + "; " + argument.hint;
             return in;
         }
         // A scene given as the plan (`crex run scene.rad`) was read as a plan: "E401 malformed JSON".
