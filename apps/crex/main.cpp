@@ -111,14 +111,12 @@ int main(int argc, char** argv) {
     std::ostringstream silent;
     try {
         app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return speaks ? app.exit(e) : app.exit(e, silent, silent);
-    } catch (const CLI::CallForAllHelp& e) {
-        return speaks ? app.exit(e) : app.exit(e, silent, silent);
-    } catch (const CLI::CallForVersion& e) {
+    } catch (const CLI::Success& e) {  // --help, --help-all, --version
         return speaks ? app.exit(e) : app.exit(e, silent, silent);
     } catch (const CLI::ParseError& e) {
-        return speaks ? usage_error(app, e, argc, argv) : kExitUsage;
+        if (speaks && argc == 1)  // `crex` alone, as `git` alone: the commands there are
+            std::cerr << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal) << "\ncrex: error: a command is required\n";
+        return speaks && argc > 1 ? usage_error(app, e, argc, argv) : kExitUsage;
     }
     try {
         for (auto* sub : app.get_subcommands()) return runners.at(sub->get_name())();

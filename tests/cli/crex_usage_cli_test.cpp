@@ -26,6 +26,18 @@ TEST(UsageCli, AMisspelledCommandIsNamedWithTheNearestOne) {
     EXPECT_NE(c.err.find("Did you mean 'check'?"), std::string::npos) << c.err;
 }
 
+// `crex` alone, as `git` alone: the overview of the commands (on stderr, since no command ran),
+// not only "a subcommand is required".
+TEST(UsageCli, NoCommandShowsTheOverviewOfCommands) {
+    auto r = crex_cli({});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    for (const char* command : {"check", "scene-info", "run", "plan", "compare", "reference", "help"})
+        EXPECT_NE(r.err.find(std::string("\n  ") + command + " "), std::string::npos) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find("crex help <command>"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("crex: error: a command is required"), std::string::npos) << r.err;
+}
+
 TEST(UsageCli, AMisspelledFlagGetsTheNearestFlagAndTheCommandsName) {
     auto r = crex_cli({"run", "--sze", "64x64"});
     EXPECT_EQ(r.exit_code, 2);
