@@ -55,12 +55,14 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
     return crex::kExitUsage;
 }
 
+// The commands and what each does (not app.help(): within `crex help` it would show help's own).
+std::string overview(const CLI::App& app) { return app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal); }
+
 // `crex help COMMAND`: that command's --help; `crex help`: the overview; an unknown name is a
 // usage error with the nearest command.
 int help_command(const CLI::App& app, const std::string& topic) {
     if (topic.empty()) {
-        // Not app.help(): it would show the selected subcommand's, this one's.
-        std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal);
+        std::cout << overview(app);
         return crex::kExitOk;
     }
     std::vector<std::string> commands;
@@ -114,8 +116,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::Success& e) {  // --help, --help-all, --version
         return speaks ? app.exit(e) : app.exit(e, silent, silent);
     } catch (const CLI::ParseError& e) {
-        if (speaks && argc == 1)  // `crex` alone, as `git` alone: the commands there are
-            std::cerr << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal) << "\ncrex: error: a command is required\n";
+        if (speaks && argc == 1) std::cerr << overview(app) << "\ncrex: error: a command is required\n";  // `crex` alone, as `git` alone
         return speaks && argc > 1 ? usage_error(app, e, argc, argv) : kExitUsage;
     }
     try {
