@@ -21,7 +21,7 @@ constexpr int kSkyCellsZ = 64, kSkyCellsPhi = 128;
 // ---- distant sources ----------------------------------------------------------------------
 
 DistantEmitters::DistantEmitters(const Scene& scene, double scene_radius, const ScenePatterns* patterns) {
-    scene_area_ = kPi * std::fmax(scene_radius * scene_radius, 1e-12);
+    scene_area_ = kPi * (scene_radius > 0 ? scene_radius * scene_radius : 1.0);  // relative: no floor in units
     for (const DistantLight& l : scene.distant_lights) {
         const Material* m = scene.find_material(l.material);
         if (!m || !(max_component(m->color) > 0)) continue;

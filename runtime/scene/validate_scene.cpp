@@ -108,6 +108,10 @@ void validate_scene(const Scene& scene, DiagnosticSink& sink, const std::functio
     if (is_finite(hi - lo) && length(hi - lo) > kMaxReach)
         sink.report("E303", locate(SIZE_MAX), fmt::format("the scene spans {:.3g} units: more than float rays can represent ({:g})",
                                                           length(hi - lo), kMaxReach));
+    if (length(hi - lo) > 0 && length(hi - lo) < kMinSpan)  // 0: one point, which the shapes' own checks judge
+        sink.report("E303", locate(SIZE_MAX), fmt::format("the scene spans {:.3g} units: less than float rays can resolve ({:g})",
+                                                          length(hi - lo), kMinSpan))
+            .help = "give its lengths in a smaller unit (micrometres instead of metres, say)";
     if (const std::string problem = camera_problem(scene.camera, box); !problem.empty()) {
         Diagnostic& d = sink.report("E303", locate(SIZE_MAX), "camera: " + problem);
         if (problem.find("from the scene") != std::string::npos) d.help = "move the camera closer, or scale the scene down";

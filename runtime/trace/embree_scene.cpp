@@ -92,7 +92,10 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
     for (const auto& s : scene.shapes) expand_bounds(s, lo_, hi_);
     if (!is_finite(lo_) || !is_finite(hi_)) lo_ = hi_ = Vec3{};
     offset_ = (lo_ + hi_) * 0.5;
-    extent_ = std::fmax(length(hi_ - lo_), 1e-6);
+    // Relative at every size the loaders accept (kMinReach .. kMaxReach): a floor of 1e-6 made
+    // the offset 1e-11 in a scene 1e-11 across, and shadow rays shorter than nothing.
+    const double span = length(hi_ - lo_);
+    extent_ = span > 0 && std::isfinite(span) ? span : 1.0;  // a point, or no shapes: any scale
     // Float positions near the origin carry ~6e-8 relative error over the scene's extent:
     // offset new rays by well above that.
     epsilon_ = 1e-5 * extent_;

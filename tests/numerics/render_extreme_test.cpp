@@ -46,6 +46,18 @@ TEST(ExtremeScenes, SceneFarFromTheOriginRendersLikeTheSameSceneAtTheOrigin) {
     EXPECT_NEAR(testing::mean_luminance(b) / testing::mean_luminance(a), 1.0, 0.02);
 }
 
+TEST(ExtremeScenes, ASceneAtAnyAcceptedScaleRendersAsAtUnitScale) {
+    // Ray offsets floored at 1e-11 units (1e-5 of an extent floored at 1e-6): the box 1e-11 across
+    // lost all its direct light (mean 0.21 against 0.40, the lamp alone lit), 1e-10 across 2 %.
+    Scene unit = *builtin_scene("cornell");
+    const double reference = testing::mean_luminance(testing::render_crex(unit, "(TTMRSGD)*", 16, 2).image());
+    for (double k : {1e-11, 1e-7, 1e7}) {
+        std::vector<float> img = testing::render_crex(testing::scaled(unit, k), "(TTMRSGD)*", 16, 2).image();
+        ASSERT_TRUE(testing::all_finite(img)) << k;
+        EXPECT_NEAR(testing::mean_luminance(img) / reference, 1.0, 0.01) << k;
+    }
+}
+
 TEST(ExtremeScenes, DegenerateAndSliverTrianglesAreHarmless) {
     Scene s = testing::furnace_box(0.5, 0.2);
     Shape mesh;

@@ -74,6 +74,17 @@ inline Scene shifted(Scene s, const Vec3& shift) {
     return s;
 }
 
+/// The scene with every length times k (shapes and the camera's place): the same image at any scale.
+inline Scene scaled(Scene s, double k) {
+    for (auto& sh : s.shapes) {
+        sh.center = sh.center * k, sh.min = sh.min * k, sh.max = sh.max * k, sh.p0 = sh.p0 * k, sh.p1 = sh.p1 * k;
+        sh.radius *= k, sh.r0 *= k, sh.r1 *= k;
+        for (auto& v : sh.vertices) v = v * k;
+    }
+    s.camera.position = s.camera.position * k;
+    return s;
+}
+
 inline sched::Program lower_or_die(const std::string& crex) {
     SourceFile f("<test>", crex);
     DiagnosticSink sink;

@@ -253,6 +253,21 @@ TEST(SceneDegeneracy, ACameraBeyondWhatFloatRaysReachIsALocatedError) {
     EXPECT_NE(far.find("E303")->message.find("more than float rays can represent"), std::string::npos) << far.find("E303")->message;
 }
 
+TEST(SceneDegeneracy, ASceneTooSmallForFloatRaysIsALocatedError) {
+    // 1e-15 across, Embree's float products underflow: the box rendered a third as bright, silently.
+    auto tiny = testing::load_json_text("{\"camera\": {\"position\": [0, 0, 4e-15], \"direction\": [0, 0, -1]},\n\"materials\": "
+                                        "[{\"name\": \"w\", \"type\": \"plastic\"}],\n\"shapes\": [{\"type\": \"sphere\", "
+                                        "\"material\": \"w\", \"center\": [0,0,0], \"radius\": 1e-15}]}");
+    EXPECT_FALSE(tiny.scene);
+    ASSERT_NE(tiny.find("E303"), nullptr);
+    EXPECT_NE(tiny.find("E303")->message.find("less than float rays can resolve"), std::string::npos) << tiny.find("E303")->message;
+    // 1e-11 across is within reach: no error.
+    auto small = testing::load_json_text("{\"camera\": {\"position\": [0, 0, 4e-11], \"direction\": [0, 0, -1]},\n\"materials\": "
+                                         "[{\"name\": \"w\", \"type\": \"plastic\"}],\n\"shapes\": [{\"type\": \"sphere\", "
+                                         "\"material\": \"w\", \"center\": [0,0,0], \"radius\": 1e-11}]}");
+    EXPECT_EQ(small.find("E303"), nullptr) << (small.diagnostics.empty() ? "" : small.diagnostics[0].message);
+}
+
 TEST(SceneDegeneracy, ACameraIsJudgedAgainstTheScenesCentreNotTheOrigin) {
     // Every camera a run renders from (--view, --camera, each frame of a path) goes through
     // camera_problem, as the scene's own does.
