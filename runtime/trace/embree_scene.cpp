@@ -92,8 +92,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
     for (const auto& s : scene.shapes) expand_bounds(s, lo_, hi_);
     if (!is_finite(lo_) || !is_finite(hi_)) lo_ = hi_ = Vec3{};
     offset_ = (lo_ + hi_) * 0.5;
-    // Relative at every size the loaders accept (kMinReach .. kMaxReach): a floor of 1e-6 made
-    // the offset 1e-11 in a scene 1e-11 across, and shadow rays shorter than nothing.
+    // Relative at every size the loaders accept (kMinSpan .. kMaxReach): a floor of 1e-6 made
+    // the offset 1e-11 units in a scene 3.5e-11 across, longer than its shadow rays' margins.
     const double span = length(hi_ - lo_);
     extent_ = span > 0 && std::isfinite(span) ? span : 1.0;  // a point, or no shapes: any scale
     // Float positions near the origin carry ~6e-8 relative error over the scene's extent:

@@ -47,8 +47,8 @@ TEST(ExtremeScenes, SceneFarFromTheOriginRendersLikeTheSameSceneAtTheOrigin) {
 }
 
 TEST(ExtremeScenes, ASceneAtAnyAcceptedScaleRendersAsAtUnitScale) {
-    // Ray offsets floored at 1e-11 units (1e-5 of an extent floored at 1e-6): the box 1e-11 across
-    // lost all its direct light (mean 0.21 against 0.40, the lamp alone lit), 1e-10 across 2 %.
+    // Ray offsets floored at 1e-11 units (1e-5 of an extent floored at 1e-6): the box scaled by
+    // 1e-11 lost all its direct light (mean 0.21 against 0.40, the lamp alone lit), by 1e-10 2 %.
     Scene unit = *builtin_scene("cornell");
     const double reference = testing::mean_luminance(testing::render_crex(unit, "(TTMRSGD)*", 16, 2).image());
     for (double k : {1e-11, 1e-7, 1e7}) {

@@ -74,7 +74,8 @@ inline Scene shifted(Scene s, const Vec3& shift) {
     return s;
 }
 
-/// The scene with every length times k (shapes and the camera's place): the same image at any scale.
+/// The scene with every length times k (shapes, the camera's place and fore clip; a perspective
+/// camera's angles stay): the same image at any scale.
 inline Scene scaled(Scene s, double k) {
     for (auto& sh : s.shapes) {
         sh.center = sh.center * k, sh.min = sh.min * k, sh.max = sh.max * k, sh.p0 = sh.p0 * k, sh.p1 = sh.p1 * k;
@@ -82,6 +83,7 @@ inline Scene scaled(Scene s, double k) {
         for (auto& v : sh.vertices) v = v * k;
     }
     s.camera.position = s.camera.position * k;
+    s.camera.fore_clip *= k;
     return s;
 }
 

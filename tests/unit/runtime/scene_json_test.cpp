@@ -254,7 +254,7 @@ TEST(SceneDegeneracy, ACameraBeyondWhatFloatRaysReachIsALocatedError) {
 }
 
 TEST(SceneDegeneracy, ASceneTooSmallForFloatRaysIsALocatedError) {
-    // 1e-15 across, Embree's float products underflow: the box rendered a third as bright, silently.
+    // 1e-15 across, Embree's float arithmetic fails: the box rendered a third as bright, silently.
     auto tiny = testing::load_json_text("{\"camera\": {\"position\": [0, 0, 4e-15], \"direction\": [0, 0, -1]},\n\"materials\": "
                                         "[{\"name\": \"w\", \"type\": \"plastic\"}],\n\"shapes\": [{\"type\": \"sphere\", "
                                         "\"material\": \"w\", \"center\": [0,0,0], \"radius\": 1e-15}]}");
