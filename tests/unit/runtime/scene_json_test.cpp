@@ -1,5 +1,6 @@
 // The native scene format: every primitive and material loads, round trips are exact, and
 // bad input is a located error, never a crash.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "runtime/scene/census.h"
@@ -243,11 +244,17 @@ TEST(SceneDegeneracy, ZeroAreaIsRelativeToTheShapeAndDroppedWithAWarning) {
     EXPECT_EQ(big.find("W304"), nullptr);
 }
 
+// One sphere of `radius` at the origin, seen from `camera_z` along -z.
+std::string one_sphere_scene_json(const char* camera_z, const char* radius) {
+    return fmt::format("{{\"camera\": {{\"position\": [0, 0, {}], \"direction\": [0, 0, -1]}},\n\"materials\": "
+                       "[{{\"name\": \"w\", \"type\": \"plastic\"}}],\n\"shapes\": [{{\"type\": \"sphere\", "
+                       "\"material\": \"w\", \"center\": [0,0,0], \"radius\": {}}}]}}",
+                       camera_z, radius);
+}
+
 TEST(SceneDegeneracy, ACameraBeyondWhatFloatRaysReachIsALocatedError) {
     // A camera coordinate above ~1.8e18 aborted inside Embree (exit 134); scene-info accepted it.
-    auto far = testing::load_json_text("{\"camera\": {\"position\": [0, 0, 2e18], \"direction\": [0, 0, -1]},\n\"materials\": "
-                                       "[{\"name\": \"w\", \"type\": \"plastic\"}],\n\"shapes\": [{\"type\": \"sphere\", "
-                                       "\"material\": \"w\", \"center\": [0,0,0], \"radius\": 1}]}");
+    auto far = testing::load_json_text(one_sphere_scene_json("2e18", "1"));
     EXPECT_FALSE(far.scene);
     ASSERT_NE(far.find("E303"), nullptr);
     EXPECT_NE(far.find("E303")->message.find("more than float rays can represent"), std::string::npos) << far.find("E303")->message;
@@ -255,16 +262,12 @@ TEST(SceneDegeneracy, ACameraBeyondWhatFloatRaysReachIsALocatedError) {
 
 TEST(SceneDegeneracy, ASceneTooSmallForFloatRaysIsALocatedError) {
     // 1e-15 across, Embree's float arithmetic fails: the box rendered a third as bright, silently.
-    auto tiny = testing::load_json_text("{\"camera\": {\"position\": [0, 0, 4e-15], \"direction\": [0, 0, -1]},\n\"materials\": "
-                                        "[{\"name\": \"w\", \"type\": \"plastic\"}],\n\"shapes\": [{\"type\": \"sphere\", "
-                                        "\"material\": \"w\", \"center\": [0,0,0], \"radius\": 1e-15}]}");
+    auto tiny = testing::load_json_text(one_sphere_scene_json("4e-15", "1e-15"));
     EXPECT_FALSE(tiny.scene);
     ASSERT_NE(tiny.find("E303"), nullptr);
     EXPECT_NE(tiny.find("E303")->message.find("less than float rays can resolve"), std::string::npos) << tiny.find("E303")->message;
     // 1e-11 across is within reach: no error.
-    auto small = testing::load_json_text("{\"camera\": {\"position\": [0, 0, 4e-11], \"direction\": [0, 0, -1]},\n\"materials\": "
-                                         "[{\"name\": \"w\", \"type\": \"plastic\"}],\n\"shapes\": [{\"type\": \"sphere\", "
-                                         "\"material\": \"w\", \"center\": [0,0,0], \"radius\": 1e-11}]}");
+    auto small = testing::load_json_text(one_sphere_scene_json("4e-11", "1e-11"));
     EXPECT_EQ(small.find("E303"), nullptr) << (small.diagnostics.empty() ? "" : small.diagnostics[0].message);
 }
 
