@@ -128,10 +128,10 @@ RunInputs read_run_inputs(const InputSpec& spec, DiagnosticSink& sink) {
             in.scene_spec = pipe->scene_spec;
         }
     } else if (!spec.file.empty()) {
-        std::string read_error;
-        auto text = read_input(spec.file, read_error);
+        std::string path, read_error;
+        auto text = read_input_or_stdlib(spec.file, path, read_error);  // a name that is no file: what the stdlib has
         if (!text) {
-            in.failure = argument.hint.empty() ? read_error : read_error + "; " + argument.hint;
+            in.failure = read_error;
             return in;
         }
         // A scene given as the plan (`crex run scene.rad`) was read as a plan: "E401 malformed JSON".
