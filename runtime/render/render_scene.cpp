@@ -179,10 +179,11 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
             entries_.push_back(e);
             return;
         }
+        const size_t first = entries_.size();
         for (const auto& t : g.indices) {
             Entry e;
             e.weak = weak;
-            e.a = g.positions[t[0]];
+            e.a = e.d = g.positions[t[0]];
             e.b = g.positions[t[1]];
             e.c = g.positions[t[2]];
             e.radiance = m.color;
@@ -194,6 +195,20 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
             if (limits && limits->pattern) e.pattern_mean = limits->pattern->mean_over_hemisphere(e.normal, e.centre);
             if (e.area > 0) entries_.push_back(e);
         }
+        // A quad is two consecutive triangles of its mesh (RADIANCE's and OBJ's polygons,
+        // glTF's exporters): each such pair becomes one parallelogram.
+        size_t kept = first;
+        for (size_t i = first; i < entries_.size(); ++i) {
+            Entry joined;
+            if (i + 1 < entries_.size() && join_parallelogram(entries_[i], entries_[i + 1], joined)) {
+                if (limits && limits->pattern) joined.pattern_mean = limits->pattern->mean_over_hemisphere(joined.normal, joined.centre);
+                entries_[kept++] = joined;
+                ++i;
+            } else {
+                entries_[kept++] = entries_[i];
+            }
+        }
+        entries_.resize(kept);
     };
     for (const auto& g : embree.geometries()) add_geometry(g);
     for (const auto& g : embree.hidden_emitters()) add_geometry(g);
@@ -213,6 +228,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
     // A few emitters: weighed two at a time where all are flat with no limit to their reach.
     if (entries_.size() <= kLocalChoiceMax) {
         triangles_ = flat_weights(entries_);
+        one_flat_ = triangles_.size() == 1;
         return;
     }
     // Too many emitters to weigh each at every hit: the local ones go in a tree, and the distant
@@ -231,7 +247,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
             b.lo = e.centre - r, b.hi = e.centre + r;
             b.axis = {0, 0, 1}, b.cos_spread = -1;
         } else {
-            b.lo = vmin(e.a, vmin(e.b, e.c)), b.hi = vmax(e.a, vmax(e.b, e.c));
+            b.lo = vmin(vmin(e.a, e.d), vmin(e.b, e.c)), b.hi = vmax(vmax(e.a, e.d), vmax(e.b, e.c));
             b.axis = e.normal, b.cos_spread = 1;
         }
         b.power = e.power;
@@ -247,9 +263,35 @@ TriangleWeights LightSampler::flat_weights(const std::vector<Entry>& entries) {
     std::vector<WeighedTriangle> triangles;
     for (const Entry& e : entries) {
         if (e.sphere || e.distant >= 0 || (e.limits && std::isfinite(e.limits->max_distance))) return {};
-        triangles.push_back({e.a, e.b, e.c, e.normal, e.centre, e.power, e.area, e.reach});
+        triangles.push_back({e.a, e.b, e.c, e.d, e.normal, e.centre, e.power, e.area, e.reach});
     }
     return TriangleWeights(triangles);
+}
+
+bool LightSampler::join_parallelogram(const Entry& t0, const Entry& t1, Entry& joined) {
+    if (t0.sphere || t1.sphere || t0.distant >= 0 || t1.distant >= 0 || t0.weak != t1.weak || t0.limits != t1.limits ||
+        !(t0.radiance == t1.radiance) || !(dot(t0.normal, t1.normal) >= 1 - 1e-12))
+        return false;
+    // The corners t0 shares with t1 (exactly: a quad's triangles share its vertices).
+    const Vec3 c0[3] = {t0.a, t0.b, t0.c}, c1[3] = {t1.a, t1.b, t1.c};
+    int shared0[2], shared1[2], count = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (c0[i] == c1[j] && count < 2) shared0[count] = i, shared1[count] = j, ++count;
+    if (count != 2) return false;
+    const Vec3 own0 = c0[3 - shared0[0] - shared0[1]], own1 = c1[3 - shared1[0] - shared1[1]];
+    const Vec3 s = c0[shared0[0]], t = c0[shared0[1]];
+    // A parallelogram's diagonals halve each other: own0 + own1 = s + t, to rounding of its size.
+    const double size = std::fmax(t0.reach, t1.reach);
+    if (!(length(own0 + own1 - (s + t)) <= 1e-9 * size)) return false;
+    joined = t0;
+    joined.parallelogram = true;
+    joined.a = own0, joined.b = s, joined.c = t, joined.d = own1;
+    joined.area = length(cross(s - own0, t - own0));
+    joined.centre = (s + t) * 0.5;
+    joined.reach = 0;
+    for (const Vec3& p : {joined.a, joined.b, joined.c, joined.d}) joined.reach = std::fmax(joined.reach, length(p - joined.centre));
+    return joined.area > 0;
 }
 
 void LightSampler::make_cdf() {

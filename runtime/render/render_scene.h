@@ -175,6 +175,12 @@ public:
             lw.by_power = true;
             return lw;
         }
+        if (one_flat_) {
+            // One emitter is chosen whatever its weight: only whether it can light x matters.
+            const Entry& e = entries_[0];
+            lw.total = lw.w[0] = dot(x - e.a, e.normal) > 0 && !(horizon && below_horizon(e, x, *horizon)) ? 1.0 : 0.0;
+            return lw;
+        }
         if (!triangles_.empty()) {
             triangles_.weigh(x, horizon, lw.w);
             for (size_t i = 0; i < entries_.size(); ++i) lw.total += lw.w[i];
@@ -212,7 +218,9 @@ public:
 
 private:
     struct Entry {
-        Vec3 a, b, c;         // triangle corners, or sphere: a = centre, b.x = radius
+        Vec3 a, b, c;         // triangle corners (a parallelogram's: b and c beside a), or sphere: a = centre, b.x = radius
+        Vec3 d;               // a parallelogram's fourth corner, opposite a; a triangle repeats a
+        bool parallelogram = false;  // two triangles of one quad, sampled as one emitter
         Vec3 normal;          // triangle: unit normal
         Vec3 centre;          // triangle: centroid; sphere: centre
         bool sphere = false;
@@ -230,7 +238,7 @@ private:
     bool below_horizon(const Entry& e, const Vec3& x, const Vec3& n) const {
         if (e.distant >= 0) return distant_.below_horizon(static_cast<size_t>(e.distant), n);
         if (e.sphere) return dot(e.a - x, n) <= -e.b.x;
-        return dot(e.a - x, n) <= 0 && dot(e.b - x, n) <= 0 && dot(e.c - x, n) <= 0;
+        return dot(e.a - x, n) <= 0 && dot(e.b - x, n) <= 0 && dot(e.c - x, n) <= 0 && dot(e.d - x, n) <= 0;
     }
     /// Entry e's weight at x, the one rule for weights_at and the tree's leaves: 0 below the
     /// horizon of a surface that only reflects, else local_weight.
@@ -349,6 +357,13 @@ private:
         }
         // A point of the triangle, made whole (the fields not named take their initialisers): a
         // sample default-made and then filled in was zeroed first (a `rep stos` per shadow ray).
+        if (e.parallelogram)  // (u, v) across its two sides: a stratified set stays stratified, no fold
+            return LightSample{.position = e.a + (e.b - e.a) * u + (e.c - e.a) * v,
+                               .normal = e.normal,
+                               .radiance = e.radiance,
+                               .pdf_area = c.pdf_area,
+                               .weak = e.weak,
+                               .limits = e.limits};
         const double su = std::sqrt(u);
         const double b0 = 1 - su, b1 = v * su;
         return LightSample{.position = e.a * b0 + e.b * b1 + e.c * (1 - b0 - b1),
@@ -362,6 +377,10 @@ private:
     /// The entries' weights in vector code; empty unless every one is a flat emitter with no
     /// limit to its reach (the rule local_weight() applies to those).
     static TriangleWeights flat_weights(const std::vector<Entry>& entries);
+    /// Two emitter triangles that make one parallelogram (two corners shared, the same side
+    /// lit, the same light) as one entry: a quad lamp is then one emitter, sampled without a
+    /// fold, and a scene lit by it alone weighs nothing at a hit. False when they do not.
+    static bool join_parallelogram(const Entry& t0, const Entry& t1, Entry& joined);
     std::vector<Entry> entries_;
     std::vector<double> cdf_;  // cumulative, normalised
     LightTree tree_;                      // over the local entries, when there are more than kLocalChoiceMax entries
@@ -371,6 +390,7 @@ private:
     std::vector<Entry> tree_slots_;
     std::vector<size_t> distant_entries_; // with the tree: the distant entries
     TriangleWeights triangles_;  // when every entry is a flat emitter without a distance limit, and no tree: weights_at in vector code
+    bool one_flat_ = false;      // and there is one: weights_at only asks whether it can light x
     std::vector<std::unique_ptr<EmitterLimits>> limits_;
     DistantEmitters distant_;
     static void sample_sphere(const Entry& e, double u, double v, LightSample& s);  // position, normal

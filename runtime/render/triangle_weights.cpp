@@ -35,7 +35,7 @@ TriangleWeights::TriangleWeights(const std::vector<WeighedTriangle>& triangles) 
     for (size_t i = stride_; i-- > 0;) {
         // Padding lanes copy the last triangle: finite arithmetic, and never read.
         const WeighedTriangle& t = triangles[i < count_ ? i : count_ - 1];
-        const double values[kFields] = {t.a.x,      t.a.y,      t.a.z,   t.b.x,   t.b.y,  t.b.z,   t.c.x,          t.c.y,     t.c.z,    t.normal.x,
+        const double values[kFields] = {t.a.x,      t.a.y,      t.a.z,   t.b.x,   t.b.y,  t.b.z,   t.c.x,          t.c.y,     t.c.z,    t.d.x, t.d.y, t.d.z, t.normal.x,
                                         t.normal.y, t.normal.z, t.centre.x, t.centre.y, t.centre.z, t.power, t.area, t.reach, t.reach * t.reach};
         for (size_t f = 0; f < kFields; ++f) data_[f * stride_ + i] = values[f];
     }
@@ -65,7 +65,7 @@ void TriangleWeights::weigh(const Vec3& x, const Vec3* horizon, double* w) const
             const auto below = [&](Field fx) {
                 return (load(field(fx) + i) - px) * hx + (load(field(Field(fx + 1)) + i) - py) * hy + (load(field(Field(fx + 2)) + i) - pz) * hz <= zero;
             };
-            lit = lit & ~(below(kAx) & below(kBx) & below(kCx));
+            lit = lit & ~(below(kAx) & below(kBx) & below(kCx) & below(kDx));
         }
         const D2 far_weight = near_weight * (cosines >= floor ? cosines : floor);
         const D2 value = d2 > load(field(kReach2) + i) ? far_weight : near_weight;

@@ -1,5 +1,5 @@
 /// \file triangle_weights.h
-/// What each of a few flat emitter triangles brings to a shading point (LightSampler's local
+/// What each of a few flat emitter triangles (or parallelograms) brings to a shading point (LightSampler's local
 /// weights), two triangles at a time in vector code: a weight costs a square root and two
 /// divisions, and weighing them one by one was 8 % of a render of the Cornell box.
 #pragma once
@@ -14,6 +14,7 @@ namespace crex {
 /// One flat emitter as the weights need it.
 struct WeighedTriangle {
     Vec3 a, b, c;      ///< corners
+    Vec3 d;            ///< a parallelogram's fourth corner; a triangle repeats one of a, b, c
     Vec3 normal;       ///< unit normal: the side it lights
     Vec3 centre;       ///< centroid
     double power = 0;  ///< area x luminance
@@ -37,7 +38,7 @@ public:
     void weigh(const Vec3& x, const Vec3* horizon, double* w) const;
 
 private:
-    enum Field { kAx, kAy, kAz, kBx, kBy, kBz, kCx, kCy, kCz, kNx, kNy, kNz, kMx, kMy, kMz, kPower, kArea, kReach, kReach2, kFields };
+    enum Field { kAx, kAy, kAz, kBx, kBy, kBz, kCx, kCy, kCz, kDx, kDy, kDz, kNx, kNy, kNz, kMx, kMy, kMz, kPower, kArea, kReach, kReach2, kFields };
     const double* field(Field f) const { return data_.data() + static_cast<size_t>(f) * stride_; }
     std::vector<double> data_;  ///< kFields rows of stride_ values
     size_t count_ = 0, stride_ = 0;

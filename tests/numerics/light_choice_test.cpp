@@ -1,7 +1,8 @@
 // Choosing an emitter by what it brings to the shading point (runtime/render/render_scene.h):
 // unbiased (the same irradiance as the choice by power), much less variance when one lamp is
 // near and another far, never a lamp the point is behind, and, for a surface that only
-// reflects, never an emitter below its horizon.
+// reflects, never an emitter below its horizon; a quad lamp is one emitter, sampled without a
+// fold, and a lamp of any shape gives its irradiance.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -257,6 +258,83 @@ TEST(LightChoice, OnlyASurfaceThatReflectsAloneHasAHorizon) {
     EXPECT_EQ(horizon_of(Bsdf::of(shade), f), &f.normal);
     Material lamp = testing::make_material("l", MaterialType::kLight, {1, 1, 1});
     EXPECT_EQ(horizon_of(Bsdf::of(lamp), f), nullptr);  // direct light does not reach it at all
+}
+
+// One lamp over the origin, facing down at height 1: a square (two triangles of one
+// parallelogram) or a trapezoid (two triangles that are not).
+Scene one_lamp(bool square) {
+    Scene s;
+    s.materials.push_back(testing::make_material("lamp", MaterialType::kLight, {1, 1, 1}));
+    const double h = 0.1, top = square ? h : 0.04;
+    s.shapes.push_back(testing::quad("lamp", {-h, 1, -h}, {h, 1, -h}, {top, 1, h}, {-top, 1, h}));
+    s.camera.position = {0, 0.5, 3};
+    s.camera.direction = {0, 0, -1};
+    s.camera.up = {0, 1, 0};
+    return s;
+}
+
+// Irradiance at the origin (normal up) from the lamp of one_lamp, integrated by the midpoint
+// rule over a fine grid of its plane, cells outside it left out.
+double irradiance_by_grid(bool square) {
+    const double h = 0.1, top = square ? h : 0.04;
+    const int n = 2000;
+    const double cell = 2 * h / n;
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+        const double z = -h + (i + 0.5) * cell, half_width = h + (top - h) * (z + h) / (2 * h);
+        for (int j = 0; j < n; ++j) {
+            const double x = -h + (j + 0.5) * cell;
+            if (std::fabs(x) > half_width) continue;
+            const double d2 = x * x + 1 + z * z;
+            sum += 1 / (d2 * d2);  // cos at the point and at the lamp both 1 / d; over d^2
+        }
+    }
+    return sum * cell * cell;
+}
+
+TEST(LightChoice, AQuadLampIsOneEmitterWhosePointsKeepTheirStrata) {
+    Scene s = one_lamp(true);
+    RenderScene rs(s);
+    const Vec3 x = Vec3{0, 0, 0} - rs.embree->origin_offset(), up{0, 1, 0};
+    const LightSampler::LocalWeights w = rs.lights->weights_at(x, &up);
+    // A 16 x 16 grid of (u, v) puts one point in each 16 x 16th of the lamp: its two triangles
+    // sampled as one parallelogram, without a choice between them or a fold within each.
+    const int n = 16;
+    std::vector<int> count(n * n, 0);
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const LightSample ls = rs.lights->sample_reusing(w, (i + 0.5) / n, (j + 0.5) / n);
+            ASSERT_GT(ls.pdf_area, 0);
+            EXPECT_NEAR(ls.pdf_area, 1 / 0.04, 1e-9);
+            const Vec3 p = ls.position + rs.embree->origin_offset();
+            const int cx = static_cast<int>((p.x + 0.1) / 0.2 * n), cz = static_cast<int>((p.z + 0.1) / 0.2 * n);
+            ASSERT_TRUE(cx >= 0 && cx < n && cz >= 0 && cz < n) << p.x << " " << p.z;
+            ++count[cx * n + cz];
+            const Vec3 to = ls.position - x;
+            const double d2 = dot(to, to), inv_d = 1 / std::sqrt(d2);
+            sum += dot(to, up) * inv_d * -dot(ls.normal, to) * inv_d / (d2 * ls.pdf_area);
+        }
+    }
+    for (int c : count) EXPECT_EQ(c, 1);
+    // The grid's estimate is the midpoint rule over the lamp: 5e-5 from the integral (the two
+    // triangles sampled apart, each folded: 2.9e-4).
+    const double exact = irradiance_by_grid(true);
+    EXPECT_NEAR(sum / (n * n), exact, 1.5e-4 * exact);
+    // A point behind the lamp has nothing to choose.
+    EXPECT_EQ(rs.lights->weights_at(Vec3{0, 2, 0} - rs.embree->origin_offset()).total, 0.0);
+}
+
+TEST(LightChoice, LampsOfEitherShapeGiveTheirIrradiance) {
+    for (bool square : {true, false}) {
+        Scene s = one_lamp(square);
+        RenderScene rs(s);
+        const size_t n = 200000;
+        Estimate local = irradiance_at_origin(rs, true, n, true), power = irradiance_at_origin(rs, false, n);
+        const double exact = irradiance_by_grid(square);
+        EXPECT_NEAR(local.mean, exact, 5 * std::sqrt(local.variance / n)) << (square ? "square" : "trapezoid");
+        EXPECT_NEAR(power.mean, exact, 5 * std::sqrt(power.variance / n)) << (square ? "square" : "trapezoid");
+    }
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // The local weights of a few flat emitters in vector code (runtime/render/triangle_weights.h):
 // the rule of LightSampler's scalar weights, value for value, at points in front of, behind,
 // inside the reach of and on the corners of the triangles, with and without a horizon, for
-// any count of triangles (the last vector half full).
+// any count of triangles (the last vector half full); a parallelogram's fourth corner counts.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,7 +15,7 @@ namespace {
 
 // The rule as docs/runtime.md states it, one triangle at a time.
 double scalar_weight(const WeighedTriangle& t, const Vec3& x, const Vec3* horizon) {
-    if (horizon && dot(t.a - x, *horizon) <= 0 && dot(t.b - x, *horizon) <= 0 && dot(t.c - x, *horizon) <= 0) return 0;
+    if (horizon && dot(t.a - x, *horizon) <= 0 && dot(t.b - x, *horizon) <= 0 && dot(t.c - x, *horizon) <= 0 && dot(t.d - x, *horizon) <= 0) return 0;
     if (!(dot(x - t.a, t.normal) > 0)) return 0;
     const Vec3 d = x - t.centre;
     const double d2 = dot(d, d);
@@ -29,7 +29,7 @@ double scalar_weight(const WeighedTriangle& t, const Vec3& x, const Vec3* horizo
 
 WeighedTriangle triangle(const Vec3& a, const Vec3& b, const Vec3& c, double luminance) {
     WeighedTriangle t;
-    t.a = a, t.b = b, t.c = c;
+    t.a = a, t.b = b, t.c = c, t.d = a;
     t.normal = normalize_or_zero(cross(b - a, c - a));
     t.area = 0.5 * length(cross(b - a, c - a));
     t.centre = (a + b + c) / 3.0;
@@ -93,6 +93,25 @@ TEST(TriangleWeights, NothingBehindOrBelowTheHorizon) {
     EXPECT_GT(w[0], 0);
     weights.weigh({0.2, 0, 0.2}, &ceiling, w);  // a surface under the lamp facing away from it
     EXPECT_EQ(w[0], 0);
+}
+
+TEST(TriangleWeights, AParallelogramIsAboveTheHorizonByItsFourthCorner) {
+    // A parallelogram lamp facing down, x beside it with a horizon tipped so that only the
+    // fourth corner (b + c - a) is above the surface's plane: it can light x.
+    WeighedTriangle p = triangle({0, 1, 0}, {1, 1, 0}, {0, 1, 1}, 1);
+    p.d = {1, 1, 1};
+    p.area *= 2;
+    p.centre = {0.5, 1, 0.5};
+    const Vec3 x{0, 0, 0}, horizon = normalize_or_zero(Vec3{1, -1.5, 1});
+    ASSERT_LE(dot(p.a - x, horizon), 0);
+    ASSERT_LE(dot(p.b - x, horizon), 0);
+    ASSERT_LE(dot(p.c - x, horizon), 0);
+    ASSERT_GT(dot(p.d - x, horizon), 0);
+    const TriangleWeights weights({p});
+    double w[1];
+    weights.weigh(x, &horizon, w);
+    EXPECT_GT(w[0], 0);
+    EXPECT_EQ(w[0], scalar_weight(p, x, &horizon));
 }
 
 }  // namespace
