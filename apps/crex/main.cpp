@@ -51,7 +51,8 @@ int usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** 
                   << " --help'.\n";
         return crex::kExitUsage;
     }
-    std::cerr << prefix << ": error: " << what << ". See '" << prefix << " --help'.\n";
+    std::cerr << prefix << ": error: " << what << ". See '" << prefix << " --help'.\n"
+              << (sub && dynamic_cast<const CLI::RequiredError*>(&e) ? CLI::Formatter().make_usage(sub, prefix) : "");  // how it is called
     return crex::kExitUsage;
 }
 

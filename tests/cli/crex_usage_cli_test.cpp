@@ -38,6 +38,18 @@ TEST(UsageCli, NoCommandShowsTheOverviewOfCommands) {
     EXPECT_NE(r.err.find("crex: error: a command is required"), std::string::npos) << r.err;
 }
 
+// A command without the files it needs says which, and shows how it is called.
+TEST(UsageCli, AMissingArgumentShowsTheCommandsUsage) {
+    auto r = crex_cli({"compare"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("crex compare: error: test is required"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("Usage: crex compare [OPTIONS] test reference"), std::string::npos) << r.err;
+    auto one = crex_cli({"compare", "a.exr"});
+    EXPECT_EQ(one.exit_code, 2);
+    EXPECT_NE(one.err.find("reference is required"), std::string::npos) << one.err;
+    EXPECT_NE(one.err.find("Usage: crex compare"), std::string::npos) << one.err;
+}
+
 TEST(UsageCli, AMisspelledFlagGetsTheNearestFlagAndTheCommandsName) {
     auto r = crex_cli({"run", "--sze", "64x64"});
     EXPECT_EQ(r.exit_code, 2);
