@@ -204,7 +204,7 @@ public:
     /// share, rescaled to [0, 1), is then the u of the point on it: a stratified 2-D set stays
     /// stratified on each emitter. (With a separate pick, the points an emitter gets are a
     /// random subset of the set, no longer stratified: pixel-stratified light samples were
-    /// noisier than independent ones on the Cornell box's two-triangle lamp.)
+    /// noisier than independent ones on the Cornell box's lamp when it was two triangles.)
     LightSample sample_reusing(const LocalWeights& weights, double u, double v) const {
         const Choice c = choose(weights, u);
         return c.pdf_area > 0 ? at(c, c.rescaled, v, &weights) : LightSample{};
