@@ -1,9 +1,16 @@
 // Distributed rendering without mpirun (issue 35): the driver renders through a ProcessGroup,
 // so a group of threads (tests/support/thread_group.h), each rendering its band of rows and
-// exchanging rows as MPI ranks do, must give the image one process renders, bit for bit: a
-// pixel is the sum of the samples one member traced, in the order one process traces them.
+// exchanging rows as MPI ranks do, must give the image one process renders: a pixel is the
+// sum of the samples one member traced, in the order one process traces them. Up to the last
+// bits of a float: Embree's ray streams (rtcIntersect1M) trace a ray with the others of its
+// direction's octant in the same call, so a band's rays meet other neighbours than the whole
+// image's, and a hit's distance can round one way or the other (a glass path 12 bounces deep
+// in the Cornell box: one pixel 1 float ulp apart in 3 bands). Tracing ray by ray would make
+// them equal bit for bit, and a render about a quarter slower (render_bench, one thread).
 // The same property under mpirun is tests/mpi/; this one runs in every CI job.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "runtime/api/run.h"
 #include "runtime/api/run_inputs.h"
@@ -12,6 +19,15 @@
 
 namespace crex {
 namespace {
+
+// Equal to the rounding of a float's last bits: every value within 1e-6 of the other's size.
+void expect_same_image(const std::vector<float>& banded, const std::vector<float>& one, int bands) {
+    ASSERT_EQ(banded.size(), one.size()) << bands << " bands";
+    size_t apart = 0;
+    for (size_t i = 0; i < one.size(); ++i)
+        if (!(std::fabs(banded[i] - one[i]) <= 1e-6 * std::fmax(std::fabs(one[i]), 1e-3))) ++apart;
+    EXPECT_EQ(apart, 0u) << bands << " bands: values further apart than rounding";
+}
 
 // The final image of `plan` rendered by one process (bands 0) or a group of `bands` threads.
 std::vector<float> render_in(int bands, const PipelinePlan& plan, const Scene& scene, const RunSettings& settings) {
@@ -50,8 +66,8 @@ TEST(ProcessGroupBands, ACrexRendersTheSingleProcessImageInTwoAndThreeBands) {
     s.width = 24, s.height = 17, s.spp = 4;
     const Scene scene = *builtin_scene("cornell");
     const std::vector<float> one = render_in(0, plan, scene, s);
-    EXPECT_EQ(render_in(2, plan, scene, s), one);
-    EXPECT_EQ(render_in(3, plan, scene, s), one);
+    expect_same_image(render_in(2, plan, scene, s), one, 2);
+    expect_same_image(render_in(3, plan, scene, s), one, 3);
 }
 
 TEST(ProcessGroupBands, APipelineRendersTheSingleProcessImageInTwoBands) {
@@ -62,7 +78,7 @@ TEST(ProcessGroupBands, APipelineRendersTheSingleProcessImageInTwoBands) {
     const Planned p = plan_stdlib("sel_rp.pipe", o);
     const Scene& scene = *p.input->scene->scene;
     const std::vector<float> one = render_in(0, *p.input->compiled.plan, scene, p.settings);
-    EXPECT_EQ(render_in(2, *p.input->compiled.plan, scene, p.settings), one);
+    expect_same_image(render_in(2, *p.input->compiled.plan, scene, p.settings), one, 2);
 }
 
 TEST(ProcessGroupBands, APipelineThatCarriesRaysRendersTheSingleProcessImage) {
@@ -75,7 +91,7 @@ TEST(ProcessGroupBands, APipelineThatCarriesRaysRendersTheSingleProcessImage) {
     const Planned p = plan_stdlib("cbtcr_sel.pipe", o);
     const Scene& scene = *p.input->scene->scene;
     const std::vector<float> one = render_in(0, *p.input->compiled.plan, scene, p.settings);
-    EXPECT_EQ(render_in(2, *p.input->compiled.plan, scene, p.settings), one);
+    expect_same_image(render_in(2, *p.input->compiled.plan, scene, p.settings), one, 2);
 }
 
 }  // namespace
