@@ -162,7 +162,6 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
     if (targets.empty() || !scene.lights || scene.lights->empty() || settings.photons == 0) return;
 
     const size_t total_photons = settings.photons;
-    const double eps = scene.embree->ray_epsilon();
     const uint64_t base = hash_combine(settings.seed, 0xca057ull);
     // In chunks of 64 Ki photons, each in the memory of the chunk before (11 MB of rays and
     // state): memory stays bounded whatever --caustic-photons asks, and pages touched for the
@@ -224,7 +223,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
             power[j] = patterned_radiance(ls, -w, 0) * (cos_light / (ls.pdf_area * pdf_w * static_cast<double>(total_photons)));
             if (!is_finite(power[j])) return;
             dir[j] = w;
-            Vec3 o = ls.position + ls.normal * eps;
+            Vec3 o = ls.position + ls.normal * scene.embree->epsilon_at(ls.position);
             set_ray(r, static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(w.x), static_cast<float>(w.y),
                     static_cast<float>(w.z), static_cast<unsigned>(j));
         });
@@ -298,7 +297,7 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
                 // (shadow rays cross those): a caustic needs a bend.
                 if (!lobe.straight) passed[j] = 1;
                 dir[j] = lobe.direction;
-                Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * eps;
+                Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * f.epsilon;
                 set_ray(h, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
                         static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(j));
             });

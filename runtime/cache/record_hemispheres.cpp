@@ -39,7 +39,6 @@ constexpr size_t kHemisphereBlock = 1024;
 struct IrradianceCache::Hemispheres {
     int M = 1, N = 1;  ///< strata in cos^2 theta and in phi
     size_t per = 1, n = 0;
-    double eps = 0;
     std::vector<float> first_distance;  ///< to the first hits: they make R and the gradients
     std::vector<RTCRayHit> last;        ///< what each ray reached after any specular interfaces
     std::vector<Vec3> last_dir, throughput;
@@ -87,7 +86,6 @@ IrradianceCache::Hemispheres IrradianceCache::cast_hemispheres(const std::vector
     h.per = static_cast<size_t>(h.M) * static_cast<size_t>(h.N);
     h.n = sites.size() * h.per;
     stats_.hemisphere_rays += h.n;
-    h.eps = scene_.embree->ray_epsilon();
     h.last.resize(h.n);
     h.last_dir.resize(h.n);
     const int M = h.M, N = h.N;
@@ -104,7 +102,7 @@ IrradianceCache::Hemispheres IrradianceCache::cast_hemispheres(const std::vector
                 double sin_t = std::sqrt(u), cos_t = std::sqrt(std::fmax(0.0, 1 - u));
                 Vec3 d = t * (sin_t * cos_p) + b * (sin_t * sin_p) + sites[s].normal * cos_t;
                 h.last_dir[i] = d;
-                Vec3 o = sites[s].position + sites[s].normal * h.eps;
+                Vec3 o = sites[s].position + sites[s].normal * scene_.embree->epsilon_at(sites[s].position);
                 set_ray(h.last[i], static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
                         static_cast<float>(d.y), static_cast<float>(d.z), static_cast<unsigned>(i));
             }
@@ -192,7 +190,7 @@ void IrradianceCache::pass_specular_interfaces(Hemispheres& h, const std::vector
             // Straight through thin glass or trans, emitters stay direct lighting's (its shadow
             // rays cross them too); after a bend (a mirror, refraction) the ray sees them.
             if (!lobe.straight) h.passed[i] = 1;
-            Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * h.eps;
+            Vec3 no = f.position + (lobe.transmits ? -f.normal : f.normal) * f.epsilon;
             h.last_dir[i] = lobe.direction;
             set_ray(r, static_cast<float>(no.x), static_cast<float>(no.y), static_cast<float>(no.z), static_cast<float>(lobe.direction.x),
                     static_cast<float>(lobe.direction.y), static_cast<float>(lobe.direction.z), static_cast<unsigned>(i));

@@ -75,7 +75,7 @@ PixelProbe probe_pixels(const RenderScene& scene, int width, int height, const s
                 const Vec3 d = dir[i];
                 const Vec3 hit = origin[i] + d * static_cast<double>(h.ray.tfar);
                 const Vec3 r = d - ng * (2 * dot(d, ng));
-                origin[i] = hit + ng * (dot(r, ng) > 0 ? 1.0 : -1.0) * scene.embree->ray_epsilon();
+                origin[i] = hit + ng * (dot(r, ng) > 0 ? 1.0 : -1.0) * scene.embree->epsilon_at(hit, h.ray.tfar);
                 dir[i] = normalize_or_zero(r);
                 next.push_back(i);
             }

@@ -53,6 +53,7 @@ struct HitFrame {
     Vec3 incoming;   ///< unit ray direction
     bool front = true;  ///< the ray hit the side `geometric` points to
     double distance = 0;
+    double epsilon = 0;  ///< how far rays leaving here start off the surface (EmbreeScene::epsilon_at)
 };
 
 struct Lobe {

@@ -47,7 +47,6 @@ std::vector<double> distant_visibility(const RenderScene& scene, int width, int 
     std::vector<RTCRay> shadows(n * per);
     std::vector<uint8_t> weak(n * per, 0);
     std::vector<Vec3> through(n * per);
-    const double eps = scene.embree->ray_epsilon();
     tbb::parallel_for(size_t{0}, n, [&](size_t p) {
         for (size_t k = 0; k < per; ++k) make_hole(shadows[p * per + k], static_cast<unsigned>(p));  // unless aimed
         const RTCRayHit& h = hits[p];
@@ -65,7 +64,7 @@ std::vector<double> distant_visibility(const RenderScene& scene, int width, int 
                 const double side = dot(dir, f.normal);
                 if (!(pdf > 0) || !(side > 0 || (transmits && side < 0))) continue;
                 const size_t slot = p * per + i * kDirections + k;
-                aim_shadow_ray(shadows[slot], f.position + (side > 0 ? f.normal : -f.normal) * eps, dir, INFINITY);
+                aim_shadow_ray(shadows[slot], f.position + (side > 0 ? f.normal : -f.normal) * f.epsilon, dir, INFINITY);
                 weak[slot] = distant.weak(i);
             }
     });

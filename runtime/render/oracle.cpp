@@ -61,7 +61,7 @@ struct Oracle {
             }
         }
         SpawnScratch spawn;
-        int n = spawn_children(b, f, r, random, scene.embree->ray_epsilon(), params, spawn);
+        int n = spawn_children(b, f, r, random, params, spawn);
         for (int l = 0; l < n; ++l) total += trace(spawn.children[static_cast<size_t>(l)], false);
         return total;
     }

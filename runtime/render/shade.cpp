@@ -24,8 +24,8 @@ constexpr double kMinWeightLimit = 1e-4;
 // is seen sharp, every lobe asks.
 constexpr double kDeepCausticLookups = 0.25;
 
-int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
-                   const ShadeParams& params, SpawnScratch& scratch) {
+int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, const ShadeParams& params,
+                   SpawnScratch& scratch) {
     const std::array<Lobe, kMaxLobes>& lobes = scratch.lobes;
     int n = scatter(b, f, random, scratch.lobes);
     scratch.caustic = {};
@@ -74,7 +74,7 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
             c.direction = lobe.transmits ? -f.shading : f.shading;
             c.flags = static_cast<uint8_t>(kRayIcQuery | (ray.flags & kRayOddSample) | branch);
         } else {
-            c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * epsilon;
+            c.origin = f.position + (lobe.transmits ? -f.normal : f.normal) * f.epsilon;
             c.direction = lobe.direction;
             const bool seen = lobe.delta && (ray.depth == 0 || (ray.flags & kRaySeenByCamera));
             // Straight through thin glass or trans, a ray sees emitters as its parent did: direct
@@ -129,8 +129,7 @@ bool distant_light_sample(const RenderScene& scene, const Bsdf& b, const HitFram
     out.value = beta * fr * ls.radiance * (1.0 / (ls.pdf_direction * n));
     if (scene.medium) out.value = out.value * scene.medium->transmittance(f.position, wi, INFINITY);
     if (!is_finite(out.value) || !(max_component(out.value) > 0)) return false;
-    const double eps = scene.embree->ray_epsilon();
-    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
+    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * f.epsilon;
     out.direction = wi;
     out.tfar = INFINITY;
     out.weak_target = ls.weak;
@@ -197,12 +196,13 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     out.value = beta * fr * radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
     if (scene.medium) out.value = out.value * scene.medium->transmittance(f.position, wi, dist);
     if (!is_finite(out.value)) return false;
-    double eps = scene.embree->ray_epsilon();
-    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * eps;
+    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * f.epsilon;
     out.direction = wi;
     out.weak_target = ls.weak;
-    // The origin moved by eps, so the light point is at least dist - eps away: stopping at
-    // dist - 3 eps keeps a 2 eps margin before the emitter without a second square root.
+    // The origin moved by the hit's epsilon, so the light point is at least dist - eps away
+    // (eps the larger of the hit's and the light point's own): stopping at dist - 3 eps keeps a
+    // 2 eps margin before the emitter without a second square root.
+    const double eps = std::max(f.epsilon, scene.embree->epsilon_at(ls.position, dist));
     // Embree finds the distance to an analytic sphere less precisely (about 1e-4 of it near
     // the silhouette, a square root of a difference in float): shadow rays to a sphere ended
     // on the sphere itself and a lamp much larger than eps lit 2.2 % too dark
@@ -243,7 +243,7 @@ bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, 
     out.value = beta * medium.transmittance(origin, dir, ds.t) * medium.sigma_s * patterned_radiance(ls, wi, dist) * medium.transmittance(x, wi, dist) *
                 (falloff * phase * cos_l / (d2 * ls.pdf_area * ds.pdf * n));
     if (!is_finite(out.value) || !(max_component(out.value) > 0)) return false;
-    const double eps = scene.embree->ray_epsilon();
+    const double eps = scene.embree->epsilon_at(ls.position, dist);  // x is on no surface
     out.origin = x;
     out.direction = wi;
     out.weak_target = ls.weak;
@@ -278,7 +278,6 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     // scattered into a segment reaches the eye by the surfaces the path goes on from (RADIANCE
     // scatters into every ray: a fog's glow lights the walls).
     const uint32_t nm = !medium ? 0 : camera ? params.media_samples : std::min<uint32_t>(params.media_samples, 1);
-    const double eps = scene.embree->ray_epsilon();
     out.reset();
     ShadeScratch& scratch = out.scratch;
     std::vector<RTCRayHit>& hits = scratch.hits;
@@ -396,7 +395,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                             shadows.add(light_sample, static_cast<uint32_t>(i));
                     }
                 }
-                int spawned = spawn_children(b, f, ray, random, eps, params, spawn);
+                int spawned = spawn_children(b, f, ray, random, params, spawn);
                 if (is_finite(spawn.caustic)) out.contribution[i] += spawn.caustic;
                 for (size_t l = 0; l < static_cast<size_t>(spawned); ++l)
                     spawned_rays[static_cast<size_t>(spawn.components[l])].push_back(spawn.children[l]);

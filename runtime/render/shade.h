@@ -183,8 +183,8 @@ inline HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec
         position = g.center + n * g.radius;  // back onto the surface: float error does not accumulate
     } else {
         // Embree's Ng (cross(v1 - v0, v2 - v0), as ours) and the ray's own point, whose error
-        // (~1e-7 of the extent) is far below the ray epsilon (1e-5 of it): no vertex or normal
-        // fetch, which on large meshes were cache misses at every hit.
+        // (~1e-7 of its coordinates and of t) is far below the hit's epsilon: no vertex or
+        // normal fetch, which on large meshes were cache misses at every hit.
         geometric = normalize_or_zero(Vec3{hit.Ng_x, hit.Ng_y, hit.Ng_z});
         if (geometric == Vec3{}) geometric = g.normals[hit.primID];  // underflowed in float
         if (geometric == Vec3{}) geometric = -dir;
@@ -194,7 +194,14 @@ inline HitFrame hit_frame(const EmbreeScene& scene, const RTCHit& hit, const Vec
     const Vec3 normal = front ? geometric : -geometric;
     // Every field named: a default-constructed frame filled in afterwards was zeroed first
     // (a `rep stos` of 136 bytes per hit).
-    return HitFrame{.position = position, .geometric = geometric, .normal = normal, .shading = normal, .incoming = dir, .front = front, .distance = t};
+    return HitFrame{.position = position,
+                    .geometric = geometric,
+                    .normal = normal,
+                    .shading = normal,
+                    .incoming = dir,
+                    .front = front,
+                    .distance = t,
+                    .epsilon = scene.epsilon_at(position, t)};
 }
 
 /// Where spawn_children() works and leaves its result; made once per block of rays, not per
@@ -215,8 +222,8 @@ struct SpawnScratch {
 /// Spawns the children of one hit into `out.children` (at most kMaxLobes); returns how many,
 /// with their components in `out.components`. Applies weight limit, roulette and depth
 /// limit. `random` is the hit's: HitRandom(ray.path, ray.depth).
-int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, double epsilon,
-                   const ShadeParams& params, SpawnScratch& out);
+int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random, const ShadeParams& params,
+                   SpawnScratch& out);
 
 /// Where a hit's light samples come from. Elsewhere: the hit's own n points (a Halton set
 /// rotated by the hit's random numbers). At a camera hit: point sample * n + j of its pixel's

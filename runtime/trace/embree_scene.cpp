@@ -96,9 +96,9 @@ EmbreeScene::EmbreeScene(const Scene& scene, const CutoutTest* cutouts) {
     // the offset 1e-11 units in a scene 3.5e-11 across, longer than its shadow rays' margins.
     const double span = length(hi_ - lo_);
     extent_ = span > 0 && std::isfinite(span) ? span : 1.0;  // a point, or no shapes: any scale
-    // Float positions near the origin carry ~6e-8 relative error over the scene's extent:
-    // offset new rays by well above that.
-    epsilon_ = 1e-5 * extent_;
+    // A point at the local origin, reached along a ray of no length, has an error of its own all
+    // the same (its neighbours' coordinates are rounded): 1e-9 of the extent.
+    epsilon_floor_ = 1e-9 * extent_;
 
     for (uint32_t i = 0; i < scene.shapes.size(); ++i) {
         const Shape& s = scene.shapes[i];

@@ -58,6 +58,20 @@ TEST(ExtremeScenes, ASceneAtAnyAcceptedScaleRendersAsAtUnitScale) {
     }
 }
 
+TEST(ExtremeScenes, ASmallObjectBesideAHugeOneKeepsItsOwnScale) {
+    // A ground 2e6 units across, 1e4 below the box (the box sees it only through its open
+    // front, far away): ray offsets of 1e-5 of the whole scene's extent were 28 units, every
+    // shadow ray in the 2-unit box ended before it started and only the lamp was lit (mean
+    // 0.21 against 0.40). Offsets scale with each hit's own coordinates and distance.
+    Scene box = *builtin_scene("cornell");
+    const double reference = testing::mean_luminance(testing::render_crex(box, "(TTMRSGD)*", 16, 2).image());
+    Scene with_ground = box;
+    with_ground.shapes.push_back(quad(box.shapes.front().material, {-1e6, -1e4, 1e6}, {1e6, -1e4, 1e6}, {1e6, -1e4, -1e6}, {-1e6, -1e4, -1e6}));
+    std::vector<float> img = testing::render_crex(with_ground, "(TTMRSGD)*", 16, 2).image();
+    ASSERT_TRUE(testing::all_finite(img));
+    EXPECT_NEAR(testing::mean_luminance(img) / reference, 1.0, 0.02);
+}
+
 TEST(ExtremeScenes, DegenerateAndSliverTrianglesAreHarmless) {
     Scene s = testing::furnace_box(0.5, 0.2);
     Shape mesh;
