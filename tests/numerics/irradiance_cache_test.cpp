@@ -343,6 +343,28 @@ TEST(IrradianceCache, ARenderWhoseCacheFillsTheMemoryLimitSaysSo) {
     for (const Diagnostic& d : roomy.warnings) EXPECT_NE(d.code, "W406");
 }
 
+// Records no smaller than the scene's extent over --ar are far wider than the Cornell box
+// when a ground 2e6 across lies below it (at --ar 128 at least 22,000 units: the box's light
+// came out 13 % too green-dark against the box alone): the run says so (W407), naming the
+// distance the surfaces in view lie within. The box alone gets no word.
+TEST(IrradianceCache, ARenderWhoseRecordsAreCoarseBesideTheViewSaysSo) {
+    RunSettings o;
+    o.width = o.height = 16;
+    o.spp = 1;
+    IcSettings ic;
+    ic.divisions = 16, ic.bounces = 1, ic.caustic_photons = 0;
+    o.irradiance_cache = ic;
+    Scene box = *builtin_scene("cornell_diffuse");
+    for (const Diagnostic& d : render(box, testing::lower_or_die("(TTMRSGD)*"), o).warnings) EXPECT_NE(d.code, "W407");
+    box.shapes.push_back(testing::quad("white", {-1e6, -1e4, 1e6}, {1e6, -1e4, 1e6}, {1e6, -1e4, -1e6}, {-1e6, -1e4, -1e6}));
+    RunResult r = render(box, testing::lower_or_die("(TTMRSGD)*"), o);
+    const auto w = std::find_if(r.warnings.begin(), r.warnings.end(), [](const Diagnostic& d) { return d.code == "W407"; });
+    ASSERT_NE(w, r.warnings.end());
+    EXPECT_EQ(w->severity, Severity::kWarning);
+    EXPECT_NE(w->message.find("over --ar 128"), std::string::npos) << w->message;
+    EXPECT_NE(w->message.find("render without --ic"), std::string::npos) << w->message;
+}
+
 TEST(IrradianceCache, WhiteFurnaceGivesTheTruncatedSeriesExactly) {
     // Uniform radiance everywhere: every record is exact, and ab bounces give
     // Le (1 + a + ... + a^ab); the camera sees it through D queries at every pixel.
