@@ -130,7 +130,7 @@ Runner add_run_command(CLI::App& app) {
         ->check(whole_number_in(1, 65536));
     CLI::Option* ab = cmd->add_option("--ab", opt->ab, "Ambient bounces through the cache (then --ambient)")->capture_default_str()->check(whole_number_in(1, 64));
     cmd->add_option("--ar", opt->ar, "Irradiance cache resolution (RADIANCE -ar): records no closer than the scene's extent / ar; "
-                                     "0 for no cap")
+                                     "0 for the old floor, extent / 2000")
         ->capture_default_str()
         ->check(number_in(0.0, 1e6));
     cmd->add_option("--caustic-photons", opt->caustic_photons,

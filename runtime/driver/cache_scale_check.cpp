@@ -11,7 +11,7 @@
 
 namespace crex {
 
-std::optional<Diagnostic> coarse_cache_warning(const RenderScene& scene, const IcFileSettings& cache, int width, int height, double ar) {
+std::optional<Diagnostic> coarse_cache_warning(const RenderScene& scene, const IcFileSettings& cache, int width, int height) {
     constexpr int kGrid = 24;  // 576 camera rays: nothing beside a render
     if (width <= 0 || height <= 0 || !(cache.min_radius > 0)) return std::nullopt;
     std::vector<int> xs, ys;
@@ -35,10 +35,10 @@ std::optional<Diagnostic> coarse_cache_warning(const RenderScene& scene, const I
     const std::string fix = wanted <= 1e6 ? fmt::format("raise --ar to {:g}, or render without --ic", wanted)
                                           : std::string("no --ar up to 1e6 makes them fine enough: render without --ic, or leave out the shapes far from the view");
     return run_diagnostic("W407", "crex run",
-                          fmt::format("the irradiance cache's records are at least {:.3g} wide (the scene's extent {:.3g} over --ar {:g}), "
-                                      "where nine in ten of the surfaces in view lie within {:.3g}: their indirect light will come out in "
-                                      "blotches; {}",
-                                      cache.min_radius, cache.extent, ar, near, fix));
+                          fmt::format("the irradiance cache's records are at least {:.3g} wide (the scene's extent {:.3g} over {:g}, "
+                                      "which --ar sets), where nine in ten of the surfaces in view lie within {:.3g}: their indirect "
+                                      "light will come out in blotches; {}",
+                                      cache.min_radius, cache.extent, std::round(cache.extent / cache.min_radius), near, fix));
 }
 
 }  // namespace crex

@@ -17,6 +17,6 @@ class RenderScene;
 /// W407 when the cache's smallest record (`cache.min_radius`) is wider than 5 % of the distance
 /// within which nine in ten of the surfaces seen lie (camera rays through a grid of the
 /// `width` x `height` frame's pixels); nothing otherwise, or when the camera sees too little.
-std::optional<Diagnostic> coarse_cache_warning(const RenderScene& scene, const IcFileSettings& cache, int width, int height, double ar);
+std::optional<Diagnostic> coarse_cache_warning(const RenderScene& scene, const IcFileSettings& cache, int width, int height);
 
 }  // namespace crex

@@ -322,7 +322,7 @@ void PlanRun::start() {
         ics.max_bytes = s_.max_memory;  // the records alone never outgrow the process's limit (W406)
         base_aa_ = ics.accuracy;
         cache_.emplace(*rs_, ics, caustic_map_);
-        if (auto coarse = coarse_cache_warning(*rs_, cache_->file_settings(), s_.width, s_.height, ics.resolution))
+        if (auto coarse = coarse_cache_warning(*rs_, cache_->file_settings(), s_.width, s_.height))
             out_.warnings.push_back(std::move(*coarse));
         cache_->set_progress([this](const IcStats& st) {
             report_progress(fmt::format("D: irradiance cache, {} records, {:.1f} M hemisphere rays", st.records, st.hemisphere_rays / 1e6));

@@ -361,7 +361,7 @@ TEST(IrradianceCache, ARenderWhoseRecordsAreCoarseBesideTheViewSaysSo) {
     const auto w = std::find_if(r.warnings.begin(), r.warnings.end(), [](const Diagnostic& d) { return d.code == "W407"; });
     ASSERT_NE(w, r.warnings.end());
     EXPECT_EQ(w->severity, Severity::kWarning);
-    EXPECT_NE(w->message.find("over --ar 128"), std::string::npos) << w->message;
+    EXPECT_NE(w->message.find("over 128, which --ar sets"), std::string::npos) << w->message;
     EXPECT_NE(w->message.find("render without --ic"), std::string::npos) << w->message;
 }
 
