@@ -348,16 +348,10 @@ TEST(IrradianceCache, ARenderWhoseCacheFillsTheMemoryLimitSaysSo) {
 // came out 13 % too green-dark against the box alone): the run says so (W407), naming the
 // distance the surfaces in view lie within. The box alone gets no word.
 TEST(IrradianceCache, ARenderWhoseRecordsAreCoarseBesideTheViewSaysSo) {
-    RunSettings o;
-    o.width = o.height = 16;
-    o.spp = 1;
-    IcSettings ic;
-    ic.divisions = 16, ic.bounces = 1, ic.caustic_photons = 0;
-    o.irradiance_cache = ic;
     Scene box = *builtin_scene("cornell_diffuse");
-    for (const Diagnostic& d : render(box, testing::lower_or_die("(TTMRSGD)*"), o).warnings) EXPECT_NE(d.code, "W407");
+    for (const Diagnostic& d : render_ic(box, 16, 1, 0.15, 1, 16).warnings) EXPECT_NE(d.code, "W407");
     box.shapes.push_back(testing::quad("white", {-1e6, -1e4, 1e6}, {1e6, -1e4, 1e6}, {1e6, -1e4, -1e6}, {-1e6, -1e4, -1e6}));
-    RunResult r = render(box, testing::lower_or_die("(TTMRSGD)*"), o);
+    RunResult r = render_ic(box, 16, 1, 0.15, 1, 16);
     const auto w = std::find_if(r.warnings.begin(), r.warnings.end(), [](const Diagnostic& d) { return d.code == "W407"; });
     ASSERT_NE(w, r.warnings.end());
     EXPECT_EQ(w->severity, Severity::kWarning);
