@@ -90,8 +90,8 @@ void print_text(const Scene& scene, const Census& c, const Stats& st, const std:
     if (scene.units.metres_per_unit > 0 || scene.units.up != Vec3{})
         std::cout << fmt::format("  units      {}{}\n", scene.units.metres_per_unit > 0 ? fmt::format("{:g} m per unit", scene.units.metres_per_unit) : "",
                                  scene.units.up != Vec3{} ? fmt::format(", up {}", vec_text(scene.units.up)) : "");
-    std::cout << fmt::format("  emitters   {} sampled (light, illum, glow with a radius, distant), {} unsampled (other glow "
-                             "or emission)\n", c.sampled_emitters, c.unsampled_emitters);
+    std::cout << fmt::format("  emitters   {} sampled (light, illum, glow with a radius, distant, textured emission), {} "
+                             "unsampled (other glow or emission)\n", c.sampled_emitters, c.unsampled_emitters);
     if (c.has_medium)
         std::cout << (scene.medium->bounded ? fmt::format("  medium     homogeneous single-scatter, in the box {} .. {}\n", vec_text(scene.medium->box_min),
                                                           vec_text(scene.medium->box_max))

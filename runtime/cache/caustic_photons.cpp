@@ -198,7 +198,8 @@ CausticPhotons::CausticPhotons(const RenderScene& scene, const CausticPhotonSett
             LightSample ls = scene.lights->sample(rnd(RandomUse::kLightPick), u, v);
             // Photons leave local `light` and `illum` emitters (not distant sources, nor glows,
             // whose light is direct lighting's near them and the rays' beyond).
-            if (!(ls.pdf_area > 0) || (ls.limits && std::isfinite(ls.limits->max_distance))) return;
+            // Nor textured emissions: rays through glass see those (Bsdf::emission_sampled).
+            if (!(ls.pdf_area > 0) || (ls.limits && (std::isfinite(ls.limits->max_distance) || ls.limits->emission))) return;
             std::array<Cone, 64> cones;
             double total = 0;
             for (size_t k = 0; k < targets.size(); ++k) total += (cones[k] = cone_to(ls.position, targets[k])).solid_angle;

@@ -331,7 +331,7 @@ Vec3 emitted(const Bsdf& b, const HitFrame& f, bool camera_or_delta, bool /*came
         const double r = m.glow_radius;
         if (camera_or_delta || r == 0 || (r > 0 && f.distance > r)) e += patterned(m.color);
     }
-    if (b.emission) e += *b.emission;
+    if (b.emission && (camera_or_delta || !b.emission_sampled)) e += *b.emission;
     return e;
 }
 

@@ -102,6 +102,10 @@ struct Bsdf {
     bool mirror_like = false;  ///< an S lobe (specular, smooth)
     bool direct_response = false;  ///< a lobe that direct lighting can reach
     bool emits = false;            ///< light, glow, or an emission of its own
+    /// Its emission is sampled by direct lighting here (LightSampler::samples_emission, the
+    /// front of the surface): counted where rays hit it by camera rays and rays from delta
+    /// lobes only, as a `light`'s.
+    bool emission_sampled = false;
     bool lambertian = false;       ///< direct light reaches the D reflection lobe only
     /// Direct light reaches it from the front of f.normal only (no D transmission, no
     /// function transmitting behind): emitters below its horizon need no shadow rays.

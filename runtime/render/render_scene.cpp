@@ -8,6 +8,7 @@
 #include "runtime/base/sampling.h"
 #include "runtime/scene/material.h"
 #include "runtime/scene/sky_model.h"
+#include "runtime/texture/surface_textures.h"
 
 namespace crex {
 namespace {
@@ -144,8 +145,23 @@ Vec3 DistantEmitters::escaped(const Vec3& d) const {
 
 // ---- the light sampler ---------------------------------------------------------------------
 
-LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const ScenePatterns* patterns)
+Vec3 TexturedEmission::at(uint32_t prim, double b1, double b2, const Vec3& position) const {
+    SurfacePoint p;
+    p.position = position + origin_offset;
+    p.indirect = p.coarse = true;
+    if (!geometry->uvs.empty()) {
+        const auto& t = geometry->indices[prim];
+        const auto &t0 = geometry->uvs[t[0]], &t1 = geometry->uvs[t[1]], &t2 = geometry->uvs[t[2]];
+        const double b0 = 1 - b1 - b2;
+        p.u = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
+        p.v = b0 * t0[1] + b1 * t1[1] + b2 * t2[1];
+    }
+    return textures->emission(material, p);
+}
+
+LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const ScenePatterns* patterns, const SurfaceTextures* textures)
     : distant_(scene, 0.5 * length(embree.bounds_max() - embree.bounds_min()), patterns) {
+    emission_sampled_.assign(embree.geometries().size(), 0);
     auto limits_of = [&](const GeometryInfo& g) -> const EmitterLimits* {
         const Material& m = scene.materials[g.emitter];
         EmitterLimits l;
@@ -160,8 +176,50 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         limits_.push_back(std::make_unique<EmitterLimits>(l));
         return limits_.back().get();
     };
+    // A mesh whose emission is an image: its triangles, each weighed by the emission read at
+    // four of its points (a weight only steers the choice; the sample's own radiance is read
+    // where it falls), at least a twentieth of the brightest's so that no lit texel is left
+    // out. Left unsampled when no point read has any light (its rays still see it).
+    auto add_textured = [&](const GeometryInfo& g) {
+        auto emission = std::make_unique<TexturedEmission>(TexturedEmission{textures, &g, g.material, embree.origin_offset()});
+        auto limits = std::make_unique<EmitterLimits>();
+        limits->emission = emission.get();
+        std::vector<Entry> added;
+        double brightest = 0;
+        for (uint32_t prim = 0; prim < g.indices.size(); ++prim) {
+            const auto& t = g.indices[prim];
+            Entry e;
+            e.a = e.d = g.positions[t[0]];
+            e.b = g.positions[t[1]];
+            e.c = g.positions[t[2]];
+            e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
+            if (!(e.area > 0)) continue;
+            e.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
+            e.centre = (e.a + e.b + e.c) / 3.0;
+            e.reach = std::fmax(length(e.a - e.centre), std::fmax(length(e.b - e.centre), length(e.c - e.centre)));
+            e.limits = limits.get();
+            e.prim = prim;
+            constexpr double kProbes[4][2] = {{1.0 / 3, 1.0 / 3}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 6, 1.0 / 6}};
+            for (const auto& b : kProbes) {
+                const Vec3 p = e.a * (1 - b[0] - b[1]) + e.b * b[0] + e.c * b[1];
+                e.radiance += emission->at(prim, b[0], b[1], p) * 0.25;
+            }
+            if (!is_finite(e.radiance)) e.radiance = {};
+            brightest = std::fmax(brightest, luminance(e.radiance));
+            added.push_back(e);
+        }
+        if (!(brightest > 0)) return;
+        for (Entry& e : added) {
+            if (luminance(e.radiance) < 0.05 * brightest) e.radiance = Vec3{1, 1, 1} * (0.05 * brightest);
+            entries_.push_back(e);
+        }
+        emission_sampled_[static_cast<size_t>(&g - embree.geometries().data())] = 1;
+        textured_.push_back(std::move(emission));
+        limits_.push_back(std::move(limits));
+    };
     auto add_geometry = [&](const GeometryInfo& g) {
         const Material& m = scene.materials[g.emitter];
+        if (textures && !g.sphere && g.emitter == g.material && samples_textured_emission(m)) return add_textured(g);
         if (!is_sampled_emitter(m) || max_component(m.color) <= 0) return;
         const EmitterLimits* limits = limits_of(g);
         const bool weak = m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
@@ -270,6 +328,7 @@ TriangleWeights LightSampler::flat_weights(const std::vector<Entry>& entries) {
 
 bool LightSampler::join_parallelogram(const Entry& t0, const Entry& t1, Entry& joined) {
     if (t0.sphere || t1.sphere || t0.distant >= 0 || t1.distant >= 0 || t0.weak != t1.weak || t0.limits != t1.limits ||
+        (t0.limits && t0.limits->emission) ||
         !(t0.radiance == t1.radiance) || !(dot(t0.normal, t1.normal) >= 1 - 1e-12))
         return false;
     // The corners t0 shares with t1 (exactly: a quad's triangles share its vertices).
@@ -510,7 +569,7 @@ RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes, TextureProg
     if (cutouts) cutouts->attach(*embree);
     for (const Material& m : s.materials) any_pattern = any_pattern || !m.patterns.empty() || m.surface_functions || m.mixture || m.directional || !m.redirections.empty();
     if (any_pattern) patterns = std::make_unique<ScenePatterns>(s, embree->origin_offset(), warnings);
-    lights = std::make_unique<LightSampler>(s, *embree, patterns.get());
+    lights = std::make_unique<LightSampler>(s, *embree, patterns.get(), textures.get());
     for (const Material& m : s.materials) bsdfs.push_back(Bsdf::of(m));
     if (patterns)
         for (uint32_t i = 0; i < bsdfs.size(); ++i) {

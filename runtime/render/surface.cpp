@@ -262,6 +262,9 @@ const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f,
     scratch = Bsdf::of(m, values);
     scratch.directional = scene.bsdfs[material].directional;
     scratch.redirect = scene.bsdfs[material].redirect;
+    // Direct lighting samples a textured emission's front (its triangles' winding); its back,
+    // which `emission` lights too, stays every ray's to find.
+    scratch.emission_sampled = f.front && material == g.material && scene.lights && scene.lights->samples_emission(hit.geomID);
     return scratch;
 }
 

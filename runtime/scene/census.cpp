@@ -23,7 +23,7 @@ Census take_census(const Scene& scene) {
         const Material* seen = shading_material(scene, *m);
         u.spawns = seen ? spawned_components(*seen) : ComponentSet{};
         ++u.shapes;
-        if (is_sampled_emitter(*m) && is_emissive(*m)) ++c.sampled_emitters;
+        if (is_sampled_shape(*m, shape) && is_emissive(*m)) ++c.sampled_emitters;
         else if (is_emissive(*m)) ++c.unsampled_emitters;
         // A mixture's surfaces are its background material too, where the coefficient says.
         if (const Material* b = m->mixture ? scene.find_material(m->mixture->background) : nullptr) {

@@ -92,8 +92,9 @@ SceneBox scene_box(const Scene& scene);
 /// each frame's on a camera path.
 std::string camera_problem(const Camera& camera, const SceneBox& box);
 
-/// How many shapes and distant sources direct lighting samples (0: direct light is black).
-size_t sampled_light_count(const Scene& scene);
+/// How many shapes and distant sources direct lighting samples (0: direct light is black);
+/// with `textured_emission` false, the shapes whose emission is an image left out.
+size_t sampled_light_count(const Scene& scene, bool textured_emission = true);
 
 /// Checks that apply to every loader's result: finite camera, materials referenced by shapes
 /// exist, geometry not degenerate (relative to the scene's size), at least one light (W302).

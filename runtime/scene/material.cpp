@@ -113,6 +113,16 @@ Vec3 emitted_radiance(const Material& m) {
     return m.emission ? *m.emission : Vec3{};
 }
 
+bool samples_textured_emission(const Material& m) {
+    const bool reflects = m.type == MaterialType::kPlastic || m.type == MaterialType::kMetal || m.type == MaterialType::kTrans;
+    return reflects && m.textures.emission.has_value() && m.patterns.empty() && !m.surface_functions && !m.directional &&
+           m.redirections.empty() && !m.mixture;
+}
+
+bool is_sampled_shape(const Material& m, const Shape& s) {
+    return is_sampled_emitter(m) || (samples_textured_emission(m) && s.type != ShapeType::kSphere);
+}
+
 bool is_emissive(const Material& m) { return max_component(emitted_radiance(m)) > 0 || m.textures.emission.has_value(); }
 
 std::string component_set_letters(const ComponentSet& set) {

@@ -38,6 +38,13 @@ const Material* shading_material(const Scene& scene, const Material& m);
 inline bool is_sampled_emitter(const Material& m) {
     return m.type == MaterialType::kLight || m.type == MaterialType::kIllum || (m.type == MaterialType::kGlow && m.glow_radius > 0);
 }
+/// True for a material whose `emission` is an image on a surface that also reflects (plastic,
+/// metal, trans; no RADIANCE functions on it): direct lighting samples its meshes' triangles
+/// (runtime/render/render_scene.h, TexturedEmission). A constant `emission` stays unsampled.
+bool samples_textured_emission(const Material& m);
+/// Does direct lighting sample shape `s` of material `m`? (A sampled emitter, or a textured
+/// emission on anything but an analytic sphere, which has no texture coordinates.)
+bool is_sampled_shape(const Material& m, const Shape& s);
 /// True when a hit adds emission (sampled or not).
 bool is_emissive(const Material& m);
 

@@ -22,7 +22,9 @@ Vec3 studio_key_direction(const Camera& c) {
 }  // namespace
 
 std::optional<Scene> light_unlit_model(std::optional<Scene> scene, DiagnosticSink& sink) {
-    if (!scene || scene->shapes.empty() || sampled_light_count(*scene) > 0 || max_component(scene->background) > 0) return scene;
+    // A glowing screen or a lit dial (a textured emission) does not light a model as a studio
+    // does: the studio is added unless the model has lamps of its own.
+    if (!scene || scene->shapes.empty() || sampled_light_count(*scene, false) > 0 || max_component(scene->background) > 0) return scene;
     SourceSpan at;
     for (const Diagnostic& d : sink.diagnostics())
         if (d.code == "W302") at = d.span;

@@ -36,10 +36,12 @@ std::string camera_problem(const Camera& c, const SceneBox& box) {
     return "";
 }
 
-size_t sampled_light_count(const Scene& scene) {
+size_t sampled_light_count(const Scene& scene, bool textured_emission) {
     size_t lights = 0;
     for (const Shape& s : scene.shapes)
-        if (const Material* m = scene.find_material(s.material); m && is_sampled_emitter(*m) && is_emissive(*m)) ++lights;
+        if (const Material* m = scene.find_material(s.material);
+            m && (textured_emission ? is_sampled_shape(*m, s) : is_sampled_emitter(*m)) && is_emissive(*m))
+            ++lights;
     for (const DistantLight& l : scene.distant_lights)
         if (const Material* m = scene.find_material(l.material);
             m && (m->type == MaterialType::kLight || m->type == MaterialType::kGlow || m->type == MaterialType::kIllum) && is_emissive(*m) &&

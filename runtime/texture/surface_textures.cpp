@@ -472,11 +472,15 @@ MaterialValues SurfaceTextures::values(uint32_t m, const SurfacePoint& p) const 
     v.specularity = clamp01(scalar(s.specularity, p, mat.specularity));
     if (s.roughness.image != kNone) v.roughness = std::clamp(scalar(s.roughness, p, mat.roughness), kMinTexturedRoughness, 1.0);
     v.metallic = clamp01(scalar(s.metallic, p, mat.metallic));
-    if (s.emission.image != kNone) {
-        const Vec3 e = vmin(colour(s.emission, p, mat.emission.value_or(Vec3{})), Vec3{kMaxRadiance, kMaxRadiance, kMaxRadiance});
-        v.emission = e;
-    }
+    if (s.emission.image != kNone) v.emission = emission(m, p);
     return v;
+}
+
+Vec3 SurfaceTextures::emission(uint32_t m, const SurfacePoint& p) const {
+    const Material& mat = scene_.materials[m];
+    const Vec3 constant = mat.emission.value_or(Vec3{});
+    if (slots_[m].emission.image == kNone) return constant;
+    return vmin(colour(slots_[m].emission, p, constant), Vec3{kMaxRadiance, kMaxRadiance, kMaxRadiance});
 }
 
 double SurfaceTextures::opacity(uint32_t m, const SurfacePoint& p) const {

@@ -114,6 +114,9 @@ public:
 
     /// Material `m`'s parameters at `p` (constants where it has no texture).
     MaterialValues values(uint32_t m, const SurfacePoint& p) const;
+    /// Its emission alone at `p` (0 without one): what direct lighting reads at a sample of a
+    /// textured emission.
+    Vec3 emission(uint32_t m, const SurfacePoint& p) const;
 
     /// The shading normal after material `m`'s normal or bump map at `p`, for the unit normal
     /// `n` (on the side the ray came from) and the surface's derivatives in mesh (u, v)

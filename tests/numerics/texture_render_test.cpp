@@ -18,6 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "runtime/io/image_io.h"
 #include "runtime/texture/surface_textures.h"
@@ -952,6 +953,66 @@ TEST(NormalMap, AFlatNormalMapChangesNothingBitForBit) {
     t.materials[0].textures.normal = tilted;
     const std::vector<float> bent = render(t, testing::lower_or_die("(DG)2"), o).image();
     EXPECT_NE(std::memcmp(bent.data(), without.data(), bent.size() * sizeof(float)), 0);
+}
+
+// A surface whose emission is an image lights the scene through direct lighting's samples,
+// each reading the image where it falls (TexturedEmission), and rays that hit it from a
+// diffuse or glossy lobe no longer count it: the same light, without the grain of finding it
+// by chance. `texels(x, y)` of a 64 x 64 image, times L; the quad is square_light_over_plane's
+// lamp (u along +x).
+Scene floor_under_textured_emission(double rho, double L, double half, double h, const std::function<float(int, int)>& texels,
+                                    const std::string& name) {
+    Scene s = testing::square_light_over_plane(rho, L, half, h);
+    std::vector<float> rgb(64 * 64 * 3);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            for (int k = 0; k < 3; ++k) rgb[size_t((y * 64 + x) * 3 + k)] = texels(x, y);
+    Material screen = testing::make_material("lamp", MaterialType::kPlastic, {0, 0, 0});
+    screen.textures.emission = texture(write_texture(name, 64, 64, rgb));
+    screen.textures.emission->scale = {L, L, L};
+    s.materials[1] = screen;
+    s.shapes[1] = uv_quad("lamp", {-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half});
+    return s;
+}
+
+TEST(TexturedEmission, LightsTheFloorAsALampOfItsRadianceDoesAndAsQuietly) {
+    const double rho = 0.5, L = 2, half = 0.5, h = 1;
+    const Scene s = floor_under_textured_emission(rho, L, half, h, [](int, int) { return 1.0f; }, "white.exr");
+    const int n = 16;
+    const std::vector<float> img = testing::render_crex(s, "(TTMRSGD)*", n, 16, 3).image();
+    ASSERT_TRUE(testing::all_finite(img));
+    // The point under the lamp's centre: rho E / pi (the lamp reflects nothing back).
+    const double expected = rho * testing::irradiance_under_square(L, half, h) / kPi;
+    EXPECT_NEAR(testing::mean_luminance(img) / expected, 1.0, 0.02);
+    // Its noise: with only the diffuse rays that happen to hit it (a chance of 0.24) 16 samples
+    // left each pixel within a spread of 0.45 of the mean; sampled, within a few percent.
+    double sum = 0, squares = 0;
+    for (size_t i = 0; i < img.size(); i += 3) sum += img[i], squares += double(img[i]) * img[i];
+    const double count = double(img.size() / 3), mean = sum / count;
+    EXPECT_LT(std::sqrt(std::fmax(squares / count - mean * mean, 0.0)) / mean, 0.1);
+    // Wound the other way, the quad faces up: direct lighting samples that side, and the floor
+    // sees its back, whose emission the rays that hit it still count (unsampled, so noisier).
+    Scene flipped = s;
+    std::swap(flipped.shapes[1].vertices[1], flipped.shapes[1].vertices[3]);
+    std::swap(flipped.shapes[1].uvs[1], flipped.shapes[1].uvs[3]);
+    EXPECT_NEAR(testing::mean_luminance(testing::render_crex(flipped, "(TTMRSGD)*", n, 64, 3).image()) / expected, 1.0, 0.05);
+}
+
+TEST(TexturedEmission, EachSampleReadsTheTexelItFallsOn) {
+    // Only the half at +x glows (u >= 0.5): at a point under that half, the light of a `light`
+    // over that half alone, not half of the whole quad's (what the image's mean would give).
+    const double rho = 0.5, L = 2, half = 0.5, h = 1;
+    Scene s = floor_under_textured_emission(rho, L, half, h, [](int x, int) { return x >= 32 ? 1.0f : 0.0f; }, "half.exr");
+    Scene lamp = testing::square_light_over_plane(rho, L, half, h);
+    lamp.shapes[1] = build::quad("lamp", {0, h, -half}, {half, h, -half}, {half, h, half}, {0, h, half});
+    for (Scene* scene : {&s, &lamp}) scene->camera.position = {0.25, h / 2, 0};
+    const double textured = testing::mean_luminance(testing::render_crex(s, "(TTMRSGD)*", 16, 64, 3).image());
+    const double reference = testing::mean_luminance(testing::render_crex(lamp, "(TTMRSGD)*", 16, 64, 3).image());
+    EXPECT_NEAR(textured / reference, 1.0, 0.02);
+    s.camera.position = lamp.camera.position = {-0.25, h / 2, 0};  // under the dark half: less
+    EXPECT_NEAR(testing::mean_luminance(testing::render_crex(s, "(TTMRSGD)*", 16, 64, 3).image()) /
+                    testing::mean_luminance(testing::render_crex(lamp, "(TTMRSGD)*", 16, 64, 3).image()),
+                1.0, 0.02);
 }
 
 }  // namespace

@@ -314,7 +314,9 @@ TEST(SceneGltf, CamerasLightsAndTags) {
     EXPECT_EQ(sun_light->type, MaterialType::kLight);
     EXPECT_NEAR(sun_light->color.x * 2 * M_PI * (1 - std::cos(sun.angle_deg * M_PI / 360)), 3, 1e-9);
     const Census c = take_census(s);
-    EXPECT_EQ(c.sampled_emitters, 4u);  // the bulb, the spot, the sun and the panel
+    // The bulb, the spot, the sun, the panel and the mesh whose emission is an image ("glow").
+    EXPECT_EQ(c.sampled_emitters, 5u);
+    EXPECT_EQ(c.unsampled_emitters, 0u);
     // Tags from a node name and from extras (inherited by nothing else here).
     ASSERT_TRUE(shape_named(s, "task2:cup")->tag);
     EXPECT_EQ(shape_named(s, "task2:cup")->tag->name, "cup");
