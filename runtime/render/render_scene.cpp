@@ -180,6 +180,18 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
     // four of its points (a weight only steers the choice; the sample's own radiance is read
     // where it falls), at least a twentieth of the brightest's so that no lit texel is left
     // out. Left unsampled when no point read has any light (its rays still see it).
+    // Triangle t of mesh g as an emitter (its radiance, limits and flags left to the caller).
+    auto triangle_entry = [](const GeometryInfo& g, const std::array<uint32_t, 3>& t) {
+        Entry e;
+        e.a = e.d = g.positions[t[0]];
+        e.b = g.positions[t[1]];
+        e.c = g.positions[t[2]];
+        e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
+        e.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
+        e.centre = (e.a + e.b + e.c) / 3.0;
+        e.reach = std::fmax(length(e.a - e.centre), std::fmax(length(e.b - e.centre), length(e.c - e.centre)));
+        return e;
+    };
     auto add_textured = [&](const GeometryInfo& g) {
         auto emission = std::make_unique<TexturedEmission>(TexturedEmission{textures, &g, g.material, embree.origin_offset()});
         auto limits = std::make_unique<EmitterLimits>();
@@ -187,16 +199,8 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         std::vector<Entry> added;
         double brightest = 0;
         for (uint32_t prim = 0; prim < g.indices.size(); ++prim) {
-            const auto& t = g.indices[prim];
-            Entry e;
-            e.a = e.d = g.positions[t[0]];
-            e.b = g.positions[t[1]];
-            e.c = g.positions[t[2]];
-            e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
+            Entry e = triangle_entry(g, g.indices[prim]);
             if (!(e.area > 0)) continue;
-            e.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
-            e.centre = (e.a + e.b + e.c) / 3.0;
-            e.reach = std::fmax(length(e.a - e.centre), std::fmax(length(e.b - e.centre), length(e.c - e.centre)));
             e.limits = limits.get();
             e.prim = prim;
             constexpr double kProbes[4][2] = {{1.0 / 3, 1.0 / 3}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 6, 1.0 / 6}};
@@ -239,16 +243,9 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         }
         const size_t first = entries_.size();
         for (const auto& t : g.indices) {
-            Entry e;
+            Entry e = triangle_entry(g, t);
             e.weak = weak;
-            e.a = e.d = g.positions[t[0]];
-            e.b = g.positions[t[1]];
-            e.c = g.positions[t[2]];
             e.radiance = m.color;
-            e.area = 0.5 * length(cross(e.b - e.a, e.c - e.a));
-            e.normal = normalize_or_zero(cross(e.b - e.a, e.c - e.a));
-            e.centre = (e.a + e.b + e.c) / 3.0;
-            e.reach = std::fmax(length(e.a - e.centre), std::fmax(length(e.b - e.centre), length(e.c - e.centre)));
             e.limits = limits;
             if (limits && limits->pattern) e.pattern_mean = limits->pattern->mean_over_hemisphere(e.normal, e.centre);
             if (e.area > 0) entries_.push_back(e);
