@@ -176,10 +176,6 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         limits_.push_back(std::make_unique<EmitterLimits>(l));
         return limits_.back().get();
     };
-    // A mesh whose emission is an image: its triangles, each weighed by the emission read at
-    // four of its points (a weight only steers the choice; the sample's own radiance is read
-    // where it falls), at least a twentieth of the brightest's so that no lit texel is left
-    // out. Left unsampled when no point read has any light (its rays still see it).
     // Triangle t of mesh g as an emitter (its radiance, limits and flags left to the caller).
     auto triangle_entry = [](const GeometryInfo& g, const std::array<uint32_t, 3>& t) {
         Entry e;
@@ -192,6 +188,10 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& embree, const 
         e.reach = std::fmax(length(e.a - e.centre), std::fmax(length(e.b - e.centre), length(e.c - e.centre)));
         return e;
     };
+    // A mesh whose emission is an image: its triangles, each weighed by the emission read at
+    // four of its points (a weight only steers the choice; the sample's own radiance is read
+    // where it falls), at least a twentieth of the brightest's so that no lit texel is left
+    // out. Left unsampled when no point read has any light (its rays still see it).
     auto add_textured = [&](const GeometryInfo& g) {
         auto emission = std::make_unique<TexturedEmission>(TexturedEmission{textures, &g, g.material, embree.origin_offset()});
         auto limits = std::make_unique<EmitterLimits>();

@@ -217,7 +217,7 @@ private:
             m.type = *t;
         }
         r.warn_unknown({"name", "type", "color", "specularity", "roughness", "transmissivity", "transmitted_specular",
-                        "ior", "glow_radius", "emission", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
+                        "ior", "glow_radius", "emission", "emission_sampled", "anisotropy", "spot", "outside", "alternate", "metallic", "opacity",
                         "alpha_mode", "alpha_cutoff", "specular_color", "normal_map", "bump_map", "thin", "patterns", "surface_functions", "directional_function", "redirections", "clips", "mixture"});
         bool emitter = m.type == MaterialType::kLight || m.type == MaterialType::kGlow || m.type == MaterialType::kIllum;
         MaterialTextures& tex = m.textures;
@@ -235,6 +235,7 @@ private:
         r.number("glow_radius", m.glow_radius);  // negative: never lights the scene
         Vec3 e;
         if (!texture_or(r, "emission", tex.emission) && r.vec3("emission", e, kRadiance)) m.emission = e;
+        r.boolean("emission_sampled", m.emission_sampled);
         if (r.has("anisotropy") && r.at("anisotropy").is_object()) {
             ObjectReader a(doc_, sink_, r.at("anisotropy"), r.pointer() + "/anisotropy");
             a.warn_unknown({"orientation", "roughness_v"});

@@ -115,8 +115,8 @@ Vec3 emitted_radiance(const Material& m) {
 
 bool samples_textured_emission(const Material& m) {
     const bool reflects = m.type == MaterialType::kPlastic || m.type == MaterialType::kMetal || m.type == MaterialType::kTrans;
-    return reflects && m.textures.emission.has_value() && m.patterns.empty() && !m.surface_functions && !m.directional &&
-           m.redirections.empty() && !m.mixture;
+    return reflects && m.emission_sampled && m.textures.emission.has_value() && m.patterns.empty() && !m.surface_functions &&
+           !m.directional && m.redirections.empty() && !m.mixture;
 }
 
 bool is_sampled_shape(const Material& m, const Shape& s) {

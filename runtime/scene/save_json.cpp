@@ -144,6 +144,7 @@ nlohmann::json scene_to_json(const Scene& scene) {
         if (m.thin_glass) e["thin"] = true;
         if (m.glow_radius != defaults.glow_radius) e["glow_radius"] = m.glow_radius;
         if (m.emission) e["emission"] = vec(*m.emission);
+        if (!m.emission_sampled) e["emission_sampled"] = false;
         if (m.anisotropy) e["anisotropy"] = {{"orientation", vec(m.anisotropy->orientation)}, {"roughness_v", m.anisotropy->roughness_v}};
         if (m.spot) e["spot"] = {{"angle", m.spot->angle_deg}, {"direction", vec(m.spot->direction)}};
         if (m.outside) e["outside"] = {{"color", vec(m.outside->color)}, {"ior", m.outside->ior}};

@@ -158,6 +158,10 @@ struct Material {
     /// lights the scene, seen only by camera rays and rays from ideal specular lobes.
     double glow_radius = 0;
     std::optional<Vec3> emission;  ///< any non-emitter may glow too (not sampled)
+    /// An emission texture on a mesh is sampled by direct lighting (samples_textured_emission).
+    /// False for surfaces that only show an image (glTF's unlit: a backdrop, baked lighting),
+    /// whose light, often from large surfaces, rays find with less noise than samples do.
+    bool emission_sampled = true;
     std::optional<Anisotropy> anisotropy;   ///< plastic, metal, trans
     std::optional<Spot> spot;               ///< light, illum
     std::optional<OutsideMedium> outside;   ///< dielectric

@@ -197,11 +197,15 @@ public:
             }
         }
         // A constant emission is a sampled emitter (a lamp); a textured one (a screen) glows
-        // without being sampled, over a material that still reflects. Material extras
-        // {"crex_light": true|false} say which instead.
+        // over a material that still reflects, its texels sampled by direct lighting; an unlit
+        // one only shows its image. Material extras {"crex_light": true|false} say which
+        // instead (false: a textured emission left to the rays that hit it).
         bool sampled = max_component(emissive) > 0 && !tex.emission && !ext("KHR_materials_unlit");
-        if (g.extras.IsObject() && g.extras.Has("crex_light") && g.extras.Get("crex_light").IsBool())
+        m.emission_sampled = !ext("KHR_materials_unlit");
+        if (g.extras.IsObject() && g.extras.Has("crex_light") && g.extras.Get("crex_light").IsBool()) {
             sampled = g.extras.Get("crex_light").Get<bool>() && max_component(emissive) > 0;
+            m.emission_sampled = m.emission_sampled && g.extras.Get("crex_light").Get<bool>();
+        }
         if (!sampled && max_component(emissive) > 0 && !tex.emission && !ext("KHR_materials_unlit")) m.emission = emissive;
         if (sampled) {
             m.type = MaterialType::kLight;

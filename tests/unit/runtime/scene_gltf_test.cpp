@@ -256,10 +256,12 @@ TEST(SceneGltf, MaterialsFollowTheDocumentedTable) {
     EXPECT_DOUBLE_EQ(t.roughness->power, 2);
     EXPECT_EQ(t.metallic->channel, 2);
     EXPECT_EQ(t.opacity->channel, 3);
-    // A textured emission glows (not sampled); a constant one is a sampled lamp.
+    // A textured emission glows over a reflecting material, sampled; a constant one is a
+    // sampled lamp.
     const Material* glow = r.scene->find_material("room/glow");
     ASSERT_TRUE(glow && glow->textures.emission);
     EXPECT_EQ(glow->type, MaterialType::kPlastic);
+    EXPECT_TRUE(glow->emission_sampled);
     EXPECT_EQ(glow->textures.emission->scale, (Vec3{4, 4, 4}));
     const Material* panel = r.scene->find_material("room/panel");
     ASSERT_TRUE(panel);
@@ -268,6 +270,27 @@ TEST(SceneGltf, MaterialsFollowTheDocumentedTable) {
     // The census of the trans, metallic, textured glaze: D, G (textured roughness), T.
     const ComponentSet s = spawned_components(*glaze);
     EXPECT_EQ(component_set_letters(s), "D G T");
+}
+
+// An unlit material only shows its image, and {"crex_light": false} says a textured emission is
+// not a lamp: direct lighting samples neither (docs/textures.md).
+TEST(SceneGltf, UnlitAndCrexLightFalseTexturedEmissionsAreNotSampled) {
+    const std::string strength = R"({"emissiveStrength": 4}})";  // the glow material's, the first
+    const std::string factor = R"("emissiveFactor": [1, 1, 1],)";
+    std::string unlit = room_gltf(), not_a_lamp = room_gltf();
+    ASSERT_NE(unlit.find(strength), std::string::npos);
+    unlit.replace(unlit.find(strength), strength.size(), R"({"emissiveStrength": 4}, "KHR_materials_unlit": {}})");
+    ASSERT_NE(not_a_lamp.find(factor), std::string::npos);
+    not_a_lamp.replace(not_a_lamp.find(factor), factor.size(), factor + R"( "extras": {"crex_light": false},)");
+    for (const std::string& text : {unlit, not_a_lamp}) {
+        auto r = testing::load_path(write("room.gltf", text));
+        ASSERT_TRUE(r.scene);
+        const Material* glow = r.scene->find_material("room/glow");
+        ASSERT_TRUE(glow);
+        EXPECT_FALSE(glow->emission_sampled);
+        EXPECT_FALSE(samples_textured_emission(*glow));
+        EXPECT_GE(take_census(*r.scene).unsampled_emitters, 1u);
+    }
 }
 
 TEST(SceneGltf, CamerasLightsAndTags) {
