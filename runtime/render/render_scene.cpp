@@ -1,6 +1,7 @@
 #include "runtime/render/render_scene.h"
 
 #include "runtime/render/light_visibility.h"
+#include "runtime/render/surface.h"
 
 #include <algorithm>
 #include <cmath>
@@ -149,13 +150,7 @@ Vec3 TexturedEmission::at(uint32_t prim, double b1, double b2, const Vec3& posit
     SurfacePoint p;
     p.position = position + origin_offset;
     p.indirect = p.coarse = true;
-    if (!geometry->uvs.empty()) {
-        const auto& t = geometry->indices[prim];
-        const auto &t0 = geometry->uvs[t[0]], &t1 = geometry->uvs[t[1]], &t2 = geometry->uvs[t[2]];
-        const double b0 = 1 - b1 - b2;
-        p.u = b0 * t0[0] + b1 * t1[0] + b2 * t2[0];
-        p.v = b0 * t0[1] + b1 * t1[1] + b2 * t2[1];
-    }
+    if (!geometry->uvs.empty()) interpolate_uv(*geometry, geometry->indices[prim], b1, b2, p.u, p.v);
     return textures->emission(material, p);
 }
 

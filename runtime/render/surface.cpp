@@ -9,6 +9,13 @@
 #include "runtime/scene/shapes.h"
 
 namespace crex {
+
+void interpolate_uv(const GeometryInfo& g, const std::array<uint32_t, 3>& t, double b1, double b2, double& u, double& v) {
+    const double b0 = 1 - b1 - b2;
+    u = b0 * g.uvs[t[0]][0] + b1 * g.uvs[t[1]][0] + b2 * g.uvs[t[2]][0];
+    v = b0 * g.uvs[t[0]][1] + b1 * g.uvs[t[1]][1] + b2 * g.uvs[t[2]][1];
+}
+
 namespace {
 
 // Derivatives of a triangle's position in its (u, v) (pbrt's formula); zero when its texture
@@ -26,13 +33,6 @@ void triangle_dpduv(const GeometryInfo& g, const std::array<uint32_t, 3>& t, Vec
     }
     dpdu = (dp02 * dv12 - dp12 * dv02) / det;
     dpdv = (dp12 * du02 - dp02 * du12) / det;
-}
-
-// The mesh's (u, v) at barycentrics (b1, b2) of triangle t.
-void interpolate_uv(const GeometryInfo& g, const std::array<uint32_t, 3>& t, double b1, double b2, double& u, double& v) {
-    const double b0 = 1 - b1 - b2;
-    u = b0 * g.uvs[t[0]][0] + b1 * g.uvs[t[1]][0] + b2 * g.uvs[t[2]][0];
-    v = b0 * g.uvs[t[0]][1] + b1 * g.uvs[t[1]][1] + b2 * g.uvs[t[2]][1];
 }
 
 // The mesh's vertex colour at barycentrics (b1, b2) of triangle t.

@@ -78,6 +78,9 @@ private:
 enum class SurfaceDetail { kSeen, kIndirect, kAveraged };
 const Bsdf& surface_at(const RenderScene& scene, const RTCHit& hit, HitFrame& f, Bsdf& scratch, SurfaceDetail detail);
 
+/// The mesh's texture coordinates (u, v) at barycentrics (b1, b2) of its triangle t.
+void interpolate_uv(const GeometryInfo& g, const std::array<uint32_t, 3>& t, double b1, double b2, double& u, double& v);
+
 /// True when `hit` is on the front of an illum (seen as its alternate material). Direct
 /// lighting already brings its light, so rays other than camera rays and rays from ideal
 /// specular lobes (diffuse and glossy bounces, the cache's hemisphere rays) must take
