@@ -21,7 +21,7 @@ double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-
 }  // namespace
 
 IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings, std::shared_ptr<const CausticPhotons> caustics)
-    : scene_(scene), settings_(settings) {
+    : scene_(scene), settings_(settings), hot_(scene, settings.hot_surfaces) {
     double extent = scene.embree->extent();
     r_min_ = settings.min_radius > 0 ? settings.min_radius : extent / (settings.resolution > 0 ? settings.resolution : 2000);
     r_max_ = settings.max_radius > 0 ? settings.max_radius : 0.25 * extent;

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "runtime/cache/caustic_photons.h"
+#include "runtime/cache/hot_surfaces.h"
 #include "runtime/cache/irradiance_cache_file.h"
 #include "runtime/cache/irradiance_record.h"
 #include "runtime/cache/record_grid.h"
@@ -56,6 +57,9 @@ struct IcSettings {
     /// Photons aimed at the delta shapes for the caustic map (0: caustics from the hemisphere
     /// rays, a few of which happen to reach an emitter's image: noisy).
     uint32_t caustic_photons = 200000;
+    /// Records sample the surfaces small lamps light from up close as lights (hot_surfaces.h);
+    /// false: only their hemisphere rays find them.
+    bool hot_surfaces = true;
     /// The records and their lookup grids stop growing at this many bytes (0: no limit); the
     /// queries that would make more take the ambient value, counted in IcStats::over_limit.
     /// A fine cache on a deep enough scene grows without end: --aa 0.001 --ar 1e6 on the
@@ -164,6 +168,7 @@ private:
     void pass_specular_interfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
     void shade_hemispheres(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
     void add_next_bounce(Hemispheres& h, uint32_t level);
+    void add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level);
     std::vector<IrradianceRecord> records_from(const Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) const;
     uint64_t cell_key(int x, int y, int z) const;
     /// At IcSettings::max_bytes: no more records are made.
@@ -184,6 +189,7 @@ private:
 
     const RenderScene& scene_;
     IcSettings settings_;
+    HotSurfaces hot_;  ///< sampled as lights of their own by every record (hot_surfaces.h)
     double r_min_, r_max_, max_aa_;
     float position_slack_;  ///< bounds the float rounding of GridEntry positions (local coordinates)
     std::vector<IrradianceRecord> records_;

@@ -65,6 +65,7 @@ std::vector<IrradianceRecord> IrradianceCache::compute(const std::vector<IcQuery
     Hemispheres h = cast_hemispheres(sites, level);
     pass_specular_interfaces(h, sites, level);
     shade_hemispheres(h, sites, level);
+    add_hot_surfaces(h, sites, level);
     // What shading alone needed goes before the next bounce's records are made: up to
     // `bounces` batches are alive at once, and each keeps only its radiance and distances
     // (28 of the 157 bytes a ray its arrays hold; prog_all's refinement at 960x540 once held
@@ -271,7 +272,10 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         // seen through a frosted screen lit a whole record's disc behind it.
         const bool caustic = caustics_ && h.passed[i] && b.type == MaterialType::kLight;
         Vec3 l = caustic ? Vec3{} : emitted(b, f, h.passed[i] != 0, false);
-        if (!scene_.lights->empty() && b.direct_response) {
+        // A hot surface's direct light is add_hot_surfaces()'s, but where the ray came by a
+        // mirror or through glass, which its shadow rays do not follow.
+        const bool hot = !h.passed[i] && hot_.contains(hit.hit.geomID, hit.hit.primID);
+        if (!scene_.lights->empty() && b.direct_response && !hot) {
             ShadowSample sample;
             if (direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position, horizon_of(b, f)), beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1,
                                     sample)) {
@@ -329,6 +333,84 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     if (stats_.albedo_sum.size() <= level) stats_.albedo_sum.resize(level + 1), stats_.albedo_rays.resize(level + 1);
     for (const Hemispheres::NextBounce& next : h.next) stats_.albedo_sum[level] += next.albedo_sum;
     stats_.albedo_rays[level] += n;
+}
+
+// The direct light the hot surfaces reflect onto each site (hot_surfaces.h), estimated as from
+// a light: points chosen on them by the light they receive, each lit by one direct-light sample
+// and seen from the site through a shadow ray (the hemisphere rays that meet them take no direct
+// light there). A shade's inside, seen through its openings from a few cells of the hemisphere
+// and many times as bright as the room, is met by the records' rays one or two times or none.
+// Each point's light joins the cell its direction falls in, so the record's gradients (and the
+// radius they limit) see it as they saw it when the rays brought it.
+void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
+    if (hot_.empty()) return;
+    const uint32_t per_site = std::max<uint32_t>(8, static_cast<uint32_t>(h.per / 4));
+    const auto& geometries = scene_.embree->geometries();
+    struct Shadows {
+        std::vector<RTCRay> rays;  // per point: to the light, then from the site
+        std::vector<Vec3> value, through;
+        std::vector<uint8_t> weak;
+    };
+    tbb::enumerable_thread_specific<Shadows> block_shadows;
+    tbb::parallel_for(size_t{0}, sites.size(), [&](size_t s) {
+        Shadows& local = block_shadows.local();
+        local.rays.resize(2 * per_site);
+        local.value.assign(per_site, Vec3{});
+        local.through.resize(2 * per_site);
+        local.weak.assign(2 * per_site, 0);
+        const IcQuery& site = sites[s];
+        const Vec3 o = site.position + site.normal * scene_.embree->epsilon_at(site.position);
+        for (uint32_t k = 0; k < per_site; ++k) {
+            RTCRay& to_light = local.rays[2 * k];
+            RTCRay& from_site = local.rays[2 * k + 1];
+            make_hole(to_light, 2 * k), make_hole(from_site, 2 * k + 1);
+            const HotSurfaces::Point y = hot_.sample(random_at(site.key, level, RandomUse::kIcHot, 3 * k),
+                                                     random_at(site.key, level, RandomUse::kIcHot, 3 * k + 1),
+                                                     random_at(site.key, level, RandomUse::kIcHot, 3 * k + 2));
+            const Vec3 to = y.position - o;
+            const double t = length(to);
+            if (!(t > 0) || !(y.pdf_area > 0)) continue;
+            const Vec3 dir = to / t;
+            const double cos_site = dot(site.normal, dir);
+            if (!(cos_site > 0)) continue;
+            RTCHit hit{};
+            const Vec3& n = geometries[y.geometry].normals[y.primitive];
+            hit.Ng_x = static_cast<float>(n.x), hit.Ng_y = static_cast<float>(n.y), hit.Ng_z = static_cast<float>(n.z);
+            hit.u = static_cast<float>(y.b1), hit.v = static_cast<float>(y.b2);
+            hit.primID = y.primitive, hit.geomID = y.geometry, hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            HitFrame f = hit_frame(*scene_.embree, hit, y.position, dir, t);
+            Bsdf textured;
+            const Bsdf& b = surface_at(scene_, hit, f, textured, SurfaceDetail::kAveraged);
+            ShadowSample sample;
+            if (!b.direct_response || !direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position, horizon_of(b, f)), Vec3{1, 1, 1},
+                                                           HitRandom(hash_combine(site.key, 0x4075ull + k), static_cast<uint16_t>(level + 1)), 0, 1, sample))
+                continue;
+            const double cos_hot = -dot(f.normal, dir);
+            const double g = cos_site * cos_hot / (t * t) / y.pdf_area;
+            if (!(g > 0) || !std::isfinite(g)) continue;
+            local.value[k] = sample.value * g;
+            aim_shadow_ray(to_light, sample);
+            local.weak[2 * k] = sample.weak_target;
+            aim_shadow_ray(from_site, o, dir, std::max(0.0, t - f.epsilon));
+        }
+        trace_shadow_rays_in_this_task(scene_, local.rays.data(), local.weak.data(), local.through.data(), 2 * per_site);
+        // A cell's radiance stands for pi / per of E (records_from()).
+        const double to_radiance = static_cast<double>(h.per) / (kPi * per_site);
+        Vec3 tangent, bitangent;  // as cast_hemispheres() lays out the cells
+        orthonormal_basis(site.normal, tangent, bitangent);
+        for (uint32_t k = 0; k < per_site; ++k) {
+            if (is_hole(local.rays[2 * k]) || is_hole(local.rays[2 * k + 1])) continue;
+            const Vec3 e = local.value[k] * local.through[2 * k] * local.through[2 * k + 1] * to_radiance;
+            if (!is_finite(e)) continue;
+            const RTCRay& r = local.rays[2 * k + 1];
+            const Vec3 d{r.dir_x, r.dir_y, r.dir_z};
+            const double c = dot(d, site.normal), sin2 = std::clamp(1 - c * c, 0.0, 1.0);
+            double turn = std::atan2(dot(d, bitangent), dot(d, tangent)) / (2 * kPi);
+            if (turn < 0) turn += 1;
+            const int j = std::min(h.M - 1, static_cast<int>(sin2 * h.M)), kk = std::min(h.N - 1, static_cast<int>(turn * h.N));
+            h.radiance[s * h.per + static_cast<size_t>(j * h.N + kk)] += e;
+        }
+    });
 }
 
 // rho/pi E from records one level deeper (made now where missing), for every ray shading

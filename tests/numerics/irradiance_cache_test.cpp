@@ -9,11 +9,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
+#include <set>
 #include <unistd.h>
 
 #include "runtime/cache/irradiance_cache.h"
 #include "runtime/scene/load_scene.h"
+#include "tests/support/scene_helpers.h"
 #include "tests/support/test_scenes.h"
 
 namespace crex {
@@ -104,6 +107,98 @@ struct FurnaceCache {
     RenderScene rs;
     IrradianceCache cache;
 };
+
+// A lamp in its shade over a floor: a bulb (a `light` of radius 2 cm) in an open cylinder
+// (radius 15 cm, 20 cm tall, reflectance 0.9) 1.5 above a diffuse floor, 4 x 4.
+Scene lamp_in_a_shade() {
+    Scene s = testing::floor_under(testing::make_material("unused", MaterialType::kPlastic, {0, 0, 0}), 0.01);
+    s.shapes.pop_back();
+    s.materials.push_back(testing::make_material("bulb", MaterialType::kLight, {3000, 3000, 3000}));
+    s.materials.push_back(testing::make_material("shade", MaterialType::kPlastic, {0.9, 0.9, 0.9}));
+    s.shapes.push_back(build::sphere("bulb", {0, 1.5, 0}, 0.02));
+    Shape shade;
+    shade.type = ShapeType::kCylinder, shade.material = "shade", shade.p0 = {0, 1.4, 0}, shade.p1 = {0, 1.6, 0}, shade.radius = 0.15;
+    s.shapes.push_back(shade);
+    return s;
+}
+
+// E of level-0 records (one bounce) at 64 places on the floor under the lamp, at `seed`.
+std::vector<double> floor_records_under_the_lamp(uint64_t seed, bool hot_surfaces, uint32_t divisions) {
+    Scene s = lamp_in_a_shade();
+    RenderScene rs(s);
+    IcSettings set;
+    set.divisions = divisions, set.bounces = 1, set.accuracy = 0.05, set.caustic_photons = 0, set.seed = seed;
+    set.hot_surfaces = hot_surfaces;
+    IrradianceCache cache(rs, set);
+    std::vector<IcQuery> q;
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j)
+            q.push_back({Vec3{-1.4 + 0.4 * i, 0, -1.4 + 0.4 * j} - rs.embree->origin_offset(), {0, 1, 0}, 0.05f, 0, hash_combine(seed, q.size() + 1)});
+    std::vector<Vec3> e;
+    cache.irradiance(q, 0, e);
+    std::vector<double> out;
+    for (const Vec3& v : e) out.push_back(luminance(v));
+    return out;
+}
+
+// The spread of E between seeds (relative RMS of the differences) and its mean over seeds.
+double seed_spread(const std::function<std::vector<double>(uint64_t)>& records, double& mean) {
+    double d2 = 0, m = 0;
+    size_t n = 0;
+    for (auto [first, second] : {std::pair<uint64_t, uint64_t>{1, 2}, {3, 4}, {5, 6}}) {
+        std::vector<double> a = records(first), b = records(second);
+        for (size_t i = 0; i < a.size(); ++i) d2 += (a[i] - b[i]) * (a[i] - b[i]), m += a[i] + b[i];
+        n += a.size();
+    }
+    mean = m / (2.0 * static_cast<double>(n));
+    return std::sqrt(d2 / static_cast<double>(n)) / mean;
+}
+
+// The floor under a lamp is lit, beyond the lamp's own light, by the inside of its shade, which
+// a record's 256 rays meet in a few cells or none: records sample it as a light instead
+// (HotSurfaces). The same mean as the rays' at 64 times as many rays, and a far smaller spread.
+TEST(IrradianceCache, RecordsSampleAShadeLitFromUpCloseAsALight) {
+    {
+        Scene s = lamp_in_a_shade();
+        RenderScene rs(s);
+        HotSurfaces hot(rs, true);
+        ASSERT_FALSE(hot.empty());
+        for (uint32_t g = 0; g < rs.embree->geometries().size(); ++g)  // the shade's triangles, nothing else
+            if (hot.contains(g, 0)) {
+                EXPECT_EQ(s.materials[rs.embree->geometries()[g].material].name, "shade");
+            }
+        EXPECT_TRUE(HotSurfaces(rs, false).empty());
+        // Without its shade, the bulb brought down to 20 cm over the floor: the floor is within
+        // reach, but a bulb that lights the room itself is left to the rays.
+        s.shapes.pop_back();
+        s.shapes.back().center = {0, 0.2, 0};
+        RenderScene bare(s);
+        EXPECT_TRUE(HotSurfaces(bare, true).empty());
+    }
+    {  // The example: its floor lamp's shade and the top of its pole; not the desk under the desk lamp.
+        Scene s = *testing::load_path(CREX_SOURCE_DIR "/examples/scenes/floor_lamp/scene.json").scene;
+        RenderScene rs(s);
+        HotSurfaces hot(rs, true);
+        std::set<std::string> names;
+        for (uint32_t g = 0; g < rs.embree->geometries().size(); ++g)
+            for (uint32_t p = 0; p < rs.embree->geometries()[g].indices.size(); ++p)
+                if (hot.contains(g, p)) names.insert(s.shapes[rs.embree->geometries()[g].shape].name);
+        EXPECT_TRUE(names.count("floor_lamp_shade"));
+        for (const std::string& name : names) EXPECT_TRUE(name.rfind("floor_lamp", 0) == 0) << name;
+    }
+    double mean_hot = 0, mean_rays = 0, mean_many = 0;
+    const double hot = seed_spread([](uint64_t seed) { return floor_records_under_the_lamp(seed, true, 256); }, mean_hot);
+    const double rays = seed_spread([](uint64_t seed) { return floor_records_under_the_lamp(seed, false, 256); }, mean_rays);
+    const double many = seed_spread([](uint64_t seed) { return floor_records_under_the_lamp(seed, false, 16384); }, mean_many);
+    ::testing::Test::RecordProperty("spread_hot", std::to_string(hot));
+    ::testing::Test::RecordProperty("spread_rays", std::to_string(rays));
+    ::testing::Test::RecordProperty("spread_rays_16384", std::to_string(many));
+    ::testing::Test::RecordProperty("mean_hot_over_16384", std::to_string(mean_hot / mean_many));
+    ::testing::Test::RecordProperty("mean_rays_over_16384", std::to_string(mean_rays / mean_many));
+    EXPECT_GT(mean_many, 0.0);
+    EXPECT_LT(hot, 0.3 * rays);
+    EXPECT_NEAR(mean_hot, mean_many, 0.03 * mean_many);
+}
 
 TEST(IrradianceCache, RecordsInCornersNeverHaveZeroRadius) {
     FurnaceCache f(64, 1);

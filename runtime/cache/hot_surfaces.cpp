@@ -1,0 +1,146 @@
+#include "runtime/cache/hot_surfaces.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "runtime/render/bsdf.h"
+#include "runtime/trace/trace_batch.h"
+
+namespace crex {
+namespace {
+
+// The angle between unit vectors, accurate near 0 and pi (pbrt's AngleBetween).
+double angle_between(const Vec3& a, const Vec3& b) {
+    if (dot(a, b) < 0) return 3.14159265358979323846 - 2 * std::asin(std::min(1.0, 0.5 * length(a + b)));
+    return 2 * std::asin(std::min(1.0, 0.5 * length(b - a)));
+}
+
+// The solid angle of triangle (v0, v1, v2) seen from p (Van Oosterom and Strackee).
+double solid_angle(const Vec3& p, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+    const Vec3 a = v0 - p, b = v1 - p, c = v2 - p;
+    const double la = length(a), lb = length(b), lc = length(c);
+    const double numerator = std::fabs(dot(a, cross(b, c)));
+    const double denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+    const double omega = 2 * std::atan2(numerator, denominator);
+    return std::isfinite(omega) ? std::fabs(omega) : 0.0;
+}
+
+// A direction uniform in the solid angle of triangle v seen from p (Arvo 1995, as pbrt-v4's
+// SampleSphericalTriangle), as the barycentrics (b1, b2) where it meets the triangle; false
+// for a triangle too thin or too far to sample.
+bool sample_spherical_triangle(const std::array<Vec3, 3>& v, const Vec3& p, double u0, double u1, double& b1, double& b2) {
+    const Vec3 a = normalize_or_zero(v[0] - p), b = normalize_or_zero(v[1] - p), c = normalize_or_zero(v[2] - p);
+    Vec3 n_ab = normalize_or_zero(cross(a, b)), n_bc = normalize_or_zero(cross(b, c)), n_ca = normalize_or_zero(cross(c, a));
+    if (n_ab == Vec3{} || n_bc == Vec3{} || n_ca == Vec3{}) return false;
+    const double alpha = angle_between(n_ab, -n_ca), beta = angle_between(n_bc, -n_ab), gamma = angle_between(n_ca, -n_bc);
+    const double pi = 3.14159265358979323846;
+    const double area_pi = alpha + beta + gamma;
+    if (!(area_pi - pi > 0)) return false;
+    const double sampled = pi + u0 * (area_pi - pi);  // the sub-triangle's area plus pi
+    const double cos_alpha = std::cos(alpha), sin_alpha = std::sin(alpha);
+    const double sin_phi = std::sin(sampled) * cos_alpha - std::cos(sampled) * sin_alpha;
+    const double cos_phi = std::cos(sampled) * cos_alpha + std::sin(sampled) * sin_alpha;
+    const double k1 = cos_phi + cos_alpha, k2 = sin_phi - sin_alpha * dot(a, b);
+    double cos_bp = (k2 + (k2 * cos_phi - k1 * sin_phi) * cos_alpha) / ((k2 * sin_phi + k1 * cos_phi) * sin_alpha);
+    if (!std::isfinite(cos_bp)) return false;
+    cos_bp = std::clamp(cos_bp, -1.0, 1.0);
+    const double sin_bp = std::sqrt(std::max(0.0, 1 - cos_bp * cos_bp));
+    const Vec3 cp = a * cos_bp + normalize_or_zero(c - a * dot(c, a)) * sin_bp;
+    const double cos_t = 1 - u1 * (1 - dot(cp, b)), sin_t = std::sqrt(std::max(0.0, 1 - cos_t * cos_t));
+    const Vec3 w = b * cos_t + normalize_or_zero(cp - b * dot(cp, b)) * sin_t;
+    // Where w meets the triangle's plane (Moller-Trumbore), clamped into it.
+    const Vec3 e1 = v[1] - v[0], e2 = v[2] - v[0], s1 = cross(w, e2);
+    const double divisor = dot(s1, e1);
+    if (!(std::fabs(divisor) > 0)) return false;
+    const Vec3 s = p - v[0];
+    b1 = std::clamp(dot(s, s1) / divisor, 0.0, 1.0);
+    b2 = std::clamp(dot(w, cross(s, e1)) / divisor, 0.0, 1.0);
+    if (b1 + b2 > 1) {
+        const double sum = b1 + b2;
+        b1 /= sum, b2 /= sum;
+    }
+    return std::isfinite(b1) && std::isfinite(b2);
+}
+
+}  // namespace
+
+HotSurfaces::HotSurfaces(const RenderScene& scene, bool wanted) : embree_(*scene.embree) {
+    if (!wanted || !scene.lights || scene.lights->empty() || scene.medium) return;
+    const auto& geometries = embree_.geometries();
+    const double reach = kReach * embree_.extent();
+    std::vector<std::vector<uint32_t>> hits(geometries.size());
+    std::vector<std::vector<uint32_t>> lit_by(geometries.size());  // the first lamp whose rays met it
+    std::vector<RTCRayHit> rays(kProbeRays);
+    for (uint32_t li = 0; li < geometries.size(); ++li) {
+        const GeometryInfo& lamp = geometries[li];
+        if (!lamp.sphere || lamp.inward || !(lamp.radius <= reach) || scene.scene.materials[lamp.emitter].type != MaterialType::kLight) continue;
+        // Evenly spread directions (a Fibonacci sphere) from just outside the bulb.
+        const double golden = 3.14159265358979323846 * (3 - std::sqrt(5.0));
+        for (uint32_t k = 0; k < kProbeRays; ++k) {
+            const double z = 1 - 2 * (k + 0.5) / kProbeRays, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * k;
+            const Vec3 d{r * std::cos(phi), r * std::sin(phi), z};
+            const Vec3 o = lamp.center + d * (lamp.radius + embree_.epsilon_at(lamp.center, lamp.radius));
+            set_ray(rays[k], static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
+                    static_cast<float>(d.y), static_cast<float>(d.z), k);
+            rays[k].ray.tfar = static_cast<float>(reach);
+        }
+        intersect_batch(embree_, rays.data(), rays.size(), false);
+        auto hot = [&](const RTCRayHit& r) {
+            if (r.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+            const GeometryInfo& g = geometries[r.hit.geomID];
+            const Bsdf& b = scene.bsdf_of(r.hit.geomID);
+            const bool opaque_reflector = b.type == MaterialType::kPlastic || b.type == MaterialType::kMetal;
+            return !g.sphere && opaque_reflector && !b.emits && !g.may_pass_shadows && max_component(b.diffuse) > 0;
+        };
+        if (static_cast<double>(std::count_if(rays.begin(), rays.end(), hot)) < kEnclosed * kProbeRays) continue;
+        for (const RTCRayHit& r : rays) {
+            if (!hot(r)) continue;
+            const GeometryInfo& g = geometries[r.hit.geomID];
+            if (hits[r.hit.geomID].empty()) hits[r.hit.geomID].assign(g.indices.size(), 0), lit_by[r.hit.geomID].assign(g.indices.size(), 0);
+            if (!hits[r.hit.geomID][r.hit.primID]) lit_by[r.hit.geomID][r.hit.primID] = li;
+            if (lit_by[r.hit.geomID][r.hit.primID] == li) ++hits[r.hit.geomID][r.hit.primID];
+        }
+    }
+    double total = 0;
+    flags_.resize(geometries.size());
+    for (uint32_t gi = 0; gi < hits.size(); ++gi)
+        for (uint32_t p = 0; p < hits[gi].size(); ++p) {
+            if (!hits[gi][p]) continue;
+            const GeometryInfo& g = geometries[gi];
+            const auto& t = g.indices[p];
+            const Vec3 lamp = geometries[lit_by[gi][p]].center;
+            const double omega = solid_angle(lamp, g.positions[t[0]], g.positions[t[1]], g.positions[t[2]]);
+            if (!(omega > 1e-12)) continue;  // too thin to sample: its rays' own, as before
+            if (flags_[gi].empty()) flags_[gi].assign(g.indices.size(), 0);
+            flags_[gi][p] = 1;
+            triangles_.push_back({gi, p, lamp, omega});
+            // Chosen by the light it receives (the probe rays it took), then uniformly by area.
+            total += hits[gi][p];
+            cdf_.push_back(total);
+            probability_.push_back(hits[gi][p]);
+        }
+    for (size_t i = 0; i < cdf_.size(); ++i) cdf_[i] /= total, probability_[i] /= total;
+    if (!cdf_.empty()) cdf_.back() = 1;
+}
+
+HotSurfaces::Point HotSurfaces::sample(double u0, double u1, double u2) const {
+    const size_t i = std::min<size_t>(static_cast<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin()), cdf_.size() - 1);
+    const Triangle& tri = triangles_[i];
+    const GeometryInfo& g = embree_.geometries()[tri.geometry];
+    const auto& t = g.indices[tri.primitive];
+    const std::array<Vec3, 3> v{g.positions[t[0]], g.positions[t[1]], g.positions[t[2]]};
+    Point p;
+    p.geometry = tri.geometry, p.primitive = tri.primitive;
+    if (!sample_spherical_triangle(v, tri.lamp, u1, u2, p.b1, p.b2)) return p;
+    p.position = v[0] * (1 - p.b1 - p.b2) + v[1] * p.b1 + v[2] * p.b2;
+    // Uniform in solid angle: per unit area, the cosine at the point over its squared distance.
+    const Vec3 to = p.position - tri.lamp;
+    const double r2 = dot(to, to);
+    const double cosine = std::fabs(dot(g.normals[tri.primitive], to)) / std::sqrt(r2);
+    const double pdf = probability_[i] / tri.solid_angle * cosine / r2;
+    p.pdf_area = std::isfinite(pdf) && pdf > 0 ? pdf : 0.0;
+    return p;
+}
+
+}  // namespace crex
