@@ -146,7 +146,8 @@ nlohmann::json run_summary_json(const RunFacts& f) {
                                  {"hemisphere_rays", ic.hemisphere_rays}, {"rounds", ic.rounds},
                                  {"caustic_photons", ic.caustic_photons}, {"caustic_map_seconds", r.caustic_map_seconds + ic.caustic_seconds},
                                  {"lookup_seconds", ic.lookup_seconds}, {"record_seconds", ic.record_seconds},
-                                 {"caustic_lookup_seconds", ic.caustic_lookup_seconds}, {"over_limit", ic.over_limit}};
+                                 {"caustic_lookup_seconds", ic.caustic_lookup_seconds}, {"over_limit", ic.over_limit},
+                                 {"hot_surface_triangles", ic.hot_triangles}, {"hot_surface_points", ic.hot_points}};
         if (f.piped) {
             j["irradiance_cache"]["preview_records"] = f.piped->ic_preview_records;
             j["irradiance_cache"]["reprocessed_preview_samples"] = f.piped->ic_reprocessed;

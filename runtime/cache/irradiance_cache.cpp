@@ -29,6 +29,7 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     // Local coordinates lie within the extent: float positions are off by at most 6e-8 of it
     // per coordinate, so a margin of 5e-7 of it keeps the float test conservative.
     position_slack_ = static_cast<float>(5e-7 * extent);
+    stats_.hot_triangles = hot_.size();
     max_aa_ = clamp_accuracy(settings.max_accuracy > 0 ? std::max(settings.max_accuracy, settings.accuracy) : settings.accuracy);
     // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
     double top = 2 * r_max_;

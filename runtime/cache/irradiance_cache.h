@@ -81,6 +81,8 @@ struct IcStats {
     uint64_t lookups = 0, interpolated = 0, records = 0, hemisphere_rays = 0, rounds = 0;
     uint64_t caustic_photons = 0;  ///< stored in the caustic map
     uint64_t over_limit = 0;       ///< queries given the ambient value: the cache was full (IcSettings::max_bytes)
+    uint64_t hot_triangles = 0;    ///< triangles of the hot surfaces records sample as lights (hot_surfaces.h)
+    uint64_t hot_points = 0;       ///< points the records took on them
     double caustic_seconds = 0;    ///< building it
     /// Per bounce level: the luminance of the diffuse reflectance (times throughput) the
     /// hemisphere rays of its records met, summed, and those rays: the share of a record's

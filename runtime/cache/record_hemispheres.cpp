@@ -345,6 +345,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
 void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
     if (hot_.empty()) return;
     const uint32_t per_site = std::max<uint32_t>(8, static_cast<uint32_t>(h.per / 4));
+    stats_.hot_points += sites.size() * per_site;
     const auto& geometries = scene_.embree->geometries();
     struct Shadows {
         std::vector<RTCRay> rays;  // per point: to the light, then from the site

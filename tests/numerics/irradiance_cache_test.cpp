@@ -168,6 +168,13 @@ TEST(IrradianceCache, RecordsSampleAShadeLitFromUpCloseAsALight) {
                 EXPECT_EQ(s.materials[rs.embree->geometries()[g].material].name, "shade");
             }
         EXPECT_TRUE(HotSurfaces(rs, false).empty());
+        IcSettings set;
+        set.divisions = 64, set.bounces = 1, set.caustic_photons = 0;
+        IrradianceCache cache(rs, set);
+        std::vector<Vec3> e;
+        cache.irradiance({{Vec3{0.3, 0, 0} - rs.embree->origin_offset(), {0, 1, 0}, 0.15f, 0, 1}}, 0, e);
+        EXPECT_EQ(cache.stats().hot_triangles, hot.size());
+        EXPECT_EQ(cache.stats().hot_points, 16u);  // a quarter of its 64 rays
         // Without its shade, the bulb brought down to 20 cm over the floor: the floor is within
         // reach, but a bulb that lights the room itself is left to the rays.
         s.shapes.pop_back();
