@@ -71,14 +71,21 @@ HotSurfaces::HotSurfaces(const RenderScene& scene, bool wanted) : embree_(*scene
     const double reach = kReach * embree_.extent();
     std::vector<std::vector<uint32_t>> hits(geometries.size());
     std::vector<std::vector<uint32_t>> lit_by(geometries.size());  // the first lamp whose rays met it
-    std::vector<RTCRayHit> rays(kProbeRays);
+    auto small_lamp = [&](const GeometryInfo& g) {
+        return g.sphere && !g.inward && g.radius <= reach && scene.scene.materials[g.emitter].type == MaterialType::kLight;
+    };
+    const size_t lamps = static_cast<size_t>(std::count_if(geometries.begin(), geometries.end(), small_lamp));
+    if (lamps == 0) return;
+    // Bounded work on a scene of thousands of bulbs.
+    const uint32_t probes = static_cast<uint32_t>(std::clamp<size_t>(kProbeBudget / lamps, kFewestProbeRays, kProbeRays));
+    std::vector<RTCRayHit> rays(probes);
     for (uint32_t li = 0; li < geometries.size(); ++li) {
         const GeometryInfo& lamp = geometries[li];
-        if (!lamp.sphere || lamp.inward || !(lamp.radius <= reach) || scene.scene.materials[lamp.emitter].type != MaterialType::kLight) continue;
+        if (!small_lamp(lamp)) continue;
         // Evenly spread directions (a Fibonacci sphere) from just outside the bulb.
         const double golden = 3.14159265358979323846 * (3 - std::sqrt(5.0));
-        for (uint32_t k = 0; k < kProbeRays; ++k) {
-            const double z = 1 - 2 * (k + 0.5) / kProbeRays, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * k;
+        for (uint32_t k = 0; k < probes; ++k) {
+            const double z = 1 - 2 * (k + 0.5) / probes, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * k;
             const Vec3 d{r * std::cos(phi), r * std::sin(phi), z};
             const Vec3 o = lamp.center + d * (lamp.radius + embree_.epsilon_at(lamp.center, lamp.radius));
             set_ray(rays[k], static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z), static_cast<float>(d.x),
@@ -93,7 +100,7 @@ HotSurfaces::HotSurfaces(const RenderScene& scene, bool wanted) : embree_(*scene
             const bool opaque_reflector = b.type == MaterialType::kPlastic || b.type == MaterialType::kMetal;
             return !g.sphere && opaque_reflector && !b.emits && !g.may_pass_shadows && max_component(b.diffuse) > 0;
         };
-        if (static_cast<double>(std::count_if(rays.begin(), rays.end(), hot)) < kEnclosed * kProbeRays) continue;
+        if (static_cast<double>(std::count_if(rays.begin(), rays.end(), hot)) < kEnclosed * probes) continue;
         for (const RTCRayHit& r : rays) {
             if (!hot(r)) continue;
             const GeometryInfo& g = geometries[r.hit.geomID];

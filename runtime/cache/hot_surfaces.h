@@ -18,8 +18,9 @@ public:
     /// Surfaces within this share of the scene's extent of a spherical `light` whose radius is
     /// no larger: a lamp's shade, the top of its pole, a desk under a desk lamp.
     static constexpr double kReach = 0.05;
-    /// Rays cast from each such lamp's centre to find them.
-    static constexpr uint32_t kProbeRays = 4096;
+    /// Rays cast from each such lamp's centre to find them; fewer (down to kFewestProbeRays)
+    /// where there are so many lamps that all of them would cast more than kProbeBudget.
+    static constexpr uint32_t kProbeRays = 4096, kFewestProbeRays = 256, kProbeBudget = 1u << 20;
     /// A lamp counts when at least this share of its rays meet them: one its shade (a sconce, a
     /// lantern) mostly encloses, so that they, not the bulb, light the room. A bulb over a desk
     /// lights a desk top that records' rays see as a wide patch, and sampling it as a light

@@ -122,6 +122,31 @@ Scene lamp_in_a_shade() {
     return s;
 }
 
+// A thousand lamps in their shades, in a 40 x 25 grid: too many for 4,096 rays each, every
+// shade is still found with fewer.
+TEST(HotSurfaces, EveryShadeOfAThousandLampsIsFound) {
+    Scene s = lamp_in_a_shade();
+    const Shape bulb = s.shapes[s.shapes.size() - 2], shade = s.shapes.back();
+    s.shapes.resize(s.shapes.size() - 2);
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 25; ++j) {
+            const Vec3 at{-1.95 + 0.1 * i, 0, -1.2 + 0.1 * j};
+            Shape b = bulb, c = shade;
+            b.center = b.center + at, c.p0 = c.p0 + at, c.p1 = c.p1 + at;
+            b.radius = 0.005, c.radius = 0.04;
+            b.name = "bulb" + std::to_string(i * 25 + j), c.name = "shade" + std::to_string(i * 25 + j);
+            s.shapes.push_back(b), s.shapes.push_back(c);
+        }
+    RenderScene rs(s);
+    HotSurfaces hot(rs, true);
+    std::set<std::string> found;
+    for (uint32_t g = 0; g < rs.embree->geometries().size(); ++g)
+        for (uint32_t p = 0; p < rs.embree->geometries()[g].indices.size(); ++p)
+            if (hot.contains(g, p)) found.insert(s.shapes[rs.embree->geometries()[g].shape].name);
+    EXPECT_EQ(found.size(), 1000u);
+    for (const std::string& name : found) EXPECT_EQ(name.rfind("shade", 0), 0u) << name;
+}
+
 // E of level-0 records (one bounce) at 64 places on the floor under the lamp, at `seed`.
 std::vector<double> floor_records_under_the_lamp(uint64_t seed, bool hot_surfaces, uint32_t divisions) {
     Scene s = lamp_in_a_shade();
