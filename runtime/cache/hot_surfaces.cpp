@@ -98,7 +98,8 @@ HotSurfaces::HotSurfaces(const RenderScene& scene, bool wanted) : embree_(*scene
             const GeometryInfo& g = geometries[r.hit.geomID];
             const Bsdf& b = scene.bsdf_of(r.hit.geomID);
             const bool opaque_reflector = b.type == MaterialType::kPlastic || b.type == MaterialType::kMetal;
-            return !g.sphere && opaque_reflector && !b.emits && !g.may_pass_shadows && max_component(b.diffuse) > 0;
+            const bool holes = scene.cutouts && scene.cutouts->cuts_out(g.material);  // alpha-cut: points in its holes would shine
+            return !g.sphere && opaque_reflector && !holes && !b.emits && !g.may_pass_shadows && max_component(b.diffuse) > 0;
         };
         if (static_cast<double>(std::count_if(rays.begin(), rays.end(), hot)) < kEnclosed * probes) continue;
         for (const RTCRayHit& r : rays) {
@@ -122,7 +123,7 @@ HotSurfaces::HotSurfaces(const RenderScene& scene, bool wanted) : embree_(*scene
             if (flags_[gi].empty()) flags_[gi].assign(g.indices.size(), 0);
             flags_[gi][p] = 1;
             triangles_.push_back({gi, p, lamp, omega});
-            // Chosen by the light it receives (the probe rays it took), then uniformly by area.
+            // Chosen by the light it receives (the probe rays it took); sample() places the point.
             total += hits[gi][p];
             cdf_.push_back(total);
             probability_.push_back(hits[gi][p]);

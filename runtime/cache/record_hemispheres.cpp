@@ -380,6 +380,7 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
             hit.u = static_cast<float>(y.b1), hit.v = static_cast<float>(y.b2);
             hit.primID = y.primitive, hit.geomID = y.geometry, hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
             HitFrame f = hit_frame(*scene_.embree, hit, y.position, dir, t);
+            if (!f.front && !scene_.scene.back_faces_visible) continue;  // rays pass its back: the site sees through it
             Bsdf textured;
             const Bsdf& b = surface_at(scene_, hit, f, textured, SurfaceDetail::kAveraged);
             ShadowSample sample;
