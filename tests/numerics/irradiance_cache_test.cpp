@@ -122,6 +122,17 @@ Scene lamp_in_a_shade() {
     return s;
 }
 
+// The names of the shapes that have hot surfaces in `s`.
+std::set<std::string> hot_shape_names(const Scene& s) {
+    RenderScene rs(s);
+    HotSurfaces hot(rs, true);
+    std::set<std::string> names;
+    for (uint32_t g = 0; g < rs.embree->geometries().size(); ++g)
+        for (uint32_t p = 0; p < rs.embree->geometries()[g].indices.size(); ++p)
+            if (hot.contains(g, p)) names.insert(s.shapes[rs.embree->geometries()[g].shape].name);
+    return names;
+}
+
 // A thousand lamps in their shades, in a 40 x 25 grid: too many for 4,096 rays each, every
 // shade is still found with fewer.
 TEST(HotSurfaces, EveryShadeOfAThousandLampsIsFound) {
@@ -137,12 +148,7 @@ TEST(HotSurfaces, EveryShadeOfAThousandLampsIsFound) {
             b.name = "bulb" + std::to_string(i * 25 + j), c.name = "shade" + std::to_string(i * 25 + j);
             s.shapes.push_back(b), s.shapes.push_back(c);
         }
-    RenderScene rs(s);
-    HotSurfaces hot(rs, true);
-    std::set<std::string> found;
-    for (uint32_t g = 0; g < rs.embree->geometries().size(); ++g)
-        for (uint32_t p = 0; p < rs.embree->geometries()[g].indices.size(); ++p)
-            if (hot.contains(g, p)) found.insert(s.shapes[rs.embree->geometries()[g].shape].name);
+    const std::set<std::string> found = hot_shape_names(s);
     EXPECT_EQ(found.size(), 1000u);
     for (const std::string& name : found) EXPECT_EQ(name.rfind("shade", 0), 0u) << name;
 }
@@ -208,13 +214,7 @@ TEST(IrradianceCache, RecordsSampleAShadeLitFromUpCloseAsALight) {
         EXPECT_TRUE(HotSurfaces(bare, true).empty());
     }
     {  // The example: its floor lamp's shade and the top of its pole; not the desk under the desk lamp.
-        Scene s = *testing::load_path(CREX_SOURCE_DIR "/examples/scenes/floor_lamp/scene.json").scene;
-        RenderScene rs(s);
-        HotSurfaces hot(rs, true);
-        std::set<std::string> names;
-        for (uint32_t g = 0; g < rs.embree->geometries().size(); ++g)
-            for (uint32_t p = 0; p < rs.embree->geometries()[g].indices.size(); ++p)
-                if (hot.contains(g, p)) names.insert(s.shapes[rs.embree->geometries()[g].shape].name);
+        const std::set<std::string> names = hot_shape_names(*testing::load_path(CREX_SOURCE_DIR "/examples/scenes/floor_lamp/scene.json").scene);
         EXPECT_TRUE(names.count("floor_lamp_shade"));
         for (const std::string& name : names) EXPECT_TRUE(name.rfind("floor_lamp", 0) == 0) << name;
     }
