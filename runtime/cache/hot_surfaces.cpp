@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "runtime/base/sampling.h"
 #include "runtime/render/bsdf.h"
 #include "runtime/trace/trace_batch.h"
 
@@ -12,7 +13,7 @@ namespace {
 
 // The angle between unit vectors, accurate near 0 and pi (pbrt's AngleBetween).
 double angle_between(const Vec3& a, const Vec3& b) {
-    if (dot(a, b) < 0) return 3.14159265358979323846 - 2 * std::asin(std::min(1.0, 0.5 * length(a + b)));
+    if (dot(a, b) < 0) return kPi - 2 * std::asin(std::min(1.0, 0.5 * length(a + b)));
     return 2 * std::asin(std::min(1.0, 0.5 * length(b - a)));
 }
 
@@ -34,10 +35,9 @@ bool sample_spherical_triangle(const std::array<Vec3, 3>& v, const Vec3& p, doub
     Vec3 n_ab = normalize_or_zero(cross(a, b)), n_bc = normalize_or_zero(cross(b, c)), n_ca = normalize_or_zero(cross(c, a));
     if (n_ab == Vec3{} || n_bc == Vec3{} || n_ca == Vec3{}) return false;
     const double alpha = angle_between(n_ab, -n_ca), beta = angle_between(n_bc, -n_ab), gamma = angle_between(n_ca, -n_bc);
-    const double pi = 3.14159265358979323846;
     const double area_pi = alpha + beta + gamma;
-    if (!(area_pi - pi > 0)) return false;
-    const double sampled = pi + u0 * (area_pi - pi);  // the sub-triangle's area plus pi
+    if (!(area_pi - kPi > 0)) return false;
+    const double sampled = kPi + u0 * (area_pi - kPi);  // the sub-triangle's area plus pi
     const double cos_alpha = std::cos(alpha), sin_alpha = std::sin(alpha);
     const double sin_phi = std::sin(sampled) * cos_alpha - std::cos(sampled) * sin_alpha;
     const double cos_phi = std::cos(sampled) * cos_alpha + std::sin(sampled) * sin_alpha;
@@ -83,7 +83,7 @@ HotSurfaces::HotSurfaces(const RenderScene& scene, bool wanted) : embree_(*scene
         const GeometryInfo& lamp = geometries[li];
         if (!small_lamp(lamp)) continue;
         // Evenly spread directions (a Fibonacci sphere) from just outside the bulb.
-        const double golden = 3.14159265358979323846 * (3 - std::sqrt(5.0));
+        const double golden = kPi * (3 - std::sqrt(5.0));
         for (uint32_t k = 0; k < probes; ++k) {
             const double z = 1 - 2 * (k + 0.5) / probes, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * k;
             const Vec3 d{r * std::cos(phi), r * std::sin(phi), z};
