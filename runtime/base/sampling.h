@@ -32,7 +32,7 @@ inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix64(a ^ mix64(b)
 inline double to_unit(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
 
 /// Purposes of random numbers at a hit (one stream each).
-enum class RandomUse : uint64_t { kRoulette = 1, kLobeD, kLobeG, kLobeDT, kLight, kLightPick, kCamera, kIcTheta, kIcPhi, kIcLobe, kMediumDistance, kMediumLight, kMediumPick, kIcTrans, kCausticLookup, kIcHot };
+enum class RandomUse : uint64_t { kRoulette = 1, kLobeD, kLobeG, kLobeDT, kLight, kLightPick, kCamera, kIcTheta, kIcPhi, kIcLobe, kMediumDistance, kMediumLight, kMediumPick, kIcTrans, kCausticLookup, kIcHot, kHotLight };
 
 /// The random numbers of one hit (path `path_id` at `depth`): the key is hashed once, then
 /// each number is one more mix. Equal to random_at() number for number.

@@ -21,7 +21,7 @@ double clamp_accuracy(double aa) { return std::isfinite(aa) ? std::clamp(aa, 1e-
 }  // namespace
 
 IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& settings, std::shared_ptr<const CausticPhotons> caustics)
-    : scene_(scene), settings_(settings), hot_(scene, settings.hot_surfaces) {
+    : scene_(scene), settings_(settings), hot_(settings.hot_surfaces && scene.hot && !scene.hot->empty() ? scene.hot.get() : nullptr) {
     double extent = scene.embree->extent();
     r_min_ = settings.min_radius > 0 ? settings.min_radius : extent / (settings.resolution > 0 ? settings.resolution : 2000);
     r_max_ = settings.max_radius > 0 ? settings.max_radius : 0.25 * extent;
@@ -29,7 +29,7 @@ IrradianceCache::IrradianceCache(const RenderScene& scene, const IcSettings& set
     // Local coordinates lie within the extent: float positions are off by at most 6e-8 of it
     // per coordinate, so a margin of 5e-7 of it keeps the float test conservative.
     position_slack_ = static_cast<float>(5e-7 * extent);
-    stats_.hot_triangles = hot_.size();
+    stats_.hot_triangles = hot_ ? hot_->size() : 0;
     max_aa_ = clamp_accuracy(settings.max_accuracy > 0 ? std::max(settings.max_accuracy, settings.accuracy) : settings.accuracy);
     // Validity radii lie in [aa_min r_min, r_max]: one grid level per halving.
     double top = 2 * r_max_;

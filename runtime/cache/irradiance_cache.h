@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "runtime/cache/caustic_photons.h"
-#include "runtime/cache/hot_surfaces.h"
+#include "runtime/render/hot_surfaces.h"
 #include "runtime/cache/irradiance_cache_file.h"
 #include "runtime/cache/irradiance_record.h"
 #include "runtime/cache/record_grid.h"
@@ -191,7 +191,9 @@ private:
 
     const RenderScene& scene_;
     IcSettings settings_;
-    HotSurfaces hot_;  ///< sampled as lights of their own by every record (hot_surfaces.h)
+    /// The scene's hot surfaces (hot_surfaces.h), sampled as lights of their own by every
+    /// record; null when there are none or the settings turn them off.
+    const HotSurfaces* hot_ = nullptr;
     double r_min_, r_max_, max_aa_;
     float position_slack_;  ///< bounds the float rounding of GridEntry positions (local coordinates)
     std::vector<IrradianceRecord> records_;

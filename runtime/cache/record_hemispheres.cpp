@@ -274,7 +274,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         Vec3 l = caustic ? Vec3{} : emitted(b, f, h.passed[i] != 0, false);
         // A hot surface's direct light is add_hot_surfaces()'s, but where the ray came by a
         // mirror or through glass, which its shadow rays do not follow.
-        const bool hot = !h.passed[i] && hot_.contains(hit.hit.geomID, hit.hit.primID);
+        const bool hot = !h.passed[i] && hot_ && hot_->contains(hit.hit.geomID, hit.hit.primID);
         if (!scene_.lights->empty() && b.direct_response && !hot) {
             ShadowSample sample;
             if (direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position, horizon_of(b, f)), beta, HitRandom(key, static_cast<uint16_t>(level + 1)), 0, 1,
@@ -293,7 +293,10 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
             next.from.push_back(static_cast<uint32_t>(i));
             next.weight.push_back(weight);
         };
-        if (max_component(albedo) > 0) {
+        // On a hot surface's lit side, what the hot surfaces give each other came with its
+        // direct light (add_hot_surfaces()).
+        const bool lit_hot = hot && deeper && hot_->from_lit_side(hit.hit.geomID, hit.hit.primID, h.last_dir[i]);
+        if (max_component(albedo) > 0 && !lit_hot) {
             if (deeper) {
                 ask(f.shading, key, albedo);
             } else {
@@ -343,13 +346,15 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
 // Each point's light joins the cell its direction falls in, so the record's gradients (and the
 // radius they limit) see it as they saw it when the rays brought it.
 void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery>& sites, uint32_t level) {
-    if (hot_.empty()) return;
+    if (!hot_) return;
     const uint32_t per_site = std::max<uint32_t>(8, static_cast<uint32_t>(h.per / 4));
+    // What the hot surfaces give each other is a bounce more, within `bounces` as the rays' is.
+    const bool deeper = level + 1 < settings_.bounces;
     stats_.hot_points += sites.size() * per_site;
     const auto& geometries = scene_.embree->geometries();
     struct Shadows {
         std::vector<RTCRay> rays;  // per point: to the light, then from the site
-        std::vector<Vec3> value, through;
+        std::vector<Vec3> value, extra, through;  // extra: what the hot surfaces give each other
         std::vector<uint8_t> weak;
     };
     tbb::enumerable_thread_specific<Shadows> block_shadows;
@@ -357,6 +362,7 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
         Shadows& local = block_shadows.local();
         local.rays.resize(2 * per_site);
         local.value.assign(per_site, Vec3{});
+        local.extra.assign(per_site, Vec3{});
         local.through.resize(2 * per_site);
         local.weak.assign(2 * per_site, 0);
         const IcQuery& site = sites[s];
@@ -365,7 +371,7 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
             RTCRay& to_light = local.rays[2 * k];
             RTCRay& from_site = local.rays[2 * k + 1];
             make_hole(to_light, 2 * k), make_hole(from_site, 2 * k + 1);
-            const HotSurfaces::Point y = hot_.sample(random_at(site.key, level, RandomUse::kIcHot, 3 * k),
+            const HotSurfaces::Point y = hot_->sample(random_at(site.key, level, RandomUse::kIcHot, 3 * k),
                                                      random_at(site.key, level, RandomUse::kIcHot, 3 * k + 1),
                                                      random_at(site.key, level, RandomUse::kIcHot, 3 * k + 2));
             const Vec3 to = y.position - o;
@@ -383,16 +389,18 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
             if (!f.front && !scene_.scene.back_faces_visible) continue;  // rays pass its back: the site sees through it
             Bsdf textured;
             const Bsdf& b = surface_at(scene_, hit, f, textured, SurfaceDetail::kAveraged);
-            ShadowSample sample;
-            if (!b.direct_response || !direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position, horizon_of(b, f)), Vec3{1, 1, 1},
-                                                           HitRandom(hash_combine(site.key, 0x4075ull + k), static_cast<uint16_t>(level + 1)), 0, 1, sample))
-                continue;
+            if (!b.direct_response) continue;
             const double cos_hot = -dot(f.normal, dir);
             const double g = cos_site * cos_hot / (t * t) / y.pdf_area;
             if (!(g > 0) || !std::isfinite(g)) continue;
-            local.value[k] = sample.value * g;
-            aim_shadow_ray(to_light, sample);
-            local.weak[2 * k] = sample.weak_target;
+            ShadowSample sample;
+            if (direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position, horizon_of(b, f)), Vec3{1, 1, 1},
+                                    HitRandom(hash_combine(site.key, 0x4075ull + k), static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
+                local.value[k] = sample.value * g;
+                aim_shadow_ray(to_light, sample);
+                local.weak[2 * k] = sample.weak_target;
+            }
+            if (deeper && dot(dir, hot_->lit_normal(y.triangle)) < 0) local.extra[k] = b.diffuse * hot_->interreflected(y.triangle, y.b1, y.b2) * (kInvPi * g);
             aim_shadow_ray(from_site, o, dir, std::max(0.0, t - f.epsilon));
         }
         trace_shadow_rays_in_this_task(scene_, local.rays.data(), local.weak.data(), local.through.data(), 2 * per_site);
@@ -401,8 +409,9 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
         Vec3 tangent, bitangent;  // as cast_hemispheres() lays out the cells
         orthonormal_basis(site.normal, tangent, bitangent);
         for (uint32_t k = 0; k < per_site; ++k) {
-            if (is_hole(local.rays[2 * k]) || is_hole(local.rays[2 * k + 1])) continue;
-            const Vec3 e = local.value[k] * local.through[2 * k] * local.through[2 * k + 1] * to_radiance;
+            if (is_hole(local.rays[2 * k + 1])) continue;
+            const Vec3 direct = is_hole(local.rays[2 * k]) ? Vec3{} : local.value[k] * local.through[2 * k];
+            const Vec3 e = (direct + local.extra[k]) * local.through[2 * k + 1] * to_radiance;
             if (!is_finite(e)) continue;
             const RTCRay& r = local.rays[2 * k + 1];
             const Vec3 d{r.dir_x, r.dir_y, r.dir_z};

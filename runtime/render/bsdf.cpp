@@ -279,34 +279,35 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
     return n;
 }
 
-Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
+Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_diffuse) {
     double c = dot(wi, f.shading);
     // Light from one side of the surface by its shading normal and the other by its geometry
     // reaches neither side.
     if (f.shading != f.normal && (c > 0) != (dot(wi, f.normal) > 0)) return {};
+    const double diffuse = with_diffuse ? 1.0 : 0.0;
     Vec3 out;
     if (b.directional) {
         // The function's value for this light (finite, >= 0); RADIANCE's dirbrdf.
         PatternRay r = pattern_ray_at(f);
         r.light = wi;
         const bool front = c > 0;
-        if (c == 0 || (front ? !positive(b.direct_diffuse) && !positive(b.directional_reflect)
-                             : !positive(b.direct_diffuse_transmit) && !positive(b.directional_transmit)))
+        if (c == 0 || (front ? !positive(b.direct_diffuse * diffuse) && !positive(b.directional_reflect)
+                             : !positive(b.direct_diffuse_transmit * diffuse) && !positive(b.directional_transmit)))
             return {};
         const double shape = std::fmin(b.directional->value(r).x, 1e9);  // a runaway function must not overflow the light
         const double cos = std::fabs(c);
-        return front ? (b.direct_diffuse * kInvPi + b.directional_reflect * shape) * cos
-                     : (b.direct_diffuse_transmit * kInvPi + b.directional_transmit * shape) * cos;
+        return front ? (b.direct_diffuse * (diffuse * kInvPi) + b.directional_reflect * shape) * cos
+                     : (b.direct_diffuse_transmit * (diffuse * kInvPi) + b.directional_transmit * shape) * cos;
     }
     if (c > 0) {
-        out += b.diffuse * (c * kInvPi);
+        if (with_diffuse) out += b.diffuse * (c * kInvPi);
         if (b.glossy && b.anisotropic) {
             out += b.specular * (ward(b, f.shading, wi, -f.incoming) * c);
         } else if (b.glossy) {
             double ca = dot(wi, reflect(f.incoming, f.shading));
             if (ca > 0) out += b.specular * ((b.exponent + 2) * (0.5 * kInvPi) * std::pow(ca, b.exponent) * c);
         }
-    } else if (c < 0) {
+    } else if (c < 0 && with_diffuse) {
         out += b.diffuse_transmit * (-c * kInvPi);
     }
     return out;

@@ -159,7 +159,10 @@ inline double transmission_share(const Bsdf& b) {
 int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, double& probability);
 
 /// Sum over the non-delta lobes of BRDF x |cos| for light arriving from unit direction `wi`.
-Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi);
+Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_diffuse = true);
+/// eval_direct() without its diffuse terms: what the glossy lobes alone make of light from
+/// `wi` (where the irradiance cache answers for the diffuse ones).
+inline Vec3 eval_glossy(const Bsdf& b, const HitFrame& f, const Vec3& wi) { return eval_direct(b, f, wi, false); }
 
 /// The ray meeting a surface as patterns see it: along `incoming`, the surface's geometric
 /// normal (unflipped), the hit point and distance.

@@ -578,6 +578,9 @@ RenderScene::RenderScene(const Scene& s, size_t texture_cache_bytes, TextureProg
             }
         }
     medium = medium_of(s, embree->origin_offset());
+    hot = std::make_unique<HotSurfaces>(*this);
 }
+
+RenderScene::~RenderScene() = default;
 
 }  // namespace crex

@@ -463,6 +463,8 @@ private:
     int width_, height_;
 };
 
+class HotSurfaces;
+
 struct RenderScene {
     const Scene& scene;
     /// The scene's textures (one texture cache of `texture_cache_bytes`); null when no
@@ -474,6 +476,9 @@ struct RenderScene {
     std::unique_ptr<LightSampler> lights;
     std::vector<Bsdf> bsdfs;  ///< per material, prepared once
     std::optional<MediumModel> medium;  ///< the scene's homogeneous medium, if any
+    /// Surfaces small lamps light from up close (a shade's inside), sampled as lights of their
+    /// own (hot_surfaces.h); empty where there are none.
+    std::unique_ptr<HotSurfaces> hot;
     /// Where texture lookups filter: the camera's pixel footprint (set_view()); without it,
     /// lookups are the sharpest (tests that never set an image size).
     PixelFootprint footprint;
@@ -481,6 +486,7 @@ struct RenderScene {
 
     /// `progress`: long work while it is built (a texture's tiled copy being made).
     explicit RenderScene(const Scene& s, size_t texture_cache_bytes = kDefaultTextureCacheBytes, TextureProgress progress = {});
+    ~RenderScene();
     /// Texture filtering for images of width x height through the scene's camera, over
     /// `filter_width` pixels (1: one pixel's footprint; 0: the sharpest lookups, which alias).
     void set_view(int width, int height, double filter_width = 1);

@@ -7,6 +7,7 @@
 
 #include "runtime/base/sampling.h"
 #include "runtime/render/camera_samples.h"
+#include "runtime/render/hot_surfaces.h"
 #include "runtime/trace/trace_batch.h"
 
 namespace crex {
@@ -211,6 +212,78 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     return out.tfar > 0;
 }
 
+namespace {
+
+// Light the hot surfaces (hot_surfaces.h) reflect to hit f, sample j of n: a point y on them,
+// chosen by the light it receives; y's direct light by one light sample there, whose shadow
+// ray `to_light` that light must pass as well (BlockShadows::add_relay; `has_relay` false
+// when there is none), and on a lit side what the hot surfaces give each other (`extra`, which
+// needs no relay); seen from f through `out`. `glossy_only`: the irradiance cache's records
+// answer for the diffuse lobes (they sample the hot surfaces themselves). What glossy rays that
+// met a shade's inside by chance brought, one in a few hundred from anywhere in a room, were
+// white specks over the image.
+bool hot_surface_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const RayRecord& ray, const HitRandom& random,
+                        uint32_t j, uint32_t n, bool glossy_only, ShadowSample& out, ShadowSample& to_light, bool& has_relay, Vec3& extra) {
+    const HotSurfaces& hot = *scene.hot;
+    const HotSurfaces::Point y = hot.sample(random(RandomUse::kHotLight, 3 * j), random(RandomUse::kHotLight, 3 * j + 1),
+                                            random(RandomUse::kHotLight, 3 * j + 2));
+    if (!(y.pdf_area > 0)) return false;
+    const Vec3 to = y.position - f.position;
+    const double d2 = dot(to, to);
+    if (!(d2 > 0)) return false;
+    const double dist = std::sqrt(d2);
+    const Vec3 wi = to / dist;
+    const Vec3 fr = glossy_only ? eval_glossy(b, f, wi) : eval_direct(b, f, wi);
+    if (!(max_component(fr) > 0)) return false;
+    RTCHit hit{};
+    const Vec3& ng = scene.embree->geometries()[y.geometry].normals[y.primitive];
+    hit.Ng_x = static_cast<float>(ng.x), hit.Ng_y = static_cast<float>(ng.y), hit.Ng_z = static_cast<float>(ng.z);
+    hit.u = static_cast<float>(y.b1), hit.v = static_cast<float>(y.b2);
+    hit.primID = y.primitive, hit.geomID = y.geometry, hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    HitFrame fy = hit_frame(*scene.embree, hit, y.position, wi, dist);
+    if (!fy.front && !scene.scene.back_faces_visible) return false;  // rays pass its back
+    const double cos_y = -dot(fy.normal, wi);
+    if (!(cos_y > 0)) return false;
+    Bsdf textured;
+    const Bsdf& by = surface_at(scene, hit, fy, textured, SurfaceDetail::kAveraged);
+    if (!by.direct_response) return false;
+    const Vec3 to_radiance = ray.beta * fr * (cos_y / (d2 * y.pdf_area * n));
+    has_relay = direct_light_sample(scene, by, fy, scene.lights->weights_at(fy.position, horizon_of(by, fy)), Vec3{1, 1, 1},
+                                    HitRandom(hash_combine(ray.path, 0x4074ull + j), static_cast<uint32_t>(ray.depth) + 1), 0, 1, to_light);
+    out.value = has_relay ? to_radiance * to_light.value : Vec3{};
+    extra = dot(wi, hot.lit_normal(y.triangle)) < 0 ? to_radiance * by.diffuse * hot.interreflected(y.triangle, y.b1, y.b2) * kInvPi : Vec3{};
+    if (!is_finite(out.value) || !is_finite(extra)) return false;
+    if (!(max_component(out.value) > 0) && !(max_component(extra) > 0)) return false;
+    if (!has_relay) out.value = extra, extra = {};
+    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * f.epsilon;
+    out.direction = wi;
+    out.weak_target = false;
+    out.tfar = dist - 3 * std::max(f.epsilon, fy.epsilon);
+    return out.tfar > 0;
+}
+
+// Removes the D children of spawn_children()'s `n`; returns how many are left.
+int drop_diffuse_children(SpawnScratch& spawn, int n) {
+    int kept = 0;
+    for (int l = 0; l < n; ++l) {
+        const auto k = static_cast<size_t>(l);
+        if (spawn.components[k] == Component::kD) continue;
+        spawn.children[static_cast<size_t>(kept)] = spawn.children[k];
+        spawn.components[static_cast<size_t>(kept)] = spawn.components[k];
+        ++kept;
+    }
+    return kept;
+}
+
+}  // namespace
+
+void BlockShadows::trace_relays(const RenderScene& scene) {
+    if (relay.empty()) return;
+    relay_through.resize(relay.size());
+    trace_shadow_rays_in_this_task(scene, relay.data(), relay_weak.data(), relay_through.data(), relay.size());
+    for (size_t k = 0; k < relay.size(); ++k) value[relay_of[k]] = value[relay_of[k]] * relay_through[k] + relay_extra[k];
+}
+
 bool single_scatter_sample(const RenderScene& scene, const MediumModel& medium, const Vec3& origin, const Vec3& dir, double tmax,
                            const Vec3& beta, const HitRandom& random, uint32_t k, uint32_t n, ShadowSample& out) {
     if (scene.lights->empty() || !(max_component(medium.sigma_s) > 0)) return false;
@@ -309,6 +382,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     scratch.block_shadow_rays.assign(blocks, 0);
     const Vec3 background = scene.scene.background;
     const bool lights = !scene.lights->empty();
+    const bool hot_lights = lights && params.hot_surface_lights && scene.hot && !scene.hot->empty();
 
     // Shade: emission, shadow rays, children into the block's own bins; then the block's shadow
     // rays are traced and their light added, each ray's in the order it aimed them.
@@ -325,7 +399,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             SpawnScratch spawn;
             // Filled by direct_light_sample() wherever it returns true: one made for every
             // sample was zeroed first (a `rep stos` of 88 bytes).
-            ShadowSample light_sample;
+            ShadowSample light_sample, hot_light;
             Bsdf textured;  // surface_at()'s, made once a block: a Bsdf made at every hit was zeroed at every hit
             uint32_t block_hits = 0;
             // One ray: its emission or what it escaped to, direct light's shadow rays, children.
@@ -387,7 +461,13 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                 Vec3 c = b.emits && !photons_gave_it ? ray.beta * emitted(b, f, camera || (ray.flags & kRayFromDeltaLobe), camera) : Vec3{};
                 out.contribution[i] = is_finite(c) ? c : Vec3{};
                 if (camera) out.emission[i] = out.contribution[i];
-                if (lights && b.direct_response) {
+                // A hot surface's direct light is every hit's (hot_surface_sample()), but where
+                // the ray came from a mirror or straight through glass, which those do not follow.
+                const bool lit_as_hot = hot_lights && !camera && !(ray.flags & kRayFromDeltaLobe) && scene.hot->contains(h.hit.geomID, h.hit.primID);
+                // On its lit side all the light it reflects diffusely came with the hit's direct
+                // light before (the hot surfaces' own light included): no more is gathered here.
+                const bool lit_side_of_hot = lit_as_hot && scene.hot->from_lit_side(h.hit.geomID, h.hit.primID, ray.direction);
+                if (lights && b.direct_response && !lit_as_hot) {
                     const HitLighting lighting = hit_lighting(params, ray, camera);
                     const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position, horizon_of(b, f));
                     for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
@@ -395,7 +475,21 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                             shadows.add(light_sample, static_cast<uint32_t>(i));
                     }
                 }
+                if (hot_lights && b.direct_response && !lit_side_of_hot && (!params.ic_queries || b.glossy || b.directional)) {
+                    const uint32_t m = hit_lighting(params, ray, camera).shadow_rays;
+                    for (uint32_t j = 0; j < m; ++j) {
+                        bool relay = false;
+                        Vec3 extra;
+                        if (hot_surface_sample(scene, b, f, ray, random, j, m, params.ic_queries, light_sample, hot_light, relay, extra)) {
+                            shadows.add(light_sample, static_cast<uint32_t>(i));
+                            if (relay) shadows.add_relay(hot_light, extra);
+                        }
+                    }
+                }
                 int spawned = spawn_children(b, f, ray, random, params, spawn);
+                // On a hot surface's lit side the diffuse light it reflects, what the hot
+                // surfaces give each other, came with the hit's direct light as well.
+                if (lit_side_of_hot) spawned = drop_diffuse_children(spawn, spawned);
                 if (is_finite(spawn.caustic)) out.contribution[i] += spawn.caustic;
                 for (size_t l = 0; l < static_cast<size_t>(spawned); ++l)
                     spawned_rays[static_cast<size_t>(spawn.components[l])].push_back(spawn.children[l]);
@@ -409,8 +503,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
             scratch.block_hits[block] = block_hits;
             scratch.block_cut_by_depth[block] = spawn.cut_by_depth;
             scratch.block_cut_by_weight[block] = spawn.cut_by_weight;
-            scratch.block_shadow_rays[block] = static_cast<uint32_t>(shadows.size());
+            scratch.block_shadow_rays[block] = static_cast<uint32_t>(shadows.size() + shadows.relay.size());
             if (params.capture) shadows.captured = shadows.rays;
+            shadows.trace_relays(scene);
             // Unoccluded samples add their light, each ray's in the order it aimed them.
             shadows.through.resize(shadows.size());
             trace_shadow_rays_in_this_task(scene, shadows.rays.data(), shadows.weak.data(), shadows.through.data(), shadows.size());

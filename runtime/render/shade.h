@@ -38,6 +38,9 @@ struct ShadeParams {
     /// With an irradiance cache, D "rays" are queries: origin at the hit, direction the normal
     /// on the side the light comes from (flag kRayIcQuery); the D step interpolates them.
     bool ic_queries = false;
+    /// The scene's hot surfaces (hot_surfaces.h) are lights of every hit's direct light, and
+    /// rays of diffuse and glossy lobes that meet them take no direct light there.
+    bool hot_surface_lights = true;
     /// With a medium: single-scatter samples along each camera ray (`media_samples`; one along
     /// every other ray, none where it is 0); with a per-pixel table, its maximum.
     uint32_t media_samples = 1;
@@ -84,8 +87,19 @@ struct BlockShadows {
     /// order of a ray's sum).
     std::vector<ShadowSample> media;
     std::vector<RTCRay> captured;  ///< ShadeParams::capture: the rays as aimed, before tracing
+    /// Shadow rays that a shadow ray's light must pass first: the light a hot surface's point
+    /// reflects (hot_surface_sample()) is what reaches that point. Traced before the others;
+    /// relay k scales the light of shadow ray relay_of[k].
+    /// `relay_extra`: light the shadow ray carries whatever its relay meets.
+    std::vector<RTCRay> relay;
+    std::vector<uint8_t> relay_weak;
+    std::vector<uint32_t> relay_of;
+    std::vector<Vec3> relay_extra, relay_through;
 
-    void clear() { rays.clear(), value.clear(), weak.clear(), owner.clear(); }
+    void clear() {
+        rays.clear(), value.clear(), weak.clear(), owner.clear();
+        relay.clear(), relay_weak.clear(), relay_of.clear(), relay_extra.clear();
+    }
     size_t size() const { return rays.size(); }
     void add(const ShadowSample& sample, uint32_t ray) {
         rays.emplace_back();
@@ -95,6 +109,18 @@ struct BlockShadows {
         weak.push_back(sample.weak_target);
         owner.push_back(ray);
     }
+    /// The light of the shadow ray added last must also pass `first`'s; `extra` it carries
+    /// whatever `first` meets.
+    void add_relay(const ShadowSample& first, const Vec3& extra) {
+        relay.emplace_back();
+        make_hole(relay.back(), static_cast<uint32_t>(relay.size() - 1));
+        aim_shadow_ray(relay.back(), first);
+        relay_weak.push_back(first.weak_target);
+        relay_of.push_back(static_cast<uint32_t>(rays.size() - 1));
+        relay_extra.push_back(extra);
+    }
+    /// Traces the relays and scales the light of the shadow rays they belong to.
+    void trace_relays(const RenderScene& scene);
 };
 
 /// Per-chunk buffers, reused from chunk to chunk: allocating and zero-filling them for every

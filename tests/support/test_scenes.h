@@ -134,6 +134,20 @@ inline Scene floor_under(const Material& emitter, double half) {
     return s;
 }
 
+/// A lamp in its shade over a floor: a bulb (a `light` of radius 2 cm) in an open cylinder
+/// (radius 15 cm, 20 cm tall, reflectance 0.9) 1.5 above a diffuse floor, 4 x 4.
+inline Scene lamp_in_a_shade() {
+    Scene s = floor_under(make_material("unused", MaterialType::kPlastic, {0, 0, 0}), 0.01);
+    s.shapes.pop_back();
+    s.materials.push_back(make_material("bulb", MaterialType::kLight, {3000, 3000, 3000}));
+    s.materials.push_back(make_material("shade", MaterialType::kPlastic, {0.9, 0.9, 0.9}));
+    s.shapes.push_back(build::sphere("bulb", {0, 1.5, 0}, 0.02));
+    Shape shade;
+    shade.type = ShapeType::kCylinder, shade.material = "shade", shade.p0 = {0, 1.4, 0}, shade.p1 = {0, 1.6, 0}, shade.radius = 0.15;
+    s.shapes.push_back(shade);
+    return s;
+}
+
 /// What 16 samples a pixel do against a 1024-sample render of `crex` (24x24): `ratio` is their
 /// error over what 16 independent samples would leave (a 1-sample render's error over 16: the
 /// per-sample variance, the reference's own negligible), 1 for independent samples; `mean` the
