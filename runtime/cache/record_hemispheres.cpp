@@ -338,10 +338,11 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
     stats_.albedo_rays[level] += n;
 }
 
-// The direct light the hot surfaces reflect onto each site (hot_surfaces.h), estimated as from
-// a light: points chosen on them by the light they receive, each lit by one direct-light sample
-// and seen from the site through a shadow ray (the hemisphere rays that meet them take no direct
-// light there). A shade's inside, seen through its openings from a few cells of the hemisphere
+// The light the hot surfaces reflect onto each site (hot_surfaces.h), estimated as from a
+// light: points chosen on them by the light they receive, each lit by one direct-light sample
+// and, on a lit side while a further bounce is allowed, by what they give each other
+// (HotSurfaces::interreflected()), and seen from the site through a shadow ray (the hemisphere
+// rays that meet them take none of that there). A shade's inside, seen through its openings from a few cells of the hemisphere
 // and many times as bright as the room, is met by the records' rays one or two times or none.
 // Each point's light joins the cell its direction falls in, so the record's gradients (and the
 // radius they limit) see it as they saw it when the rays brought it.
@@ -351,7 +352,6 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
     // What the hot surfaces give each other is a bounce more, within `bounces` as the rays' is.
     const bool deeper = level + 1 < settings_.bounces;
     stats_.hot_points += sites.size() * per_site;
-    const auto& geometries = scene_.embree->geometries();
     struct Shadows {
         std::vector<RTCRay> rays;  // per point: to the light, then from the site
         std::vector<Vec3> value, extra, through;  // extra: what the hot surfaces give each other
@@ -380,11 +380,7 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
             const Vec3 dir = to / t;
             const double cos_site = dot(site.normal, dir);
             if (!(cos_site > 0)) continue;
-            RTCHit hit{};
-            const Vec3& n = geometries[y.geometry].normals[y.primitive];
-            hit.Ng_x = static_cast<float>(n.x), hit.Ng_y = static_cast<float>(n.y), hit.Ng_z = static_cast<float>(n.z);
-            hit.u = static_cast<float>(y.b1), hit.v = static_cast<float>(y.b2);
-            hit.primID = y.primitive, hit.geomID = y.geometry, hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            const RTCHit hit = hot_->hit_at(y);
             HitFrame f = hit_frame(*scene_.embree, hit, y.position, dir, t);
             if (!f.front && !scene_.scene.back_faces_visible) continue;  // rays pass its back: the site sees through it
             Bsdf textured;

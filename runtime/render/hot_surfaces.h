@@ -68,6 +68,15 @@ public:
         Vec3 position;          ///< local coordinates
         double pdf_area = 0;    ///< density of choosing it, per unit area
     };
+    /// Embree's record of a hit at `y`, for hit_frame() and surface_at().
+    RTCHit hit_at(const Point& y) const {
+        RTCHit hit{};
+        const Vec3& n = embree_.geometries()[y.geometry].normals[y.primitive];
+        hit.Ng_x = static_cast<float>(n.x), hit.Ng_y = static_cast<float>(n.y), hit.Ng_z = static_cast<float>(n.z);
+        hit.u = static_cast<float>(y.b1), hit.v = static_cast<float>(y.b2);
+        hit.primID = y.primitive, hit.geomID = y.geometry, hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        return hit;
+    }
     /// A point on them from three uniforms: a triangle by the probe rays it took, then a point
     /// uniform in the solid angle it fills seen from its lamp (Arvo's spherical triangle), so
     /// points fall as densely as the lamp's light: uniform over a desk top under a desk lamp,

@@ -235,11 +235,7 @@ bool hot_surface_sample(const RenderScene& scene, const Bsdf& b, const HitFrame&
     const Vec3 wi = to / dist;
     const Vec3 fr = glossy_only ? eval_glossy(b, f, wi) : eval_direct(b, f, wi);
     if (!(max_component(fr) > 0)) return false;
-    RTCHit hit{};
-    const Vec3& ng = scene.embree->geometries()[y.geometry].normals[y.primitive];
-    hit.Ng_x = static_cast<float>(ng.x), hit.Ng_y = static_cast<float>(ng.y), hit.Ng_z = static_cast<float>(ng.z);
-    hit.u = static_cast<float>(y.b1), hit.v = static_cast<float>(y.b2);
-    hit.primID = y.primitive, hit.geomID = y.geometry, hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    const RTCHit hit = hot.hit_at(y);
     HitFrame fy = hit_frame(*scene.embree, hit, y.position, wi, dist);
     if (!fy.front && !scene.scene.back_faces_visible) return false;  // rays pass its back
     const double cos_y = -dot(fy.normal, wi);
