@@ -33,10 +33,10 @@
 #include <vector>
 
 #include "runtime/cache/caustic_photons.h"
-#include "runtime/render/hot_surfaces.h"
 #include "runtime/cache/irradiance_cache_file.h"
 #include "runtime/cache/irradiance_record.h"
 #include "runtime/cache/record_grid.h"
+#include "runtime/render/hot_surfaces.h"
 #include "runtime/render/ray_batch.h"
 #include "runtime/render/render_scene.h"
 

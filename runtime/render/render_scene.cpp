@@ -1,5 +1,6 @@
 #include "runtime/render/render_scene.h"
 
+#include "runtime/render/hot_surfaces.h"
 #include "runtime/render/light_visibility.h"
 #include "runtime/render/surface.h"
 
