@@ -74,6 +74,7 @@ HotSurfaces::HotSurfaces(const RenderScene& scene) : embree_(*scene.embree) {
     const double reach = kReach * embree_.extent();
     std::vector<std::vector<uint32_t>> hits(geometries.size());
     std::vector<std::vector<uint32_t>> lit_by(geometries.size());  // the first lamp whose rays met it
+    std::vector<std::vector<int32_t>> front_lit(geometries.size());  // its rays that met its front, less those that met its back
     auto small_lamp = [&](const GeometryInfo& g) {
         return g.sphere && !g.inward && g.radius <= reach && scene.scene.materials[g.emitter].type == MaterialType::kLight;
     };
@@ -108,9 +109,13 @@ HotSurfaces::HotSurfaces(const RenderScene& scene) : embree_(*scene.embree) {
         for (const RTCRayHit& r : rays) {
             if (!hot(r)) continue;
             const GeometryInfo& g = geometries[r.hit.geomID];
-            if (hits[r.hit.geomID].empty()) hits[r.hit.geomID].assign(g.indices.size(), 0), lit_by[r.hit.geomID].assign(g.indices.size(), 0);
+            if (hits[r.hit.geomID].empty())
+                hits[r.hit.geomID].assign(g.indices.size(), 0), lit_by[r.hit.geomID].assign(g.indices.size(), 0), front_lit[r.hit.geomID].assign(g.indices.size(), 0);
             if (!hits[r.hit.geomID][r.hit.primID]) lit_by[r.hit.geomID][r.hit.primID] = li;
-            if (lit_by[r.hit.geomID][r.hit.primID] == li) ++hits[r.hit.geomID][r.hit.primID];
+            if (lit_by[r.hit.geomID][r.hit.primID] != li) continue;
+            ++hits[r.hit.geomID][r.hit.primID];
+            const double facing = dot(g.normals[r.hit.primID], Vec3{r.ray.dir_x, r.ray.dir_y, r.ray.dir_z});
+            front_lit[r.hit.geomID][r.hit.primID] += facing < 0 ? 1 : -1;
         }
     }
     double total = 0;
@@ -124,9 +129,10 @@ HotSurfaces::HotSurfaces(const RenderScene& scene) : embree_(*scene.embree) {
             const double omega = solid_angle(lamp, g.positions[t[0]], g.positions[t[1]], g.positions[t[2]]);
             if (!(omega > 1e-12)) continue;  // too thin to sample: its rays' own, as before
             if (index_[gi].empty()) index_[gi].assign(g.indices.size(), 0);
-            const Vec3 centroid = (g.positions[t[0]] + g.positions[t[1]] + g.positions[t[2]]) * (1.0 / 3);
+            // The side its lamp's rays met (a pole below a bulb is met nearly edge-on: the
+            // direction from its middle to the bulb would not tell).
             const Vec3& n = g.normals[p];
-            triangles_.push_back({gi, p, lamp, omega, dot(n, lamp - centroid) >= 0 ? n : -n});
+            triangles_.push_back({gi, p, lamp, omega, front_lit[gi][p] >= 0 ? n : -n});
             index_[gi][p] = static_cast<uint32_t>(triangles_.size());
             // Chosen by the light it receives (the probe rays it took); sample() places the point.
             total += hits[gi][p];
