@@ -313,6 +313,12 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_dif
     return out;
 }
 
+double glossy_pdf(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
+    // sample_phong() around the mirror direction: (e + 1) / (2 pi) cos^e.
+    const double ca = dot(wi, reflect(f.incoming, f.shading));
+    return ca > 0 ? (b.exponent + 1) * (0.5 * kInvPi) * std::pow(ca, b.exponent) : 0.0;
+}
+
 Vec3 emitted(const Bsdf& b, const HitFrame& f, bool camera_or_delta, bool /*camera*/) {
     const Material& m = *b.material;
     Vec3 e;

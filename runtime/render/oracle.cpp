@@ -48,9 +48,7 @@ struct Oracle {
         if (!scene.lights->empty() && b.direct_response) {
             const HitLighting lighting = hit_lighting(params, r, camera);
             const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position, horizon_of(b, f));
-            for (uint32_t j = 0; j < lighting.shadow_rays; ++j) {
-                ShadowSample sample;
-                if (!direct_light_sample(scene, b, f, weights, r.beta, random, j, lighting.shadow_rays, sample, lighting.sampling)) continue;
+            auto light = [&](const ShadowSample& sample) {
                 RTCRay s{};
                 s.mask = 0xFFFFFFFFu;
                 aim_shadow_ray(s, sample);
@@ -58,7 +56,13 @@ struct Oracle {
                 Vec3 through;
                 trace_shadow_rays(scene, &s, &weak, &through, 1);
                 total += sample.value * through;
-            }
+            };
+            ShadowSample sample;
+            for (uint32_t j = 0; j < lighting.shadow_rays; ++j)
+                if (direct_light_sample(scene, b, f, weights, r.beta, random, j, lighting.shadow_rays, sample, lighting.sampling)) light(sample);
+            if (weighs_glossy_light(b, weights, lighting.sampling) &&
+                glossy_light_sample(scene, b, f, weights, r.beta, random, lighting.shadow_rays, sample))
+                light(sample);
         }
         SpawnScratch spawn;
         int n = spawn_children(b, f, r, random, params, spawn);

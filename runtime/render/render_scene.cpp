@@ -409,6 +409,75 @@ bool LightSampler::sample_sphere_seen(const Entry& e, const Vec3& x, double u, d
     return true;
 }
 
+LightSample LightSampler::along(const LocalWeights& weights, const Vec3& dir) const {
+    if (!finds_along(weights) || !std::isfinite(weights.total)) return {};
+    const Vec3& x = weights.point;
+    // The nearest crossing with any local emitter, chosen or not: one that light sampling never
+    // chooses there still hides those behind it.
+    double best = INFINITY, b1 = 0, b2 = 0;
+    size_t hit = entries_.size();
+    for (size_t i = 0; i < entries_.size(); ++i) {
+        const Entry& e = entries_[i];
+        if (e.distant >= 0) continue;
+        if (e.sphere) {
+            const Vec3 oc = x - e.a;
+            const double half_b = dot(oc, dir), c = dot(oc, oc) - e.b.x * e.b.x, disc = half_b * half_b - c;
+            if (!(disc >= 0)) continue;
+            const double root = std::sqrt(disc);
+            const double t = -half_b - root > 0 ? -half_b - root : -half_b + root;  // from inside: its inner side
+            if (t > 0 && t < best) best = t, hit = i;
+            continue;
+        }
+        // Moller-Trumbore over (a, b, c); a parallelogram takes both coordinates in [0, 1].
+        const Vec3 e1 = e.b - e.a, e2 = e.c - e.a, p = cross(dir, e2);
+        const double det = dot(e1, p);
+        if (!(std::fabs(det) > 0)) continue;
+        const double inv = 1 / det;
+        const Vec3 s = x - e.a;
+        const double u = dot(s, p) * inv;
+        if (!(u >= 0 && u <= 1)) continue;
+        const Vec3 q = cross(s, e1);
+        const double v = dot(dir, q) * inv;
+        if (!(v >= 0 && (e.parallelogram ? v <= 1 : u + v <= 1))) continue;
+        const double t = dot(e2, q) * inv;
+        if (t > 0 && t < best) best = t, hit = i, b1 = u, b2 = v;
+    }
+    if (hit == entries_.size()) return {};
+    const Entry& e = entries_[hit];
+    const double chosen = weights.w[hit] / weights.total;  // choose()'s probability of this entry
+    if (!(chosen > 0)) return {};
+    LightSample s;
+    s.radiance = e.radiance;
+    s.weak = e.weak;
+    s.limits = e.limits;
+    s.position = x + dir * best;
+    if (e.sphere) {
+        s.sphere = true;
+        s.normal = normalize_or_zero(s.position - e.a);
+        s.position = e.a + s.normal * e.b.x;
+        // As sample_sphere_seen() gives the point when x is outside, else as sample_sphere().
+        const Vec3 to_centre = e.a - x;
+        const double d2c = dot(to_centre, to_centre), radius = e.b.x;
+        const Vec3 to = s.position - x;
+        const double dist2 = dot(to, to), cos_l = -dot(s.normal, dir);
+        if (!(cos_l > 0)) return {};
+        if (d2c > radius * radius * 1.002 && std::isfinite(d2c)) {
+            const double sin2_max = radius * radius / d2c, one_minus_cos_max = sin2_max / (1 + std::sqrt(std::fmax(0.0, 1 - sin2_max)));
+            s.pdf_area = chosen * cos_l / (2 * kPi * one_minus_cos_max * dist2);
+        } else {
+            s.pdf_area = chosen / e.area;
+        }
+    } else {
+        s.normal = e.normal;
+        if (!(-dot(e.normal, dir) > 0)) return {};  // its back: emitters light from their front only
+        s.pdf_area = chosen / e.area;
+        s.prim = e.prim;
+        s.b1 = b1, s.b2 = b2;
+    }
+    if (!(s.pdf_area > 0) || !std::isfinite(s.pdf_area)) return {};
+    return s;
+}
+
 // ---- the camera ----------------------------------------------------------------------------
 
 namespace {

@@ -239,6 +239,16 @@ public:
         return c.pdf_area > 0 ? at(c, c.rescaled, v, &weights) : LightSample{};
     }
 
+    /// Whether along() can answer at the shading point `weights` were made at: the emitters
+    /// are chosen among a few by their weights there (no tree, not by power alone).
+    static bool finds_along(const LocalWeights& weights) { return !weights.by_tree && !weights.by_power && weights.total > 0; }
+    /// The first point of a local emitter that the ray from the shading point along unit `dir`
+    /// meets, as the light sample sample() would have made there: its pdf_area is what
+    /// sample() gives that point (choice of emitter included; 0 where it never would, or where
+    /// no emitter is met, or its back is). Multiple importance sampling weighs a direction a
+    /// BSDF sampled by it (glossy_light_sample()). Distant sources are not searched.
+    LightSample along(const LocalWeights& weights, const Vec3& dir) const;
+
     /// An emitter point chosen by power alone (no shading point).
     LightSample sample(double u_pick, double u, double v) const {
         const Choice c = choose_by_power(u_pick);

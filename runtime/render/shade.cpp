@@ -97,12 +97,12 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
 }
 
 LightSampling LightSampling::camera_hit(uint64_t camera_path) {
-    return {true, camera_sample_index(camera_path), camera_pixel_key(camera_path)};
+    return {true, camera_sample_index(camera_path), camera_pixel_key(camera_path), true};
 }
 
 HitLighting hit_lighting(const ShadeParams& params, const RayRecord& ray, bool camera) {
     return {shadow_rays_at(params, ray.pixel, camera ? uint8_t{kRaySeenByCamera} : ray.flags),
-            camera ? LightSampling::camera_hit(ray.path) : LightSampling{}};
+            camera ? LightSampling::camera_hit(ray.path) : LightSampling{.glossy_mis = true}};
 }
 
 namespace {
@@ -153,6 +153,75 @@ bool reaches(const LightSample& ls, const Vec3& wi, double dist, double& falloff
     return true;
 }
 
+// Veach's power heuristic: the weight of a strategy whose density is `mine` beside another's.
+double power_heuristic(double mine, double other) {
+    if (!(mine > 0)) return 0;
+    if (!(other > 0)) return 1;
+    const double r = other / mine;  // as a ratio: squares of a sharp lobe's density overflow
+    return 1 / (1 + r * r);
+}
+
+// Which strategy drew a light point, and so how its value is weighed: light sampling alone, or
+// one of the pair a glossy lobe weighs between (weighs_glossy_light()).
+enum class LightStrategy { kLight, kLightOfTwo, kGlossyOfTwo };
+
+// The shadow sample of a local emitter's point ls at hit f: the value (beta included, over the
+// strategy's density) and the shadow ray; false where it brings nothing.
+bool light_point_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSample& ls, const Vec3& beta, uint32_t n,
+                        LightStrategy strategy, double glossy_pdf_of_wi, ShadowSample& out) {
+    Vec3 to = ls.position - f.position;
+    double d2 = dot(to, to);
+    if (!(d2 > 0) || !(ls.pdf_area > 0)) return false;
+    double dist = std::sqrt(d2);
+    Vec3 wi = to / dist;
+    double cos_l = -dot(ls.normal, wi);
+    if (cos_l <= 0) return false;  // emitters radiate from their front side only
+    double falloff = 1;
+    if (!reaches(ls, wi, dist, falloff)) return false;
+    const Vec3 radiance = patterned_radiance(ls, wi, dist);
+    Vec3 fr;
+    double scale;  // what fr x radiance is divided by
+    if (strategy == LightStrategy::kGlossyOfTwo) {
+        // The glossy lobe drew wi: its share of the pair, over its own density.
+        fr = eval_glossy(b, f, wi);
+        const double light_pdf = ls.pdf_area * d2 / cos_l;  // per steradian, as n light samples each draw it
+        scale = glossy_pdf_of_wi / power_heuristic(glossy_pdf_of_wi, n * light_pdf);
+    } else {
+        if (b.lambertian && f.shading == f.normal) {  // the common case, inline: D reflection only
+            double c = dot(wi, f.normal);
+            if (c > 0) fr = b.diffuse * (c * kInvPi);
+        } else {
+            fr = eval_direct(b, f, wi);
+        }
+        if (strategy == LightStrategy::kLightOfTwo) {
+            // The glossy lobe's part of fr, weighed against glossy_light_sample()'s chance of wi.
+            const Vec3 glossy = eval_glossy(b, f, wi);
+            if (max_component(glossy) > 0) {
+                const double w = power_heuristic(n * ls.pdf_area * d2 / cos_l, glossy_pdf(b, f, wi));
+                fr = Vec3{max_of(fr.x - glossy.x, 0.0), max_of(fr.y - glossy.y, 0.0), max_of(fr.z - glossy.z, 0.0)} + glossy * w;
+            }
+        }
+        scale = d2 * ls.pdf_area * n / cos_l;
+    }
+    if (!(max_component(fr) > 0) || !(scale > 0) || !std::isfinite(scale)) return false;
+    out.value = beta * fr * radiance * (falloff / scale);
+    if (scene.medium) out.value = out.value * scene.medium->transmittance(f.position, wi, dist);
+    if (!is_finite(out.value)) return false;
+    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * f.epsilon;
+    out.direction = wi;
+    out.weak_target = ls.weak;
+    // The origin moved by the hit's epsilon, so the light point is at least dist - eps away
+    // (eps the larger of the hit's and the light point's own): stopping at dist - 3 eps keeps a
+    // 2 eps margin before the emitter without a second square root.
+    const double eps = std::max(f.epsilon, scene.embree->epsilon_at(ls.position, dist));
+    // Embree finds the distance to an analytic sphere less precisely (about 1e-4 of it near
+    // the silhouette, a square root of a difference in float): shadow rays to a sphere ended
+    // on the sphere itself and a lamp much larger than eps lit 2.2 % too dark
+    // (tests/numerics/sphere_light_test.cpp). Their margin scales with the distance.
+    out.tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
+    return out.tfar > 0;
+}
+
 }  // namespace
 
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSampler::LocalWeights& weights,
@@ -176,41 +245,23 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
         return scene.lights->sample(weights, (j + random(RandomUse::kLightPick, j)) / n, u, v);
     }();
     if (ls.distant) return distant_light_sample(scene, b, f, beta, ls, n, out);
-    Vec3 to = ls.position - f.position;
-    double d2 = dot(to, to);
-    if (!(d2 > 0) || !(ls.pdf_area > 0)) return false;
-    double dist = std::sqrt(d2);
-    Vec3 wi = to / dist;
-    double cos_l = -dot(ls.normal, wi);
-    if (cos_l <= 0) return false;  // emitters radiate from their front side only
-    double falloff = 1;
-    if (!reaches(ls, wi, dist, falloff)) return false;
-    const Vec3 radiance = patterned_radiance(ls, wi, dist);
-    Vec3 fr;
-    if (b.lambertian && f.shading == f.normal) {  // the common case, inline: D reflection only
-        double c = dot(wi, f.normal);
-        if (c > 0) fr = b.diffuse * (c * kInvPi);
-    } else {
-        fr = eval_direct(b, f, wi);
-    }
-    if (!(max_component(fr) > 0)) return false;
-    out.value = beta * fr * radiance * (falloff * cos_l / (d2 * ls.pdf_area * n));
-    if (scene.medium) out.value = out.value * scene.medium->transmittance(f.position, wi, dist);
-    if (!is_finite(out.value)) return false;
-    out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * f.epsilon;
-    out.direction = wi;
-    out.weak_target = ls.weak;
-    // The origin moved by the hit's epsilon, so the light point is at least dist - eps away
-    // (eps the larger of the hit's and the light point's own): stopping at dist - 3 eps keeps a
-    // 2 eps margin before the emitter without a second square root.
-    const double eps = std::max(f.epsilon, scene.embree->epsilon_at(ls.position, dist));
-    // Embree finds the distance to an analytic sphere less precisely (about 1e-4 of it near
-    // the silhouette, a square root of a difference in float): shadow rays to a sphere ended
-    // on the sphere itself and a lamp much larger than eps lit 2.2 % too dark
-    // (tests/numerics/sphere_light_test.cpp). Their margin scales with the distance.
-    out.tfar = dist - (ls.sphere ? std::max(3 * eps, 1e-3 * dist) : 3 * eps);
-    return out.tfar > 0;
+    return light_point_sample(scene, b, f, ls, beta, n, weighs_glossy_light(b, weights, sampling) ? LightStrategy::kLightOfTwo : LightStrategy::kLight,
+                              0, out);
 }
+
+bool glossy_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSampler::LocalWeights& weights,
+                         const Vec3& beta, const HitRandom& random, uint32_t n, ShadowSample& out) {
+    // The G child's direction (scatter()'s draw, the same random numbers).
+    double u1, u2;
+    random.pair(RandomUse::kLobeG, u1, u2);
+    const Vec3 wi = sample_phong(reflect(f.incoming, f.shading), b.exponent, u1, u2);
+    if (!(dot(wi, f.shading) > 0)) return false;
+    const double pdf = glossy_pdf(b, f, wi);
+    if (!(pdf > 0) || !std::isfinite(pdf)) return false;
+    const LightSample ls = scene.lights->along(weights, wi);
+    return ls.pdf_area > 0 && light_point_sample(scene, b, f, ls, beta, n, LightStrategy::kGlossyOfTwo, pdf, out);
+}
+
 
 namespace {
 
@@ -470,6 +521,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                         if (direct_light_sample(scene, b, f, weights, ray.beta, random, j, lighting.shadow_rays, light_sample, lighting.sampling))
                             shadows.add(light_sample, static_cast<uint32_t>(i));
                     }
+                    if (weighs_glossy_light(b, weights, lighting.sampling) &&
+                        glossy_light_sample(scene, b, f, weights, ray.beta, random, lighting.shadow_rays, light_sample))
+                        shadows.add(light_sample, static_cast<uint32_t>(i));
                 }
                 if (hot_lights && b.direct_response && !lit_side_of_hot && (!params.ic_queries || b.glossy || b.directional)) {
                     const uint32_t m = hit_lighting(params, ray, camera).shadow_rays;
@@ -526,8 +580,9 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
     delta.assign(rays.size(), Vec3{});
     if (scene.lights->empty() || rays.empty()) return 0;
     const MediumModel* medium = scene.medium ? &*scene.medium : nullptr;
-    // Slots per ray: the preview's `base` estimates (taken back out), then the new ones. Chunks
-    // hold at most ~1 M slots, so memory stays bounded whatever the image size.
+    // Slots per ray: the preview's `base` estimates (taken back out), then the new ones, each
+    // with one more for its glossy lobe's sample (glossy_light_sample()). Chunks hold at most
+    // ~1 M slots, so memory stays bounded whatever the image size.
     auto wanted = [&](size_t r) { return std::max<uint32_t>(base, shadow_rays_per_pixel[rays.pixel[r]]); };
     constexpr size_t kMaxSlots = size_t{1} << 20;
     std::vector<RTCRayHit> hits;
@@ -539,8 +594,8 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
     for (size_t begin = 0; begin < rays.size();) {
         first.assign(1, 0);
         size_t end = begin;
-        while (end < rays.size() && (end == begin || first.back() + base + wanted(end) <= kMaxSlots))
-            first.push_back(first.back() + base + wanted(end)), ++end;
+        while (end < rays.size() && (end == begin || first.back() + base + wanted(end) + 2 <= kMaxSlots))
+            first.push_back(first.back() + base + wanted(end) + 2), ++end;
         const size_t n = end - begin;
         hits.resize(n);
         for (size_t i = 0; i < n; ++i) {
@@ -574,15 +629,23 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
                 const uint32_t k = wanted(r);
                 const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position, horizon_of(b, f));
-                auto sample = [&](uint32_t j, uint32_t of, size_t slot, double sign) {
-                    ShadowSample s;
-                    if (!direct_light_sample(scene, b, f, weights, beta, random, j, of, s, sampling)) return;
+                auto slot_of = [&](const ShadowSample& s, size_t slot, double sign) {
                     aim_shadow_ray(shadows[slot], s);
                     values[slot] = s.value * sign;
                     weak[slot] = s.weak_target;
                 };
-                for (uint32_t j = 0; j < base; ++j) sample(j, base, first[i] + j, -1.0);
-                for (uint32_t j = 0; j < k; ++j) sample(j, k, first[i] + base + j, 1.0);
+                // The glossy lobe's sample draws as the camera hit's lobes do (hit_random()).
+                const HitRandom lobes = HitRandom::camera_hit(rays.path[r], rays.depth[r], camera_pixel_key(rays.path[r]),
+                                                              camera_sample_index(rays.path[r]));
+                const bool glossy = weighs_glossy_light(b, weights, sampling);
+                auto estimate = [&](uint32_t of, size_t slot, double sign) {
+                    ShadowSample s;
+                    for (uint32_t j = 0; j < of; ++j)
+                        if (direct_light_sample(scene, b, f, weights, beta, random, j, of, s, sampling)) slot_of(s, slot + j, sign);
+                    if (glossy && glossy_light_sample(scene, b, f, weights, beta, lobes, of, s)) slot_of(s, slot + of, sign);
+                };
+                estimate(base, first[i], -1.0);
+                estimate(k, first[i] + base + 1, 1.0);
             }
         });
         trace_shadow_rays(scene, shadows.data(), weak.data(), through.data(), shadows.size());

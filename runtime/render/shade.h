@@ -260,6 +260,10 @@ struct LightSampling {
     bool pixel_sequence = false;
     uint32_t sample = 0;     ///< the camera sample's index in its pixel
     uint64_t pixel_key = 0;  ///< seeds the pixel's scramble
+    /// The hit also takes glossy_light_sample(): the light samples' glossy share is weighed
+    /// against it (multiple importance sampling). Off where nothing samples the glossy lobe's
+    /// light (the irradiance cache's records, the hot surfaces' points).
+    bool glossy_mis = false;
     static LightSampling camera_hit(uint64_t camera_path);
 };
 
@@ -289,5 +293,21 @@ inline const Vec3* horizon_of(const Bsdf& b, const HitFrame& f) { return b.refle
 bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSampler::LocalWeights& weights,
                          const Vec3& beta, const HitRandom& random, uint32_t j, uint32_t n, ShadowSample& out,
                          const LightSampling& sampling = {});
+
+/// Whether a hit whose light is sampled by `sampling` weighs its glossy lobe's direct light
+/// between its light samples and glossy_light_sample(): a glossy lobe of known density, and
+/// emitters that LightSampler::along() can find.
+inline bool weighs_glossy_light(const Bsdf& b, const LightSampler::LocalWeights& weights, const LightSampling& sampling) {
+    return sampling.glossy_mis && glossy_pdf_known(b) && LightSampler::finds_along(weights);
+}
+
+/// The other half of a hit's glossy direct light (multiple importance sampling, Veach's power
+/// heuristic, with the n light samples of direct_light_sample()): the direction its glossy
+/// lobe draws (the G child's), and the emitter point it meets, if any, as a shadow sample.
+/// A sharp lobe finds a large emitter's reflection this way where light samples landing in
+/// it by chance were sparkles; light samples keep the small emitters and the rough lobes.
+/// False where it brings nothing; only where weighs_glossy_light().
+bool glossy_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame& f, const LightSampler::LocalWeights& weights,
+                         const Vec3& beta, const HitRandom& random, uint32_t n, ShadowSample& out);
 
 }  // namespace crex
