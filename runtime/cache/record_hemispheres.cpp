@@ -380,24 +380,18 @@ void IrradianceCache::add_hot_surfaces(Hemispheres& h, const std::vector<IcQuery
             const Vec3 dir = to / t;
             const double cos_site = dot(site.normal, dir);
             if (!(cos_site > 0)) continue;
-            const RTCHit hit = hot_->hit_at(y);
-            HitFrame f = hit_frame(*scene_.embree, hit, y.position, dir, t);
-            if (!f.front && !scene_.scene.back_faces_visible) continue;  // rays pass its back: the site sees through it
-            Bsdf textured;
-            const Bsdf& b = surface_at(scene_, hit, f, textured, SurfaceDetail::kAveraged);
-            if (!b.direct_response) continue;
-            const double cos_hot = -dot(f.normal, dir);
-            const double g = cos_site * cos_hot / (t * t) / y.pdf_area;
+            const HotSurfaces::Reflected at_y =
+                hot_->reflected(scene_, y, dir, t, HitRandom(hash_combine(site.key, 0x4075ull + k), static_cast<uint16_t>(level + 1)));
+            if (!at_y.seen) continue;
+            const double g = cos_site * at_y.cos_y / (t * t) / y.pdf_area;
             if (!(g > 0) || !std::isfinite(g)) continue;
-            ShadowSample sample;
-            if (direct_light_sample(scene_, b, f, scene_.lights->weights_at(f.position, horizon_of(b, f)), Vec3{1, 1, 1},
-                                    HitRandom(hash_combine(site.key, 0x4075ull + k), static_cast<uint16_t>(level + 1)), 0, 1, sample)) {
-                local.value[k] = sample.value * g;
-                aim_shadow_ray(to_light, sample);
-                local.weak[2 * k] = sample.weak_target;
+            if (at_y.lit) {
+                local.value[k] = at_y.to_light.value * g;
+                aim_shadow_ray(to_light, at_y.to_light);
+                local.weak[2 * k] = at_y.to_light.weak_target;
             }
-            if (deeper && dot(dir, hot_->lit_normal(y.triangle)) < 0) local.extra[k] = b.diffuse * hot_->interreflected(y.triangle, y.b1, y.b2) * (kInvPi * g);
-            aim_shadow_ray(from_site, o, dir, std::max(0.0, t - f.epsilon));
+            if (deeper) local.extra[k] = at_y.each_other * g;
+            aim_shadow_ray(from_site, o, dir, std::max(0.0, t - at_y.epsilon));
         }
         trace_shadow_rays_in_this_task(scene_, local.rays.data(), local.weak.data(), local.through.data(), 2 * per_site);
         // A cell's radiance stands for pi / per of E (records_from()).

@@ -244,6 +244,24 @@ void HotSurfaces::solve_interreflection(const RenderScene& scene) {
     }
 }
 
+HotSurfaces::Reflected HotSurfaces::reflected(const RenderScene& scene, const Point& y, const Vec3& dir, double t,
+                                              const HitRandom& random) const {
+    Reflected r;
+    const RTCHit hit = hit_at(y);
+    HitFrame f = hit_frame(embree_, hit, y.position, dir, t);  // surface_at() may bend its shading normal
+    if (!f.front && !scene.scene.back_faces_visible) return r;  // rays pass its back: the viewer sees through it
+    r.cos_y = -dot(f.normal, dir);
+    if (!(r.cos_y > 0)) return r;
+    Bsdf textured;
+    const Bsdf& b = surface_at(scene, hit, f, textured, SurfaceDetail::kAveraged);
+    if (!b.direct_response) return r;
+    r.seen = true;
+    r.epsilon = f.epsilon;
+    r.lit = direct_light_sample(scene, b, f, scene.lights->weights_at(f.position, horizon_of(b, f)), Vec3{1, 1, 1}, random, 0, 1, r.to_light);
+    if (dot(dir, lit_normal(y.triangle)) < 0) r.each_other = b.diffuse * interreflected(y.triangle, y.b1, y.b2) * kInvPi;
+    return r;
+}
+
 HotSurfaces::Point HotSurfaces::sample(double u0, double u1, double u2) const {
     const size_t i = std::min<size_t>(static_cast<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin()), cdf_.size() - 1);
     const Triangle& tri = triangles_[i];

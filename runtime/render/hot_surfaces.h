@@ -5,15 +5,17 @@
 // made white specks everywhere. Their direct light is sampled as a light of its own instead, as
 // RADIANCE's mkillum turns such surfaces into light sources by hand: by each record
 // (record_hemispheres.cpp, add_hot_surfaces()) and by each hit's direct light (shade.cpp,
-// hot_surface_sample()); rays of diffuse and glossy lobes that meet them take no direct light
-// there.
+// hot_surface_sample()), both through reflected(); rays of diffuse and glossy lobes that meet
+// them take no direct light there.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 #include <vector>
 
+#include "runtime/base/sampling.h"
 #include "runtime/render/render_scene.h"
+#include "runtime/render/shadow_pass.h"
 
 namespace crex {
 
@@ -82,6 +84,21 @@ public:
     /// points fall as densely as the lamp's light: uniform over a desk top under a desk lamp,
     /// most fell where the lamp's light is faint. pdf_area 0: none could be made.
     Point sample(double u0, double u1, double u2) const;
+
+    /// What point y sends back towards a viewer `t` away along unit `dir` (from the viewer to
+    /// y), the one rule for a hit's hot-surface samples (shade.cpp) and a record's
+    /// (record_hemispheres.cpp). Nothing where the viewer sees its back (unless back faces are
+    /// visible) or it does not reflect direct light.
+    struct Reflected {
+        bool seen = false;
+        double cos_y = 0;        ///< at y, towards the viewer
+        double epsilon = 0;      ///< y's own ray epsilon
+        bool lit = false;        ///< `to_light` is y's direct light: one light sample, its shadow ray still to trace
+        ShadowSample to_light;   ///< with throughput 1: radiance reflected towards the viewer
+        Vec3 each_other;         ///< on the lit side, the radiance of the hot surfaces' light on each other
+    };
+    /// `random`: the numbers of y's light sample.
+    Reflected reflected(const RenderScene& scene, const Point& y, const Vec3& dir, double t, const HitRandom& random) const;
 
 private:
     struct Triangle {

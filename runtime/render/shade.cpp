@@ -286,26 +286,21 @@ bool hot_surface_sample(const RenderScene& scene, const Bsdf& b, const HitFrame&
     const Vec3 wi = to / dist;
     const Vec3 fr = glossy_only ? eval_glossy(b, f, wi) : eval_direct(b, f, wi);
     if (!(max_component(fr) > 0)) return false;
-    const RTCHit hit = hot.hit_at(y);
-    HitFrame fy = hit_frame(*scene.embree, hit, y.position, wi, dist);
-    if (!fy.front && !scene.scene.back_faces_visible) return false;  // rays pass its back
-    const double cos_y = -dot(fy.normal, wi);
-    if (!(cos_y > 0)) return false;
-    Bsdf textured;
-    const Bsdf& by = surface_at(scene, hit, fy, textured, SurfaceDetail::kAveraged);
-    if (!by.direct_response) return false;
-    const Vec3 to_radiance = ray.beta * fr * (cos_y / (d2 * y.pdf_area * n));
-    has_relay = direct_light_sample(scene, by, fy, scene.lights->weights_at(fy.position, horizon_of(by, fy)), Vec3{1, 1, 1},
-                                    HitRandom(hash_combine(ray.path, 0x4074ull + j), static_cast<uint32_t>(ray.depth) + 1), 0, 1, to_light);
+    const HotSurfaces::Reflected at_y =
+        hot.reflected(scene, y, wi, dist, HitRandom(hash_combine(ray.path, 0x4074ull + j), static_cast<uint32_t>(ray.depth) + 1));
+    if (!at_y.seen) return false;
+    const Vec3 to_radiance = ray.beta * fr * (at_y.cos_y / (d2 * y.pdf_area * n));
+    has_relay = at_y.lit;
+    if (has_relay) to_light = at_y.to_light;
     out.value = has_relay ? to_radiance * to_light.value : Vec3{};
-    extra = dot(wi, hot.lit_normal(y.triangle)) < 0 ? to_radiance * by.diffuse * hot.interreflected(y.triangle, y.b1, y.b2) * kInvPi : Vec3{};
+    extra = to_radiance * at_y.each_other;
     if (!is_finite(out.value) || !is_finite(extra)) return false;
     if (!(max_component(out.value) > 0) && !(max_component(extra) > 0)) return false;
     if (!has_relay) out.value = extra, extra = {};
     out.origin = f.position + (dot(wi, f.geometric) > 0 ? f.geometric : -f.geometric) * f.epsilon;
     out.direction = wi;
     out.weak_target = false;
-    out.tfar = dist - 3 * std::max(f.epsilon, fy.epsilon);
+    out.tfar = dist - 3 * std::max(f.epsilon, at_y.epsilon);
     return out.tfar > 0;
 }
 
