@@ -155,6 +155,20 @@ double ward(const Bsdf& b, const Vec3& n, const Vec3& wi, const Vec3& wo) {
     return std::exp(-(hu * hu + hv * hv) / (hn * hn)) * dot(h, h) / (kPi * b.alpha_u * b.alpha_v * hn * hn * hn * hn);
 }
 
+// Ward's sampling of the half vector h around unit n from (u1, u2); cos_h = h.n.
+Vec3 ward_half_vector(const Bsdf& b, const Vec3& n, double u1, double u2, double& cos_h) {
+    Vec3 tu, tv;
+    ward_frame(b, n, tu, tv);
+    double c, s;
+    sincos_2pi(u2, c, s);
+    const double phi_c = b.alpha_u * c, phi_s = b.alpha_v * s, norm = std::sqrt(phi_c * phi_c + phi_s * phi_s);
+    const double cp = phi_c / norm, sp = phi_s / norm;
+    const double tan2 = -std::log(std::fmax(1 - u1, 1e-300)) / (cp * cp / (b.alpha_u * b.alpha_u) + sp * sp / (b.alpha_v * b.alpha_v));
+    cos_h = 1 / std::sqrt(1 + tan2);
+    const double sin_h = std::sqrt(tan2) * cos_h;
+    return n * cos_h + tu * (sin_h * cp) + tv * (sin_h * sp);
+}
+
 }  // namespace
 
 int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::array<Lobe, kMaxLobes>& out) {
@@ -174,17 +188,9 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
         if (b.glossy && b.anisotropic) {
             // Ward's sampling of the half vector h; the weight f cos_o / pdf comes to
             // ks cos_o / (o.h cos_h) for this normalisation.
-            double u1, u2;
+            double u1, u2, cos_h;
             random.pair(RandomUse::kLobeG, u1, u2);
-            Vec3 tu, tv;
-            ward_frame(b, nrm, tu, tv);
-            double c, s;
-            sincos_2pi(u2, c, s);
-            const double phi_c = b.alpha_u * c, phi_s = b.alpha_v * s, norm = std::sqrt(phi_c * phi_c + phi_s * phi_s);
-            const double cp = phi_c / norm, sp = phi_s / norm;
-            const double tan2 = -std::log(std::fmax(1 - u1, 1e-300)) / (cp * cp / (b.alpha_u * b.alpha_u) + sp * sp / (b.alpha_v * b.alpha_v));
-            const double cos_h = 1 / std::sqrt(1 + tan2), sin_h = std::sqrt(tan2) * cos_h;
-            const Vec3 h = nrm * cos_h + tu * (sin_h * cp) + tv * (sin_h * sp);
+            const Vec3 h = ward_half_vector(b, nrm, u1, u2, cos_h);
             const Vec3 dir = reflect(d, h);
             const double cos_o = dot(dir, nrm), oh = -dot(d, h);
             if (cos_o > 0 && oh > 0) add_lobe(out.data(), n, Component::kG, dir, b.specular * (cos_o / (oh * cos_h)), false, false);
@@ -313,7 +319,20 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_dif
     return out;
 }
 
+Vec3 sample_glossy(const Bsdf& b, const HitFrame& f, double u1, double u2) {
+    if (!b.anisotropic) return sample_phong(reflect(f.incoming, f.shading), b.exponent, u1, u2);
+    double cos_h;
+    return reflect(f.incoming, ward_half_vector(b, f.shading, u1, u2, cos_h));
+}
+
 double glossy_pdf(const Bsdf& b, const HitFrame& f, const Vec3& wi) {
+    if (b.anisotropic) {
+        // Ward's half vector h drawn with density ward (h.n) (o.h) per steradian of wi: scatter()'s
+        // weight ks cos_o / (o.h cos_h) is f cos / pdf.
+        const Vec3 wo = -f.incoming, h = normalize_or_zero(wi + wo);
+        const double oh = dot(wo, h), cos_h = dot(h, f.shading);
+        return oh > 0 && cos_h > 0 ? ward(b, f.shading, wi, wo) * oh * cos_h : 0.0;
+    }
     // sample_phong() around the mirror direction: (e + 1) / (2 pi) cos^e.
     const double ca = dot(wi, reflect(f.incoming, f.shading));
     return ca > 0 ? (b.exponent + 1) * (0.5 * kInvPi) * std::pow(ca, b.exponent) : 0.0;

@@ -163,9 +163,11 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_dif
 /// eval_direct() without its diffuse terms: what the glossy lobes alone make of light from
 /// `wi` (where the irradiance cache answers for the diffuse ones).
 inline Vec3 eval_glossy(const Bsdf& b, const HitFrame& f, const Vec3& wi) { return eval_direct(b, f, wi, false); }
-/// Whether scatter() draws b's glossy lobe by a density glossy_pdf() gives (the isotropic
-/// Phong lobe; not Ward's, nor a RADIANCE function's).
-inline bool glossy_pdf_known(const Bsdf& b) { return b.glossy && !b.anisotropic && !b.directional; }
+/// Whether scatter() draws b's glossy lobe by a density glossy_pdf() gives (Phong's lobe and
+/// Ward's; not a RADIANCE function's).
+inline bool glossy_pdf_known(const Bsdf& b) { return b.glossy && !b.directional; }
+/// The glossy lobe's direction as scatter() draws it from (u1, u2) (where glossy_pdf_known(b)).
+Vec3 sample_glossy(const Bsdf& b, const HitFrame& f, double u1, double u2);
 /// The density per steradian with which scatter() draws the glossy lobe's direction `wi`
 /// (where glossy_pdf_known(b)).
 double glossy_pdf(const Bsdf& b, const HitFrame& f, const Vec3& wi);

@@ -254,7 +254,7 @@ bool glossy_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
     // The G child's direction (scatter()'s draw, the same random numbers).
     double u1, u2;
     random.pair(RandomUse::kLobeG, u1, u2);
-    const Vec3 wi = sample_phong(reflect(f.incoming, f.shading), b.exponent, u1, u2);
+    const Vec3 wi = sample_glossy(b, f, u1, u2);
     if (!(dot(wi, f.shading) > 0)) return false;
     const double pdf = glossy_pdf(b, f, wi);
     if (!(pdf > 0) || !std::isfinite(pdf)) return false;

@@ -15,13 +15,15 @@
 namespace crex {
 namespace {
 
-// A glossy floor (y = 0) under a 1 m square lamp of radiance 1 facing down at y = 1; with
-// `more_lamps`, also a small sphere lamp and a triangle lamp off to the sides.
-Scene lamp_over_glossy_floor(double roughness, bool more_lamps) {
+// A glossy floor (y = 0) under a 1 m square lamp of radiance 1 facing down at y = 1 (Ward's
+// anisotropic lobe with `roughness_v`); with `more_lamps`, also a small sphere lamp and a
+// triangle lamp off to the sides.
+Scene lamp_over_glossy_floor(double roughness, bool more_lamps, double roughness_v = 0) {
     Scene s;
     Material floor = testing::make_material("floor", MaterialType::kPlastic, {0.5, 0.5, 0.5});
     floor.specularity = 0.2;
     floor.roughness = roughness;
+    if (roughness_v > 0) floor.anisotropy = Anisotropy{{1, 0, 0}, roughness_v};  // Ward's lobe
     s.materials.push_back(floor);
     s.materials.push_back(testing::make_material("lamp", MaterialType::kLight, {1, 1, 1}));
     s.shapes.push_back(build::quad("floor", {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}));
@@ -99,14 +101,15 @@ double quadrature(const Bsdf& b, const HitFrame& f, const Vec3& offset) {
 
 struct LobeCase {
     double roughness;
-    double quieter_at_least;  // variance without the lobe's sample over with it, at least (measured: 333, 3.1, 1.06)
+    double roughness_v;       // > 0: Ward's anisotropic lobe, else Phong's
+    double quieter_at_least;  // variance without the lobe's sample over with it, at least (measured: 333, 3.1, 1.06; Ward's 2.3)
 };
 
 class GlossyLight : public ::testing::TestWithParam<LobeCase> {};
 
 TEST_P(GlossyLight, BothHalvesAddUpToTheIntegral) {
     const LobeCase lobe = GetParam();
-    Scene s = lamp_over_glossy_floor(lobe.roughness, false);
+    Scene s = lamp_over_glossy_floor(lobe.roughness, false, lobe.roughness_v);
     RenderScene rs(s);
     const Bsdf b = Bsdf::of(s.materials[0], constant_values(s.materials[0]));
     ASSERT_TRUE(glossy_pdf_known(b));
@@ -122,7 +125,7 @@ TEST_P(GlossyLight, BothHalvesAddUpToTheIntegral) {
         << "roughness " << lobe.roughness << ": variance " << alone.variance << " alone, " << weighed.variance << " weighed";
 }
 
-INSTANTIATE_TEST_SUITE_P(SharpToRough, GlossyLight, ::testing::Values(LobeCase{0.05, 100}, LobeCase{0.2, 2}, LobeCase{0.5, 0.9}),
+INSTANTIATE_TEST_SUITE_P(SharpToRough, GlossyLight, ::testing::Values(LobeCase{0.05, 0, 100}, LobeCase{0.2, 0, 2}, LobeCase{0.5, 0, 0.9}, LobeCase{0.2, 0.05, 1.5}),
                          [](const auto& p) { return "roughness" + std::to_string(p.index); });
 
 TEST(GlossyLight, AlongFindsEachLightSampleWithTheDensityItWasDrawnBy) {
