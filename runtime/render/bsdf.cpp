@@ -197,7 +197,7 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
         } else if (b.glossy) {
             double u1, u2;
             random.pair(RandomUse::kLobeG, u1, u2);
-            Vec3 dir = sample_phong(reflect(d, nrm), b.exponent, u1, u2);
+            const Vec3 dir = sample_glossy(b, f, u1, u2);
             double c = dot(dir, nrm);
             if (c > 0) add_lobe(out.data(), n, Component::kG, dir, b.specular * ((b.exponent + 2) / (b.exponent + 1) * c), false, false);
         } else if (b.mirror_like) {
@@ -285,7 +285,8 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
     return n;
 }
 
-Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_diffuse) {
+Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_diffuse, Vec3* glossy_part) {
+    if (glossy_part) *glossy_part = {};
     double c = dot(wi, f.shading);
     // Light from one side of the surface by its shading normal and the other by its geometry
     // reaches neither side.
@@ -307,12 +308,15 @@ Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_dif
     }
     if (c > 0) {
         if (with_diffuse) out += b.diffuse * (c * kInvPi);
+        Vec3 glossy;
         if (b.glossy && b.anisotropic) {
-            out += b.specular * (ward(b, f.shading, wi, -f.incoming) * c);
+            glossy = b.specular * (ward(b, f.shading, wi, -f.incoming) * c);
         } else if (b.glossy) {
             double ca = dot(wi, reflect(f.incoming, f.shading));
-            if (ca > 0) out += b.specular * ((b.exponent + 2) * (0.5 * kInvPi) * std::pow(ca, b.exponent) * c);
+            if (ca > 0) glossy = b.specular * ((b.exponent + 2) * (0.5 * kInvPi) * std::pow(ca, b.exponent) * c);
         }
+        out += glossy;
+        if (glossy_part) *glossy_part = glossy;
     } else if (c < 0 && with_diffuse) {
         out += b.diffuse_transmit * (-c * kInvPi);
     }

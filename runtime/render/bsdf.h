@@ -158,8 +158,10 @@ inline double transmission_share(const Bsdf& b) {
 /// 0 (the path is absorbed).
 int choose_lobe(const std::array<Lobe, kMaxLobes>& lobes, int n, double u, double& probability);
 
-/// Sum over the non-delta lobes of BRDF x |cos| for light arriving from unit direction `wi`.
-Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_diffuse = true);
+/// Sum over the non-delta lobes of BRDF x |cos| for light arriving from unit direction `wi`;
+/// where `glossy_part` is given, the glossy lobe's share of that sum too (what eval_glossy()
+/// would give), so a caller that weighs the two apart evaluates the surface once.
+Vec3 eval_direct(const Bsdf& b, const HitFrame& f, const Vec3& wi, bool with_diffuse = true, Vec3* glossy_part = nullptr);
 /// eval_direct() without its diffuse terms: what the glossy lobes alone make of light from
 /// `wi` (where the irradiance cache answers for the diffuse ones).
 inline Vec3 eval_glossy(const Bsdf& b, const HitFrame& f, const Vec3& wi) { return eval_direct(b, f, wi, false); }

@@ -190,16 +190,13 @@ bool light_point_sample(const RenderScene& scene, const Bsdf& b, const HitFrame&
         if (b.lambertian && f.shading == f.normal) {  // the common case, inline: D reflection only
             double c = dot(wi, f.normal);
             if (c > 0) fr = b.diffuse * (c * kInvPi);
+        } else if (strategy == LightStrategy::kLightOfTwo) {
+            // The glossy lobe's part of fr, weighed against glossy_light_sample()'s chance of wi.
+            Vec3 glossy;
+            fr = eval_direct(b, f, wi, true, &glossy);
+            if (max_component(glossy) > 0) fr = fr - glossy * (1 - power_heuristic(n * ls.pdf_area * d2 / cos_l, glossy_pdf(b, f, wi)));
         } else {
             fr = eval_direct(b, f, wi);
-        }
-        if (strategy == LightStrategy::kLightOfTwo) {
-            // The glossy lobe's part of fr, weighed against glossy_light_sample()'s chance of wi.
-            const Vec3 glossy = eval_glossy(b, f, wi);
-            if (max_component(glossy) > 0) {
-                const double w = power_heuristic(n * ls.pdf_area * d2 / cos_l, glossy_pdf(b, f, wi));
-                fr = Vec3{max_of(fr.x - glossy.x, 0.0), max_of(fr.y - glossy.y, 0.0), max_of(fr.z - glossy.z, 0.0)} + glossy * w;
-            }
         }
         scale = d2 * ls.pdf_area * n / cos_l;
     }
