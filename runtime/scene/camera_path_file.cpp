@@ -223,6 +223,7 @@ std::optional<CameraPath> read_view_lines(const SourceFile& file, double fps, Di
     std::map<uint32_t, std::vector<ViewWord>> lines;
     for (ViewWord& w : view_file_words(file)) lines[file.position(w.begin).line].push_back(std::move(w));
     std::vector<CameraKey> keys;
+    std::vector<SourceSpan> key_spans;  // each key's line
     std::optional<Camera> first;
     std::optional<uint32_t> first_line;
     for (auto& [line, words] : lines) {
@@ -248,6 +249,7 @@ std::optional<CameraPath> read_view_lines(const SourceFile& file, double fps, Di
         k.vfov = cam.vfov_deg;
         k.hfov = cam.hfov_deg;
         keys.push_back(k);
+        key_spans.push_back({&file, words.front().begin, words.back().end});
     }
     if (sink.error_count() != errors_before) return std::nullopt;
     if (keys.empty()) {
@@ -262,6 +264,16 @@ std::optional<CameraPath> read_view_lines(const SourceFile& file, double fps, Di
         sink.report("E303", {&file, 0, static_cast<uint32_t>(file.line_text(1).size())},
                     "the views' positions are too far apart to measure the path between them (its length overflows)");
         return std::nullopt;
+    }
+    // Each line's own camera must have an image plane: a -vd too long to normalise (1e301)
+    // came out as no direction at all.
+    for (size_t i = 0; i < path.keys().size(); ++i) {
+        const Camera c = path.camera_at(path.keys()[i].time, *first);
+        const bool finite = std::isfinite(length(c.position)) && std::isfinite(length(c.direction)) && std::isfinite(length(c.up));
+        if (!finite || !(length(c.direction) > 0) || !(length(cross(normalize_or_zero(c.direction), normalize_or_zero(c.up))) > 1e-6)) {
+            sink.report("E306", key_spans[i], "this view has no image plane: its -vd is zero, too long to normalise, or along its -vu");
+            return std::nullopt;
+        }
     }
     return path;
 }

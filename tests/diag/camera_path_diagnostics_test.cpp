@@ -70,6 +70,9 @@ INSTANTIATE_TEST_SUITE_P(
         PathCase{"view_type_changes", "-vtv -vp 0 0 1 -vd 0 1 0\n-vta -vp 0 1 1 -vd 0 1 0 -vh 180 -vv 180\n", "E303", 2, 1,
                  "differs from line 1's"},
         PathCase{"view_degenerate", "-vp 0 0 1 -vd 0 0 1\n", "E306", 1, 1, "parallel to the up vector"},
+        // Found by camera_path_fuzzer: a direction whose length overflows has none once normalised.
+        PathCase{"view_direction_overflows", "-vp 0 0 1 -vd 0 1 0\n-vp 0 0 1 -vd 1e301 2 -2 -vu 0 1 0\n", "E306", 2, 1,
+                 "too long to normalise"},
         PathCase{"view_file_empty", "# nothing but a comment\n", "E304", 1, 1, "at least one line of view options"}),
     [](const ::testing::TestParamInfo<PathCase>& p) { return std::string(p.param.name); });
 
