@@ -960,7 +960,7 @@ void PlanRun::redo_preview_direct_light(const SelectiveSetup& sel) {
     }
     if (rays.empty()) return;
     std::vector<Vec3> delta;
-    out_.direct_light_redone_shadow_rays += redo_camera_direct_light(*rs_, rays, preview_shadow_rays_, sel.shadow_rays, delta);
+    out_.direct_light_redone_shadow_rays += redo_camera_direct_light(*rs_, rays, preview_shadow_rays_, cache_.has_value(), sel.shadow_rays, delta);
     for (size_t i = 0; i < rays.size(); ++i)
         if (is_finite(delta[i])) out_.film.add(kCameraAov, rays.pixel[i], delta[i], rays.flags[i]);
     out_.direct_light_redone += rays.size();

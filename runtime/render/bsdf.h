@@ -174,6 +174,17 @@ Vec3 sample_glossy(const Bsdf& b, const HitFrame& f, double u1, double u2);
 /// (where glossy_pdf_known(b)).
 double glossy_pdf(const Bsdf& b, const HitFrame& f, const Vec3& wi);
 
+/// Phong exponents below this make a lobe at least as wide as the cosine lobe of a diffuse
+/// surface (glTF roughness above about 0.82: plaster, a ceiling, a rug, where every glTF
+/// material has a 4 % specular lobe).
+inline constexpr double kDiffuseLikeExponent = 1.0;
+/// Whether b's glossy lobe is that wide. Under an irradiance cache such a lobe's indirect
+/// light is the cache's answer, as the diffuse lobes' is (spawn_children()): RADIANCE folds a
+/// specular reflection below its sampling threshold into the ambient the same way (m_normal.c,
+/// SP_RBLT). Traced, one ray a sample, it met the bright pools a lamp throws on a ceiling or a
+/// floor by chance and left white specks on the walls.
+inline bool glossy_like_diffuse(const Bsdf& b) { return b.glossy && !b.anisotropic && !b.directional && b.exponent < kDiffuseLikeExponent; }
+
 /// The ray meeting a surface as patterns see it: along `incoming`, the surface's geometric
 /// normal (unflipped), the hit point and distance.
 inline PatternRay pattern_ray_at(const HitFrame& f) {

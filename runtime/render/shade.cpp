@@ -56,6 +56,21 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         }
         double mx = max_component(beta);
         if (!(mx > 0) || !is_finite(beta)) continue;
+        // Under the cache a diffuse lobe asks it for its indirect light, and so does a glossy
+        // lobe as wide as one (glossy_like_diffuse()), whose light then counts as D's: in the
+        // diffuse lobe's query where there is one, else in one of its own.
+        const bool query = params.ic_queries && (lobe.component == Component::kD || (lobe.component == Component::kG && glossy_like_diffuse(b)));
+        if (query && lobe.component == Component::kG) {
+            RayRecord* same = nullptr;
+            for (int k = 0; k < out && !same; ++k) {
+                RayRecord& other = scratch.children[static_cast<size_t>(k)];
+                if ((other.flags & kRayIcQuery) && other.direction == f.shading) same = &other;
+            }
+            if (same) {
+                same->beta += beta;
+                continue;
+            }
+        }
         if (mx < weight_limit) {
             if (!params.roulette && mx < params.weight_limit) {
                 scratch.cut_by_weight += luminance(beta);
@@ -66,10 +81,10 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
             beta = beta / q;
         }
         RayRecord& c = scratch.children[static_cast<size_t>(out)];
+        const Component component = query ? Component::kD : lobe.component;
         // A camera hit's children start a branch; deeper rays stay in their parent's.
-        const uint8_t branch = ray.depth == 0 ? static_cast<uint8_t>((1u + static_cast<unsigned>(lobe.component)) << kRayBranchShift)
+        const uint8_t branch = ray.depth == 0 ? static_cast<uint8_t>((1u + static_cast<unsigned>(component)) << kRayBranchShift)
                                               : static_cast<uint8_t>(ray.flags & kRayBranchMask);
-        bool query = params.ic_queries && lobe.component == Component::kD;
         if (query) {  // an irradiance-cache query: the hit and the normal on the lit side
             c.origin = f.position;
             c.direction = lobe.transmits ? -f.shading : f.shading;
@@ -90,7 +105,7 @@ int spawn_children(const Bsdf& b, const HitFrame& f, const RayRecord& ray, const
         c.pixel = ray.pixel;
         c.depth = static_cast<uint16_t>(ray.depth + 1);
         c.path = child_path(ray.path, l, lobe.component);
-        scratch.components[static_cast<size_t>(out)] = lobe.component;
+        scratch.components[static_cast<size_t>(out)] = component;
         ++out;
     }
     return out;
@@ -101,8 +116,10 @@ LightSampling LightSampling::camera_hit(uint64_t camera_path) {
 }
 
 HitLighting hit_lighting(const ShadeParams& params, const RayRecord& ray, bool camera) {
-    return {shadow_rays_at(params, ray.pixel, camera ? uint8_t{kRaySeenByCamera} : ray.flags),
-            camera ? LightSampling::camera_hit(ray.path) : LightSampling{.glossy_mis = true}};
+    HitLighting out{shadow_rays_at(params, ray.pixel, camera ? uint8_t{kRaySeenByCamera} : ray.flags),
+                    camera ? LightSampling::camera_hit(ray.path) : LightSampling{.glossy_mis = true}};
+    out.sampling.glossy_cached = params.ic_queries;
+    return out;
 }
 
 namespace {
@@ -517,7 +534,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
                         glossy_light_sample(scene, b, f, weights, ray.beta, random, lighting.shadow_rays, light_sample))
                         shadows.add(light_sample, static_cast<uint32_t>(i));
                 }
-                if (hot_lights && b.direct_response && !lit_side_of_hot && (!params.ic_queries || b.glossy || b.directional)) {
+                if (hot_lights && b.direct_response && !lit_side_of_hot && (!params.ic_queries || (b.glossy && !glossy_like_diffuse(b)) || b.directional)) {
                     const uint32_t m = hit_lighting(params, ray, camera).shadow_rays;
                     for (uint32_t j = 0; j < m; ++j) {
                         bool relay = false;
@@ -567,7 +584,7 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
     }
 }
 
-uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays, uint32_t base,
+uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays, uint32_t base, bool cached,
                                   const std::vector<uint16_t>& shadow_rays_per_pixel, std::vector<Vec3>& delta) {
     delta.assign(rays.size(), Vec3{});
     if (scene.lights->empty() || rays.empty()) return 0;
@@ -618,7 +635,8 @@ uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& rays
                 const Bsdf& b = surface_at(scene, h.hit, f, textured, SurfaceDetail::kSeen);
                 if (!b.direct_response) continue;
                 const HitRandom random(rays.path[r], rays.depth[r]);
-                const LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
+                LightSampling sampling = LightSampling::camera_hit(rays.path[r]);
+                sampling.glossy_cached = cached;
                 const uint32_t k = wanted(r);
                 const LightSampler::LocalWeights weights = scene.lights->weights_at(f.position, horizon_of(b, f));
                 auto slot_of = [&](const ShadowSample& s, size_t slot, double sign) {

@@ -180,8 +180,9 @@ void trace_and_shade(const RenderScene& scene, const RayBatch& rays, size_t begi
 /// shadow rays per hit; where a pixel's shadow_rays is now larger, each such sample's camera-hit
 /// direct light is estimated again with that many rays, in place of the old estimate. The same
 /// camera rays are traced again (same hits, same random numbers), so delta[i] = the new estimate
-/// minus exactly what the preview added for ray i. Returns the shadow rays traced.
-uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& camera_rays, uint32_t base,
+/// minus exactly what the preview added for ray i. `cached`: the preview had an irradiance
+/// cache (LightSampling::glossy_cached). Returns the shadow rays traced.
+uint64_t redo_camera_direct_light(const RenderScene& scene, const RayBatch& camera_rays, uint32_t base, bool cached,
                                   const std::vector<uint16_t>& shadow_rays_per_pixel, std::vector<Vec3>& delta);
 
 /// The path id of the child spawned through lobe `index` (shared with the oracle).
@@ -264,6 +265,9 @@ struct LightSampling {
     /// against it (multiple importance sampling). Off where nothing samples the glossy lobe's
     /// light (the irradiance cache's records, the hot surfaces' points).
     bool glossy_mis = false;
+    /// The irradiance cache answers for the indirect light of a glossy lobe as wide as a
+    /// diffuse one (glossy_like_diffuse()): its direct light is the light samples' alone.
+    bool glossy_cached = false;
     static LightSampling camera_hit(uint64_t camera_path);
 };
 
@@ -298,7 +302,7 @@ bool direct_light_sample(const RenderScene& scene, const Bsdf& b, const HitFrame
 /// between its light samples and glossy_light_sample(): a glossy lobe of known density, and
 /// emitters that LightSampler::along() can find.
 inline bool weighs_glossy_light(const Bsdf& b, const LightSampler::LocalWeights& weights, const LightSampling& sampling) {
-    return sampling.glossy_mis && glossy_pdf_known(b) && LightSampler::finds_along(weights);
+    return sampling.glossy_mis && glossy_pdf_known(b) && !(sampling.glossy_cached && glossy_like_diffuse(b)) && LightSampler::finds_along(weights);
 }
 
 /// The other half of a hit's glossy direct light (multiple importance sampling, Veach's power
