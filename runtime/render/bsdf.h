@@ -175,8 +175,8 @@ Vec3 sample_glossy(const Bsdf& b, const HitFrame& f, double u1, double u2);
 double glossy_pdf(const Bsdf& b, const HitFrame& f, const Vec3& wi);
 
 /// Phong exponents below this make a lobe at least as wide as the cosine lobe of a diffuse
-/// surface (glTF roughness above about 0.82: plaster, a ceiling, a rug, where every glTF
-/// material has a 4 % specular lobe).
+/// surface: roughness above about 0.82, a glTF roughness above about 0.9 (crex squares it):
+/// plaster, a ceiling, a rug, where every glTF material has a 4 % specular lobe.
 inline constexpr double kDiffuseLikeExponent = 1.0;
 /// Whether b's glossy lobe is that wide. Under an irradiance cache such a lobe's indirect
 /// light is the cache's answer, as the diffuse lobes' is (spawn_children()): RADIANCE folds a
