@@ -185,21 +185,11 @@ int scatter(const Bsdf& b, const HitFrame& f, const HitRandom& random, std::arra
             Vec3 dir = sample_cosine(nrm, u1, u2);
             add_lobe(out.data(), n, Component::kD, dir, b.diffuse, false, false);
         }
-        if (b.glossy && b.anisotropic) {
-            // Ward's sampling of the half vector h; the weight f cos_o / pdf comes to
-            // ks cos_o / (o.h cos_h) for this normalisation.
-            double u1, u2, cos_h;
-            random.pair(RandomUse::kLobeG, u1, u2);
-            const Vec3 h = ward_half_vector(b, nrm, u1, u2, cos_h);
-            const Vec3 dir = reflect(d, h);
-            const double cos_o = dot(dir, nrm), oh = -dot(d, h);
-            if (cos_o > 0 && oh > 0) add_lobe(out.data(), n, Component::kG, dir, b.specular * (cos_o / (oh * cos_h)), false, false);
-        } else if (b.glossy) {
+        if (b.glossy) {
             double u1, u2;
             random.pair(RandomUse::kLobeG, u1, u2);
-            const Vec3 dir = sample_glossy(b, f, u1, u2);
-            double c = dot(dir, nrm);
-            if (c > 0) add_lobe(out.data(), n, Component::kG, dir, b.specular * ((b.exponent + 2) / (b.exponent + 1) * c), false, false);
+            Vec3 dir, weight;
+            if (sample_glossy_lobe(b, f, u1, u2, dir, weight)) add_lobe(out.data(), n, Component::kG, dir, weight, false, false);
         } else if (b.mirror_like) {
             add_lobe(out.data(), n, Component::kS, reflect(d, nrm), b.specular, false, true);
         }
@@ -327,6 +317,27 @@ Vec3 sample_glossy(const Bsdf& b, const HitFrame& f, double u1, double u2) {
     if (!b.anisotropic) return sample_phong(reflect(f.incoming, f.shading), b.exponent, u1, u2);
     double cos_h;
     return reflect(f.incoming, ward_half_vector(b, f.shading, u1, u2, cos_h));
+}
+
+bool sample_glossy_lobe(const Bsdf& b, const HitFrame& f, double u1, double u2, Vec3& direction, Vec3& weight) {
+    const Vec3& nrm = f.shading;
+    if (b.anisotropic) {
+        // Ward's sampling of the half vector h; the weight f cos_o / pdf comes to
+        // ks cos_o / (o.h cos_h) for this normalisation.
+        double cos_h;
+        const Vec3 h = ward_half_vector(b, nrm, u1, u2, cos_h);
+        direction = reflect(f.incoming, h);
+        const double cos_o = dot(direction, nrm), oh = -dot(f.incoming, h);
+        if (!(cos_o > 0 && oh > 0)) return false;
+        weight = b.specular * (cos_o / (oh * cos_h));
+        return true;
+    }
+    // Phong's lobe sampled exactly: the weight is ks (e + 2) / (e + 1) cos_o.
+    direction = sample_glossy(b, f, u1, u2);
+    const double c = dot(direction, nrm);
+    if (!(c > 0)) return false;
+    weight = b.specular * ((b.exponent + 2) / (b.exponent + 1) * c);
+    return true;
 }
 
 double glossy_pdf(const Bsdf& b, const HitFrame& f, const Vec3& wi) {

@@ -170,6 +170,10 @@ inline Vec3 eval_glossy(const Bsdf& b, const HitFrame& f, const Vec3& wi) { retu
 inline bool glossy_pdf_known(const Bsdf& b) { return b.glossy && !b.directional; }
 /// The glossy lobe's direction as scatter() draws it from (u1, u2) (where glossy_pdf_known(b)).
 Vec3 sample_glossy(const Bsdf& b, const HitFrame& f, double u1, double u2);
+/// scatter()'s glossy (G) lobe of b drawn from (u1, u2): its direction and its weight (BRDF x
+/// cos / pdf); false where the drawn direction falls below the surface (no lobe). Anisotropic
+/// Ward and Phong alike.
+bool sample_glossy_lobe(const Bsdf& b, const HitFrame& f, double u1, double u2, Vec3& direction, Vec3& weight);
 /// The density per steradian with which scatter() draws the glossy lobe's direction `wi`
 /// (where glossy_pdf_known(b)).
 double glossy_pdf(const Bsdf& b, const HitFrame& f, const Vec3& wi);
