@@ -288,7 +288,7 @@ void IrradianceCache::shade_hemispheres(Hemispheres& h, const std::vector<IcQuer
         // lobe's by the weight scatter() gives the direction it draws (a hemisphere ray is not
         // continued through it). Left out, every glTF material's 4 % specular lobe went missing
         // at every bounce past the first: the living room's lamp lit the far corner under its
-        // ceiling 18 % too dimly (path tracing: 0.0886 in red; the cache, converged: 0.071).
+        // ceiling a fifth too dimly (path tracing: 0.0886 in red; the cache, converged: 0.071).
         Vec3 reflects = b.diffuse;
         if (b.glossy) {
             double u1, u2;

@@ -567,7 +567,7 @@ TEST(IrradianceCache, ARecordsRaysTakeTheGlossyLightOfWhatTheyMeetToo) {
     // not continued through that lobe, so the lobe's weight joins the diffuse lobe's query
     // there. When it was left out, every bounce past the first lost the lobe's light and the
     // image came out far darker than path tracing's (the living room's lamp lit a far corner
-    // 18 % too dimly through the 4 % specular lobe every glTF material has). 24 bounces leave
+    // a fifth too dimly through the 4 % specular lobe every glTF material has). 24 bounces leave
     // out less than 0.7^25, a ten-thousandth.
     Scene s = testing::furnace_box(0.5, 1.0);
     for (Material& m : s.materials) m.specularity = 0.4, m.roughness = 0.5;
