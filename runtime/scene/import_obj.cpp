@@ -142,7 +142,7 @@ Material convert_material(const tinyobj::material_t& m, const std::string& name,
         if (!m.specular_texname.empty() && !(out.specularity > 0)) out.specularity = 0.5, ks = {1, 1, 1};
         out.color = clamp01(out.specularity < 1 ? kd / (1 - out.specularity) : kd);
         // Phong exponent -> roughness (the usual sqrt(2 / (Ns + 2)) mapping).
-        out.roughness = out.specularity > 0 ? std::clamp(std::sqrt(2.0 / (std::max<double>(m.shininess, 0) + 2)), 0.0, 1.0) : 0;
+        out.roughness = out.specularity > 0 ? std::clamp(std::sqrt(2.0 / ((m.shininess > 0 ? double(m.shininess) : 0.0) + 2)), 0.0, 1.0) : 0;
     }
     MaterialTextures& tex = out.textures;
     // map_Kd multiplies Kd, so the diffuse lobe is Kd x texel; a Kd of 0 with a map (some

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -42,8 +43,29 @@ std::vector<Word> words_of(const SourceFile& file, uint32_t line) {
 
 SourceSpan span_of(const SourceFile& file, const Word& w) { return {&file, w.begin, w.begin + static_cast<uint32_t>(w.text.size())}; }
 
-// A number word: false (and said) unless the whole word is a finite number in [lo, hi].
+// The decimal exponent of a number word ("-0E3080": 3080), 0 without one. tinyobjloader
+// computes mantissa x 5^e x 2^e, which for a finite number with |e| past a double's range is
+// 0 x inf: its `Ns -0E3080` was NaN where strtod reads -0 (mtl_fuzzer).
+long decimal_exponent(std::string_view text) {
+    const size_t e = text.find_first_of("eE");
+    if (e == std::string_view::npos || text.find_first_of("xX") != std::string_view::npos) return 0;  // hex: 'e' is a digit
+    size_t i = e + 1;
+    const bool negative = i < text.size() && text[i] == '-';
+    if (i < text.size() && (text[i] == '-' || text[i] == '+')) ++i;
+    long value = 0;
+    for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) value = std::min(value * 10 + (text[i] - '0'), 1000000L);
+    return negative ? -value : value;
+}
+
+// A number word: false (and said) unless the whole word is a finite number in [lo, hi] with a
+// decimal exponent tinyobjloader reads as written (within a double's +-308).
 bool number(const SourceFile& file, const Word& w, std::string_view what, double lo, double hi, DiagnosticSink& sink) {
+    const long exponent = decimal_exponent(w.text);
+    if (exponent > 308 || exponent < -308) {
+        sink.report("E303", span_of(file, w), fmt::format("{}: '{}' has a decimal exponent beyond a double's (-308 to 308)", what,
+                                                          printable(std::string(w.text))));
+        return false;
+    }
     // from_chars first (no copy, no locale): a word it reads whole strtod reads to the same
     // value; any other (a '+', hex, out of range) goes to strtod, which says what is wrong.
     double v = 0;

@@ -388,7 +388,12 @@ TEST_F(HostileInputs, ObjAndMtlValuesAreCheckedWhereTheyAre) {
                           Case{"mtllib n.mtl\n" + tri + "usemtl L\nf 1 2 3\n", "newmtl L\nKe -10 10 10\n",
                                "n.mtl:2:4: error[E303]: Ke (a colour, each channel >= 0): -10 is out of range"},
                           Case{"mtllib n.mtl\n" + tri + "usemtl L\nf 1 2 3\n", "newmtl L\nKd nan 0.5 0.5\n",
-                               "n.mtl:2:4: error[E303]: Kd (a colour, each channel >= 0): 'nan' is not a finite number"}}) {
+                               "n.mtl:2:4: error[E303]: Kd (a colour, each channel >= 0): 'nan' is not a finite number"},
+                          // -0 to strtod, NaN to tinyobjloader (0 x 5^3080 x 2^3080): a NaN roughness.
+                          Case{"mtllib n.mtl\n" + tri + "usemtl L\nf 1 2 3\n", "newmtl L\nKd 0.5 0.5 0.5\nKs 0.2 0.2 0.2\nNs -0E3080\n",
+                               "n.mtl:4:4: error[E303]: Ns (the Phong exponent): '-0E3080' has a decimal exponent beyond a double's"},
+                          Case{"v 0e400 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "",
+                               "n.obj:1:3: error[E303]: vertex: '0e400' has a decimal exponent beyond a double's"}}) {
         write("n.obj", c.obj);
         if (!c.mtl.empty()) write("n.mtl", c.mtl);
         auto r = crex_cli({"scene-info", path("n.obj"), "--export-json", path("n.json")});
