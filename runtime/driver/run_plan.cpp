@@ -591,12 +591,19 @@ RunResult PlanRun::finish() {
     for (const Diagnostic& w : ex_->warnings()) said.add(w);
     for (Diagnostic& w : modulation_warnings(out_.stats, plan_, s_.executor.constant_importance)) said.add(std::move(w));
     if (rs_->textures)
-        for (const TextureImage& i : rs_->textures->stats().since(textures_before_).images)
+        for (const TextureImage& i : rs_->textures->stats().since(textures_before_).images) {
             if (i.failed_lookups > 0)
                 said.add(run_diagnostic("W310", i.name,
                                         fmt::format("texture could not be read where {} lookup{} asked (a damaged or truncated file?): "
                                                     "there it rendered magenta where it gives a colour",
                                                     i.failed_lookups, i.failed_lookups == 1 ? "" : "s")));
+            if (i.non_finite_lookups > 0)
+                said.add(run_diagnostic("W314", i.name,
+                                        fmt::format("texture holds texels that are not finite (NaN or infinite): {} filtered lookup{} "
+                                                    "met them and took the nearest texel instead, 0 where that one is not finite; "
+                                                    "repair the file, e.g. oiiotool FILE --fixnan box3 -o FIXED",
+                                                    i.non_finite_lookups, i.non_finite_lookups == 1 ? "" : "s")));
+        }
     if (cache_ && cache_->stats().over_limit > 0)
         said.add(run_diagnostic(
             "W406", "crex run",

@@ -157,6 +157,7 @@ SurfaceTextures::SurfaceTextures(const Scene& scene, size_t cache_bytes, std::ve
     coarse_.resize(images_.size());
     for (auto& c : coarse_) c = std::make_unique<CoarseImage>();
     failed_lookups_ = std::make_unique<std::atomic<uint64_t>[]>(images_.size());
+    non_finite_lookups_ = std::make_unique<std::atomic<uint64_t>[]>(images_.size());
     size_t mask_budget = cache_bytes / kMaskShare;
     for (MaterialSlots& s : slots_) plan_mask(s.opacity, mask_budget);
 }
@@ -431,6 +432,26 @@ bool SurfaceTextures::read(const Slot& slot, const SurfacePoint& p, int n, float
                                channels, out, d_ds, d_dt);
     c.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!ok) failed_lookups_[static_cast<size_t>(slot.image)].fetch_add(1, std::memory_order_relaxed);
+    // NaN or infinite texels in the file. Filtering spreads one to every lookup whose footprint
+    // or coarser MIP level holds it (one NaN texel blackened a whole plane), so such a lookup
+    // is asked again of the nearest texel of the finest level, and only what is still not
+    // finite reads as 0. Counted, so the render can say so. (The coarse copy and the opacity
+    // masks are made only from finite texels.)
+    if (ok && !std::all_of(out, out + channels, [](float v) { return std::isfinite(v); })) {
+        non_finite_lookups_[static_cast<size_t>(slot.image)].fetch_add(1, std::memory_order_relaxed);
+        TextureLookup nearest = at;
+        nearest.dsdx = nearest.dtdx = nearest.dsdy = nearest.dtdy = 0;
+        nearest.indirect = false, nearest.nearest = true;
+        float again[4] = {0, 0, 0, 0};
+        const bool retried = channels <= 4 && backend_->lookup(ids_[static_cast<size_t>(slot.image)], nearest, wrap_of(slot.ref.wrap_s),
+                                                               wrap_of(slot.ref.wrap_t), slot.ref.channel, channels, again);
+        for (int k = 0; k < channels; ++k)
+            if (!std::isfinite(out[k])) out[k] = retried && std::isfinite(again[k]) ? again[k] : 0.0f;
+    }
+    for (float* d : {d_ds, d_dt})
+        if (ok && d)
+            for (int k = 0; k < channels; ++k)
+                if (!std::isfinite(d[k])) d[k] = 0;
     if (ok && channels < n) out[1] = out[2] = out[0];
     return ok;
 }
@@ -553,6 +574,7 @@ nlohmann::json images_json(const std::vector<TextureImage>& images) {
             e["format"] = i.info.format, e["file_bytes"] = i.info.file_bytes;
             e["memory_bytes"] = i.memory_bytes(), e["tiled"] = i.info.tiled, e["mip_levels"] = i.info.mip_levels;
             if (i.failed_lookups > 0) e["failed_lookups"] = i.failed_lookups;
+            if (i.non_finite_lookups > 0) e["non_finite_lookups"] = i.non_finite_lookups;
             if (!i.tiled_copy.empty()) e["tiled_copy"] = i.tiled_copy, e["tiled_copy_made"] = i.tiled_copy_made;
         }
         out.push_back(e);
@@ -581,7 +603,10 @@ nlohmann::json to_json(const TextureStats& s, double render_thread_seconds, doub
 TextureStats SurfaceTextures::stats() const {
     TextureStats s;
     s.images = images_;
-    for (size_t i = 0; i < s.images.size(); ++i) s.images[i].failed_lookups = failed_lookups_[i].load(std::memory_order_relaxed);
+    for (size_t i = 0; i < s.images.size(); ++i) {
+        s.images[i].failed_lookups = failed_lookups_[i].load(std::memory_order_relaxed);
+        s.images[i].non_finite_lookups = non_finite_lookups_[i].load(std::memory_order_relaxed);
+    }
     if (backend_) s.cache = backend_->stats();
     for (const Counters& c : counters_)
         s.lookups += c.lookups, s.lookup_seconds += c.seconds, s.coarse_lookups += c.coarse_lookups, s.mask_lookups += c.mask_lookups;
@@ -591,8 +616,10 @@ TextureStats SurfaceTextures::stats() const {
 
 TextureStats TextureStats::since(const TextureStats& earlier) const {
     TextureStats s = *this;
-    for (size_t i = 0; i < s.images.size() && i < earlier.images.size(); ++i)
+    for (size_t i = 0; i < s.images.size() && i < earlier.images.size(); ++i) {
         s.images[i].failed_lookups -= std::min(earlier.images[i].failed_lookups, s.images[i].failed_lookups);
+        s.images[i].non_finite_lookups -= std::min(earlier.images[i].non_finite_lookups, s.images[i].non_finite_lookups);
+    }
     s.lookups -= std::min(earlier.lookups, lookups);
     s.lookup_seconds = std::max(0.0, lookup_seconds - earlier.lookup_seconds);
     s.coarse_lookups -= std::min(earlier.coarse_lookups, coarse_lookups);

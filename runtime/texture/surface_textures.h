@@ -55,6 +55,9 @@ struct TextureImage {
     TextureImageInfo info;
     std::string error;  ///< why it cannot be read ("" when it can)
     uint64_t failed_lookups = 0;  ///< lookups the backend could not answer (a damaged or truncated file): magenta
+    /// Lookups whose filtered texels were not finite (NaN or infinite texels in the file, which
+    /// filtering and MIP levels spread to their neighbours): read as 0.
+    uint64_t non_finite_lookups = 0;
     /// The tiled copy it is read through (tiled_copies.h), "" when it is read itself. With
     /// TiledCopies::kFindOnly, where the copy a render would make goes (tiled_copy_made false).
     std::string tiled_copy;
@@ -202,6 +205,7 @@ private:
     mutable std::vector<std::unique_ptr<CoarseImage>> coarse_;  ///< per image
     mutable std::vector<std::unique_ptr<OpacityMask>> masks_;
     mutable std::unique_ptr<std::atomic<uint64_t>[]> failed_lookups_;  ///< per image
+    mutable std::unique_ptr<std::atomic<uint64_t>[]> non_finite_lookups_;  ///< per image
     uint64_t mask_bytes_ = 0;
     struct Counters {
         uint64_t lookups = 0, coarse_lookups = 0, mask_lookups = 0;

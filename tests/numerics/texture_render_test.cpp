@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 
 #include "runtime/io/image_io.h"
 #include "runtime/texture/surface_textures.h"
@@ -326,6 +327,43 @@ TEST(TexturedPlane, ATruncatedTextureSaysItsLookupsFailed) {
     const Vec3 p = pixel(r.image(), 8, 4, 4);
     EXPECT_NEAR(p.x, 1, 1e-6);
     EXPECT_NEAR(p.y, 0, 1e-6);
+}
+
+// A float image with a NaN and an infinite texel (a PFM written byte by byte: crex's own writer
+// keeps images finite). Until 2026-12-07 every filtered lookup whose footprint or coarser MIP
+// level held one read as 0: the whole plane rendered black, without a word. Such a lookup now
+// reads the nearest texel of the finest level (0 only on the bad texels themselves), the image
+// stays finite, and the render says how many lookups met them (W314).
+TEST(TexturedPlane, NonFiniteTexelsReadAsZeroAndAreSaid) {
+    const int side = 16;
+    std::vector<float> texels(size_t(side * side * 3), 0.5f);
+    texels[0] = std::nanf("");                                 // red of the bottom-left texel (PFM rows go bottom up)
+    texels[3 * (side + 1) + 1] = std::numeric_limits<float>::infinity();  // green of the next one up and right
+    const std::string file = (scratch() / "non_finite.pfm").string();
+    {
+        std::ofstream f(file, std::ios::binary);
+        f << "PF\n" << side << ' ' << side << "\n-1.0\n";  // RGB floats, little-endian
+        f.write(reinterpret_cast<const char*>(texels.data()), static_cast<std::streamsize>(texels.size() * sizeof(float)));
+    }
+    const int n = 16;
+    RunResult r = testing::render_crex(plane_under_sky(texture(file)), "D", n, 1);
+    const std::vector<float> img = r.image();
+    ASSERT_TRUE(testing::all_finite(img));
+    const Diagnostic* said = nullptr;
+    for (const Diagnostic& w : r.warnings)
+        if (w.code == "W314") said = &w;
+    ASSERT_TRUE(said) << (r.warnings.empty() ? "no warnings" : r.warnings[0].message);
+    EXPECT_NE(said->where.find("non_finite.pfm"), std::string::npos) << said->where;
+    ASSERT_TRUE(r.textures.has_value());
+    ASSERT_EQ(r.textures->images.size(), 1u);
+    EXPECT_GT(r.textures->images[0].non_finite_lookups, 0u);
+    EXPECT_LT(r.textures->images[0].non_finite_lookups, r.textures->lookups);
+    // The top-right quarter is far from both texels: the texture's 0.5 there.
+    for (int y = 1; y < n / 2 - 1; ++y)
+        for (int x = n / 2 + 1; x < n - 1; ++x)
+            for (int k = 0; k < 3; ++k) ASSERT_NEAR(pixel(img, n, x, y)[k], 0.5, 0.01) << x << "," << y;
+    // The bottom-left pixel sees the NaN texel's red: 0 there, not NaN.
+    EXPECT_NEAR(pixel(img, n, 0, n - 1).x, 0.0, 0.01);
 }
 
 // KHR_texture_transform's rotation turns (u, v) to (c u + s v, c v - s u), as the extension's
