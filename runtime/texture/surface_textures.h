@@ -56,7 +56,7 @@ struct TextureImage {
     std::string error;  ///< why it cannot be read ("" when it can)
     uint64_t failed_lookups = 0;  ///< lookups the backend could not answer (a damaged or truncated file): magenta
     /// Lookups whose filtered texels were not finite (NaN or infinite texels in the file, which
-    /// filtering and MIP levels spread to their neighbours): read as 0.
+    /// filtering and MIP levels spread to their neighbours): they read the nearest texel instead.
     uint64_t non_finite_lookups = 0;
     /// The tiled copy it is read through (tiled_copies.h), "" when it is read itself. With
     /// TiledCopies::kFindOnly, where the copy a render would make goes (tiled_copy_made false).
