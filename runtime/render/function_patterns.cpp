@@ -113,13 +113,39 @@ bool direction_only(const calc::Program& program, const NodePtr& expr) {
     return true;
 }
 
+// A NaN or infinite value of a float picture (EXR, PFM, HDR) would spread through every
+// interpolation that touches it: each becomes the mean of the finite values of its channel in
+// its 3x3 neighbourhood (oiiotool's --fixnan box3), 0 where there are none. Returns how many.
+size_t repair_non_finite(std::vector<float>& rgb, int w, int h) {
+    std::vector<size_t> bad;
+    for (size_t i = 0; i < rgb.size(); ++i)
+        if (!std::isfinite(rgb[i])) bad.push_back(i);
+    if (bad.empty()) return 0;
+    const std::vector<float> before = rgb;
+    for (size_t i : bad) {
+        const int c = static_cast<int>(i % 3), x = static_cast<int>(i / 3 % static_cast<size_t>(w)), y = static_cast<int>(i / 3 / static_cast<size_t>(w));
+        double sum = 0;
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int u = x + dx, v = y + dy;
+                if (u < 0 || v < 0 || u >= w || v >= h) continue;
+                const float f = before[(static_cast<size_t>(v) * static_cast<size_t>(w) + static_cast<size_t>(u)) * 3 + static_cast<size_t>(c)];
+                if (std::isfinite(f)) sum += f, ++n;
+            }
+        rgb[i] = n > 0 ? static_cast<float>(sum / n) : 0.0f;
+    }
+    return bad.size();
+}
+
 // A picture as RADIANCE's patterns address it: (v, u) from its lower-left corner, the shorter
-// side 1 long; one table per channel.
-std::string picture_tables(const std::string& file, std::vector<DataTable>& out) {
+// side 1 long; one table per channel. `repaired`: its values that were not finite.
+std::string picture_tables(const std::string& file, std::vector<DataTable>& out, size_t& repaired) {
     int w = 0, h = 0;
     std::vector<float> rgb;
     if (std::string error = read_image(file, w, h, rgb); !error.empty()) return error;
     if (w < 2 || h < 2) return fmt::format("it is {}x{} pixels (at least 2x2 are needed)", w, h);
+    repaired = repair_non_finite(rgb, w, h);
     DataTable t;
     DataTable::Axis rows, cols;
     rows.count = h, cols.count = w;
@@ -202,11 +228,18 @@ PatternChain::PatternChain(const std::vector<FunctionPattern>& patterns, const V
         for (const std::string& text : f.coordinates) c->coordinates.push_back(parse(text));
         c->tables = f.tables;
         if (f.kind == K::kColorPict) {
-            if (std::string error = picture_tables(f.picture, c->tables); !error.empty()) {
+            size_t repaired = 0;
+            if (std::string error = picture_tables(f.picture, c->tables, repaired); !error.empty()) {
                 warnings.push_back(run_diagnostic("W309", f.name, fmt::format("colorpict '{}': the picture '{}' cannot be read "
                                                        "({}): the pattern is left out", f.name, f.picture, error)));
                 continue;
             }
+            if (repaired > 0)
+                warnings.push_back(run_diagnostic(
+                    "W314", f.picture,
+                    fmt::format("colorpict '{}': the picture holds {} value{} that {} not finite (NaN or infinite): each reads as the "
+                                "mean of its finite neighbours; repair the file, e.g. oiiotool FILE --fixnan box3 -o FIXED",
+                                f.name, repaired, repaired == 1 ? "" : "s", repaired == 1 ? "is" : "are")));
         }
         if (!ok) {
             warnings.push_back(run_diagnostic("W309", f.name, fmt::format("pattern '{}': {}: the pattern is left out", f.name,

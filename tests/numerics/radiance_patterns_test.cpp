@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 
 #include "runtime/base/sampling.h"
 #include "runtime/io/image_io.h"
@@ -114,6 +115,39 @@ TEST_F(RadiancePatterns, ASkyPictureIsSeenWhereItsMappingPutsIt) {
     // Towards +x: v = 0.75, u = 0.5: the rows' means 2 and 6, three quarters up: 5 (the
     // picture's top row is v = 1).
     EXPECT_NEAR(render_towards(30, true), 5.0, 0.02);
+}
+
+// A float picture with a pixel that is not finite (a PFM written byte by byte: crex's own
+// writer keeps images finite). Until 2026-12-07 it made every lookup interpolating it NaN, which
+// the render then dropped without a word; now the pixel reads as the mean of its finite
+// neighbours, as oiiotool --fixnan box3 repairs it, and W314 says so.
+TEST_F(RadiancePatterns, ASkyPicturesNonFinitePixelReadsAsItsNeighboursMean) {
+    // The 2 x 2 sky above with its bottom-right pixel (3) NaN in red, infinite in green and
+    // blue: each channel reads (5 + 7 + 1) / 3 there. PFM rows go bottom up.
+    const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+    const std::vector<float> rows = {1, 1, 1, nan, inf, inf, 5, 5, 5, 7, 7, 7};
+    {
+        std::ofstream f(path("sky.pfm"), std::ios::binary);
+        f << "PF\n2 2\n-1.0\n";  // RGB floats, little-endian
+        f.write(reinterpret_cast<const char*>(rows.data()), static_cast<std::streamsize>(rows.size() * sizeof(float)));
+    }
+    std::ofstream(path("map.cal")) << "su = (Dy + 1) / 2; sv = (Dx + 1) / 2;\n";
+    const Scene s = load("sky.rad",
+                         "#@crex view -vp 0 0 0 -vd 0 0.0175 0.9998 -vu 0 0 1 -vh 1 -vv 1\n"
+                         "void colorpict pic 7 red green blue sky.pfm map.cal su sv\n0\n0\n"
+                         "pic glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n"
+                         "void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey polygon floor 0 0 12 -1 -1 -1  1 -1 -1  1 1 -1  -1 1 -1\n");
+    RunResult r = testing::render_crex(s, "", 8, 1);
+    const std::vector<float> img = r.image();
+    ASSERT_TRUE(testing::all_finite(img));
+    // Nearly straight up: the mean of the four corners, (5 + 7 + 1 + 13 / 3) / 4.
+    EXPECT_NEAR(testing::mean_luminance(img), (13.0 + 13.0 / 3) / 4, 0.05);
+    const Diagnostic* said = nullptr;
+    for (const Diagnostic& w : r.warnings)
+        if (w.code == "W314") said = &w;
+    ASSERT_TRUE(said) << (r.warnings.empty() ? "no warnings" : r.warnings[0].message);
+    EXPECT_NE(said->where.find("sky.pfm"), std::string::npos) << said->where;
+    EXPECT_NE(said->message.find("3 values that are not finite"), std::string::npos) << said->message;
 }
 
 TEST_F(RadiancePatterns, ABrtdfuncsMirrorAndWindowFollowRdotOnEitherSide) {
