@@ -315,11 +315,13 @@ int read_and_check(Request& r, RunInputs& in, LeadChecks& lead) {
                          "and its report\n";
         in.plan.outputs.maps = false;
         in.plan.settings.reference.clear();
-        if (!r.reference.empty())  // a sequence: each frame it has is scored (frame_sequence.h)
-            if (std::string error = check_sequence_reference(r.reference, r.sequence.frames, s.width, s.height); !error.empty()) {
+        if (!r.reference.empty()) {  // a sequence: each frame it has is scored (frame_sequence.h)
+            bool bad_pixels = false;
+            if (std::string error = check_sequence_reference(r.reference, r.sequence.frames, s.width, s.height, bad_pixels); !error.empty()) {
                 std::cerr << "crex run: error: --reference " << r.reference << ": " << error << "\n";
-                return kExitFailure;
+                return bad_pixels ? kExitInputErrors : kExitFailure;
             }
+        }
     }
     if (files.report_dir.empty() && !in.plan.outputs.report.empty()) defaults.push_back(files.report_dir = in.plan.outputs.report);
     if (files.maps_dir.empty() && in.plan.outputs.maps)

@@ -41,6 +41,19 @@ std::string attention_weights(const std::string& source, const metrics::Image& r
     return "";
 }
 
+// "" when every weight of a map `width` pixels wide is finite and not negative, else what is
+// wrong and where first: such a weight was silently dropped from the weighted mean.
+std::string weight_map_problem(const std::string& source, const std::vector<float>& map, int width) {
+    size_t bad = 0, first = 0;
+    for (size_t i = 0; i < map.size(); ++i)
+        if (!(std::isfinite(map[i]) && map[i] >= 0) && bad++ == 0) first = i;
+    if (bad == 0) return "";
+    const size_t w = static_cast<size_t>(std::max(width, 1));
+    return fmt::format("the attention map {} holds {} weight{} that {} negative or not finite (NaN or Inf), the first at pixel ({}, {}) "
+                       "with {}: a weight must be 0 or more",
+                       source, bad, bad == 1 ? "" : "s", bad == 1 ? "is" : "are", first % w, first / w, map[first]);
+}
+
 // Reads an image for comparison; "" or why not (NaN or Inf make every metric 'nan' and the
 // comparison say nothing, with exit 0: refused, exit 1).
 CompareOutcome read_for_comparison(const std::string& path, metrics::Image& img, bool& ldr) {
@@ -126,6 +139,7 @@ CompareOutcome compare_on_windows(const CompareRequest& opt, const ReferenceImag
         }
         std::vector<float> map(rgb.size() / 3);
         for (size_t i = 0; i < map.size(); ++i) map[i] = rgb[3 * i];
+        if (std::string problem = weight_map_problem(opt.attention, map, w); !problem.empty()) return fail(kExitInputErrors, problem);
         weights = atlas.pack(map, w, 1);
     }
     const metrics::DisplayView view{true, opt.exposure > 0 ? opt.exposure : h.exposure > 0 ? h.exposure : display_exposure(ref.rgb)};
@@ -294,6 +308,8 @@ CompareOutcome compare_files(const CompareRequest& opt) {
         if (!error.empty()) {
             return fail(kExitFailure, error);
         }
+        if (std::string problem = weight_map_problem(opt.attention, weights, ref.width); !problem.empty())
+            return fail(kExitInputErrors, problem);
     }
     const metrics::ImageComparison c = metrics::compare_images(test, ref, view, choice, opt.attention.empty() ? nullptr : &weights);
     if (!opt.attention.empty() && !c.aflip) {

@@ -99,7 +99,8 @@ std::optional<PixelHistory> history_from_file(const std::string& file, int width
 
 }  // namespace
 
-std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height) {
+std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height, bool& bad_pixels) {
+    bad_pixels = false;
     size_t found = 0;
     for (int64_t frame : range.frames()) {
         const std::string path = frame_file_name(reference, frame);
@@ -112,6 +113,13 @@ std::string check_sequence_reference(const std::string& reference, const FrameRa
         ImageMetadata metadata;
         if (std::string error = read_image_metadata(path, w, h, metadata); !error.empty()) return error;
         if (w != width || h != height) return fmt::format("{} is {}x{}, the frames {}x{}", path, w, h, width, height);
+        // Its pixels too, before any frame is rendered: a NaN would make the frame's FLIP and
+        // relative MSE NaN, which the report and the JSON can only show as missing.
+        std::vector<float> rgb;
+        if (std::string error = read_image(path, w, h, rgb); !error.empty()) return error;
+        if (const size_t bad = static_cast<size_t>(std::count_if(rgb.begin(), rgb.end(), [](float v) { return !std::isfinite(v); })); bad > 0)
+            return bad_pixels = true, fmt::format("{} holds {} non-finite value{} (NaN or Inf): no error can be measured against it", path, bad,
+                                                 bad == 1 ? "" : "s");
         ++found;
     }
     if (found == 0)

@@ -110,8 +110,10 @@ struct SequenceOptions {
 };
 
 /// "" when `reference` (SequenceOptions::reference) has at least one frame of `range`, each
-/// of them a linear image (EXR or HDR) of width x height; else what is wrong.
-std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height);
+/// of them a linear image (EXR or HDR) of width x height with finite pixels; else what is
+/// wrong, and `bad_pixels` true when that is a frame's NaN or Inf (an input error, where the
+/// rest are files missing or unreadable).
+std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height, bool& bad_pixels);
 
 /// A frame's render budget under a sequence budget of `total` seconds: what is left after
 /// the `spent` seconds of the frames before, over the `frames_left` (this one included), less

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "runtime/io/image_io.h"
@@ -71,6 +72,23 @@ TEST_F(CompareCli, AttentionWeightsTheFlipMap) {
     EXPECT_EQ(zero.exit_code, 1);
     EXPECT_NE(zero.err.find("zero everywhere"), std::string::npos);
     EXPECT_EQ(crex_cli({"compare", path("b.exr"), path("a.exr"), "--attention", path("small.exr")}).exit_code, 3);  // wrong size
+}
+
+// A weight that is negative or not finite is an error that names the first such pixel: until
+// 2026-12-07 it was dropped from the weighted mean without a word. (A float map written by hand:
+// crex's writer keeps images finite. PFM rows go bottom up: the file's first pixel is (0, 11).)
+TEST_F(CompareCli, AttentionWeightsMustBeFiniteAndNotNegative) {
+    for (const float bad : {std::nanf(""), -1.0f, INFINITY}) {
+        std::vector<float> w(3 * 16 * 12, 1.0f);
+        w[0] = bad;
+        std::string pfm = "PF\n16 12\n-1.0\n";
+        pfm.append(reinterpret_cast<const char*>(w.data()), w.size() * sizeof(float));
+        std::ofstream(path("w.pfm"), std::ios::binary) << pfm;
+        auto r = crex_cli({"compare", path("b.exr"), path("a.exr"), "--attention", path("w.pfm")});
+        EXPECT_EQ(r.exit_code, 1) << bad << ": " << r.err;
+        EXPECT_NE(r.err.find("holds 1 weight that is negative or not finite (NaN or Inf), the first at pixel (0, 11)"), std::string::npos)
+            << r.err;
+    }
 }
 
 // A PNG is already tone-mapped: against an EXR of the same render it is refused (exit 1, the

@@ -310,6 +310,19 @@ TEST_F(CrexFramesCli, AReferenceSequenceScoresTheFramesItHasAndTheReportShowsThe
     EXPECT_EQ(other.exit_code, 3);
     EXPECT_NE(other.err.find("is 24x16, the frames 32x16"), std::string::npos) << other.err;
     EXPECT_FALSE(std::filesystem::exists(frame_file(path("u.exr"), 0)));
+    // So is a reference frame holding a NaN (exit 1, as a single frame's --reference): its FLIP
+    // would be NaN, which the report and the JSON can only show as missing. (A float map written
+    // by hand, which OpenImageIO reads whatever its name says: crex's writer keeps images finite.)
+    std::vector<float> nan(24 * 16 * 3, 0.5f);
+    nan[7] = std::nanf("");
+    std::string pfm = "PF\n24 16\n-1.0\n";
+    pfm.append(reinterpret_cast<const char*>(nan.data()), nan.size() * sizeof(float));
+    std::ofstream(frame_file(path("n.exr"), 2), std::ios::binary) << pfm;
+    auto with_nan = crex_cli({"run", "--scene", kCorridor, "--size", "24x16", "--spp", "1", "--camera-path", walk_file, "--frames", "0..3",
+                              "-o", path("v.exr"), "--reference", path("n.exr")});
+    EXPECT_EQ(with_nan.exit_code, 1);
+    EXPECT_NE(with_nan.err.find("holds 1 non-finite value (NaN or Inf)"), std::string::npos) << with_nan.err;
+    EXPECT_FALSE(std::filesystem::exists(frame_file(path("v.exr"), 0)));
 }
 
 // --video: the frames as H.264 through ffmpeg (a package CI installs; optional for users),
