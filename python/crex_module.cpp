@@ -262,13 +262,16 @@ constexpr std::array<const char*, 15> kRunOptions = {"size", "spp", "seed", "lw"
 double option_number(const char* key, const py::handle& v, OptionRange range, bool whole) {
     const double lo = range.lo, hi = range.hi;
     const char* kind = whole ? "a whole number" : "a number";
+    // Bounds as the flags print them: 9007199254740992, not 9.00719925474099e+15.
+    auto bound = [&](double b) { return whole ? fmt::format("{}", static_cast<long long>(b)) : fmt::format("{}", b); };
     if (py::isinstance<py::bool_>(v) || !PyNumber_Check(v.ptr()) || (whole && !PyIndex_Check(v.ptr())))
-        throw py::type_error(fmt::format("{}: expected {} from {:.15g} to {:.15g}, got {}", key, kind, lo, hi, py::str(py::type::of(v).attr("__name__")).cast<std::string>()));
+        throw py::type_error(fmt::format("{}: expected {} from {} to {}, got {}", key, kind, bound(lo), bound(hi), py::str(py::type::of(v).attr("__name__")).cast<std::string>()));
     // As a double (exact for every whole number in range); one too large for a double is out of range.
     const py::object as_float = py::reinterpret_steal<py::object>(PyNumber_Float(v.ptr()));
     if (!as_float) PyErr_Clear();
     const double x = as_float ? PyFloat_AsDouble(as_float.ptr()) : std::nan("");
-    if (!(x >= lo && x <= hi)) throw py::value_error(fmt::format("{}: {} is out of range: expected {} from {:.15g} to {:.15g}", key, py::repr(v).cast<std::string>(), kind, lo, hi));
+    if (!(x >= lo && x <= hi))
+        throw py::value_error(fmt::format("{}: {} is out of range: expected {} from {} to {}", key, py::repr(v).cast<std::string>(), kind, bound(lo), bound(hi)));
     return x;
 }
 

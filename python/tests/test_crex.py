@@ -198,6 +198,11 @@ def test_options_are_checked_as_the_cli_checks_its_flags():
         crex.run("(TTMRSGD)*", size=(8, 8), spp=True)
     with pytest.raises(ValueError, match="lw: 2 is out of range"):
         crex.run("(TTMRSGD)*", size=(8, 8), lw=2)
+    # Bounds are written as the flags write them, not as 9.00719925474099e+15.
+    with pytest.raises(ValueError, match=r"seed: -1 is out of range: expected a whole number from 0 to 9007199254740992$"):
+        crex.run("(TTMRSGD)*", size=(8, 8), seed=-1)
+    with pytest.raises(ValueError, match=r"budget: 0 is out of range: expected a number from 0.001 to 1000000000$"):
+        crex.run("(TTMRSGD)*", size=(8, 8), budget=0)
     with pytest.raises(TypeError, match="components: expected True or False"):
         crex.run("(TTMRSGD)*", size=(8, 8), components="no")
     # numpy integers are whole numbers, as Python's are.
