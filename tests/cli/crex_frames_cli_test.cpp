@@ -13,6 +13,7 @@
 #include "runtime/io/image_io.h"
 #include "runtime/io/video_file.h"
 #include "tests/support/crex_cli.h"
+#include "tests/support/float_map.h"
 #include "tests/support/scratch_folder.h"
 
 namespace crex {
@@ -315,9 +316,7 @@ TEST_F(CrexFramesCli, AReferenceSequenceScoresTheFramesItHasAndTheReportShowsThe
     // by hand, which OpenImageIO reads whatever its name says: crex's writer keeps images finite.)
     std::vector<float> nan(24 * 16 * 3, 0.5f);
     nan[7] = std::nanf("");
-    std::string pfm = "PF\n24 16\n-1.0\n";
-    pfm.append(reinterpret_cast<const char*>(nan.data()), nan.size() * sizeof(float));
-    std::ofstream(frame_file(path("n.exr"), 2), std::ios::binary) << pfm;
+    testing::write_pfm(frame_file(path("n.exr"), 2), 24, 16, nan);
     auto with_nan = crex_cli({"run", "--scene", kCorridor, "--size", "24x16", "--spp", "1", "--camera-path", walk_file, "--frames", "0..3",
                               "-o", path("v.exr"), "--reference", path("n.exr")});
     EXPECT_EQ(with_nan.exit_code, 1);

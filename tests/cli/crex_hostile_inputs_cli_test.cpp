@@ -17,6 +17,7 @@
 #include "runtime/report/reference_cache.h"
 #include "runtime/scene/load_scene.h"
 #include "tests/support/crex_cli.h"
+#include "tests/support/float_map.h"
 #include "tests/support/scratch_folder.h"
 #include "tests/support/test_scenes.h"
 
@@ -253,9 +254,7 @@ TEST_F(HostileInputs, ANonFiniteReferenceIsRefusedAsCompareRefusesIt) {
     // whatever the file's extension says.
     std::vector<float> rgb(4 * 4 * 3, 0.5f);
     rgb[5] = std::nanf("");
-    std::string pfm = "PF\n4 4\n-1.0\n";
-    pfm.append(reinterpret_cast<const char*>(rgb.data()), rgb.size() * sizeof(float));
-    write("nan.exr", pfm);
+    testing::write_pfm(path("nan.exr"), 4, 4, rgb);
     auto r = crex_cli({"run", "--size", "4x4", "--spp", "1", "-q", "-o", path("x.exr"), "--reference", path("nan.exr")});
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_TRUE(has(r.err, "holds 1 non-finite value (NaN or Inf)")) << r.err;

@@ -14,6 +14,7 @@
 #include "runtime/base/sampling.h"
 #include "runtime/io/image_io.h"
 #include "runtime/scene/load_scene.h"
+#include "tests/support/float_map.h"
 #include "tests/support/scene_helpers.h"
 #include "tests/support/scratch_folder.h"
 #include "tests/support/test_scenes.h"
@@ -126,11 +127,7 @@ TEST_F(RadiancePatterns, ASkyPicturesNonFinitePixelReadsAsItsNeighboursMean) {
     // blue: each channel reads (5 + 7 + 1) / 3 there. PFM rows go bottom up.
     const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
     const std::vector<float> rows = {1, 1, 1, nan, inf, inf, 5, 5, 5, 7, 7, 7};
-    {
-        std::ofstream f(path("sky.pfm"), std::ios::binary);
-        f << "PF\n2 2\n-1.0\n";  // RGB floats, little-endian
-        f.write(reinterpret_cast<const char*>(rows.data()), static_cast<std::streamsize>(rows.size() * sizeof(float)));
-    }
+    testing::write_pfm(path("sky.pfm"), 2, 2, rows);
     std::ofstream(path("map.cal")) << "su = (Dy + 1) / 2; sv = (Dx + 1) / 2;\n";
     const Scene s = load("sky.rad",
                          "#@crex view -vp 0 0 0 -vd 0 0.0175 0.9998 -vu 0 0 1 -vh 1 -vv 1\n"

@@ -24,6 +24,7 @@
 #include "runtime/io/image_io.h"
 #include "runtime/texture/surface_textures.h"
 #include "runtime/texture/tiled_copies.h"
+#include "tests/support/float_map.h"
 #include "tests/support/scene_helpers.h"
 #include "tests/support/test_scenes.h"
 
@@ -340,11 +341,7 @@ TEST(TexturedPlane, NonFiniteTexelsReadAsZeroAndAreSaid) {
     texels[0] = std::nanf("");                                 // red of the bottom-left texel (PFM rows go bottom up)
     texels[3 * (side + 1) + 1] = std::numeric_limits<float>::infinity();  // green of the next one up and right
     const std::string file = (scratch() / "non_finite.pfm").string();
-    {
-        std::ofstream f(file, std::ios::binary);
-        f << "PF\n" << side << ' ' << side << "\n-1.0\n";  // RGB floats, little-endian
-        f.write(reinterpret_cast<const char*>(texels.data()), static_cast<std::streamsize>(texels.size() * sizeof(float)));
-    }
+    testing::write_pfm(file, side, side, texels);
     const int n = 16;
     RunResult r = testing::render_crex(plane_under_sky(texture(file)), "D", n, 1);
     const std::vector<float> img = r.image();
