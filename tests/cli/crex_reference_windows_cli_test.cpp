@@ -123,13 +123,15 @@ TEST_F(ReferenceWindowsCli, TwoAccumulatedHalvesEqualOneRunOfTheSum) {
 }
 
 // The header's estimate of a reference's own error, from the two runs it was accumulated from,
-// is near its actual error against a render of many more samples (another seed).
+// is near its actual error against a render of many more samples (another seed; 512 spp, 16
+// times the tested 32: its own noise raises the measured error by 3 %, against 1 % at 2048 spp,
+// which took four times as long; measured estimate over actual 0.90 and 0.93).
 TEST_F(ReferenceWindowsCli, AnAccumulatedReferenceEstimatesItsOwnError) {
     windowed_reference("grown.exr", 16);
     auto more = crex_cli({"reference", "--accumulate", path("grown.exr"), "--spp", "16"});
     ASSERT_EQ(more.exit_code, 0) << more.err;
     EXPECT_NE(more.err.find("its own RMSE is about"), std::string::npos) << more.err;
-    std::vector<std::string> args = {"reference", "builtin:cornell", "--size", "48x32", "--spp", "2048", "--seed", "9",
+    std::vector<std::string> args = {"reference", "builtin:cornell", "--size", "48x32", "--spp", "512", "--seed", "9",
                                      "--context-spp", "0", "-q", "-o", path("gold.exr")};
     for (const auto& w : kWindows) args.insert(args.end(), {"--window", w});
     ASSERT_EQ(crex_cli(args).exit_code, 0);
