@@ -479,7 +479,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
     return kExitOk;
 }
 
-// Ctrl-C: the image so far goes to NAME.partial.EXT beside each image asked for (the files the
+// Ctrl-C or SIGTERM: the image so far goes to NAME.partial.EXT beside each image asked for (the files the
 // user had stay as they were). Maps, report and profile describe a whole render: none is written.
 int write_stopped_render(const Request& r, const RunRecord& record) {
     RunFiles partial;
@@ -494,7 +494,7 @@ int write_stopped_render(const Request& r, const RunRecord& record) {
     std::cerr << fmt::format("crex run: interrupted after {:.1f} s: wrote the image so far to {} ({} camera samples of the stage running "
                              "left out)\n",
                              result.render_seconds, fmt::join(partial.images, ", "), result.stopped_samples);
-    return kExitInterrupted;
+    return interrupted_exit_code();
 }
 
 // Reads, checks, renders and writes: the lead reads and checks (every process learns its
@@ -558,7 +558,7 @@ int run_request(Request& r) {
     std::optional<CheckpointRecorder> recorder;
     if (lead.reference.image || !r.files.report_dir.empty()) recorder.emplace(r.checkpoint_interval, scorer);
     const bool quiet = r.quiet || !group->leads();
-    // Ctrl-C: the image so far, as NAME.partial.EXT (interrupt.h); one process only.
+    // Ctrl-C or SIGTERM: the image so far, as NAME.partial.EXT (interrupt.h); one process only.
     const bool stoppable = !group->distributed();
     if (stoppable) catch_interrupt();
     ConsoleProgress progress(progress_mode(r.progress, quiet || r.format == "json"), recorder ? &*recorder : nullptr, stoppable);

@@ -1,6 +1,6 @@
 // `crex run` watched as a user watches it (issue 38): off a terminal, progress comes as plain
 // lines once a render runs long; Ctrl-C ends it with the image so far as NAME.partial.EXT and
-// exit 130, the output the user had untouched; --progress none says nothing.
+// exit 130 (SIGTERM too, exit 143), the output the user had untouched; --progress none says nothing.
 #include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -100,6 +100,29 @@ TEST_F(CrexProgressCli, CtrlCWritesTheImageSoFarAsAPartialFileAndPlainProgressCo
         sum += v;
     }
     EXPECT_GT(sum, 0);
+}
+
+// SIGTERM (kill's default, and a batch scheduler's at a job's time limit) stops a render as
+// Ctrl-C does, exit 143: it ended the process at once, the image so far lost, until 2026-12-07.
+TEST_F(CrexProgressCli, SigtermWritesTheImageSoFarAsCtrlCDoes) {
+    const std::string err = path("err.txt");
+    const pid_t pid = start({"run", "--scene", "builtin:cornell", "--size", "48x48", "--spp", "1000000", "--pass-samples", "4", "-o",
+                             path("t.exr"), "--progress", "plain"}, err);
+    ASSERT_GT(pid, 0);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (text_of(err).find("M rays/s") == std::string::npos && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    ASSERT_NE(text_of(err).find("M rays/s"), std::string::npos) << text_of(err);
+    kill(pid, SIGTERM);
+    EXPECT_EQ(wait_for(pid, 120), 143) << text_of(err);
+    const std::string said = text_of(err);
+    EXPECT_NE(said.find("interrupted by SIGTERM"), std::string::npos) << said;
+    EXPECT_NE(said.find("t.partial.exr"), std::string::npos) << said;
+    EXPECT_FALSE(std::filesystem::exists(path("t.exr")));
+    int width = 0, height = 0;
+    std::vector<float> rgb;
+    ASSERT_EQ(read_image(path("t.partial.exr"), width, height, rgb), "") << said;
+    EXPECT_EQ(width, 48);
 }
 
 TEST_F(CrexProgressCli, ProgressNoneAndShortRendersSayNothingOffATerminal) {
