@@ -407,7 +407,11 @@ void say_notes(const std::vector<std::string>& notes) {
 int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const CameraPath& path, ProcessGroup& group) {
     r.sequence.path = &path;
     const bool talk = !r.quiet && r.format != "json" && group.leads();
-    ConsoleProgress progress(progress_mode(r.progress, !talk));
+    // Ctrl-C or SIGTERM in one process: the frame under way is dropped, the finished ones are
+    // kept, and the same command goes on from there (render_frames).
+    const bool stoppable = !group.distributed();
+    if (stoppable) catch_interrupt();
+    ConsoleProgress progress(progress_mode(r.progress, !talk), nullptr, stoppable);
     std::vector<FrameRun> frames;
     const auto start = std::chrono::steady_clock::now();
     auto render = [&] {
@@ -445,6 +449,14 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
                });
                status != kExitOk) {
         return status;
+    }
+    if (stoppable && interrupted()) {
+        const size_t finished = static_cast<size_t>(std::count_if(frames.begin(), frames.end(), [](const FrameRun& f) { return !f.skipped; }));
+        const size_t total = r.sequence.frames.frames().size();
+        std::cerr << fmt::format("crex run: interrupted: {} of {} frames finished ({} rendered now); the frame under way was not "
+                                 "written, and the same command goes on from it\n",
+                                 frames.size(), total, finished);
+        return interrupted_exit_code();
     }
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // Each note and warning once, however many frames said it.

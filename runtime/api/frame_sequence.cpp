@@ -316,6 +316,9 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     double exposure = 0;                // the first frame rendered sets it for all
     FrameWriter writer;
     for (size_t index = first_index; index < end_index; ++index) {
+        // Asked to stop (Ctrl-C; one process only: the others would wait for its records at the
+        // next exchange): the next frame is not begun.
+        if (processes.processes() == 1 && observer.stop_requested()) break;
         FrameRun f;
         f.frame = frames[index];
         f.time = frame_time(f.frame, o.fps);
@@ -391,6 +394,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
         // ic_grids (shared, moved into the frame's cache), so nothing large is copied.
         RunOutcome outcome = run_resolved(in.plan, scene, next, one, observer);
         const RunResult& result = *outcome.result;
+        if (result.stopped && processes.processes() == 1) break;  // stopped during the frame: not finished, so not written
         f.records_reused += result.ic_loaded;
         f.records_made = result.ic_stats.records;
         f.rays = total_rays(result.stats);

@@ -169,7 +169,10 @@ std::pair<size_t, size_t> frame_share(size_t frames, int processes, int index);
 /// frame, skipped ones too. With `group` (several processes, e.g. under mpirun), each process
 /// renders its frame_share() whole, carrying its own cache; the lead alone saves the cache
 /// file, hears of every frame (`done` there is called for all, as they end) and returns them
-/// all, the others return their own. Throws what run_resolved() throws, and FrameWriteError.
+/// all, the others return their own. When `observer` asks to stop (Ctrl-C in one process),
+/// the frame under way is left out, not written: the frames returned are the finished ones,
+/// whose files are whole, and the same command goes on from there. Throws what run_resolved()
+/// throws, and FrameWriteError.
 std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const RunFiles& files, const SequenceOptions& options,
                                     RunObserver& observer,
                                     const std::function<void(const FrameRun&, size_t index, size_t count)>& done = nullptr,

@@ -20,9 +20,9 @@ void on_stop_signal(int signal) {
         return;
     }
     static const char kCtrlC[] =
-        "\ncrex: interrupted: finishing the pass in flight, then writing the image so far (Ctrl-C again to quit now)\n";
+        "\ncrex: interrupted: stopping after the pass in flight (Ctrl-C again to quit now)\n";
     static const char kTerm[] =
-        "\ncrex: interrupted by SIGTERM: finishing the pass in flight, then writing the image so far (a second signal quits now)\n";
+        "\ncrex: interrupted by SIGTERM: stopping after the pass in flight (a second signal quits now)\n";
     const ssize_t ignored = signal == SIGTERM ? ::write(STDERR_FILENO, kTerm, sizeof kTerm - 1) : ::write(STDERR_FILENO, kCtrlC, sizeof kCtrlC - 1);
     (void)ignored;
 }

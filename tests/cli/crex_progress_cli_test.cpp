@@ -1,7 +1,10 @@
 // `crex run` watched as a user watches it (issue 38): off a terminal, progress comes as plain
 // lines once a render runs long; Ctrl-C ends it with the image so far as NAME.partial.EXT and
-// exit 130 (SIGTERM too, exit 143), the output the user had untouched; --progress none says nothing.
+// exit 130 (SIGTERM too, exit 143), the output the user had untouched; a camera path's frames
+// stop between frames; --progress none says nothing.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -123,6 +127,45 @@ TEST_F(CrexProgressCli, SigtermWritesTheImageSoFarAsCtrlCDoes) {
     std::vector<float> rgb;
     ASSERT_EQ(read_image(path("t.partial.exr"), width, height, rgb), "") << said;
     EXPECT_EQ(width, 48);
+}
+
+// Ctrl-C during a camera path's frames: the frame under way is dropped, the finished ones are
+// kept whole, exit 130, and the same command goes on from the first unfinished frame. Until
+// 2026-12-07 it ended the process at once, with no word of what was kept.
+TEST_F(CrexProgressCli, CtrlCStopsASequenceBetweenFramesAndTheSameCommandGoesOn) {
+    const std::vector<std::string> args = {"run", "--scene", CREX_SOURCE_DIR "/examples/scenes/corridor/scene.json", "--camera-path",
+                                           CREX_SOURCE_DIR "/examples/paths/corridor_walk.json", "--frames", "0..3", "--size", "16x12",
+                                           "--spp", "256", "-o", path("w.exr")};
+    const std::string err = path("err.txt");
+    const pid_t pid = start(args, err);
+    ASSERT_GT(pid, 0);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (text_of(err).find("frame 1/4") == std::string::npos && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_NE(text_of(err).find("frame 1/4"), std::string::npos) << text_of(err);
+    kill(pid, SIGINT);
+    const int exit = wait_for(pid, 120);
+    const std::string said = text_of(err);
+    if (exit == 0) GTEST_SKIP() << "the frames ended before the signal: " << said;
+    ASSERT_EQ(exit, 130) << said;
+    const size_t at = said.find("crex run: interrupted: ");
+    ASSERT_NE(at, std::string::npos) << said;
+    const int finished = std::atoi(said.c_str() + at + std::strlen("crex run: interrupted: "));
+    ASSERT_GE(finished, 1) << said;
+    ASSERT_LT(finished, 4) << said;
+    EXPECT_NE(said.find(" of 4 frames finished"), std::string::npos) << said;
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(std::filesystem::exists(path(fmt::format("w.{:04d}.exr", f))), f < finished) << f << ": " << said;
+    // No temporary file left beside them.
+    for (const auto& e : std::filesystem::directory_iterator(path("")))
+        EXPECT_TRUE(e.path().extension() == ".exr" || e.path().extension() == ".txt") << e.path();
+    // The same command goes on: the finished frames are skipped, the rest rendered.
+    std::vector<std::string> again = args;
+    again.insert(again.end(), {"--format", "json"});
+    auto r = crex_cli(again);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["frames"].size(), 4u);
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(j["frames"][f]["skipped"].get<bool>(), f < finished) << f;
 }
 
 TEST_F(CrexProgressCli, ProgressNoneAndShortRendersSayNothingOffATerminal) {
