@@ -9,6 +9,7 @@
 
 #include "apps/crex/commands.h"
 #include "runtime/api/console_progress.h"
+#include "runtime/api/interrupt.h"
 #include "base/exit_codes.h"
 #include "base/render_text.h"
 #include "compiler/crex/compile.h"
@@ -22,6 +23,7 @@
 #include "runtime/reference/reference_render.h"
 #include "runtime/reference/reference_windows.h"
 #include "runtime/reference/windowed_image.h"
+#include "runtime/distributed/partial_rows.h"
 #include "runtime/report/reference_cache.h"
 
 namespace crex::app {
@@ -99,6 +101,27 @@ int write_and_say(const std::string& path, const ReferenceImage& image, const Re
     return kExitOk;
 }
 
+// Ctrl-C or SIGTERM (catch_interrupt in reference()): the render stops after the pass in flight.
+bool stop_asked() { return interrupted(); }
+
+// A new reference whose render was stopped: what every pixel got goes to NAME.partial.EXT
+// (the file asked for, or the cache's, is not a reference of the samples asked), with that
+// count in its header, so that --accumulate can go on from it; nothing when the pixels differ.
+int write_stopped_reference(const std::string& path, ReferenceImage& image, const ReferenceOptions& opt, const RenderedPixels& pixels) {
+    if (pixels.spp == 0) {
+        std::cerr << fmt::format("crex reference: interrupted after {:.1f} s, before every pixel had the same samples: nothing written\n",
+                                 pixels.seconds);
+        return interrupted_exit_code();
+    }
+    image.header.spp = pixels.spp, image.header.runs = std::to_string(pixels.spp);
+    const std::string partial = distributed::partial_path(path);
+    const int status = write_and_say(partial, image, opt,
+                                     fmt::format("interrupted after {:.1f} s: {} of the {} samples a pixel asked for; "
+                                                 "'crex reference --accumulate {} --spp N' adds more",
+                                                 pixels.seconds, pixels.spp, opt.spp, partial));
+    return status == kExitOk ? interrupted_exit_code() : status;
+}
+
 // --accumulate FILE: more samples for a reference crex wrote, continuing its sample indices.
 int accumulate(const ReferenceOptions& opt) {
     if (opt.size_given || opt.seed_given || !opt.windows.empty() || !opt.windows_rule.empty()) {
@@ -142,22 +165,33 @@ int accumulate(const ReferenceOptions& opt) {
     }
     ConsoleProgress progress(progress_mode(opt.progress, opt.quiet));
     s.progress = [&](const RunProgress& p) { progress.update(p); };
+    s.stop = stop_asked;
     RenderedPixels more;
     if (int status = guarded_rendering("crex reference", progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
+    // Stopped: the samples every pixel got still add up with the file's (fewer than asked).
+    const uint32_t added = more.spp;
+    if (added == 0) {
+        std::cerr << fmt::format("crex reference: interrupted after {:.1f} s, before every pixel had the same samples: {} is as it was\n",
+                                 more.seconds, opt.accumulate);
+        return interrupted_exit_code();
+    }
     // The file's mean and the new samples' are independent: how far apart they are says how
     // far the sum of both still is from converged.
-    h.own_rmse = own_rmse_estimate(ref->rgb, h.spp, more.rgb, opt.spp);
-    ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, opt.spp);
+    h.own_rmse = own_rmse_estimate(ref->rgb, h.spp, more.rgb, added);
+    ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, added);
     const uint32_t before = h.spp;
-    h.spp += opt.spp;
-    h.runs = (h.runs.empty() ? std::to_string(before) : h.runs) + "+" + std::to_string(opt.spp);
+    h.spp += added;
+    h.runs = (h.runs.empty() ? std::to_string(before) : h.runs) + "+" + std::to_string(added);
     const std::string path = opt.output.empty() ? opt.accumulate : opt.output;
     h.commands += (h.commands.empty() ? "" : "\n") + command_line(opt, scene_name, path);
     h.render_seconds += more.seconds;
-    return write_and_say(path, *ref, opt,
-                         fmt::format("{} samples added to {} in {:.1f} s: {} spp in all ({}); its own RMSE is about {:.3g} "
-                                     "(from how far the new samples' mean is from the old)",
-                                     opt.spp, opt.accumulate, more.seconds, h.spp, h.runs, h.own_rmse));
+    const int status = write_and_say(path, *ref, opt,
+                                     fmt::format("{}{} samples added to {} in {:.1f} s: {} spp in all ({}); its own RMSE is about {:.3g} "
+                                                 "(from how far the new samples' mean is from the old)",
+                                                 more.stopped ? "interrupted: " : "", more.stopped ? fmt::format("{} of the {}", added, opt.spp)
+                                                                                                   : std::to_string(added),
+                                                 opt.accumulate, more.seconds, h.spp, h.runs, h.own_rmse));
+    return status == kExitOk && more.stopped ? interrupted_exit_code() : status;
 }
 
 // --window / --windows auto: those pixels of the frame only, and a cheap look at all of it.
@@ -197,6 +231,7 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
     ReferencePixels s;
     s.width = width, s.height = height, s.spp = opt.spp, s.seed = opt.seed;
     s.progress = [&](const RunProgress& p) { progress.update(p); };
+    s.stop = stop_asked;
     FrameContext context;
     RenderedPixels pixels;
     const int status = guarded_rendering("crex reference", progress, [&] {
@@ -227,12 +262,14 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
     h.commands = command_line(opt, opt.scene, opt.output), h.runs = std::to_string(opt.spp);
     h.render_seconds = pixels.seconds;
     if (!context.rgb.empty()) h.exposure = context.exposure, h.context = context.how;
+    if (pixels.stopped) return write_stopped_reference(opt.output, image, opt, pixels);
     return write_and_say(opt.output, image, opt,
                          fmt::format("{} window{} of {} at {}x{}, {} spp in {:.1f} s (the frame's context: {:.1f} s)", windows.size(),
                                      windows.size() == 1 ? "" : "s", opt.scene, width, height, opt.spp, pixels.seconds, context.seconds));
 }
 
 int reference(const ReferenceOptions& opt) {
+    catch_interrupt();  // a converged reference takes hours: Ctrl-C keeps what every pixel has
     if (!opt.accumulate.empty()) return accumulate(opt);
     ReferenceSettings s;
     if (!parse_image_size(opt.size, s.width, s.height)) {  // sscanf took trailing junk
@@ -276,6 +313,7 @@ int reference(const ReferenceOptions& opt) {
     ReferencePixels rp;
     rp.width = s.width, rp.height = s.height, rp.spp = s.spp, rp.seed = s.seed, rp.lw = s.lw, rp.max_depth = s.max_depth;
     rp.progress = [&](const RunProgress& p) { progress.update(p); };
+    rp.stop = stop_asked;
     RenderedPixels pixels;
     if (int status = guarded_rendering("crex reference", progress, [&] { pixels = render_reference_pixels(scene, *reference_program(s.crex), rp); });  // it compiles
         status != kExitOk)
@@ -286,6 +324,7 @@ int reference(const ReferenceOptions& opt) {
     h.frame_width = s.width, h.frame_height = s.height, h.windows = {{0, 0, s.width, s.height}}, h.spp = s.spp, h.seed = s.seed;
     h.scene = opt.scene, h.scene_hash = scene_content_hash(scene), h.crex = s.crex;
     h.commands = command_line(opt, opt.scene, opt.output), h.runs = std::to_string(s.spp), h.render_seconds = pixels.seconds;
+    if (pixels.stopped) return write_stopped_reference(path, image, opt, pixels);  // no key: the cache's file is not it
     int status = write_and_say(path, image, opt,
                                fmt::format("{} at {}x{}, {} spp with {} in {:.1f} s", opt.scene, s.width, s.height, s.spp, s.crex, pixels.seconds));
     if (status == kExitOk && !opt.output.empty())

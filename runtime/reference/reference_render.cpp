@@ -2,11 +2,30 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <climits>
+
 #include "runtime/io/image_io.h"
 #include "runtime/reference/windowed_image.h"
 #include "stdlib/guidance/operators.h"
 
 namespace crex {
+namespace {
+
+// ReferencePixels' progress and stop as a run's observer.
+class ReferenceObserver final : public RunObserver {
+public:
+    explicit ReferenceObserver(const ReferencePixels& s) : s_(s) {}
+    void progress(const RunProgress& p) override {
+        if (s_.progress) s_.progress(p);
+    }
+    bool stop_requested() override { return s_.stop && s_.stop(); }
+
+private:
+    const ReferencePixels& s_;
+};
+
+}  // namespace
 
 RenderedPixels render_reference_pixels(const Scene& scene, const sched::Program& program, const ReferencePixels& s) {
     RunSettings ro;
@@ -15,11 +34,25 @@ RenderedPixels render_reference_pixels(const Scene& scene, const sched::Program&
     ro.executor.shade.max_depth = s.max_depth;
     const bool windowed = !s.windows.empty();
     if (windowed) ro.windows = s.windows;
-    ProgressFunction observer(s.progress);
+    ReferenceObserver observer(s);
     RunResult r = render(scene, program, ro, observer);
     RenderedPixels out;
     out.seconds = r.render_seconds;
     out.rgb = windowed ? WindowAtlas(s.windows).pack(r.image(), s.width) : r.image();
+    out.stopped = r.stopped;
+    out.spp = s.spp;
+    if (r.stopped) {  // a reference is one count for all its pixels: what every rendered pixel got
+        uint32_t least = UINT32_MAX, most = 0;
+        auto count = [&](int x, int y) {
+            const uint32_t n = r.film.samples(static_cast<uint32_t>(y) * static_cast<uint32_t>(s.width) + static_cast<uint32_t>(x));
+            least = std::min(least, n), most = std::max(most, n);
+        };
+        const std::vector<PixelWindow> all = windowed ? s.windows : std::vector<PixelWindow>{{0, 0, s.width, s.height}};
+        for (const PixelWindow& w : all)
+            for (int y = w.y; y < w.y + w.height; ++y)
+                for (int x = w.x; x < w.x + w.width; ++x) count(x, y);
+        out.spp = least == most ? least : 0;
+    }
     return out;
 }
 

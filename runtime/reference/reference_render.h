@@ -25,11 +25,17 @@ struct ReferencePixels {
     double lw = 1e-3;
     uint32_t max_depth = 256;
     std::function<void(const RunProgress&)> progress;
+    /// Asked between sample passes (Ctrl-C): true stops the render after the pass in flight.
+    std::function<bool()> stop;
 };
 
 struct RenderedPixels {
     std::vector<float> rgb;  ///< the windows as an atlas (windowed_image.h), or the whole frame
     double seconds = 0;
+    bool stopped = false;  ///< ReferencePixels::stop asked it to stop
+    /// The samples every rendered pixel holds: the settings' spp, or fewer when stopped; 0 when
+    /// stopped before a pass ended or with pixels of different counts (not a reference then).
+    uint32_t spp = 0;
 };
 
 /// Path traces the reference's pixels with `program` (no cache).

@@ -1,7 +1,7 @@
 // `crex run` watched as a user watches it (issue 38): off a terminal, progress comes as plain
 // lines once a render runs long; Ctrl-C ends it with the image so far as NAME.partial.EXT and
 // exit 130 (SIGTERM too, exit 143), the output the user had untouched; a camera path's frames
-// stop between frames; --progress none says nothing.
+// stop between frames, a reference keeps its samples so far; --progress none says nothing.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -17,10 +17,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "runtime/io/image_io.h"
+#include "runtime/reference/windowed_image.h"
 #include "tests/support/crex_cli.h"
 #include "tests/support/scratch_folder.h"
 
@@ -166,6 +168,46 @@ TEST_F(CrexProgressCli, CtrlCStopsASequenceBetweenFramesAndTheSameCommandGoesOn)
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j["frames"].size(), 4u);
     for (int f = 0; f < 4; ++f) EXPECT_EQ(j["frames"][f]["skipped"].get<bool>(), f < finished) << f;
+}
+
+// Ctrl-C during `crex reference` (hours for a converged one) keeps what every pixel got: the
+// same pixels as a reference of that many samples, as NAME.partial.exr with that count in its
+// header, which --accumulate goes on from; the file asked for is not made. Until 2026-12-07 the
+// process ended at once and every sample was lost.
+TEST_F(CrexProgressCli, CtrlCKeepsAReferencesSamplesSoFar) {
+    const std::string err = path("err.txt");
+    const pid_t pid = start({"reference", "builtin:cornell", "--size", "16x12", "--spp", "1000000", "--progress", "plain", "-o", path("ref.exr")}, err);
+    ASSERT_GT(pid, 0);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (text_of(err).find("M rays/s") == std::string::npos && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    ASSERT_NE(text_of(err).find("M rays/s"), std::string::npos) << text_of(err);
+    kill(pid, SIGINT);
+    ASSERT_EQ(wait_for(pid, 120), 130) << text_of(err);
+    const std::string said = text_of(err);
+    EXPECT_FALSE(std::filesystem::exists(path("ref.exr")));
+    EXPECT_FALSE(std::filesystem::exists(path("ref.exr.key")));
+    std::optional<ReferenceImage> partial;
+    ASSERT_EQ(read_reference_image(path("ref.partial.exr"), partial), "") << said;
+    ASSERT_TRUE(partial.has_value());
+    const uint32_t spp = partial->header.spp;
+    ASSERT_GT(spp, 0u) << said;
+    EXPECT_NE(said.find(fmt::format("{} of the 1000000 samples a pixel", spp)), std::string::npos) << said;
+    // The same pixels as a reference of that many samples (summed in other passes: to float precision).
+    auto whole = crex_cli({"reference", "builtin:cornell", "--size", "16x12", "--spp", std::to_string(spp), "-q", "-o", path("same.exr")});
+    ASSERT_EQ(whole.exit_code, 0) << whole.err;
+    std::optional<ReferenceImage> same;
+    ASSERT_EQ(read_reference_image(path("same.exr"), same), "");
+    ASSERT_TRUE(same.has_value());
+    ASSERT_EQ(same->rgb.size(), partial->rgb.size());
+    for (size_t i = 0; i < same->rgb.size(); ++i) ASSERT_NEAR(partial->rgb[i], same->rgb[i], 1e-4 * (1 + std::fabs(same->rgb[i]))) << i;
+    // --accumulate goes on from it.
+    auto more = crex_cli({"reference", "--accumulate", path("ref.partial.exr"), "--spp", "2", "-q"});
+    ASSERT_EQ(more.exit_code, 0) << more.err;
+    std::optional<ReferenceImage> grown;
+    ASSERT_EQ(read_reference_image(path("ref.partial.exr"), grown), "");
+    ASSERT_TRUE(grown.has_value());
+    EXPECT_EQ(grown->header.spp, spp + 2);
 }
 
 TEST_F(CrexProgressCli, ProgressNoneAndShortRendersSayNothingOffATerminal) {
