@@ -396,7 +396,8 @@ Examples:
   crex run sel_rp --size 128x128 --reference auto --report out/report
 
 Exit status: 0 ok, 1 errors in the scene (or a reference of another scene), 2 usage, 3 I/O
-or runtime failure.)");
+or runtime failure; 130 after Ctrl-C (143 after SIGTERM): the samples every pixel has so far
+as NAME.partial.exr, which --accumulate takes further.)");
     return [opt, scene, size, seed] {
         opt->scene_given = scene->count() > 0;
         opt->size_given = size->count() > 0;

@@ -219,7 +219,9 @@ the preview's samples, and flags override the pipeline's settings.
       --camera-path examples/paths/corridor_walk.json --frames 0..59 --reuse-frames 8 -o out/walk.exr
                                                     each frame inherits up to 8 samples from the one before
 
-Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure.)");
+Exit status: 0 ok or warnings only, 1 errors in the crex or scene, 2 usage, 3 I/O or runtime failure;
+130 after Ctrl-C (143 after SIGTERM): the image so far as NAME.partial.EXT, or along a camera
+path the finished frames (the same command goes on from them).)");
     return [opt, crex, size, spp, seed, lw, max_depth, aa, ab, ad, shadow_rays] {
         RunFlags o = *opt;
         o.crex_given = crex->count() > 0;
