@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -104,21 +103,23 @@ int write_and_say(const std::string& path, const ReferenceImage& image, const Re
 // Ctrl-C or SIGTERM (catch_interrupt in reference()): the render stops after the pass in flight.
 bool stop_asked() { return interrupted(); }
 
+// A stop before every pixel had the same samples leaves no reference: nothing is written.
+int nothing_written(double seconds, const std::string& what) {
+    std::cerr << fmt::format("crex reference: interrupted after {:.1f} s, before every pixel had the same samples: {}\n", seconds, what);
+    return interrupted_exit_code();
+}
+
 // A new reference whose render was stopped: what every pixel got goes to NAME.partial.EXT
 // (the file asked for, or the cache's, is not a reference of the samples asked), with that
-// count in its header, so that --accumulate can go on from it; nothing when the pixels differ.
-int write_stopped_reference(const std::string& path, ReferenceImage& image, const ReferenceOptions& opt, const RenderedPixels& pixels) {
-    if (pixels.spp == 0) {
-        std::cerr << fmt::format("crex reference: interrupted after {:.1f} s, before every pixel had the same samples: nothing written\n",
-                                 pixels.seconds);
-        return interrupted_exit_code();
-    }
-    image.header.spp = pixels.spp, image.header.runs = std::to_string(pixels.spp);
+// count in its header, so that --accumulate can go on from it.
+int write_stopped_reference(const std::string& path, const ReferenceImage& image, const ReferenceOptions& opt) {
+    const ReferenceHeader& h = image.header;
+    if (h.spp == 0) return nothing_written(h.render_seconds, "nothing written");
     const std::string partial = distributed::partial_path(path);
     const int status = write_and_say(partial, image, opt,
                                      fmt::format("interrupted after {:.1f} s: {} of the {} samples a pixel asked for; "
                                                  "'crex reference --accumulate {} --spp N' adds more",
-                                                 pixels.seconds, pixels.spp, opt.spp, partial));
+                                                 h.render_seconds, h.spp, opt.spp, partial));
     return status == kExitOk ? interrupted_exit_code() : status;
 }
 
@@ -154,10 +155,7 @@ int accumulate(const ReferenceOptions& opt) {
         std::cerr << "crex reference: error: more than 2^32 - 1 samples a pixel in all\n";
         return kExitUsage;
     }
-    ReferencePixels s;
-    s.width = h.frame_width, s.height = h.frame_height;
-    if (!h.whole_frame()) s.windows = h.windows;
-    s.first_sample = h.spp, s.spp = opt.spp, s.seed = h.seed;
+    ReferencePixels s = more_samples_of(h, opt.spp);
     const std::optional<sched::Program> program = reference_program(h.crex.empty() ? ReferenceSettings{}.crex : h.crex);
     if (!program) {
         std::cerr << fmt::format("crex reference: error: {}'s header names the crex '{}', which does not compile\n", opt.accumulate, h.crex);
@@ -168,28 +166,15 @@ int accumulate(const ReferenceOptions& opt) {
     s.stop = stop_asked;
     RenderedPixels more;
     if (int status = guarded_rendering("crex reference", progress, [&] { more = render_reference_pixels(scene, *program, s); }); status != kExitOk) return status;
-    // Stopped: the samples every pixel got still add up with the file's (fewer than asked).
-    const uint32_t added = more.spp;
-    if (added == 0) {
-        std::cerr << fmt::format("crex reference: interrupted after {:.1f} s, before every pixel had the same samples: {} is as it was\n",
-                                 more.seconds, opt.accumulate);
-        return interrupted_exit_code();
-    }
-    // The file's mean and the new samples' are independent: how far apart they are says how
-    // far the sum of both still is from converged.
-    h.own_rmse = own_rmse_estimate(ref->rgb, h.spp, more.rgb, added);
-    ref->rgb = accumulate_samples(ref->rgb, h.spp, more.rgb, added);
-    const uint32_t before = h.spp;
-    h.spp += added;
-    h.runs = (h.runs.empty() ? std::to_string(before) : h.runs) + "+" + std::to_string(added);
+    if (more.spp == 0) return nothing_written(more.seconds, opt.accumulate + " is as it was");  // stopped: else fewer samples, as many in every pixel
+    add_samples(*ref, more);
     const std::string path = opt.output.empty() ? opt.accumulate : opt.output;
     h.commands += (h.commands.empty() ? "" : "\n") + command_line(opt, scene_name, path);
-    h.render_seconds += more.seconds;
     const int status = write_and_say(path, *ref, opt,
                                      fmt::format("{}{} samples added to {} in {:.1f} s: {} spp in all ({}); its own RMSE is about {:.3g} "
                                                  "(from how far the new samples' mean is from the old)",
-                                                 more.stopped ? "interrupted: " : "", more.stopped ? fmt::format("{} of the {}", added, opt.spp)
-                                                                                                   : std::to_string(added),
+                                                 more.stopped ? "interrupted: " : "", more.stopped ? fmt::format("{} of the {}", more.spp, opt.spp)
+                                                                                                   : std::to_string(more.spp),
                                                  opt.accumulate, more.seconds, h.spp, h.runs, h.own_rmse));
     return status == kExitOk && more.stopped ? interrupted_exit_code() : status;
 }
@@ -251,21 +236,13 @@ int windowed(const ReferenceOptions& opt, int width, int height) {
         pixels = render_reference_pixels(scene, *program, s);
     });
     if (status != kExitOk) return status;
-    const WindowAtlas atlas(windows);
-    ReferenceImage image;
-    image.width = atlas.width, image.height = atlas.height;
-    image.rgb = std::move(pixels.rgb);
-    if (!context.saliency.empty()) image.attention = atlas.pack(context.saliency, width, 1);
-    ReferenceHeader& h = image.header;
-    h.frame_width = width, h.frame_height = height, h.windows = windows, h.spp = opt.spp, h.seed = opt.seed;
-    h.scene = opt.scene, h.scene_hash = scene_content_hash(scene), h.crex = defaults.crex;
-    h.commands = command_line(opt, opt.scene, opt.output), h.runs = std::to_string(opt.spp);
-    h.render_seconds = pixels.seconds;
-    if (!context.rgb.empty()) h.exposure = context.exposure, h.context = context.how;
-    if (pixels.stopped) return write_stopped_reference(opt.output, image, opt, pixels);
+    const bool stopped = pixels.stopped;
+    ReferenceImage image = reference_image_of(s, std::move(pixels), opt.scene, scene_content_hash(scene), defaults.crex, &context);
+    image.header.commands = command_line(opt, opt.scene, opt.output);
+    if (stopped) return write_stopped_reference(opt.output, image, opt);
     return write_and_say(opt.output, image, opt,
                          fmt::format("{} window{} of {} at {}x{}, {} spp in {:.1f} s (the frame's context: {:.1f} s)", windows.size(),
-                                     windows.size() == 1 ? "" : "s", opt.scene, width, height, opt.spp, pixels.seconds, context.seconds));
+                                     windows.size() == 1 ? "" : "s", opt.scene, width, height, opt.spp, image.header.render_seconds, context.seconds));
 }
 
 int reference(const ReferenceOptions& opt) {
@@ -289,22 +266,8 @@ int reference(const ReferenceOptions& opt) {
     if (loaded.exit != kExitOk) return loaded.exit;
     const Scene& scene = *loaded.input->scene;
     std::string path = opt.output.empty() ? reference_path(scene, s) : opt.output;
-    // An existing file counts as this reference only when it is one: the key file written
-    // beside it names the same scene content and settings, and it reads as an image of the
-    // requested size (-o used to take any existing file, even /etc/hostname).
     const std::string key = reference_key(scene, s), key_path = path + ".key";
-    auto is_this_reference = [&] {
-        if (!std::filesystem::exists(path)) return false;
-        if (!opt.output.empty()) {
-            std::ifstream k(key_path);
-            std::string stored;
-            if (!(k >> stored) || stored != key) return false;
-        }
-        int w = 0, h = 0;
-        std::vector<float> rgb;
-        return read_image(path, w, h, rgb).empty() && w == s.width && h == s.height;
-    };
-    if (!opt.force && is_this_reference()) {
+    if (!opt.force && holds_reference(path, scene, s, !opt.output.empty())) {
         std::cout << path << "\n";
         if (!opt.quiet) std::cerr << "crex reference: cached (key " << key << "); --force renders again\n";
         return kExitOk;
@@ -318,15 +281,12 @@ int reference(const ReferenceOptions& opt) {
     if (int status = guarded_rendering("crex reference", progress, [&] { pixels = render_reference_pixels(scene, *reference_program(s.crex), rp); });  // it compiles
         status != kExitOk)
         return status;
-    ReferenceImage image;
-    image.width = s.width, image.height = s.height, image.rgb = std::move(pixels.rgb);
-    ReferenceHeader& h = image.header;
-    h.frame_width = s.width, h.frame_height = s.height, h.windows = {{0, 0, s.width, s.height}}, h.spp = s.spp, h.seed = s.seed;
-    h.scene = opt.scene, h.scene_hash = scene_content_hash(scene), h.crex = s.crex;
-    h.commands = command_line(opt, opt.scene, opt.output), h.runs = std::to_string(s.spp), h.render_seconds = pixels.seconds;
-    if (pixels.stopped) return write_stopped_reference(path, image, opt, pixels);  // no key: the cache's file is not it
+    const bool stopped = pixels.stopped;
+    ReferenceImage image = reference_image_of(rp, std::move(pixels), opt.scene, scene_content_hash(scene), s.crex);
+    image.header.commands = command_line(opt, opt.scene, opt.output);
+    if (stopped) return write_stopped_reference(path, image, opt);  // no key: the cache's file is not it
     int status = write_and_say(path, image, opt,
-                               fmt::format("{} at {}x{}, {} spp with {} in {:.1f} s", opt.scene, s.width, s.height, s.spp, s.crex, pixels.seconds));
+                               fmt::format("{} at {}x{}, {} spp with {} in {:.1f} s", opt.scene, s.width, s.height, s.spp, s.crex, image.header.render_seconds));
     if (status == kExitOk && !opt.output.empty())
         if (std::string error = write_file_atomically(key_path, key + "\n"); !error.empty()) {
             std::cerr << "crex reference: error: " << error << "\n";

@@ -29,7 +29,6 @@
 #include "runtime/io/image_io.h"
 #include "runtime/io/video_file.h"
 #include "runtime/scene/camera_path_file.h"
-#include "runtime/scene/gltf/gltf_camera_path.h"
 #include "runtime/distributed/distributed.h"
 #include "runtime/distributed/partial_rows.h"
 
@@ -209,31 +208,17 @@ struct LeadChecks {
 // The camera path, its diagnostics said; the frames checked against it (every frame of the
 // path when none were given). An exit status, or kExitOk.
 int read_camera_path_file(Request& r, LeadChecks& lead) {
-    std::string error;
-    std::optional<std::string> text = read_input(r.camera_path, error);
-    if (!text) {
-        std::cerr << fmt::format("crex run: error: --camera-path: {}\n", error);
+    CameraPathInput read = read_camera_path_input(r.camera_path, r.input.camera, r.sequence.fps);
+    std::cerr << read.diagnostics;
+    if (!read.error.empty()) {
+        std::cerr << fmt::format("crex run: error: --camera-path: {}\n", read.error);
         return kExitFailure;
     }
-    DiagnosticSink sink;
-    auto refused = [&] {
-        std::cerr << fmt::format("crex run: {} error{} in the camera path; nothing rendered\n", sink.error_count(),
-                                 sink.error_count() == 1 ? "" : "s");
+    if (!read.path) {
+        std::cerr << fmt::format("crex run: {} error{} in the camera path; nothing rendered\n", read.errors, read.errors == 1 ? "" : "s");
         return kExitInputErrors;
-    };
-    if (is_gltf_path(r.camera_path)) {  // its camera's animation, as a path of keys
-        SceneSources sources;
-        text = gltf_camera_path_json(r.camera_path, r.input.camera, sources, sink);
-        if (!text) {
-            std::cerr << render_text(sink.sorted());
-            return refused();
-        }
     }
-    lead.path_text = *text;
-    const SourceFile file(r.camera_path, std::move(*text));
-    lead.path = read_camera_path(file, r.sequence.fps, sink);
-    std::cerr << render_text(sink.sorted());
-    if (!lead.path || sink.has_errors()) return refused();
+    lead.path = std::move(read.path), lead.path_text = std::move(read.text);
     if (std::string wrong = sequence_frames(*lead.path, r.sequence.fps, r.frames, r.sequence.frames); !wrong.empty()) {
         std::cerr << "crex run: error: " << wrong << "\n";
         return kExitUsage;
@@ -451,11 +436,7 @@ int run_sequence(Request& r, RunInputs& in, const ResolvedRun& run, const Camera
         return status;
     }
     if (stoppable && interrupted()) {
-        const size_t finished = static_cast<size_t>(std::count_if(frames.begin(), frames.end(), [](const FrameRun& f) { return !f.skipped; }));
-        const size_t total = r.sequence.frames.frames().size();
-        std::cerr << fmt::format("crex run: interrupted: {} of {} frames finished ({} rendered now); the frame under way was not "
-                                 "written, and the same command goes on from it\n",
-                                 frames.size(), total, finished);
+        std::cerr << "crex run: " << stopped_sequence_text(frames, r.sequence.frames.frames().size()) << "\n";
         return interrupted_exit_code();
     }
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -99,6 +99,13 @@ std::optional<PixelHistory> history_from_file(const std::string& file, int width
 
 }  // namespace
 
+std::string stopped_sequence_text(const std::vector<FrameRun>& frames, size_t total) {
+    const auto rendered = std::count_if(frames.begin(), frames.end(), [](const FrameRun& f) { return !f.skipped; });
+    return fmt::format("interrupted: {} of {} frames finished ({} rendered now); the frame under way was not written, and the same "
+                       "command goes on from it",
+                       frames.size(), total, rendered);
+}
+
 std::string check_sequence_reference(const std::string& reference, const FrameRange& range, int width, int height, bool& bad_pixels) {
     bad_pixels = false;
     size_t found = 0;

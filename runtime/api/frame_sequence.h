@@ -178,6 +178,10 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
                                     const std::function<void(const FrameRun&, size_t index, size_t count)>& done = nullptr,
                                     ProcessGroup* group = nullptr);
 
+/// What a sequence of `total` frames that was stopped (render_frames) says of the finished
+/// `frames`: how many, how many of them rendered now, and that the same command goes on.
+std::string stopped_sequence_text(const std::vector<FrameRun>& frames, size_t total);
+
 /// One frame as `--format json` gives it.
 nlohmann::json frame_json(const FrameRun& f);
 /// One frame as a process tells the lead (frame_json with its index in the sequence, its

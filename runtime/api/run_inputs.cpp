@@ -16,7 +16,9 @@
 #include "compiler/pipeline/stdlib_pipelines.h"
 #include "runtime/io/image_io.h"
 #include "runtime/report/reference_cache.h"
+#include "runtime/scene/camera_path_file.h"
 #include "runtime/scene/census.h"
+#include "runtime/scene/gltf/gltf_camera_path.h"
 #include "runtime/scene/load_scene.h"
 #include "runtime/scene/model_defaults.h"
 #include "runtime/scene/radiance_view.h"
@@ -25,6 +27,26 @@
 namespace crex {
 
 std::optional<std::string> read_input(const std::string& path, std::string& error) { return read_input_file(path, error, kMaxTextInputBytes); }
+
+CameraPathInput read_camera_path_input(const std::string& path, const std::string& camera, double fps) {
+    CameraPathInput out;
+    std::optional<std::string> read = read_input(path, out.error);
+    if (!read) return out;
+    DiagnosticSink sink;
+    SceneSources sources;  // a glTF's, quoted by its diagnostics
+    if (is_gltf_path(path)) read = gltf_camera_path_json(path, camera, sources, sink);  // its camera's animation, as a path of keys
+    if (read) {
+        out.text = *read;
+        const SourceFile file(path, std::move(*read));
+        out.path = read_camera_path(file, fps, sink);
+        out.diagnostics = render_text(sink.sorted());
+    } else {
+        out.diagnostics = render_text(sink.sorted());
+    }
+    out.errors = sink.error_count();
+    if (out.errors > 0) out.path.reset();
+    return out;
+}
 
 std::optional<std::string> read_input_or_stdlib(const std::string& arg, std::string& path, std::string& error) {
     const pipeline::PipelineArgument argument = pipeline::pipeline_argument(arg);

@@ -16,6 +16,7 @@
 #include "compiler/compiler.h"
 #include "runtime/api/run_options.h"
 #include "runtime/metrics/metrics.h"
+#include "runtime/scene/camera_path.h"
 #include "runtime/scene/load_scene.h"
 
 namespace crex {
@@ -27,6 +28,19 @@ std::optional<std::string> read_input(const std::string& path, std::string& erro
 /// (`sel_quiet`: compiler/pipeline/stdlib_pipelines.h), its path in `path`. A name that is
 /// neither says in `error` what the stdlib has.
 std::optional<std::string> read_input_or_stdlib(const std::string& arg, std::string& path, std::string& error);
+
+/// The camera path in a file (`crex run --camera-path`): a JSON path of keys or a view file
+/// (runtime/scene/camera_path_file.h), or a glTF file's camera animation.
+struct CameraPathInput {
+    std::optional<CameraPath> path;  ///< nullopt when the file cannot be read or has errors
+    std::string text;                ///< the path as JSON or view lines, which other processes read again
+    std::string error;               ///< why the file cannot be read
+    std::string diagnostics;         ///< its errors and warnings, rendered (render_text)
+    size_t errors = 0;
+};
+/// `camera` names which of a glTF file's cameras, as --camera does. The diagnostics are rendered
+/// here, while the text they quote is alive.
+CameraPathInput read_camera_path_input(const std::string& path, const std::string& camera, double fps);
 
 /// What a file holds when it is not what the command reads, from its name and text: "a plan"
 /// (the JSON of 'crex plan --format json'), "a profile", "a scene" (.rad, .obj, .mtl, or JSON

@@ -56,6 +56,43 @@ RenderedPixels render_reference_pixels(const Scene& scene, const sched::Program&
     return out;
 }
 
+ReferenceImage reference_image_of(const ReferencePixels& s, RenderedPixels pixels, const std::string& scene, const std::string& scene_hash,
+                                  const std::string& crex, const FrameContext* context) {
+    const std::vector<PixelWindow> windows = s.windows.empty() ? std::vector<PixelWindow>{{0, 0, s.width, s.height}} : s.windows;
+    const WindowAtlas atlas(windows);
+    ReferenceImage image;
+    image.width = atlas.width, image.height = atlas.height;
+    image.rgb = std::move(pixels.rgb);
+    ReferenceHeader& h = image.header;
+    h.frame_width = s.width, h.frame_height = s.height, h.windows = windows, h.spp = pixels.spp, h.seed = s.seed;
+    h.scene = scene, h.scene_hash = scene_hash, h.crex = crex;
+    h.runs = std::to_string(pixels.spp), h.render_seconds = pixels.seconds;
+    if (context && !context->rgb.empty()) {
+        h.exposure = context->exposure, h.context = context->how;
+        if (!context->saliency.empty()) image.attention = atlas.pack(context->saliency, s.width, 1);
+    }
+    return image;
+}
+
+ReferencePixels more_samples_of(const ReferenceHeader& h, uint32_t more) {
+    ReferencePixels s;
+    s.width = h.frame_width, s.height = h.frame_height;
+    if (!h.whole_frame()) s.windows = h.windows;
+    s.first_sample = h.spp, s.spp = more, s.seed = h.seed;
+    return s;
+}
+
+void add_samples(ReferenceImage& ref, const RenderedPixels& more) {
+    ReferenceHeader& h = ref.header;
+    // The file's mean and the new samples' are independent: how far apart they are says how
+    // far the sum of both still is from converged.
+    h.own_rmse = own_rmse_estimate(ref.rgb, h.spp, more.rgb, more.spp);
+    ref.rgb = accumulate_samples(ref.rgb, h.spp, more.rgb, more.spp);
+    h.runs = (h.runs.empty() ? std::to_string(h.spp) : h.runs) + "+" + std::to_string(more.spp);
+    h.spp += more.spp;
+    h.render_seconds += more.seconds;
+}
+
 FrameContext render_frame_context(const Scene& scene, const sched::Program& program, int width, int height, uint32_t spp, uint64_t seed,
                                   const std::function<void(const RunProgress&)>& progress) {
     RunSettings ro;

@@ -13,6 +13,7 @@
 
 #include "compiler/sched/program.h"
 #include "runtime/driver/run_plan.h"
+#include "runtime/reference/windowed_image.h"
 #include "runtime/scene/scene.h"
 
 namespace crex {
@@ -41,6 +42,15 @@ struct RenderedPixels {
 /// Path traces the reference's pixels with `program` (no cache).
 RenderedPixels render_reference_pixels(const Scene& scene, const sched::Program& program, const ReferencePixels& settings);
 
+/// `more` samples of the pixels of the reference `header` describes (its frame, windows and
+/// seed), continuing its sample indices: samples [spp, spp + more) of each pixel.
+ReferencePixels more_samples_of(const ReferenceHeader& header, uint32_t more);
+
+/// `more` (rendered from more_samples_of(ref.header, ...); stopped or not, its spp) added to
+/// `ref`: the mean of all the samples, their total and runs in the header, the render time, and
+/// the estimate of its own error (own_rmse_estimate).
+void add_samples(ReferenceImage& ref, const RenderedPixels& more);
+
 /// The whole frame seen cheaply: a render through the irradiance cache (smooth at few samples,
 /// unlike path tracing), its exposure and its saliency as displayed.
 struct FrameContext {
@@ -54,5 +64,12 @@ struct FrameContext {
 
 FrameContext render_frame_context(const Scene& scene, const sched::Program& program, int width, int height, uint32_t spp, uint64_t seed,
                                   const std::function<void(const RunProgress&)>& progress = {});
+
+/// A new reference of `pixels`, rendered as `s` says (its windows, or the whole frame) from the
+/// scene given as `scene` (`scene_hash`: scene_content_hash()) with `crex`: the image (the
+/// windows side by side) and its header, with the samples every pixel holds (pixels.spp:
+/// fewer than asked when stopped); with the frame's `context`, its exposure and attention.
+ReferenceImage reference_image_of(const ReferencePixels& s, RenderedPixels pixels, const std::string& scene, const std::string& scene_hash,
+                                  const std::string& crex, const FrameContext* context = nullptr);
 
 }  // namespace crex

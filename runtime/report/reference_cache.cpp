@@ -4,9 +4,11 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "base/fnv1a.h"
 #include "runtime/base/cache_folder.h"
+#include "runtime/io/image_io.h"
 #include "runtime/scene/load_scene.h"
 
 namespace crex {
@@ -43,6 +45,19 @@ std::string find_cached_reference(const Scene& scene, const ReferenceSettings& s
         if (spp > most) most = spp, best = e.path().string();
     }
     return best;
+}
+
+bool holds_reference(const std::string& path, const Scene& scene, const ReferenceSettings& s, bool keyed) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return false;
+    if (keyed) {
+        std::ifstream k(path + ".key");
+        std::string stored;
+        if (!(k >> stored) || stored != reference_key(scene, s)) return false;
+    }
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    return read_image(path, w, h, rgb).empty() && w == s.width && h == s.height;
 }
 
 }  // namespace crex

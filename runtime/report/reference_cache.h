@@ -32,6 +32,11 @@ std::string reference_key(const Scene& scene, const ReferenceSettings& s);
 /// references/ in crex_cache_folder() (runtime/base/cache_folder.h).
 std::string reference_cache_dir();
 std::string reference_path(const Scene& scene, const ReferenceSettings& s);
+/// Whether `path` already holds the reference of `scene` with settings `s`, so that it need not
+/// be rendered again: an image of s's size, and, where `keyed` (a path the user named, which
+/// might hold anything: -o /etc/hostname was taken once), the key file beside it
+/// (PATH.key) naming the same scene content and settings. The cache's own names are keys.
+bool holds_reference(const std::string& path, const Scene& scene, const ReferenceSettings& s, bool keyed);
 /// The cached reference with these settings and the most samples (s.spp ignored); "" if none.
 std::string find_cached_reference(const Scene& scene, const ReferenceSettings& s);
 
