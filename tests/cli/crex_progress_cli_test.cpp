@@ -59,6 +59,13 @@ protected:
         s << in.rdbuf();
         return s.str();
     }
+    // Waits up to 120 s for `file` to hold `text` (a process's stderr saying it got that far).
+    static bool waits_to_say(const std::string& file, const std::string& text, int poll_ms = 100) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+        while (text_of(file).find(text) == std::string::npos && std::chrono::steady_clock::now() < until)
+            std::this_thread::sleep_for(std::chrono::milliseconds(poll_ms));
+        return text_of(file).find(text) != std::string::npos;
+    }
     // Waits up to `seconds` for `pid`: its exit code, -1 if it did not end (then it is killed).
     static int wait_for(pid_t pid, double seconds) {
         const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -82,10 +89,7 @@ TEST_F(CrexProgressCli, CtrlCWritesTheImageSoFarAsAPartialFileAndPlainProgressCo
     const pid_t pid = start({"run", "--scene", "builtin:cornell", "--size", "48x48", "--spp", "1000000", "--pass-samples", "4", "-o", out, "--progress", "plain"}, err);
     ASSERT_GT(pid, 0);
     // Plain lines begin once the render has run 5 s: wait for the first.
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (text_of(err).find("M rays/s") == std::string::npos && std::chrono::steady_clock::now() < until)
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    ASSERT_NE(text_of(err).find("M rays/s"), std::string::npos) << text_of(err);
+    ASSERT_TRUE(waits_to_say(err, "M rays/s")) << text_of(err);
     kill(pid, SIGINT);
     EXPECT_EQ(wait_for(pid, 120), 130) << text_of(err);
     const std::string said = text_of(err);
@@ -115,10 +119,7 @@ TEST_F(CrexProgressCli, SigtermWritesTheImageSoFarAsCtrlCDoes) {
     const pid_t pid = start({"run", "--scene", "builtin:cornell", "--size", "48x48", "--spp", "1000000", "--pass-samples", "4", "-o",
                              path("t.exr"), "--progress", "plain"}, err);
     ASSERT_GT(pid, 0);
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (text_of(err).find("M rays/s") == std::string::npos && std::chrono::steady_clock::now() < until)
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    ASSERT_NE(text_of(err).find("M rays/s"), std::string::npos) << text_of(err);
+    ASSERT_TRUE(waits_to_say(err, "M rays/s")) << text_of(err);
     kill(pid, SIGTERM);
     EXPECT_EQ(wait_for(pid, 120), 143) << text_of(err);
     const std::string said = text_of(err);
@@ -141,10 +142,7 @@ TEST_F(CrexProgressCli, CtrlCStopsASequenceBetweenFramesAndTheSameCommandGoesOn)
     const std::string err = path("err.txt");
     const pid_t pid = start(args, err);
     ASSERT_GT(pid, 0);
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (text_of(err).find("frame 1/4") == std::string::npos && std::chrono::steady_clock::now() < until)
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    ASSERT_NE(text_of(err).find("frame 1/4"), std::string::npos) << text_of(err);
+    ASSERT_TRUE(waits_to_say(err, "frame 1/4", 20)) << text_of(err);
     kill(pid, SIGINT);
     const int exit = wait_for(pid, 120);
     const std::string said = text_of(err);
@@ -178,10 +176,7 @@ TEST_F(CrexProgressCli, CtrlCKeepsAReferencesSamplesSoFar) {
     const std::string err = path("err.txt");
     const pid_t pid = start({"reference", "builtin:cornell", "--size", "16x12", "--spp", "1000000", "--progress", "plain", "-o", path("ref.exr")}, err);
     ASSERT_GT(pid, 0);
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (text_of(err).find("M rays/s") == std::string::npos && std::chrono::steady_clock::now() < until)
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    ASSERT_NE(text_of(err).find("M rays/s"), std::string::npos) << text_of(err);
+    ASSERT_TRUE(waits_to_say(err, "M rays/s")) << text_of(err);
     kill(pid, SIGINT);
     ASSERT_EQ(wait_for(pid, 120), 130) << text_of(err);
     const std::string said = text_of(err);
