@@ -40,8 +40,12 @@ std::string find_cached_reference(const Scene& scene, const ReferenceSettings& s
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(reference_cache_dir(), ec)) {
         std::string name = e.path().filename().string();
-        if (name.rfind(prefix, 0) != 0 || e.path().extension() != ".exr") continue;
-        unsigned long spp = std::strtoul(name.c_str() + prefix.size(), nullptr, 10);
+        if (name.rfind(prefix, 0) != 0) continue;
+        // KEY_sppN.exr exactly: an interrupted `crex reference` leaves KEY_sppN.partial.exr
+        // beside it, which holds fewer than N samples.
+        char* end = nullptr;
+        const unsigned long spp = std::strtoul(name.c_str() + prefix.size(), &end, 10);
+        if (end == name.c_str() + prefix.size() || std::string(end) != ".exr") continue;
         if (spp > most) most = spp, best = e.path().string();
     }
     return best;
