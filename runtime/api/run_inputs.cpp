@@ -35,14 +35,13 @@ CameraPathInput read_camera_path_input(const std::string& path, const std::strin
     DiagnosticSink sink;
     SceneSources sources;  // a glTF's, quoted by its diagnostics
     if (is_gltf_path(path)) read = gltf_camera_path_json(path, camera, sources, sink);  // its camera's animation, as a path of keys
+    std::optional<SourceFile> file;  // alive until its diagnostics are rendered
     if (read) {
         out.text = *read;
-        const SourceFile file(path, std::move(*read));
-        out.path = read_camera_path(file, fps, sink);
-        out.diagnostics = render_text(sink.sorted());
-    } else {
-        out.diagnostics = render_text(sink.sorted());
+        file.emplace(path, std::move(*read));
+        out.path = read_camera_path(*file, fps, sink);
     }
+    out.diagnostics = render_text(sink.sorted());
     out.errors = sink.error_count();
     if (out.errors > 0) out.path.reset();
     return out;
