@@ -1,5 +1,7 @@
 #include "runtime/report/checkpoints.h"
 
+#include <algorithm>
+
 namespace crex {
 
 CheckpointRecorder::CheckpointRecorder(double interval, CheckpointScorer scorer, size_t max_bytes)
@@ -8,7 +10,8 @@ CheckpointRecorder::CheckpointRecorder(double interval, CheckpointScorer scorer,
 void CheckpointRecorder::start(size_t image_floats) {
     image_floats_ = image_floats;
     start_ = Clock::now();
-    paused_ = 0;
+    paused_ = copy_seconds_ = 0;
+    copies_ = 0;
     last_ = -1e30;
 }
 
@@ -23,13 +26,20 @@ void CheckpointRecorder::paused(const std::function<void()>& work) {
 void CheckpointRecorder::event(const std::string& what, bool boundary, uint64_t rays, const std::function<std::vector<float>()>& snapshot,
                                bool force) {
     double t = now();
-    bool due = force || t - last_ >= (boundary ? interval_ / 10 : interval_);
+    // Checkpoints are never closer, in render time, than one of them costs to copy and score:
+    // so they never take much longer than the render itself. Scoring a 1920x1080 image against
+    // its reference takes longer than the default interval, and a run under a sanitizer renders
+    // ten times slower with each score ten times dearer.
+    const double cost = copies_ ? copy_seconds_ / double(copies_) : 0.0;
+    bool due = force || t - last_ >= std::max(boundary ? interval_ / 10 : interval_, cost);
     if (!due) return;
     auto copy_start = Clock::now();
     // Without a reference the image would be read by nothing: only its size is counted.
     keep(Checkpoint{t, stage_, what, rays, scorer_ || image_floats_ == 0 ? snapshot() : std::vector<float>{}, std::nullopt});
     last_ = t;
-    paused_ += std::chrono::duration<double>(Clock::now() - copy_start).count();
+    const double took = std::chrono::duration<double>(Clock::now() - copy_start).count();
+    paused_ += took;
+    copy_seconds_ += took, ++copies_;
 }
 
 void CheckpointRecorder::add(Checkpoint c) { keep(std::move(c)); }

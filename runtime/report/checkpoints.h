@@ -54,7 +54,8 @@ public:
     /// Runs `work` (report bookkeeping) with the clock paused.
     void paused(const std::function<void()>& work);
     /// Records a checkpoint if due: always when `force` (stage ends), at step boundaries when
-    /// at least a tenth of the interval has passed, otherwise when the interval has.
+    /// at least a tenth of the interval has passed, otherwise when the interval has; and never
+    /// sooner after the last one than a checkpoint takes to copy and score, on average.
     void event(const std::string& what, bool boundary, uint64_t rays, const std::function<std::vector<float>()>& snapshot,
                bool force = false);
 
@@ -78,6 +79,8 @@ private:
     size_t max_bytes_, bytes_ = 0;
     Clock::time_point start_ = Clock::now();
     double paused_ = 0, last_ = -1e30;
+    double copy_seconds_ = 0;  ///< spent copying and scoring checkpoints, over copies_ of them
+    size_t copies_ = 0;
     std::string stage_ = "preselective";
     std::vector<Checkpoint> checkpoints_;
 };

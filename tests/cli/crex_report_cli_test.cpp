@@ -196,19 +196,20 @@ TEST(ReferenceCli, AnExistingOutputIsReusedOnlyWhenItIsThisReference) {
 // A stage of many samples goes in progressive passes (issue 38): sel_rp's selective stage (up
 // to 16 spp a pixel) improves as it runs. In one pass its curve stayed flat until the pass
 // ended; now half the stage has brought a good part of its fall (measured: two thirds).
+// Checkpoints as close as their own cost allows (--checkpoint-interval 0.002): at 48x48 one
+// takes about 2.4 ms to copy and score, and the stage about 50 ms in Release.
 TEST_F(ReportCli, ThePipelinesErrorFallsThroughItsSelectiveStage) {
     ASSERT_EQ(crex_cli({"run", "--size", "48x48", "--spp", "64", "-o", path("ref.exr"), "-q"}).exit_code, 0);
     auto r = crex_cli({"run", CREX_SOURCE_DIR "/stdlib/pipelines/sel_rp.pipe", "--size", "48x48", "--reference", path("ref.exr"),
-                       "--report", path("rep"), "--checkpoint-interval", "0.002", "-o", path("a.exr"), "-q"});
+                       "--report", path("rep"), "--checkpoint-interval", "0.002", "-o", path("a.exr"), "-q", "--format", "json"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_GE(nlohmann::json::parse(r.out)["passes"].get<size_t>(), 4u);  // one pass a new sample index, not one for the stage
     std::ifstream in(dir_ / "rep" / "checkpoints.json");
     const auto j = nlohmann::json::parse(in);
     std::vector<nlohmann::json> selective;
-    size_t passes = 0;
     for (const auto& c : j["checkpoints"])
-        if (c["stage"] == "selective") selective.push_back(c), passes += c["event"] == "camera rays";
+        if (c["stage"] == "selective") selective.push_back(c);
     ASSERT_GE(selective.size(), 4u);
-    EXPECT_GE(passes, 4u);  // one pass a new sample index, not one for the stage
     const double t0 = selective.front()["seconds"], t1 = selective.back()["seconds"];
     const auto mid = *std::min_element(selective.begin(), selective.end(), [&](const auto& a, const auto& b) {
         return std::fabs(a["seconds"].template get<double>() - (t0 + t1) / 2) < std::fabs(b["seconds"].template get<double>() - (t0 + t1) / 2);

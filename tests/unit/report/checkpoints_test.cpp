@@ -3,7 +3,9 @@
 // images after the render, and as many points as before.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "runtime/report/checkpoints.h"
 #include "runtime/report/error_curve.h"
@@ -80,6 +82,27 @@ TEST(Checkpoints, WithoutAReferenceNoImageIsCopiedButTheThinningCountsThem) {
     ASSERT_EQ(rec.checkpoints().size(), 3u);
     EXPECT_EQ(rec.checkpoints()[1].event, "step 2");
     EXPECT_FALSE(rec.checkpoints()[2].score.has_value());
+}
+
+// Checkpoints never cost much more than the render: a score dearer than the interval (4 ms
+// against 0.5 ms, events every 1 ms of render) spaces them by what one costs. Without that, all
+// 40 events were scored: 160 ms of scoring for 40 ms of render.
+TEST(Checkpoints, AreNeverCloserThanTheyCostToScore) {
+    using namespace std::chrono_literals;
+    const CheckpointScorer slow = [](const std::vector<float>&) {
+        std::this_thread::sleep_for(4ms);
+        return CheckpointScore{};
+    };
+    CheckpointRecorder rec(0.0005, slow);
+    rec.start(3);
+    for (int k = 0; k < 40; ++k) {
+        std::this_thread::sleep_for(1ms);  // the render's work between two events
+        rec.event("step", false, 0, [] { return std::vector<float>(3, 1.0f); });
+    }
+    const double render = rec.now(), scoring = rec.paused_seconds();
+    EXPECT_GE(rec.checkpoints().size(), 2u);
+    EXPECT_LT(rec.checkpoints().size(), 20u);
+    EXPECT_LT(scoring, 1.5 * render + 0.01) << rec.checkpoints().size() << " checkpoints";
 }
 
 }  // namespace
