@@ -63,14 +63,19 @@ TEST(NumericFlags, TheWalkFindsTheFlagsTheIssueNamed) {
     EXPECT_GE(found.size(), 24u);
 }
 
+// Each flag takes NaN, and in turn +infinity or an overflow to -infinity: what refuses them is
+// the one check every numeric flag goes through (a flag proves it is wired to it with any of
+// them), and each kind of value still meets flags of every command. All three for every flag
+// took 25 s under the sanitizers, a process each.
 TEST(NumericFlags, EveryNumericFlagRefusesNanAndInfinityByNameWithItsRange) {
     const auto flags = numeric_flags();
     ASSERT_FALSE(flags.empty());
-    for (const auto& f : flags) {
+    for (size_t i = 0; i < flags.size(); ++i) {
+        const NumericFlag& f = flags[i];
         std::vector<std::string> rest;
         for (const auto& [command, args] : commands())
             if (command == f.command) rest = args;
-        for (const std::string value : {"nan", "inf", "-1e999"}) {
+        for (const std::string value : {std::string("nan"), std::string(i % 2 ? "inf" : "-1e999")}) {
             std::vector<std::string> args = {f.command, f.flag, value};
             args.insert(args.end(), rest.begin(), rest.end());
             auto r = crex_cli(args);
