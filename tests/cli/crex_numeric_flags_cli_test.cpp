@@ -75,7 +75,7 @@ TEST(NumericFlags, EveryNumericFlagRefusesNanAndInfinityByNameWithItsRange) {
         std::vector<std::string> rest;
         for (const auto& [command, args] : commands())
             if (command == f.command) rest = args;
-        for (const std::string value : {std::string("nan"), std::string(i % 2 ? "inf" : "-1e999")}) {
+        for (const std::string& value : {std::string("nan"), std::string(i % 2 ? "inf" : "-1e999")}) {
             std::vector<std::string> args = {f.command, f.flag, value};
             args.insert(args.end(), rest.begin(), rest.end());
             auto r = crex_cli(args);
