@@ -3,11 +3,7 @@
 // scenes.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 
 #include "compiler/crex/compile.h"
@@ -83,28 +79,6 @@ TEST(WindowedImage, AccumulationIsTheMeanOfAllSamples) {
 
 // The rule on the furnished room: every kind it has is there, inside the frame, none
 // overlapping; the task window holds the laptop and the distractor window the poster.
-// The cache finds KEY_sppN.exr with the most samples, and never the KEY_sppN.partial.exr an
-// interrupted `crex reference` leaves beside it (it holds fewer than N samples).
-TEST(ReferenceCache, AnInterruptedReferenceIsNotTakenForACachedOne) {
-    namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / ("crex_reference_cache_" + std::to_string(::getpid()));
-    ::setenv("CREX_CACHE", dir.c_str(), 1);
-    ReferenceSettings s;
-    s.width = s.height = 4;
-    const std::optional<Scene> scene = builtin_scene("cornell");
-    ASSERT_TRUE(scene.has_value());
-    s.spp = 64;
-    const std::string whole = reference_path(*scene, s);
-    s.spp = 4096;
-    const std::string partial = reference_path(*scene, s);
-    fs::create_directories(fs::path(whole).parent_path());
-    std::ofstream(whole) << "x";
-    std::ofstream(fs::path(partial).replace_extension(".partial.exr")) << "x";
-    EXPECT_EQ(find_cached_reference(*scene, s), whole);
-    ::unsetenv("CREX_CACHE");
-    fs::remove_all(dir);
-}
-
 TEST(ReferenceWindows, TheRuleCoversEveryKindTheRoomHas) {
     SceneSources sources;
     DiagnosticSink sink;
