@@ -98,9 +98,9 @@ run_fuzz() {
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
   local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer view_fuzzer obj_fuzzer profile_fuzzer
-                 profile_numbers_fuzzer ic_records_fuzzer gltf_fuzzer mtl_fuzzer camera_path_fuzzer)
+                 profile_numbers_fuzzer ic_records_fuzzer gltf_fuzzer mtl_fuzzer camera_path_fuzzer exr_read_fuzzer)
   cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl,camera_path}
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl,camera_path,exr}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
   for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad tests/fuzz/radiance_seed.rad tests/fuzz/radiance_patterns_seed.rad; do
@@ -135,6 +135,11 @@ n, start = (struct.unpack('>H', d[i+1:i+3])[0], i + 3) if d[i] == 0x59 else (str
 open(sys.argv[2], 'wb').write(b'\0' + d[start:start + min(n, 120 * 8)])
 PY
     rm -f build/fuzz/corpus/seed.exr build/fuzz/corpus/seed.ic
+    # EXR files as crex writes them: the composite alone, with component layers, a one-channel map.
+    build/release/apps/crex/crex run --size 4x3 --spp 1 --caustic-photons 0 -q -o build/fuzz/corpus/exr/seed_rgb.exr
+    build/release/apps/crex/crex run --size 3x2 --spp 1 --caustic-photons 0 -q --components -o build/fuzz/corpus/exr/seed_layers.exr \
+        --maps build/fuzz/corpus/maps
+    cp build/fuzz/corpus/maps/samples_per_pixel.exr build/fuzz/corpus/exr/seed_map.exr && rm -rf build/fuzz/corpus/maps
   fi
   cp examples/scenes/cornell/scene.vf build/fuzz/corpus/view/
   printf 'rpict -vtv -vp 1 2 3 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45 -vs 0 -vl 0\n' > build/fuzz/corpus/view/seed_options
@@ -155,11 +160,11 @@ PY
   local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan
                    [ic_file_fuzzer]=ic [view_fuzzer]=view [obj_fuzzer]=obj [profile_fuzzer]=profile
                    [profile_numbers_fuzzer]=profile_numbers [ic_records_fuzzer]=ic_records [gltf_fuzzer]=gltf [mtl_fuzzer]=mtl
-                   [camera_path_fuzzer]=camera_path)
+                   [camera_path_fuzzer]=camera_path [exr_read_fuzzer]=exr)
   local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384
                     [ic_file_fuzzer]=65536 [view_fuzzer]=512 [obj_fuzzer]=4096 [profile_fuzzer]=2048
                     [profile_numbers_fuzzer]=256 [ic_records_fuzzer]=4096 [gltf_fuzzer]=65536 [mtl_fuzzer]=4096
-                    [camera_path_fuzzer]=4096)
+                    [camera_path_fuzzer]=4096 [exr_read_fuzzer]=16384)
   # Every target runs even when one finds a crash (its input is written as crash-*); the
   # script fails at the end if any did.
   local failed=()

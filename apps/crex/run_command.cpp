@@ -510,9 +510,10 @@ int run_request(Request& r) {
         return read;
     });
     if (in.status != kExitOk) return in.status;
-    // The lead writes the images at the end: OpenImageIO's libraries load (0.3 s) while it
-    // renders, not after; once the inputs are good, so that an error is said without the wait.
-    const std::future<void> image_plugin = group->leads() ? preload_image_plugin() : std::future<void>{};
+    // The lead writes the images at the end: OpenImageIO's libraries load (0.3 s), where an
+    // image needs them, while it renders, not after; once the inputs are good, so that an
+    // error is said without the wait.
+    const std::future<void> image_plugin = group->leads() ? preload_image_plugin(r.files.images) : std::future<void>{};
     r.options.profile = in.profile;
     r.options.ic_file_bytes = in.ic_file_bytes;
     // Every film buffer only to show components (4K: 1.9 GB, else 270 MB); from the shared plan, so alike on every rank.

@@ -321,7 +321,7 @@ std::vector<FrameRun> render_frames(RunInputs& in, const ResolvedRun& run, const
     std::optional<PixelHistory> previous_history;
     std::vector<char> inherits;
     double exposure = 0;                // the first frame rendered sets it for all
-    FrameWriter writer;
+    FrameWriter writer(files.images);
     for (size_t index = first_index; index < end_index; ++index) {
         // Asked to stop (Ctrl-C; one process only: the others would wait for its records at the
         // next exchange): the next frame is not begun.

@@ -9,9 +9,9 @@
 
 namespace crex {
 
-FrameWriter::FrameWriter() {
+FrameWriter::FrameWriter(const std::vector<std::string>& paths) {
     // A failure to load is not this frame's to report: the first write meets it and says so.
-    plugin_ = preload_image_plugin();
+    plugin_ = preload_image_plugin(paths);
 }
 
 FrameWriter::~FrameWriter() {

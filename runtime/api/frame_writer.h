@@ -20,9 +20,10 @@ namespace crex {
 
 class FrameWriter {
 public:
-    /// Starts loading the image plugin (0.2 to 0.35 s, once a process) on the writer's thread,
-    /// so the first frame renders beside it instead of the second frame waiting for it.
-    FrameWriter();
+    /// Starts loading the image plugin (0.2 to 0.35 s, once a process) on the writer's thread
+    /// where any of `paths` needs it (needs_image_plugin), so the first frame renders beside
+    /// it instead of the second frame waiting for it.
+    explicit FrameWriter(const std::vector<std::string>& paths);
     FrameWriter(const FrameWriter&) = delete;
     FrameWriter& operator=(const FrameWriter&) = delete;
     /// Waits for the frame in flight (its files land or are not made); its error is not

@@ -126,7 +126,7 @@ void arm_partial_outputs(const std::vector<std::string>& outputs, int width, int
     p.finished.assign(static_cast<size_t>(height), 0);
     // Now, not when a fault comes: after mpirun's SIGTERM the write has a second (an error
     // loading it is said by the write, as by any other).
-    load_image_plugin();
+    if (std::any_of(outputs.begin(), outputs.end(), needs_image_plugin)) load_image_plugin();
     {
         const std::lock_guard<std::mutex> lock(kept().mutex);
         kept().partial = std::move(p);

@@ -1,11 +1,15 @@
-// image_io.h for the rest of crex: loads the OpenImageIO plugin (libcrex_oiio.so) the first
-// time an image is read or written, so that commands that never touch an image start fast.
+// image_io.h for the rest of crex: OpenEXR and PNG written (and OpenEXR read) by their own
+// libraries (image_formats.h); every other format, and textures, through the OpenImageIO plugin
+// (libcrex_oiio.so), loaded the first time one is needed, so that commands that never need it
+// start fast.
 #include "runtime/io/image_io.h"
+#include "runtime/io/image_formats.h"
 #include "runtime/io/texture_backend.h"
 
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -19,6 +23,8 @@
 
 #include "base/input_file.h"
 #include "base/install_paths.h"
+#include "runtime/base/atomic_file.h"
+#include "runtime/base/file_extension.h"
 
 namespace crex {
 namespace {
@@ -87,7 +93,13 @@ const Plugin& plugin() {
 
 std::string load_image_plugin() { return plugin().error; }
 
-std::future<void> preload_image_plugin() {
+bool needs_image_plugin(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    return ext != ".exr" && ext != ".png";
+}
+
+std::future<void> preload_image_plugin(const std::vector<std::string>& paths) {
+    if (std::none_of(paths.begin(), paths.end(), needs_image_plugin)) return {};
     // TBB dlopens its allocator and its thread server at its first parallel loop, and makes its
     // worker threads when a loop first has work for them. Either, under way beside the plugin's
     // load, waits for the loader's lock until the load ends (a new thread's TLS is set up under
@@ -121,24 +133,41 @@ std::string attribute_text(const ImageMetadata& metadata, const std::string& nam
 
 std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
                         const ImageMetadata& metadata) {
-    const Plugin& p = plugin();
-    return p.write ? p.write(path, width, height, layers, metadata) : p.error;
+    if (needs_image_plugin(path)) {
+        const Plugin& p = plugin();
+        return p.write ? p.write(path, width, height, layers, metadata) : p.error;
+    }
+    if (layers.empty()) return "nothing to write";
+    if (width <= 0 || height <= 0) return "cannot write '" + path + "': an image of no pixels";
+    std::string error;
+    const std::string bytes = lower_extension(path) == ".exr" ? image_formats::encode_exr(width, height, layers, metadata, error)
+                                                              : image_formats::encode_png(width, height, layers, metadata, error);
+    if (!error.empty()) return "cannot write '" + path + "': " + error;
+    if (std::string e = write_file_atomically(path, bytes); !e.empty()) return "cannot write '" + path + "': " + e;
+    return "";
 }
 
 std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
-    // OpenImageIO opens what it is given: /dev/zero or a FIFO must not reach it.
+    // No reader opens what it is given blindly: /dev/zero or a FIFO must not reach one.
     if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
+    if (auto done = image_formats::read_exr_metadata(path, width, height, metadata)) return *done;
     const Plugin& p = plugin();
     return p.read_metadata ? p.read_metadata(path, width, height, metadata) : p.error;
 }
 
 std::string read_image_layer(const std::string& path, const std::string& layer, int& width, int& height, std::vector<float>& rgb) {
+    if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
+    if (auto done = image_formats::read_exr_layer(path, layer, width, height, rgb)) return *done;
     const Plugin& p = plugin();
     return p.read_layer ? p.read_layer(path, layer, width, height, rgb) : p.error;
 }
 
 std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool* display_referred) {
     if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
+    if (auto done = image_formats::read_exr(path, width, height, rgb)) {  // float or half: scene-referred
+        if (display_referred) *display_referred = false;
+        return *done;
+    }
     const Plugin& p = plugin();
     bool ldr = false;
     std::string error = p.read ? p.read(path, width, height, rgb, ldr) : p.error;

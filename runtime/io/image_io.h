@@ -64,19 +64,28 @@ std::string attribute_text(const ImageMetadata& metadata, const std::string& nam
 std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
                         const ImageMetadata& metadata = {});
 
-/// Loads the image plugin now rather than at the first read or write (0.3 s or more: it
-/// relocates OpenImageIO's libraries), for a write that must be quick when it comes: rank 0's
-/// finished rows, in the second mpirun gives it between SIGTERM and SIGKILL. "" when loaded.
+/// Whether writing `path` takes the OpenImageIO plugin: every format but OpenEXR and PNG,
+/// which crex writes through their own libraries (image_formats.h). Reading takes it for every
+/// format but OpenEXR, and textures take it.
+bool needs_image_plugin(const std::string& path);
+/// Loads the image plugin now rather than at its first use (0.3 s or more: it relocates
+/// OpenImageIO's libraries), for a write that must be quick when it comes: rank 0's finished
+/// rows, in the second mpirun gives it between SIGTERM and SIGKILL. "" when loaded.
 std::string load_image_plugin();
-/// Starts load_image_plugin() on a thread of its own and returns at once, so that a command
-/// which will write images renders while OpenImageIO's libraries are relocated (0.3 s here)
-/// instead of after. Whoever reads or writes an image first waits for the load; the returned
-/// future's destructor waits too, so no load outlives the command. A failure to load is not
-/// the preload's to say: the first read or write meets it and says so.
-std::future<void> preload_image_plugin();
+/// Where any of `paths` is written through the plugin (needs_image_plugin), starts
+/// load_image_plugin() on a thread of its own and returns at once, so that a command which
+/// will write them renders while OpenImageIO's libraries are relocated (0.3 s here) instead of
+/// after; else does nothing (an invalid future). Whoever reads or writes through the plugin
+/// first waits for the load; the returned future's destructor waits too, so no load outlives
+/// the command. A failure to load is not the preload's to say: the first use meets it.
+std::future<void> preload_image_plugin(const std::vector<std::string>& paths);
 
 /// Tone map of spec/pipeline.md §7 to 8-bit sRGB (exposed for tests and reports).
 std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
+/// What an 8-bit file stores for `layer` of `pixels` pixels: its values as they are where
+/// they are display-referred, else through tone_map_srgb8 (a one-channel layer as grey through
+/// the same tone map as colour); one byte a pixel for one channel, else three.
+std::vector<unsigned char> eight_bit_pixels(const ImageLayer& layer, size_t pixels);
 /// The same tone map in two halves, so guidance operators and metrics can see several
 /// images through one exposure: the exposure (0.18 over the log-average luminance) of an
 /// image, and linear RGB to display values in [0, 1] (Reinhard, then the sRGB curve).

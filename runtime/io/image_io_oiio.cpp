@@ -1,6 +1,7 @@
-// The OpenImageIO side of image_io.h, built as a plugin module (libcrex_oiio.so) that
-// image_io.cpp loads on first use: linking OIIO into the tool made every `crex` start take
-// 0.4 s relocating 265 shared libraries, most of them codecs an image write never touches.
+// The OpenImageIO side of image_io.h (formats other than OpenEXR and PNG, and textures), built
+// as a plugin module (libcrex_oiio.so) that image_io.cpp loads on first use: linking OIIO into
+// the tool made every `crex` start take 0.4 s relocating 265 shared libraries, most of them
+// codecs an image write never touches.
 #include "runtime/io/image_io.h"
 
 #include <fcntl.h>
@@ -63,70 +64,36 @@ namespace crex::oiio {
 std::string write_image(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
                         const ImageMetadata& metadata) {
     using crex::write_atomically_via;
-    std::string ext = lower_ext(path);
-    bool exr = ext == ".exr", hdr = ext == ".hdr";
+    // The formats image_io.cpp leaves to the plugin (not EXR, not PNG) hold one layer: HDR as
+    // float RGB (a one-channel layer as grey), the others as 8-bit display values.
+    const bool hdr = lower_ext(path) == ".hdr";
     auto writer = [&](const std::string& tmp) -> std::string {
         auto out = OIIO::ImageOutput::create(path);  // format from the real name, not the temp
         if (!out) return "no image writer for '" + path + "': " + OIIO::geterror();
+        const ImageLayer& layer = layers.front();
         const size_t np = static_cast<size_t>(width) * static_cast<size_t>(height);
-        // HDR holds RGB only: a one-channel layer goes there as grey.
-        const size_t nlayers = exr ? layers.size() : 1;
-        std::vector<std::string> names;
-        std::vector<size_t> first;  // each layer's first channel in a pixel
-        for (size_t l = 0; l < nlayers; ++l) {
-            first.push_back(names.size());
-            if (layers[l].channels == 1 && !hdr) names.push_back(layers[l].name.empty() ? "Y" : layers[l].name);
-            else
-                for (const char* c : {"R", "G", "B"}) names.push_back(layers[l].name.empty() ? c : layers[l].name + "." + c);
-        }
-        const size_t nc = names.size();
-        OIIO::ImageSpec spec(width, height, static_cast<int>(nc), exr || hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-        spec.channelnames = names;
-        if (exr) spec.attribute("compression", "zip");
-        // zlib level 3, not libpng's 6: a noisy 320x240 frame takes 7.6 ms instead of 22 and
-        // is 7 % larger (75.6 KB against 70.4), which matters for a sequence's PNG every frame
-        // (Blender's default PNG compression is as light, 15 %).
-        if (ext == ".png") spec.attribute("png:compressionLevel", 3);
+        const int nc = hdr || layer.channels != 1 ? 3 : 1;
+        OIIO::ImageSpec spec(width, height, nc, hdr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
         for (const auto& [key, value] : metadata) set_attribute(spec, key, value);
         if (!out->open(tmp, spec)) return "cannot write '" + path + "': " + out->geterror();
-        auto value = [&](size_t l, size_t p, size_t c) {  // channel c of pixel p of layer l, finite
-            const ImageLayer& layer = layers[l];
-            const float v = layer.channels == 1 ? layer.rgb[p] : layer.rgb[3 * p + c];
-            return std::isfinite(v) ? v : 0.0f;
-        };
         bool ok;
-        if (exr || hdr) {
-            std::vector<float> pixels(np * nc);
-            for (size_t l = 0; l < nlayers; ++l) {
-                const size_t width_of = l + 1 < nlayers ? first[l + 1] - first[l] : nc - first[l];
-                for (size_t p = 0; p < np; ++p)
-                    for (size_t c = 0; c < width_of; ++c) pixels[p * nc + first[l] + c] = value(l, p, c);
-            }
+        if (hdr) {
+            std::vector<float> pixels(3 * np);
+            for (size_t p = 0; p < np; ++p)
+                for (size_t c = 0; c < 3; ++c) {
+                    const float v = layer.channels == 1 ? layer.rgb[p] : layer.rgb[3 * p + c];
+                    pixels[3 * p + c] = std::isfinite(v) ? v : 0.0f;
+                }
             ok = out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
         } else {
-            const ImageLayer& layer = layers.front();
-            std::vector<unsigned char> bytes;
-            if (layer.display_referred) {
-                bytes.resize(np * nc);
-                for (size_t p = 0; p < np; ++p)
-                    for (size_t c = 0; c < nc; ++c)
-                        bytes[p * nc + c] = static_cast<unsigned char>(std::lround(255 * std::clamp(value(0, p, c), 0.0f, 1.0f)));
-            } else if (layer.channels == 1) {  // grey through the same tone map as colour
-                std::vector<float> rgb(3 * np);
-                for (size_t p = 0; p < np; ++p) rgb[3 * p] = rgb[3 * p + 1] = rgb[3 * p + 2] = value(0, p, 0);
-                const std::vector<unsigned char> srgb = crex::tone_map_srgb8(rgb);
-                bytes.resize(np);
-                for (size_t p = 0; p < np; ++p) bytes[p] = srgb[3 * p];
-            } else {
-                bytes = crex::tone_map_srgb8(layer.rgb);
-            }
+            const std::vector<unsigned char> bytes = crex::eight_bit_pixels(layer, np);
             ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
         }
         if (!ok) return "cannot write '" + path + "': " + out->geterror();
         if (!out->close()) return "cannot close '" + path + "': " + out->geterror();
-        // Some writers (PNG's) do not report a short write: a full disk replaced a good old
-        // file with a truncated one and said "wrote". Flushed, then read back whole, before
-        // the rename puts it in place.
+        // Some writers do not report a short write: a full disk replaced a good old file with
+        // a truncated one and said "wrote". Flushed, then read back whole, before the rename
+        // puts it in place.
         int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
         bool synced = fd >= 0 && ::fsync(fd) == 0;
         if (fd >= 0) ::close(fd);

@@ -1,4 +1,5 @@
 // The tone map for eyes (spec/pipeline.md §7), shared by the loader and the OIIO plugin.
+#include <algorithm>
 #include <cmath>
 
 #include "runtime/io/image_io.h"
@@ -57,6 +58,29 @@ std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb) {
     std::vector<unsigned char> out(d.size());
     for (size_t i = 0; i < d.size(); ++i) out[i] = static_cast<unsigned char>(std::lround(255 * d[i]));
     return out;
+}
+
+std::vector<unsigned char> eight_bit_pixels(const ImageLayer& layer, size_t pixels) {
+    const size_t nc = layer.channels == 1 ? 1 : 3;
+    auto value = [&](size_t p, size_t c) {  // finite
+        const float v = layer.rgb[nc * p + c];
+        return std::isfinite(v) ? v : 0.0f;
+    };
+    std::vector<unsigned char> bytes;
+    if (layer.display_referred) {
+        bytes.resize(pixels * nc);
+        for (size_t p = 0; p < pixels; ++p)
+            for (size_t c = 0; c < nc; ++c) bytes[p * nc + c] = static_cast<unsigned char>(std::lround(255 * std::clamp(value(p, c), 0.0f, 1.0f)));
+    } else if (nc == 1) {
+        std::vector<float> rgb(3 * pixels);
+        for (size_t p = 0; p < pixels; ++p) rgb[3 * p] = rgb[3 * p + 1] = rgb[3 * p + 2] = value(p, 0);
+        const std::vector<unsigned char> srgb = tone_map_srgb8(rgb);
+        bytes.resize(pixels);
+        for (size_t p = 0; p < pixels; ++p) bytes[p] = srgb[3 * p];
+    } else {
+        bytes = tone_map_srgb8(layer.rgb);
+    }
+    return bytes;
 }
 
 }  // namespace crex

@@ -10,9 +10,10 @@ trap 'rm -rf "$prefix"' EXIT
 cmake --install "$build" --prefix "$prefix" > /dev/null
 cd "$prefix"
 
-# The tool renders a pipeline of the installed stdlib; the plugin it loads is the installed one.
-LD_DEBUG=files "$prefix/bin/crex" run share/crex/stdlib/pipelines/sel_rp.pipe --size 16x12 -q -o out.png 2> ld.log
-test -s out.png
+# The tool renders a pipeline of the installed stdlib; the plugin it loads is the installed one
+# (an .hdr takes it: EXR and PNG are written without it).
+LD_DEBUG=files "$prefix/bin/crex" run share/crex/stdlib/pipelines/sel_rp.pipe --size 16x12 -q -o out.png -o out.hdr 2> ld.log
+test -s out.png && test -s out.hdr
 grep -q "file=$prefix/lib[^ ]*/crex/libcrex_oiio.so" ld.log || { echo "the installed image plugin was not the one loaded"; exit 1; }
 
 # A stdlib pipeline by its name alone, from any folder.
@@ -51,8 +52,8 @@ test -s share/doc/crex/crex-language.md || { echo "the guides are not installed"
 PYTHONPATH="$prefix/$python_dir" LD_DEBUG=files "$python" -c "
 import crex, os, sys
 assert crex.__file__.startswith('$prefix'), crex.__file__
-r = crex.run('(TTMRSGD)*', size=(16, 12), output='py.png')
-assert r.image.shape == (12, 16, 3) and os.path.getsize('py.png') > 0
+r = crex.run('(TTMRSGD)*', size=(16, 12), output='py.hdr')
+assert r.image.shape == (12, 16, 3) and os.path.getsize('py.hdr') > 0
 " 2> py.log || { cat py.log | grep -v '^ *[0-9]*:' >&2; exit 1; }
 grep -q "file=$prefix/lib[^ ]*/crex/libcrex_oiio.so" py.log || { echo "the module loaded another image plugin"; exit 1; }
 echo "installed tree ok: $prefix"

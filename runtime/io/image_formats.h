@@ -1,0 +1,36 @@
+/// \file image_formats.h
+/// The image formats crex writes most, without OpenImageIO: OpenEXR through its own library
+/// (image_io_exr.cpp) and PNG through libpng (image_io_png.cpp). Loading the OpenImageIO plugin
+/// relocates about 260 shared libraries (0.35-0.47 s of CPU in every process that touched an
+/// image, a fifth of the test suite's time); OpenEXR and libpng load in 5 ms. image_io.cpp sends
+/// these formats here and everything else (other formats, textures) to the plugin.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/io/image_io.h"
+
+namespace crex::image_formats {
+
+/// The bytes of an OpenEXR file: 32-bit float, ZIP compression, channels as write_image()
+/// names them, every attribute typed. "" in `error` on success.
+std::string encode_exr(int width, int height, const std::vector<ImageLayer>& layers, const ImageMetadata& metadata,
+                       std::string& error);
+
+/// The bytes of an 8-bit PNG of the first layer (tone-mapped unless display-referred; one
+/// channel as grey), string attributes as tEXt chunks. "" in `error` on success.
+std::string encode_png(int width, int height, const std::vector<ImageLayer>& layers, const ImageMetadata& metadata,
+                       std::string& error);
+
+/// Readers of OpenEXR files. Each returns std::nullopt where the file is one it leaves to
+/// OpenImageIO (an OpenEXR file laid out otherwise than crex and most renderers write: no
+/// R, G, B and not one channel; channels not float or half; a data window other than the
+/// display window), else "" or why it could not read the file.
+std::optional<std::string> read_exr(const std::string& path, int& width, int& height, std::vector<float>& rgb);
+std::optional<std::string> read_exr_layer(const std::string& path, const std::string& layer, int& width, int& height,
+                                          std::vector<float>& rgb);
+std::optional<std::string> read_exr_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata);
+
+}  // namespace crex::image_formats

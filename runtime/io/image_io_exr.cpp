@@ -1,0 +1,238 @@
+// OpenEXR files through OpenEXR's own library (image_formats.h): what crex writes, and the
+// float or half RGB (or one-channel) images a reference or a compared render usually is.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfChromaticitiesAttribute.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
+#include <OpenEXR/ImfFloatAttribute.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfMatrixAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfTestFile.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <set>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "runtime/io/image_formats.h"
+
+namespace crex::image_formats {
+namespace {
+
+// A header asking for more pixels than this (2^25: 8K UHD, 7680 x 4320, fits) is refused
+// before anything is allocated (its RGB then takes at most 400 MB): a hostile 30-byte file
+// can claim a data window of 2^31 x 2^31.
+constexpr int64_t kMaxPixels = int64_t{1} << 25;
+
+void insert_attribute(Imf::Header& header, const std::string& name, const AttributeValue& value) {
+    if (const auto* s = std::get_if<std::string>(&value)) header.insert(name, Imf::StringAttribute(*s));
+    else if (const auto* i = std::get_if<int>(&value)) header.insert(name, Imf::IntAttribute(*i));
+    else if (const auto* f = std::get_if<float>(&value)) header.insert(name, Imf::FloatAttribute(*f));
+    else if (const auto* m = std::get_if<Matrix44>(&value)) {
+        Imath::M44f matrix;
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) matrix[r][c] = m->m[static_cast<size_t>(4 * r + c)];
+        header.insert(name, Imf::M44fAttribute(matrix));
+    } else if (const auto* x = std::get_if<Chromaticities>(&value)) {
+        const auto& v = x->xy;
+        header.insert(name, Imf::ChromaticitiesAttribute(Imf::Chromaticities(Imath::V2f(v[0], v[1]), Imath::V2f(v[2], v[3]),
+                                                                             Imath::V2f(v[4], v[5]), Imath::V2f(v[6], v[7]))));
+    }
+}
+
+// The value of a header attribute as image_io.h types them; other types as their text.
+AttributeValue attribute_value(const Imf::Attribute& a) {
+    if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&a)) return s->value();
+    if (const auto* i = dynamic_cast<const Imf::IntAttribute*>(&a)) return i->value();
+    if (const auto* f = dynamic_cast<const Imf::FloatAttribute*>(&a)) return f->value();
+    if (const auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a)) return fmt::format("{:.17g}", d->value());
+    if (const auto* m = dynamic_cast<const Imf::M44fAttribute*>(&a)) {
+        Matrix44 out;
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) out.m[static_cast<size_t>(4 * r + c)] = m->value()[r][c];
+        return out;
+    }
+    if (const auto* c = dynamic_cast<const Imf::ChromaticitiesAttribute*>(&a)) {
+        const Imf::Chromaticities& v = c->value();
+        return Chromaticities{{v.red.x, v.red.y, v.green.x, v.green.y, v.blue.x, v.blue.y, v.white.x, v.white.y}};
+    }
+    return std::string("(") + a.typeName() + ")";
+}
+
+bool is_float_channel(const Imf::Channel* c) {
+    return c && (c->type == Imf::FLOAT || c->type == Imf::HALF) && c->xSampling == 1 && c->ySampling == 1;
+}
+
+// The file's size, or false where its layout is one left to OpenImageIO (a data window that
+// is not the display window at the origin) or its size is out of bounds (`error` says so).
+bool plain_window(const Imf::Header& header, const std::string& path, int& width, int& height, std::string& error) {
+    const Imath::Box2i data = header.dataWindow(), display = header.displayWindow();
+    if (data.min != display.min || data.max != display.max || data.min.x != 0 || data.min.y != 0) return false;
+    const int64_t w = int64_t{data.max.x} + 1, h = int64_t{data.max.y} + 1;
+    if (w <= 0 || h <= 0 || w * h > kMaxPixels) {
+        error = fmt::format("cannot read '{}': an image of {} x {} pixels is beyond what crex reads ({} pixels)", path, w, h, kMaxPixels);
+        return true;
+    }
+    width = static_cast<int>(w), height = static_cast<int>(h);
+    return true;
+}
+
+// Reads the named channels (3, repeats allowed: one channel as grey) into interleaved RGB,
+// straight into `rgb` (no buffer beside it).
+void read_channels(Imf::InputFile& in, const std::array<std::string, 3>& names, int width, int height, std::vector<float>& rgb) {
+    const size_t np = static_cast<size_t>(width) * static_cast<size_t>(height);
+    rgb.assign(3 * np, 0.0f);
+    Imf::FrameBuffer frame;
+    std::array<size_t, 3> from = {0, 1, 2};  // the channel of rgb each one is read into
+    for (size_t c = 0; c < 3; ++c) {
+        for (size_t k = 0; k < c; ++k)
+            if (names[k] == names[c]) from[c] = from[k];
+        if (from[c] == c)
+            frame.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(rgb.data() + c), 3 * sizeof(float),
+                                              3 * sizeof(float) * static_cast<size_t>(width)));
+    }
+    in.setFrameBuffer(frame);
+    in.readPixels(0, height - 1);
+    for (size_t c = 0; c < 3; ++c)
+        if (from[c] != c)
+            for (size_t p = 0; p < np; ++p) rgb[3 * p + c] = rgb[3 * p + from[c]];
+}
+
+std::string failed(const std::string& path, const std::exception& e) { return "cannot read '" + path + "': " + e.what(); }
+
+// OpenEXR's own bounds on what a header may ask for, checked as a file opens (before the
+// line-offset table of a claimed 2^31 rows is allocated); kMaxPixels then bounds the product.
+Imf::InputFile open_bounded(const std::string& path) {
+    static const bool bounded = [] {
+        Imf::Header::setMaxImageSize(65536, 65536);
+        Imf::Header::setMaxTileSize(65536, 65536);
+        return true;
+    }();
+    (void)bounded;
+    return Imf::InputFile(path.c_str());
+}
+
+}  // namespace
+
+std::string encode_exr(int width, int height, const std::vector<ImageLayer>& layers, const ImageMetadata& metadata,
+                       std::string& error) {
+    error.clear();
+    try {
+        const size_t np = static_cast<size_t>(width) * static_cast<size_t>(height);
+        Imf::Header header(width, height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const auto& [name, value] : metadata) insert_attribute(header, name, value);
+        // One float plane a channel, non-finite values as 0 (as every image crex writes).
+        std::vector<std::vector<float>> planes;
+        Imf::FrameBuffer frame;
+        for (const ImageLayer& layer : layers) {
+            const int channels = layer.channels == 1 ? 1 : 3;
+            for (int c = 0; c < channels; ++c) {
+                std::string name = channels == 1 ? (layer.name.empty() ? "Y" : layer.name)
+                                                 : (layer.name.empty() ? "" : layer.name + ".") + "RGB"[c];
+                std::vector<float> plane(np);
+                for (size_t p = 0; p < np; ++p) {
+                    const float v = layer.rgb[static_cast<size_t>(channels) * p + static_cast<size_t>(c)];
+                    plane[p] = std::isfinite(v) ? v : 0.0f;
+                }
+                planes.push_back(std::move(plane));
+                header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+                frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(planes.back().data()), sizeof(float),
+                                              sizeof(float) * static_cast<size_t>(width)));
+            }
+        }
+        Imf::StdOSStream out;
+        {
+            Imf::OutputFile file(out, header);
+            file.setFrameBuffer(frame);
+            file.writePixels(height);
+        }  // the line-offset table is written as the file closes
+        return out.str();
+    } catch (const std::exception& e) {
+        error = e.what();
+        return {};
+    }
+}
+
+std::optional<std::string> read_exr(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+    if (!Imf::isOpenExrFile(path.c_str())) return std::nullopt;
+    try {
+        Imf::InputFile in = open_bounded(path);
+        const Imf::Header& header = in.header();
+        std::string error;
+        int w = 0, h = 0;
+        if (!plain_window(header, path, w, h, error)) return std::nullopt;
+        if (!error.empty()) return error;
+        const Imf::ChannelList& channels = header.channels();
+        std::array<std::string, 3> names;
+        if (is_float_channel(channels.findChannel("R")) && is_float_channel(channels.findChannel("G")) &&
+            is_float_channel(channels.findChannel("B"))) {
+            names = {"R", "G", "B"};
+        } else if (channels.begin() != channels.end() && ++channels.begin() == channels.end() &&
+                   is_float_channel(&channels.begin().channel())) {  // one channel: grey
+            names = {channels.begin().name(), channels.begin().name(), channels.begin().name()};
+        } else {
+            return std::nullopt;
+        }
+        read_channels(in, names, w, h, rgb);
+        width = w, height = h;
+        return std::string();
+    } catch (const std::exception& e) {
+        return failed(path, e);
+    }
+}
+
+std::optional<std::string> read_exr_layer(const std::string& path, const std::string& layer, int& width, int& height,
+                                          std::vector<float>& rgb) {
+    if (!Imf::isOpenExrFile(path.c_str())) return std::nullopt;
+    try {
+        Imf::InputFile in = open_bounded(path);
+        const Imf::Header& header = in.header();
+        std::string error;
+        int w = 0, h = 0;
+        if (!plain_window(header, path, w, h, error)) return std::nullopt;
+        if (!error.empty()) return error;
+        const std::array<std::string, 3> names = {layer + ".R", layer + ".G", layer + ".B"};
+        for (const std::string& n : names) {
+            const Imf::Channel* c = header.channels().findChannel(n);
+            if (!c) return "'" + path + "' has no layer '" + layer + "' (channels " + layer + ".R, .G, .B)";
+            if (!is_float_channel(c)) return std::nullopt;
+        }
+        read_channels(in, names, w, h, rgb);
+        width = w, height = h;
+        return std::string();
+    } catch (const std::exception& e) {
+        return failed(path, e);
+    }
+}
+
+std::optional<std::string> read_exr_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
+    if (!Imf::isOpenExrFile(path.c_str())) return std::nullopt;
+    try {
+        Imf::InputFile in = open_bounded(path);
+        const Imf::Header& header = in.header();
+        const Imath::Box2i data = header.dataWindow();
+        width = data.max.x - data.min.x + 1, height = data.max.y - data.min.y + 1;
+        // What every OpenEXR file has (the layout, not what made the image) stays out.
+        static const std::set<std::string> layout = {"channels",           "compression",       "dataWindow", "displayWindow",
+                                                     "lineOrder",          "pixelAspectRatio",  "screenWindowCenter",
+                                                     "screenWindowWidth",  "tiles",             "type",
+                                                     "name",               "version",           "chunkCount"};
+        metadata.clear();
+        for (auto a = header.begin(); a != header.end(); ++a)
+            if (!layout.count(a.name())) metadata.push_back({a.name(), attribute_value(a.attribute())});
+        return std::string();
+    } catch (const std::exception& e) {
+        return failed(path, e);
+    }
+}
+
+}  // namespace crex::image_formats
