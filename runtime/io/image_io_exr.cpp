@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 
@@ -162,27 +163,24 @@ std::string encode_exr(int width, int height, const std::vector<ImageLayer>& lay
     }
 }
 
-std::optional<std::string> read_exr(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+namespace {
+
+// The three channels a reader takes as R, G, B from a file's; or, with `error` set, why the file
+// has none it can take; or std::nullopt: the file is left to OpenImageIO.
+using ChannelChoice = std::function<std::optional<std::array<std::string, 3>>(const Imf::ChannelList&, std::string& error)>;
+
+std::optional<std::string> read_rgb(const std::string& path, const ChannelChoice& choose, int& width, int& height, std::vector<float>& rgb) {
     if (!Imf::isOpenExrFile(path.c_str())) return std::nullopt;
     try {
         Imf::InputFile in = open_bounded(path);
-        const Imf::Header& header = in.header();
         std::string error;
         int w = 0, h = 0;
-        if (!plain_window(header, path, w, h, error)) return std::nullopt;
+        if (!plain_window(in.header(), path, w, h, error)) return std::nullopt;
         if (!error.empty()) return error;
-        const Imf::ChannelList& channels = header.channels();
-        std::array<std::string, 3> names;
-        if (is_float_channel(channels.findChannel("R")) && is_float_channel(channels.findChannel("G")) &&
-            is_float_channel(channels.findChannel("B"))) {
-            names = {"R", "G", "B"};
-        } else if (channels.begin() != channels.end() && ++channels.begin() == channels.end() &&
-                   is_float_channel(&channels.begin().channel())) {  // one channel: grey
-            names = {channels.begin().name(), channels.begin().name(), channels.begin().name()};
-        } else {
-            return std::nullopt;
-        }
-        read_channels(in, names, w, h, rgb);
+        const std::optional<std::array<std::string, 3>> names = choose(in.header().channels(), error);
+        if (!error.empty()) return error;
+        if (!names) return std::nullopt;
+        read_channels(in, *names, w, h, rgb);
         width = w, height = h;
         return std::string();
     } catch (const std::exception& e) {
@@ -190,28 +188,35 @@ std::optional<std::string> read_exr(const std::string& path, int& width, int& he
     }
 }
 
+}  // namespace
+
+std::optional<std::string> read_exr(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+    auto choose = [](const Imf::ChannelList& channels, std::string&) -> std::optional<std::array<std::string, 3>> {
+        if (is_float_channel(channels.findChannel("R")) && is_float_channel(channels.findChannel("G")) &&
+            is_float_channel(channels.findChannel("B")))
+            return std::array<std::string, 3>{"R", "G", "B"};
+        if (channels.begin() != channels.end() && ++channels.begin() == channels.end() && is_float_channel(&channels.begin().channel()))
+            return std::array<std::string, 3>{channels.begin().name(), channels.begin().name(), channels.begin().name()};  // grey
+        return std::nullopt;
+    };
+    return read_rgb(path, choose, width, height, rgb);
+}
+
 std::optional<std::string> read_exr_layer(const std::string& path, const std::string& layer, int& width, int& height,
                                           std::vector<float>& rgb) {
-    if (!Imf::isOpenExrFile(path.c_str())) return std::nullopt;
-    try {
-        Imf::InputFile in = open_bounded(path);
-        const Imf::Header& header = in.header();
-        std::string error;
-        int w = 0, h = 0;
-        if (!plain_window(header, path, w, h, error)) return std::nullopt;
-        if (!error.empty()) return error;
+    auto choose = [&](const Imf::ChannelList& channels, std::string& error) -> std::optional<std::array<std::string, 3>> {
         const std::array<std::string, 3> names = {layer + ".R", layer + ".G", layer + ".B"};
         for (const std::string& n : names) {
-            const Imf::Channel* c = header.channels().findChannel(n);
-            if (!c) return "'" + path + "' has no layer '" + layer + "' (channels " + layer + ".R, .G, .B)";
+            const Imf::Channel* c = channels.findChannel(n);
+            if (!c) {
+                error = "'" + path + "' has no layer '" + layer + "' (channels " + layer + ".R, .G, .B)";
+                return std::nullopt;
+            }
             if (!is_float_channel(c)) return std::nullopt;
         }
-        read_channels(in, names, w, h, rgb);
-        width = w, height = h;
-        return std::string();
-    } catch (const std::exception& e) {
-        return failed(path, e);
-    }
+        return names;
+    };
+    return read_rgb(path, choose, width, height, rgb);
 }
 
 std::optional<std::string> read_exr_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
