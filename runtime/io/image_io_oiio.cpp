@@ -13,18 +13,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "runtime/base/atomic_file.h"
+#include "runtime/base/file_extension.h"
 
 namespace crex {
 namespace {
-
-std::string lower_ext(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
 
 // An attribute with the type OpenEXR gives it (OIIO maps int, float, matrix44 and float[8]
 // "chromaticities" to EXR's int, float, M44f and chromaticities).
@@ -66,7 +60,7 @@ std::string write_image(const std::string& path, int width, int height, const st
     using crex::write_atomically_via;
     // The formats image_io.cpp leaves to the plugin (not EXR, not PNG) hold one layer: HDR as
     // float RGB (a one-channel layer as grey), the others as 8-bit display values.
-    const bool hdr = lower_ext(path) == ".hdr";
+    const bool hdr = lower_extension(path) == ".hdr";
     auto writer = [&](const std::string& tmp) -> std::string {
         auto out = OIIO::ImageOutput::create(path);  // format from the real name, not the temp
         if (!out) return "no image writer for '" + path + "': " + OIIO::geterror();
