@@ -98,9 +98,10 @@ run_fuzz() {
   cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_CXX_COMPILER=clang++-14 -DCREX_FUZZ=ON -DCREX_BENCH=OFF >/dev/null
   local targets=(crex_check_fuzzer scene_load_fuzzer pipeline_fuzzer plan_read_fuzzer ic_file_fuzzer view_fuzzer obj_fuzzer profile_fuzzer
-                 profile_numbers_fuzzer ic_records_fuzzer gltf_fuzzer mtl_fuzzer camera_path_fuzzer exr_read_fuzzer)
+                 profile_numbers_fuzzer ic_records_fuzzer gltf_fuzzer mtl_fuzzer camera_path_fuzzer exr_read_fuzzer
+                 png_read_fuzzer)
   cmake --build build/fuzz -j "$JOBS" --target "${targets[@]}"
-  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl,camera_path,exr}
+  rm -rf build/fuzz/corpus && mkdir -p build/fuzz/corpus/{crex,scene,pipeline,plan,ic,view,obj,profile,profile_numbers,ic_records,gltf,mtl,camera_path,exr,png}
   grep -v '^#' stdlib/crex/thesis.crex | sed '/^$/d' | split -l 1 - build/fuzz/corpus/crex/seed_
   # Seeds keep their directory in their name: three scene.json files are three seeds.
   for f in examples/scenes/*/scene.json examples/scenes/*/scene.rad tests/fuzz/radiance_seed.rad tests/fuzz/radiance_patterns_seed.rad; do
@@ -139,7 +140,11 @@ PY
     build/release/apps/crex/crex run --size 4x3 --spp 1 --caustic-photons 0 -q -o build/fuzz/corpus/exr/seed_rgb.exr
     build/release/apps/crex/crex run --size 3x2 --spp 1 --caustic-photons 0 -q --components -o build/fuzz/corpus/exr/seed_layers.exr \
         --maps build/fuzz/corpus/maps
-    cp build/fuzz/corpus/maps/samples_per_pixel.exr build/fuzz/corpus/exr/seed_map.exr && rm -rf build/fuzz/corpus/maps
+    cp build/fuzz/corpus/maps/samples_per_pixel.exr build/fuzz/corpus/exr/seed_map.exr
+    # PNG files as crex writes them (RGB, a grey map) and small textures of other colour types.
+    build/release/apps/crex/crex run --size 4x3 --spp 1 --caustic-photons 0 -q -o build/fuzz/corpus/png/seed_rgb.png
+    cp build/fuzz/corpus/maps/samples_per_pixel.png build/fuzz/corpus/png/seed_map.png && rm -rf build/fuzz/corpus/maps
+    find build/release/examples -name '*.png' -size -16k | head -4 | while read -r f; do cp "$f" "build/fuzz/corpus/png/$(echo "$f" | tr '/' '_')"; done
   fi
   cp examples/scenes/cornell/scene.vf build/fuzz/corpus/view/
   printf 'rpict -vtv -vp 1 2 3 -vd 0 0 -1 -vu 0 1 0 -vh 60 -vv 45 -vs 0 -vl 0\n' > build/fuzz/corpus/view/seed_options
@@ -160,11 +165,11 @@ PY
   local -A corpus=([crex_check_fuzzer]=crex [scene_load_fuzzer]=scene [pipeline_fuzzer]=pipeline [plan_read_fuzzer]=plan
                    [ic_file_fuzzer]=ic [view_fuzzer]=view [obj_fuzzer]=obj [profile_fuzzer]=profile
                    [profile_numbers_fuzzer]=profile_numbers [ic_records_fuzzer]=ic_records [gltf_fuzzer]=gltf [mtl_fuzzer]=mtl
-                   [camera_path_fuzzer]=camera_path [exr_read_fuzzer]=exr)
+                   [camera_path_fuzzer]=camera_path [exr_read_fuzzer]=exr [png_read_fuzzer]=png)
   local -A max_len=([crex_check_fuzzer]=512 [scene_load_fuzzer]=8192 [pipeline_fuzzer]=4096 [plan_read_fuzzer]=16384
                     [ic_file_fuzzer]=65536 [view_fuzzer]=512 [obj_fuzzer]=4096 [profile_fuzzer]=2048
                     [profile_numbers_fuzzer]=256 [ic_records_fuzzer]=4096 [gltf_fuzzer]=65536 [mtl_fuzzer]=4096
-                    [camera_path_fuzzer]=4096 [exr_read_fuzzer]=16384)
+                    [camera_path_fuzzer]=4096 [exr_read_fuzzer]=16384 [png_read_fuzzer]=16384)
   # Every target runs even when one finds a crash (its input is written as crash-*); the
   # script fails at the end if any did.
   local failed=()

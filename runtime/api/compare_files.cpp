@@ -294,8 +294,7 @@ CompareOutcome compare_files(const CompareRequest& opt) {
         // linearised sRGB like an 8-bit file read back; then both are compared as stored.
         metrics::Image& lin = test_ldr ? ref : test;
         for (float& v : lin.rgb = to_display(lin.rgb, display_exposure(lin.rgb))) {
-            double d = std::clamp(static_cast<double>(v), 0.0, 1.0);
-            v = static_cast<float>(d <= 0.04045 ? d / 12.92 : std::pow((d + 0.055) / 1.055, 2.4));
+            v = static_cast<float>(srgb_decode(std::clamp(static_cast<double>(v), 0.0, 1.0)));
         }
         test_ldr = ref_ldr = true;
         display_note = fmt::format("{} tone-mapped as crex writes PNGs (--assume-display), then both as stored (sRGB)", hdr);

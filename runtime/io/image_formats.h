@@ -6,6 +6,7 @@
 /// these formats here and everything else (other formats, textures) to the plugin.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,17 @@ std::string encode_exr(int width, int height, const std::vector<ImageLayer>& lay
 /// channel as grey), string attributes as tEXt chunks. "" in `error` on success.
 std::string encode_png(int width, int height, const std::vector<ImageLayer>& layers, const ImageMetadata& metadata,
                        std::string& error);
+
+/// The most pixels a reader here takes (8K UHD fits); a larger header is an error before
+/// anything is allocated.
+constexpr int64_t kMaxReadPixels = int64_t{1} << 25;
+
+/// Readers of PNG files: nullopt where the file is not one (its signature), else "" or why it
+/// could not be read. Every colour type and depth: values sRGB-decoded to linear, grey to all
+/// three channels, alpha composited over black; the metadata is the text chunks before the
+/// pixels, as strings.
+std::optional<std::string> read_png(const std::string& path, int& width, int& height, std::vector<float>& rgb);
+std::optional<std::string> read_png_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata);
 
 /// Readers of OpenEXR files. Each returns std::nullopt where the file is one it leaves to
 /// OpenImageIO (an OpenEXR file laid out otherwise than crex and most renderers write: no

@@ -151,6 +151,7 @@ std::string read_image_metadata(const std::string& path, int& width, int& height
     // No reader opens what it is given blindly: /dev/zero or a FIFO must not reach one.
     if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
     if (auto done = image_formats::read_exr_metadata(path, width, height, metadata)) return *done;
+    if (auto done = image_formats::read_png_metadata(path, width, height, metadata)) return *done;
     const Plugin& p = plugin();
     return p.read_metadata ? p.read_metadata(path, width, height, metadata) : p.error;
 }
@@ -166,6 +167,10 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
     if (std::string error = check_input_file(path, kMaxDataInputBytes); !error.empty()) return error;
     if (auto done = image_formats::read_exr(path, width, height, rgb)) {  // float or half: scene-referred
         if (display_referred) *display_referred = false;
+        return *done;
+    }
+    if (auto done = image_formats::read_png(path, width, height, rgb)) {  // 8 or 16 bits, sRGB: display-referred
+        if (display_referred) *display_referred = true;
         return *done;
     }
     const Plugin& p = plugin();

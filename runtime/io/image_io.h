@@ -66,7 +66,8 @@ std::string write_image(const std::string& path, int width, int height, const st
 
 /// Whether writing `path` takes the OpenImageIO plugin: every format but OpenEXR and PNG,
 /// which crex writes through their own libraries (image_formats.h). Reading takes it for every
-/// format but OpenEXR, and textures take it.
+/// format but OpenEXR and PNG (and for layouts of those their readers leave to it), and
+/// textures take it.
 bool needs_image_plugin(const std::string& path);
 /// Loads the image plugin now rather than at its first use (0.3 s or more: it relocates
 /// OpenImageIO's libraries), for a write that must be quick when it comes: rank 0's finished
@@ -80,6 +81,9 @@ std::string load_image_plugin();
 /// the command. A failure to load is not the preload's to say: the first use meets it.
 std::future<void> preload_image_plugin(const std::vector<std::string>& paths);
 
+/// The sRGB curve undone: an sRGB-encoded value in [0, 1] (what an 8- or 16-bit file stores) as
+/// linear light.
+double srgb_decode(double v);
 /// Tone map of spec/pipeline.md §7 to 8-bit sRGB (exposed for tests and reports).
 std::vector<unsigned char> tone_map_srgb8(const std::vector<float>& rgb);
 /// What an 8-bit file stores for `layer` of `pixels` pixels: its values as they are where

@@ -28,10 +28,8 @@
 namespace crex::image_formats {
 namespace {
 
-// A header asking for more pixels than this (2^25: 8K UHD, 7680 x 4320, fits) is refused
-// before anything is allocated (its RGB then takes at most 400 MB): a hostile 30-byte file
-// can claim a data window of 2^31 x 2^31.
-constexpr int64_t kMaxPixels = int64_t{1} << 25;
+// A header asking for more than kMaxReadPixels is refused before anything is allocated (its RGB
+// then takes at most 400 MB): a hostile 30-byte file can claim a data window of 2^31 x 2^31.
 
 void insert_attribute(Imf::Header& header, const std::string& name, const AttributeValue& value) {
     if (const auto* s = std::get_if<std::string>(&value)) header.insert(name, Imf::StringAttribute(*s));
@@ -78,8 +76,8 @@ bool plain_window(const Imf::Header& header, const std::string& path, int& width
     const Imath::Box2i data = header.dataWindow(), display = header.displayWindow();
     if (data.min != display.min || data.max != display.max || data.min.x != 0 || data.min.y != 0) return false;
     const int64_t w = int64_t{data.max.x} + 1, h = int64_t{data.max.y} + 1;
-    if (w <= 0 || h <= 0 || w * h > kMaxPixels) {
-        error = fmt::format("cannot read '{}': an image of {} x {} pixels is beyond what crex reads ({} pixels)", path, w, h, kMaxPixels);
+    if (w <= 0 || h <= 0 || w * h > kMaxReadPixels) {
+        error = fmt::format("cannot read '{}': an image of {} x {} pixels is beyond what crex reads ({} pixels)", path, w, h, kMaxReadPixels);
         return true;
     }
     width = static_cast<int>(w), height = static_cast<int>(h);
@@ -110,7 +108,7 @@ void read_channels(Imf::InputFile& in, const std::array<std::string, 3>& names, 
 std::string failed(const std::string& path, const std::exception& e) { return "cannot read '" + path + "': " + e.what(); }
 
 // OpenEXR's own bounds on what a header may ask for, checked as a file opens (before the
-// line-offset table of a claimed 2^31 rows is allocated); kMaxPixels then bounds the product.
+// line-offset table of a claimed 2^31 rows is allocated); kMaxReadPixels then bounds the product.
 Imf::InputFile open_bounded(const std::string& path) {
     static const bool bounded = [] {
         Imf::Header::setMaxImageSize(65536, 65536);

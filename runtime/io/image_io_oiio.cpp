@@ -118,7 +118,7 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
     for (size_t p = 0; p < static_cast<size_t>(width) * static_cast<size_t>(height); ++p)
         for (int c = 0; c < 3; ++c) {
             float v = all[p * static_cast<size_t>(nc) + static_cast<size_t>(std::min(c, nc - 1))];
-            if (linearise) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+            if (linearise) v = static_cast<float>(srgb_decode(v));
             rgb[3 * p + static_cast<size_t>(c)] = v;
         }
     return "";

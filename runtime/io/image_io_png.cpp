@@ -1,10 +1,15 @@
-// 8-bit PNG through libpng (image_formats.h), in memory: image_io.cpp writes the bytes
-// atomically, so a full disk or a file-size limit is a failed write() it sees, not a
-// truncated file a writer did not report.
+// PNG through libpng (image_formats.h). Written as 8-bit in memory: image_io.cpp writes the
+// bytes atomically, so a full disk or a file-size limit is a failed write() it sees, not a
+// truncated file a writer did not report. Read from memory too, every colour type and depth.
 #include <png.h>
 
+#include <array>
 #include <csetjmp>
+#include <cstdint>
+#include <cstring>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 
 #include "runtime/io/image_formats.h"
 
@@ -20,9 +25,11 @@ void append(png_structp png, png_bytep data, png_size_t n) {
     static_cast<PngSink*>(png_get_io_ptr(png))->bytes.append(reinterpret_cast<const char*>(data), n);
 }
 void flush(png_structp) {}
+// `T`: what holds the message (PngSink, PngSource).
+template <class T>
 [[noreturn]] void on_error(png_structp png, png_const_charp message) {
-    auto* sink = static_cast<PngSink*>(png_get_error_ptr(png));
-    std::snprintf(sink->error, sizeof(sink->error), "%s", message);
+    auto* holder = static_cast<T*>(png_get_error_ptr(png));
+    std::snprintf(holder->error, sizeof(holder->error), "%s", message);
     png_longjmp(png, 1);
 }
 void on_warning(png_structp, png_const_charp) {}
@@ -30,7 +37,7 @@ void on_warning(png_structp, png_const_charp) {}
 // The encoding itself, apart from every C++ object that owns memory: libpng reports errors
 // by longjmp, which must not cross a destructor. `rows` point into the caller's pixels.
 bool encode(PngSink& sink, png_uint_32 width, png_uint_32 height, int colour_type, png_bytep* rows, png_text* text, int texts) {
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, on_error, on_warning);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, on_error<PngSink>, on_warning);
     if (!png) return false;
     png_infop info = png_create_info_struct(png);
     if (!info || setjmp(png_jmpbuf(png))) {
@@ -51,7 +58,171 @@ bool encode(PngSink& sink, png_uint_32 width, png_uint_32 height, int colour_typ
     return true;
 }
 
+// Reading. As for writing, every libpng call that can fail runs in a function whose frame holds
+// no C++ object with a destructor, so that libpng's longjmp skips none.
+struct PngSource {
+    const unsigned char* data = nullptr;
+    size_t size = 0, at = 0;
+    char error[256] = {};
+};
+
+void take(png_structp png, png_bytep out, png_size_t n) {
+    auto* source = static_cast<PngSource*>(png_get_io_ptr(png));
+    if (n > source->size - source->at) png_error(png, "the file ends inside the image (truncated?)");
+    std::memcpy(out, source->data + source->at, n);
+    source->at += n;
+}
+
+// What the file's pixels become after the transforms below: 1 (grey), 2 (grey, alpha), 3 (RGB)
+// or 4 (RGBA) channels of 8 or 16 bits.
+struct PngLayout {
+    png_uint_32 width = 0, height = 0;
+    int channels = 0, bit_depth = 0;
+    size_t row_bytes = 0;
+};
+
+// The header, and the transforms that give every colour type as PngLayout: palettes and grey
+// below 8 bits expanded, a tRNS chunk as alpha, interlaced passes put together. Bounded before
+// anything is allocated: 65536 pixels a side, kMaxReadPixels in all, 8 MiB for an ancillary
+// chunk (a compressed text chunk cannot inflate past it).
+bool open_png(png_structp png, png_infop info, PngLayout& layout) {
+    if (setjmp(png_jmpbuf(png))) return false;
+    png_set_user_limits(png, 65536, 65536);
+    png_set_chunk_malloc_max(png, 8u << 20);
+    png_read_info(png, info);
+    const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+    if (static_cast<uint64_t>(w) * h > static_cast<uint64_t>(kMaxReadPixels)) png_error(png, "the image has more pixels than crex reads");
+    png_set_expand(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    layout.width = w, layout.height = h;
+    layout.channels = png_get_channels(png, info);
+    layout.bit_depth = png_get_bit_depth(png, info);
+    layout.row_bytes = png_get_rowbytes(png, info);
+    return true;
+}
+
+bool read_rows(png_structp png, png_bytepp rows) {
+    if (setjmp(png_jmpbuf(png))) return false;
+    png_read_image(png, rows);
+    return true;
+}
+
+// libpng's read and info structs, destroyed with the reader.
+struct PngReader {
+    PngSource source;
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    explicit PngReader(const std::string& bytes) {
+        source.data = reinterpret_cast<const unsigned char*>(bytes.data());
+        source.size = bytes.size();
+        png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &source, on_error<PngSource>, on_warning);
+        if (png) info = png_create_info_struct(png);
+        if (png && info) png_set_read_fn(png, &source, take);
+    }
+    ~PngReader() { png_destroy_read_struct(&png, &info, nullptr); }
+    PngReader(const PngReader&) = delete;
+    PngReader& operator=(const PngReader&) = delete;
+    std::string why(const std::string& path) const {
+        return "cannot read '" + path + "': " + (source.error[0] ? source.error : "libpng could not decode it");
+    }
+};
+
+// The file's bytes where it is a PNG (its signature), else nullopt.
+std::optional<std::string> png_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (bytes.size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0) return std::nullopt;
+    return bytes;
+}
+
+// A chunk's type as text a terminal shows (a damaged one may hold any bytes).
+std::string printable_type(const std::string& type) {
+    std::string out;
+    for (char c : type) out += c >= 0x20 && c < 0x7f ? c : '?';
+    return out;
+}
+
+// Why the file cannot be read before libpng sees it, else "". libpng allocates an ancillary
+// chunk's claimed length before reading it (its own limit is only a warning when reading: a
+// 213-byte file whose tEXt claimed 1.5 GB took 1.5 GB and 8 s to fail), so every chunk must fit
+// in what the file has left. And a size beyond what crex reads is said in pixels, where libpng's
+// own limit (kept as a second guard in open_png) says only "Invalid IHDR data".
+std::string unreadable(const std::string& path, const std::string& bytes) {
+    auto word = [&](size_t at) {
+        uint64_t v = 0;
+        for (size_t k = 0; k < 4; ++k) v = v << 8 | static_cast<unsigned char>(bytes[at + k]);
+        return v;
+    };
+    for (size_t at = 8; at + 8 <= bytes.size();) {  // length, type, data, CRC
+        const uint64_t length = word(at), left = bytes.size() - at - 8;
+        if (length + 4 > left)
+            return "cannot read '" + path + "': its chunk '" + printable_type(bytes.substr(at + 4, 4)) + "' claims " + std::to_string(length) +
+                   " bytes where the file has " + std::to_string(left) + " left (truncated?)";
+        if (bytes.compare(at + 4, 4, "IEND") == 0) break;
+        at += 12 + length;
+    }
+    if (bytes.size() < 24 || bytes.compare(12, 4, "IHDR") != 0) return "";  // libpng says what is wrong
+    const uint64_t w = word(16), h = word(20);
+    if (w <= 65536 && h <= 65536 && w * h <= static_cast<uint64_t>(kMaxReadPixels)) return "";
+    return "cannot read '" + path + "': an image of " + std::to_string(w) + " x " + std::to_string(h) +
+           " pixels is beyond what crex reads (" + std::to_string(kMaxReadPixels) + " pixels, 65536 a side)";
+}
+
 }  // namespace
+
+std::optional<std::string> read_png(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
+    const std::optional<std::string> bytes = png_bytes(path);
+    if (!bytes) return std::nullopt;
+    if (std::string error = unreadable(path, *bytes); !error.empty()) return error;
+    PngReader r(*bytes);
+    PngLayout layout;
+    if (!r.png || !r.info || !open_png(r.png, r.info, layout)) return r.why(path);
+    // Deflate packs at most 1032 bytes into one: a header claiming more pixels than its file can
+    // hold is refused before the pixels' memory is taken (a 100-byte file may claim 2^25).
+    if (static_cast<double>(layout.row_bytes + 1) * layout.height > 1100.0 * static_cast<double>(bytes->size()))
+        return "cannot read '" + path + "': the file (" + std::to_string(bytes->size()) + " bytes) is too small for the " +
+               std::to_string(layout.width) + " x " + std::to_string(layout.height) + " pixels its header claims (truncated?)";
+    std::vector<unsigned char> pixels(layout.row_bytes * layout.height);
+    std::vector<png_bytep> rows(layout.height);
+    for (size_t y = 0; y < rows.size(); ++y) rows[y] = pixels.data() + y * layout.row_bytes;
+    if (!read_rows(r.png, rows.data())) return r.why(path);
+    // sRGB-encoded values to linear light; alpha composites over black (as OpenImageIO gave
+    // them, associated); grey to all three channels.
+    const size_t n = static_cast<size_t>(layout.width) * layout.height, nc = static_cast<size_t>(layout.channels);
+    const bool wide = layout.bit_depth == 16, alpha = nc == 2 || nc == 4;
+    static const std::array<double, 256> linear_of_byte = [] {  // a power a value was 0.2 s a 1080p frame
+        std::array<double, 256> t{};
+        for (size_t v = 0; v < t.size(); ++v) t[v] = srgb_decode(static_cast<double>(v) / 255.0);
+        return t;
+    }();
+    auto value = [&](size_t k) { return wide ? static_cast<double>(pixels[2 * k] << 8 | pixels[2 * k + 1]) / 65535.0 : pixels[k] / 255.0; };
+    auto linear = [&](size_t k) { return wide ? srgb_decode(value(k)) : linear_of_byte[pixels[k]]; };
+    rgb.assign(3 * n, 0.0f);
+    for (size_t p = 0; p < n; ++p) {
+        const double a = alpha ? value(p * nc + nc - 1) : 1.0;
+        for (size_t c = 0; c < 3; ++c) rgb[3 * p + c] = static_cast<float>(linear(p * nc + (nc < 3 ? 0 : c)) * a);
+    }
+    width = static_cast<int>(layout.width), height = static_cast<int>(layout.height);
+    return std::string();
+}
+
+std::optional<std::string> read_png_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
+    const std::optional<std::string> bytes = png_bytes(path);
+    if (!bytes) return std::nullopt;
+    if (std::string error = unreadable(path, *bytes); !error.empty()) return error;
+    PngReader r(*bytes);
+    PngLayout layout;
+    if (!r.png || !r.info || !open_png(r.png, r.info, layout)) return r.why(path);
+    // The text chunks before the pixels (where crex and most writers put them), as strings.
+    metadata.clear();
+    png_textp text = nullptr;
+    const int texts = png_get_text(r.png, r.info, &text, nullptr);
+    for (int i = 0; i < texts; ++i)
+        if (text[i].key && text[i].text) metadata.push_back({text[i].key, std::string(text[i].text, text[i].text_length ? text[i].text_length : text[i].itxt_length)});
+    width = static_cast<int>(layout.width), height = static_cast<int>(layout.height);
+    return std::string();
+}
 
 std::string encode_png(int width, int height, const std::vector<ImageLayer>& layers, const ImageMetadata& metadata,
                        std::string& error) {

@@ -14,6 +14,8 @@ double srgb_encode(double x) {
 
 }  // namespace
 
+double srgb_decode(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+
 double display_exposure(const std::vector<float>& rgb) {
     size_t n = rgb.size() / 3;
     double log_sum = 0;

@@ -16,6 +16,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "runtime/io/image_io.h"
 #include "runtime/metrics/metrics.h"
 
 namespace crex::metrics {
@@ -23,8 +24,6 @@ namespace {
 
 using Vec = std::array<double, 3>;
 constexpr double kPi = std::numbers::pi;
-
-double srgb_to_linear(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
 
 Vec linear_rgb_to_xyz(const Vec& c) {
     return {0.41238656 * c[0] + 0.35759149 * c[1] + 0.18045049 * c[2], 0.21263682 * c[0] + 0.71518298 * c[1] + 0.0721802 * c[2],
@@ -161,7 +160,7 @@ std::vector<float> flip_map(const Image& test, const Image& reference, double pp
     each(n, [&](size_t i) {
         for (auto [img, planes] : {std::pair{&test, &yt}, std::pair{&reference, &yr}}) {
             Vec lin;
-            for (size_t c = 0; c < 3; ++c) lin[c] = srgb_to_linear(std::clamp(static_cast<double>(img->rgb[3 * i + c]), 0.0, 1.0));
+            for (size_t c = 0; c < 3; ++c) lin[c] = srgb_decode(std::clamp(static_cast<double>(img->rgb[3 * i + c]), 0.0, 1.0));
             Vec o = xyz_to_ycxcz(linear_rgb_to_xyz(lin));
             for (size_t c = 0; c < 3; ++c) (*planes)[c][i] = o[c];
         }

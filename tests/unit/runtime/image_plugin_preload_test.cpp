@@ -1,8 +1,8 @@
 // The image plugin loaded on a thread of its own (preload_image_plugin): an image written or
 // read while the load is under way waits for it and succeeds, and once the preload is done the
 // plugin is there; the thread pool's workers are made before it starts. OpenEXR and PNG never
-// load it. Each test runs in a process of its own (gtest_discover_tests), so the plugin is not
-// loaded yet when each starts.
+// load it, written or read. Each test runs in a process of its own (gtest_discover_tests), so
+// the plugin is not loaded yet when each starts.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -99,6 +99,14 @@ TEST_F(ImagePluginPreload, ExrAndPngNeverLoadIt) {
     EXPECT_EQ(std::string(signature + 1, 3), "PNG");
     ASSERT_EQ(read_image(path("b.PNG"), w, h, rgb, &display), "");
     EXPECT_TRUE(display);
+    ASSERT_EQ(read_image_metadata(path("b.PNG"), w, h, read), "");
+    EXPECT_EQ(attribute_text(read, "Software"), "crex");
+    EXPECT_FALSE(plugin_loaded());
+    // A file named .png that is not one goes to the plugin, which reads it by its content.
+    ASSERT_EQ(write_image(path("c.hdr"), 2, 1, {{"", {1, 2, 3, 4, 5, 6}}}), "");
+    std::filesystem::copy_file(path("c.hdr"), path("c.png"));
+    ASSERT_EQ(read_image(path("c.png"), w, h, rgb, &display), "");
+    EXPECT_EQ(rgb, (std::vector<float>{1, 2, 3, 4, 5, 6}));
     EXPECT_TRUE(plugin_loaded());
 }
 
