@@ -13,12 +13,15 @@
 #include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTestFile.h>
+#include <OpenEXR/openexr.h>
 
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
@@ -80,6 +83,20 @@ bool plain_window(const Imf::Header& header, const std::string& path, int& width
         error = fmt::format("cannot read '{}': an image of {} x {} pixels is beyond what crex reads ({} pixels)", path, w, h, kMaxReadPixels);
         return true;
     }
+    // A channel holds at least 2 bytes a pixel (half), and no compression but DWA packs more
+    // than about 1032 bytes into one (zlib's deflate; RLE, PIZ and B44 pack less; DWA's DC
+    // values of a flat block go through zlib after the DCT, so it is not bounded here): a header
+    // claiming more pixels than its file can hold is refused before their memory is taken (a
+    // 400-byte file may claim 2^25, 400 MB of RGB).
+    const Imf::Compression compression = header.compression();
+    const bool bounded = compression != Imf::DWAA_COMPRESSION && compression != Imf::DWAB_COMPRESSION;
+    std::error_code ec;
+    const auto bytes = static_cast<double>(std::filesystem::file_size(path, ec));
+    if (bounded && !ec && 2.0 * static_cast<double>(w * h) > 1100.0 * bytes) {
+        error = fmt::format("cannot read '{}': the file ({} bytes) is too small for the {} x {} pixels its header claims (truncated?)", path,
+                            bytes, w, h);
+        return true;
+    }
     width = static_cast<int>(w), height = static_cast<int>(h);
     return true;
 }
@@ -107,6 +124,35 @@ void read_channels(Imf::InputFile& in, const std::array<std::string, 3>& names, 
 
 std::string failed(const std::string& path, const std::exception& e) { return "cannot read '" + path + "': " + e.what(); }
 
+// OpenEXR's C++ library takes a header attribute's size as it stands and allocates it before
+// reading (a 1.4 KB file whose string attribute claimed 2^31 bytes took 1.5 GB and 8 s to
+// fail), and reads a fixed-size or channel-list value past its declared size, so that the rest
+// of the header is read out of step. OpenEXR's C core parses headers with every size checked
+// against the file (it was written for untrusted input and is fuzzed upstream): a file it
+// refuses is refused here, with its reason, before the C++ library opens it. Throws as OpenEXR
+// would.
+void check_header(const std::string& path) {
+    struct Reason {
+        std::string text;
+    } reason;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.user_data = &reason;
+    init.error_handler_fn = [](exr_const_context_t context, exr_result_t, const char* message) {
+        void* user = nullptr;
+        if (exr_get_user_data(context, &user) == EXR_ERR_SUCCESS && user && message) {
+            auto* r = static_cast<Reason*>(user);
+            if (r->text.empty()) r->text = message;  // the first, most specific one
+        }
+    };
+    exr_context_t context = nullptr;
+    const exr_result_t result = exr_start_read(&context, path.c_str(), &init);
+    if (result == EXR_ERR_SUCCESS) exr_finish(&context);
+    // The core passes over an attribute it finds damaged (its size beyond the file) and says so:
+    // the C++ library would not, so what the core said is a refusal too.
+    if (result == EXR_ERR_SUCCESS && reason.text.empty()) return;
+    throw std::runtime_error(reason.text.empty() ? exr_get_default_error_message(result) : reason.text);
+}
+
 // OpenEXR's own bounds on what a header may ask for, checked as a file opens (before the
 // line-offset table of a claimed 2^31 rows is allocated); kMaxReadPixels then bounds the product.
 Imf::InputFile open_bounded(const std::string& path) {
@@ -116,6 +162,7 @@ Imf::InputFile open_bounded(const std::string& path) {
         return true;
     }();
     (void)bounded;
+    check_header(path);
     return Imf::InputFile(path.c_str());
 }
 

@@ -2,6 +2,8 @@
 // and a read (EXR) and into an 8-bit file (PNG, grey).
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <variant>
 
 #include "runtime/io/image_io.h"
@@ -59,6 +61,64 @@ TEST_F(ImageHeader, OneChannelLayersAreOneChannel) {
             EXPECT_FLOAT_EQ(rgb[9], 1.0f);
         }
     }
+}
+
+// OpenEXR's C++ library allocates an attribute's claimed size before reading it: a header that
+// OpenEXR's C core finds damaged is refused first (a 1.4 KB file that claimed 2^31 bytes took
+// 1.5 GB and 8 s to fail), for every reader, with the file named and the core's reason.
+TEST_F(ImageHeader, AnAttributeLargerThanItsFileIsRefused) {
+    const std::string good = path("good.exr");
+    ASSERT_EQ(write_image(good, 2, 1, {{"", {1, 2, 3, 4, 5, 6}}}, {{"crex:text", std::string("words")}}), "");
+    std::ifstream in(good, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // The first attribute: its name and type, null-terminated, then its size.
+    const size_t name_end = bytes.find('\0', 8), type_end = bytes.find('\0', name_end + 1);
+    const std::string name = bytes.substr(8, name_end - 8), type = bytes.substr(name_end + 1, type_end - name_end - 1);
+    bytes.replace(type_end + 1, 4, std::string("\xff\xff\xff\x7f", 4));
+    const std::string bad = path("bad.exr");
+    std::ofstream(bad, std::ios::binary) << bytes;
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    ImageMetadata header;
+    const std::string want = "cannot read '" + bad + "': Attribute '" + name + "', type '" + type + "': Invalid size 2147483647";
+    EXPECT_EQ(read_image(bad, w, h, rgb).rfind(want, 0), 0u) << read_image(bad, w, h, rgb);
+    EXPECT_EQ(read_image_layer(bad, "D", w, h, rgb).rfind(want, 0), 0u);
+    EXPECT_EQ(read_image_metadata(bad, w, h, header).rfind(want, 0), 0u);
+    // An attribute no reader needs, whose damage OpenEXR's core passes over (and says): refused too.
+    std::ifstream again(good, std::ios::binary);
+    std::string optional((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>());
+    const std::string text_attribute("crex:text\0string\0", 17);
+    const size_t text = optional.find(text_attribute);
+    ASSERT_NE(text, std::string::npos);
+    optional.replace(text + text_attribute.size(), 4, std::string("\x00\x00\x00\x70", 4));  // 1.9 GB
+    std::ofstream(bad, std::ios::binary | std::ios::trunc) << optional;
+    EXPECT_EQ(read_image(bad, w, h, rgb).rfind("cannot read '" + bad + "': Attribute 'crex:text', type 'string': Invalid size", 0), 0u)
+        << read_image(bad, w, h, rgb);
+    // Cut inside its attributes.
+    std::ofstream(bad, std::ios::binary | std::ios::trunc) << bytes.substr(0, type_end);
+    EXPECT_EQ(read_image(bad, w, h, rgb).rfind("cannot read '" + bad + "': ", 0), 0u) << read_image(bad, w, h, rgb);
+}
+
+// A header that claims more pixels than its file could hold compressed is refused before the
+// pixels' memory (400 MB of RGB at 2^25 pixels) is taken.
+TEST_F(ImageHeader, AHeaderClaimingMorePixelsThanItsFileHoldsIsRefused) {
+    const std::string good = path("small.exr");
+    ASSERT_EQ(write_image(good, 2, 2, {{"", std::vector<float>(12, 0.5f)}}), "");
+    std::ifstream in(good, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (const std::string window : {"dataWindow", "displayWindow"}) {  // box2i: xmin ymin xmax ymax, little-endian
+        const size_t at = bytes.find(window + std::string("\0box2i\0", 7));
+        ASSERT_NE(at, std::string::npos);
+        const size_t value = at + window.size() + 7 + 4;
+        bytes.replace(value + 8, 8, std::string("\xff\x0f\x00\x00\xff\x0f\x00\x00", 8));  // 4096 x 4096
+    }
+    bytes += std::string(4096, '\0');  // room for its line-offset table (256 chunks), which OpenEXR reads as it opens
+    const std::string bad = path("claims.exr");
+    std::ofstream(bad, std::ios::binary) << bytes;
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    const std::string error = read_image(bad, w, h, rgb);
+    EXPECT_NE(error.find("is too small for the 4096 x 4096 pixels its header claims"), std::string::npos) << error;
 }
 
 }  // namespace
