@@ -31,9 +31,6 @@
 namespace crex::image_formats {
 namespace {
 
-// A header asking for more than kMaxReadPixels is refused before anything is allocated (its RGB
-// then takes at most 400 MB): a hostile 30-byte file can claim a data window of 2^31 x 2^31.
-
 void insert_attribute(Imf::Header& header, const std::string& name, const AttributeValue& value) {
     if (const auto* s = std::get_if<std::string>(&value)) header.insert(name, Imf::StringAttribute(*s));
     else if (const auto* i = std::get_if<int>(&value)) header.insert(name, Imf::IntAttribute(*i));
@@ -79,6 +76,8 @@ bool plain_window(const Imf::Header& header, const std::string& path, int& width
     const Imath::Box2i data = header.dataWindow(), display = header.displayWindow();
     if (data.min != display.min || data.max != display.max || data.min.x != 0 || data.min.y != 0) return false;
     const int64_t w = int64_t{data.max.x} + 1, h = int64_t{data.max.y} + 1;
+    // More than kMaxReadPixels is refused before anything is allocated (its RGB then takes at
+    // most 400 MB): a hostile 30-byte file can claim a data window of 2^31 x 2^31.
     if (w <= 0 || h <= 0 || w * h > kMaxReadPixels) {
         error = fmt::format("cannot read '{}': an image of {} x {} pixels is beyond what crex reads ({} pixels)", path, w, h, kMaxReadPixels);
         return true;
@@ -91,8 +90,8 @@ bool plain_window(const Imf::Header& header, const std::string& path, int& width
     const Imf::Compression compression = header.compression();
     const bool bounded = compression != Imf::DWAA_COMPRESSION && compression != Imf::DWAB_COMPRESSION;
     std::error_code ec;
-    const auto bytes = static_cast<double>(std::filesystem::file_size(path, ec));
-    if (bounded && !ec && 2.0 * static_cast<double>(w * h) > 1100.0 * bytes) {
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (bounded && !ec && 2.0 * static_cast<double>(w * h) > 1100.0 * static_cast<double>(bytes)) {
         error = fmt::format("cannot read '{}': the file ({} bytes) is too small for the {} x {} pixels its header claims (truncated?)", path,
                             bytes, w, h);
         return true;

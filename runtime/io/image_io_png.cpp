@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <memory>
 
 #include "runtime/io/image_formats.h"
 
@@ -108,21 +109,24 @@ bool read_rows(png_structp png, png_bytepp rows) {
     return true;
 }
 
-// libpng's read and info structs, destroyed with the reader.
-struct PngReader {
+// A PNG file's bytes and libpng's read and info structs over them, destroyed together.
+struct PngFile {
+    std::string bytes;
     PngSource source;
     png_structp png = nullptr;
     png_infop info = nullptr;
-    explicit PngReader(const std::string& bytes) {
+    PngLayout layout;
+    std::string error;  // why it cannot be read, "" where it can
+    explicit PngFile(std::string file_bytes) : bytes(std::move(file_bytes)) {
         source.data = reinterpret_cast<const unsigned char*>(bytes.data());
         source.size = bytes.size();
         png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &source, on_error<PngSource>, on_warning);
         if (png) info = png_create_info_struct(png);
         if (png && info) png_set_read_fn(png, &source, take);
     }
-    ~PngReader() { png_destroy_read_struct(&png, &info, nullptr); }
-    PngReader(const PngReader&) = delete;
-    PngReader& operator=(const PngReader&) = delete;
+    ~PngFile() { png_destroy_read_struct(&png, &info, nullptr); }
+    PngFile(const PngFile&) = delete;
+    PngFile& operator=(const PngFile&) = delete;
     std::string why(const std::string& path) const {
         return "cannot read '" + path + "': " + (source.error[0] ? source.error : "libpng could not decode it");
     }
@@ -169,24 +173,34 @@ std::string unreadable(const std::string& path, const std::string& bytes) {
            " pixels is beyond what crex reads (" + std::to_string(kMaxReadPixels) + " pixels, 65536 a side)";
 }
 
+// `path` opened up to its pixels (PngFile::error says why it cannot be), or nullptr where it
+// is not a PNG.
+std::unique_ptr<PngFile> open_file(const std::string& path) {
+    std::optional<std::string> bytes = png_bytes(path);
+    if (!bytes) return nullptr;
+    auto file = std::make_unique<PngFile>(std::move(*bytes));
+    file->error = unreadable(path, file->bytes);
+    if (file->error.empty() && (!file->png || !file->info || !open_png(file->png, file->info, file->layout))) file->error = file->why(path);
+    return file;
+}
+
 }  // namespace
 
 std::optional<std::string> read_png(const std::string& path, int& width, int& height, std::vector<float>& rgb) {
-    const std::optional<std::string> bytes = png_bytes(path);
-    if (!bytes) return std::nullopt;
-    if (std::string error = unreadable(path, *bytes); !error.empty()) return error;
-    PngReader r(*bytes);
-    PngLayout layout;
-    if (!r.png || !r.info || !open_png(r.png, r.info, layout)) return r.why(path);
+    const std::unique_ptr<PngFile> file = open_file(path);
+    if (!file) return std::nullopt;
+    if (!file->error.empty()) return file->error;
+    const PngLayout& layout = file->layout;
+    const size_t file_size = file->bytes.size();
     // Deflate packs at most 1032 bytes into one: a header claiming more pixels than its file can
     // hold is refused before the pixels' memory is taken (a 100-byte file may claim 2^25).
-    if (static_cast<double>(layout.row_bytes + 1) * layout.height > 1100.0 * static_cast<double>(bytes->size()))
-        return "cannot read '" + path + "': the file (" + std::to_string(bytes->size()) + " bytes) is too small for the " +
+    if (static_cast<double>(layout.row_bytes + 1) * layout.height > 1100.0 * static_cast<double>(file_size))
+        return "cannot read '" + path + "': the file (" + std::to_string(file_size) + " bytes) is too small for the " +
                std::to_string(layout.width) + " x " + std::to_string(layout.height) + " pixels its header claims (truncated?)";
     std::vector<unsigned char> pixels(layout.row_bytes * layout.height);
     std::vector<png_bytep> rows(layout.height);
     for (size_t y = 0; y < rows.size(); ++y) rows[y] = pixels.data() + y * layout.row_bytes;
-    if (!read_rows(r.png, rows.data())) return r.why(path);
+    if (!read_rows(file->png, rows.data())) return file->why(path);
     // sRGB-encoded values to linear light; alpha composites over black (as OpenImageIO gave
     // them, associated); grey to all three channels.
     const size_t n = static_cast<size_t>(layout.width) * layout.height, nc = static_cast<size_t>(layout.channels);
@@ -208,19 +222,17 @@ std::optional<std::string> read_png(const std::string& path, int& width, int& he
 }
 
 std::optional<std::string> read_png_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
-    const std::optional<std::string> bytes = png_bytes(path);
-    if (!bytes) return std::nullopt;
-    if (std::string error = unreadable(path, *bytes); !error.empty()) return error;
-    PngReader r(*bytes);
-    PngLayout layout;
-    if (!r.png || !r.info || !open_png(r.png, r.info, layout)) return r.why(path);
+    const std::unique_ptr<PngFile> file = open_file(path);
+    if (!file) return std::nullopt;
+    if (!file->error.empty()) return file->error;
     // The text chunks before the pixels (where crex and most writers put them), as strings.
     metadata.clear();
     png_textp text = nullptr;
-    const int texts = png_get_text(r.png, r.info, &text, nullptr);
+    const int texts = png_get_text(file->png, file->info, &text, nullptr);
     for (int i = 0; i < texts; ++i)
-        if (text[i].key && text[i].text) metadata.push_back({text[i].key, std::string(text[i].text, text[i].text_length ? text[i].text_length : text[i].itxt_length)});
-    width = static_cast<int>(layout.width), height = static_cast<int>(layout.height);
+        if (text[i].key && text[i].text)  // tEXt and zTXt give their length in text_length, iTXt in itxt_length
+            metadata.push_back({text[i].key, std::string(text[i].text, text[i].text_length ? text[i].text_length : text[i].itxt_length)});
+    width = static_cast<int>(file->layout.width), height = static_cast<int>(file->layout.height);
     return std::string();
 }
 
