@@ -64,8 +64,8 @@ TEST_F(ImageHeader, OneChannelLayersAreOneChannel) {
 }
 
 // OpenEXR's C++ library allocates an attribute's claimed size before reading it: a header that
-// OpenEXR's C core finds damaged is refused first (a 1.4 KB file that claimed 2^31 bytes took
-// 1.5 GB and 8 s to fail), for every reader, with the file named and the core's reason.
+// OpenEXR's C core finds damaged is refused first (a 1.4 KB file that claimed 1.4 GB took
+// 1.4 GB and 7.5 s to fail), for every reader, with the file named and the core's reason.
 TEST_F(ImageHeader, AnAttributeLargerThanItsFileIsRefused) {
     const std::string good = path("good.exr");
     ASSERT_EQ(write_image(good, 2, 1, {{"", {1, 2, 3, 4, 5, 6}}}, {{"crex:text", std::string("words")}}), "");
