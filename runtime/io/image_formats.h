@@ -1,6 +1,6 @@
 /// \file image_formats.h
-/// The image formats crex writes most, without OpenImageIO: OpenEXR through its own library
-/// (image_io_exr.cpp) and PNG through libpng (image_io_png.cpp). Loading the OpenImageIO plugin
+/// The image formats crex writes and reads most, without OpenImageIO: OpenEXR through its own
+/// library (image_io_exr.cpp) and PNG through libpng (image_io_png.cpp). Loading the OpenImageIO plugin
 /// relocates about 260 shared libraries (0.35-0.47 s of CPU in every process that touched an
 /// image, a fifth of the test suite's time); OpenEXR and libpng load in 5 ms. image_io.cpp sends
 /// these formats here and everything else (other formats, textures) to the plugin.

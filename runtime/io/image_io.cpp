@@ -1,5 +1,5 @@
-// image_io.h for the rest of crex: OpenEXR and PNG written (and OpenEXR read) by their own
-// libraries (image_formats.h); every other format, and textures, through the OpenImageIO plugin
+// image_io.h for the rest of crex: OpenEXR and PNG written and read by their own libraries
+// (image_formats.h); every other format, and textures, through the OpenImageIO plugin
 // (libcrex_oiio.so), loaded the first time one is needed, so that commands that never need it
 // start fast.
 #include "runtime/io/image_io.h"

@@ -8,10 +8,9 @@
 #include <cstdint>
 #include <cstring>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <memory>
 
+#include "base/input_file.h"
 #include "runtime/io/image_formats.h"
 
 namespace crex::image_formats {
@@ -132,11 +131,12 @@ struct PngFile {
     }
 };
 
-// The file's bytes where it is a PNG (its signature), else nullopt.
+// The file's bytes where it is a PNG (its signature), else nullopt (a file that cannot be read
+// too: the plugin then says why).
 std::optional<std::string> png_bytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (bytes.size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0) return std::nullopt;
+    std::string error;
+    std::optional<std::string> bytes = read_input_file(path, error, kMaxDataInputBytes);
+    if (!bytes || bytes->size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes->data()), 0, 8) != 0) return std::nullopt;
     return bytes;
 }
 
