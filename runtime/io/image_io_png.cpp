@@ -4,6 +4,7 @@
 #include <png.h>
 
 #include <array>
+#include <cmath>
 #include <csetjmp>
 #include <cstdint>
 #include <cstring>
@@ -79,7 +80,22 @@ struct PngLayout {
     png_uint_32 width = 0, height = 0;
     int channels = 0, bit_depth = 0;
     size_t row_bytes = 0;
+    // How stored values become linear light: 0 for the sRGB curve, else the power they are
+    // raised to (1 / the file's gAMA).
+    double decode_power = 0;
 };
+
+// The transfer a file's values were stored with. An sRGB or ICC chunk, or none at all, is
+// sRGB (as the PNG specification asks a decoder to assume for an untagged file, and as every
+// crex PNG says). A gAMA chunk alone is a pure power: its value near 1/2.2 is the sRGB curve
+// that writers tag so, 1 is linear light (16-bit data images, some HDR tools' previews).
+double decode_power_of(png_structp png, png_infop info) {
+    if (png_get_valid(png, info, PNG_INFO_sRGB) || png_get_valid(png, info, PNG_INFO_iCCP)) return 0;
+    png_fixed_point gamma = 0;
+    if (!png_get_gAMA_fixed(png, info, &gamma) || gamma <= 0) return 0;
+    if (gamma > 43000 && gamma < 48000) return 0;  // 1/2.2 +- 5 %: written for the sRGB curve
+    return 100000.0 / static_cast<double>(gamma);
+}
 
 // The header, and the transforms that give every colour type as PngLayout: palettes and grey
 // below 8 bits expanded, a tRNS chunk as alpha, interlaced passes put together. Bounded before
@@ -92,6 +108,7 @@ bool open_png(png_structp png, png_infop info, PngLayout& layout) {
     png_read_info(png, info);
     const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
     if (static_cast<uint64_t>(w) * h > static_cast<uint64_t>(kMaxReadPixels)) png_error(png, "the image has more pixels than crex reads");
+    layout.decode_power = decode_power_of(png, info);
     png_set_expand(png);
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
@@ -201,17 +218,17 @@ std::optional<std::string> read_png(const std::string& path, int& width, int& he
     std::vector<png_bytep> rows(layout.height);
     for (size_t y = 0; y < rows.size(); ++y) rows[y] = pixels.data() + y * layout.row_bytes;
     if (!read_rows(file->png, rows.data())) return file->why(path);
-    // sRGB-encoded values to linear light; alpha composites over black (as OpenImageIO gave
-    // them, associated); grey to all three channels.
+    // Stored values to linear light (decode_power_of()); alpha composites over black (as
+    // OpenImageIO gave them, associated); grey to all three channels.
     const size_t n = static_cast<size_t>(layout.width) * layout.height, nc = static_cast<size_t>(layout.channels);
     const bool wide = layout.bit_depth == 16, alpha = nc == 2 || nc == 4;
-    static const std::array<double, 256> linear_of_byte = [] {  // a power a value was 0.2 s a 1080p frame
-        std::array<double, 256> t{};
-        for (size_t v = 0; v < t.size(); ++v) t[v] = srgb_decode(static_cast<double>(v) / 255.0);
-        return t;
-    }();
+    const double power = layout.decode_power;
+    auto decode = [power](double v) { return power > 0 ? std::pow(v, power) : srgb_decode(v); };
+    std::array<double, 256> linear_of_byte{};  // a power a value was 0.2 s a 1080p frame
+    if (!wide)
+        for (size_t v = 0; v < linear_of_byte.size(); ++v) linear_of_byte[v] = decode(static_cast<double>(v) / 255.0);
     auto value = [&](size_t k) { return wide ? static_cast<double>(pixels[2 * k] << 8 | pixels[2 * k + 1]) / 65535.0 : pixels[k] / 255.0; };
-    auto linear = [&](size_t k) { return wide ? srgb_decode(value(k)) : linear_of_byte[pixels[k]]; };
+    auto linear = [&](size_t k) { return wide ? decode(value(k)) : linear_of_byte[pixels[k]]; };
     rgb.assign(3 * n, 0.0f);
     for (size_t p = 0; p < n; ++p) {
         const double a = alpha ? value(p * nc + nc - 1) : 1.0;

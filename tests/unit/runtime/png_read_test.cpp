@@ -1,8 +1,8 @@
 // PNG files read through libpng (runtime/io/image_io_png.cpp), whatever wrote them: every colour
-// type and depth gives linear RGB (the sRGB curve undone, grey to all three channels, alpha
-// over black), text chunks come back as the header, and damaged or oversized files are errors
-// that name the file, found before anything large is allocated. The files are made here with
-// libpng's own writer, so each value checked is known exactly.
+// type and depth gives linear RGB (the sRGB curve undone, or a gAMA chunk's power; grey to all
+// three channels, alpha over black), text chunks come back as the header, and damaged or
+// oversized files are errors that name the file, found before anything large is allocated. The
+// files are made here with libpng's own writer, so each value checked is known exactly.
 #include <gtest/gtest.h>
 #include <png.h>
 #include <zlib.h>
@@ -27,7 +27,7 @@ protected:
     // packed samples as PNG stores them (16-bit big-endian), an optional palette and tRNS.
     std::string write(const std::string& name, png_uint_32 width, png_uint_32 height, int colour_type, int bit_depth,
                       const std::vector<unsigned char>& samples, bool interlaced = false, const std::vector<png_color>& palette = {},
-                      const std::vector<png_byte>& alpha_of_palette = {}) {
+                      const std::vector<png_byte>& alpha_of_palette = {}, png_fixed_point gamma = 0) {
         const std::string file = path(name);
         FILE* f = std::fopen(file.c_str(), "wb");
         EXPECT_NE(f, nullptr);
@@ -38,6 +38,7 @@ protected:
                      PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
         if (!palette.empty()) png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
         if (!alpha_of_palette.empty()) png_set_tRNS(png, info, alpha_of_palette.data(), static_cast<int>(alpha_of_palette.size()), nullptr);
+        if (gamma > 0) png_set_gAMA_fixed(png, info, gamma);
         const size_t row = samples.size() / height;
         std::vector<png_bytep> rows(height);
         for (size_t y = 0; y < height; ++y) rows[y] = const_cast<png_bytep>(samples.data() + y * row);
@@ -79,6 +80,32 @@ TEST_F(PngRead, SixteenBitGreyGoesToAllThreeChannels) {
     const std::vector<float> want = {0, linear(0x8000 / 65535.0), 1};
     for (size_t p = 0; p < 3; ++p)
         for (size_t c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(rgb[3 * p + c], want[p]) << p << " " << c;
+}
+
+TEST_F(PngRead, AGammaChunkSaysHowValuesBecomeLight) {
+    // gAMA alone is a pure power: 1.0 is linear light, 0.5 squares; 1/2.2 is taken for the sRGB
+    // curve its writers meant. An sRGB chunk beside a gAMA wins (crex's own files carry both).
+    const std::vector<unsigned char> samples = {0x00, 0x00, 0x40, 0x00, 0x80, 0x00, 0xff, 0xff};
+    const std::vector<double> stored = {0, 0x4000 / 65535.0, 0x8000 / 65535.0, 1};
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    auto expect = [&](const std::string& name, png_fixed_point gamma, auto light) {
+        ASSERT_EQ(read_image(write(name, 4, 1, PNG_COLOR_TYPE_GRAY, 16, samples, false, {}, {}, gamma), w, h, rgb), "") << name;
+        for (size_t p = 0; p < 4; ++p) EXPECT_FLOAT_EQ(rgb[3 * p + 1], static_cast<float>(light(stored[p]))) << name << " " << p;
+    };
+    expect("linear.png", 100000, [](double v) { return v; });
+    expect("squared.png", 50000, [](double v) { return v * v; });
+    expect("gamma22.png", 45455, [](double v) { return srgb_decode(v); });
+    expect("untagged.png", 0, [](double v) { return srgb_decode(v); });
+    // 8 bits through the byte table, linear.
+    ASSERT_EQ(read_image(write("linear8.png", 2, 1, PNG_COLOR_TYPE_GRAY, 8, {51, 255}, false, {}, {}, 100000), w, h, rgb), "");
+    EXPECT_FLOAT_EQ(rgb[0], static_cast<float>(51 / 255.0));
+    EXPECT_FLOAT_EQ(rgb[3], 1.0f);
+    // crex's own PNGs say sRGB and gAMA 45455: the sRGB curve.
+    const std::string own = path("own_tags.png");
+    ASSERT_EQ(write_image(own, 1, 1, {{"", {0.5f, 0.5f, 0.5f}, true, 3}}), "");
+    ASSERT_EQ(read_image(own, w, h, rgb), "");
+    EXPECT_FLOAT_EQ(rgb[0], linear(std::lround(255 * 0.5) / 255.0));
 }
 
 TEST_F(PngRead, AlphaCompositesOverBlack) {
