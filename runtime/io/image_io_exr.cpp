@@ -19,7 +19,9 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -123,6 +125,109 @@ void read_channels(Imf::InputFile& in, const std::array<std::string, 3>& names, 
 
 std::string failed(const std::string& path, const std::exception& e) { return "cannot read '" + path + "': " + e.what(); }
 
+// The sizes OpenEXR's C++ library reads the fixed-size attribute types at, whatever their
+// declared size says (ImfAttribute.h's typed attributes).
+const std::map<std::string, uint32_t>& fixed_sizes() {
+    static const std::map<std::string, uint32_t> sizes = {
+        {"box2i", 16}, {"box2f", 16}, {"chromaticities", 32}, {"compression", 1}, {"deepImageState", 1}, {"double", 8},
+        {"envmap", 1}, {"float", 4}, {"int", 4}, {"keycode", 28}, {"lineOrder", 1}, {"m33f", 36}, {"m33d", 72},
+        {"m44f", 64}, {"m44d", 128}, {"rational", 8}, {"tiledesc", 9}, {"timecode", 8}, {"v2i", 8}, {"v2f", 8},
+        {"v2d", 16}, {"v3i", 12}, {"v3f", 12}, {"v3d", 24}};
+    return sizes;
+}
+
+uint32_t le32(const unsigned char* p) { return p[0] | p[1] << 8 | p[2] << 16 | static_cast<uint32_t>(p[3]) << 24; }
+
+// A name as a terminal shows it (a damaged one may hold any bytes).
+std::string printable(const std::string& name) {
+    std::string out;
+    for (char c : name) out += c >= 0x20 && c < 0x7f ? c : '?';
+    return out;
+}
+
+// Why OpenEXR's C++ library would read a header other than its declared sizes say, else "".
+// OpenEXR's C core (check_header()) checks each attribute by its declared size; the C++ library
+// reads a channel list to its terminating null and a fixed-size type at its own size whatever
+// was declared, and allocates a string vector's strings and a preview's pixels by what they
+// claim inside. Where the two disagree the C++ library reads the rest of the header out of
+// step, as attributes the core never saw: a fuzzed 347-byte file whose channel list ran past
+// its size gave the C++ library a string claiming 1 GB, which it allocated (2 GB and 11 s to
+// fail) after the core had found eight sound attributes. So every attribute must fit in what
+// the file has left and its value must take exactly its declared size.
+std::string header_out_of_step(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return "";  // OpenEXR says why
+    in.seekg(0, std::ios::end);
+    const uint64_t file_size = static_cast<uint64_t>(in.tellg());
+    in.seekg(0);
+    unsigned char head[8];
+    if (!in.read(reinterpret_cast<char*>(head), 8) || le32(head) != 20000630u) return "";  // not an EXR: OpenEXR says so
+    const uint32_t flags = le32(head + 4);
+    const bool multipart = flags & 0x1000u;
+    const size_t max_name = (flags & 0x400u) ? 255 : 31;
+    // A null-terminated name of at most max_name characters; false where there is none.
+    auto name_at = [&](std::string& out) {
+        out.clear();
+        for (char c; in.get(c);) {
+            if (c == '\0') return true;
+            if (out.size() == max_name) return false;
+            out += c;
+        }
+        return false;
+    };
+    bool header_has_attributes = false;
+    for (std::string name, type;;) {
+        if (!name_at(name)) return "";  // damaged or cut: OpenEXR says how
+        if (name.empty()) {              // the end of a header; a multi-part file's headers end with an empty one
+            if (!multipart || !header_has_attributes) return "";
+            header_has_attributes = false;
+            continue;
+        }
+        header_has_attributes = true;
+        unsigned char size_bytes[4];
+        if (!name_at(type) || !in.read(reinterpret_cast<char*>(size_bytes), 4)) return "";
+        const int64_t size = static_cast<int32_t>(le32(size_bytes));
+        const uint64_t left = file_size - static_cast<uint64_t>(in.tellg());
+        const std::string what = "its header attribute '" + printable(name) + "' (" + printable(type) + ")";
+        if (size < 0 || static_cast<uint64_t>(size) > left)
+            return fmt::format("{} claims {} bytes where the file has {} left (truncated?)", what, size, left);
+        const auto fixed = fixed_sizes().find(type);
+        if (fixed != fixed_sizes().end() && size != fixed->second)
+            return fmt::format("{} claims {} bytes where its value takes {}", what, size, fixed->second);
+        if (type == "chlist" || type == "stringvector" || type == "preview") {
+            std::string value(static_cast<size_t>(size), '\0');
+            if (!in.read(value.data(), size)) return "";
+            const auto* v = reinterpret_cast<const unsigned char*>(value.data());
+            const size_t n = value.size();
+            size_t used = 0;  // what the C++ library reads of it
+            if (type == "chlist") {  // entries (a name, 16 bytes) until an empty name
+                for (size_t at = 0;;) {
+                    const size_t end = value.find('\0', at);
+                    if (end == std::string::npos) return what + " has no end within its size";
+                    if (end == at) {
+                        used = end + 1;
+                        break;
+                    }
+                    at = end + 1 + 16;
+                    if (at > n) return what + " has no end within its size";
+                }
+            } else if (type == "stringvector") {  // a length and its string, to the declared size
+                while (used < n) {
+                    if (n - used < 4) return what + " ends inside a string's length";
+                    const uint64_t length = le32(v + used);
+                    if (length > n - used - 4) return fmt::format("{} holds a string of {} bytes where it has {} left", what, length, n - used - 4);
+                    used += 4 + length;
+                }
+            } else {  // preview: width, height, then 4 bytes a pixel
+                used = n < 8 ? n + 1 : 8 + 4 * static_cast<uint64_t>(le32(v)) * le32(v + 4);
+            }
+            if (used != n) return fmt::format("{} claims {} bytes where its value takes {}", what, size, used);
+        } else {
+            in.seekg(size, std::ios::cur);
+        }
+    }
+}
+
 // OpenEXR's C++ library takes a header attribute's size as it stands and allocates it before
 // reading (a 1.4 KB file whose string attribute claimed 1.4 GB took 1.4 GB and 7.5 s to
 // fail), and reads a fixed-size or channel-list value past its declared size, so that the rest
@@ -131,6 +236,7 @@ std::string failed(const std::string& path, const std::exception& e) { return "c
 // refuses is refused here, with its reason, before the C++ library opens it. Throws as OpenEXR
 // would.
 void check_header(const std::string& path) {
+    if (std::string why = header_out_of_step(path); !why.empty()) throw std::runtime_error(why);
     struct Reason {
         std::string text;
     } reason;
