@@ -28,6 +28,7 @@
 
 #include <fmt/format.h>
 
+#include "base/render_text.h"
 #include "runtime/io/image_formats.h"
 
 namespace crex::image_formats {
@@ -138,13 +139,6 @@ const std::map<std::string, uint32_t>& fixed_sizes() {
 
 uint32_t le32(const unsigned char* p) { return p[0] | p[1] << 8 | p[2] << 16 | static_cast<uint32_t>(p[3]) << 24; }
 
-// A name as a terminal shows it (a damaged one may hold any bytes).
-std::string printable(const std::string& name) {
-    std::string out;
-    for (char c : name) out += c >= 0x20 && c < 0x7f ? c : '?';
-    return out;
-}
-
 // Why OpenEXR's C++ library would read a header other than its declared sizes say, else "".
 // OpenEXR's C core (check_header()) checks each attribute by its declared size; the C++ library
 // reads a channel list to its terminating null and a fixed-size type at its own size whatever
@@ -219,7 +213,8 @@ std::string header_out_of_step(const std::string& path) {
                     used += 4 + length;
                 }
             } else {  // preview: width, height, then 4 bytes a pixel
-                used = n < 8 ? n + 1 : 8 + 4 * static_cast<uint64_t>(le32(v)) * le32(v + 4);
+                if (n < 8) return what + " is shorter than a preview's width and height";
+                used = 8 + 4 * static_cast<uint64_t>(le32(v)) * le32(v + 4);
             }
             if (used != n) return fmt::format("{} claims {} bytes where its value takes {}", what, size, used);
         } else {
@@ -230,11 +225,10 @@ std::string header_out_of_step(const std::string& path) {
 
 // OpenEXR's C++ library takes a header attribute's size as it stands and allocates it before
 // reading (a 1.4 KB file whose string attribute claimed 1.4 GB took 1.4 GB and 7.5 s to
-// fail), and reads a fixed-size or channel-list value past its declared size, so that the rest
-// of the header is read out of step. OpenEXR's C core parses headers with every size checked
-// against the file (it was written for untrusted input and is fuzzed upstream): a file it
-// refuses is refused here, with its reason, before the C++ library opens it. Throws as OpenEXR
-// would.
+// fail). A header whose values do not take their declared sizes is refused first
+// (header_out_of_step()); then OpenEXR's C core parses it with every size checked against the
+// file (it was written for untrusted input and is fuzzed upstream): a file it refuses is
+// refused here, with its reason, before the C++ library opens it. Throws as OpenEXR would.
 void check_header(const std::string& path) {
     if (std::string why = header_out_of_step(path); !why.empty()) throw std::runtime_error(why);
     struct Reason {

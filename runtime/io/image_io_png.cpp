@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "base/input_file.h"
+#include "base/render_text.h"
 #include "runtime/io/image_formats.h"
 
 namespace crex::image_formats {
@@ -157,13 +158,6 @@ std::optional<std::string> png_bytes(const std::string& path) {
     return bytes;
 }
 
-// A chunk's type as text a terminal shows (a damaged one may hold any bytes).
-std::string printable_type(const std::string& type) {
-    std::string out;
-    for (char c : type) out += c >= 0x20 && c < 0x7f ? c : '?';
-    return out;
-}
-
 // Why the file cannot be read before libpng sees it, else "". libpng allocates an ancillary
 // chunk's claimed length before reading it (its own limit is only a warning when reading: a
 // 213-byte file whose tEXt claimed 1.5 GB took 1.5 GB and 8 s to fail), so every chunk must fit
@@ -178,7 +172,7 @@ std::string unreadable(const std::string& path, const std::string& bytes) {
     for (size_t at = 8; at + 8 <= bytes.size();) {  // length, type, data, CRC
         const uint64_t length = word(at), left = bytes.size() - at - 8;
         if (length + 4 > left)
-            return "cannot read '" + path + "': its chunk '" + printable_type(bytes.substr(at + 4, 4)) + "' claims " + std::to_string(length) +
+            return "cannot read '" + path + "': its chunk '" + printable(bytes.substr(at + 4, 4)) + "' claims " + std::to_string(length) +
                    " bytes where the file has " + std::to_string(left) + " left (truncated?)";
         if (bytes.compare(at + 4, 4, "IEND") == 0) break;
         at += 12 + length;
