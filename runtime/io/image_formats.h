@@ -31,9 +31,8 @@ constexpr int64_t kMaxReadPixels = int64_t{1} << 25;
 
 /// Readers of PNG files: nullopt where the file is not one (its signature), else "" or why it
 /// could not be read. Every colour type and depth: values to linear by the sRGB curve (or by a
-/// lone gAMA chunk's power), grey to all
-/// three channels, alpha composited over black; the metadata is the text chunks before the
-/// pixels, as strings.
+/// lone gAMA chunk's power), grey to all three channels, alpha composited over black; the
+/// metadata is the text chunks before the pixels, as strings.
 std::optional<std::string> read_png(const std::string& path, int& width, int& height, std::vector<float>& rgb);
 std::optional<std::string> read_png_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata);
 
