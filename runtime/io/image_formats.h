@@ -29,6 +29,13 @@ std::string encode_png(int width, int height, const std::vector<ImageLayer>& lay
 /// anything is allocated.
 constexpr int64_t kMaxReadPixels = int64_t{1} << 25;
 
+/// Whether a file of `file_bytes` could hold `pixel_bytes` of decoded pixels, whatever codec
+/// OpenImageIO reads it with: none packs more than a few thousand bytes into one (deflate about
+/// 1032, LZW under 1400, a flat JPEG block about 400), so 4096 a byte is a generous bound. A
+/// header claiming more is refused before its pixels are allocated: OpenImageIO allocates what
+/// a header claims (a 12 KB TIFF claiming 40000 x 40000 took 23.7 GB before it was killed).
+inline bool file_could_hold(double pixel_bytes, uint64_t file_bytes) { return pixel_bytes <= 4096.0 * static_cast<double>(file_bytes); }
+
 /// Readers of PNG files: nullopt where the file is not one (its signature), else "" or why it
 /// could not be read. Every colour type and depth: values to linear by the sRGB curve (or by a
 /// lone gAMA chunk's power), grey to all three channels, alpha composited over black; the

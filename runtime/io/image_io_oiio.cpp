@@ -13,9 +13,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <system_error>
 
 #include "runtime/base/atomic_file.h"
 #include "runtime/base/file_extension.h"
+#include "runtime/io/image_formats.h"
 
 namespace crex {
 namespace {
@@ -101,9 +104,42 @@ std::string write_image(const std::string& path, int width, int height, const st
     return write_atomically_via(path, writer);
 }
 
+namespace {
+
+// Why a file cannot be read, from OpenImageIO's error (which some readers leave empty).
+std::string cannot_read(const std::string& path, const std::string& error) {
+    return "cannot read '" + path + "': " + (error.empty() ? "OpenImageIO could not decode it (damaged or truncated?)" : error);
+}
+
+// Why `path`'s pixels must not be read, else "". OpenImageIO allocates what a header claims
+// before it reads a pixel (`crex compare` of a 12 KB TIFF whose header claimed 40000 x 40000
+// took 23.7 GB and was killed after 133 s), so a header is held first to the readers' limit
+// (image_formats::kMaxReadPixels) and to what its file could hold (file_could_hold()).
+std::string unreadable(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return cannot_read(path, OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    const int64_t pixels = static_cast<int64_t>(spec.width) * spec.height * std::max(spec.depth, 1);
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        return cannot_read(path, "its header claims an image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels");
+    if (pixels > image_formats::kMaxReadPixels)
+        return cannot_read(path, "an image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                                     " pixels is beyond what crex reads (" + std::to_string(image_formats::kMaxReadPixels) + " pixels)");
+    std::error_code ec;
+    const uintmax_t file_bytes = std::filesystem::file_size(path, ec);
+    const double claimed = static_cast<double>(pixels) * spec.nchannels * static_cast<double>(spec.format.size());
+    if (!ec && !image_formats::file_could_hold(claimed, file_bytes))
+        return cannot_read(path, "the file (" + std::to_string(file_bytes) + " bytes) is too small for the " + std::to_string(spec.width) +
+                                     " x " + std::to_string(spec.height) + " pixels its header claims (truncated?)");
+    return "";
+}
+
+}  // namespace
+
 std::string read_image(const std::string& path, int& width, int& height, std::vector<float>& rgb, bool& display_referred) {
+    if (std::string why = unreadable(path); !why.empty()) return why;
     OIIO::ImageBuf buf(path);
-    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return "cannot read '" + path + "': " + buf.geterror();
+    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return cannot_read(path, buf.geterror());
     const OIIO::ImageSpec& spec = buf.spec();
     width = spec.width;
     height = spec.height;
@@ -125,8 +161,9 @@ std::string read_image(const std::string& path, int& width, int& height, std::ve
 }
 
 std::string read_image_layer(const std::string& path, const std::string& layer, int& width, int& height, std::vector<float>& rgb) {
+    if (std::string why = unreadable(path); !why.empty()) return why;
     OIIO::ImageBuf buf(path);
-    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return "cannot read '" + path + "': " + buf.geterror();
+    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) return cannot_read(path, buf.geterror());
     const OIIO::ImageSpec& spec = buf.spec();
     int at[3];
     for (int c = 0; c < 3; ++c) {
@@ -145,7 +182,7 @@ std::string read_image_layer(const std::string& path, const std::string& layer, 
 
 std::string read_image_metadata(const std::string& path, int& width, int& height, ImageMetadata& metadata) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) return "cannot read '" + path + "': " + OIIO::geterror();
+    if (!in) return cannot_read(path, OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     width = spec.width, height = spec.height;
     metadata.clear();

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -152,6 +153,50 @@ TEST_F(HostileInputs, ATextureThatIsADeviceOrAFifoIsNotOpened) {
         EXPECT_TRUE(has(r.err, "warning[W310]: texture cannot be read (not a regular file): it renders magenta")) << r.err;
         EXPECT_TRUE(fs::exists(path("x.exr")));
     }
+}
+
+// OpenImageIO allocates what an image's header claims before it reads a pixel: a 500-byte TIFF
+// whose header claimed 40000 x 40000 took 23.7 GB in `crex compare` before it was killed, and
+// 12 GB and two minutes as a texture of a 32x32 render. A header is held to the readers' pixel
+// limit and to what its file could hold: the compare refuses it by name (exit 3), the texture
+// renders magenta with W310.
+TEST_F(HostileInputs, AnImageHeaderClaimingMoreThanItsFileHoldsIsRefused) {
+    ASSERT_EQ(write_image(path("small.tif"), 8, 8, {{"", std::vector<float>(8 * 8 * 3, 0.5f)}}), "");
+    std::ifstream in(path("small.tif"), std::ios::binary);
+    const std::string sound((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_EQ(sound.substr(0, 4), std::string("II*\0", 4));
+    auto u = [&](const std::string& b, size_t at, size_t n) {
+        uint32_t v = 0;
+        for (size_t k = n; k-- > 0;) v = v << 8 | static_cast<unsigned char>(b[at + k]);
+        return v;
+    };
+    // The same file with ImageWidth (256) and ImageLength (257) set to `side`.
+    auto claiming = [&](const std::string& name, uint32_t side) {
+        std::string bytes = sound;
+        const size_t ifd = u(bytes, 4, 4), entries = u(bytes, ifd, 2);
+        for (size_t e = 0; e < entries; ++e) {
+            const size_t at = ifd + 2 + 12 * e;
+            const uint32_t tag = u(bytes, at, 2), type = u(bytes, at + 2, 2);
+            if (tag != 256 && tag != 257) continue;
+            for (size_t k = 0; k < (type == 3 ? 2u : 4u); ++k) bytes[at + 8 + k] = static_cast<char>(side >> (8 * k) & 0xff);
+        }
+        std::ofstream(path(name), std::ios::binary) << bytes;
+        return path(name);
+    };
+    const std::string huge = claiming("huge.tif", 40000), claims = claiming("claims.tif", 4000);
+    auto r = bounded({"compare", huge, huge});
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_TRUE(has(r.err, "cannot read '" + huge + "': an image of 40000 x 40000 pixels is beyond what crex reads")) << r.err;
+    r = bounded({"compare", claims, claims});
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_TRUE(has(r.err, "is too small for the 4000 x 4000 pixels its header claims")) << r.err;
+    write("quad.obj", "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                      "usemtl tex\nf 1/1 2/2 3/3 4/4\n");
+    write("quad.mtl", "newmtl tex\nKd 1 1 1\nmap_Kd " + claims + "\n");
+    r = bounded({"run", "--scene", path("quad.obj"), "--size", "8x8", "--spp", "1", "-o", path("x.exr")});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(has(r.err, "warning[W310]: texture cannot be read (the file (")) << r.err;
+    EXPECT_TRUE(has(r.err, "is too small for the 4000 x 4000 pixels its header claims (truncated?)): it renders magenta")) << r.err;
 }
 
 // Every input is read up to a stated size: a larger one is refused before it is read, by name.
