@@ -29,12 +29,26 @@ std::string encode_png(int width, int height, const std::vector<ImageLayer>& lay
 /// anything is allocated.
 constexpr int64_t kMaxReadPixels = int64_t{1} << 25;
 
-/// Whether a file of `file_bytes` could hold `pixel_bytes` of decoded pixels, whatever codec
-/// OpenImageIO reads it with: none packs more than a few thousand bytes into one (deflate about
-/// 1032, LZW under 1400, a flat JPEG block about 400), so 4096 a byte is a generous bound. A
-/// header claiming more is refused before its pixels are allocated: OpenImageIO allocates what
-/// a header claims (a 12 KB TIFF claiming 40000 x 40000 took 23.7 GB before it was killed).
-inline bool file_could_hold(double pixel_bytes, uint64_t file_bytes) { return pixel_bytes <= 4096.0 * static_cast<double>(file_bytes); }
+/// How many bytes of pixels one byte of a file may decode to at most: zlib's deflate (EXR's
+/// and PNG's codecs but DWA) packs about 1032; no codec OpenImageIO reads packs more than a few
+/// thousand (LZW under 1400, a flat JPEG block about 400).
+constexpr double kDeflatePacking = 1100, kAnyCodecPacking = 4096;
+
+/// Why a header claiming `width` x `height` pixels, `pixel_bytes` decoded, cannot be in a file
+/// of `file_bytes` that packs at most `packing` bytes into one; "" where it could. Such a header
+/// is refused before its pixels are allocated: OpenImageIO, OpenEXR and libpng allocate what a
+/// header claims (a 486-byte TIFF claiming 40000 x 40000 took 23.7 GB before it was killed).
+inline std::string claim_beyond_file(double pixel_bytes, uint64_t file_bytes, int64_t width, int64_t height, double packing) {
+    if (pixel_bytes <= packing * static_cast<double>(file_bytes)) return "";
+    return "the file (" + std::to_string(file_bytes) + " bytes) is too small for the " + std::to_string(width) + " x " +
+           std::to_string(height) + " pixels its header claims (truncated?)";
+}
+
+/// What a header claiming more than kMaxReadPixels is told.
+inline std::string beyond_read_limit(int64_t width, int64_t height) {
+    return "an image of " + std::to_string(width) + " x " + std::to_string(height) + " pixels is beyond what crex reads (" +
+           std::to_string(kMaxReadPixels) + " pixels)";
+}
 
 /// Readers of PNG files: nullopt where the file is not one (its signature), else "" or why it
 /// could not be read. Every colour type and depth: values to linear by the sRGB curve (or by a

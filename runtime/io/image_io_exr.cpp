@@ -82,22 +82,22 @@ bool plain_window(const Imf::Header& header, const std::string& path, int& width
     // More than kMaxReadPixels is refused before anything is allocated (its RGB then takes at
     // most 400 MB): a hostile 30-byte file can claim a data window of 2^31 x 2^31.
     if (w <= 0 || h <= 0 || w * h > kMaxReadPixels) {
-        error = fmt::format("cannot read '{}': an image of {} x {} pixels is beyond what crex reads ({} pixels)", path, w, h, kMaxReadPixels);
+        error = "cannot read '" + path + "': " + beyond_read_limit(w, h);
         return true;
     }
     // A channel holds at least 2 bytes a pixel (half), and no compression but DWA packs more
-    // than about 1032 bytes into one (zlib's deflate; RLE, PIZ and B44 pack less; DWA's DC
-    // values of a flat block go through zlib after the DCT, so it is not bounded here): a header
-    // claiming more pixels than its file can hold is refused before their memory is taken (a
-    // 400-byte file may claim 2^25, 400 MB of RGB).
+    // than deflate (RLE, PIZ and B44 pack less; DWA's DC values of a flat block go through zlib
+    // after the DCT, so it is not bounded here): a header claiming more pixels than its file can
+    // hold is refused before their memory is taken (a 400-byte file may claim 2^25, 400 MB of RGB).
     const Imf::Compression compression = header.compression();
     const bool bounded = compression != Imf::DWAA_COMPRESSION && compression != Imf::DWAB_COMPRESSION;
     std::error_code ec;
     const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
-    if (bounded && !ec && 2.0 * static_cast<double>(w * h) > 1100.0 * static_cast<double>(bytes)) {
-        error = fmt::format("cannot read '{}': the file ({} bytes) is too small for the {} x {} pixels its header claims (truncated?)", path,
-                            bytes, w, h);
-        return true;
+    if (bounded && !ec) {
+        if (std::string why = claim_beyond_file(2.0 * static_cast<double>(w * h), bytes, w, h, kDeflatePacking); !why.empty()) {
+            error = "cannot read '" + path + "': " + why;
+            return true;
+        }
     }
     width = static_cast<int>(w), height = static_cast<int>(h);
     return true;

@@ -112,9 +112,9 @@ std::string cannot_read(const std::string& path, const std::string& error) {
 }
 
 // Why `path`'s pixels must not be read, else "". OpenImageIO allocates what a header claims
-// before it reads a pixel (`crex compare` of a 12 KB TIFF whose header claimed 40000 x 40000
+// before it reads a pixel (`crex compare` of a 486-byte TIFF whose header claimed 40000 x 40000
 // took 23.7 GB and was killed after 133 s), so a header is held first to the readers' limit
-// (image_formats::kMaxReadPixels) and to what its file could hold (file_could_hold()).
+// (image_formats::kMaxReadPixels) and to what its file could hold (claim_beyond_file()).
 std::string unreadable(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) return cannot_read(path, OIIO::geterror());
@@ -122,16 +122,12 @@ std::string unreadable(const std::string& path) {
     const int64_t pixels = static_cast<int64_t>(spec.width) * spec.height * std::max(spec.depth, 1);
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         return cannot_read(path, "its header claims an image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels");
-    if (pixels > image_formats::kMaxReadPixels)
-        return cannot_read(path, "an image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
-                                     " pixels is beyond what crex reads (" + std::to_string(image_formats::kMaxReadPixels) + " pixels)");
+    if (pixels > image_formats::kMaxReadPixels) return cannot_read(path, image_formats::beyond_read_limit(spec.width, spec.height));
     std::error_code ec;
     const uintmax_t file_bytes = std::filesystem::file_size(path, ec);
-    const double claimed = static_cast<double>(pixels) * spec.nchannels * static_cast<double>(spec.format.size());
-    if (!ec && !image_formats::file_could_hold(claimed, file_bytes))
-        return cannot_read(path, "the file (" + std::to_string(file_bytes) + " bytes) is too small for the " + std::to_string(spec.width) +
-                                     " x " + std::to_string(spec.height) + " pixels its header claims (truncated?)");
-    return "";
+    const std::string why = ec ? "" : image_formats::claim_beyond_file(static_cast<double>(spec.image_bytes()), file_bytes, spec.width,
+                                                                        spec.height, image_formats::kAnyCodecPacking);
+    return why.empty() ? "" : cannot_read(path, why);
 }
 
 }  // namespace

@@ -203,11 +203,12 @@ std::optional<std::string> read_png(const std::string& path, int& width, int& he
     if (!file->error.empty()) return file->error;
     const PngLayout& layout = file->layout;
     const size_t file_size = file->bytes.size();
-    // Deflate packs at most 1032 bytes into one: a header claiming more pixels than its file can
-    // hold is refused before the pixels' memory is taken (a 100-byte file may claim 2^25).
-    if (static_cast<double>(layout.row_bytes + 1) * layout.height > 1100.0 * static_cast<double>(file_size))
-        return "cannot read '" + path + "': the file (" + std::to_string(file_size) + " bytes) is too small for the " +
-               std::to_string(layout.width) + " x " + std::to_string(layout.height) + " pixels its header claims (truncated?)";
+    // A header claiming more pixels than its deflated file can hold is refused before the
+    // pixels' memory is taken (a 100-byte file may claim 2^25).
+    if (std::string why = claim_beyond_file(static_cast<double>(layout.row_bytes + 1) * layout.height, file_size, layout.width,
+                                            layout.height, kDeflatePacking);
+        !why.empty())
+        return "cannot read '" + path + "': " + why;
     std::vector<unsigned char> pixels(layout.row_bytes * layout.height);
     std::vector<png_bytep> rows(layout.height);
     for (size_t y = 0; y < rows.size(); ++y) rows[y] = pixels.data() + y * layout.row_bytes;

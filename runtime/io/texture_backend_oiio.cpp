@@ -184,14 +184,15 @@ public:
         info.file_bytes = bytes ? bytes->size() : static_cast<uint64_t>(std::filesystem::file_size(name, ec));
         if (ec) info.file_bytes = 0;
         // A header claiming more than its file could hold is refused before a texel is read:
-        // the cache reads an untiled image whole (a 12 KB TIFF claiming 40000 x 40000 took
+        // the cache reads an untiled image whole (a 486-byte TIFF claiming 40000 x 40000 took
         // 12 GB and two minutes of a 32x32 render).
-        const double claimed = static_cast<double>(spec.width) * spec.height * std::max(spec.depth, 1) * spec.nchannels * static_cast<double>(spec.format.size());
-        if (info.file_bytes > 0 && !image_formats::file_could_hold(claimed, info.file_bytes)) {
-            error = "the file (" + std::to_string(info.file_bytes) + " bytes) is too small for the " + std::to_string(spec.width) + " x " +
-                    std::to_string(spec.height) + " pixels its header claims (truncated?)";
-            textures_.forget(image->name.string());
-            return -1;
+        if (info.file_bytes > 0) {
+            error = image_formats::claim_beyond_file(static_cast<double>(spec.image_bytes()), info.file_bytes, spec.width, spec.height,
+                                                     image_formats::kAnyCodecPacking);
+            if (!error.empty()) {
+                textures_.forget(image->name.string());
+                return -1;
+            }
         }
         handles_.push_back(image->handle);
         return static_cast<int>(handles_.size() - 1);
