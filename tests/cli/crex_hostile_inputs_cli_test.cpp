@@ -155,7 +155,7 @@ TEST_F(HostileInputs, ATextureThatIsADeviceOrAFifoIsNotOpened) {
     }
 }
 
-// OpenImageIO allocates what an image's header claims before it reads a pixel: a 500-byte TIFF
+// OpenImageIO allocates what an image's header claims before it reads a pixel: a 486-byte TIFF
 // whose header claimed 40000 x 40000 took 23.7 GB in `crex compare` before it was killed, and
 // 12 GB and two minutes as a texture of a 32x32 render. A header is held to the readers' pixel
 // limit and to what its file could hold: the compare refuses it by name (exit 3), the texture
